@@ -1,0 +1,16 @@
+#pragma once
+/// \file Output files appear whole or not at all: write to a temporary beside the target, then
+/// rename (rename(2) is atomic within a file system).
+#include <functional>
+#include <string>
+
+namespace shvol {
+
+/// Calls write(tmpPath), then renames tmpPath to path. If write throws, the temporary is removed
+/// and the exception propagates; the target is never left half-written.
+void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write);
+
+/// Writes text to path atomically.
+void writeTextAtomically(const std::string& path, const std::string& text);
+
+}  // namespace shvol

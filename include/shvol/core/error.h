@@ -1,0 +1,23 @@
+#pragma once
+/// \file Errors that reach the user: one line naming the file and the place in it.
+#include <stdexcept>
+#include <string>
+
+namespace shvol {
+
+/// A user-facing error. what() is the whole line printed by the command-line program, in the
+/// form "FILE: PLACE: message" (PLACE is a JSON path such as media[0].phase.g, or a grid name).
+class Error : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// Builds "file: place: message", leaving out empty parts.
+std::string errorLine(const std::string& file, const std::string& place, const std::string& msg);
+
+[[noreturn]] inline void fail(const std::string& file, const std::string& place,
+                              const std::string& msg) {
+    throw Error(errorLine(file, place, msg));
+}
+
+}  // namespace shvol

@@ -1,0 +1,2 @@
+#include <cstdio>
+int main() { std::puts("shvol " SHVOL_VERSION); return 0; }

@@ -1,0 +1,48 @@
+#include "shvol/core/ray.h"
+
+#include <gtest/gtest.h>
+
+namespace shvol {
+
+TEST(IntersectBox, HitAndMiss) {
+    Ray r{{-5, 0.5, 0.5}, {1, 0, 0}};
+    Interval iv = intersectBox(r, {0, 0, 0}, {1, 1, 1}, 1e30);
+    EXPECT_DOUBLE_EQ(iv.t0, 5);
+    EXPECT_DOUBLE_EQ(iv.t1, 6);
+    Ray miss{{-5, 2, 0.5}, {1, 0, 0}};
+    EXPECT_TRUE(intersectBox(miss, {0, 0, 0}, {1, 1, 1}, 1e30).empty());
+}
+
+TEST(IntersectBox, OriginInsideIsClippedToZero) {
+    Ray r{{0.5, 0.5, 0.5}, Vec3(1, 1, 0).normalized()};
+    Interval iv = intersectBox(r, {0, 0, 0}, {1, 1, 1}, 1e30);
+    EXPECT_EQ(iv.t0, 0);
+    EXPECT_NEAR(iv.t1, std::sqrt(0.5), 1e-12);
+}
+
+TEST(IntersectSphere, ChordLength) {
+    Ray r{{0, 0, -10}, {0, 0, 1}};
+    Interval iv = intersectSphere(r, {0, 0, 0}, 2, 1e30);
+    EXPECT_NEAR(iv.t0, 8, 1e-12);
+    EXPECT_NEAR(iv.t1, 12, 1e-12);
+    Ray inside{{0, 0, 0}, {1, 0, 0}};
+    iv = intersectSphere(inside, {0, 0, 0}, 2, 1e30);
+    EXPECT_EQ(iv.t0, 0);
+    EXPECT_NEAR(iv.t1, 2, 1e-12);
+}
+
+TEST(Frame, IsOrthonormalForAllHemispheres) {
+    for (Vec3 n : {Vec3(0, 0, 1), Vec3(0, 0, -1), Vec3(1, 2, 3).normalized(),
+                   Vec3(-1e-9, 0, -1).normalized(), Vec3(0.3, -0.9, 0.1).normalized()}) {
+        Frame f(n);
+        EXPECT_NEAR(f.s.dot(f.t), 0, 1e-12);
+        EXPECT_NEAR(f.s.dot(f.n), 0, 1e-12);
+        EXPECT_NEAR(f.s.norm(), 1, 1e-12);
+        EXPECT_NEAR(f.t.norm(), 1, 1e-12);
+        EXPECT_NEAR((f.toWorld(f.toLocal(Vec3(0.2, 0.5, -0.7))) - Vec3(0.2, 0.5, -0.7)).norm(), 0,
+                    1e-12);
+        EXPECT_NEAR(f.s.cross(f.t).dot(f.n), 1, 1e-12);  // right-handed
+    }
+}
+
+}  // namespace shvol
