@@ -1,2 +1,29 @@
+// shvol: a participating-media simulator. See README.md for the command-line reference.
 #include <cstdio>
-int main() { std::puts("shvol " SHVOL_VERSION); return 0; }
+
+#include "commands.h"
+#include "shvol/core/error.h"
+
+int main(int argc, char** argv) {
+    CLI::App app{"shvol " SHVOL_VERSION " - volumetric path tracing of participating media"};
+    app.set_version_flag("--version", "shvol " SHVOL_VERSION);
+    app.require_subcommand(1);
+    std::function<int()> run;
+    shvol::app::addRenderCommand(app, run);
+    shvol::app::addMakeMediumCommand(app, run);
+    shvol::app::addMakeSkyCommand(app, run);
+    shvol::app::addBenchCommand(app, run);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    }
+    try {
+        return run();
+    } catch (const shvol::Error& e) {
+        std::fprintf(stderr, "shvol: error: %s\n", e.what());
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "shvol: internal error: %s\n", e.what());
+    }
+    return 1;
+}

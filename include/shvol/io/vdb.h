@@ -1,0 +1,41 @@
+#pragma once
+/// \file OpenVDB media. This header keeps OpenVDB out of every translation unit but src/io/vdb.cpp.
+#include <Eigen/Geometry>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "shvol/media/medium.h"
+
+namespace shvol {
+
+struct VdbMediumDesc {
+    std::string file;
+    std::string grid = "density";
+    double densityScale = 1;  ///< σ_t(x) = densityScale · density(x), per scene unit
+    Spectrum albedo = Spectrum::Ones();
+    PhaseFunction phase = PhaseFunction(IsotropicPhase());
+    Eigen::Affine3d toWorld = Eigen::Affine3d::Identity();  ///< the grid's world space → scene
+    bool majorantGrid = true;   ///< false: one global majorant for the whole grid (for benchmarks)
+    int majorantCellVoxels = 8; ///< majorant cell edge in voxels
+};
+
+/// Loads a FloatGrid and builds its majorant grid (trilinear density lookups). Errors name the
+/// file and the grid: missing or corrupt file, missing grid, wrong value type, non-linear
+/// transform, non-zero background, negative or NaN density (with the voxel).
+std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc);
+
+/// A grid to write: values are sampled at voxel centres of a res³ lattice that fills the cube
+/// [−½, ½]³ of the grid's world space (voxel size 1/res). Zero values are left inactive.
+struct VdbGridSpec {
+    std::string name = "density";
+    enum class Type { Float, Vec3 } type = Type::Float;  ///< Vec3 exists to test type errors
+    int resolution = 64;
+    std::function<float(const Vec3& p)> density;  ///< p ∈ [−½, ½]³
+};
+
+/// Writes grids to a .vdb file (atomically). Returns the number of active voxels written.
+size_t writeVdb(const std::string& path, const std::vector<VdbGridSpec>& grids);
+
+}  // namespace shvol

@@ -1,0 +1,24 @@
+#pragma once
+/// \file The effects a scene actually needs, decided from its content, so that a render pays only
+/// for those: no media → no volume code runs; albedo 0 → no scattering is sampled; max depth 1 →
+/// single scattering; constant environment → no image sampling.
+#include <string>
+#include <vector>
+
+namespace shvol {
+
+struct Scene;
+
+struct Effects {
+    bool volumes = false;             ///< at least one medium: track free flights
+    bool scattering = false;          ///< some medium has albedo > 0 and max depth ≥ 1
+    bool multipleScattering = false;  ///< scattering and max depth > 1
+    bool nextEvent = false;           ///< NEE towards the environment (with MIS)
+    bool environmentImage = false;    ///< the environment is an image (importance-sampled)
+
+    static Effects of(const Scene& scene);
+    /// Names for the statistics, e.g. {"volume-transmittance", "single-scattering", ...}.
+    std::vector<std::string> names() const;
+};
+
+}  // namespace shvol

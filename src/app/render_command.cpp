@@ -1,0 +1,105 @@
+#include <sys/resource.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "shvol/core/atomic_file.h"
+#include "shvol/core/progress.h"
+#include "shvol/io/exr.h"
+#include "shvol/io/scene_loader.h"
+#include "shvol/render/renderer.h"
+
+namespace shvol::app {
+
+double peakMemoryMiB() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return u.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
+}
+
+namespace {
+
+struct RenderArgs {
+    std::string scene, output;
+    int spp = 0, threads = 0;
+    long long seed = -1;
+    std::vector<std::string> sets;
+    bool quiet = false;
+};
+
+nlohmann::json statsJson(const Scene& scene, const RenderStats& st, const std::string& out) {
+    const PathCounters& c = st.counters;
+    nlohmann::json j;
+    j["shvol_version"] = SHVOL_VERSION;
+    j["scene"] = scene.path;
+    j["output"] = out;
+    j["resolution"] = {scene.camera.width, scene.camera.height};
+    j["seed"] = st.seed;
+    j["spp"] = st.spp;
+    j["threads"] = st.threads;
+    j["wall_time_s"] = st.wallSeconds;
+    j["paths"] = c.paths;
+    j["paths_per_second"] = st.pathsPerSecond();
+    j["mean_path_length"] = st.meanPathLength();
+    j["scattering_events"] = c.scatteringEvents;
+    j["phase_samples"] = c.phaseSamples;
+    j["light_samples"] = c.lightSamples;
+    j["transmittance_rays"] = c.transmittanceRays;
+    j["density_lookups"] = c.tracking.densityLookups;
+    j["density_lookups_per_second"] = c.tracking.densityLookups / std::max(1e-9, st.wallSeconds);
+    j["majorant_segments"] = c.tracking.segments;
+    j["non_finite_samples"] = c.nonFiniteSamples;
+    j["peak_memory_mib"] = peakMemoryMiB();
+    j["effects"] = st.effects;
+    for (const auto& m : scene.media) j["media"].push_back(m->describe());
+    return j;
+}
+
+int runRender(const RenderArgs& a) {
+    std::vector<std::string> sets = a.sets;
+    if (a.spp > 0) sets.push_back("render.spp=" + std::to_string(a.spp));
+    if (a.seed >= 0) sets.push_back("render.seed=" + std::to_string(a.seed));
+    const Scene scene = loadScene(a.scene, sets);
+    std::string out = a.output;
+    if (out.empty()) out = std::filesystem::path(a.scene).stem().string() + ".exr";
+    std::string statsPath = out;
+    if (std::filesystem::path(out).extension() == ".exr") statsPath.resize(out.size() - 4);
+    statsPath += ".stats.json";
+
+    RenderOptions opt;
+    opt.threads = a.threads;
+    opt.progress = !a.quiet && Progress::stderrIsTerminal();
+    const RenderResult r = render(scene, opt);
+    writeExr(out, r.image);
+    writeTextAtomically(statsPath, statsJson(scene, r.stats, out).dump(2) + "\n");
+    if (r.stats.counters.nonFiniteSamples > 0)
+        std::fprintf(stderr, "shvol: warning: %llu samples were NaN or infinite and were dropped\n",
+                     (unsigned long long)r.stats.counters.nonFiniteSamples);
+    if (!a.quiet)
+        std::fprintf(stderr, "wrote %s and %s (%.2f s, %.3g paths/s, %d threads)\n", out.c_str(),
+                     statsPath.c_str(), r.stats.wallSeconds, r.stats.pathsPerSecond(),
+                     r.stats.threads);
+    return 0;
+}
+
+}  // namespace
+
+void addRenderCommand(CLI::App& app, std::function<int()>& run) {
+    auto args = std::make_shared<RenderArgs>();
+    CLI::App* c = app.add_subcommand("render", "Render a scene to a float32 EXR and a stats JSON");
+    c->add_option("scene", args->scene, "Scene file (JSON)")->required();
+    c->add_option("-o,--output", args->output,
+                  "Output EXR (default: <scene name>.exr); statistics go to <output>.stats.json");
+    c->add_option("--spp", args->spp, "Samples per pixel (overrides render.spp)")
+        ->check(CLI::PositiveNumber);
+    c->add_option("--seed", args->seed, "Random seed (overrides render.seed)")
+        ->check(CLI::NonNegativeNumber);
+    c->add_option("--threads", args->threads, "Worker threads (default: all cores)")
+        ->check(CLI::NonNegativeNumber);
+    c->add_option("--set", args->sets, "Override a scene value: key.path=value (repeatable)");
+    c->add_flag("--quiet", args->quiet, "No progress bar or summary");
+    c->callback([&run, args] { run = [args] { return runRender(*args); }; });
+}
+
+}  // namespace shvol::app

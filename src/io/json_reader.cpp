@@ -1,0 +1,199 @@
+#include "shvol/io/json_reader.h"
+
+#include <fstream>
+#include <sstream>
+
+#include "shvol/core/error.h"
+
+namespace shvol {
+
+namespace {
+std::string typeName(const Json& j) {
+    if (j.is_number()) return "number";
+    return j.type_name();
+}
+std::string brief(const Json& j) {
+    std::string s = j.dump();
+    return s.size() > 40 ? s.substr(0, 37) + "..." : s;
+}
+}  // namespace
+
+Json parseJsonFile(const std::string& path) {
+    std::ifstream f(path);
+    if (!f) fail(path, "", "cannot open file");
+    std::stringstream ss;
+    ss << f.rdbuf();
+    const std::string text = ss.str();
+    try {
+        return Json::parse(text);
+    } catch (const Json::parse_error& e) {
+        // Translate the byte offset into line:column.
+        size_t line = 1, col = 1;
+        for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+            if (text[i] == '\n') ++line, col = 1;
+            else ++col;
+        }
+        std::string msg = e.what();
+        const auto pos = msg.find("error while parsing value - ");
+        if (pos != std::string::npos) msg = msg.substr(pos + 28);
+        else if ((msg.find("] ")) != std::string::npos) msg = msg.substr(msg.find("] ") + 2);
+        fail(path, "line " + std::to_string(line) + ", column " + std::to_string(col),
+             "malformed JSON: " + msg);
+    }
+}
+
+void applyOverride(Json& doc, const std::string& assignment, const std::string& file) {
+    const auto eq = assignment.find('=');
+    if (eq == std::string::npos || eq == 0)
+        fail(file, "--set " + assignment, "expected key.path=value");
+    const std::string keyPath = assignment.substr(0, eq), text = assignment.substr(eq + 1);
+    Json value;
+    try {
+        value = Json::parse(text);
+    } catch (const Json::parse_error&) {
+        value = text;
+    }
+    Json* node = &doc;
+    std::stringstream ss(keyPath);
+    std::string part, walked;
+    while (std::getline(ss, part, '.')) {
+        if (part.empty()) fail(file, "--set " + assignment, "empty component in key path");
+        const bool isIndex = part.find_first_not_of("0123456789") == std::string::npos;
+        if (node->is_array() && isIndex) {
+            const size_t i = std::stoul(part);
+            if (i >= node->size())
+                fail(file, walked, "--set: index " + part + " out of range (" +
+                                       std::to_string(node->size()) + " elements)");
+            node = &(*node)[i];
+            walked += "[" + part + "]";
+        } else if (node->is_object() || node->is_null()) {
+            node = &(*node)[part];
+            walked += (walked.empty() ? "" : ".") + part;
+        } else {
+            fail(file, walked, "--set: cannot descend into a " + typeName(*node));
+        }
+    }
+    *node = value;
+}
+
+JsonReader::JsonReader(const Json& j, std::string file, std::string path)
+    : j_(j), file_(std::move(file)), path_(std::move(path)) {
+    if (!j_.is_object())
+        fail(file_, path_.empty() ? "(top level)" : path_,
+             "expected an object, got " + typeName(j_));
+}
+
+std::string JsonReader::keyPath(const std::string& key) const {
+    return path_.empty() ? key : path_ + "." + key;
+}
+
+void JsonReader::error(const std::string& key, const std::string& msg) const {
+    fail(file_, key.empty() ? path_ : keyPath(key), msg);
+}
+
+bool JsonReader::has(const std::string& key) const { return j_.contains(key); }
+
+const Json& JsonReader::get(const std::string& key, const char* type) const {
+    if (!j_.contains(key)) error(key, std::string("missing required ") + type);
+    return j_.at(key);
+}
+
+double JsonReader::number(const std::string& key, std::optional<double> def) {
+    used_.insert(key);
+    if (!j_.contains(key) && def) return *def;
+    const Json& v = get(key, "number");
+    if (!v.is_number()) error(key, "expected a number, got " + typeName(v) + " " + brief(v));
+    const double x = v.get<double>();
+    if (!std::isfinite(x)) error(key, "expected a finite number");
+    return x;
+}
+
+double JsonReader::number(const std::string& key, double def, double lo, double hi) {
+    const double x = number(key, std::optional<double>(def));
+    if (x < lo || x > hi) {
+        std::ostringstream m;
+        m << "value " << x << " out of range [" << lo << ", " << hi << "]";
+        error(key, m.str());
+    }
+    return x;
+}
+
+int JsonReader::integer(const std::string& key, int def, int lo, int hi) {
+    used_.insert(key);
+    if (!j_.contains(key)) return def;
+    const Json& v = j_.at(key);
+    if (!v.is_number_integer()) error(key, "expected an integer, got " + typeName(v) + " " + brief(v));
+    const long long x = v.get<long long>();
+    if (x < lo || x > hi)
+        error(key, "value " + std::to_string(x) + " out of range [" + std::to_string(lo) + ", " +
+                       std::to_string(hi) + "]");
+    return int(x);
+}
+
+bool JsonReader::boolean(const std::string& key, bool def) {
+    used_.insert(key);
+    if (!j_.contains(key)) return def;
+    const Json& v = j_.at(key);
+    if (!v.is_boolean()) error(key, "expected true or false, got " + typeName(v) + " " + brief(v));
+    return v.get<bool>();
+}
+
+std::string JsonReader::string(const std::string& key, std::optional<std::string> def) {
+    used_.insert(key);
+    if (!j_.contains(key) && def) return *def;
+    const Json& v = get(key, "string");
+    if (!v.is_string()) error(key, "expected a string, got " + typeName(v) + " " + brief(v));
+    return v.get<std::string>();
+}
+
+std::string JsonReader::choice(const std::string& key, const std::string& def,
+                               std::initializer_list<const char*> choices) {
+    const std::string s = string(key, def);
+    std::string list;
+    for (const char* c : choices) {
+        if (s == c) return s;
+        list += (list.empty() ? "" : ", ") + std::string("\"") + c + "\"";
+    }
+    error(key, "unknown value \"" + s + "\"; expected one of " + list);
+}
+
+Vec3 JsonReader::vec3(const std::string& key, std::optional<Vec3> def) {
+    used_.insert(key);
+    if (!j_.contains(key) && def) return *def;
+    const Json& v = get(key, "array of 3 numbers");
+    if (!v.is_array() || v.size() != 3)
+        error(key, "expected an array of 3 numbers, got " + typeName(v) + " " + brief(v));
+    Vec3 r;
+    for (int i = 0; i < 3; ++i) {
+        if (!v[i].is_number())
+            fail(file_, keyPath(key) + "[" + std::to_string(i) + "]",
+                 "expected a number, got " + typeName(v[i]));
+        r[i] = v[i].get<double>();
+    }
+    return r;
+}
+
+Vec3 JsonReader::vec3OrScalar(const std::string& key, std::optional<Vec3> def) {
+    if (j_.contains(key) && j_.at(key).is_number()) {
+        const double x = number(key);
+        return Vec3(x, x, x);
+    }
+    return vec3(key, def);
+}
+
+JsonReader JsonReader::object(const std::string& key) {
+    used_.insert(key);
+    return JsonReader(get(key, "object"), file_, keyPath(key));
+}
+
+const Json& JsonReader::raw(const std::string& key) {
+    used_.insert(key);
+    return get(key, "value");
+}
+
+void JsonReader::finish() const {
+    for (auto it = j_.begin(); it != j_.end(); ++it)
+        if (!used_.count(it.key())) error(it.key(), "unknown key");
+}
+
+}  // namespace shvol

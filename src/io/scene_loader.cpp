@@ -1,0 +1,181 @@
+#include "shvol/io/scene_loader.h"
+
+#include <filesystem>
+
+#include "shvol/core/error.h"
+#include "shvol/io/exr.h"
+#include "shvol/io/vdb.h"
+#include "shvol/media/homogeneous_medium.h"
+
+namespace shvol {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string resolve(const std::string& sceneFile, const std::string& name) {
+    const fs::path p(name);
+    if (p.is_absolute()) return name;
+    return (fs::path(sceneFile).parent_path() / p).lexically_normal().string();
+}
+
+Spectrum spectrum(JsonReader& r, const std::string& key, double def, double lo, double hi) {
+    const Vec3 v = r.vec3OrScalar(key, Vec3::Constant(def));
+    for (int i = 0; i < 3; ++i)
+        if (v[i] < lo || v[i] > hi)
+            r.error(key, "component " + std::to_string(v[i]) + " out of range [" +
+                             std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return v.array();
+}
+
+Camera readCamera(JsonReader r) {
+    Camera c;
+    const std::string type = r.choice("type", "perspective", {"perspective", "orthographic"});
+    c.type = type == "perspective" ? Camera::Type::Perspective : Camera::Type::Orthographic;
+    c.position = r.vec3("position", c.position);
+    c.target = r.vec3("target", c.target);
+    c.up = r.vec3("up", c.up);
+    if ((c.target - c.position).norm() == 0) r.error("target", "equals the camera position");
+    if ((c.target - c.position).normalized().cross(c.up).norm() < 1e-9)
+        r.error("up", "is parallel to the viewing direction");
+    c.fovDegrees = r.number("fov", c.fovDegrees, 1e-3, 179);
+    c.extent = r.number("extent", c.extent, 1e-9, 1e9);
+    if (r.has("resolution")) {
+        const Json& res = r.raw("resolution");
+        if (!res.is_array() || res.size() != 2 || !res[0].is_number_integer() ||
+            !res[1].is_number_integer() || res[0].get<long long>() < 1 ||
+            res[1].get<long long>() < 1 || res[0].get<long long>() > 16384 ||
+            res[1].get<long long>() > 16384)
+            r.error("resolution", "expected [width, height], integers in [1, 16384]");
+        c.width = res[0].get<int>();
+        c.height = res[1].get<int>();
+    }
+    r.finish();
+    return c;
+}
+
+RenderSettings readSettings(JsonReader r) {
+    RenderSettings s;
+    s.spp = r.integer("spp", s.spp, 1, 1 << 24);
+    const double seed = r.number("seed", 1.0, 0, 9007199254740992.0);
+    if (seed != std::floor(seed)) r.error("seed", "expected a non-negative integer");
+    s.seed = uint64_t(seed);
+    s.maxDepth = r.integer("max_depth", s.maxDepth, 0, 1 << 20);
+    s.rrDepth = r.integer("rr_depth", s.rrDepth, 0, 1 << 20);
+    s.nee = r.boolean("nee", s.nee);
+    s.transmittance = r.choice("transmittance", "ratio", {"ratio", "delta"}) == "ratio"
+                          ? TransmittanceEstimator::Ratio
+                          : TransmittanceEstimator::Delta;
+    r.finish();
+    return s;
+}
+
+Environment readEnvironment(JsonReader r) {
+    const std::string type = r.choice("type", "constant", {"constant", "image"});
+    const bool lowerBlack = r.boolean("lower_hemisphere_black", false);
+    if (type == "constant") {
+        const Spectrum L = spectrum(r, "radiance", 1, 0, 1e30);
+        r.finish();
+        return Environment::constant(L, lowerBlack);
+    }
+    const std::string file = resolve(r.file(), r.string("file"));
+    const double scale = r.number("scale", 1, 0, 1e30);
+    const double rotation = r.number("rotation", 0, -1e6, 1e6);
+    r.finish();
+    return Environment::image(readExr(file), scale, rotation, lowerBlack);
+}
+
+Eigen::Affine3d readTransform(JsonReader r) {
+    const Vec3 t = r.vec3("translate", Vec3::Zero());
+    const Vec3 s = r.vec3OrScalar("scale", Vec3::Ones());
+    if ((s.array() <= 0).any()) r.error("scale", "must be positive");
+    Eigen::Affine3d m = Eigen::Affine3d::Identity();
+    m.translate(t);
+    if (r.has("rotate")) {
+        JsonReader rot = r.object("rotate");
+        const Vec3 axis = rot.vec3("axis", Vec3(0, 0, 1));
+        if (axis.norm() == 0) rot.error("axis", "must not be zero");
+        const double deg = rot.number("degrees", 0.0);
+        rot.finish();
+        m.rotate(Eigen::AngleAxisd(deg * Pi / 180, axis.normalized()));
+    }
+    m.scale(s);
+    r.finish();
+    return m;
+}
+
+std::unique_ptr<Medium> readMedium(JsonReader r) {
+    const std::string type = r.choice("type", "vdb", {"vdb", "homogeneous"});
+    const Spectrum albedo = spectrum(r, "albedo", 1, 0, 1);
+    const PhaseFunction phase =
+        r.has("phase") ? readPhaseFunction(r.object("phase")) : PhaseFunction(IsotropicPhase());
+    if (type == "homogeneous") {
+        const double sigmaT = r.number("sigma_t", 1, 0, 1e12);
+        const bool tracking = r.choice("estimator", "analytic", {"analytic", "tracking"}) == "tracking";
+        MediumShape shape;
+        JsonReader sh = r.object("shape");
+        const std::string st = sh.choice("type", "box", {"box", "sphere"});
+        if (st == "box") {
+            shape.type = MediumShape::Type::Box;
+            shape.lo = sh.vec3("min", Vec3(-1, -1, -1));
+            shape.hi = sh.vec3("max", Vec3(1, 1, 1));
+            if ((shape.hi.array() <= shape.lo.array()).any()) sh.error("max", "must exceed min");
+        } else {
+            shape.type = MediumShape::Type::Sphere;
+            shape.center = sh.vec3("center", Vec3::Zero());
+            shape.radius = sh.number("radius", 1, 1e-12, 1e12);
+        }
+        sh.finish();
+        r.finish();
+        return std::make_unique<HomogeneousMedium>(shape, sigmaT, albedo, phase, tracking);
+    }
+    VdbMediumDesc d;
+    d.file = resolve(r.file(), r.string("file"));
+    d.grid = r.string("grid", d.grid);
+    d.densityScale = r.number("density_scale", 1, 0, 1e12);
+    d.albedo = albedo;
+    d.phase = phase;
+    if (r.has("transform")) d.toWorld = readTransform(r.object("transform"));
+    d.majorantGrid = r.boolean("majorant_grid", true);
+    d.majorantCellVoxels = r.integer("majorant_cell", 8, 1, 4096);
+    r.finish();
+    return loadVdbMedium(d);
+}
+
+}  // namespace
+
+PhaseFunction readPhaseFunction(JsonReader r) {
+    const std::string type = r.choice("type", "isotropic", {"isotropic", "hg"});
+    if (type == "isotropic") {
+        r.finish();
+        return PhaseFunction(IsotropicPhase());
+    }
+    const double g = r.number("g", 0, -0.999999, 0.999999);
+    r.finish();
+    return PhaseFunction(HenyeyGreensteinPhase(g));
+}
+
+Scene sceneFromJson(const Json& doc, const std::string& path) {
+    Scene scene;
+    scene.path = path;
+    JsonReader r(doc, path, "");
+    if (r.has("camera")) scene.camera = readCamera(r.object("camera"));
+    if (r.has("render")) scene.settings = readSettings(r.object("render"));
+    if (r.has("environment")) scene.environment = readEnvironment(r.object("environment"));
+    if (r.has("media")) {
+        const Json& media = r.raw("media");
+        if (!media.is_array()) r.error("media", "expected an array of media");
+        for (size_t i = 0; i < media.size(); ++i)
+            scene.media.push_back(readMedium(JsonReader(media[i], path, "media[" + std::to_string(i) + "]")));
+    }
+    r.finish();
+    return scene;
+}
+
+Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
+    Json doc = parseJsonFile(path);
+    for (const std::string& o : overrides) applyOverride(doc, o, path);
+    return sceneFromJson(doc, path);
+}
+
+}  // namespace shvol

@@ -1,0 +1,50 @@
+#include "shvol/media/homogeneous_medium.h"
+
+namespace shvol {
+
+Interval MediumShape::intersect(const Ray& ray, double tMax) const {
+    return type == Type::Box ? intersectBox(ray, lo, hi, tMax)
+                             : intersectSphere(ray, center, radius, tMax);
+}
+
+bool MediumShape::contains(const Vec3& p) const {
+    if (type == Type::Box) return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
+    return (p - center).squaredNorm() <= radius * radius;
+}
+
+HomogeneousMedium::HomogeneousMedium(MediumShape shape, double sigmaT, Spectrum albedo,
+                                     PhaseFunction phase, bool tracking)
+    : Medium(albedo, std::move(phase)), shape_(shape), sigmaT_(sigmaT), tracking_(tracking) {}
+
+double HomogeneousMedium::sampleCollision(const Ray& ray, double tMax, Rng& rng,
+                                          TrackingCounters& c) const {
+    const Interval iv = shape_.intersect(ray, tMax);
+    if (iv.empty() || !(sigmaT_ > 0)) return NoCollision;
+    if (tracking_) {
+        auto segments = [&](auto&& visit) { visit(iv.t0, iv.t1, 2 * sigmaT_); };
+        return deltaTrack(segments, [&](double) { return sigmaT_; }, rng, c);
+    }
+    ++c.segments;
+    const double t = iv.t0 - std::log1p(-rng.uniform()) / sigmaT_;
+    return t < iv.t1 ? t : NoCollision;
+}
+
+double HomogeneousMedium::transmittance(const Ray& ray, double tMax, TransmittanceEstimator est,
+                                        Rng& rng, TrackingCounters& c) const {
+    const Interval iv = shape_.intersect(ray, tMax);
+    if (iv.empty() || !(sigmaT_ > 0)) return 1;
+    if (!tracking_ && est == TransmittanceEstimator::Ratio) {
+        ++c.segments;
+        return std::exp(-sigmaT_ * (iv.t1 - iv.t0));
+    }
+    auto segments = [&](auto&& visit) { visit(iv.t0, iv.t1, (tracking_ ? 2 : 1) * sigmaT_); };
+    auto sigma = [&](double) { return sigmaT_; };
+    return est == TransmittanceEstimator::Ratio ? ratioTrack(segments, sigma, rng, c)
+                                                : deltaTrackTransmittance(segments, sigma, rng, c);
+}
+
+std::string HomogeneousMedium::describe() const {
+    return std::string("homogeneous ") + (shape_.type == MediumShape::Type::Box ? "box" : "sphere");
+}
+
+}  // namespace shvol
