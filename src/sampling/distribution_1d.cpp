@@ -1,0 +1,73 @@
+#include "shvol/sampling/distribution_1d.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "shvol/core/error.h"
+
+namespace shvol {
+
+Distribution1D::Distribution1D(const double* f, int n) {
+    if (n <= 0) fail("", "Distribution1D", "needs at least one bin");
+    func_.resize(n);
+    for (int i = 0; i < n; ++i) func_[i] = (f[i] > 0 && std::isfinite(f[i])) ? f[i] : 0.0;
+    cdf_.resize(n + 1);
+    cdf_[0] = 0;
+    for (int i = 0; i < n; ++i) cdf_[i + 1] = cdf_[i] + func_[i];
+    const double sum = cdf_[n];
+    integral_ = sum / n;
+    allZero_ = !(sum > 0);
+    if (allZero_) {
+        for (int i = 0; i <= n; ++i) cdf_[i] = double(i) / n;
+    } else {
+        for (int i = 1; i < n; ++i) cdf_[i] /= sum;
+    }
+    cdf_[n] = 1.0;
+}
+
+int Distribution1D::findBin(double u) const {
+    const int n = count();
+    // Last i in [0, n-1] with cdf[i] ≤ u. Because cdf is non-decreasing, cdf[i+1] > u for that i
+    // whenever u < 1, so the bin has positive width (i.e. non-zero weight).
+    int i = int(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin()) - 1;
+    i = std::clamp(i, 0, n - 1);
+    // Only reachable through rounding (u ≥ cdf[n]): step back to a bin with weight.
+    while (i > 0 && cdf_[i + 1] <= cdf_[i]) --i;
+    while (i < n - 1 && cdf_[i + 1] <= cdf_[i]) ++i;
+    return i;
+}
+
+double Distribution1D::sampleContinuous(double u, double* pdf, int* offset) const {
+    const int n = count();
+    u = std::clamp(u, 0.0, std::nextafter(1.0, 0.0));
+    const int i = findBin(u);
+    if (offset) *offset = i;
+    if (pdf) *pdf = allZero_ ? 1.0 : func_[i] / integral_;
+    const double width = cdf_[i + 1] - cdf_[i];
+    double du = width > 0 ? (u - cdf_[i]) / width : 0.0;
+    du = std::clamp(du, 0.0, 1.0);
+    double x = (i + du) / n;
+    // Keep x inside bin i so that pdf(x) agrees with the returned pdf.
+    while (x > 0 && std::min(int(x * n), n - 1) > i) x = std::nextafter(x, 0.0);
+    while (std::min(int(x * n), n - 1) < i) x = std::nextafter(x, 1.0);
+    return std::min(x, std::nextafter(1.0, 0.0));
+}
+
+int Distribution1D::sampleDiscrete(double u, double* pmf) const {
+    u = std::clamp(u, 0.0, std::nextafter(1.0, 0.0));
+    const int i = findBin(u);
+    if (pmf) *pmf = cdf_[i + 1] - cdf_[i];
+    return i;
+}
+
+double Distribution1D::pdf(double x) const {
+    const int n = count();
+    const int i = std::clamp(int(x * n), 0, n - 1);
+    return allZero_ ? 1.0 : func_[i] / integral_;
+}
+
+double Distribution1D::pmf(int i) const {
+    return cdf_[i + 1] - cdf_[i];
+}
+
+}  // namespace shvol

@@ -1,0 +1,97 @@
+// The harness must be able to fail: wrong pdfs, lost samples and samples where pdf = 0.
+#include "shvol/sampling/chi2.h"
+
+#include <gtest/gtest.h>
+
+#include "shvol/sampling/warp.h"
+
+namespace shvol {
+namespace {
+
+// Cosine-weighted hemisphere (Malley's method), written here so the test needs no other module.
+Vec3 sampleCosine(const Vec2& u) {
+    const double r = std::sqrt(u.x()), phi = TwoPi * u.y();
+    return {r * std::cos(phi), r * std::sin(phi), safeSqrt(1 - u.x())};
+}
+
+// Henyey–Greenstein written out independently of shvol_phase (pbrt-v3 eq. 15.? inverse CDF).
+double hg(double mu, double g) {
+    return (1 - g * g) / (FourPi * std::pow(1 + g * g - 2 * g * mu, 1.5));
+}
+Vec3 sampleHgAboutZ(const Vec2& u, double g) {
+    const double s = (1 - g * g) / (1 - g + 2 * g * u.x());
+    const double mu = std::clamp((1 + g * g - s * s) / (2 * g), -1.0, 1.0);
+    return sphericalDirection(mu, TwoPi * u.y());
+}
+
+TEST(Chi2, CorrectCosineSamplerPasses) {
+    const auto r =
+        chi2TestSphere([](Rng& rng) { return std::optional<Vec3>(sampleCosine(rng.uniform2())); },
+                       [](const Vec3& w) { return std::max(0.0, w.z()) * InvPi; });
+    EXPECT_TRUE(r.passed) << r.report;
+    EXPECT_NEAR(r.pdfIntegral, 1.0, 1e-7);
+}
+
+TEST(Chi2, UniformPdfForCosineSamplesFails) {
+    const auto r =
+        chi2TestSphere([](Rng& rng) { return std::optional<Vec3>(sampleCosine(rng.uniform2())); },
+                       [](const Vec3& w) { return w.z() >= 0 ? Inv2Pi : 0.0; });
+    EXPECT_FALSE(r.passed) << r.report;
+}
+
+TEST(Chi2, CorrectHgSamplerPasses) {
+    const auto r = chi2TestSphere(
+        [](Rng& rng) { return std::optional<Vec3>(sampleHgAboutZ(rng.uniform2(), 0.6)); },
+        [](const Vec3& w) { return hg(w.z(), 0.6); });
+    EXPECT_TRUE(r.passed) << r.report;
+}
+
+TEST(Chi2, HgPdfWithWrongGFails) {
+    const auto r = chi2TestSphere(
+        [](Rng& rng) { return std::optional<Vec3>(sampleHgAboutZ(rng.uniform2(), 0.6)); },
+        [](const Vec3& w) { return hg(w.z(), 0.5); });
+    EXPECT_FALSE(r.passed) << r.report;
+}
+
+TEST(Chi2, SlightlyWrongGFailsToo) {
+    // g off by 0.01 on 1e6 samples: a sensitive harness catches this.
+    const auto r = chi2TestSphere(
+        [](Rng& rng) { return std::optional<Vec3>(sampleHgAboutZ(rng.uniform2(), 0.6)); },
+        [](const Vec3& w) { return hg(w.z(), 0.61); });
+    EXPECT_FALSE(r.passed) << r.report;
+}
+
+TEST(Chi2, LostSamplesFail) {
+    // 2% of the samples come back empty, yet the pdf claims they are all there.
+    const auto r = chi2TestSphere(
+        [](Rng& rng) -> std::optional<Vec3> {
+            const Vec2 u = rng.uniform2();
+            if (rng.uniform() < 0.02) return std::nullopt;
+            return sampleUniformSphere(u);
+        },
+        [](const Vec3&) { return Inv4Pi; });
+    EXPECT_FALSE(r.passed) << r.report;
+    EXPECT_GT(r.failedSamples, 0);
+}
+
+TEST(Chi2, SamplesWherePdfIsZeroFail) {
+    // Uniform-sphere samples against a hemisphere pdf: samples fall where expected = 0.
+    Chi2Options opt;
+    opt.sampleCount = 100000;
+    const auto r = chi2TestSphere(
+        [](Rng& rng) { return std::optional<Vec3>(sampleUniformSphere(rng.uniform2())); },
+        [](const Vec3& w) { return w.z() >= 0 ? Inv2Pi : 0.0; }, opt);
+    EXPECT_FALSE(r.passed) << r.report;
+    EXPECT_EQ(r.pValue, 0.0);
+}
+
+TEST(Chi2, IntegrateOverSphereOfPeakedLobe) {
+    // HG g = 0.99 around an off-axis direction integrates to 1.
+    const Vec3 axis = Vec3(0.3, -0.5, 0.8).normalized();
+    const double I = integrateOverSphere([&](const Vec3& w) { return hg(axis.dot(w), 0.99); });
+    EXPECT_NEAR(I, 1.0, 1e-6);
+    EXPECT_NEAR(integrateOverSphere([](const Vec3&) { return 1.0; }), FourPi, 1e-12);
+}
+
+}  // namespace
+}  // namespace shvol
