@@ -1,0 +1,57 @@
+#pragma once
+/// \file PhaseFunction: a value type dispatching statically over a closed list of phase
+/// functions (std::variant + std::visit, in the spirit of pbrt-v4's TaggedPointer dispatch).
+///
+/// Every alternative P provides
+///   static constexpr const char* kName;
+///   double eval(const Vec3& wo, const Vec3& wi) const;   // p(wo, wi), ∫ p dω_i = 1
+///   double pdf(const Vec3& wo, const Vec3& wi) const;    // solid-angle density of sample()
+///   PhaseSample sample(const Vec3& wo, const Vec2& u) const;
+/// with wo the propagation direction before scattering and wi the one after (DESIGN.md).
+/// Adding a phase function = one class with those members + one entry in Variant below.
+#include <string>
+#include <type_traits>
+#include <variant>
+
+#include "shvol/phase/henyey_greenstein_phase.h"
+#include "shvol/phase/isotropic_phase.h"
+#include "shvol/phase/phase_sample.h"
+
+namespace shvol {
+
+class PhaseFunction {
+  public:
+    using Variant = std::variant<IsotropicPhase, HenyeyGreensteinPhase>;
+
+    /// Isotropic by default.
+    PhaseFunction() = default;
+    PhaseFunction(IsotropicPhase p) : p_(p) {}
+    PhaseFunction(HenyeyGreensteinPhase p) : p_(p) {}
+    /// Any other alternative of Variant.
+    template <typename P,
+              typename = std::enable_if_t<std::is_constructible_v<Variant, P> &&
+                                          !std::is_same_v<std::decay_t<P>, PhaseFunction>>>
+    PhaseFunction(P p) : p_(std::move(p)) {}
+
+    double eval(const Vec3& wo, const Vec3& wi) const {
+        return std::visit([&](const auto& p) { return p.eval(wo, wi); }, p_);
+    }
+    double pdf(const Vec3& wo, const Vec3& wi) const {
+        return std::visit([&](const auto& p) { return p.pdf(wo, wi); }, p_);
+    }
+    PhaseSample sample(const Vec3& wo, const Vec2& u) const {
+        return std::visit([&](const auto& p) { return p.sample(wo, u); }, p_);
+    }
+    /// "isotropic", "hg", …
+    std::string name() const {
+        return std::visit(
+            [](const auto& p) { return std::string(std::decay_t<decltype(p)>::kName); }, p_);
+    }
+    /// The alternative, for code that hoists the dispatch out of an inner loop (std::visit on it).
+    const Variant& variant() const { return p_; }
+
+  private:
+    Variant p_;
+};
+
+}  // namespace shvol

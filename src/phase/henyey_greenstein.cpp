@@ -1,0 +1,25 @@
+#include "shvol/phase/henyey_greenstein.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "shvol/core/math.h"
+
+namespace shvol {
+
+double henyeyGreenstein(double cosTheta, double g) {
+    const double mu = std::clamp(cosTheta, -1.0, 1.0);
+    const double base = g >= 0 ? sqr(1 - g) + 2 * g * (1 - mu) : sqr(1 + g) - 2 * g * (1 + mu);
+    return (1 - g * g) / (FourPi * base * std::sqrt(base));
+}
+
+double sampleHenyeyGreensteinCosTheta(double u, double g) {
+    const double d = 1 - g + 2 * g * u;  // = (1 − g)(1 − u) + (1 + g)u > 0
+    const double s = (1 - g * g) / d;
+    const double oneMinusMu = (1 - g) * (1 - u) * (s + 1 - g) / d;
+    const double onePlusMu = (1 + g) * u * (s + 1 + g) / d;
+    const double mu = oneMinusMu <= onePlusMu ? 1 - oneMinusMu : onePlusMu - 1;
+    return std::clamp(mu, -1.0, 1.0);
+}
+
+}  // namespace shvol

@@ -1,0 +1,115 @@
+#include "shvol/phase/henyey_greenstein.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "shvol/core/math.h"
+#include "shvol/core/rng.h"
+#include "shvol/sampling/chi2.h"
+
+namespace shvol {
+namespace {
+
+// Reference p(μ) written straight from the formula.
+double hgRef(double mu, double g) {
+    return (1 - g * g) / (FourPi * std::pow(1 + g * g - 2 * g * mu, 1.5));
+}
+// Reference CDF P(μ) = (1 − g²)/(2g) [ (1 + g² − 2gμ)^{-1/2} − 1/(1 + g) ].
+double hgCdfRef(double mu, double g) {
+    return (1 - g * g) / (2 * g) * (1 / std::sqrt(1 + g * g - 2 * g * mu) - 1 / (1 + g));
+}
+
+TEST(HenyeyGreenstein, MatchesFormula) {
+    for (double g : {-0.9, -0.3, 0.0, 0.2, 0.8})
+        for (double mu : {-1.0, -0.5, 0.0, 0.3, 0.99, 1.0})
+            EXPECT_NEAR(henyeyGreenstein(mu, g), hgRef(mu, g), 1e-13 * hgRef(mu, g))
+                << g << " " << mu;
+    EXPECT_DOUBLE_EQ(henyeyGreenstein(0.3, 0.0), Inv4Pi);
+}
+
+TEST(HenyeyGreenstein, ForwardForPositiveG) {
+    EXPECT_GT(henyeyGreenstein(1.0, 0.5), henyeyGreenstein(-1.0, 0.5));
+    EXPECT_LT(henyeyGreenstein(1.0, -0.5), henyeyGreenstein(-1.0, -0.5));
+}
+
+TEST(HenyeyGreenstein, IntegratesToOne) {
+    for (double g : {-0.99, -0.9, -0.5, 0.0, 0.3, 0.7, 0.9, 0.99}) {
+        // ∫ p dω = 2π ∫_{-1}^{1} p(μ) dμ, integrated over the sphere with the chi² quadrature.
+        const double I =
+            integrateOverSphere([g](const Vec3& w) { return henyeyGreenstein(w.z(), g); });
+        EXPECT_NEAR(I, 1.0, 1e-6) << "g = " << g;
+    }
+}
+
+TEST(HenyeyGreenstein, SamplerInvertsCdf) {
+    for (double g : {-0.95, -0.5, -1e-2, 0.1, 0.6, 0.95}) {
+        for (double u : {0.0, 1e-6, 0.1, 0.25, 0.5, 0.75, 0.9, 1 - 1e-6}) {
+            const double mu = sampleHenyeyGreensteinCosTheta(u, g);
+            EXPECT_NEAR(hgCdfRef(mu, g), u, 1e-10) << "g = " << g << " u = " << u;
+        }
+        EXPECT_DOUBLE_EQ(sampleHenyeyGreensteinCosTheta(0.0, g), -1.0);
+        // u → 1 gives μ → 1 (1 − μ is O(1 − u), larger for g < 0 where the density at μ = 1 is
+        // small).
+        EXPECT_NEAR(sampleHenyeyGreensteinCosTheta(std::nextafter(1.0, 0.0), g), 1.0, 1e-12);
+    }
+}
+
+TEST(HenyeyGreenstein, SamplerNearZeroG) {
+    // g = 0 is exactly uniform in μ; tiny g stays within O(g) of it and inverts its own CDF.
+    for (double u : {0.0, 0.2, 0.5, 0.9})
+        EXPECT_NEAR(sampleHenyeyGreensteinCosTheta(u, 0.0), 2 * u - 1, 1e-15);
+    for (double g : {1e-5, -1e-5, 1e-9}) {
+        for (double u : {0.05, 0.3, 0.5, 0.8}) {
+            const double mu = sampleHenyeyGreensteinCosTheta(u, g);
+            EXPECT_NEAR(mu, 2 * u - 1, 4 * std::abs(g));
+            // The closed-form CDF is still accurate enough in double for |g| ≥ 1e-5.
+            if (std::abs(g) >= 1e-5) EXPECT_NEAR(hgCdfRef(mu, g), u, 1e-9);
+        }
+    }
+    // The first-order shift: E[μ] = g, so μ(u) − (2u − 1) is proportional to g.
+    const double d1 = sampleHenyeyGreensteinCosTheta(0.5, 1e-5),
+                 d2 = sampleHenyeyGreensteinCosTheta(0.5, 2e-5);
+    EXPECT_GT(d1, 0.0);
+    EXPECT_NEAR(d2 / d1, 2.0, 1e-4);
+}
+
+TEST(HenyeyGreenstein, StableForExtremeG) {
+    Rng rng(11, 0);
+    for (double g : {0.999999, -0.999999, 0.0, 1e-12}) {
+        for (int i = 0; i < 20000; ++i) {
+            const double u = rng.uniform();
+            const double mu = sampleHenyeyGreensteinCosTheta(u, g);
+            ASSERT_TRUE(std::isfinite(mu));
+            ASSERT_GE(mu, -1.0);
+            ASSERT_LE(mu, 1.0);
+            const double p = henyeyGreenstein(mu, g);
+            ASSERT_TRUE(std::isfinite(p)) << g << " " << u;
+            ASSERT_GT(p, 0.0) << g << " " << u;
+        }
+    }
+    // Peak and tail values for g → 1 from the cancellation-free form.
+    const double g = 0.999999;
+    const double peak = (1 + g) / (FourPi * sqr(1 - g));  // p(1) = (1 − g²)/(4π(1 − g)³)
+    EXPECT_NEAR(henyeyGreenstein(1.0, g), peak, 1e-9 * peak);
+    const double tail = (1 - g) / (FourPi * sqr(1 + g));  // p(−1)
+    EXPECT_NEAR(henyeyGreenstein(-1.0, g), tail, 1e-9 * tail);
+}
+
+TEST(HenyeyGreenstein, MeanCosineIsG) {
+    // E[μ] = g for HG, estimated from the sampler.
+    Rng rng(4, 4);
+    for (double g : {-0.7, 0.0, 0.4, 0.9}) {
+        const int n = 200000;
+        double sum = 0, sum2 = 0;
+        for (int i = 0; i < n; ++i) {
+            const double mu = sampleHenyeyGreensteinCosTheta(rng.uniform(), g);
+            sum += mu, sum2 += mu * mu;
+        }
+        const double mean = sum / n, var = sum2 / n - mean * mean;
+        EXPECT_NEAR(mean, g, 5 * std::sqrt(var / n)) << g;
+    }
+}
+
+}  // namespace
+}  // namespace shvol
