@@ -1,0 +1,124 @@
+#include "shvol/media/homogeneous_medium.h"
+
+#include <gtest/gtest.h>
+
+namespace shvol {
+
+namespace {
+// A unit-thick slab z ∈ [0, 1] crossed along +z.
+MediumShape slab() {
+    MediumShape s;
+    s.lo = Vec3(-10, -10, 0), s.hi = Vec3(10, 10, 1);
+    return s;
+}
+const Ray Down{{0, 0, -1}, {0, 0, 1}};
+
+double meanTransmittance(const Medium& m, TransmittanceEstimator est, int n, double* stdErr) {
+    Rng rng(3, 4);
+    TrackingCounters c;
+    double s = 0, s2 = 0;
+    for (int i = 0; i < n; ++i) {
+        const double T = m.transmittance(Down, NoCollision, est, rng, c);
+        s += T, s2 += T * T;
+    }
+    const double mean = s / n;
+    *stdErr = std::sqrt(std::max(0.0, s2 / n - mean * mean) / n);
+    return mean;
+}
+}  // namespace
+
+TEST(HomogeneousMedium, ClosedFormTransmittance) {
+    for (double tau : {1e-6, 0.5, 3.0, 1e6}) {
+        HomogeneousMedium m(slab(), tau, Spectrum::Ones(), PhaseFunction(IsotropicPhase()));
+        Rng rng;
+        TrackingCounters c;
+        const double T = m.transmittance(Down, NoCollision, TransmittanceEstimator::Ratio, rng, c);
+        EXPECT_DOUBLE_EQ(T, std::exp(-tau)) << tau;
+    }
+}
+
+// Ratio and delta tracking (against a majorant 2σ_t) are unbiased estimators of e^{−τ}.
+TEST(HomogeneousMedium, TrackingEstimatorsMatchClosedForm) {
+    for (double tau : {0.1, 1.0, 4.0}) {
+        HomogeneousMedium m(slab(), tau, Spectrum::Ones(), PhaseFunction(IsotropicPhase()), true);
+        for (auto est : {TransmittanceEstimator::Ratio, TransmittanceEstimator::Delta}) {
+            double se;
+            const double T = meanTransmittance(m, est, 200000, &se);
+            EXPECT_NEAR(T, std::exp(-tau), 5 * se + 1e-12) << "tau " << tau;
+            EXPECT_GT(se, 0);
+        }
+    }
+}
+
+// The first collision distance has CDF 1 − e^{−σ t}; compare binned frequencies with the exact
+// bin probabilities (binomial 5σ bounds) for the closed form and for delta tracking.
+TEST(HomogeneousMedium, FreeFlightDistribution) {
+    const double sigma = 2.0;
+    for (bool tracking : {false, true}) {
+        HomogeneousMedium m(slab(), sigma, Spectrum::Ones(), PhaseFunction(IsotropicPhase()),
+                            tracking);
+        Rng rng(9, 1);
+        TrackingCounters c;
+        const int n = 200000, bins = 10;
+        std::vector<int> hist(bins + 1, 0);
+        for (int i = 0; i < n; ++i) {
+            const double t = m.sampleCollision(Down, NoCollision, rng, c);
+            if (t == NoCollision)
+                ++hist[bins];
+            else {
+                ASSERT_GE(t, 1.0);
+                ASSERT_LT(t, 2.0);
+                ++hist[std::min(bins - 1, int((t - 1.0) * bins))];
+            }
+        }
+        for (int b = 0; b <= bins; ++b) {
+            const double p = b == bins ? std::exp(-sigma)
+                                       : std::exp(-sigma * b / bins) - std::exp(-sigma * (b + 1) / bins);
+            EXPECT_NEAR(double(hist[b]) / n, p, 5 * std::sqrt(p * (1 - p) / n))
+                << "bin " << b << " tracking " << tracking;
+        }
+        if (tracking)
+            EXPECT_GT(c.densityLookups, uint64_t(n) / 2);  // null collisions were really taken
+    }
+}
+
+TEST(HomogeneousMedium, ExtremeOpticalDepthsStayFinite) {
+    for (double tau : {1e-6, 1e6}) {
+        for (bool tracking : {false, true}) {
+            HomogeneousMedium m(slab(), tau, Spectrum::Ones(), PhaseFunction(IsotropicPhase()),
+                                tracking);
+            Rng rng(1, 1);
+            TrackingCounters c;
+            for (int i = 0; i < 1000; ++i) {
+                const double t = m.sampleCollision(Down, NoCollision, rng, c);
+                if (t != NoCollision) {
+                    ASSERT_TRUE(std::isfinite(t));
+                    ASSERT_GE(t, 1.0);
+                }
+                for (auto est : {TransmittanceEstimator::Ratio, TransmittanceEstimator::Delta}) {
+                    const double T = m.transmittance(Down, NoCollision, est, rng, c);
+                    ASSERT_TRUE(std::isfinite(T));
+                    ASSERT_GE(T, 0.0);
+                    ASSERT_LE(T, 1.0);
+                }
+            }
+        }
+    }
+}
+
+TEST(HomogeneousMedium, SphereShape) {
+    MediumShape s;
+    s.type = MediumShape::Type::Sphere;
+    s.center = Vec3(1, 2, 3);
+    s.radius = 0.5;
+    HomogeneousMedium m(s, 2.0, Spectrum::Ones(), PhaseFunction(IsotropicPhase()));
+    Rng rng;
+    TrackingCounters c;
+    const Ray r{{1, 2, 0}, {0, 0, 1}};
+    EXPECT_NEAR(m.transmittance(r, NoCollision, TransmittanceEstimator::Ratio, rng, c),
+                std::exp(-2.0), 1e-12);
+    EXPECT_EQ(m.sigmaT(Vec3(1, 2, 3)), 2.0);
+    EXPECT_EQ(m.sigmaT(Vec3(1, 2, 4)), 0.0);
+}
+
+}  // namespace shvol

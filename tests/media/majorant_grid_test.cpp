@@ -1,0 +1,75 @@
+#include "shvol/media/majorant_grid.h"
+
+#include <gtest/gtest.h>
+
+#include "shvol/core/ray.h"
+#include "shvol/core/rng.h"
+
+namespace shvol {
+
+TEST(MajorantGrid, ExpandMarksOverlappingCells) {
+    MajorantGrid g(Vec3(0, 0, 0), Vec3(8, 8, 8), Eigen::Vector3i(4, 4, 4));
+    g.expand(Vec3(1.5, 1.5, 1.5), Vec3(2.5, 2.5, 2.5), 3.0);
+    for (int z = 0; z < 4; ++z)
+        for (int y = 0; y < 4; ++y)
+            for (int x = 0; x < 4; ++x) {
+                const bool in = x <= 1 && y <= 1 && z <= 1;
+                EXPECT_EQ(g.cell(x, y, z), in ? 3.0 : 0.0) << x << y << z;
+            }
+    g.expand(Vec3(0, 0, 0), Vec3(0.1, 0.1, 0.1), 1.0);
+    EXPECT_EQ(g.cell(0, 0, 0), 3.0);  // max, not overwrite
+    EXPECT_EQ(g.maxValue(), 3.0);
+}
+
+// Segments must tile the clipped ray interval in order, and each segment's majorant must be the
+// value of the cell containing every point of it (checked at random points).
+TEST(MajorantGrid, TraversalMatchesBruteForce) {
+    const Eigen::Vector3i res(5, 3, 7);
+    MajorantGrid g(Vec3(-1, -2, 0), Vec3(4, 1, 7), res);
+    Rng rng(5, 5);
+    for (int z = 0; z < res.z(); ++z)
+        for (int y = 0; y < res.y(); ++y)
+            for (int x = 0; x < res.x(); ++x) {
+                const Vec3 lo = Vec3(-1 + x, -2 + y, z) + Vec3::Constant(0.25);
+                g.expand(lo, lo + Vec3::Constant(0.5), 1 + rng.uniform());
+            }
+    auto cellAt = [&](const Vec3& p) {
+        const Vec3 q = p - Vec3(-1, -2, 0);
+        return g.cell(std::clamp(int(std::floor(q.x())), 0, 4), std::clamp(int(std::floor(q.y())), 0, 2),
+                      std::clamp(int(std::floor(q.z())), 0, 6));
+    };
+    for (int i = 0; i < 2000; ++i) {
+        const Vec3 o(-3 + 9 * rng.uniform(), -4 + 7 * rng.uniform(), -2 + 11 * rng.uniform());
+        Vec3 d = Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
+        if (i % 10 == 0) d = Vec3(1, 0, 0) * (i % 20 == 0 ? 1 : -1);  // axis-parallel rays
+        d.normalize();
+        const Interval box = intersectBox(Ray{o, d}, g.lower(), g.upper(), 100);
+        double prev = NAN, first = NAN, covered = 0;
+        g.traverse(o, d, 0, 100, [&](double t0, double t1, double m) {
+            EXPECT_LT(t0, t1);
+            if (std::isnan(first)) first = t0;
+            if (!std::isnan(prev)) EXPECT_NEAR(t0, prev, 1e-9);
+            prev = t1;
+            covered += t1 - t0;
+            for (double f : {0.1, 0.5, 0.9})
+                EXPECT_EQ(m, cellAt(o + (t0 + f * (t1 - t0)) * d)) << "ray " << i;
+            return true;
+        });
+        if (box.empty())
+            EXPECT_EQ(covered, 0) << "ray " << i;
+        else
+            EXPECT_NEAR(covered, box.t1 - box.t0, 1e-9) << "ray " << i;
+    }
+}
+
+TEST(MajorantGrid, VisitorCanStopTheWalk) {
+    MajorantGrid g(Vec3(0, 0, 0), Vec3(4, 1, 1), Eigen::Vector3i(4, 1, 1));
+    int visits = 0;
+    g.traverse(Vec3(-1, 0.5, 0.5), Vec3(1, 0, 0), 0, 100, [&](double, double, double) {
+        ++visits;
+        return visits < 2;
+    });
+    EXPECT_EQ(visits, 2);
+}
+
+}  // namespace shvol

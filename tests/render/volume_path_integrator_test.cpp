@@ -1,0 +1,207 @@
+// Analytic end-to-end scenes through the volumetric path tracer.
+#include "shvol/render/volume_path_integrator.h"
+
+#include <gtest/gtest.h>
+
+#include "shvol/media/homogeneous_medium.h"
+#include "shvol/render/renderer.h"
+
+namespace shvol {
+
+namespace {
+
+MediumShape sphere(double r) {
+    MediumShape s;
+    s.type = MediumShape::Type::Sphere;
+    s.radius = r;
+    return s;
+}
+
+Scene furnaceScene(double sigmaT, Spectrum albedo, PhaseFunction phase, bool tracking = false) {
+    Scene s;
+    s.camera.position = Vec3(0, -3, 0);
+    s.camera.target = Vec3(0, 0, 0);
+    s.environment = Environment::constant(Spectrum::Ones(), false);
+    s.settings.maxDepth = 1 << 20;
+    s.media.push_back(std::make_unique<HomogeneousMedium>(sphere(1), sigmaT, albedo, phase, tracking));
+    return s;
+}
+
+struct Estimate {
+    Spectrum mean;
+    Spectrum stdErr;
+    PathCounters counters;
+};
+
+// Mean and standard error of Li over n camera rays aimed at random points of the medium's
+// silhouette (all rays enter the sphere of radius 1).
+Estimate estimate(const Scene& scene, int n, uint64_t seed = 1) {
+    const VolumePathIntegrator integrator(scene);
+    Estimate e;
+    Spectrum s = Spectrum::Zero(), s2 = Spectrum::Zero();
+    for (int i = 0; i < n; ++i) {
+        Rng rng = Rng::forSample(seed, i, 0);
+        const Vec2 u = rng.uniform2();
+        const double r = 0.95 * std::sqrt(u.x()), phi = TwoPi * u.y();
+        const Ray ray{Vec3(r * std::cos(phi), -3, r * std::sin(phi)), Vec3(0, 1, 0)};
+        const Spectrum L = integrator.Li(ray, rng, e.counters);
+        EXPECT_TRUE(L.allFinite());
+        s += L, s2 += L * L;
+    }
+    e.mean = s / n;
+    e.stdErr = ((s2 / n - e.mean * e.mean).max(0) / n).sqrt();
+    return e;
+}
+
+void expectNear(const Spectrum& a, const Spectrum& b, const Spectrum& tol, const char* what) {
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], tol[c]) << what << " channel " << c;
+}
+
+}  // namespace
+
+// White furnace: an albedo-1 medium under constant radiance 1 renders exactly 1 (in expectation)
+// for any density and phase function, with and without NEE.
+TEST(VolumePathIntegrator, WhiteFurnaceHomogeneous) {
+    for (double sigmaT : {0.3, 2.0, 10.0})
+        for (double g : {0.0, 0.8, -0.5})
+            for (bool nee : {true, false}) {
+                Scene s = furnaceScene(sigmaT, Spectrum::Ones(),
+                                       PhaseFunction(HenyeyGreensteinPhase(g)));
+                s.settings.nee = nee;
+                const Estimate e = estimate(s, 20000);
+                SCOPED_TRACE("sigmaT " + std::to_string(sigmaT) + " g " + std::to_string(g) +
+                             " nee " + std::to_string(nee));
+                // 5σ plus a floor for the zero-variance case (no NEE: every path returns 1).
+                expectNear(e.mean, Spectrum::Ones(), 5 * e.stdErr + 1e-12, "furnace");
+                EXPECT_GT(e.counters.scatteringEvents, 0u);
+            }
+}
+
+TEST(VolumePathIntegrator, WhiteFurnaceWithTracking) {
+    for (auto est : {TransmittanceEstimator::Ratio, TransmittanceEstimator::Delta}) {
+        Scene s = furnaceScene(3.0, Spectrum::Ones(), PhaseFunction(IsotropicPhase()), true);
+        s.settings.transmittance = est;
+        const Estimate e = estimate(s, 20000);
+        expectNear(e.mean, Spectrum::Ones(), 5 * e.stdErr + 1e-12, "furnace tracking");
+        EXPECT_GT(e.counters.tracking.densityLookups, 0u);
+    }
+}
+
+// A purely absorbing slab before a constant background renders e^{−τ}: exactly with the closed
+// form, in expectation with ratio and delta tracking.
+TEST(VolumePathIntegrator, AbsorbingSlab) {
+    for (double tau : {0.25, 1.0, 5.0}) {
+        for (int mode = 0; mode < 3; ++mode) {
+            Scene s;
+            s.camera.type = Camera::Type::Orthographic;
+            s.camera.position = Vec3(0, 0, 5);
+            s.camera.target = Vec3(0, 0, 0);
+            s.camera.up = Vec3(0, 1, 0);
+            s.camera.width = s.camera.height = 8;
+            s.camera.extent = 1;
+            s.settings.spp = mode == 0 ? 1 : 4000;
+            s.settings.transmittance =
+                mode == 2 ? TransmittanceEstimator::Delta : TransmittanceEstimator::Ratio;
+            s.environment = Environment::constant(Spectrum(2, 1, 0.5), false);
+            MediumShape slab;
+            slab.lo = Vec3(-10, -10, -0.1), slab.hi = Vec3(10, 10, 0.1);
+            s.media.push_back(std::make_unique<HomogeneousMedium>(
+                slab, tau / 0.2, Spectrum::Zero(), PhaseFunction(IsotropicPhase()), mode > 0));
+            const RenderResult r = render(s, {});
+            const Spectrum expected = Spectrum(2, 1, 0.5) * std::exp(-tau);
+            double sum = 0;
+            for (int y = 0; y < 8; ++y)
+                for (int x = 0; x < 8; ++x) {
+                    if (mode == 0) expectNear(r.image.at(x, y), expected, expected * 1e-6, "exact");
+                    sum += r.image.at(x, y)[0];
+                }
+            // Per-sample variance is at most T(1−T)·4 (delta, binary) and less for ratio
+            // tracking; 64·4000 samples.
+            const double sd = std::sqrt(4 * std::exp(-tau) * (1 - std::exp(-tau)) / (64.0 * 4000));
+            EXPECT_NEAR(sum / 64, expected[0], 5 * sd + 1e-6) << "tau " << tau << " mode " << mode;
+            EXPECT_EQ(r.stats.counters.phaseSamples, 0u);
+            EXPECT_EQ(r.stats.counters.scatteringEvents, 0u);
+        }
+    }
+}
+
+// Closed form vs tracking in a scattering scene: same expectation.
+TEST(VolumePathIntegrator, ClosedFormAndTrackingAgree) {
+    const Spectrum albedo(0.9, 0.6, 0.3);
+    Scene a = furnaceScene(2.0, albedo, PhaseFunction(HenyeyGreensteinPhase(0.5)), false);
+    Scene b = furnaceScene(2.0, albedo, PhaseFunction(HenyeyGreensteinPhase(0.5)), true);
+    Scene c = furnaceScene(2.0, albedo, PhaseFunction(HenyeyGreensteinPhase(0.5)), true);
+    c.settings.transmittance = TransmittanceEstimator::Delta;
+    const Estimate ea = estimate(a, 40000, 1), eb = estimate(b, 40000, 2), ec = estimate(c, 40000, 3);
+    const Spectrum sab = (ea.stdErr.square() + eb.stdErr.square()).sqrt();
+    const Spectrum sac = (ea.stdErr.square() + ec.stdErr.square()).sqrt();
+    expectNear(ea.mean, eb.mean, 5 * sab, "closed vs ratio");
+    expectNear(ea.mean, ec.mean, 5 * sac, "closed vs delta");
+    EXPECT_LT(ea.mean[2], 0.9);  // absorption really happened
+}
+
+TEST(VolumePathIntegrator, DenseAndThinMediaStayFiniteAndLit) {
+    // Optical depth across the medium 2e6: the surface still scatters light back.
+    Scene dense = furnaceScene(1e6, Spectrum::Constant(0.8), PhaseFunction(IsotropicPhase()));
+    dense.settings.maxDepth = 256;
+    const Estimate d = estimate(dense, 4000);
+    EXPECT_GT(d.mean.minCoeff(), 0.05);
+    EXPECT_LT(d.mean.maxCoeff(), 1.0);
+    // Optical depth 2e-6: the medium is nearly invisible.
+    Scene thin = furnaceScene(1e-6, Spectrum::Constant(0.5), PhaseFunction(IsotropicPhase()));
+    const Estimate t = estimate(thin, 4000);
+    expectNear(t.mean, Spectrum::Ones(), Spectrum::Constant(1e-4), "thin");
+}
+
+// Effects that are off cost nothing: their counters stay at zero.
+TEST(VolumePathIntegrator, EffectsThatAreOffAreNotSimulated) {
+    {
+        Scene s = furnaceScene(2.0, Spectrum::Zero(), PhaseFunction(IsotropicPhase()));
+        const Estimate e = estimate(s, 1000);
+        EXPECT_EQ(e.counters.phaseSamples, 0u);
+        EXPECT_EQ(e.counters.lightSamples, 0u);
+        EXPECT_EQ(e.counters.scatteringEvents, 0u);
+        const Effects fx = Effects::of(s);
+        EXPECT_FALSE(fx.scattering);
+        EXPECT_FALSE(fx.nextEvent);
+    }
+    {
+        Scene s = furnaceScene(2.0, Spectrum::Ones(), PhaseFunction(IsotropicPhase()));
+        s.media.clear();
+        const Estimate e = estimate(s, 1000);
+        EXPECT_EQ(e.counters.transmittanceRays, 0u);
+        EXPECT_EQ(e.counters.tracking.segments, 0u);
+        EXPECT_NEAR(e.mean[0], 1.0, 1e-12);
+        EXPECT_FALSE(Effects::of(s).volumes);
+    }
+    {
+        Scene s = furnaceScene(2.0, Spectrum::Ones(), PhaseFunction(IsotropicPhase()));
+        s.settings.maxDepth = 1;
+        const Estimate e = estimate(s, 2000);
+        EXPECT_LE(e.counters.scatteringEvents, e.counters.paths);
+        EXPECT_LE(e.counters.phaseSamples, e.counters.paths);
+        const Effects fx = Effects::of(s);
+        EXPECT_TRUE(fx.scattering);
+        EXPECT_FALSE(fx.multipleScattering);
+        EXPECT_FALSE(fx.environmentImage);
+        const auto names = fx.names();
+        EXPECT_NE(std::find(names.begin(), names.end(), "single-scattering"), names.end());
+        EXPECT_NE(std::find(names.begin(), names.end(), "nee-environment-uniform"), names.end());
+    }
+}
+
+// The image depends on the seed only, never on the thread count.
+TEST(Renderer, ImageIndependentOfThreadCount) {
+    Scene s = furnaceScene(2.0, Spectrum(0.9, 0.7, 0.5), PhaseFunction(HenyeyGreensteinPhase(0.6)));
+    s.camera.width = 40, s.camera.height = 36;  // partial tiles on both axes
+    s.settings.spp = 4;
+    const RenderResult a = render(s, {1, false}), b = render(s, {2, false}), c = render(s, {3, false});
+    EXPECT_EQ(a.image.rgb, b.image.rgb);
+    EXPECT_EQ(a.image.rgb, c.image.rgb);
+    s.settings.seed = 2;
+    const RenderResult d = render(s, {2, false});
+    EXPECT_NE(a.image.rgb, d.image.rgb);
+    EXPECT_EQ(a.stats.counters.paths, uint64_t(40 * 36 * 4));
+}
+
+}  // namespace shvol
