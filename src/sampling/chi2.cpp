@@ -13,7 +13,7 @@ namespace shvol {
 namespace {
 
 constexpr int kPieces = 8;     // initial sub-intervals per cell side
-constexpr int kMaxDepth = 10;  // further bisections per sub-interval
+constexpr int kMaxDepth = 16;  // further bisections per sub-interval
 constexpr double kRelTol = 1e-7;
 
 // Adaptive Simpson (Lyness 1969) on [a, b] given f at a, m, b and the Simpson value `whole`.
@@ -48,44 +48,49 @@ double adaptiveSimpson(F&& f, double a, double b, double tol) {
     return sum;
 }
 
-// Composite Simpson on a fixed (2·kPieces+1)² grid: a cheap estimate to set the tolerance.
+// Composite Simpson on a fixed (2·kPieces+1)² grid in (θ, φ): a cheap estimate to set the
+// tolerance.
 double coarseCell(const std::function<double(const Vec3&)>& f, double z0, double z1, double p0,
                   double p1) {
     const int n = 2 * kPieces;
+    const double t0 = std::acos(z1), t1 = std::acos(z0);
     double sum = 0;
     for (int i = 0; i <= n; ++i) {
-        const double z =
-            std::clamp(z0 + (z1 - z0) * i / n, z0 + 1e-10 * (z1 - z0), z1 - 1e-10 * (z1 - z0));
+        const double theta =
+            std::clamp(t0 + (t1 - t0) * i / n, t0 + 1e-10 * (t1 - t0), t1 - 1e-10 * (t1 - t0));
         const double wz = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
-        const double s = safeSqrt(1 - z * z);
+        const double s = std::sin(theta), z = std::cos(theta);
         for (int j = 0; j <= n; ++j) {
             const double phi =
                 std::clamp(p0 + (p1 - p0) * j / n, p0 + 1e-10 * (p1 - p0), p1 - 1e-10 * (p1 - p0));
             const double wp = (j == 0 || j == n) ? 1 : (j % 2 ? 4 : 2);
-            sum += wz * wp * f(Vec3(s * std::cos(phi), s * std::sin(phi), z));
+            sum += wz * wp * s * f(Vec3(s * std::cos(phi), s * std::sin(phi), z));
         }
     }
-    return sum * (z1 - z0) * (p1 - p0) / (9.0 * n * n);
+    return sum * (t1 - t0) * (p1 - p0) / (9.0 * n * n);
 }
 
 // ∫∫_cell f dφ dz with absolute tolerance floorTol or relative kRelTol, whichever is larger.
+// The outer integral is taken over θ (dz = sin θ dθ), which removes the integrable 1/sin θ
+// singularities at the poles of pdfs defined on (θ, φ) maps and is smooth wherever f is.
 double integrateCell(const std::function<double(const Vec3&)>& f, double z0, double z1, double p0,
                      double p1, double floorTol) {
     const double coarse = coarseCell(f, z0, z1, p0, p1);
     const double tol = std::max(kRelTol * std::abs(coarse), floorTol);
+    const double t0 = std::acos(z1), t1 = std::acos(z0);  // θ range, t0 < t1
     const double innerTol = 0.01 * tol / (z1 - z0);
     // Evaluate one-sided limits at the cell edges, where pdfs often jump (z = 0, φ = 0).
-    const double dz = 1e-10 * (z1 - z0), dp = 1e-10 * (p1 - p0);
-    auto outer = [&](double z) {
-        z = std::clamp(z, z0 + dz, z1 - dz);
-        const double s = safeSqrt(1 - z * z);
+    const double dt = 1e-10 * (t1 - t0), dp = 1e-10 * (p1 - p0);
+    auto outer = [&](double theta) {
+        theta = std::clamp(theta, t0 + dt, t1 - dt);
+        const double s = std::sin(theta), z = std::cos(theta);
         auto inner = [&](double phi) {
             phi = std::clamp(phi, p0 + dp, p1 - dp);
             return f(Vec3(s * std::cos(phi), s * std::sin(phi), z));
         };
-        return adaptiveSimpson(inner, p0, p1, innerTol);
+        return s * adaptiveSimpson(inner, p0, p1, innerTol / std::max(s, 1e-3));
     };
-    return adaptiveSimpson(outer, z0, z1, tol);
+    return adaptiveSimpson(outer, t0, t1, tol);
 }
 
 std::vector<double> cellIntegrals(const std::function<double(const Vec3&)>& f, int zBins,

@@ -4,12 +4,13 @@
 ///
 /// The sphere is split into zBins × phiBins equal-area cells, uniform in z = cos θ ∈ [−1, 1]
 /// and φ ∈ [0, 2π) (dω = dz dφ). N = sampleCount samples are histogrammed; the expected count of
-/// a cell is Eᵢ = N ∫_cell pdf(ω) dω, integrated by nested adaptive Simpson quadrature in (z, φ)
-/// (each cell starts on an 8×8 sub-grid and refines to a relative error ≈ 1e-7, so peaked pdfs
-/// such as Henyey–Greenstein with g = 0.99 are integrated accurately). Cells are sorted by Eᵢ;
-/// cells with Eᵢ < minExpected are merged into one pooled cell (the following cells are also
-/// merged while the pool is still below minExpected), and the pool is tested if its expected
-/// count reaches minExpected. A cell with observed > 0 and expected == 0 fails at once.
+/// a cell is Eᵢ = N ∫_cell pdf(ω) dω, integrated by nested adaptive Simpson quadrature in (θ, φ)
+/// with dω = sin θ dθ dφ, which also handles the 1/sin θ poles of lat-long map pdfs (each cell
+/// starts on an 8×8 sub-grid and refines to a relative error ≈ 1e-7, so peaked pdfs such as
+/// Henyey–Greenstein with g = 0.99 are integrated accurately). Cells are sorted by Eᵢ; cells with
+/// Eᵢ < minExpected are merged into one pooled cell (the following cells are also merged while the
+/// pool is still below minExpected), and the pool is tested if its expected count reaches
+/// minExpected. A cell with observed > 0 and expected == 0 fails at once.
 ///   χ² = Σ (Oᵢ − Eᵢ)² / Eᵢ over the tested cells,   dof = (tested cells) − 1,
 ///   p = Q(dof/2, χ²/2)  (regularised upper incomplete gamma, boost::math::gamma_q).
 /// With the Šidák correction for numTests tests the test passes iff p > 1 − (1 − α)^(1/numTests).
@@ -50,7 +51,7 @@ Chi2Result chi2TestSphere(const std::function<std::optional<Vec3>(Rng&)>& sample
                           const std::function<double(const Vec3&)>& pdf,
                           const Chi2Options& opt = {});
 
-/// ∫_{S²} f dω, summed over zBins × phiBins (z, φ) cells each integrated by the same nested
+/// ∫_{S²} f dω, summed over zBins × phiBins (z, φ) cells, each integrated by the same nested
 /// adaptive Simpson rule as the chi² expected counts (relative accuracy ≈ 1e-7 per cell).
 double integrateOverSphere(const std::function<double(const Vec3&)>& f, int zBins = 40,
                            int phiBins = 80);

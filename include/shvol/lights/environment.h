@@ -1,0 +1,76 @@
+#pragma once
+/// \file Distant environment light: a constant radiance or a lat-long (equirectangular) map,
+/// importance sampled by luminance (pbrt-v3 §14.2.4, "Infinite Area Lights").
+///
+/// Directions: w is the direction of a ray that escapes the scene (pointing from the scene
+/// towards the environment); Le(w) is the radiance arriving back along −w.
+///
+/// Lat-long convention (z up, DESIGN.md angles):
+///   column x ↔ φ_img ∈ [2πx/W, 2π(x+1)/W), centre φ_img = 2π(x + ½)/W;
+///   row y    ↔ θ ∈ [πy/H, π(y+1)/H),       centre θ = π(y + ½)/H; row 0 (top) looks up +z.
+///   The map is rotated about +z by rotationDegrees: world φ = φ_img + rotation, so a pixel at
+///   φ_img = 0 appears at world φ = rotation (90° → +y).
+/// Lookup is nearest pixel (piecewise constant) times scale.
+///
+/// Sampling an image: a Distribution2D over (u, v) = (φ_img/2π, θ/π) with weights
+///   w(x, y) = Y(x, y) · sin θ_y · a_y,
+/// Y the Rec. 709 luminance (0.2126 R + 0.7152 G + 0.0722 B, clamped at 0), θ_y the row centre,
+/// and a_y = 1 except with lowerHemisphereBlack, where a_y is the fraction of the row above the
+/// horizon (0 for rows entirely below it, so those rows are never sampled). The density over
+/// solid angle follows from dω = sin θ dθ dφ = 2π² sin θ du dv:
+///   pdf_ω(w) = pdf_uv(u, v) / (2π² sin θ)   (0 where sin θ = 0, at the exact poles).
+/// pdf > 0 wherever Le > 0 (except the poles), which keeps the estimators unbiased. A row that
+/// straddles the horizon (odd H) may produce samples just below it; they carry Le = 0.
+/// Constant radiance: uniform sphere sampling, or the uniform upper hemisphere (z ≥ 0) when
+/// lowerHemisphereBlack. With lowerHemisphereBlack, Le(w) = 0 for w.z < 0.
+#include <memory>
+
+#include "shvol/core/image.h"
+#include "shvol/core/math.h"
+#include "shvol/sampling/distribution_2d.h"
+
+namespace shvol {
+
+/// wi: direction of the escaping ray (towards the environment); Le: radiance along it;
+/// pdf: solid-angle density of wi (0 if nothing could be sampled, then Le = 0 too).
+struct LightSample {
+    Vec3 wi;
+    Spectrum Le;
+    double pdf;
+};
+
+class Environment {
+  public:
+    /// Constant radiance L in every direction (or only for z ≥ 0).
+    static Environment constant(const Spectrum& L, bool lowerHemisphereBlack);
+    /// Lat-long map; builds the importance distribution once. Throws shvol::Error if the image
+    /// is empty. \param scale multiplies every pixel. \param rotationDegrees about +z.
+    static Environment image(Image img, double scale, double rotationDegrees,
+                             bool lowerHemisphereBlack);
+
+    /// Radiance seen along an escaping ray with direction w (w need not be normalised).
+    Spectrum Le(const Vec3& w) const;
+    /// Importance-sampled direction; see the file comment. \param u uniform in [0, 1)².
+    LightSample sample(const Vec2& u) const;
+    /// Solid-angle density of sample() producing w.
+    double pdf(const Vec3& w) const;
+    bool isConstant() const { return !image_; }
+    /// The constant radiance (meaningful when isConstant()).
+    Spectrum constantRadiance() const { return L_; }
+    bool lowerHemisphereBlack() const { return lowerBlack_; }
+    /// Rotation about +z in radians.
+    double rotation() const { return rotation_; }
+
+  private:
+    Environment() = default;
+    /// (u, v) = (φ_img/2π, θ/π) of a unit direction, and sin θ.
+    Vec2 toUv(const Vec3& w, double* sinTheta) const;
+
+    Spectrum L_ = Spectrum::Zero();
+    bool lowerBlack_ = false;
+    double scale_ = 1, rotation_ = 0;
+    std::shared_ptr<const Image> image_;          // null for a constant environment
+    std::shared_ptr<const Distribution2D> dist_;  // null for a constant environment
+};
+
+}  // namespace shvol

@@ -1,0 +1,95 @@
+#include "shvol/lights/environment.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "shvol/core/error.h"
+#include "shvol/sampling/warp.h"
+
+namespace shvol {
+
+namespace {
+double luminance(const Spectrum& s) {
+    return std::max(0.0, 0.2126 * s[0] + 0.7152 * s[1] + 0.0722 * s[2]);
+}
+}  // namespace
+
+Environment Environment::constant(const Spectrum& L, bool lowerHemisphereBlack) {
+    Environment e;
+    e.L_ = L;
+    e.lowerBlack_ = lowerHemisphereBlack;
+    return e;
+}
+
+Environment Environment::image(Image img, double scale, double rotationDegrees,
+                               bool lowerHemisphereBlack) {
+    if (img.width <= 0 || img.height <= 0 || img.rgb.size() != size_t(3) * img.width * img.height)
+        fail("", "environment", "the environment image is empty or malformed");
+    Environment e;
+    e.lowerBlack_ = lowerHemisphereBlack;
+    e.scale_ = scale;
+    e.rotation_ = rotationDegrees * Pi / 180.0;
+    const int W = img.width, H = img.height;
+    std::vector<double> weights(size_t(W) * H);
+    for (int y = 0; y < H; ++y) {
+        const double theta0 = Pi * y / H, theta1 = Pi * (y + 1) / H;
+        const double sinTheta = std::sin(Pi * (y + 0.5) / H);
+        double above = 1;  // fraction of the row above the horizon θ = π/2
+        if (lowerHemisphereBlack)
+            above = std::clamp((0.5 * Pi - theta0) / (theta1 - theta0), 0.0, 1.0);
+        for (int x = 0; x < W; ++x)
+            weights[size_t(y) * W + x] = luminance(img.at(x, y)) * sinTheta * above;
+    }
+    e.dist_ = std::make_shared<const Distribution2D>(weights.data(), W, H);
+    e.image_ = std::make_shared<const Image>(std::move(img));
+    return e;
+}
+
+Vec2 Environment::toUv(const Vec3& w, double* sinTheta) const {
+    const double cosTheta = std::clamp(w.z(), -1.0, 1.0);
+    *sinTheta = safeSqrt(1 - cosTheta * cosTheta);
+    double phi = sphericalPhi(w) - rotation_;
+    phi -= TwoPi * std::floor(phi * Inv2Pi);
+    return {phi * Inv2Pi, std::acos(cosTheta) * InvPi};
+}
+
+Spectrum Environment::Le(const Vec3& dir) const {
+    if (lowerBlack_ && dir.z() < 0) return Spectrum::Zero();
+    if (!image_) return L_;
+    const Vec3 w = dir.normalized();
+    double sinTheta;
+    const Vec2 uv = toUv(w, &sinTheta);
+    const int x = std::clamp(int(uv[0] * image_->width), 0, image_->width - 1);
+    const int y = std::clamp(int(uv[1] * image_->height), 0, image_->height - 1);
+    return scale_ * image_->at(x, y);
+}
+
+LightSample Environment::sample(const Vec2& u) const {
+    if (!image_) {
+        const Vec3 w = lowerBlack_ ? sampleUniformHemisphere(u) : sampleUniformSphere(u);
+        return {w, L_, lowerBlack_ ? uniformHemispherePdf() : uniformSpherePdf()};
+    }
+    if (!(dist_->integral() > 0)) return {Vec3(0, 0, 1), Spectrum::Zero(), 0.0};
+    double pdfUv;
+    const Vec2 uv = dist_->sampleContinuous(u, &pdfUv);
+    const double theta = Pi * uv[1], phi = TwoPi * uv[0] + rotation_;
+    const double sinTheta = std::sin(theta);
+    const Vec3 w(sinTheta * std::cos(phi), sinTheta * std::sin(phi), std::cos(theta));
+    if (!(sinTheta > 0) || !(pdfUv > 0)) return {w, Spectrum::Zero(), 0.0};
+    return {w, Le(w), pdfUv / (2 * Pi * Pi * sinTheta)};
+}
+
+double Environment::pdf(const Vec3& dir) const {
+    if (!image_) {
+        if (lowerBlack_) return dir.z() >= 0 ? uniformHemispherePdf() : 0.0;
+        return uniformSpherePdf();
+    }
+    if (!(dist_->integral() > 0)) return 0.0;
+    double sinTheta;
+    const Vec2 uv = toUv(dir.normalized(), &sinTheta);
+    if (!(sinTheta > 0)) return 0.0;
+    return dist_->pdf(uv) / (2 * Pi * Pi * sinTheta);
+}
+
+}  // namespace shvol

@@ -1,0 +1,173 @@
+#include "shvol/lights/environment.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "shvol/core/error.h"
+#include "shvol/core/rng.h"
+#include "shvol/sampling/chi2.h"
+
+namespace shvol {
+namespace {
+
+// The chi² tests in this file form one family: Šidák correction over all of them.
+constexpr int kChi2Tests = 5;
+
+// 32×16 map: a colour gradient over the whole sphere plus a bright "sun" pixel and a black band.
+Image syntheticSky() {
+    Image img(32, 16);
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x)
+            img.set(x, y, Spectrum(0.1 + 0.05 * x, 0.2 + 0.1 * y, 0.3 + 0.02 * (x + y)));
+    for (int x = 0; x < img.width; ++x) img.set(x, 12, Spectrum::Zero());  // black row
+    img.set(5, 3, Spectrum(400, 300, 200));                                // sun
+    return img;
+}
+
+Chi2Result runChi2(const Environment& env, uint64_t seed) {
+    Chi2Options opt;
+    opt.numTests = kChi2Tests;
+    opt.seed = seed;
+    return chi2TestSphere(
+        [&](Rng& rng) -> std::optional<Vec3> {
+            const LightSample s = env.sample(rng.uniform2());
+            if (!(s.pdf > 0)) return std::nullopt;
+            return s.wi;
+        },
+        [&](const Vec3& w) { return env.pdf(w); }, opt);
+}
+
+TEST(Environment, ImageChi2) {
+    const auto r = runChi2(Environment::image(syntheticSky(), 1.0, 0.0, false), 1);
+    EXPECT_TRUE(r.passed) << r.report;
+    EXPECT_NEAR(r.pdfIntegral, 1.0, 1e-6) << r.report;
+}
+
+TEST(Environment, ImageRotatedChi2) {
+    const auto r = runChi2(Environment::image(syntheticSky(), 2.0, 37.0, false), 2);
+    EXPECT_TRUE(r.passed) << r.report;
+    EXPECT_NEAR(r.pdfIntegral, 1.0, 1e-6) << r.report;
+}
+
+TEST(Environment, ImageLowerHemisphereBlackChi2) {
+    const auto r = runChi2(Environment::image(syntheticSky(), 1.0, -120.0, true), 3);
+    EXPECT_TRUE(r.passed) << r.report;
+    EXPECT_NEAR(r.pdfIntegral, 1.0, 1e-6) << r.report;
+}
+
+TEST(Environment, ImageOddHeightStraddlingRowChi2) {
+    // 15 rows: row 7 straddles the horizon and keeps half its weight.
+    Image img(20, 15);
+    for (int y = 0; y < 15; ++y)
+        for (int x = 0; x < 20; ++x) img.set(x, y, Spectrum::Constant(1.0 + x % 3 + y));
+    const Environment env = Environment::image(img, 1.0, 10.0, true);
+    const auto r = runChi2(env, 4);
+    EXPECT_TRUE(r.passed) << r.report;
+    EXPECT_NEAR(r.pdfIntegral, 1.0, 1e-6) << r.report;
+    // pdf > 0 wherever Le > 0 (just above the horizon, in the straddling row).
+    const Vec3 w = sphericalDirection(0.01, 1.0);
+    EXPECT_GT(env.Le(w).maxCoeff(), 0.0);
+    EXPECT_GT(env.pdf(w), 0.0);
+}
+
+TEST(Environment, ConstantLowerHemisphereBlackChi2) {
+    const Environment env = Environment::constant(Spectrum(1, 2, 3), true);
+    const auto r = runChi2(env, 5);
+    EXPECT_TRUE(r.passed) << r.report;
+    EXPECT_NEAR(r.pdfIntegral, 1.0, 1e-9) << r.report;
+}
+
+TEST(Environment, ConstantLookupAndSampling) {
+    const Environment all = Environment::constant(Spectrum(1, 2, 3), false);
+    EXPECT_TRUE(all.isConstant());
+    EXPECT_TRUE((all.constantRadiance() == Spectrum(1, 2, 3)).all());
+    EXPECT_TRUE((all.Le(Vec3(0, 0, -1)) == Spectrum(1, 2, 3)).all());
+    EXPECT_DOUBLE_EQ(all.pdf(Vec3(0, 0, -1)), Inv4Pi);
+    const Environment upper = Environment::constant(Spectrum(1, 2, 3), true);
+    EXPECT_TRUE((upper.Le(Vec3(0.3, 0, -0.1)) == 0).all());
+    EXPECT_TRUE((upper.Le(Vec3(0.3, 0, 0.1)) == Spectrum(1, 2, 3)).all());
+    EXPECT_EQ(upper.pdf(Vec3(0, 0, -1)), 0.0);
+    Rng rng(1, 1);
+    for (int i = 0; i < 1000; ++i) {
+        const LightSample s = upper.sample(rng.uniform2());
+        ASSERT_GE(s.wi.z(), 0.0);
+        EXPECT_DOUBLE_EQ(s.pdf, upper.pdf(s.wi));
+    }
+}
+
+TEST(Environment, LookupOrientation) {
+    Image img(8, 4);
+    img.set(2, 0, Spectrum(5, 0, 0));  // top row: around +z
+    img.set(2, 3, Spectrum(0, 0, 7));  // bottom row: around −z
+    img.set(0, 1, Spectrum(0, 3, 0));  // column 0: φ_img just above 0
+    const Environment env = Environment::image(img, 2.0, 0.0, false);
+    EXPECT_FALSE(env.isConstant());
+    // Column 2 covers φ ∈ [π/2, 3π/4); look at its centre, near each pole.
+    const double phi2 = TwoPi * 2.5 / 8;
+    EXPECT_DOUBLE_EQ(env.Le(sphericalDirection(0.99, phi2))[0], 10.0);
+    EXPECT_DOUBLE_EQ(env.Le(sphericalDirection(-0.99, phi2))[2], 14.0);
+    EXPECT_EQ(env.Le(sphericalDirection(0.99, phi2 + Pi)).maxCoeff(), 0.0);
+    // Row 1 covers θ ∈ [π/4, π/2); column 0 is φ ∈ [0, π/4) → +x side.
+    EXPECT_DOUBLE_EQ(env.Le(sphericalDirection(std::cos(3 * Pi / 8), Pi / 8))[1], 6.0);
+    // Rotation by 90°: the pixel at φ_img = 0 moves to world +y.
+    const Environment rot = Environment::image(img, 1.0, 90.0, false);
+    EXPECT_DOUBLE_EQ(rot.Le(sphericalDirection(std::cos(3 * Pi / 8), Pi / 2 + Pi / 8))[1], 3.0);
+    EXPECT_DOUBLE_EQ(rot.Le(Vec3(-0.001, 1, 0.3))[1], 3.0);  // just past +y: φ_img ≈ 0⁺
+    EXPECT_EQ(rot.Le(sphericalDirection(std::cos(3 * Pi / 8), Pi / 8))[1], 0.0);
+    // The bright pixel is sampled in the right place.
+    Rng rng(2, 2);
+    const LightSample s = env.sample(rng.uniform2());
+    EXPECT_GT(s.pdf, 0.0);
+    EXPECT_TRUE((s.Le > 0).any());
+}
+
+TEST(Environment, PdfMatchesSample) {
+    for (bool lower : {false, true}) {
+        const Environment env = Environment::image(syntheticSky(), 1.5, 33.0, lower);
+        Rng rng(3, 7);
+        for (int i = 0; i < 20000; ++i) {
+            const LightSample s = env.sample(rng.uniform2());
+            ASSERT_GT(s.pdf, 0.0);
+            ASSERT_NEAR(s.wi.norm(), 1.0, 1e-12);
+            EXPECT_NEAR(env.pdf(s.wi), s.pdf, 1e-9 * s.pdf);
+            EXPECT_TRUE(s.Le.isApprox(env.Le(s.wi)));
+            if (lower) ASSERT_GE(s.wi.z(), 0.0);  // H = 16: no row straddles the horizon
+        }
+    }
+}
+
+TEST(Environment, LowerHemisphereBlack) {
+    const Environment env = Environment::image(syntheticSky(), 1.0, 0.0, true);
+    Rng rng(4, 4);
+    for (int i = 0; i < 2000; ++i) {
+        const Vec3 w = sphericalDirection(-rng.uniform() - 1e-9, TwoPi * rng.uniform());
+        EXPECT_EQ(env.Le(w).maxCoeff(), 0.0);
+        EXPECT_EQ(env.pdf(w), 0.0);
+    }
+    EXPECT_GT(env.Le(Vec3(0, 0, 1)).maxCoeff(), 0.0);
+}
+
+TEST(Environment, PdfProportionalToLuminanceAwayFromSun) {
+    // pdf_ω ∝ Y sin θ_row / sin θ: within a row, proportional to luminance.
+    const Environment env = Environment::image(syntheticSky(), 1.0, 0.0, false);
+    auto lum = [](const Spectrum& s) { return 0.2126 * s[0] + 0.7152 * s[1] + 0.0722 * s[2]; };
+    const double cosT = std::cos(Pi * 6.5 / 16);
+    const Vec3 a = sphericalDirection(cosT, TwoPi * 3.5 / 32);
+    const Vec3 b = sphericalDirection(cosT, TwoPi * 20.5 / 32);
+    EXPECT_NEAR(env.pdf(a) / env.pdf(b), lum(env.Le(a)) / lum(env.Le(b)), 1e-12);
+    // Black row 12 is never sampled and has pdf 0.
+    EXPECT_EQ(env.pdf(sphericalDirection(std::cos(Pi * 12.5 / 16), 1.0)), 0.0);
+}
+
+TEST(Environment, AllBlackImageDoesNotCrash) {
+    const Environment env = Environment::image(Image(8, 4), 1.0, 0.0, false);
+    const LightSample s = env.sample({0.3, 0.6});
+    EXPECT_EQ(s.pdf, 0.0);
+    EXPECT_EQ(s.Le.maxCoeff(), 0.0);
+    EXPECT_EQ(env.pdf(Vec3(0, 0, 1)), 0.0);
+    EXPECT_THROW(Environment::image(Image(), 1.0, 0.0, false), Error);
+}
+
+}  // namespace
+}  // namespace shvol
