@@ -33,6 +33,30 @@ public:
           majorants_(std::move(majorants)),
           desc_("vdb " + d.file + ":" + d.grid) {}
 
+private:
+    // Not registered with the tree: cheap to make per ray, private to the calling thread.
+    using Accessor = openvdb::tree::ValueAccessor<const openvdb::FloatTree, false>;
+
+    auto segments(const Vec3& o, const Vec3& d, double tMax) const {
+        // The majorant is inflated by 1e-6 relative so that float rounding in the trilinear
+        // interpolation can never exceed it.
+        const double k = scale_ * (1 + 1e-6);
+        return [this, o, d, tMax, k](auto&& visit) {
+            majorants_.traverse(o, d, 0, tMax, [&](double t0, double t1, double m) {
+                return visit(t0, t1, k * m);
+            });
+        };
+    }
+    auto sigma(Accessor& acc, const Vec3& o, const Vec3& d) const {
+        return [this, &acc, o, d](double t) {
+            const Vec3 p = o + t * d;
+            return scale_ *
+                   double(openvdb::tools::BoxSampler::sample(acc, openvdb::Vec3R(p.x(), p.y(), p.z())));
+        };
+    }
+
+public:
+
     double sampleCollision(const Ray& ray, double tMax, Rng& rng,
                            TrackingCounters& c) const override {
         Accessor acc(grid_->tree());
@@ -58,27 +82,6 @@ public:
     std::string describe() const override { return desc_; }
 
 private:
-    // Not registered with the tree: cheap to make per ray, private to the calling thread.
-    using Accessor = openvdb::tree::ValueAccessor<const openvdb::FloatTree, false>;
-
-    auto segments(const Vec3& o, const Vec3& d, double tMax) const {
-        // The majorant is inflated by 1e-6 relative so that float rounding in the trilinear
-        // interpolation can never exceed it.
-        const double k = scale_ * (1 + 1e-6);
-        return [this, o, d, tMax, k](auto&& visit) {
-            majorants_.traverse(o, d, 0, tMax, [&](double t0, double t1, double m) {
-                return visit(t0, t1, k * m);
-            });
-        };
-    }
-    auto sigma(Accessor& acc, const Vec3& o, const Vec3& d) const {
-        return [this, &acc, o, d](double t) {
-            const Vec3 p = o + t * d;
-            return scale_ *
-                   double(openvdb::tools::BoxSampler::sample(acc, openvdb::Vec3R(p.x(), p.y(), p.z())));
-        };
-    }
-
     openvdb::FloatGrid::ConstPtr grid_;
     Eigen::Affine3d worldToIndex_;
     double scale_;

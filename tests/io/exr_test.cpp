@@ -1,0 +1,58 @@
+#include "shvol/io/exr.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "shvol/core/error.h"
+
+namespace shvol {
+
+namespace {
+std::string tmp(const std::string& name) { return testing::TempDir() + "/shvol_exr_" + name; }
+std::string messageOf(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+}  // namespace
+
+TEST(Exr, RoundTripIsExactInFloat32) {
+    Image img(7, 5);
+    for (int y = 0; y < 5; ++y)
+        for (int x = 0; x < 7; ++x) img.set(x, y, Spectrum(x * 0.1, y * 1e-3, 1e5 + x * y));
+    writeExr(tmp("rt.exr"), img);
+    const Image back = readExr(tmp("rt.exr"));
+    ASSERT_EQ(back.width, 7);
+    ASSERT_EQ(back.height, 5);
+    EXPECT_EQ(back.rgb, img.rgb);
+}
+
+TEST(Exr, BadFilesGiveOneClearLine) {
+    EXPECT_EQ(messageOf([] { readExr(tmp("missing.exr")); }), tmp("missing.exr") + ": file not found");
+    std::ofstream(tmp("corrupt.exr")) << "this is not an EXR file";
+    EXPECT_EQ(messageOf([] { readExr(tmp("corrupt.exr")); }).rfind(
+                  tmp("corrupt.exr") + ": not a readable OpenEXR file", 0),
+              0u);
+    Image img(3, 2);
+    img.set(2, 1, Spectrum(NAN, 0, 0));
+    writeExr(tmp("nan.exr"), img);
+    EXPECT_EQ(messageOf([] { readExr(tmp("nan.exr")); }),
+              tmp("nan.exr") + ": pixel (2, 1): NaN or infinite value");
+    img.set(2, 1, Spectrum(0, -1, 0));
+    writeExr(tmp("neg.exr"), img);
+    EXPECT_EQ(messageOf([] { readExr(tmp("neg.exr")); }),
+              tmp("neg.exr") + ": pixel (2, 1): negative value");
+}
+
+TEST(Exr, FailedWriteLeavesNoFile) {
+    const std::string path = tmp("nodir/out.exr");
+    EXPECT_THROW(writeExr(path, Image(2, 2)), Error);
+    EXPECT_FALSE(std::filesystem::exists(path));
+}
+
+}  // namespace shvol

@@ -1,0 +1,93 @@
+#include "shvol/io/json_reader.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "shvol/core/error.h"
+
+namespace shvol {
+
+namespace {
+std::string messageOf(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+}  // namespace
+
+TEST(JsonReader, TypedAccessAndDefaults) {
+    const Json j = Json::parse(R"({"a": 2.5, "n": 3, "s": "x", "v": [1, 2, 3], "b": true})");
+    JsonReader r(j, "f.json", "");
+    EXPECT_EQ(r.number("a"), 2.5);
+    EXPECT_EQ(r.integer("n", 0, 0, 10), 3);
+    EXPECT_EQ(r.string("s"), "x");
+    EXPECT_EQ(r.vec3("v"), Vec3(1, 2, 3));
+    EXPECT_TRUE(r.boolean("b", false));
+    EXPECT_EQ(r.number("missing", 7.0), 7.0);
+    EXPECT_NO_THROW(r.finish());
+}
+
+TEST(JsonReader, ErrorsNameFileAndPath) {
+    const Json j = Json::parse(R"({"phase": {"g": "high", "typo": 1}, "n": 1.5, "v": [1, "a", 3]})");
+    JsonReader r(j, "scene.json", "media[0]");
+    EXPECT_EQ(messageOf([&] { r.object("phase").number("g"); }),
+              "scene.json: media[0].phase.g: expected a number, got string \"high\"");
+    EXPECT_EQ(messageOf([&] { r.integer("n", 0, 0, 10); }),
+              "scene.json: media[0].n: expected an integer, got number 1.5");
+    EXPECT_EQ(messageOf([&] { r.vec3("v"); }),
+              "scene.json: media[0].v[1]: expected a number, got string");
+    EXPECT_EQ(messageOf([&] { r.number("absent"); }),
+              "scene.json: media[0].absent: missing required number");
+    EXPECT_EQ(messageOf([&] {
+                  JsonReader p = r.object("phase");
+                  p.number("g", 0.0, -1, 1);
+              }),
+              "scene.json: media[0].phase.g: expected a number, got string \"high\"");
+    EXPECT_EQ(messageOf([&] {
+                  JsonReader p(j["phase"], "scene.json", "media[0].phase");
+                  p.raw("g");
+                  p.finish();
+              }),
+              "scene.json: media[0].phase.typo: unknown key");
+}
+
+TEST(JsonReader, RangeAndChoice) {
+    const Json j = Json::parse(R"({"g": 1.5, "t": "hgg"})");
+    JsonReader r(j, "s.json", "p");
+    EXPECT_EQ(messageOf([&] { r.number("g", 0, -1, 1); }), "s.json: p.g: value 1.5 out of range [-1, 1]");
+    EXPECT_EQ(messageOf([&] { r.choice("t", "hg", {"hg", "isotropic"}); }),
+              "s.json: p.t: unknown value \"hgg\"; expected one of \"hg\", \"isotropic\"");
+}
+
+TEST(JsonReader, MalformedFileNamesLineAndColumn) {
+    const std::string path = testing::TempDir() + "/malformed.json";
+    std::ofstream(path) << "{\n  \"a\": 1,\n  \"b\": ,\n}\n";
+    const std::string m = messageOf([&] { parseJsonFile(path); });
+    EXPECT_EQ(m.rfind(path + ": line 3, column 8: malformed JSON", 0), 0u) << m;
+    EXPECT_EQ(messageOf([&] { parseJsonFile(path + ".missing"); }),
+              path + ".missing: cannot open file");
+}
+
+TEST(JsonReader, Overrides) {
+    Json j = Json::parse(R"({"render": {"spp": 4}, "media": [{"g": 0}]})");
+    applyOverride(j, "render.spp=64", "s.json");
+    applyOverride(j, "media.0.g=0.5", "s.json");
+    applyOverride(j, "camera.type=orthographic", "s.json");
+    applyOverride(j, "render.tag=[1,2]", "s.json");
+    EXPECT_EQ(j["render"]["spp"], 64);
+    EXPECT_EQ(j["media"][0]["g"], 0.5);
+    EXPECT_EQ(j["camera"]["type"], "orthographic");
+    EXPECT_EQ(j["render"]["tag"], Json::parse("[1,2]"));
+    EXPECT_EQ(messageOf([&] { applyOverride(j, "media.3.g=1", "s.json"); }),
+              "s.json: media: --set: index 3 out of range (1 elements)");
+    EXPECT_EQ(messageOf([&] { applyOverride(j, "render.spp.x=1", "s.json"); }),
+              "s.json: render.spp: --set: cannot descend into a number");
+    EXPECT_EQ(messageOf([&] { applyOverride(j, "nonsense", "s.json"); }),
+              "s.json: --set nonsense: expected key.path=value");
+}
+
+}  // namespace shvol
