@@ -78,6 +78,24 @@ TEST(Environment, ConstantLowerHemisphereBlackChi2) {
     EXPECT_NEAR(r.pdfIntegral, 1.0, 1e-9) << r.report;
 }
 
+TEST(Environment, Chi2DetectsAMissingJacobianFactor) {
+    // A classic bug: dividing by sin θ at the row centre instead of at the sampled direction.
+    // The harness must reject that pdf (it is only wrong within rows, most near the poles).
+    const Environment env = Environment::image(syntheticSky(), 1.0, 0.0, false);
+    const int H = 16;
+    Chi2Options opt;
+    opt.seed = 6;
+    const auto r =
+        chi2TestSphere([&](Rng& rng) { return std::optional<Vec3>(env.sample(rng.uniform2()).wi); },
+                       [&](const Vec3& w) {
+                           const double theta = safeAcos(w.z());
+                           const int y = std::clamp(int(theta / Pi * H), 0, H - 1);
+                           return env.pdf(w) * std::sin(theta) / std::sin(Pi * (y + 0.5) / H);
+                       },
+                       opt);
+    EXPECT_FALSE(r.passed) << r.report;
+}
+
 TEST(Environment, ConstantLookupAndSampling) {
     const Environment all = Environment::constant(Spectrum(1, 2, 3), false);
     EXPECT_TRUE(all.isConstant());

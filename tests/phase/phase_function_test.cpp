@@ -52,6 +52,17 @@ TEST_P(HgChi2, SamplerMatchesPdf) {
 INSTANTIATE_TEST_SUITE_P(PhaseFunction, HgChi2,
                          ::testing::Values(-0.9, -0.5, 0.0, 0.3, 0.7, 0.9, 0.99));
 
+TEST(PhaseFunction, Chi2RejectsTheOppositeDirectionConvention) {
+    // Evaluating the pdf with −wo (the pbrt "wo points back" convention) must be caught.
+    const PhaseFunction p = HenyeyGreensteinPhase(0.3);
+    Chi2Options opt;
+    opt.sampleCount = 200000;
+    const auto r = chi2TestSphere(
+        [&](Rng& rng) { return std::optional<Vec3>(p.sample(kWo, rng.uniform2()).wi); },
+        [&](const Vec3& wi) { return p.pdf(-kWo, wi); }, opt);
+    EXPECT_FALSE(r.passed) << r.report;
+}
+
 TEST(PhaseFunction, ForwardScatteringFollowsWo) {
     // g > 0: wi concentrates around wo (propagation continues forward).
     const PhaseFunction p = HenyeyGreensteinPhase(0.9);
