@@ -14,7 +14,7 @@ Vec3 sampleCosine(const Vec2& u) {
     return {r * std::cos(phi), r * std::sin(phi), safeSqrt(1 - u.x())};
 }
 
-// Henyey–Greenstein written out independently of shvol_phase (pbrt-v3 eq. 15.? inverse CDF).
+// Henyey–Greenstein written out independently of shvol_phase (inverse CDF, pbrt-v3 §15.2.3).
 double hg(double mu, double g) {
     return (1 - g * g) / (FourPi * std::pow(1 + g * g - 2 * g * mu, 1.5));
 }

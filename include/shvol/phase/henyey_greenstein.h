@@ -11,7 +11,7 @@ namespace shvol {
 double henyeyGreenstein(double cosTheta, double g);
 
 /// Exact inverse of the CDF P(μ) = ∫_{−1}^{μ} 2π p(μ′) dμ′:
-///   μ = (1 + g² − s²) / (2g),  s = (1 − g²) / (1 − g + 2gu)            (pbrt-v3 eq. 15.?).
+///   μ = (1 + g² − s²) / (2g),  s = (1 − g²) / (1 − g + 2gu)            (pbrt-v3 §15.2.3).
 /// Evaluated without cancellation or division by g through the equivalent forms
 ///   1 − μ = (1 − g)(1 − u)(s + 1 − g) / (1 − g + 2gu),
 ///   1 + μ = (1 + g) u (s + 1 + g) / (1 − g + 2gu),
