@@ -33,10 +33,11 @@ Json parseJsonFile(const std::string& path) {
             if (text[i] == '\n') ++line, col = 1;
             else ++col;
         }
+        // e.what() is "[json.exception…] parse error at line L, column C: <reason>"; keep the reason.
         std::string msg = e.what();
-        const auto pos = msg.find("error while parsing value - ");
-        if (pos != std::string::npos) msg = msg.substr(pos + 28);
-        else if ((msg.find("] ")) != std::string::npos) msg = msg.substr(msg.find("] ") + 2);
+        const auto at = msg.find("column ");
+        const auto colon = at == std::string::npos ? at : msg.find(": ", at);
+        if (colon != std::string::npos) msg = msg.substr(colon + 2);
         fail(path, "line " + std::to_string(line) + ", column " + std::to_string(col),
              "malformed JSON: " + msg);
     }

@@ -1,0 +1,218 @@
+// The shvol program as a user runs it: exit codes, one-line errors, no half-written output.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "shvol/io/exr.h"
+#include "shvol/io/vdb.h"
+
+namespace shvol {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+    int code;
+    std::string out, err;
+};
+
+class Cli : public testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::path(testing::TempDir()) /
+               ("shvol_cli_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    void write(const std::string& name, const std::string& text) const {
+        std::ofstream(path(name)) << text;
+    }
+    Result run(const std::string& args) const {
+        const std::string out = path("so.txt"), err = path("se.txt");
+        const int status = std::system((std::string(SHVOL_BINARY) + " " + args + " >" + out +
+                                        " 2>" + err + " </dev/null")
+                                           .c_str());
+        auto slurp = [](const std::string& p) {
+            std::ifstream f(p);
+            std::stringstream s;
+            s << f.rdbuf();
+            return s.str();
+        };
+        return {WEXITSTATUS(status), slurp(out), slurp(err)};
+    }
+    // A bad scene must fail with exit code 1, exactly one line on stderr containing `expected`, and
+    // leave no output (nor temporaries) behind.
+    void expectOneLineError(const std::string& scene, const std::string& expected) const {
+        const Result r = run("render " + path(scene) + " -o " + path("out.exr") + " --quiet");
+        EXPECT_EQ(r.code, 1) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_NE(r.err.find(expected), std::string::npos) << "stderr: " << r.err;
+        EXPECT_EQ(r.err.rfind("shvol: error: ", 0), 0u) << r.err;
+        for (const auto& e : fs::directory_iterator(dir_)) {
+            const std::string n = e.path().filename().string();
+            EXPECT_TRUE(n.find("out") == std::string::npos) << "left behind: " << n;
+        }
+    }
+    static std::string scene(const std::string& media, const std::string& extra = "") {
+        return R"({"camera": {"resolution": [8, 6], "position": [0, -3, 0]},
+                   "render": {"spp": 2}, "environment": {"type": "constant", "radiance": 1})" +
+               extra + R"(, "media": [)" + media + "]}";
+    }
+    fs::path dir_;
+};
+
+const std::string Homogeneous =
+    R"({"type": "homogeneous", "sigma_t": 2, "albedo": 0.8, "shape": {"type": "sphere"}})";
+
+}  // namespace
+
+TEST_F(Cli, HelpAndVersion) {
+    Result r = run("--help");
+    EXPECT_EQ(r.code, 0);
+    EXPECT_NE(r.out.find("render"), std::string::npos);
+    EXPECT_NE(r.out.find("make-medium"), std::string::npos);
+    r = run("--version");
+    EXPECT_EQ(r.code, 0);
+    EXPECT_EQ(r.out.rfind("shvol ", 0), 0u);
+    for (const char* sub : {"render", "make-medium", "make-sky", "bench"}) {
+        r = run(std::string(sub) + " --help");
+        EXPECT_EQ(r.code, 0) << sub;
+        EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
+    }
+    r = run("render");  // missing scene argument
+    EXPECT_NE(r.code, 0);
+}
+
+TEST_F(Cli, RenderWritesExrAndStats) {
+    write("s.json", scene(Homogeneous));
+    const Result r = run("render " + path("s.json") + " -o " + path("img.exr") +
+                      " --spp 3 --seed 7 --threads 2 --set camera.fov=30 --quiet");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    const Image img = readExr(path("img.exr"));
+    EXPECT_EQ(img.width, 8);
+    EXPECT_EQ(img.height, 6);
+    std::ifstream f(path("img.stats.json"));
+    const auto stats = nlohmann::json::parse(f);
+    EXPECT_EQ(stats["spp"], 3);
+    EXPECT_EQ(stats["seed"], 7);
+    EXPECT_EQ(stats["threads"], 2);
+    EXPECT_EQ(stats["paths"], 8 * 6 * 3);
+    for (const char* k : {"wall_time_s", "paths_per_second", "mean_path_length", "peak_memory_mib",
+                          "density_lookups_per_second", "effects"})
+        EXPECT_TRUE(stats.contains(k)) << k;
+    EXPECT_EQ(stats["effects"], nlohmann::json::parse(
+                                    R"(["environment-constant", "volume-tracking",
+                                        "multiple-scattering", "nee-environment-uniform"])"));
+}
+
+TEST_F(Cli, SameSeedSameImageAnyThreads) {
+    write("s.json", scene(Homogeneous));
+    ASSERT_EQ(run("render " + path("s.json") + " -o " + path("a.exr") + " --threads 1 --quiet").code, 0);
+    ASSERT_EQ(run("render " + path("s.json") + " -o " + path("b.exr") + " --threads 2 --quiet").code, 0);
+    EXPECT_EQ(readExr(path("a.exr")).rgb, readExr(path("b.exr")).rgb);
+}
+
+TEST_F(Cli, MalformedJson) {
+    write("bad.json", "{\"camera\": {\"fov\": 40,}}");
+    expectOneLineError("bad.json", path("bad.json") + ": line 1, column 23: malformed JSON: syntax error while parsing object key");
+}
+
+TEST_F(Cli, UnknownKeyAndWrongType) {
+    write("unknown.json", scene(Homogeneous, R"(, "extra": {"x": 1})"));
+    expectOneLineError("unknown.json", path("unknown.json") + ": extra: unknown key");
+    write("typo.json", scene(R"({"type": "homogeneous", "sigma_t": 2, "phase": {"type": "hg", "gg": 0.5}})"));
+    expectOneLineError("typo.json", path("typo.json") + ": media[0].phase.gg: unknown key");
+    write("type.json", scene(R"({"type": "homogeneous", "sigma_t": "dense"})"));
+    expectOneLineError("type.json",
+                       path("type.json") + ": media[0].sigma_t: expected a number, got string \"dense\"");
+    write("range.json", scene(R"({"type": "homogeneous", "albedo": [0.5, 1.5, 0.5]})"));
+    expectOneLineError("range.json", path("range.json") + ": media[0].albedo: component 1.5");
+}
+
+TEST_F(Cli, BadVdbFiles) {
+    write("missing.json", scene(R"({"type": "vdb", "file": "nothere.vdb"})"));
+    expectOneLineError("missing.json", path("nothere.vdb") + ": file not found");
+
+    write("corrupt.vdb", "garbage, not a vdb");
+    write("corrupt.json", scene(R"({"type": "vdb", "file": "corrupt.vdb"})"));
+    expectOneLineError("corrupt.json", path("corrupt.vdb") + ": not a readable OpenVDB file");
+
+    VdbGridSpec s;
+    s.resolution = 8;
+    s.density = [](const Vec3& p) { return p.norm() < 0.3 ? 1.f : 0.f; };
+    writeVdb(path("ok.vdb"), {s});
+    write("grid.json", scene(R"({"type": "vdb", "file": "ok.vdb", "grid": "smoke"})"));
+    expectOneLineError("grid.json", path("ok.vdb") + ": grid 'smoke': no such grid; the file has: density");
+
+    s.density = [](const Vec3& p) { return p.norm() < 0.3 ? -1.f : 0.f; };
+    writeVdb(path("neg.vdb"), {s});
+    write("neg.json", scene(R"({"type": "vdb", "file": "neg.vdb"})"));
+    expectOneLineError("neg.json", path("neg.vdb") + ": grid 'density': negative density");
+
+    s.density = [](const Vec3& p) { return p.norm() < 0.3 ? NAN : 0.f; };
+    writeVdb(path("nan.vdb"), {s});
+    write("nan.json", scene(R"({"type": "vdb", "file": "nan.vdb"})"));
+    expectOneLineError("nan.json", path("nan.vdb") + ": grid 'density': NaN or infinite density");
+
+    s.density = [](const Vec3& p) { return p.norm() < 0.3 ? 1.f : 0.f; };
+    s.type = VdbGridSpec::Type::Vec3;
+    writeVdb(path("vec.vdb"), {s});
+    write("vec.json", scene(R"({"type": "vdb", "file": "vec.vdb"})"));
+    expectOneLineError("vec.json", path("vec.vdb") + ": grid 'density': has value type vec3s");
+}
+
+TEST_F(Cli, BadExrFiles) {
+    const std::string env = R"(, "environment": {"type": "image", "file": "sky.exr"})";
+    auto sceneWithSky = [&](const std::string& sky) {
+        return R"({"camera": {"resolution": [4, 4]}, "environment": {"type": "image", "file": ")" +
+               sky + "\"}}";
+    };
+    write("missing.json", sceneWithSky("nosky.exr"));
+    expectOneLineError("missing.json", path("nosky.exr") + ": file not found");
+    write("bad.exr", "not an exr");
+    write("corrupt.json", sceneWithSky("bad.exr"));
+    expectOneLineError("corrupt.json", path("bad.exr") + ": not a readable OpenEXR file");
+    Image img(4, 2);
+    img.set(1, 1, Spectrum(1, NAN, 1));
+    writeExr(path("nan.exr"), img);
+    write("nan.json", sceneWithSky("nan.exr"));
+    expectOneLineError("nan.json", path("nan.exr") + ": pixel (1, 1): NaN or infinite value");
+}
+
+TEST_F(Cli, BadOverridesAndOutputs) {
+    write("s.json", scene(Homogeneous));
+    Result r = run("render " + path("s.json") + " -o " + path("out.exr") + " --set render.spp=zero --quiet");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("render.spp: expected an integer, got string \"zero\""), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("out.exr")));
+    r = run("render " + path("s.json") + " -o " + path("no/such/dir/out.exr") + " --quiet");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("no/such/dir/out.exr"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, MakeMediumAndSkyRoundTrip) {
+    Result r = run("make-medium sphere --resolution 16 -o " + path("sphere.vdb"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    r = run("make-medium cloud --resolution 16 -o " + path("cloud.vdb"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    r = run("make-sky --width 64 -o " + path("sky.exr"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Image sky = readExr(path("sky.exr"));
+    EXPECT_EQ(sky.width, 64);
+    EXPECT_EQ(sky.height, 32);
+    VdbMediumDesc d;
+    d.file = path("sphere.vdb");
+    EXPECT_NEAR(loadVdbMedium(d)->sigmaT(Vec3::Zero()), 1.0, 1e-6);
+    d.file = path("cloud.vdb");
+    EXPECT_GE(loadVdbMedium(d)->sigmaT(Vec3::Zero()), 0.0);
+    r = run("make-medium torus -o " + path("x.vdb"));
+    EXPECT_NE(r.code, 0);
+}
+
+}  // namespace shvol
