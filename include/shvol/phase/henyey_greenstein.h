@@ -20,4 +20,11 @@ double henyeyGreenstein(double cosTheta, double g);
 /// [−1, 1]. \param u uniform in [0, 1).
 double sampleHenyeyGreensteinCosTheta(double u, double g);
 
+/// The CDF P(μ) = ∫_{−1}^{μ} 2π p(μ′) dμ′ = (1 − g²)/(2g) [b^{−1/2} − 1/(1 + g)], b = 1 + g² − 2gμ,
+/// evaluated without division by g or cancellation as
+///   P = (1 − g)(1 + μ) / (√b (1 + g + √b))   or   1 − P = (1 + g)(1 − μ) / (√b (1 − g + √b)),
+/// the first for μ ≤ g, the second above (b in the non-negative form above). Inverse of
+/// sampleHenyeyGreensteinCosTheta. Result in [0, 1].
+double henyeyGreensteinCdf(double cosTheta, double g);
+
 }  // namespace shvol

@@ -13,15 +13,26 @@
 #include <type_traits>
 #include <variant>
 
+#include "shvol/phase/cornette_shanks_phase.h"
 #include "shvol/phase/henyey_greenstein_phase.h"
 #include "shvol/phase/isotropic_phase.h"
 #include "shvol/phase/phase_sample.h"
+#include "shvol/phase/rayleigh_phase.h"
+#include "shvol/phase/schlick_phase.h"
+#include "shvol/phase/tabulated_phase.h"
+#include "shvol/phase/two_term_hg_phase.h"
 
 namespace shvol {
 
 class PhaseFunction {
   public:
-    using Variant = std::variant<IsotropicPhase, HenyeyGreensteinPhase>;
+    using Variant = std::variant<IsotropicPhase,                //
+                                 HenyeyGreensteinPhase,         //
+                                 TwoTermHenyeyGreensteinPhase,  //
+                                 RayleighPhase,                 //
+                                 SchlickPhase,                  //
+                                 CornetteShanksPhase,           //
+                                 TabulatedPhase>;
 
     /// Isotropic by default.
     PhaseFunction() = default;
@@ -42,7 +53,8 @@ class PhaseFunction {
     PhaseSample sample(const Vec3& wo, const Vec2& u) const {
         return std::visit([&](const auto& p) { return p.sample(wo, u); }, p_);
     }
-    /// "isotropic", "hg", …
+    /// kName of the alternative: "isotropic", "hg", "two_term_hg", "rayleigh", "schlick",
+    /// "cornette_shanks", "tabulated".
     std::string name() const {
         return std::visit(
             [](const auto& p) { return std::string(std::decay_t<decltype(p)>::kName); }, p_);

@@ -1,0 +1,97 @@
+#include "shvol/phase/phase_table_csv.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "shvol/core/error.h"
+
+namespace shvol {
+
+namespace {
+
+std::string trim(const std::string& s) {
+    const auto b = s.find_first_not_of(" \t\r");
+    if (b == std::string::npos) return "";
+    return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
+}
+
+/// The whole cell as a number (strtod also accepts "nan" and "inf"; the caller rejects them).
+bool parseNumber(const std::string& cell, double* x) {
+    if (cell.empty()) return false;
+    char* end = nullptr;
+    errno = 0;
+    *x = std::strtod(cell.c_str(), &end);
+    return end == cell.c_str() + cell.size() && errno != ERANGE;
+}
+
+std::string str(double x) {
+    std::ostringstream s;
+    s << x;
+    return s.str();
+}
+
+}  // namespace
+
+TabulatedPhase readPhaseTableCsv(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) fail(path, "", "cannot open phase table");
+    std::vector<double> angles, values;
+    std::string text;
+    int lineNo = 0;
+    bool first = true;
+    while (std::getline(in, text)) {
+        ++lineNo;
+        const std::string line = trim(text);
+        if (line.empty() || line[0] == '#') continue;
+        const std::string place = "line " + std::to_string(lineNo);
+        std::vector<std::string> cells;
+        std::stringstream ss(line);
+        for (std::string c; std::getline(ss, c, ',');) cells.push_back(trim(c));
+        if (line.back() == ',') cells.push_back("");
+        double angle = 0, value = 0;
+        const bool numeric = !cells.empty() && parseNumber(cells[0], &angle);
+        if (first && !numeric) {  // header line
+            first = false;
+            continue;
+        }
+        first = false;
+        if (cells.size() != 2)
+            fail(path, place,
+                 "expected 2 columns (angle in degrees, value), got " +
+                     std::to_string(cells.size()));
+        if (!numeric) fail(path, place, "angle \"" + cells[0] + "\" is not a number");
+        if (!parseNumber(cells[1], &value))
+            fail(path, place, "value \"" + cells[1] + "\" is not a number");
+        if (!std::isfinite(angle)) fail(path, place, "angle is not finite");
+        if (!std::isfinite(value)) fail(path, place, "value is not finite");
+        if (value < 0) fail(path, place, "negative value " + cells[1]);
+        if (angle < 0 || angle > 180)
+            fail(path, place, "angle " + cells[0] + " outside [0, 180] degrees");
+        if (!angles.empty()) {
+            if (!(angle > angles.back()))
+                fail(path, place,
+                     "angle " + cells[0] + " is not greater than the previous angle " +
+                         str(angles.back()) + " (angles must increase strictly)");
+            // Distinct angles whose cosines round to the same double cannot be interpolated in μ.
+            if (std::cos(angle * (Pi / 180)) == std::cos(angles.back() * (Pi / 180)))
+                fail(path, place, "angle " + cells[0] + " is too close to the previous angle");
+        }
+        angles.push_back(angle);
+        values.push_back(value);
+    }
+    if (in.bad()) fail(path, "", "read error");
+    const std::string end = "line " + std::to_string(lineNo);
+    if (angles.size() < 2)
+        fail(path, end,
+             "expected at least 2 (angle, value) rows, got " + std::to_string(angles.size()));
+    bool anyPositive = false;
+    for (double v : values) anyPositive = anyPositive || v > 0;
+    if (!anyPositive) fail(path, end, "all values are zero");
+    return TabulatedPhase(angles, values, path);
+}
+
+}  // namespace shvol
