@@ -24,7 +24,8 @@ inline double twoTermHenyeyGreenstein(double cosTheta, double g1, double g2, dou
 
 /// Samples μ from the mixture with one uniform number (lobe choice, then the rescaled number).
 inline double sampleTwoTermHenyeyGreensteinCosTheta(double u, double g1, double g2, double w) {
-    if (u < w) return sampleHenyeyGreensteinCosTheta(std::min(u / w, 1.0), g1);
+    // w = 1 always takes lobe 1 (also for u = 1, where (u − w)/(1 − w) would be 0/0).
+    if (u < w || w >= 1) return sampleHenyeyGreensteinCosTheta(std::min(u / w, 1.0), g1);
     return sampleHenyeyGreensteinCosTheta(std::clamp((u - w) / (1 - w), 0.0, 1.0), g2);
 }
 

@@ -1,0 +1,67 @@
+#include "shvol/phase/piecewise_linear_1d.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "shvol/core/rng.h"
+
+namespace shvol {
+namespace {
+
+TEST(PiecewiseLinear1D, EvalIntegralCdf) {
+    const PiecewiseLinear1D d({0.0, 1.0, 3.0}, {1.0, 3.0, 0.0});
+    EXPECT_DOUBLE_EQ(d.integral(), 2.0 + 3.0);
+    EXPECT_DOUBLE_EQ(d.eval(0.5), 2.0);
+    EXPECT_DOUBLE_EQ(d.eval(2.0), 1.5);
+    EXPECT_EQ(d.eval(-0.1), 0.0);
+    EXPECT_EQ(d.eval(3.1), 0.0);
+    EXPECT_EQ(d.eval(std::nan("")), 0.0);
+    EXPECT_DOUBLE_EQ(d.cdf(1.0), 0.4);
+    EXPECT_DOUBLE_EQ(d.cdf(0.5), (0.5 * 1.0 + 0.25 * 0.5 * 2.0) / 5.0);
+    EXPECT_EQ(d.cdf(3.0), 1.0);
+}
+
+TEST(PiecewiseLinear1D, SampleInvertsCdf) {
+    // Rising, falling, flat, zero-ended and empty segments.
+    const PiecewiseLinear1D d({-1.0, -0.5, 0.0, 0.2, 0.5, 0.9, 1.0},
+                              {0.0, 0.0, 2.0, 2.0, 0.5, 0.0, 0.0});
+    for (double u : {0.0, 1e-12, 0.01, 0.2, 0.37, 0.5, 0.66, 0.9, 0.999999, 1.0}) {
+        const double x = d.sample(u);
+        EXPECT_NEAR(d.cdf(x), u, 1e-13) << u;
+        EXPECT_GE(x, -0.5) << u;  // never inside the empty first segment
+        EXPECT_LE(x, 0.9) << u;   // nor the empty last one
+        EXPECT_GT(d.pdf(x) + (u == 0 || u == 1), 0.0) << u;
+    }
+    // Monotone.
+    double prev = -2;
+    for (int i = 0; i <= 1000; ++i) {
+        const double x = d.sample(i / 1000.0);
+        EXPECT_GE(x, prev);
+        prev = x;
+    }
+}
+
+TEST(PiecewiseLinear1D, HistogramMatchesPdf) {
+    const PiecewiseLinear1D d({0.0, 0.3, 1.0}, {0.1, 4.0, 1.0});
+    const int bins = 20, n = 400000;
+    std::vector<int> h(bins, 0);
+    Rng rng(9, 9);
+    for (int i = 0; i < n; ++i) ++h[std::min(bins - 1, int(d.sample(rng.uniform()) * bins))];
+    for (int b = 0; b < bins; ++b) {
+        const double p = d.cdf((b + 1.0) / bins) - d.cdf(double(b) / bins);
+        EXPECT_NEAR(h[b], n * p, 5 * std::sqrt(n * p)) << b;
+    }
+}
+
+TEST(PiecewiseLinear1D, RejectsBadInput) {
+    EXPECT_THROW(PiecewiseLinear1D({0.0}, {1.0}), std::invalid_argument);
+    EXPECT_THROW(PiecewiseLinear1D({0.0, 0.0}, {1.0, 1.0}), std::invalid_argument);
+    EXPECT_THROW(PiecewiseLinear1D({0.0, 1.0}, {1.0, -1.0}), std::invalid_argument);
+    EXPECT_THROW(PiecewiseLinear1D({0.0, 1.0}, {0.0, 0.0}), std::invalid_argument);
+    EXPECT_THROW(PiecewiseLinear1D({0.0, 1.0}, {std::nan(""), 1.0}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace shvol

@@ -1,0 +1,157 @@
+#include "shvol/phase/tabulated_phase.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <functional>
+
+#include "phase/phase_test_util.h"
+#include "shvol/core/error.h"
+#include "shvol/phase/henyey_greenstein.h"
+#include "shvol/phase/phase_table_csv.h"
+
+namespace shvol {
+namespace {
+
+using testing::checkFiniteAtExtremes;
+using testing::checkSamples;
+using testing::evalIntegral;
+using testing::phaseChi2;
+
+const std::string kMieLike = std::string(SHVOL_SOURCE_DIR) + "/media/phase/mie_like.csv";
+
+/// HG(g) tabulated at every `step` degrees from 0 to 180.
+TabulatedPhase hgTable(double g, double step = 1.0) {
+    std::vector<double> a, v;
+    for (double d = 0; d <= 180 + 1e-9; d += step) {
+        a.push_back(d);
+        v.push_back(henyeyGreenstein(std::cos(d * Pi / 180), g));
+    }
+    return TabulatedPhase(a, v, "hg table");
+}
+
+TEST(Tabulated, ReproducesHgFromOneDegreeTable) {
+    const TabulatedPhase t = hgTable(0.5);
+    // HG is normalised, so the factor is 1 up to the trapezoid error of the integral in μ:
+    // with spacing h = sin θ · Δθ (Δθ = 1° = 0.01745) and p''/p = 15g²/b², b = 1 + g² − 2gμ,
+    // the relative error is at most Δθ²/12 · max (1 − μ²) 15g²/b² = 2.54e-5 · 6.7 = 1.7e-4
+    // (the maximum is at μ ≈ 0.8 for g = 0.5).
+    EXPECT_NEAR(t.normalization(), 1.0, 1.7e-4);
+    double maxRel = 0;
+    for (int i = 0; i <= 100000; ++i) {
+        const double mu = -1 + 2 * i / 100000.0;
+        maxRel = std::max(maxRel, std::abs(t.evalCos(mu) / henyeyGreenstein(mu, 0.5) - 1));
+    }
+    // Linear interpolation errs by at most h²/8 · p''/p = Δθ²/8 · (1 − μ²) 15g²/b² ≤
+    // 3.8e-5 · 6.7 = 2.5e-4, plus the normalisation's 1.7e-4 (bounds as above).
+    EXPECT_LT(maxRel, 2.5e-4 + 1.7e-4);
+    std::cout << "[ measured ] HG(0.5) 1-degree table: max relative error " << maxRel
+              << ", normalization factor " << t.normalization() << "\n";
+}
+
+TEST(Tabulated, PdfEqualsEvalAndNormalised) {
+    const TabulatedPhase t = readPhaseTableCsv(kMieLike);
+    EXPECT_NEAR(evalIntegral(t), 1.0, 1e-7);
+    checkSamples(t, true, 1e-9, 2000);
+    checkSamples(hgTable(0.9), true, 1e-9, 2000);
+    checkFiniteAtExtremes(t);
+    checkFiniteAtExtremes(hgTable(0.999999, 0.5));
+    EXPECT_EQ(PhaseFunction(t).name(), "tabulated");
+    std::cout << "[ measured ] mie_like.csv normalization factor " << t.normalization() << "\n";
+}
+
+TEST(Tabulated, SamplerInvertsCdf) {
+    const TabulatedPhase t = readPhaseTableCsv(kMieLike);
+    for (double u : {0.0, 1e-9, 0.01, 0.2, 0.5, 0.8, 0.97, 1 - 1e-9, 1.0}) {
+        const double mu = t.sample(Vec3(0, 0, 1), Vec2(u, 0.0)).wi.z();
+        EXPECT_NEAR(t.table().cdf(mu), u, 1e-12) << u;
+    }
+}
+
+TEST(Tabulated, ConstantTableIsIsotropicAndPartialTablesExtend) {
+    const TabulatedPhase iso({0, 180}, {7, 7});
+    EXPECT_NEAR(iso.evalCos(0.3), Inv4Pi, 1e-16);
+    EXPECT_NEAR(iso.normalization(), 1 / (7 * FourPi), 1e-16);
+    // 30°…150° only: values held constant towards 0° and 180°.
+    const TabulatedPhase part({30, 90, 150}, {2, 1, 3});
+    EXPECT_DOUBLE_EQ(part.evalCos(1.0), part.evalCos(std::cos(Pi / 6)));
+    EXPECT_DOUBLE_EQ(part.evalCos(0.95), part.evalCos(1.0));
+    EXPECT_DOUBLE_EQ(part.evalCos(-1.0), 3 * part.normalization());
+    EXPECT_NEAR(evalIntegral(part), 1.0, 1e-7);
+}
+
+class TabulatedChi2 : public ::testing::TestWithParam<int> {};
+
+TEST_P(TabulatedChi2, SamplerMatchesPdf) {
+    const TabulatedPhase t = GetParam() == 0   ? readPhaseTableCsv(kMieLike)
+                             : GetParam() == 1 ? hgTable(0.5)
+                                               : hgTable(-0.95, 0.25);
+    const auto r = phaseChi2(t, 3, 900 + GetParam());
+    EXPECT_TRUE(r.passed) << GetParam() << "\n" << r.report;
+    EXPECT_NEAR(r.pdfIntegral, 1.0, 1e-6);
+}
+
+INSTANTIATE_TEST_SUITE_P(Tabulated, TabulatedChi2, ::testing::Values(0, 1, 2));
+
+// ---- CSV errors -------------------------------------------------------------------------------
+
+std::string writeCsv(const std::string& name, const std::string& text) {
+    const std::string path = ::testing::TempDir() + name;
+    std::ofstream(path) << text;
+    return path;
+}
+
+std::string messageOf(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+TEST(TabulatedCsv, ReadsHeaderCommentsAndBlankLines) {
+    const std::string p =
+        writeCsv("ok.csv", "# made up\nangle, value\n\n0, 2\n 90 ,1\r\n180,2\n");
+    const TabulatedPhase t = readPhaseTableCsv(p);
+    EXPECT_EQ(t.source(), p);
+    EXPECT_EQ(t.table().nodes().size(), 3u);
+    EXPECT_DOUBLE_EQ(t.evalCos(1.0) / t.evalCos(0.0), 2.0);
+}
+
+TEST(TabulatedCsv, OneLineErrors) {
+    const auto err = [](const std::string& name, const std::string& text) {
+        const std::string p = writeCsv(name, text);
+        const std::string m = messageOf([&] { readPhaseTableCsv(p); });
+        EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+        EXPECT_EQ(m.rfind(p + ": ", 0), 0u) << m;
+        return m.substr(p.size() + 2);
+    };
+    EXPECT_EQ(messageOf([] { readPhaseTableCsv("/nonexistent/dir/mie.csv"); }),
+              "/nonexistent/dir/mie.csv: cannot open phase table");
+    EXPECT_EQ(err("nonnum.csv", "angle,value\n0,1\n10,abc\n"),
+              "line 3: value \"abc\" is not a number");
+    EXPECT_EQ(err("nonnum_angle.csv", "0,1\nten,1\n"), "line 2: angle \"ten\" is not a number");
+    EXPECT_EQ(err("neg.csv", "0,1\n# c\n90,-0.5\n180,1\n"), "line 3: negative value -0.5");
+    EXPECT_EQ(err("nan.csv", "0,1\n90,nan\n180,1\n"), "line 2: value is not finite");
+    EXPECT_EQ(err("order.csv", "0,1\n90,1\n90,2\n180,1\n"),
+              "line 3: angle 90 is not greater than the previous angle 90 (angles must increase "
+              "strictly)");
+    EXPECT_EQ(err("decr.csv", "0,1\n90,1\n45,2\n"),
+              "line 3: angle 45 is not greater than the previous angle 90 (angles must increase "
+              "strictly)");
+    EXPECT_EQ(err("one.csv", "angle,value\n0,1\n"),
+              "line 2: expected at least 2 (angle, value) rows, got 1");
+    EXPECT_EQ(err("empty.csv", ""), "line 0: expected at least 2 (angle, value) rows, got 0");
+    EXPECT_EQ(err("cols.csv", "0,1\n90,1,5\n"),
+              "line 2: expected 2 columns (angle in degrees, value), got 3");
+    EXPECT_EQ(err("emptycell.csv", "0,1\n90,\n"), "line 2: value \"\" is not a number");
+    EXPECT_EQ(err("range.csv", "0,1\n190,1\n"), "line 2: angle 190 outside [0, 180] degrees");
+    EXPECT_EQ(err("zero.csv", "0,0\n180,0\n"), "line 2: all values are zero");
+    EXPECT_EQ(err("header2.csv", "angle,value\n0,1\nangle,value\n"),
+              "line 3: angle \"angle\" is not a number");
+}
+
+}  // namespace
+}  // namespace shvol
