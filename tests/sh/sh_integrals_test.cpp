@@ -1,0 +1,214 @@
+// Rectangle integrals against adaptive Gauss–Kronrod quadrature in 50-digit arithmetic.
+#include "shvol/sh/sh_integrals.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include "shvol/core/rng.h"
+#include "shvol/sh/sh_basis.h"
+#include "shvol/sh/sh_projection.h"
+
+namespace {
+using namespace shvol;
+using namespace shvol::sh;
+
+// Independent long-double reference: the textbook unnormalised recurrence (Gautron eqs. 27–29,
+// no overflow for l ≤ 100 in long double's range) times K_l^m, with sin θ supplied exactly.
+long double referenceN(int l, int m, long double z, long double s) {
+    long double pmm = 1.0L;
+    for (int k = 1; k <= m; ++k) pmm *= -(2.0L * k - 1.0L) * s;
+    long double p = pmm;
+    if (l > m) {
+        long double p2 = pmm, p1 = z * (2.0L * m + 1.0L) * pmm;
+        for (int ll = m + 2; ll <= l; ++ll) {
+            const long double t = ((2.0L * ll - 1.0L) * z * p1 - (ll + m - 1.0L) * p2) / (ll - m);
+            p2 = p1;
+            p1 = t;
+        }
+        p = p1;
+    }
+    long double ratio = 1.0L;  // (l−m)!/(l+m)!
+    for (int k = l - m + 1; k <= l + m; ++k) ratio /= k;
+    return std::sqrt((2.0L * l + 1.0L) / (4.0L * 3.14159265358979323846264338327950288L) * ratio) *
+           p;
+}
+
+// 20-point Gauss–Legendre on [−1, 1] in long double (Newton on P_20), independent of the library.
+struct GL20 {
+    long double x[20], w[20];
+    GL20() {
+        const int k = 20;
+        for (int i = 0; i < k; ++i) {
+            long double t = std::cos(3.14159265358979323846264338327950288L * (i + 0.75L) / (k + 0.5L));
+            long double dp = 0;
+            for (int it = 0; it < 50; ++it) {
+                long double p0 = 1, p1 = t;
+                for (int j = 2; j <= k; ++j) {
+                    const long double p2 = ((2 * j - 1) * t * p1 - (j - 1) * p0) / j;
+                    p0 = p1;
+                    p1 = p2;
+                }
+                dp = k * (t * p1 - p0) / (t * t - 1);
+                const long double dt = p1 / dp;
+                t -= dt;
+                if (std::fabs(dt) < 1e-19L) break;
+            }
+            x[i] = t;
+            w[i] = 2 / ((1 - t * t) * dp * dp);
+        }
+    }
+};
+
+// ∫_{z0}^{z1} N_l^m(z) dz by a composite rule (32 panels × 20 Gauss points) in long double: in
+// z when the interval stays 1e-4 away from the poles (the integrand is analytic there), else in
+// θ (z = cos θ: a trigonometric polynomial of degree l+1; θ is small near the poles, so it is
+// represented to full relative precision). Both rules are exact to long-double rounding for
+// l ≤ 100.
+long double referenceJ(int l, int m, double z0, double z1) {
+    static const GL20 gl;
+    const int panels = 32;
+    const long double a = z0, b = z1;
+    const bool inZ = 1.0L - std::max(std::fabs(a), std::fabs(b)) > 1e-4L;
+    const long double lo = inZ ? a : std::acos(b), hi = inZ ? b : std::acos(a);
+    const long double h = (hi - lo) / panels;
+    long double sum = 0;
+    for (int p = 0; p < panels; ++p) {
+        const long double c = lo + (p + 0.5L) * h;
+        for (int i = 0; i < 20; ++i) {
+            const long double t = c + 0.5L * h * gl.x[i];
+            long double v;
+            if (inZ)
+                v = referenceN(l, m, t, std::sqrt((1.0L - t) * (1.0L + t)));
+            else
+                v = referenceN(l, m, std::cos(t), std::sin(t)) * std::sin(t);
+            sum += gl.w[i] * 0.5L * h * v;
+        }
+    }
+    return sum;
+}
+
+struct Interval {
+    double z0, z1;
+};
+const std::vector<Interval> kIntervals = {
+    {-1.0, 1.0},          {-1.0, -0.3},        {0.2, 1.0},           {0.9, 1.0},
+    {-0.5, 0.7},          {0.5, 0.5 + 1e-3},   {0.99999, 1.0},       {0.3, 0.3 + 1e-10},
+    {1.0 - 1e-10, 1.0},   {-1.0, -1.0 + 1e-12}, {0.0, 1e-9},         {-0.7, -0.7 + 3e-10},
+    {0.999, 0.999 + 5e-10}};
+
+// Error model: the recurrence result carries an absolute error of about ε·(l+1)^{3/2}·env·(n/l)
+// from its boundary terms, env = √((2l+1)/4π) (the bound on |N_l^m|); the narrow-interval rule
+// is exact to a few ε relative to ∫|N|. The test demands
+//   |J − ref| ≤ 1e-13·|ref| + 4ε·(n+1)^{3/2}·env·min(1, z1−z0)
+// for every l, m; narrow intervals therefore have to be relatively accurate to 1e-13.
+TEST(ShIntegrals, LegendreIntegralsMatchHighPrecisionQuadrature) {
+    const double eps = 2.220446049250313e-16;
+    for (int n : {21, 101}) {
+        std::vector<double> J(triSize(n));
+        for (const Interval& iv : kIntervals) {
+            legendreIntegrals(n, iv.z0, iv.z1, J.data());
+            std::vector<std::pair<int, int>> lm;
+            if (n <= 21) {
+                for (int l = 0; l < n; ++l)
+                    for (int m = 0; m <= l; ++m) lm.push_back({l, m});
+            } else {
+                for (int l : {50, 99, 100})
+                    for (int m : {0, 1, 2, 7, l / 2, l - 1, l}) lm.push_back({l, m});
+            }
+            for (auto [l, m] : lm) {
+                const double ref = static_cast<double>(referenceJ(l, m, iv.z0, iv.z1));
+                const double got = J[triIndex(l, m)];
+                const double env = std::sqrt((2.0 * l + 1) / (4 * M_PI));
+                const double tol = 1e-13 * std::fabs(ref) + 4 * eps * std::pow(n + 1.0, 1.5) *
+                                                                env *
+                                                                std::min(1.0, iv.z1 - iv.z0);
+                EXPECT_NEAR(got, ref, tol) << "n=" << n << " l=" << l << " m=" << m << " ["
+                                           << iv.z0 << ", " << iv.z1 << "]";
+            }
+        }
+    }
+}
+
+TEST(ShIntegrals, ZonalMatchesFull) {
+    for (int n : {5, 30, 200}) {
+        std::vector<double> J(triSize(n)), Z(n);
+        for (const Interval& iv : kIntervals) {
+            legendreIntegrals(n, iv.z0, iv.z1, J.data());
+            legendreIntegralsZonal(n, iv.z0, iv.z1, Z.data());
+            for (int l = 0; l < n; ++l)
+                EXPECT_NEAR(Z[l], J[triIndex(l, 0)], 1e-14 * std::sqrt(2.0 * l + 1) +
+                                                         1e-12 * std::fabs(J[triIndex(l, 0)]))
+                    << n << " " << l << " " << iv.z0;
+        }
+    }
+}
+
+TEST(ShIntegrals, PhiIntegralsClosedForm) {
+    const int n = 200;
+    std::vector<double> C(n), S(n);
+    for (auto [a, b] : std::vector<std::pair<double, double>>{
+             {0.0, TwoPi}, {0.3, 1.9}, {5.0, 5.0 + 1e-9}, {0.0, 0.5 * Pi}, {1.0, 1.0 + 1e-3}}) {
+        phiIntegrals(n, a, b, C.data(), S.data());
+        for (int m = 0; m < n; ++m) {
+            // reference in long double with the product form of the difference
+            const long double h = 0.5L * ((long double)b - a), c = 0.5L * ((long double)a + b);
+            const long double rc = m == 0 ? 2 * h : 2.0L / m * std::cos(m * c) * std::sin(m * h);
+            const long double rs = m == 0 ? 0.0L : 2.0L / m * std::sin(m * c) * std::sin(m * h);
+            const double scale = std::min(b - a, 2.0 / std::max(m, 1));
+            EXPECT_NEAR(C[m], (double)rc, 1e-14 * scale * (1 + m * 0.01)) << m << " " << a;
+            EXPECT_NEAR(S[m], (double)rs, 1e-14 * scale * (1 + m * 0.01)) << m << " " << a;
+        }
+    }
+}
+
+// ŷ_i over a partition of the sphere sums to ∫ y_i = √(4π) δ_i0, and matches the product rule on
+// each rectangle (Gauss–Legendre in z × Gauss–Legendre in φ, exact for these trig polynomials).
+TEST(ShIntegrals, RectangleIntegralsPartitionAndQuadrature) {
+    const int n = 12;
+    std::vector<double> out(n * n), sum(n * n, 0.0);
+    const double zs[] = {-1.0, -0.6, 0.1, 0.1 + 1e-10, 0.8, 1.0};
+    const double ps[] = {0.0, 1.0, 2.5, 4.0, TwoPi};
+    for (int i = 0; i + 1 < 6; ++i)
+        for (int j = 0; j + 1 < 5; ++j) {
+            shRectIntegrals(n, zs[i], zs[i + 1], ps[j], ps[j + 1], out.data());
+            std::vector<double> gz, wz, gp, wp;
+            gaussLegendre(60, zs[i], zs[i + 1], gz, wz);
+            gaussLegendre(60, ps[j], ps[j + 1], gp, wp);
+            Eigen::VectorXd ref = Eigen::VectorXd::Zero(n * n);
+            for (int a = 0; a < 60; ++a)
+                for (int b = 0; b < 60; ++b)
+                    ref += wz[a] * wp[b] * shEval(n, sphericalDirection(gz[a], gp[b]));
+            for (int k = 0; k < n * n; ++k) {
+                // odd m carry √(1−z²), not a polynomial: the z rule is only accurate away from ±1
+                if (zs[i] > -1 && zs[i + 1] < 1)
+                    EXPECT_NEAR(out[k], ref[k], 1e-13 * (1 + std::fabs(ref[k]))) << i << j << k;
+                sum[k] += out[k];
+            }
+        }
+    EXPECT_NEAR(sum[0], std::sqrt(4 * Pi), 1e-14);
+    for (int k = 1; k < n * n; ++k) EXPECT_NEAR(sum[k], 0.0, 1e-14) << k;
+}
+
+TEST(ShIntegrals, NarrowRuleIntegratesPolynomials) {
+    // ∫ z^k dz over narrow and pole-touching intervals, relative to 1e-14
+    for (auto [a, b] : std::vector<std::pair<double, double>>{
+             {0.3, 0.3 + 1e-10}, {1 - 1e-10, 1.0}, {-1.0, -1.0 + 1e-12}, {0.5, 0.5007}}) {
+        for (int k = 0; k < 12; ++k) {
+            double sum = 0.0;
+            ASSERT_TRUE(forEachNarrowNode(20, a, b, 4, [&](double z, double, double w) {
+                sum += w * std::pow(z, k);
+            }));
+            // (b^{k+1} − a^{k+1})/(k+1) = (b−a) Σ_j b^j a^{k−j} / (k+1), without cancellation
+            long double sj = 0;
+            for (int j = 0; j <= k; ++j)
+                sj += std::pow((long double)b, j) * std::pow((long double)a, k - j);
+            const long double ref = ((long double)b - (long double)a) * sj / (k + 1);
+            EXPECT_NEAR(sum / (double)ref, 1.0, 1e-13) << a << " " << k;
+        }
+    }
+}
+
+}  // namespace
