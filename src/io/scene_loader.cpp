@@ -144,17 +144,6 @@ std::unique_ptr<Medium> readMedium(JsonReader r) {
 
 }  // namespace
 
-PhaseFunction readPhaseFunction(JsonReader r) {
-    const std::string type = r.choice("type", "isotropic", {"isotropic", "hg"});
-    if (type == "isotropic") {
-        r.finish();
-        return PhaseFunction(IsotropicPhase());
-    }
-    const double g = r.number("g", 0, -0.999999, 0.999999);
-    r.finish();
-    return PhaseFunction(HenyeyGreensteinPhase(g));
-}
-
 Scene sceneFromJson(const Json& doc, const std::string& path) {
     Scene scene;
     scene.path = path;

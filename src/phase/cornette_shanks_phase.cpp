@@ -51,7 +51,8 @@ CornetteShanksPhase::CornetteShanksPhase(double g) : g_(g) {
     nodes.reserve(4 * seed.size());
     for (const auto& n : seed) {
         if (!nodes.empty() && !(n.first > nodes.back().first)) continue;  // duplicates
-        if (!nodes.empty()) refine(nodes.back().first, nodes.back().second, n.first, n.second, g, 12, &nodes);
+        if (!nodes.empty())
+            refine(nodes.back().first, nodes.back().second, n.first, n.second, g, 12, &nodes);
         nodes.push_back(n);
     }
     std::vector<double> t, r;

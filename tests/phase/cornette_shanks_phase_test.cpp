@@ -102,7 +102,8 @@ TEST(CornetteShanks, Chi2RejectsHgAsPdf) {
 
 TEST(CornetteShanks, SamplesConsistentAndFinite) {
     for (double g : {-0.9, 0.0, 0.6, 0.95}) checkSamples(CornetteShanksPhase(g), false, 1e-8, 2000);
-    for (double g : {-0.999999, -0.999, 0.999, 0.999999}) checkFiniteAtExtremes(CornetteShanksPhase(g));
+    for (double g : {-0.999999, -0.999, 0.999, 0.999999})
+        checkFiniteAtExtremes(CornetteShanksPhase(g));
     EXPECT_EQ(PhaseFunction(CornetteShanksPhase(0.1)).name(), "cornette_shanks");
 }
 

@@ -60,7 +60,8 @@ inline void checkSamples(const PhaseFunction& phase, bool exactPdf, double relTo
         ASSERT_GT(s.pdf, 0.0) << phase.name();
         ASSERT_GT(s.value, 0.0) << phase.name();
         if (exactPdf) ASSERT_EQ(s.value, s.pdf) << phase.name();
-        EXPECT_NEAR(phase.eval(wo, s.wi), s.value, relTol * s.value) << phase.name() << " u=" << u.x();
+        EXPECT_NEAR(phase.eval(wo, s.wi), s.value, relTol * s.value)
+            << phase.name() << " u=" << u.x();
         EXPECT_NEAR(phase.pdf(wo, s.wi), s.pdf, relTol * s.pdf) << phase.name() << " u=" << u.x();
         const Vec3 other = sphericalDirection(2 * rng.uniform() - 1, TwoPi * rng.uniform());
         const double e = phase.eval(wo, other), p = phase.pdf(wo, other);

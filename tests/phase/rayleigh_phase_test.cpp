@@ -12,7 +12,9 @@ using testing::checkSamples;
 using testing::evalIntegral;
 using testing::phaseChi2;
 
-double rayleighCdfRef(double mu) { return (mu * mu * mu + 3 * mu + 4) / 8; }
+double rayleighCdfRef(double mu) {
+    return (mu * mu * mu + 3 * mu + 4) / 8;
+}
 
 TEST(Rayleigh, MatchesFormula) {
     for (double mu : {-1.0, -0.5, 0.0, 0.3, 1.0})

@@ -12,8 +12,12 @@ using testing::checkSamples;
 using testing::evalIntegral;
 using testing::phaseChi2;
 
-double schlickRef(double mu, double k) { return (1 - k * k) / (FourPi * sqr(1 - k * mu)); }
-double schlickCdfRef(double mu, double k) { return (1 - k) * (1 + mu) / (2 * (1 - k * mu)); }
+double schlickRef(double mu, double k) {
+    return (1 - k * k) / (FourPi * sqr(1 - k * mu));
+}
+double schlickCdfRef(double mu, double k) {
+    return (1 - k) * (1 + mu) / (2 * (1 - k * mu));
+}
 
 TEST(Schlick, MatchesFormula) {
     for (double k : {-0.9, -0.3, 0.0, 0.5, 0.95})
@@ -29,7 +33,8 @@ TEST(Schlick, PositiveKIsForward) {
     const PhaseFunction p = SchlickPhase(0.9);
     Rng rng(3, 3);
     double mean = 0;
-    for (int i = 0; i < 10000; ++i) mean += p.sample(testing::kWo, rng.uniform2()).wi.dot(testing::kWo);
+    for (int i = 0; i < 10000; ++i)
+        mean += p.sample(testing::kWo, rng.uniform2()).wi.dot(testing::kWo);
     EXPECT_GT(mean / 10000, 0.6);
 }
 

@@ -112,8 +112,7 @@ std::string messageOf(const std::function<void()>& f) {
 }
 
 TEST(TabulatedCsv, ReadsHeaderCommentsAndBlankLines) {
-    const std::string p =
-        writeCsv("ok.csv", "# made up\nangle, value\n\n0, 2\n 90 ,1\r\n180,2\n");
+    const std::string p = writeCsv("ok.csv", "# made up\nangle, value\n\n0, 2\n 90 ,1\r\n180,2\n");
     const TabulatedPhase t = readPhaseTableCsv(p);
     EXPECT_EQ(t.source(), p);
     EXPECT_EQ(t.table().nodes().size(), 3u);

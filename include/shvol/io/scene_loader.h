@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "shvol/io/json_reader.h"
+#include "shvol/io/phase_spec.h"  // readPhaseFunction
 #include "shvol/render/scene.h"
 
 namespace shvol {
@@ -16,8 +17,5 @@ Scene loadScene(const std::string& path, const std::vector<std::string>& overrid
 /// Builds a scene from an already-parsed document (tests use this); `path` is used for messages
 /// and to resolve relative file names.
 Scene sceneFromJson(const Json& doc, const std::string& path);
-
-/// Reads a phase-function object such as {"type": "hg", "g": 0.9}.
-PhaseFunction readPhaseFunction(JsonReader r);
 
 }  // namespace shvol

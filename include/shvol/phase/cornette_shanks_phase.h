@@ -10,10 +10,10 @@
 /// are gˡ, E_HG[μ²] = (1 + 2g²)/3, so ∫ p dω = c (1 + (1 + 2g²)/3) = c · 2(2 + g²)/3 = 1 exactly;
 /// no numerical normalisation is needed (the tests check it by quadrature).
 ///
-/// Sampling: the CDF has no simple inverse. Warping by HG's exact inverse CDF, t = P_HG(μ) ∈ [0, 1],
-/// turns p into the density r(t) = c (1 + μ(t)²) over t, smooth and bounded in [c, 2c] for every g
-/// (the peak is absorbed by the warp). r is tabulated at kTableSize + 1 nodes uniform in t merged
-/// with kTableSize + 1 nodes uniform in μ (mapped to t = P_HG(μ); for |g| → 1 the whole back
+/// Sampling: the CDF has no simple inverse. Warping by HG's exact CDF, t = P_HG(μ) in [0, 1],
+/// turns p into the density r(t) = c (1 + μ(t)²) over t, smooth and bounded in [c, 2c] for
+/// every g (the peak is absorbed by the warp). r is tabulated at kTableSize + 1 nodes uniform in t
+/// merged with kTableSize + 1 nodes uniform in μ (mapped to t = P_HG(μ); for |g| → 1 the whole back
 /// hemisphere occupies a tiny interval of t, where μ(t) changes fast), sampled exactly as a
 /// piecewise-linear density r̃ (PiecewiseLinear1D) and mapped back through
 /// sampleHenyeyGreensteinCosTheta. The density of

@@ -1,0 +1,124 @@
+#include "shvol/io/phase_spec.h"
+
+#include <filesystem>
+#include <sstream>
+
+#include "shvol/core/error.h"
+#include "shvol/phase/phase_table_csv.h"
+
+namespace shvol {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kMaxG = 0.999999;  // |g| and |k| bound: the lobes stay representable
+
+/// A required number in [lo, hi] (JsonReader::number(key, def, lo, hi) has a default).
+double requiredNumber(JsonReader& r, const std::string& key, double lo, double hi) {
+    const double x = r.number(key);
+    if (x < lo || x > hi) {
+        std::ostringstream m;
+        m << "value " << x << " out of range [" << lo << ", " << hi << "]";
+        r.error(key, m.str());
+    }
+    return x;
+}
+
+std::string resolveIn(const std::string& dir, const std::string& name) {
+    const fs::path p(name);
+    if (p.is_absolute() || dir.empty()) return name;
+    return (fs::path(dir) / p).lexically_normal().string();
+}
+
+/// The parser behind both entry points; relative files are resolved against baseDir.
+/// The keys "sampling" and "order" are reserved for the SH-based sampler selection and are
+/// rejected as unknown until it exists.
+PhaseFunction readPhase(JsonReader& r, const std::string& baseDir) {
+    const std::string type = r.choice(
+        "type", "isotropic",
+        {"isotropic", "hg", "two_term_hg", "rayleigh", "schlick", "cornette_shanks", "tabulated"});
+    PhaseFunction phase;
+    if (type == "isotropic") {
+        phase = IsotropicPhase();
+    } else if (type == "hg") {
+        phase = HenyeyGreensteinPhase(r.number("g", 0, -kMaxG, kMaxG));
+    } else if (type == "two_term_hg") {
+        const double g1 = requiredNumber(r, "g1", -kMaxG, kMaxG);
+        const double g2 = requiredNumber(r, "g2", -kMaxG, kMaxG);
+        const double w = requiredNumber(r, "w", 0, 1);
+        phase = TwoTermHenyeyGreensteinPhase(g1, g2, w);
+    } else if (type == "rayleigh") {
+        phase = RayleighPhase();
+    } else if (type == "schlick") {
+        phase = SchlickPhase(requiredNumber(r, "k", -kMaxG, kMaxG));
+    } else if (type == "cornette_shanks") {
+        phase = CornetteShanksPhase(requiredNumber(r, "g", -kMaxG, kMaxG));
+    } else {  // tabulated
+        const std::string file = r.string("file");
+        if (file.empty()) r.error("file", "must not be empty");
+        r.finish();  // report unknown keys before touching the file system
+        return readPhaseTableCsv(resolveIn(baseDir, file));
+    }
+    r.finish();
+    return phase;
+}
+
+std::string specName(const std::string& spec) {
+    return "phase spec \"" + spec + "\"";
+}
+
+}  // namespace
+
+PhaseFunction readPhaseFunction(JsonReader r) {
+    return readPhase(r, fs::path(r.file()).parent_path().string());
+}
+
+Json phaseSpecToJson(const std::string& spec) {
+    const std::string where = specName(spec);
+    const auto b = spec.find_first_not_of(" \t\r\n");
+    if (b == std::string::npos) fail(where, "", "empty phase specification");
+    if (spec[b] == '{') {
+        try {
+            return Json::parse(spec);
+        } catch (const Json::parse_error& e) {
+            std::string msg = e.what();
+            const auto colon = msg.find(": ", msg.find("column "));
+            if (colon != std::string::npos) msg = msg.substr(colon + 2);
+            fail(where, "", "malformed JSON: " + msg);
+        }
+    }
+    const auto colon = spec.find(':');
+    const std::string name = spec.substr(0, colon);
+    if (name.empty()) fail(where, "", "missing phase function name before ':'");
+    Json j = Json::object();
+    j["type"] = name;
+    if (colon == std::string::npos) return j;
+    std::stringstream ss(spec.substr(colon + 1));
+    for (std::string item; std::getline(ss, item, ',');) {
+        const auto eq = item.find('=');
+        if (eq == std::string::npos || eq == 0)
+            fail(where, "", "expected key=value, got \"" + item + "\"");
+        const std::string key = item.substr(0, eq), text = item.substr(eq + 1);
+        if (key == "type") fail(where, "", "the type is the name before ':', not a key");
+        if (j.contains(key)) fail(where, "", "key \"" + key + "\" given twice");
+        Json value = text;  // a number if the whole value is one, else the string
+        try {
+            const Json parsed = Json::parse(text);
+            if (parsed.is_number()) value = parsed;
+        } catch (const Json::parse_error&) {
+        }
+        j[key] = value;
+    }
+    if (spec.back() == ',' || spec.back() == ':')
+        fail(where, "", "expected key=value after '" + std::string(1, spec.back()) + "'");
+    return j;
+}
+
+PhaseFunction parsePhaseSpec(const std::string& spec, const std::string& baseDir) {
+    const Json j = phaseSpecToJson(spec);
+    JsonReader r(j, specName(spec), "");
+    return readPhase(r, baseDir);
+}
+
+}  // namespace shvol

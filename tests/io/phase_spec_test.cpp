@@ -1,0 +1,152 @@
+#include "shvol/io/phase_spec.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+
+#include "shvol/core/error.h"
+#include "shvol/core/rng.h"
+#include "shvol/io/scene_loader.h"
+
+namespace shvol {
+namespace {
+
+const std::string kPhaseDir = std::string(SHVOL_SOURCE_DIR) + "/media/phase";
+
+std::string messageOf(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+PhaseFunction fromJson(const std::string& text, const std::string& file = "scene.json") {
+    const Json j = Json::parse(text);
+    return readPhaseFunction(JsonReader(j, file, "media[0].phase"));
+}
+
+/// Same alternative, same values and same samples at random directions.
+void expectSame(const PhaseFunction& a, const PhaseFunction& b) {
+    ASSERT_EQ(a.name(), b.name());
+    Rng rng(1, 2);
+    for (int i = 0; i < 200; ++i) {
+        const Vec3 wo = sphericalDirection(2 * rng.uniform() - 1, TwoPi * rng.uniform());
+        const Vec3 wi = sphericalDirection(2 * rng.uniform() - 1, TwoPi * rng.uniform());
+        EXPECT_EQ(a.eval(wo, wi), b.eval(wo, wi)) << a.name();
+        EXPECT_EQ(a.pdf(wo, wi), b.pdf(wo, wi)) << a.name();
+        const Vec2 u = rng.uniform2();
+        EXPECT_EQ(a.sample(wo, u).wi, b.sample(wo, u).wi) << a.name();
+    }
+}
+
+TEST(PhaseSpec, ShortFormsMatchJsonForms) {
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"isotropic", R"({"type": "isotropic"})"},
+        {"hg:g=0.9", R"({"type": "hg", "g": 0.9})"},
+        {"hg", R"({"type": "hg"})"},
+        {"two_term_hg:g1=0.9,g2=-0.3,w=0.7",
+         R"({"type": "two_term_hg", "g1": 0.9, "g2": -0.3, "w": 0.7})"},
+        {"rayleigh", R"({"type": "rayleigh"})"},
+        {"schlick:k=0.7", R"({"type": "schlick", "k": 0.7})"},
+        {"cornette_shanks:g=0.8", R"({"type": "cornette_shanks", "g": 0.8})"},
+        {"tabulated:file=mie_like.csv", R"({"type": "tabulated", "file": "mie_like.csv"})"},
+    };
+    for (const auto& [shortForm, json] : cases) {
+        SCOPED_TRACE(shortForm);
+        const PhaseFunction a = parsePhaseSpec(shortForm, kPhaseDir);
+        const PhaseFunction b = parsePhaseSpec(json, kPhaseDir);
+        const PhaseFunction c = fromJson(json, kPhaseDir + "/scene.json");
+        EXPECT_EQ(a.name(), shortForm.substr(0, shortForm.find(':')));
+        expectSame(a, b);
+        expectSame(a, c);
+        EXPECT_EQ(phaseSpecToJson(shortForm), Json::parse(json));
+    }
+    EXPECT_DOUBLE_EQ(std::get<TwoTermHenyeyGreensteinPhase>(
+                         parsePhaseSpec("two_term_hg:g1=0.9,g2=-0.3,w=0.7", "").variant())
+                         .w(),
+                     0.7);
+    EXPECT_EQ(fromJson("{}").name(), "isotropic");  // type defaults to isotropic
+    expectSame(parsePhaseSpec("hg", ""), parsePhaseSpec("hg:g=0", ""));  // g defaults to 0
+}
+
+TEST(PhaseSpec, TableFileIsRelativeToTheJsonFile) {
+    const PhaseFunction p = fromJson(R"({"type": "tabulated", "file": "phase/mie_like.csv"})",
+                                     std::string(SHVOL_SOURCE_DIR) + "/media/scene.json");
+    EXPECT_EQ(std::get<TabulatedPhase>(p.variant()).source(), kPhaseDir + "/mie_like.csv");
+    // Absolute names are kept; the short form resolves against baseDir.
+    const PhaseFunction q = parsePhaseSpec("tabulated:file=" + kPhaseDir + "/mie_like.csv", "/x");
+    EXPECT_EQ(std::get<TabulatedPhase>(q.variant()).source(), kPhaseDir + "/mie_like.csv");
+    EXPECT_EQ(messageOf([] { parsePhaseSpec("tabulated:file=nope.csv", "/tmp/dir"); }),
+              "/tmp/dir/nope.csv: cannot open phase table");
+}
+
+TEST(PhaseSpec, JsonErrorsNameFileAndPath) {
+    EXPECT_EQ(messageOf([] { fromJson(R"({"type": "hg", "g": 2})"); }),
+              "scene.json: media[0].phase.g: value 2 out of range [-0.999999, 0.999999]");
+    EXPECT_EQ(messageOf([] { fromJson(R"({"type": "schlick"})"); }),
+              "scene.json: media[0].phase.k: missing required number");
+    EXPECT_EQ(
+        messageOf([] { fromJson(R"({"type": "two_term_hg", "g1": 0.5, "g2": 0.1, "w": 1.5})"); }),
+        "scene.json: media[0].phase.w: value 1.5 out of range [0, 1]");
+    EXPECT_EQ(messageOf([] { fromJson(R"({"type": "rayleigh", "g": 0.5})"); }),
+              "scene.json: media[0].phase.g: unknown key");
+    EXPECT_EQ(messageOf([] { fromJson(R"({"type": "hg", "g": 0.5, "sampling": "sh"})"); }),
+              "scene.json: media[0].phase.sampling: unknown key");
+    EXPECT_EQ(messageOf([] { fromJson(R"({"type": "mie"})"); }),
+              "scene.json: media[0].phase.type: unknown value \"mie\"; expected one of "
+              "\"isotropic\", \"hg\", \"two_term_hg\", \"rayleigh\", \"schlick\", "
+              "\"cornette_shanks\", \"tabulated\"");
+    EXPECT_EQ(messageOf([] { fromJson(R"({"type": "tabulated"})"); }),
+              "scene.json: media[0].phase.file: missing required string");
+    EXPECT_EQ(messageOf([] { fromJson(R"({"type": "tabulated", "file": "t.csv", "x": 1})"); }),
+              "scene.json: media[0].phase.x: unknown key");
+    EXPECT_EQ(messageOf([] { fromJson(R"({"type": "cornette_shanks", "g": "high"})"); }),
+              "scene.json: media[0].phase.g: expected a number, got string \"high\"");
+}
+
+TEST(PhaseSpec, ShortFormErrorsNameTheSpec) {
+    const auto err = [](const std::string& spec) {
+        return messageOf([&] { parsePhaseSpec(spec, ""); });
+    };
+    EXPECT_EQ(err("hg:g=2"),
+              "phase spec \"hg:g=2\": g: value 2 out of range [-0.999999, 0.999999]");
+    EXPECT_EQ(err("hg:g=abc"), "phase spec \"hg:g=abc\": g: expected a number, got string \"abc\"");
+    EXPECT_EQ(err("hg:gg=0.5"), "phase spec \"hg:gg=0.5\": gg: unknown key");
+    EXPECT_EQ(err("schlick"), "phase spec \"schlick\": k: missing required number");
+    EXPECT_EQ(err("mie:g=1"),
+              "phase spec \"mie:g=1\": type: unknown value \"mie\"; expected one of \"isotropic\", "
+              "\"hg\", \"two_term_hg\", \"rayleigh\", \"schlick\", \"cornette_shanks\", "
+              "\"tabulated\"");
+    EXPECT_EQ(err("hg:g"), "phase spec \"hg:g\": expected key=value, got \"g\"");
+    EXPECT_EQ(err("hg:=0.5"), "phase spec \"hg:=0.5\": expected key=value, got \"=0.5\"");
+    EXPECT_EQ(err("hg:g=0.1,g=0.2"), "phase spec \"hg:g=0.1,g=0.2\": key \"g\" given twice");
+    EXPECT_EQ(err("hg:g=0.1,"), "phase spec \"hg:g=0.1,\": expected key=value after ','");
+    EXPECT_EQ(err("hg:"), "phase spec \"hg:\": expected key=value after ':'");
+    EXPECT_EQ(err(""), "phase spec \"\": empty phase specification");
+    EXPECT_EQ(err(":g=1"), "phase spec \":g=1\": missing phase function name before ':'");
+    EXPECT_EQ(err("hg:type=rayleigh"),
+              "phase spec \"hg:type=rayleigh\": the type is the name before ':', not a key");
+    EXPECT_EQ(err(R"({"type": "hg", "g": })"),
+              "phase spec \"{\"type\": \"hg\", \"g\": }\": malformed JSON: syntax error while "
+              "parsing value - unexpected '}'; expected '[', '{', or a literal");
+    EXPECT_EQ(err(R"({"type": "hg", "q": 1})"),
+              "phase spec \"{\"type\": \"hg\", \"q\": 1}\": q: unknown key");
+}
+
+TEST(PhaseSpec, SceneLoaderUsesIt) {
+    const Json doc = Json::parse(R"({"media": [{"type": "homogeneous",
+        "phase": {"type": "cornette_shanks", "g": 0.7}}]})");
+    EXPECT_EQ(messageOf([&] {
+                  Json bad = doc;
+                  bad["media"][0]["phase"]["g"] = 1.5;
+                  sceneFromJson(bad, "s.json");
+              }),
+              "s.json: media[0].phase.g: value 1.5 out of range [-0.999999, 0.999999]");
+}
+
+}  // namespace
+}  // namespace shvol
