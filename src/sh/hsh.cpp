@@ -1,0 +1,130 @@
+#include "shvol/sh/hsh.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "shvol/sh/legendre.h"
+
+namespace shvol::sh {
+
+void hshEval(int n, const Vec3& w, double* out) {
+    const double x = w.x(), y = w.y();
+    const double z = std::clamp(w.z(), 0.0, 1.0);
+    const double s = std::sqrt(x * x + y * y);
+    const double c1 = s > 0.0 ? x / s : 1.0;
+    const double s1 = s > 0.0 ? y / s : 0.0;
+    const double zs = 2.0 * z - 1.0;                     // shifted argument (Gautron eq. 6)
+    const double ss = 2.0 * std::sqrt(z * (1.0 - z));    // √(1 − (2z−1)²)
+    const double r2 = 1.4142135623730951, two = 2.0;     // √2 (K̃ = √2 K) and √2·√2
+    double cm = 1.0, sm = 0.0;
+    int mCur = 0;
+    forEachLegendre(n, zs, ss, [&](int l, int m, double v) {
+        if (m != mCur) {
+            const double c = cm * c1 - sm * s1;
+            sm = sm * c1 + cm * s1;
+            cm = c;
+            mCur = m;
+        }
+        if (m == 0) {
+            out[l * (l + 1)] = r2 * v;
+        } else {
+            const double tv = two * v;
+            out[l * (l + 1) + m] = tv * cm;
+            out[l * (l + 1) - m] = tv * sm;
+        }
+    });
+}
+
+Eigen::VectorXd hshEval(int n, const Vec3& w) {
+    Eigen::VectorXd v(n * n);
+    hshEval(n, w, v.data());
+    return v;
+}
+
+double hshReconstruct(int n, const double* h, const Vec3& w) {
+    if (w.z() < 0.0) return 0.0;
+    const Eigen::VectorXd y = hshEval(n, w);
+    return Eigen::Map<const Eigen::VectorXd>(h, n * n).dot(y);
+}
+
+SphereQuadrature hemisphereQuadrature(int nz, int nphi) {
+    return sphereQuadrature(nz, nphi, 0.0, 1.0);
+}
+
+ShToHsh::ShToHsh(int nH, int nS) : nHsh(nH), nSh(nS) {
+    const int mMax = std::min(nH, nS);
+    blocks.resize(mMax);
+    for (int am = 0; am < mMax; ++am) blocks[am] = Eigen::MatrixXd::Zero(nH - am, nS - am);
+    std::vector<double> t, wt;
+    gaussLegendre(nH + nS + 40, 0.0, 1.0, t, wt);
+    std::vector<double> a(triSize(nH)), b(triSize(nS));
+    const double f = TwoPi * 1.4142135623730951;
+    for (size_t k = 0; k < t.size(); ++k) {
+        const double z = t[k] * t[k];
+        const double wz = wt[k] * 2.0 * t[k];  // dz = 2t dt
+        // Shifted: argument 2z−1 with sine 2√(z(1−z)) = 2t√(1−t²); unshifted: z, √(1−z²).
+        legendreNormalized(nH, 2.0 * z - 1.0, 2.0 * t[k] * std::sqrt((1.0 - t[k]) * (1.0 + t[k])),
+                           a.data());
+        legendreNormalized(nS, z, std::sqrt((1.0 - z) * (1.0 + z)), b.data());
+        for (int am = 0; am < mMax; ++am)
+            for (int l = am; l < nH; ++l) {
+                const double al = f * wz * a[triIndex(l, am)];
+                for (int lp = am; lp < nS; ++lp)
+                    blocks[am](l - am, lp - am) += al * b[triIndex(lp, am)];
+            }
+    }
+}
+
+Eigen::VectorXd ShToHsh::toHsh(const Eigen::VectorXd& sh) const {
+    Eigen::VectorXd h = Eigen::VectorXd::Zero(nHsh * nHsh);
+    for (int am = 0; am < static_cast<int>(blocks.size()); ++am)
+        for (int sgn : {1, -1}) {
+            if (am == 0 && sgn < 0) continue;
+            const int m = sgn * am;
+            for (int l = am; l < nHsh; ++l) {
+                double s = 0.0;
+                for (int lp = am; lp < nSh; ++lp) s += blocks[am](l - am, lp - am) * sh[lp * (lp + 1) + m];
+                h[l * (l + 1) + m] = s;
+            }
+        }
+    return h;
+}
+
+Eigen::VectorXd ShToHsh::toSh(const Eigen::VectorXd& h) const {
+    Eigen::VectorXd sh = Eigen::VectorXd::Zero(nSh * nSh);
+    for (int am = 0; am < static_cast<int>(blocks.size()); ++am)
+        for (int sgn : {1, -1}) {
+            if (am == 0 && sgn < 0) continue;
+            const int m = sgn * am;
+            for (int lp = am; lp < nSh; ++lp) {
+                double s = 0.0;
+                for (int l = am; l < nHsh; ++l) s += blocks[am](l - am, lp - am) * h[l * (l + 1) + m];
+                sh[lp * (lp + 1) + m] = s;
+            }
+        }
+    return sh;
+}
+
+Eigen::MatrixXd ShToHsh::dense() const {
+    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(nHsh * nHsh, nSh * nSh);
+    for (int am = 0; am < static_cast<int>(blocks.size()); ++am)
+        for (int sgn : {1, -1}) {
+            if (am == 0 && sgn < 0) continue;
+            const int m = sgn * am;
+            for (int l = am; l < nHsh; ++l)
+                for (int lp = am; lp < nSh; ++lp)
+                    C(l * (l + 1) + m, lp * (lp + 1) + m) = blocks[am](l - am, lp - am);
+        }
+    return C;
+}
+
+Eigen::VectorXd hshRotate(const ShToHsh& C, const ShRotation& R, const Eigen::VectorXd& h) {
+    return C.toHsh(R.apply(C.toSh(h)));
+}
+
+Eigen::MatrixXd hshRotationMatrix(const ShToHsh& C, const ShRotation& R) {
+    const Eigen::MatrixXd D = C.dense();
+    return D * R.matrix() * D.transpose();
+}
+
+}  // namespace shvol::sh
