@@ -7,8 +7,7 @@
 namespace shvol {
 
 TabulatedPhase::TabulatedPhase(const std::vector<double>& anglesDeg,
-                               const std::vector<double>& values, std::string source)
-    : source_(std::move(source)) {
+                               const std::vector<double>& values, std::string source) {
     const size_t n = anglesDeg.size();
     if (n < 2 || values.size() != n)
         throw std::invalid_argument("tabulated phase: need at least 2 (angle, value) rows");
@@ -24,15 +23,17 @@ TabulatedPhase::TabulatedPhase(const std::vector<double>& anglesDeg,
         f.push_back(values[k]);
     }
     if (anglesDeg.front() > 0) mu.push_back(1.0), f.push_back(values.front());
-    table_ = std::make_shared<const PiecewiseLinear1D>(std::move(mu), std::move(f));
+    PiecewiseLinear1D table(std::move(mu), std::move(f));
+    const double normalization = 1 / (TwoPi * table.integral());
+    data_ = std::make_shared<const Data>(Data{std::move(table), normalization, std::move(source)});
 }
 
 double TabulatedPhase::evalCos(double cosTheta) const {
-    return table_->eval(std::clamp(cosTheta, -1.0, 1.0)) * normalization();
+    return data_->table.eval(std::clamp(cosTheta, -1.0, 1.0)) * data_->normalization;
 }
 
 PhaseSample TabulatedPhase::sample(const Vec3& wo, const Vec2& u) const {
-    const double cosTheta = table_->sample(u.x());
+    const double cosTheta = data_->table.sample(u.x());
     const Vec3 wi = Frame(wo).toWorld(sphericalDirection(cosTheta, TwoPi * u.y()));
     const double p = evalCos(cosTheta);
     return {wi, p, p};

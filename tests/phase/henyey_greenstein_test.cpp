@@ -55,6 +55,18 @@ TEST(HenyeyGreenstein, SamplerInvertsCdf) {
     }
 }
 
+TEST(HenyeyGreenstein, CdfMatchesFormulaAndInvertsTheSampler) {
+    for (double g : {-0.9, -0.3, 0.2, 0.8})
+        for (double mu : {-1.0, -0.5, 0.0, 0.3, 0.99, 1.0})
+            EXPECT_NEAR(henyeyGreensteinCdf(mu, g), hgCdfRef(mu, g), 1e-13) << g << " " << mu;
+    for (double mu : {-1.0, 0.0, 0.4})
+        EXPECT_NEAR(henyeyGreensteinCdf(mu, 0.0), (1 + mu) / 2, 1e-16);
+    for (double g : {-0.999, -0.5, 0.0, 0.3, 0.9, 0.999})
+        for (double u : {0.0, 1e-9, 0.1, 0.5, 0.9, 1 - 1e-9, 1.0})
+            EXPECT_NEAR(henyeyGreensteinCdf(sampleHenyeyGreensteinCosTheta(u, g), g), u, 1e-9)
+                << g << " " << u;
+}
+
 TEST(HenyeyGreenstein, SamplerNearZeroG) {
     // g = 0 is exactly uniform in μ; tiny g stays within O(g) of it and inverts its own CDF.
     for (double u : {0.0, 0.2, 0.5, 0.9})

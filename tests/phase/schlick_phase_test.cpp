@@ -65,6 +65,17 @@ TEST_P(SchlickChi2, SamplerMatchesPdf) {
 
 INSTANTIATE_TEST_SUITE_P(Schlick, SchlickChi2, ::testing::Values(-0.9, -0.5, 0.0, 0.5, 0.9, 0.99));
 
+TEST(Schlick, Chi2RejectsTheOppositeSignConvention) {
+    // The (1 + kμ)² form, i.e. the pdf of −k, must not pass for the (1 − kμ)² sampler.
+    const SchlickPhase p(0.3), flipped(-0.3);
+    Chi2Options opt;
+    opt.sampleCount = 200000;
+    const auto r = chi2TestSphere(
+        [&](Rng& rng) { return std::optional<Vec3>(p.sample(testing::kWo, rng.uniform2()).wi); },
+        [&](const Vec3& wi) { return flipped.pdf(testing::kWo, wi); }, opt);
+    EXPECT_FALSE(r.passed) << r.report;
+}
+
 TEST(Schlick, SamplesConsistentAndFinite) {
     for (double k : {-0.99, -0.6, 0.0, 0.3, 0.99}) checkSamples(SchlickPhase(k), true, 1e-9, 2000);
     for (double k : {-0.999999, -0.999, 0.999, 0.999999}) checkFiniteAtExtremes(SchlickPhase(k));

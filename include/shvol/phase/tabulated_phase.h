@@ -39,14 +39,18 @@ class TabulatedPhase {
     PhaseSample sample(const Vec3& wo, const Vec2& u) const;
 
     /// Factor applied to the table's values: 1 / (2π ∫ f̃ dμ).
-    double normalization() const { return 1 / (TwoPi * table_->integral()); }
-    const std::string& source() const { return source_; }
+    double normalization() const { return data_->normalization; }
+    const std::string& source() const { return data_->source; }
     /// The interpolant over μ (nodes ascending in μ, values as given).
-    const PiecewiseLinear1D& table() const { return *table_; }
+    const PiecewiseLinear1D& table() const { return data_->table; }
 
   private:
-    std::shared_ptr<const PiecewiseLinear1D> table_;  // shared by copies of the phase function
-    std::string source_;
+    struct Data {
+        PiecewiseLinear1D table;
+        double normalization;
+        std::string source;
+    };
+    std::shared_ptr<const Data> data_;  // shared by copies: PhaseFunction stays cheap to copy
 };
 
 }  // namespace shvol
