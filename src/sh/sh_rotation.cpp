@@ -1,7 +1,11 @@
 #include "shvol/sh/sh_rotation.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <cmath>
+#include <complex>
+#include <memory>
+#include <mutex>
 
 #include "shvol/sh/sh_basis.h"
 
@@ -20,11 +24,14 @@ inline double irP(int i, int l, int a, int b, const Eigen::MatrixXd& R1, const E
 
 }  // namespace
 
-ShRotation::ShRotation(int n_, const Eigen::Matrix3d& R) : n(n_) {
-    bands.resize(std::max(n, 0));
-    if (n <= 0) return;
+namespace {
+
+// Ivanic–Ruedenberg bands 0 … n−1 (Condon–Shortley adapted).
+std::vector<Eigen::MatrixXd> irBands(int n, const Eigen::Matrix3d& R) {
+    std::vector<Eigen::MatrixXd> bands(std::max(n, 0));
+    if (n <= 0) return bands;
     bands[0] = Eigen::MatrixXd::Ones(1, 1);
-    if (n == 1) return;
+    if (n == 1) return bands;
     // Band 1 in IR's basis (∝ y, z, x): R1 = P R Pᵀ with P picking rows (y, z, x).
     const int p[3] = {1, 2, 0};
     Eigen::MatrixXd R1(3, 3);
@@ -83,6 +90,125 @@ ShRotation::ShRotation(int n_, const Eigen::Matrix3d& R) : n(n_) {
         for (int m = -l; m <= l; ++m)
             for (int mp = -l; mp <= l; ++mp)
                 if ((std::abs(m) + std::abs(mp)) & 1) bands[l](m + l, mp + l) = -ir[l](m + l, mp + l);
+    }
+    return bands;
+}
+
+// Eigen-decomposition of the real-basis matrix of L_y for band l (cached): L_y = V Λ V^H.
+struct LyEigen {
+    Eigen::MatrixXcd V;
+    Eigen::VectorXd lambda;
+};
+
+const LyEigen& lyEigen(int l) {
+    static std::mutex mu;
+    static std::vector<std::unique_ptr<LyEigen>> cache;
+    std::lock_guard<std::mutex> lock(mu);
+    if (static_cast<int>(cache.size()) <= l) cache.resize(l + 1);
+    if (cache[l]) return *cache[l];
+    using C = std::complex<double>;
+    const int k = 2 * l + 1;
+    const C I(0.0, 1.0);
+    // Complex basis |l m⟩ (Condon–Shortley): L± |m⟩ = √(l(l+1) − m(m±1)) |m±1⟩, L_y = (L+ − L−)/2i.
+    Eigen::MatrixXcd Lc = Eigen::MatrixXcd::Zero(k, k);
+    const double ll = l * (l + 1.0);
+    for (int m = -l; m <= l; ++m) {
+        if (m + 1 <= l) Lc(m + 1 + l, m + l) = std::sqrt(ll - m * (m + 1.0)) / (2.0 * I);
+        if (m - 1 >= -l) Lc(m - 1 + l, m + l) = -std::sqrt(ll - m * (m - 1.0)) / (2.0 * I);
+    }
+    // Real basis: y^m = (Y^m + (−1)^m Y^{−m})/√2, y^{−m} = (Y^m − (−1)^m Y^{−m})/(i√2), m > 0.
+    Eigen::MatrixXcd U = Eigen::MatrixXcd::Zero(k, k);
+    const double r = 1.0 / std::sqrt(2.0);
+    U(l, l) = 1.0;
+    for (int m = 1; m <= l; ++m) {
+        const double sg = (m & 1) ? -1.0 : 1.0;
+        U(m + l, m + l) = r;
+        U(m + l, -m + l) = sg * r;
+        U(-m + l, m + l) = r / I;
+        U(-m + l, -m + l) = -sg * r / I;
+    }
+    const Eigen::MatrixXcd Lr = U.conjugate() * Lc * U.transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd> es(0.5 * (Lr + Lr.adjoint()));
+    auto e = std::make_unique<LyEigen>();
+    e->V = es.eigenvectors();
+    e->lambda = es.eigenvalues().array().round();  // exactly the integers −l … l
+    cache[l] = std::move(e);
+    return *cache[l];
+}
+
+// D^l(Rz(a)) applied from the left (rows) or right (columns) of M, in place.
+void zLeft(Eigen::MatrixXd& M, int l, double a) {
+    for (int m = 1; m <= l; ++m) {
+        const double c = std::cos(m * a), s = std::sin(m * a);
+        const Eigen::RowVectorXd rp = M.row(m + l), rm = M.row(-m + l);
+        M.row(m + l) = c * rp - s * rm;
+        M.row(-m + l) = s * rp + c * rm;
+    }
+}
+void zRight(Eigen::MatrixXd& M, int l, double a) {
+    for (int m = 1; m <= l; ++m) {
+        const double c = std::cos(m * a), s = std::sin(m * a);
+        const Eigen::VectorXd cp = M.col(m + l), cm = M.col(-m + l);
+        M.col(m + l) = c * cp + s * cm;
+        M.col(-m + l) = -s * cp + c * cm;
+    }
+}
+
+// D^l(Ry(b)) = Re(V e^{−ibΛ} V^H).
+Eigen::MatrixXd yBand(int l, double b) {
+    const LyEigen& e = lyEigen(l);
+    Eigen::VectorXcd ph(e.lambda.size());
+    for (Eigen::Index i = 0; i < ph.size(); ++i)
+        ph[i] = std::polar(1.0, -b * e.lambda[i]);
+    return (e.V * ph.asDiagonal() * e.V.adjoint()).real();
+}
+
+// ZYZ Euler angles of R = Rz(α) Ry(β) Rz(γ), for R away from gimbal lock (|R22| ≤ 0.9).
+void eulerZYZ(const Eigen::Matrix3d& R, double& a, double& b, double& g) {
+    b = std::atan2(std::hypot(R(0, 2), R(1, 2)), R(2, 2));
+    a = std::atan2(R(1, 2), R(0, 2));
+    g = std::atan2(R(2, 1), -R(2, 0));
+}
+
+}  // namespace
+
+static std::vector<Eigen::MatrixXd> eulerEigenBands(int n, const Eigen::Matrix3d& R, int lStart) {
+    std::vector<Eigen::MatrixXd> bands(std::max(n, 0));
+    // Near gimbal lock (|R22| > 0.5) write R = R′ Q⁻¹ with Q = Rx(−90°), so that R′ = R Q is far
+    // from it (|R′22| = |R21| ≤ 0.87), and D(R) = D(R′) D(Rx(90°)), Rx(90°) = Rz(−90°)Ry(90°)Rz(90°).
+    const bool lock = std::fabs(R(2, 2)) > 0.5;
+    Eigen::Matrix3d Rp = R;
+    if (lock) Rp = R * Eigen::AngleAxisd(-0.5 * Pi, Vec3::UnitX()).toRotationMatrix();
+    double a, b, g;
+    eulerZYZ(Rp, a, b, g);
+    for (int l = std::max(lStart, 0); l < n; ++l) {
+        Eigen::MatrixXd D = yBand(l, b);
+        zLeft(D, l, a);
+        zRight(D, l, g);
+        if (lock) {
+            Eigen::MatrixXd X = yBand(l, 0.5 * Pi);
+            zLeft(X, l, -0.5 * Pi);
+            zRight(X, l, 0.5 * Pi);
+            D = D * X;
+        }
+        bands[l] = std::move(D);
+    }
+    return bands;
+}
+
+ShRotation::ShRotation(int n_, const Eigen::Matrix3d& R, RotationMethod method) : n(n_) {
+    if (method == RotationMethod::IvanicRuedenberg) {
+        bands = irBands(n, R);
+    } else if (method == RotationMethod::EulerEigen) {
+        bands = eulerEigenBands(n, R, 0);
+    } else {
+        const int nIr = std::min(n, kRotationIrBands);
+        bands = irBands(nIr, R);
+        if (n > nIr) {
+            std::vector<Eigen::MatrixXd> hi = eulerEigenBands(n, R, nIr);
+            bands.resize(n);
+            for (int l = nIr; l < n; ++l) bands[l] = std::move(hi[l]);
+        }
     }
 }
 

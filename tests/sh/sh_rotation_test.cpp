@@ -96,6 +96,46 @@ TEST(ShRotation, ZonalLobePointsAlongRz) {
     EXPECT_NEAR(shReconstruct(n, full.data(), -d), back, 1e-12);
 }
 
+// The two constructions agree where IR is accurate, including rotations at and near gimbal lock.
+TEST(ShRotation, EulerEigenAgreesWithIvanicRuedenberg) {
+    const int n = 25;
+    Rng rng(21, 1);
+    std::vector<Eigen::Matrix3d> rs = {Eigen::Matrix3d::Identity(), rotationZYZ(0.7, 0.0, 0.2),
+                                       rotationZYZ(0.7, 1e-9, 0.2), rotationZYZ(0.1, Pi, 0.0),
+                                       rotationZYZ(-2.0, Pi - 1e-7, 1.3),
+                                       rotationZYZ(0.0, 0.5 * Pi, 0.0)};
+    for (int t = 0; t < 10; ++t) rs.push_back(randomRotation(rng));
+    for (const Eigen::Matrix3d& R : rs) {
+        const ShRotation a(n, R, RotationMethod::IvanicRuedenberg);
+        const ShRotation b(n, R, RotationMethod::EulerEigen);
+        for (int l = 0; l < n; ++l)
+            EXPECT_LT((a.bands[l] - b.bands[l]).cwiseAbs().maxCoeff(), 1e-13) << l;
+    }
+}
+
+// Beyond where IR loses accuracy (l ≥ 60), the default construction stays orthogonal,
+// composes, and agrees with the addition theorem for a zonal lobe.
+TEST(ShRotation, HighOrderStaysAccurate) {
+    const int n = 121;
+    Rng rng(22, 1);
+    const Eigen::Matrix3d A = randomRotation(rng), B = randomRotation(rng);
+    const ShRotation RA(n, A), RB(n, B), RAB(n, A * B);
+    for (int l : {40, 60, 90, 120}) {
+        const int k = 2 * l + 1;
+        EXPECT_LT((RA.bands[l] * RA.bands[l].transpose() - Eigen::MatrixXd::Identity(k, k))
+                      .cwiseAbs()
+                      .maxCoeff(),
+                  1e-12)
+            << l;
+        EXPECT_LT((RA.bands[l] * RB.bands[l] - RAB.bands[l]).cwiseAbs().maxCoeff(), 1e-12) << l;
+    }
+    Eigen::VectorXd p(n);
+    for (int l = 0; l < n; ++l) p[l] = std::pow(0.95, l) * std::sqrt((2 * l + 1) / FourPi);
+    const Eigen::VectorXd full = RA.apply(zonalToSH(p));
+    const Eigen::VectorXd fast = rotateZonal(p, A * Vec3(0, 0, 1));
+    EXPECT_LT((full - fast).cwiseAbs().maxCoeff(), 1e-12);
+}
+
 TEST(ShRotation, EulerZYZ) {
     const Eigen::Matrix3d R = rotationZYZ(0.0, 0.5 * Pi, 0.0);
     EXPECT_LT((R * Vec3(0, 0, 1) - Vec3(1, 0, 0)).norm(), 1e-15);

@@ -4,7 +4,7 @@
 /// Convention (DESIGN.md): rotating f by R means f′(ω) = f(R⁻¹ω), so a lobe around +z rotated
 /// by R points along R·ẑ. Coefficients transform band by band, f′_l = R^l f_l.
 ///
-/// Method: Ivanic & Ruedenberg, J. Phys. Chem. 100 (1996) 6342, with the corrections of
+/// Methods (see RotationMethod): Ivanic & Ruedenberg, J. Phys. Chem. 100 (1996) 6342, with the corrections of
 /// J. Phys. Chem. A 102 (1998) 9099: R^l is built from R^{l−1} and R^1 by the u·U + v·V + w·W
 /// recursion (Table 2 / eqs. 8.1–8.7 of the 1998 version). IR's real harmonics carry no
 /// Condon–Shortley phase; ours do, so y_l^m = (−1)^m S_lm and R^l_{mm′} = (−1)^{m+m′} R^l_{IR,mm′}.
@@ -17,6 +17,23 @@
 
 namespace shvol::sh {
 
+/// How the band matrices are built.
+enum class RotationMethod {
+    /// Ivanic–Ruedenberg recursion: O(l²) per band, accurate to ~1e-13 up to l ≈ 40, but its
+    /// rounding errors grow about ×10 per 10 bands beyond (measured: 9e-12 at l = 60, 5e-8 at
+    /// l = 100, 3e-6 at l = 120; validation/sh/results/rotation_error.csv).
+    IvanicRuedenberg,
+    /// Euler ZYZ: D(R) = Z(α) Y(β) Z(γ), with Y(β) = Re(V e^{−iβΛ} V^H) from the (cached)
+    /// eigen-decomposition of the real-basis matrix of the angular-momentum operator L_y (whose
+    /// eigenvalues are the integers −l … l), and Z the exact 2×2 (m, −m) rotations. Backward
+    /// stable (error ≈ ε·l); O(l³) per band. Near gimbal lock R is first multiplied by a fixed
+    /// 90° x-rotation so that the Euler angles stay well conditioned.
+    EulerEigen,
+    /// IR for l < kRotationIrBands, EulerEigen above.
+    Auto
+};
+inline constexpr int kRotationIrBands = 32;
+
 /// Per-band rotation matrices for order n.
 struct ShRotation {
     int n = 0;
@@ -25,7 +42,7 @@ struct ShRotation {
 
     ShRotation() = default;
     /// Builds R^0 … R^{n−1} for the 3×3 rotation R (f′(ω) = f(R⁻¹ω)).
-    ShRotation(int n, const Eigen::Matrix3d& R);
+    ShRotation(int n, const Eigen::Matrix3d& R, RotationMethod method = RotationMethod::Auto);
 
     /// out = R in (n² doubles each; in ≠ out).
     void apply(const double* in, double* out) const;
