@@ -11,7 +11,49 @@ constexpr double kN00 = 0.28209479177387814;  // 1/√(4π)
 constexpr int kMaxNarrowPanels = 4;
 
 bool isNarrow(int n, double z0, double z1) {
-    return std::fabs(z1 - z0) < kNarrowCoef * std::pow(n + 1.0, 1.5);
+    const double n1 = n + 1.0;
+    return std::fabs(z1 - z0) < kNarrowCoef * n1 * std::sqrt(n1);
+}
+
+// Coefficients of the normalised DiDonato recurrences (see sh_integrals.h), tabulated for
+// l < kBands: alpha (J_{l−2}^m factor), beta (boundary factor), diag (J_{l−2}^{l−2} factor).
+struct IntegralTables {
+    static constexpr int kBands = 160;
+    std::vector<double> alpha, beta, diag;
+};
+
+inline double coefAlpha(int l, int m) {
+    const double L = l, M = m;
+    if (m >= l - 1) return 0.0;
+    return (L - 2) / (L + 1) *
+           std::sqrt((2 * L + 1) * (L + M - 1) * (L - M - 1) / ((2 * L - 3) * (L + M) * (L - M)));
+}
+inline double coefBeta(int l, int m) {
+    const double L = l, M = m;
+    return std::sqrt((2 * L + 1) * (2 * L - 1) / ((L + M) * (L - M))) / (L + 1);
+}
+inline double coefDiag(int l) {
+    const double L = l;
+    return 0.5 * std::sqrt(L * (2 * L + 1) * (2 * L - 1) / (L - 1)) / (L + 1);
+}
+
+const IntegralTables& integralTables() {
+    static const IntegralTables* t = [] {
+        auto* r = new IntegralTables;
+        const int L = IntegralTables::kBands;
+        r->alpha.assign(triSize(L), 0.0);
+        r->beta.assign(triSize(L), 0.0);
+        r->diag.assign(L, 0.0);
+        for (int l = 1; l < L; ++l) {
+            for (int m = 0; m < l; ++m) {
+                r->alpha[triIndex(l, m)] = coefAlpha(l, m);
+                r->beta[triIndex(l, m)] = coefBeta(l, m);
+            }
+            if (l >= 2) r->diag[l] = coefDiag(l);
+        }
+        return r;
+    }();
+    return *t;
 }
 
 // Writes into D[triIndex(l, m)] the bracketed boundary quantity that J_l^m needs, at z, with
@@ -61,24 +103,19 @@ void legendreIntegralsRecurrence(int n, double z0, double z1, double* J) {
         J[triIndex(1, 1)] =
             -0.3454941494713355 * 0.5 * ((b * sb - a * sa) + (std::asin(b) - std::asin(a)));
     }
+    const IntegralTables& T = integralTables();
     for (int l = 1; l < n; ++l) {
-        const double L = l;
+        const bool tab = l < IntegralTables::kBands;
+        const int base = triIndex(l, 0), base2 = l >= 2 ? triIndex(l - 2, 0) : 0;
         for (int m = 0; m < l; ++m) {
-            const double M = m;
-            const double beta =
-                std::sqrt((2 * L + 1) * (2 * L - 1) / ((L + M) * (L - M))) / (L + 1);
-            double v = -beta * J[triIndex(l, m)];
-            if (m < l - 1) {
-                const double alpha = (L - 2) / (L + 1) *
-                                     std::sqrt((2 * L + 1) * (L + M - 1) * (L - M - 1) /
-                                               ((2 * L - 3) * (L + M) * (L - M)));
-                v += alpha * J[triIndex(l - 2, m)];
-            }
-            J[triIndex(l, m)] = v;
+            const double beta = tab ? T.beta[base + m] : coefBeta(l, m);
+            double v = -beta * J[base + m];
+            if (m < l - 1) v += (tab ? T.alpha[base + m] : coefAlpha(l, m)) * J[base2 + m];
+            J[base + m] = v;
         }
         if (l >= 2) {
-            const double c = 0.5 * std::sqrt(L * (2 * L + 1) * (2 * L - 1) / (L - 1));
-            J[triIndex(l, l)] = (c * J[triIndex(l - 2, l - 2)] + J[triIndex(l, l)]) / (L + 1);
+            const double c = tab ? T.diag[l] : coefDiag(l);
+            J[base + l] = c * J[base2 + l - 2] + J[base + l] / (l + 1.0);
         }
     }
 }
@@ -118,10 +155,11 @@ void legendreIntegralsZonal(int n, double z0, double z1, double* Z) {
         if (l + 1 < n) Z[l + 1] -= qa * v;
     });
     Z[0] = kN00 * (z1 - z0);
+    const IntegralTables& IT = integralTables();
     for (int l = 1; l < n; ++l) {
-        const double L = l;
-        double v = -std::sqrt((2 * L + 1) * (2 * L - 1)) / (L * (L + 1)) * Z[l];
-        if (l >= 2) v += (L - 2) / (L + 1) * (L - 1) / L * std::sqrt((2 * L + 1) / (2 * L - 3)) * Z[l - 2];
+        const bool tab = l < IntegralTables::kBands;
+        double v = -(tab ? IT.beta[triIndex(l, 0)] : coefBeta(l, 0)) * Z[l];
+        if (l >= 2) v += (tab ? IT.alpha[triIndex(l, 0)] : coefAlpha(l, 0)) * Z[l - 2];
         Z[l] = v;
     }
 }
