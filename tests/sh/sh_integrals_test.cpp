@@ -68,6 +68,8 @@ struct GL20 {
 // represented to full relative precision). Both rules are exact to long-double rounding for
 // l ≤ 100.
 long double referenceJ(int l, int m, double z0, double z1) {
+    // Near z = −1 use N_l^m(−z) = (−1)^(l+m) N_l^m(z): θ is then small and exact in long double.
+    if (z1 <= 0.0 && z0 < -0.5) return ((l + m) % 2 ? -1.0L : 1.0L) * referenceJ(l, m, -z1, -z0);
     static const GL20 gl;
     const int panels = 32;
     const long double a = z0, b = z1;
