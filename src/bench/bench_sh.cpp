@@ -75,7 +75,7 @@ void BM_RotationBuild(benchmark::State& st) {
         benchmark::DoNotOptimize(R.bands.data());
     }
     st.SetLabel(method == RotationMethod::IvanicRuedenberg ? "IR"
-                : method == RotationMethod::EulerEigen    ? "EulerEigen"
+                : method == RotationMethod::EulerEigen     ? "EulerEigen"
                                                            : "Auto");
 }
 BENCHMARK(BM_RotationBuild)

@@ -13,9 +13,9 @@ void hshEval(int n, const Vec3& w, double* out) {
     const double s = std::sqrt(x * x + y * y);
     const double c1 = s > 0.0 ? x / s : 1.0;
     const double s1 = s > 0.0 ? y / s : 0.0;
-    const double zs = 2.0 * z - 1.0;                     // shifted argument (Gautron eq. 6)
-    const double ss = 2.0 * std::sqrt(z * (1.0 - z));    // √(1 − (2z−1)²)
-    const double r2 = 1.4142135623730951, two = 2.0;     // √2 (K̃ = √2 K) and √2·√2
+    const double zs = 2.0 * z - 1.0;                   // shifted argument (Gautron eq. 6)
+    const double ss = 2.0 * std::sqrt(z * (1.0 - z));  // √(1 − (2z−1)²)
+    const double r2 = 1.4142135623730951, two = 2.0;   // √2 (K̃ = √2 K) and √2·√2
     double cm = 1.0, sm = 0.0;
     int mCur = 0;
     forEachLegendre(n, zs, ss, [&](int l, int m, double v) {
@@ -83,7 +83,8 @@ Eigen::VectorXd ShToHsh::toHsh(const Eigen::VectorXd& sh) const {
             const int m = sgn * am;
             for (int l = am; l < nHsh; ++l) {
                 double s = 0.0;
-                for (int lp = am; lp < nSh; ++lp) s += blocks[am](l - am, lp - am) * sh[lp * (lp + 1) + m];
+                for (int lp = am; lp < nSh; ++lp)
+                    s += blocks[am](l - am, lp - am) * sh[lp * (lp + 1) + m];
                 h[l * (l + 1) + m] = s;
             }
         }
@@ -98,7 +99,8 @@ Eigen::VectorXd ShToHsh::toSh(const Eigen::VectorXd& h) const {
             const int m = sgn * am;
             for (int lp = am; lp < nSh; ++lp) {
                 double s = 0.0;
-                for (int l = am; l < nHsh; ++l) s += blocks[am](l - am, lp - am) * h[l * (l + 1) + m];
+                for (int l = am; l < nHsh; ++l)
+                    s += blocks[am](l - am, lp - am) * h[l * (l + 1) + m];
                 sh[lp * (lp + 1) + m] = s;
             }
         }

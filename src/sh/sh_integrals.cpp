@@ -80,10 +80,11 @@ void legendreIntegrals(int n, double z0, double z1, double* J) {
     if (n <= 0) return;
     if (isNarrow(n, z0, z1)) {
         for (int i = 0; i < triSize(n); ++i) J[i] = 0.0;
-        const bool ok = forEachNarrowNode(n, z0, z1, kMaxNarrowPanels, [&](double z, double s,
-                                                                           double wt) {
-            forEachLegendre(n, z, s, [&](int l, int m, double v) { J[triIndex(l, m)] += wt * v; });
-        });
+        const bool ok =
+            forEachNarrowNode(n, z0, z1, kMaxNarrowPanels, [&](double z, double s, double wt) {
+                forEachLegendre(n, z, s,
+                                [&](int l, int m, double v) { J[triIndex(l, m)] += wt * v; });
+            });
         if (ok) return;
     }
     legendreIntegralsRecurrence(n, z0, z1, J);

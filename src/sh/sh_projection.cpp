@@ -54,7 +54,9 @@ SphereQuadrature sphereQuadrature(int nz, int nphi, double z0, double z1) {
     return q;
 }
 
-SphereQuadrature sphereQuadratureForOrder(int n) { return sphereQuadrature(n, 2 * n); }
+SphereQuadrature sphereQuadratureForOrder(int n) {
+    return sphereQuadrature(n, 2 * n);
+}
 
 Eigen::VectorXd zonalToSH(const Eigen::VectorXd& p) {
     const int n = static_cast<int>(p.size());

@@ -14,7 +14,8 @@ namespace shvol::sh {
 namespace {
 
 // Ivanic–Ruedenberg helper P (1998 errata form). R1 is band 1 (3×3, index m+1), Rp band l−1.
-inline double irP(int i, int l, int a, int b, const Eigen::MatrixXd& R1, const Eigen::MatrixXd& Rp) {
+inline double irP(int i, int l, int a, int b, const Eigen::MatrixXd& R1,
+                  const Eigen::MatrixXd& Rp) {
     const double ri1 = R1(i + 1, 2), rim1 = R1(i + 1, 0), ri0 = R1(i + 1, 1);
     const int o = l - 1;
     if (b == l) return ri1 * Rp(a + o, 2 * l - 2) - rim1 * Rp(a + o, 0);
@@ -49,11 +50,12 @@ std::vector<Eigen::MatrixXd> irBands(int n, const Eigen::Matrix3d& R) {
                 const double d = (std::abs(mp) == l) ? (2.0 * l) * (2.0 * l - 1.0)
                                                      : double(l + mp) * double(l - mp);
                 const double u = std::sqrt(double(l + m) * double(l - m) / d);
-                const double v = 0.5 * std::sqrt((m == 0 ? 2.0 : 1.0) * double(l + am - 1) *
-                                                 double(l + am) / d) *
-                                 (m == 0 ? -1.0 : 1.0);
-                const double w = m == 0 ? 0.0
-                                        : -0.5 * std::sqrt(double(l - am - 1) * double(l - am) / d);
+                const double v =
+                    0.5 *
+                    std::sqrt((m == 0 ? 2.0 : 1.0) * double(l + am - 1) * double(l + am) / d) *
+                    (m == 0 ? -1.0 : 1.0);
+                const double w =
+                    m == 0 ? 0.0 : -0.5 * std::sqrt(double(l - am - 1) * double(l - am) / d);
                 double val = 0.0;
                 if (u != 0.0) val += u * irP(0, l, m, mp, R1, Rp);
                 if (v != 0.0) {
@@ -89,7 +91,8 @@ std::vector<Eigen::MatrixXd> irBands(int n, const Eigen::Matrix3d& R) {
         bands[l] = ir[l];
         for (int m = -l; m <= l; ++m)
             for (int mp = -l; mp <= l; ++mp)
-                if ((std::abs(m) + std::abs(mp)) & 1) bands[l](m + l, mp + l) = -ir[l](m + l, mp + l);
+                if ((std::abs(m) + std::abs(mp)) & 1)
+                    bands[l](m + l, mp + l) = -ir[l](m + l, mp + l);
     }
     return bands;
 }
@@ -158,8 +161,7 @@ void zRight(Eigen::MatrixXd& M, int l, double a) {
 Eigen::MatrixXd yBand(int l, double b) {
     const LyEigen& e = lyEigen(l);
     Eigen::VectorXcd ph(e.lambda.size());
-    for (Eigen::Index i = 0; i < ph.size(); ++i)
-        ph[i] = std::polar(1.0, -b * e.lambda[i]);
+    for (Eigen::Index i = 0; i < ph.size(); ++i) ph[i] = std::polar(1.0, -b * e.lambda[i]);
     return (e.V * ph.asDiagonal() * e.V.adjoint()).real();
 }
 
@@ -175,7 +177,8 @@ void eulerZYZ(const Eigen::Matrix3d& R, double& a, double& b, double& g) {
 static std::vector<Eigen::MatrixXd> eulerEigenBands(int n, const Eigen::Matrix3d& R, int lStart) {
     std::vector<Eigen::MatrixXd> bands(std::max(n, 0));
     // Near gimbal lock (|R22| > 0.5) write R = R′ Q⁻¹ with Q = Rx(−90°), so that R′ = R Q is far
-    // from it (|R′22| = |R21| ≤ 0.87), and D(R) = D(R′) D(Rx(90°)), Rx(90°) = Rz(−90°)Ry(90°)Rz(90°).
+    // from it (|R′22| = |R21| ≤ 0.87), and D(R) = D(R′) D(Rx(90°)), Rx(90°) =
+    // Rz(−90°)Ry(90°)Rz(90°).
     const bool lock = std::fabs(R(2, 2)) > 0.5;
     Eigen::Matrix3d Rp = R;
     if (lock) Rp = R * Eigen::AngleAxisd(-0.5 * Pi, Vec3::UnitX()).toRotationMatrix();

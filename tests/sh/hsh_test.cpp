@@ -25,8 +25,7 @@ TEST(Hsh, OrthonormalOnTheHemisphere) {
                 w[k] = q.weight(int(i));
             }
         const Eigen::MatrixXd G = Y.transpose() * w.asDiagonal() * Y;
-        EXPECT_LT((G - Eigen::MatrixXd::Identity(n * n, n * n)).cwiseAbs().maxCoeff(), 1e-12)
-            << n;
+        EXPECT_LT((G - Eigen::MatrixXd::Identity(n * n, n * n)).cwiseAbs().maxCoeff(), 1e-12) << n;
     }
 }
 
@@ -54,7 +53,8 @@ TEST(Hsh, MatchesEquation8) {
                                    r2 * K(2, 2) * std::cos(2 * phi) * 3 * s * s};
             double h[9];
             hshEval(3, w, h);
-            for (int i = 0; i < 9; ++i) EXPECT_NEAR(h[i], ref[i], 1e-14) << z << " " << phi << " " << i;
+            for (int i = 0; i < 9; ++i)
+                EXPECT_NEAR(h[i], ref[i], 1e-14) << z << " " << phi << " " << i;
         }
 }
 
@@ -83,7 +83,7 @@ TEST(Hsh, ConversionMatrixMatchesIndependentQuadrature) {
                 }
     // The two entries quoted in the issue (the paper prints 0.71 and 0.41).
     const ShToHsh C3(3, 3);
-    EXPECT_NEAR(C3.dense()(0, 0), std::sqrt(0.5), 1e-15);           // (H_0^0, Y_0^0)
+    EXPECT_NEAR(C3.dense()(0, 0), std::sqrt(0.5), 1e-15);                         // (H_0^0, Y_0^0)
     EXPECT_NEAR(C3.dense()(0, 2), std::sqrt(3.0) / (2 * std::sqrt(2.0)), 1e-15);  // (H_0^0, Y_1^0)
     EXPECT_NEAR(C3.dense()(2, 0), 0.0, 1e-15);  // (H_1^0, Y_0^0): ∫(2z−1)dz = 0; printed 0.82
 }
@@ -121,7 +121,8 @@ TEST(Hsh, RotationThroughShKeepsFunctionsAboveTheHorizon) {
     const Eigen::Matrix3d Rinv = R.transpose();
     const SphereQuadrature q = hemisphereQuadrature(200, 400);
     const Eigen::VectorXd h = projectHSH(nH, f, q);
-    const Eigen::VectorXd refTrue = projectHSH(nH, [&](const Vec3& w) { return f(Rinv * w); }, q);
+    const Eigen::VectorXd refTrue = projectHSH(
+        nH, [&](const Vec3& w) { return f(Rinv * w); }, q);
     const Eigen::VectorXd refTrunc = projectHSH(
         nH, [&](const Vec3& w) { return hshReconstruct(nH, h.data(), Rinv * w); }, q);
     double prev = 1e9;

@@ -46,8 +46,8 @@ TEST(Irradiance, WhiteEnvironmentGivesPi) {
 TEST(Irradiance, LinearRadianceIsExact) {
     // L(ω) = a·ω lies in band 1: E(n) = (2π/3) a·n exactly.
     const Vec3 a(0.3, -0.5, 0.8);
-    const Eigen::VectorXd L =
-        projectSH(3, [&](const Vec3& w) { return a.dot(w); }, sphereQuadratureForOrder(3));
+    const Eigen::VectorXd L = projectSH(
+        3, [&](const Vec3& w) { return a.dot(w); }, sphereQuadratureForOrder(3));
     Rng rng(2, 1);
     for (int t = 0; t < 100; ++t) {
         const Vec3 nrm = sphericalDirection(2 * rng.uniform() - 1, TwoPi * rng.uniform());

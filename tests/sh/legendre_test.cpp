@@ -29,8 +29,9 @@ double referenceN(int l, int m, double z) {
 // (a random walk of the linear growth caused by the double characteristic root at z = ±1).
 constexpr double kEps = 2.220446049250313e-16;
 
-const std::vector<double> kZ = {-1.0, -1.0 + 1e-12, -0.999999, -0.77, -0.3, -1e-12, 0.0,
-                                1e-12, 0.1, 0.5, 0.9, 0.999, 1.0 - 1e-9, 1.0 - 1e-12, 1.0};
+const std::vector<double> kZ = {-1.0,   -1.0 + 1e-12, -0.999999,  -0.77,       -0.3,
+                                -1e-12, 0.0,          1e-12,      0.1,         0.5,
+                                0.9,    0.999,        1.0 - 1e-9, 1.0 - 1e-12, 1.0};
 
 TEST(Legendre, LowOrderClosedForms) {
     const double z = 0.3, s = std::sqrt(1 - z * z), k = 1.0 / std::sqrt(4 * M_PI);
@@ -80,7 +81,8 @@ TEST(Legendre, RelativeAccuracyNearPoles) {
                 const double ref = referenceN(l, m, z);
                 if (std::fabs(ref) < 1e-290) continue;  // below double's normal range
                 const double got = all[triIndex(l, m)];
-                EXPECT_NEAR(got / ref, 1.0, kEps * std::pow(l + 10.0, 1.5)) << l << " " << m << " " << z;
+                EXPECT_NEAR(got / ref, 1.0, kEps * std::pow(l + 10.0, 1.5))
+                    << l << " " << m << " " << z;
             }
         }
     }

@@ -78,8 +78,8 @@ TEST(ShBasis, SingleAndZonalMatchAll) {
 TEST(ShBasis, ZAxisValuesAndHighOrderFinite) {
     const int n = 1000;
     std::vector<double> y(n * n);
-    for (const Vec3& w : {Vec3(0, 0, 1), Vec3(0, 0, -1), Vec3(1e-12, 0, 1).normalized(),
-                          Vec3(0.6, 0.8, 0.0)}) {
+    for (const Vec3& w :
+         {Vec3(0, 0, 1), Vec3(0, 0, -1), Vec3(1e-12, 0, 1).normalized(), Vec3(0.6, 0.8, 0.0)}) {
         shEval(n, w, y.data());
         for (int i = 0; i < n * n; ++i) ASSERT_TRUE(std::isfinite(y[i])) << i;
     }

@@ -42,7 +42,8 @@ struct GL20 {
     GL20() {
         const int k = 20;
         for (int i = 0; i < k; ++i) {
-            long double t = std::cos(3.14159265358979323846264338327950288L * (i + 0.75L) / (k + 0.5L));
+            long double t =
+                std::cos(3.14159265358979323846264338327950288L * (i + 0.75L) / (k + 0.5L));
             long double dp = 0;
             for (int it = 0; it < 50; ++it) {
                 long double p0 = 1, p1 = t;
@@ -96,9 +97,9 @@ struct Interval {
     double z0, z1;
 };
 const std::vector<Interval> kIntervals = {
-    {-1.0, 1.0},          {-1.0, -0.3},        {0.2, 1.0},           {0.9, 1.0},
-    {-0.5, 0.7},          {0.5, 0.5 + 1e-3},   {0.99999, 1.0},       {0.3, 0.3 + 1e-10},
-    {1.0 - 1e-10, 1.0},   {-1.0, -1.0 + 1e-12}, {0.0, 1e-9},         {-0.7, -0.7 + 3e-10},
+    {-1.0, 1.0},           {-1.0, -0.3},         {0.2, 1.0},     {0.9, 1.0},
+    {-0.5, 0.7},           {0.5, 0.5 + 1e-3},    {0.99999, 1.0}, {0.3, 0.3 + 1e-10},
+    {1.0 - 1e-10, 1.0},    {-1.0, -1.0 + 1e-12}, {0.0, 1e-9},    {-0.7, -0.7 + 3e-10},
     {0.999, 0.999 + 5e-10}};
 
 // Error model: the recurrence result carries an absolute error of about ε·(l+1)^{3/2}·env·(n/l)
@@ -124,11 +125,10 @@ TEST(ShIntegrals, LegendreIntegralsMatchHighPrecisionQuadrature) {
                 const double ref = static_cast<double>(referenceJ(l, m, iv.z0, iv.z1));
                 const double got = J[triIndex(l, m)];
                 const double env = std::sqrt((2.0 * l + 1) / (4 * M_PI));
-                const double tol = 1e-13 * std::fabs(ref) + 4 * eps * std::pow(n + 1.0, 1.5) *
-                                                                env *
+                const double tol = 1e-13 * std::fabs(ref) + 4 * eps * std::pow(n + 1.0, 1.5) * env *
                                                                 std::min(1.0, iv.z1 - iv.z0);
-                EXPECT_NEAR(got, ref, tol) << "n=" << n << " l=" << l << " m=" << m << " ["
-                                           << iv.z0 << ", " << iv.z1 << "]";
+                EXPECT_NEAR(got, ref, tol) << "n=" << n << " l=" << l << " m=" << m << " [" << iv.z0
+                                           << ", " << iv.z1 << "]";
             }
         }
     }
@@ -141,8 +141,8 @@ TEST(ShIntegrals, ZonalMatchesFull) {
             legendreIntegrals(n, iv.z0, iv.z1, J.data());
             legendreIntegralsZonal(n, iv.z0, iv.z1, Z.data());
             for (int l = 0; l < n; ++l)
-                EXPECT_NEAR(Z[l], J[triIndex(l, 0)], 1e-14 * std::sqrt(2.0 * l + 1) +
-                                                         1e-12 * std::fabs(J[triIndex(l, 0)]))
+                EXPECT_NEAR(Z[l], J[triIndex(l, 0)],
+                            1e-14 * std::sqrt(2.0 * l + 1) + 1e-12 * std::fabs(J[triIndex(l, 0)]))
                     << n << " " << l << " " << iv.z0;
         }
     }
@@ -200,9 +200,8 @@ TEST(ShIntegrals, NarrowRuleIntegratesPolynomials) {
              {0.3, 0.3 + 1e-10}, {1 - 1e-10, 1.0}, {-1.0, -1.0 + 1e-12}, {0.5, 0.5007}}) {
         for (int k = 0; k < 12; ++k) {
             double sum = 0.0;
-            ASSERT_TRUE(forEachNarrowNode(20, a, b, 4, [&](double z, double, double w) {
-                sum += w * std::pow(z, k);
-            }));
+            ASSERT_TRUE(forEachNarrowNode(
+                20, a, b, 4, [&](double z, double, double w) { sum += w * std::pow(z, k); }));
             // (b^{k+1} − a^{k+1})/(k+1) = (b−a) Σ_j b^j a^{k−j} / (k+1), without cancellation
             long double sj = 0;
             for (int j = 0; j <= k; ++j)

@@ -46,8 +46,8 @@ TEST(ShProjection, BandLimitedRoundTripAndEnergy) {
 
 // Henyey–Greenstein has p_l = g^l √((2l+1)/4π) (DESIGN.md); far beyond graphics orders.
 TEST(ShProjection, ZonalHenyeyGreensteinToHighOrder) {
-    for (auto [g, n, nz] : {std::tuple{0.5, 60, 200}, std::tuple{0.9, 400, 1500},
-                            std::tuple{0.98, 1800, 4000}}) {
+    for (auto [g, n, nz] :
+         {std::tuple{0.5, 60, 200}, std::tuple{0.9, 400, 1500}, std::tuple{0.98, 1800, 4000}}) {
         auto hg = [g = g](double mu) {
             return (1 - g * g) / (FourPi * std::pow(1 + g * g - 2 * g * mu, 1.5));
         };
@@ -63,8 +63,8 @@ TEST(ShProjection, ZonalHenyeyGreensteinToHighOrder) {
         legendreIntegralsZonal(n, z0, 1.0, Z.data());
         double mass = 0;
         for (int l = 0; l < n; ++l) mass += TwoPi * p[l] * Z[l];
-        const double cdf = (1 - g * g) / (2 * g) *
-                           (1 / (1 - g) - 1 / std::sqrt(1 + g * g - 2 * g * z0));
+        const double cdf =
+            (1 - g * g) / (2 * g) * (1 / (1 - g) - 1 / std::sqrt(1 + g * g - 2 * g * z0));
         ASSERT_LT(std::pow(g, n) * n, 1e-12);  // the expansion has converged
         EXPECT_NEAR(mass, cdf, 1e-11) << g;
         // rotated to an arbitrary axis, the coefficients stay finite and the peak is p(1)

@@ -29,14 +29,15 @@ TEST(ShRotation, IdentityAndOrthogonality) {
     const int n = 20;
     ShRotation I(n, Eigen::Matrix3d::Identity());
     for (int l = 0; l < n; ++l)
-        EXPECT_LT((I.bands[l] - Eigen::MatrixXd::Identity(2 * l + 1, 2 * l + 1)).cwiseAbs().maxCoeff(),
-                  1e-15);
+        EXPECT_LT(
+            (I.bands[l] - Eigen::MatrixXd::Identity(2 * l + 1, 2 * l + 1)).cwiseAbs().maxCoeff(),
+            1e-15);
     Rng rng(5, 1);
     for (int t = 0; t < 10; ++t) {
         ShRotation R(n, randomRotation(rng));
         for (int l = 0; l < n; ++l) {
-            const Eigen::MatrixXd E =
-                R.bands[l] * R.bands[l].transpose() - Eigen::MatrixXd::Identity(2 * l + 1, 2 * l + 1);
+            const Eigen::MatrixXd E = R.bands[l] * R.bands[l].transpose() -
+                                      Eigen::MatrixXd::Identity(2 * l + 1, 2 * l + 1);
             EXPECT_LT(E.cwiseAbs().maxCoeff(), 1e-13) << l;
         }
     }
@@ -100,10 +101,10 @@ TEST(ShRotation, ZonalLobePointsAlongRz) {
 TEST(ShRotation, EulerEigenAgreesWithIvanicRuedenberg) {
     const int n = 25;
     Rng rng(21, 1);
-    std::vector<Eigen::Matrix3d> rs = {Eigen::Matrix3d::Identity(), rotationZYZ(0.7, 0.0, 0.2),
-                                       rotationZYZ(0.7, 1e-9, 0.2), rotationZYZ(0.1, Pi, 0.0),
-                                       rotationZYZ(-2.0, Pi - 1e-7, 1.3),
-                                       rotationZYZ(0.0, 0.5 * Pi, 0.0)};
+    std::vector<Eigen::Matrix3d> rs = {
+        Eigen::Matrix3d::Identity(),       rotationZYZ(0.7, 0.0, 0.2),
+        rotationZYZ(0.7, 1e-9, 0.2),       rotationZYZ(0.1, Pi, 0.0),
+        rotationZYZ(-2.0, Pi - 1e-7, 1.3), rotationZYZ(0.0, 0.5 * Pi, 0.0)};
     for (int t = 0; t < 10; ++t) rs.push_back(randomRotation(rng));
     for (const Eigen::Matrix3d& R : rs) {
         const ShRotation a(n, R, RotationMethod::IvanicRuedenberg);

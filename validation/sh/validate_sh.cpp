@@ -46,8 +46,8 @@ void figure4() {
         std::string name;
         double exponent, tiltDeg;
     };
-    const std::vector<Lobe> lobes = {{"cos5_normal", 5, 0}, {"cos20_normal", 20, 0},
-                                     {"cos5_tilt45", 5, 45}};
+    const std::vector<Lobe> lobes = {
+        {"cos5_normal", 5, 0}, {"cos20_normal", 20, 0}, {"cos5_tilt45", 5, 45}};
     // Hemisphere rule in θ-friendly form: Gauss in z on [0,1] (f vanishes below the horizon).
     const SphereQuadrature q = hemisphereQuadrature(600, 1200);
     const int nMax = 12;
@@ -110,15 +110,12 @@ void conversionMatrix() {
                     };
                     I(shIndex(l, m), shIndex(lp, mp)) = fac * phiInt * ts.integrate(fz, 0.0, 1.0);
                 }
-    const double printed[9][9] = {{0.71, 0, 0.41, 0, 0, 0, 0, 0, 0},
-                                  {0, 0.60, 0, 0, 0, 0.19, 0, 0, 0},
-                                  {0.82, 0, 0.71, 0, 0, 0, 0.18, 0, 0},
-                                  {0, 0, 0, 0.60, 0, 0, 0, 0.19, 0},
-                                  {0, 0, 0, 0, 0.53, 0, 0, 0, 0},
-                                  {0, 0.77, 0, 0, 0, 0.51, 0, 0, 0},
-                                  {0.40, 0, 0.78, 0, 0, 0, 0.53, 0, 0},
-                                  {0, 0, 0, 0.77, 0, 0, 0, 0.51, 0},
-                                  {0, 0, 0, 0, 0, 0, 0, 0, 0.53}};
+    const double printed[9][9] = {
+        {0.71, 0, 0.41, 0, 0, 0, 0, 0, 0},    {0, 0.60, 0, 0, 0, 0.19, 0, 0, 0},
+        {0.82, 0, 0.71, 0, 0, 0, 0.18, 0, 0}, {0, 0, 0, 0.60, 0, 0, 0, 0.19, 0},
+        {0, 0, 0, 0, 0.53, 0, 0, 0, 0},       {0, 0.77, 0, 0, 0, 0.51, 0, 0, 0},
+        {0.40, 0, 0.78, 0, 0, 0, 0.53, 0, 0}, {0, 0, 0, 0.77, 0, 0, 0, 0.51, 0},
+        {0, 0, 0, 0, 0, 0, 0, 0, 0.53}};
     auto f = open("c_matrix_3.csv");
     f << "row_hsh_l,row_hsh_m,col_sh_l,col_sh_m,C_ours,C_independent,C_printed\n";
     auto md = open("c_matrix_3.md");
@@ -184,7 +181,8 @@ Eigen::Matrix3d randomRotation(Rng& rng) {
 void rotationError() {
     const int n = 121;
     const int trials = 6;
-    const RotationMethod methods[2] = {RotationMethod::IvanicRuedenberg, RotationMethod::EulerEigen};
+    const RotationMethod methods[2] = {RotationMethod::IvanicRuedenberg,
+                                       RotationMethod::EulerEigen};
     std::vector<double> orth[2], comp[2];
     double secs[2] = {0, 0};
     for (int k = 0; k < 2; ++k) {
@@ -215,10 +213,11 @@ void rotationError() {
         f << l << "," << orth[0][l] << "," << comp[0][l] << "," << orth[1][l] << "," << comp[1][l]
           << "\n";
     for (int k = 0; k < 2; ++k)
-        std::printf("rotation %s: max|RRT-I| l=10 %.2e l=30 %.2e l=60 %.2e l=100 %.2e l=120 %.2e;"
-                    " build n=121 %.3f s\n",
-                    k == 0 ? "IR   " : "Euler", orth[k][10], orth[k][30], orth[k][60],
-                    orth[k][100], orth[k][120], secs[k] / trials);
+        std::printf(
+            "rotation %s: max|RRT-I| l=10 %.2e l=30 %.2e l=60 %.2e l=100 %.2e l=120 %.2e;"
+            " build n=121 %.3f s\n",
+            k == 0 ? "IR   " : "Euler", orth[k][10], orth[k][30], orth[k][60], orth[k][100],
+            orth[k][120], secs[k] / trials);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -228,16 +227,15 @@ double referenceN(int l, int m, double z) {
     const Big x(z);
     const Big p = boost::math::legendre_p(l, m, x);
     const Big ratio = boost::math::tgamma_ratio(Big(l - m + 1), Big(l + m + 1));
-    return static_cast<double>(sqrt(Big(2 * l + 1) / (4 * boost::math::constants::pi<Big>()) *
-                                    ratio) *
-                               p);
+    return static_cast<double>(
+        sqrt(Big(2 * l + 1) / (4 * boost::math::constants::pi<Big>()) * ratio) * p);
 }
 
 void legendreAccuracy() {
     auto f = open("legendre_accuracy.csv");
     f << "l,max_abs_err_over_envelope,max_rel_err_near_pole,eps_l_1.5\n";
-    const std::vector<double> zs = {-1.0,  -1.0 + 1e-12, -0.999999, -0.77, -0.3, 0.0, 1e-12,
-                                    0.5,   0.9,          0.999,     1 - 1e-9, 1 - 1e-12, 1.0};
+    const std::vector<double> zs = {-1.0, -1.0 + 1e-12, -0.999999, -0.77,    -0.3,      0.0, 1e-12,
+                                    0.5,  0.9,          0.999,     1 - 1e-9, 1 - 1e-12, 1.0};
     for (int l : {1, 2, 5, 10, 20, 50, 86, 100, 200, 300, 500, 700, 1000}) {
         std::vector<double> all(triSize(l + 1));
         double worst = 0, worstPole = 0;
@@ -313,10 +311,14 @@ void integralAccuracy() {
         const char* name;
         double z0, z1;
     };
-    const std::vector<Iv> ivs = {{"wide[-1;1]", -1, 1},          {"pole[0.9;1]", 0.9, 1},
-                                 {"interior[-0.5;0.7]", -0.5, 0.7}, {"w=1e-3", 0.5, 0.501},
-                                 {"w=1e-6", 0.3, 0.3 + 1e-6},       {"w=1e-10", 0.3, 0.3 + 1e-10},
-                                 {"pole w=1e-10", 1 - 1e-10, 1},    {"pole w=1e-12", -1, -1 + 1e-12}};
+    const std::vector<Iv> ivs = {{"wide[-1;1]", -1, 1},
+                                 {"pole[0.9;1]", 0.9, 1},
+                                 {"interior[-0.5;0.7]", -0.5, 0.7},
+                                 {"w=1e-3", 0.5, 0.501},
+                                 {"w=1e-6", 0.3, 0.3 + 1e-6},
+                                 {"w=1e-10", 0.3, 0.3 + 1e-10},
+                                 {"pole w=1e-10", 1 - 1e-10, 1},
+                                 {"pole w=1e-12", -1, -1 + 1e-12}};
     // error measure: max over l < n, m ≤ l of |J − ref| / (env_l · min(1, z1 − z0)), i.e.
     // relative to the size the integral has when the integrand is of its typical magnitude.
     for (int n : {5, 10, 20, 50, 100}) {
@@ -354,7 +356,8 @@ void hshRotation() {
     const Eigen::Matrix3d Rinv = R.transpose();
     const SphereQuadrature q = hemisphereQuadrature(300, 600);
     const Eigen::VectorXd h = projectHSH(nH, fn, q);
-    const Eigen::VectorXd refTrue = projectHSH(nH, [&](const Vec3& w) { return fn(Rinv * w); }, q);
+    const Eigen::VectorXd refTrue = projectHSH(
+        nH, [&](const Vec3& w) { return fn(Rinv * w); }, q);
     const Eigen::VectorXd refTrunc = projectHSH(
         nH, [&](const Vec3& w) { return hshReconstruct(nH, h.data(), Rinv * w); }, q);
     for (int nS : {6, 8, 12, 16, 24, 32, 48, 64}) {

@@ -32,9 +32,13 @@
 namespace shvol::sh {
 
 /// Packed index of (l, m), 0 ≤ m ≤ l, in triangular arrays: l(l+1)/2 + m.
-constexpr int triIndex(int l, int m) { return l * (l + 1) / 2 + m; }
+constexpr int triIndex(int l, int m) {
+    return l * (l + 1) / 2 + m;
+}
 /// Size of a triangular array holding l = 0 … n−1.
-constexpr int triSize(int n) { return n * (n + 1) / 2; }
+constexpr int triSize(int n) {
+    return n * (n + 1) / 2;
+}
 
 /// All N_l^m(z) for 0 ≤ m ≤ l < n into out[triIndex(l, m)] (triSize(n) doubles). No allocation.
 /// z is clamped to [−1, 1]. s = √(1−z²) is computed as √((1−z)(1+z)) for accuracy at the poles.

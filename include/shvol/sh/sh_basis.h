@@ -13,9 +13,13 @@
 namespace shvol::sh {
 
 /// Flat index of y_l^m (Jarosz 2009 §3.1).
-constexpr int shIndex(int l, int m) { return l * (l + 1) + m; }
+constexpr int shIndex(int l, int m) {
+    return l * (l + 1) + m;
+}
 /// Number of coefficients of order n.
-constexpr int shSize(int n) { return n * n; }
+constexpr int shSize(int n) {
+    return n * n;
+}
 /// Band l of a flat index i.
 int shBand(int i);
 

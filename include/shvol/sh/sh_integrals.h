@@ -17,10 +17,10 @@
 ///
 /// Narrow intervals: the bracketed differences cancel catastrophically when z1 − z0 is small
 /// (relative error ≈ ε·n^{3/2}/(z1−z0)). When z1 − z0 < kNarrowCoef·(n+1)^{3/2} the integrals are
-/// instead computed by 8-point Gauss–Legendre panels in θ (z = cos θ, dz = sin θ dθ), with one
-/// panel per radian/(n+1) of θ: the integrand N_l^m(cos θ) sin θ is a trigonometric polynomial of
-/// degree ≤ n, so the rule is exact to rounding, including intervals touching z = ±1 (where a
-/// rule in z would meet the √(1−z²) branch point). The θ width is computed from the chord,
+/// instead computed by 2-, 4- or 8-point Gauss–Legendre panels in θ (z = cos θ, dz = sin θ dθ),
+/// with one panel per radian/(n+1) of θ: the integrand N_l^m(cos θ) sin θ is a trigonometric
+/// polynomial of degree ≤ n, so the rule is exact to rounding, including intervals touching z = ±1
+/// (where a rule in z would meet the √(1−z²) branch point). The θ width is computed from the chord,
 /// 2 asin(½ (z1−z0) √(1 + ((z0+z1)/(s0+s1))²)), without cancellation.
 #include <algorithm>
 #include <cmath>
@@ -53,7 +53,9 @@ void legendreIntegralsZonal(int n, double z0, double z1, double* Z);
 void phiIntegrals(int n, double phi0, double phi1, double* C, double* S);
 
 /// Doubles of workspace needed by shRectIntegrals.
-constexpr int rectIntegralsWorkSize(int n) { return n * (n + 1) / 2 + 2 * n; }
+constexpr int rectIntegralsWorkSize(int n) {
+    return n * (n + 1) / 2 + 2 * n;
+}
 
 /// ŷ_i = ∫_{z0}^{z1} ∫_{φ0}^{φ1} y_i dφ dz for i < n² into out (Jarosz eq. 17). work must hold
 /// rectIntegralsWorkSize(n) doubles. No allocation.
@@ -64,34 +66,47 @@ void shRectIntegrals(int n, double z0, double z1, double phi0, double phi1, doub
 
 /// Visits the nodes of the narrow-interval rule on [z0, z1]: f(z, s, weight) with s = √(1−z²)
 /// and Σ weight·g(z) ≈ ∫_{z0}^{z1} g(z) dz, exact to rounding for g(cos θ) sin θ a trigonometric
-/// polynomial of degree ≤ n (8-point Gauss–Legendre panels in θ, ⌈(n+1)Δθ⌉ of them). Returns
-/// false without calling f when more than maxPanels panels would be needed.
+/// polynomial of degree ≤ n (Gauss–Legendre panels in θ, ⌈(n+1)Δθ⌉ of them, 2–8 points each).
+/// Returns false without calling f when more than maxPanels panels would be needed.
 template <class F>
 bool forEachNarrowNode(int n, double z0, double z1, int maxPanels, F&& f) {
-    static constexpr double gx[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
+    // Gauss–Legendre rules on [−1, 1] with 2, 4 and 8 points (positive half; symmetric).
+    static constexpr double x2[1] = {0.5773502691896258};
+    static constexpr double w2[1] = {1.0};
+    static constexpr double x4[2] = {0.3399810435848563, 0.8611363115940526};
+    static constexpr double w4[2] = {0.6521451548625461, 0.3478548451374538};
+    static constexpr double x8[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
                                      0.9602898564975363};
-    static constexpr double gw[4] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745,
+    static constexpr double w8[4] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745,
                                      0.1012285362903763};
     const double s0 = std::sqrt((1.0 - z0) * (1.0 + z0)), s1 = std::sqrt((1.0 - z1) * (1.0 + z1));
     const double w = z1 - z0;
     if (w == 0.0) return true;
     const double ss = s0 + s1;
     const double ratio = ss > 0.0 ? (z0 + z1) / ss : 0.0;
-    const double dth = 2.0 * std::asin(std::min(1.0, 0.5 * std::fabs(w) * std::sqrt(1.0 + ratio * ratio)));
+    const double dth =
+        2.0 * std::asin(std::min(1.0, 0.5 * std::fabs(w) * std::sqrt(1.0 + ratio * ratio)));
     const int panels = std::max(1, static_cast<int>(std::ceil((n + 1) * dth)));
     if (panels > maxPanels) return false;
-    // θ runs from θ(z1) to θ(z0) = θ(z1) + dth; u is the offset from θ(z1).
+    // Points per panel: the k-point rule's relative error for e^{iνu} over a panel of width Δ is
+    // about x^{2k} (k!)⁴ / ((2k+1)((2k)!)³), x = νΔ ≤ 1; below 1e-17 for k = 2 when
+    // x ≤ 4.6e-4, k = 4 when x ≤ 0.1, k = 8 when x ≤ 1.
+    const double x = (n + 1) * dth / panels;
+    const int half = x <= 4.6e-4 ? 1 : (x <= 0.1 ? 2 : 4);
+    const double* gx = half == 1 ? x2 : (half == 2 ? x4 : x8);
+    const double* gw = half == 1 ? w2 : (half == 2 ? w4 : w8);
+    // θ runs from θ(upper z) to θ(upper z) + dth; u is the offset from θ(upper z).
     const double sign = w > 0 ? 1.0 : -1.0;
     const double zt = w > 0 ? z1 : z0, st = w > 0 ? s1 : s0;
     const double hp = 0.5 * dth / panels;
     for (int p = 0; p < panels; ++p) {
         const double uc = (2 * p + 1) * hp;
-        for (int k = 0; k < 8; ++k) {
-            const double u = uc + (k < 4 ? -gx[k] : gx[k - 4]) * hp;
+        for (int k = 0; k < 2 * half; ++k) {
+            const double u = uc + (k < half ? -gx[k] : gx[k - half]) * hp;
             const double cu = std::cos(u), su = std::sin(u);
             const double z = zt * cu - st * su;
             const double s = st * cu + zt * su;
-            f(z, s, sign * gw[k & 3] * hp * s);
+            f(z, s, sign * gw[k < half ? k : k - half] * hp * s);
         }
     }
     return true;

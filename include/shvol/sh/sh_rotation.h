@@ -4,9 +4,9 @@
 /// Convention (DESIGN.md): rotating f by R means f′(ω) = f(R⁻¹ω), so a lobe around +z rotated
 /// by R points along R·ẑ. Coefficients transform band by band, f′_l = R^l f_l.
 ///
-/// Methods (see RotationMethod): Ivanic & Ruedenberg, J. Phys. Chem. 100 (1996) 6342, with the corrections of
-/// J. Phys. Chem. A 102 (1998) 9099: R^l is built from R^{l−1} and R^1 by the u·U + v·V + w·W
-/// recursion (Table 2 / eqs. 8.1–8.7 of the 1998 version). IR's real harmonics carry no
+/// Methods (see RotationMethod): Ivanic & Ruedenberg, J. Phys. Chem. 100 (1996) 6342, with the
+/// corrections of J. Phys. Chem. A 102 (1998) 9099: R^l is built from R^{l−1} and R^1 by the u·U +
+/// v·V + w·W recursion (Table 2 / eqs. 8.1–8.7 of the 1998 version). IR's real harmonics carry no
 /// Condon–Shortley phase; ours do, so y_l^m = (−1)^m S_lm and R^l_{mm′} = (−1)^{m+m′} R^l_{IR,mm′}.
 /// R^1 in IR's basis is R permuted to (y, z, x) order. Orthogonality error vs l is measured in
 /// validation/sh (≈ ε·l growth; see README.md there).
