@@ -113,8 +113,12 @@ double integrateOverSphere(const std::function<double(const Vec3&)>& f, int zBin
     return std::accumulate(cells.begin(), cells.end(), 0.0);
 }
 
-Chi2Result chi2TestSphere(const std::function<std::optional<Vec3>(Rng&)>& sample,
-                          const std::function<double(const Vec3&)>& pdf, const Chi2Options& opt) {
+namespace {
+
+/// The test proper; `cellProbabilities(N)` returns the expected probability of each cell.
+Chi2Result runChi2(const std::function<std::optional<Vec3>(Rng&)>& sample,
+                   const std::function<std::vector<double>(double)>& cellProbabilities,
+                   const Chi2Options& opt) {
     Chi2Result res;
     std::ostringstream rep;
     const int nz = opt.zBins, np = opt.phiBins;
@@ -136,8 +140,8 @@ Chi2Result chi2TestSphere(const std::function<std::optional<Vec3>(Rng&)>& sample
         ++observed[size_t(iz) * np + ip];
     }
 
-    // 2. Expected counts. The absolute floor 1e-4/N keeps the count error below 1e-4 per cell.
-    const std::vector<double> prob = cellIntegrals(pdf, nz, np, 1e-4 / N);
+    // 2. Expected counts.
+    const std::vector<double> prob = cellProbabilities(N);
     res.pdfIntegral = std::accumulate(prob.begin(), prob.end(), 0.0);
     std::vector<double> expected(nCells);
     for (size_t i = 0; i < nCells; ++i) expected[i] = N * prob[i];
@@ -221,6 +225,35 @@ Chi2Result chi2TestSphere(const std::function<std::optional<Vec3>(Rng&)>& sample
     rep << (res.passed ? "PASSED" : "FAILED") << "\n";
     res.report = rep.str();
     return res;
+}
+
+}  // namespace
+
+Chi2Result chi2TestSphere(const std::function<std::optional<Vec3>(Rng&)>& sample,
+                          const std::function<double(const Vec3&)>& pdf, const Chi2Options& opt) {
+    // The absolute floor 1e-4/N keeps the count error below 1e-4 per cell.
+    return runChi2(
+        sample, [&](double N) { return cellIntegrals(pdf, opt.zBins, opt.phiBins, 1e-4 / N); },
+        opt);
+}
+
+Chi2Result chi2TestSphereCells(
+    const std::function<std::optional<Vec3>(Rng&)>& sample,
+    const std::function<double(double z0, double z1, double phi0, double phi1)>& cellProbability,
+    const Chi2Options& opt) {
+    return runChi2(
+        sample,
+        [&](double) {
+            const int nz = opt.zBins, np = opt.phiBins;
+            std::vector<double> out(size_t(nz) * np);
+            for (int iz = 0; iz < nz; ++iz)
+                for (int ip = 0; ip < np; ++ip)
+                    out[size_t(iz) * np + ip] =
+                        cellProbability(-1 + 2.0 * iz / nz, -1 + 2.0 * (iz + 1) / nz,
+                                        TwoPi * ip / np, TwoPi * (ip + 1) / np);
+            return out;
+        },
+        opt);
 }
 
 }  // namespace shvol
