@@ -44,18 +44,23 @@ std::vector<Eigen::MatrixXd> irBands(int n, const Eigen::Matrix3d& R) {
     for (int l = 2; l < n; ++l) {
         const Eigen::MatrixXd& Rp = ir[l - 1];
         Eigen::MatrixXd Rl(2 * l + 1, 2 * l + 1);
+        // u, v, w = (row factor in m) / √d(m′): tabulate both so the inner loop has no sqrt.
+        std::vector<double> colInv(2 * l + 1), rowU(2 * l + 1), rowV(2 * l + 1), rowW(2 * l + 1);
+        for (int mp = -l; mp <= l; ++mp)
+            colInv[mp + l] = 1.0 / std::sqrt((std::abs(mp) == l) ? (2.0 * l) * (2.0 * l - 1.0)
+                                                                 : double(l + mp) * double(l - mp));
         for (int m = -l; m <= l; ++m) {
             const int am = std::abs(m);
+            rowU[m + l] = std::sqrt(double(l + m) * double(l - m));
+            rowV[m + l] = 0.5 *
+                          std::sqrt((m == 0 ? 2.0 : 1.0) * double(l + am - 1) * double(l + am)) *
+                          (m == 0 ? -1.0 : 1.0);
+            rowW[m + l] = m == 0 ? 0.0 : -0.5 * std::sqrt(double(l - am - 1) * double(l - am));
+        }
+        for (int m = -l; m <= l; ++m) {
             for (int mp = -l; mp <= l; ++mp) {
-                const double d = (std::abs(mp) == l) ? (2.0 * l) * (2.0 * l - 1.0)
-                                                     : double(l + mp) * double(l - mp);
-                const double u = std::sqrt(double(l + m) * double(l - m) / d);
-                const double v =
-                    0.5 *
-                    std::sqrt((m == 0 ? 2.0 : 1.0) * double(l + am - 1) * double(l + am) / d) *
-                    (m == 0 ? -1.0 : 1.0);
-                const double w =
-                    m == 0 ? 0.0 : -0.5 * std::sqrt(double(l - am - 1) * double(l - am) / d);
+                const double ci = colInv[mp + l];
+                const double u = rowU[m + l] * ci, v = rowV[m + l] * ci, w = rowW[m + l] * ci;
                 double val = 0.0;
                 if (u != 0.0) val += u * irP(0, l, m, mp, R1, Rp);
                 if (v != 0.0) {

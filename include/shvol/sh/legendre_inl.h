@@ -21,7 +21,7 @@ void forEachLegendre(int n, double z, double s, F&& f) {
     const detail::LegendreTables& T = detail::legendreTables();
     constexpr int kTab = detail::LegendreTables::kBands;
     constexpr int kShift = 400;
-    const double kBig = std::ldexp(1.0, kShift), kSmall = std::ldexp(1.0, -kShift);
+    constexpr double kBig = 0x1p400, kSmall = 0x1p-400;  // 2^±kShift
     double pm = 0.28209479177387814;  // N_0^0 = 1/√(4π); sectoral N_m^m = pm · 2^pe
     int pe = 0;
     for (int m = 0; m < n; ++m) {

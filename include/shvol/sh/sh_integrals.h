@@ -33,7 +33,8 @@ namespace shvol::sh {
 inline constexpr double kNarrowCoef = 2e-5;
 
 /// J_l^m = ∫_{z0}^{z1} N_l^m(z) dz for 0 ≤ m ≤ l < n into J[triIndex(l, m)] (triSize(n)
-/// doubles). z0 ≤ z1 in [−1, 1] (an empty or reversed interval gives the signed integral).
+/// doubles). z0, z1 ∈ [−1, 1] (z0 > z1 gives the signed integral). Accuracy (validation/sh §2):
+/// absolute error ≲ ε·n^{3/2}·√((2l+1)/4π)·min(1, z1−z0), for every width down to 0.
 /// No allocation.
 void legendreIntegrals(int n, double z0, double z1, double* J);
 

@@ -8,8 +8,9 @@
 /// corrections of J. Phys. Chem. A 102 (1998) 9099: R^l is built from R^{l−1} and R^1 by the u·U +
 /// v·V + w·W recursion (Table 2 / eqs. 8.1–8.7 of the 1998 version). IR's real harmonics carry no
 /// Condon–Shortley phase; ours do, so y_l^m = (−1)^m S_lm and R^l_{mm′} = (−1)^{m+m′} R^l_{IR,mm′}.
-/// R^1 in IR's basis is R permuted to (y, z, x) order. Orthogonality error vs l is measured in
-/// validation/sh (≈ ε·l growth; see README.md there).
+/// R^1 in IR's basis is R permuted to (y, z, x) order. IR's rounding errors grow ×10 per ~10
+/// bands beyond l ≈ 35, so high bands use a backward-stable Euler/eigen construction instead
+/// (RotationMethod; errors vs l for both in validation/sh/README.md §5).
 #include <Eigen/Core>
 #include <vector>
 
@@ -53,7 +54,7 @@ struct ShRotation {
 
 /// Zonal fast path: coefficients of p(μ) = Σ p_l y_l^0(μ), rotated so that its axis +z goes to
 /// the unit vector d:  f_l^m = √(4π/(2l+1)) p_l y_l^m(d)  (the addition theorem). p has n
-/// entries, out n². No allocation for n ≤ 64.
+/// entries, out n². No allocation; accurate to the Legendre accuracy at any order (l ≤ 1000).
 void rotateZonal(int n, const double* p, const Vec3& d, double* out);
 Eigen::VectorXd rotateZonal(const Eigen::VectorXd& p, const Vec3& d);
 
