@@ -48,7 +48,7 @@ void BM_ShEvalRecurrence(benchmark::State& st) {
         benchmark::ClobberMemory();
     }
 }
-BENCHMARK(BM_ShEvalRecurrence)->Arg(3)->Arg(4);
+BENCHMARK(BM_ShEvalRecurrence)->Arg(3)->Arg(4)->Arg(5);
 
 void BM_HshEval(benchmark::State& st) {
     const int n = static_cast<int>(st.range(0));

@@ -43,7 +43,7 @@ void shEvalRecurrence(int n, const Vec3& w, double* out) {
 
 void shEvalFast(int n, const Vec3& w, double* out) {
     const double x = w.x(), y = w.y(), z = w.z();
-    out[0] = 0.28209479177387814;  // 1/(2√π)
+    out[0] = 0.28209479177387814;  // 1/(2√π); constants are √2 K_l^m × the P_l^m prefactor
     if (n <= 1) return;
     out[1] = -0.4886025119029199 * y;  // √(3/4π)
     out[2] = 0.4886025119029199 * z;
@@ -63,6 +63,19 @@ void shEvalFast(int n, const Vec3& w, double* out) {
     out[13] = -0.4570457994644658 * x * (5.0 * zz - 1.0);
     out[14] = 1.445305721320277 * z * (xx - yy);  // √(105/16π)
     out[15] = -0.5900435899266435 * x * (xx - 3.0 * yy);
+    if (n <= 4) return;
+    // l = 4: √2 K_4^m P_4^m with P_4^1 = −(5/2)(7z³−3z)s, P_4^2 = (15/2)(7z²−1)s²,
+    // P_4^3 = −105 z s³, P_4^4 = 105 s⁴, and s^m (cos mφ, sin mφ) written in x, y.
+    const double z2 = 7.0 * zz;
+    out[16] = 2.5033429417967050 * x * y * (xx - yy);  // 4·0.62583…
+    out[17] = -1.7701307697799307 * z * y * (3.0 * xx - yy);
+    out[18] = 0.94617469575756 * x * y * (z2 - 1.0);  // 2·0.47308…
+    out[19] = -0.6690465435572892 * y * z * (z2 - 3.0);
+    out[20] = 0.10578554691520431 * (35.0 * zz * zz - 30.0 * zz + 3.0);
+    out[21] = -0.6690465435572892 * x * z * (z2 - 3.0);
+    out[22] = 0.47308734787878 * (xx - yy) * (z2 - 1.0);
+    out[23] = -1.7701307697799307 * z * x * (xx - 3.0 * yy);
+    out[24] = 0.6258357354491763 * (xx * xx - 6.0 * xx * yy + yy * yy);
 }
 
 void shEval(int n, const Vec3& w, double* out) {

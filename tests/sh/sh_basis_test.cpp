@@ -51,7 +51,7 @@ TEST(ShBasis, FastPathMatchesRecurrence) {
         if (t == 1) w = Vec3(0, 0, -1);
         if (t == 2) w = Vec3(1, 0, 0);
         for (int n = 1; n <= kShFastMaxOrder; ++n) {
-            double fast[16], rec[16];
+            double fast[25], rec[25];
             shEvalFast(n, w, fast);
             shEvalRecurrence(n, w, rec);
             for (int i = 0; i < n * n; ++i) EXPECT_NEAR(fast[i], rec[i], 2e-15) << n << " " << i;

@@ -24,7 +24,7 @@ constexpr int shSize(int n) {
 int shBand(int i);
 
 /// Largest order served by the hard-coded fast path.
-inline constexpr int kShFastMaxOrder = 4;
+inline constexpr int kShFastMaxOrder = 5;
 
 /// All y_i(ω), i < n², into out (n² doubles). ω must be a unit vector. No allocation.
 /// Uses the hard-coded polynomials for n ≤ kShFastMaxOrder, the recurrence otherwise.
@@ -32,7 +32,7 @@ void shEval(int n, const Vec3& w, double* out);
 /// The general path: Legendre column recurrence × multiple-angle recurrence for cos mφ, sin mφ
 /// (cos φ = x/s, sin φ = y/s with s = √(x²+y²); φ = 0 at the poles). Any n (tested to 1000).
 void shEvalRecurrence(int n, const Vec3& w, double* out);
-/// The fast path: Cartesian polynomials for l ≤ 3 (n ≤ 4). Tested against shEvalRecurrence.
+/// The fast path: Cartesian polynomials for l ≤ 4 (n ≤ 5). Tested against shEvalRecurrence.
 void shEvalFast(int n, const Vec3& w, double* out);
 /// Convenience: returns the n² values.
 Eigen::VectorXd shEval(int n, const Vec3& w);
