@@ -34,7 +34,10 @@ inline constexpr double kNarrowCoef = 2e-5;
 
 /// J_l^m = ∫_{z0}^{z1} N_l^m(z) dz for 0 ≤ m ≤ l < n into J[triIndex(l, m)] (triSize(n)
 /// doubles). z0, z1 ∈ [−1, 1] (z0 > z1 gives the signed integral). Accuracy (validation/sh §2):
-/// absolute error ≲ ε·n^{3/2}·√((2l+1)/4π)·min(1, z1−z0), for every width down to 0.
+/// absolute error ≲ ε·n^{3/2}·√((2l+1)/4π)·min(1, z1−z0) whenever the recurrence or the
+/// narrow rule is used as designed, i.e. for every width when n ≤ 100 (tested). For very high n
+/// with 1e-3 ≲ z1−z0 < kNarrowCoef·(n+1)^{3/2} the rule would need more than 4 panels and the
+/// recurrence is used, whose absolute error is ≲ ε·n^{3/2}·√((2l+1)/4π) (not × the width).
 /// No allocation.
 void legendreIntegrals(int n, double z0, double z1, double* J);
 
