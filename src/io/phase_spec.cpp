@@ -31,10 +31,8 @@ std::string resolveIn(const std::string& dir, const std::string& name) {
     return (fs::path(dir) / p).lexically_normal().string();
 }
 
-/// The parser behind both entry points; relative files are resolved against baseDir.
-/// The keys "sampling" and "order" are reserved for the SH-based sampler selection and are
-/// rejected as unknown until it exists.
-PhaseFunction readPhase(JsonReader& r, const std::string& baseDir) {
+/// The analytic or tabulated phase function named by "type".
+PhaseFunction readBasePhase(JsonReader& r, const std::string& baseDir) {
     const std::string type = r.choice(
         "type", "isotropic",
         {"isotropic", "hg", "two_term_hg", "rayleigh", "schlick", "cornette_shanks", "tabulated"});
@@ -62,6 +60,29 @@ PhaseFunction readPhase(JsonReader& r, const std::string& baseDir) {
     }
     r.finish();
     return phase;
+}
+
+/// The parser behind both entry points; relative files are resolved against baseDir. The SH keys
+/// ("sampling": "sh", "order", "window", "evaluate", "sh_depth") wrap the phase function in an
+/// SHSampledPhase; they are errors without "sampling": "sh".
+PhaseFunction readPhase(JsonReader& r, const std::string& baseDir) {
+    const bool sh = r.choice("sampling", "analytic", {"analytic", "sh"}) == "sh";
+    if (!sh)
+        for (const char* key : {"order", "window", "evaluate", "sh_depth"})
+            if (r.has(key)) r.error(key, "only valid with \"sampling\": \"sh\"");
+    const int order = r.integer("order", 16, 1, 256);
+    const SHWindow window = shWindowFromName(r.choice("window", "hann", {"none", "hann", "lanczos"}));
+    const auto evaluate = r.choice("evaluate", "exact", {"exact", "sh"}) == "sh"
+                              ? SHSampledPhase::Evaluate::Reconstruction
+                              : SHSampledPhase::Evaluate::Exact;
+    const int depth = r.integer("sh_depth", 16, 4, 22);
+    const PhaseFunction base = readBasePhase(r, baseDir);
+    if (!sh) return base;
+    try {
+        return SHSampledPhase(base, order, window, evaluate, depth);
+    } catch (const Error& e) {
+        r.error("order", e.what());
+    }
 }
 
 std::string specName(const std::string& spec) {

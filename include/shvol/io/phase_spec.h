@@ -13,6 +13,12 @@
 /// "type" defaults to "isotropic". A relative "file" is resolved against the directory of the
 /// JSON file (JsonReader::file()).
 ///
+/// SH sampling (any type): "sampling": "sh" wraps the function in an SHSampledPhase, with
+///   "order" (bands, 1…256, default 16), "window" ("none" | "hann" | "lanczos", default "hann"),
+///   "evaluate" ("exact": the function itself, SH only for the pdf — default; "sh": the clamped,
+///   normalised SH reconstruction is the phase function), "sh_depth" (2^depth z-bins, 4…22,
+///   default 16). These keys are errors without "sampling": "sh".
+///
 /// Short form: `name` or `name:key=value,key=value`, e.g. `hg:g=0.9`, `rayleigh`,
 /// `two_term_hg:g1=0.9,g2=-0.3,w=0.7`, `tabulated:file=mie.csv`. A value that parses whole as a
 /// JSON number is a number, anything else a string (file names). The short form cannot express

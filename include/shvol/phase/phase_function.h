@@ -19,6 +19,7 @@
 #include "shvol/phase/phase_sample.h"
 #include "shvol/phase/rayleigh_phase.h"
 #include "shvol/phase/schlick_phase.h"
+#include "shvol/phase/sh_sampled_phase.h"
 #include "shvol/phase/tabulated_phase.h"
 #include "shvol/phase/two_term_hg_phase.h"
 
@@ -32,7 +33,8 @@ class PhaseFunction {
                                  RayleighPhase,                 //
                                  SchlickPhase,                  //
                                  CornetteShanksPhase,           //
-                                 TabulatedPhase>;
+                                 TabulatedPhase,                //
+                                 SHSampledPhase>;
 
     /// Isotropic by default.
     PhaseFunction() = default;

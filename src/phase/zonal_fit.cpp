@@ -1,0 +1,102 @@
+#include "shvol/phase/zonal_fit.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "shvol/core/error.h"
+#include "shvol/core/math.h"
+#include "shvol/sh/sh_basis.h"
+#include "shvol/sh/sh_projection.h"
+
+namespace shvol {
+
+SHWindow shWindowFromName(const std::string& name) {
+    if (name == "none") return SHWindow::None;
+    if (name == "hann") return SHWindow::Hann;
+    if (name == "lanczos") return SHWindow::Lanczos;
+    throw Error("unknown SH window \"" + name + "\"; expected none, hann or lanczos");
+}
+
+const char* shWindowName(SHWindow w) {
+    switch (w) {
+        case SHWindow::Hann: return "hann";
+        case SHWindow::Lanczos: return "lanczos";
+        default: return "none";
+    }
+}
+
+namespace {
+
+struct Node {
+    double mu, weight;  ///< ∫ g(μ) dμ ≈ Σ weight · g(mu)
+};
+
+/// Gauss–Legendre panels in θ, graded geometrically (ratio 1.25) from 1e−7 to π/2 on both halves.
+const std::vector<Node>& thetaNodes() {
+    static const std::vector<Node> nodes = [] {
+        std::vector<double> edges{0.0};
+        for (double t = 1e-7; t < 0.5 * Pi / 1.25; t *= 1.25) edges.push_back(t);
+        const size_t half = edges.size();
+        edges.push_back(0.5 * Pi);
+        for (size_t i = half; i-- > 1;) edges.push_back(Pi - edges[i]);
+        edges.push_back(Pi);
+        std::vector<Node> out;
+        std::vector<double> x, w;
+        for (size_t i = 0; i + 1 < edges.size(); ++i) {
+            sh::gaussLegendre(16, edges[i], edges[i + 1], x, w);
+            for (size_t k = 0; k < x.size(); ++k)
+                out.push_back({std::cos(x[k]), w[k] * std::sin(x[k])});
+        }
+        return out;
+    }();
+    return nodes;
+}
+
+double windowWeight(SHWindow w, int l, int n) {
+    const double x = double(l) / n;
+    switch (w) {
+        case SHWindow::Hann: return 0.5 * (1 + std::cos(Pi * x));
+        case SHWindow::Lanczos: return l == 0 ? 1.0 : std::sin(Pi * x) / (Pi * x);
+        default: return 1.0;
+    }
+}
+
+}  // namespace
+
+ZonalFit fitZonal(const std::function<double(double mu)>& p, int order, SHWindow window) {
+    if (order < 1 || order > 1024) throw Error("SH order must be in [1, 1024]");
+    const std::vector<Node>& nodes = thetaNodes();
+    std::vector<double> value(nodes.size()), y(order);
+    ZonalFit fit;
+    fit.window = window;
+    fit.p.assign(order, 0.0);
+    double energy = 0;
+    for (size_t i = 0; i < nodes.size(); ++i) {
+        value[i] = p(nodes[i].mu);
+        sh::shEvalZonal(order, nodes[i].mu, y.data());
+        for (int l = 0; l < order; ++l) fit.p[l] += TwoPi * nodes[i].weight * value[i] * y[l];
+        energy += TwoPi * nodes[i].weight * value[i] * value[i];
+        fit.peakValue = std::max(fit.peakValue, value[i]);
+    }
+    double captured = 0;
+    for (int l = 0; l < order; ++l) captured += fit.p[l] * fit.p[l];
+    fit.energyFraction = energy > 0 ? captured / energy : 1.0;
+    for (int l = 0; l < order; ++l) fit.p[l] *= windowWeight(window, l, order);
+
+    double err2 = 0;
+    fit.minValue = INFINITY;
+    for (size_t i = 0; i < nodes.size(); ++i) {
+        sh::shEvalZonal(order, nodes[i].mu, y.data());
+        double r = 0;
+        for (int l = order - 1; l >= 0; --l) r += fit.p[l] * y[l];
+        const double e = value[i] - r;
+        err2 += TwoPi * nodes[i].weight * e * e;
+        fit.maxError = std::max(fit.maxError, std::abs(e));
+        fit.minValue = std::min(fit.minValue, r);
+    }
+    fit.l2Error = std::sqrt(err2);
+    fit.relativeL2Error = energy > 0 ? fit.l2Error / std::sqrt(energy) : 0.0;
+    return fit;
+}
+
+}  // namespace shvol

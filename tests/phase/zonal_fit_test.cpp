@@ -1,0 +1,66 @@
+#include "shvol/phase/zonal_fit.h"
+
+#include <gtest/gtest.h>
+
+#include "shvol/core/error.h"
+#include "shvol/phase/henyey_greenstein.h"
+#include "shvol/phase/rayleigh_phase.h"
+
+namespace shvol {
+
+// HG has closed-form coefficients p_l = g^l √((2l+1)/4π) (DESIGN.md); the graded quadrature must
+// reproduce them even for very peaked lobes.
+TEST(ZonalFit, HenyeyGreensteinCoefficients) {
+    for (double g : {0.5, 0.9, 0.99, 0.999, -0.7}) {
+        const ZonalFit f = fitZonal([g](double mu) { return henyeyGreenstein(mu, g); }, 48);
+        for (int l = 0; l < 48; ++l)
+            EXPECT_NEAR(f.p[l], std::pow(g, l) * std::sqrt((2 * l + 1) / FourPi), 1e-9)
+                << "g " << g << " l " << l;
+        // Energy: ∫HG² dω = (1+g²)/(4π(1−g²)²); captured Σ g^{2l}(2l+1)/(4π).
+        double captured = 0;
+        for (int l = 0; l < 48; ++l) captured += std::pow(g, 2 * l) * (2 * l + 1) / FourPi;
+        const double total = (1 + g * g) / (FourPi * sqr(1 - g * g));
+        EXPECT_NEAR(f.energyFraction, captured / total, 1e-6 * captured / total) << g;
+        EXPECT_NEAR(f.relativeL2Error, std::sqrt(std::max(0.0, 1 - captured / total)), 1e-4) << g;
+    }
+}
+
+// Rayleigh is a degree-2 polynomial in μ: order 3 represents it exactly.
+TEST(ZonalFit, RayleighIsExactAtOrder3) {
+    const ZonalFit f = fitZonal([](double mu) { return rayleigh(mu); }, 3);
+    EXPECT_NEAR(f.p[0], 1 / std::sqrt(FourPi), 1e-13);
+    EXPECT_NEAR(f.p[1], 0, 1e-13);
+    EXPECT_NEAR(f.p[2], std::sqrt(FourPi / 5) / (8 * Pi), 1e-13);
+    EXPECT_NEAR(f.energyFraction, 1, 1e-12);
+    EXPECT_LT(f.maxError, 1e-13);
+    EXPECT_GT(f.minValue, 0);
+}
+
+// Truncating a sharp lobe rings negative; the windows trade L2 error for less ringing and keep
+// the normalisation (p_0).
+TEST(ZonalFit, WindowsReduceRinging) {
+    auto hg = [](double mu) { return henyeyGreenstein(mu, 0.95); };
+    const ZonalFit none = fitZonal(hg, 16, SHWindow::None);
+    const ZonalFit hann = fitZonal(hg, 16, SHWindow::Hann);
+    const ZonalFit lanczos = fitZonal(hg, 16, SHWindow::Lanczos);
+    EXPECT_LT(none.minValue, -0.01 * none.peakValue);
+    EXPECT_GT(hann.minValue, none.minValue);
+    EXPECT_GT(lanczos.minValue, none.minValue);
+    EXPECT_GT(hann.l2Error, none.l2Error);  // the truncation is the L2-optimal fit
+    EXPECT_EQ(hann.p[0], none.p[0]);
+    EXPECT_EQ(shWindowFromName("lanczos"), SHWindow::Lanczos);
+    EXPECT_THROW(shWindowFromName("box"), Error);
+}
+
+TEST(ZonalFit, ErrorDecreasesWithOrder) {
+    auto hg = [](double mu) { return henyeyGreenstein(mu, 0.9); };
+    double prev = INFINITY;
+    for (int n : {2, 4, 8, 16, 32, 64}) {
+        const ZonalFit f = fitZonal(hg, n);
+        EXPECT_LT(f.relativeL2Error, prev) << n;
+        prev = f.relativeL2Error;
+    }
+    EXPECT_LT(prev, 1e-2);
+}
+
+}  // namespace shvol
