@@ -102,11 +102,11 @@ const std::vector<Interval> kIntervals = {
     {1.0 - 1e-10, 1.0},    {-1.0, -1.0 + 1e-12}, {0.0, 1e-9},    {-0.7, -0.7 + 3e-10},
     {0.999, 0.999 + 5e-10}};
 
-// Error model: the recurrence result carries an absolute error of about ε·(l+1)^{3/2}·env·(n/l)
-// from its boundary terms, env = √((2l+1)/4π) (the bound on |N_l^m|); the narrow-interval rule
-// is exact to a few ε relative to ∫|N|. The test demands
+// Error model (sh_integrals.h): relative to env·min(1, Δz), env = √((2l+1)/4π), the library's
+// error is that of the Legendre values, ≈ ε·l^{3/2}, for wide intervals (recurrence) and narrow
+// ones (θ-panel rule) alike. The test demands
 //   |J − ref| ≤ 1e-13·|ref| + 4ε·(n+1)^{3/2}·env·min(1, z1−z0)
-// for every l, m; narrow intervals therefore have to be relatively accurate to 1e-13.
+// for every l, m; narrow intervals therefore have to be accurate to their own size.
 TEST(ShIntegrals, LegendreIntegralsMatchHighPrecisionQuadrature) {
     const double eps = 2.220446049250313e-16;
     for (int n : {21, 101}) {

@@ -318,7 +318,9 @@ void integralAccuracy() {
                                  {"w=1e-6", 0.3, 0.3 + 1e-6},
                                  {"w=1e-10", 0.3, 0.3 + 1e-10},
                                  {"pole w=1e-10", 1 - 1e-10, 1},
-                                 {"pole w=1e-12", -1, -1 + 1e-12}};
+                                 {"pole w=1e-12", -1, -1 + 1e-12},
+                                 {"pole w=0.02", 0.98, 1},
+                                 {"w=0.015", 0.2, 0.215}};
     // error measure: max over l < n, m ≤ l of |J − ref| / (env_l · min(1, z1 − z0)), i.e.
     // relative to the size the integral has when the integrand is of its typical magnitude.
     for (int n : {5, 10, 20, 50, 100}) {

@@ -33,12 +33,13 @@ namespace shvol::sh {
 inline constexpr double kNarrowCoef = 2e-5;
 
 /// J_l^m = ∫_{z0}^{z1} N_l^m(z) dz for 0 ≤ m ≤ l < n into J[triIndex(l, m)] (triSize(n)
-/// doubles). z0, z1 ∈ [−1, 1] (z0 > z1 gives the signed integral). Accuracy (validation/sh §2):
-/// absolute error ≲ ε·n^{3/2}·√((2l+1)/4π)·min(1, z1−z0) whenever the recurrence or the
-/// narrow rule is used as designed, i.e. for every width when n ≤ 100 (tested). For very high n
-/// with 1e-3 ≲ z1−z0 < kNarrowCoef·(n+1)^{3/2} the rule would need more than 4 panels and the
-/// recurrence is used, whose absolute error is ≲ ε·n^{3/2}·√((2l+1)/4π) (not × the width).
-/// No allocation.
+/// doubles). z0, z1 ∈ [−1, 1] (z0 > z1 gives the signed integral). No allocation.
+/// Accuracy, with env = √((2l+1)/4π) (validation/sh/README.md §2, n ≤ 100, 10 interval kinds):
+/// |error| ≤ 2.5e-13 · env · min(1, z1−z0), down to widths of 1e-12 and at the poles. Model: the
+/// recurrence's absolute error is a few ε·env whatever the width (so ≈ ε/(z1−z0) relative), hence
+/// the switch to the narrow rule, whose error is that of the Legendre values (≈ ε·l^{3/2}).
+/// For very high n the rule is skipped when it would need more than 4 panels, and the
+/// recurrence's ε/(z1−z0) behaviour applies there.
 void legendreIntegrals(int n, double z0, double z1, double* J);
 
 /// The recurrence alone, without the narrow-interval switch (for validation: shows the
