@@ -8,6 +8,7 @@
 
 #include "shvol/core/error.h"
 #include "shvol/core/rng.h"
+#include "shvol/sampling/zonal_sh_sampler.h"
 #include "shvol/io/scene_loader.h"
 
 namespace shvol {
@@ -84,6 +85,26 @@ TEST(PhaseSpec, TableFileIsRelativeToTheJsonFile) {
               "/tmp/dir/nope.csv: cannot open phase table");
 }
 
+// "sampling": "sh" wraps any phase function in an SHSampledPhase with the given settings; the
+// short form reaches the same keys.
+TEST(PhaseSpec, SHSampling) {
+    const PhaseFunction p =
+        fromJson(R"({"type": "hg", "g": 0.8, "sampling": "sh", "order": 8, "window": "none",
+                     "evaluate": "sh", "sh_depth": 10})");
+    ASSERT_TRUE(std::holds_alternative<SHSampledPhase>(p.variant()));
+    const auto& sh = std::get<SHSampledPhase>(p.variant());
+    EXPECT_EQ(sh.fit().p.size(), 8u);
+    EXPECT_EQ(sh.fit().window, SHWindow::None);
+    EXPECT_EQ(sh.evaluate(), SHSampledPhase::Evaluate::Reconstruction);
+    EXPECT_EQ(sh.sampler().depth(), 10);
+    EXPECT_EQ(sh.base().name(), "hg");
+    const PhaseFunction q = parsePhaseSpec("rayleigh:sampling=sh,order=3", "");
+    const auto& r = std::get<SHSampledPhase>(q.variant());
+    EXPECT_EQ(r.fit().window, SHWindow::Hann);  // default
+    EXPECT_EQ(r.evaluate(), SHSampledPhase::Evaluate::Exact);
+    EXPECT_EQ(r.base().name(), "rayleigh");
+}
+
 TEST(PhaseSpec, JsonErrorsNameFileAndPath) {
     EXPECT_EQ(messageOf([] { fromJson(R"({"type": "hg", "g": 2})"); }),
               "scene.json: media[0].phase.g: value 2 out of range [-0.999999, 0.999999]");
@@ -94,8 +115,13 @@ TEST(PhaseSpec, JsonErrorsNameFileAndPath) {
         "scene.json: media[0].phase.w: value 1.5 out of range [0, 1]");
     EXPECT_EQ(messageOf([] { fromJson(R"({"type": "rayleigh", "g": 0.5})"); }),
               "scene.json: media[0].phase.g: unknown key");
-    EXPECT_EQ(messageOf([] { fromJson(R"({"type": "hg", "g": 0.5, "sampling": "sh"})"); }),
-              "scene.json: media[0].phase.sampling: unknown key");
+    EXPECT_EQ(messageOf([] { fromJson(R"({"type": "hg", "g": 0.5, "order": 8})"); }),
+              "scene.json: media[0].phase.order: only valid with \"sampling\": \"sh\"");
+    EXPECT_EQ(messageOf([] { fromJson(R"({"type": "hg", "sampling": "sh", "order": 0})"); }),
+              "scene.json: media[0].phase.order: value 0 out of range [1, 256]");
+    EXPECT_EQ(messageOf([] { fromJson(R"({"type": "hg", "sampling": "wavelet"})"); }),
+              "scene.json: media[0].phase.sampling: unknown value \"wavelet\"; expected one of "
+              "\"analytic\", \"sh\"");
     EXPECT_EQ(messageOf([] { fromJson(R"({"type": "mie"})"); }),
               "scene.json: media[0].phase.type: unknown value \"mie\"; expected one of "
               "\"isotropic\", \"hg\", \"two_term_hg\", \"rayleigh\", \"schlick\", "

@@ -77,6 +77,17 @@ TEST(VolumePathIntegrator, WhiteFurnaceHomogeneous) {
             }
 }
 
+// SH-sampled phase functions in both uses keep the furnace at 1 (g = 0.95 at order 6 rings
+// negative, so the Exact use also exercises the defensive mixture).
+TEST(VolumePathIntegrator, WhiteFurnaceWithSHSampledPhase) {
+    const PhaseFunction hg = HenyeyGreensteinPhase(0.95);
+    for (auto use : {SHSampledPhase::Evaluate::Exact, SHSampledPhase::Evaluate::Reconstruction}) {
+        Scene s = furnaceScene(2.0, Spectrum::Ones(), SHSampledPhase(hg, 6, SHWindow::None, use));
+        const Estimate e = estimate(s, 20000);
+        expectNear(e.mean, Spectrum::Ones(), 5 * e.stdErr + 1e-9, "furnace sh phase");
+    }
+}
+
 TEST(VolumePathIntegrator, WhiteFurnaceWithTracking) {
     for (auto est : {TransmittanceEstimator::Ratio, TransmittanceEstimator::Delta}) {
         Scene s = furnaceScene(3.0, Spectrum::Ones(), PhaseFunction(IsotropicPhase()), true);
