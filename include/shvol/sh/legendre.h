@@ -11,7 +11,7 @@
 /// ∫_{−1}^{1} N_l^m(z)² dz = 1/(2π).
 ///
 /// Method: the normalised three-term recurrences (as in geodesy, Holmes & Featherstone 2002,
-/// J. Geodesy 76:279, eqs. 11–13 written for the 1/√(4π) normalisation)
+/// J. Geodesy 76, written here for the 1/√(4π) normalisation)
 ///   N_0^0 = 1/√(4π),
 ///   N_m^m = −√((2m+1)/(2m)) · s · N_{m−1}^{m−1},              s = √(1−z²)   (sectoral),
 ///   N_{m+1}^m = √(2m+3) · z · N_m^m,

@@ -6,7 +6,7 @@
 ///
 /// Methods (see RotationMethod): Ivanic & Ruedenberg, J. Phys. Chem. 100 (1996) 6342, with the
 /// corrections of J. Phys. Chem. A 102 (1998) 9099: R^l is built from R^{l−1} and R^1 by the u·U +
-/// v·V + w·W recursion (Table 2 / eqs. 8.1–8.7 of the 1998 version). IR's real harmonics carry no
+/// v·V + w·W recursion (in the corrected form of the 1998 note). IR's real harmonics carry no
 /// Condon–Shortley phase; ours do, so y_l^m = (−1)^m S_lm and R^l_{mm′} = (−1)^{m+m′} R^l_{IR,mm′}.
 /// R^1 in IR's basis is R permuted to (y, z, x) order. IR's rounding errors grow ×10 per ~10
 /// bands beyond l ≈ 35, so high bands use a backward-stable Euler/eigen construction instead
