@@ -10,6 +10,8 @@ void addRenderCommand(CLI::App& app, std::function<int()>& run);
 void addMakeMediumCommand(CLI::App& app, std::function<int()>& run);
 void addMakeSkyCommand(CLI::App& app, std::function<int()>& run);
 void addBenchCommand(CLI::App& app, std::function<int()>& run);
+void addPhaseCommand(CLI::App& app, std::function<int()>& run);
+void addDiffCommand(CLI::App& app, std::function<int()>& run);
 
 /// Peak resident memory of this process in MiB.
 double peakMemoryMiB();

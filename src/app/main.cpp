@@ -13,6 +13,8 @@ int main(int argc, char** argv) {
     shvol::app::addMakeMediumCommand(app, run);
     shvol::app::addMakeSkyCommand(app, run);
     shvol::app::addBenchCommand(app, run);
+    shvol::app::addPhaseCommand(app, run);
+    shvol::app::addDiffCommand(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
