@@ -13,15 +13,18 @@
 ///   J_l^l = ( ½√(l(2l+1)(2l−1)/(l−1)) · J_{l−2}^{l−2} + [z N_l^l(z)]_{z0}^{z1} ) / (l+1),
 /// seeded with J_0^0 = N_0^0 (z1−z0) (eq. 11) and, with the Condon–Shortley sign that Jarosz's
 /// eq. 13 omits, J_1^1 = −√(3/8π) · ½ [z√(1−z²) + asin z]_{z0}^{z1}. All coefficients are O(1)
-/// and the J_{l−2} factor is < 1, so errors do not grow with l.
+/// and the J_{l−2} factor is < 1, so errors do not grow with l. Errors are absolute, on the scale
+/// env·min(1, z1−z0): an integral that is itself far smaller (m > 0 next to a pole, where
+/// N_l^m ∝ (1−z²)^{m/2}) is not resolved to its own relative precision.
 ///
 /// Narrow intervals: the bracketed differences cancel catastrophically when z1 − z0 is small
-/// (relative error ≈ ε·n^{3/2}/(z1−z0)). When z1 − z0 < kNarrowCoef·(n+1)^{3/2} the integrals are
-/// instead computed by 2-, 4- or 8-point Gauss–Legendre panels in θ (z = cos θ, dz = sin θ dθ),
-/// with one panel per radian/(n+1) of θ: the integrand N_l^m(cos θ) sin θ is a trigonometric
-/// polynomial of degree ≤ n, so the rule is exact to rounding, including intervals touching z = ±1
-/// (where a rule in z would meet the √(1−z²) branch point). The θ width is computed from the chord,
-/// 2 asin(½ (z1−z0) √(1 + ((z0+z1)/(s0+s1))²)), without cancellation.
+/// (their absolute error is a few ε·env, i.e. ≈ ε/(z1−z0) relative). When z1 − z0 <
+/// kNarrowCoef·(n+1)^{3/2} the integrals are instead computed by 2-, 4- or 8-point Gauss–Legendre
+/// panels in θ (z = cos θ, dz = sin θ dθ), with one panel per radian/(n+1) of θ: the integrand
+/// N_l^m(cos θ) sin θ is a trigonometric polynomial of degree ≤ n, so the rule is exact to
+/// rounding, including intervals touching z = ±1 (where a rule in z would meet the √(1−z²) branch
+/// point). The θ width is computed from the chord, 2 asin(½ (z1−z0) √(1 + ((z0+z1)/(s0+s1))²)),
+/// without cancellation.
 #include <algorithm>
 #include <cmath>
 
