@@ -68,7 +68,7 @@ double cellMass(int n, const double* A, const double* B, const double* C, const 
 }  // namespace
 
 SHSampler::SHSampler(int n, const double* coeffs, Mode mode, int depth)
-    : n_(n), depth_(depth > 0 ? depth : (mode == Mode::Tables ? 8 : 16)), mode_(mode),
+    : n_(n), depth_(depth > 0 ? depth : (mode == Mode::Tables ? 7 : 16)), mode_(mode),
       coeffs_(coeffs, coeffs + size_t(n) * n) {
     if (n < 1 || n > 128) throw Error("SHSampler: order must be in [1, 128]");
     if (mode == Mode::Tables && depth_ > 12) throw Error("SHSampler: table depth must be ≤ 12");
@@ -103,6 +103,78 @@ void SHSampler::buildTables() {
                 coarse[size_t(iz) * res + ip] = fine[a] + fine[a + 1] + fine[b] + fine[b + 1];
             }
     }
+    // Split probabilities of every internal node, and the leaves' pdf.
+    auto split = [](double a, double b) {
+        const double p = a + b > 0 ? a / (a + b) : 0.0;
+        return Split{p, {p > 0 ? 1 / p : 0.0, p < 1 ? 1 / (1 - p) : 0.0}};
+    };
+    levelOffset_.assign(depth_ + 1, 0);
+    for (int d = 0; d < depth_; ++d) levelOffset_[d + 1] = levelOffset_[d] + (size_t(1) << (2 * d));
+    splits_.resize(levelOffset_[depth_]);
+    double c[4];
+    for (int d = 0; d < depth_; ++d) {
+        const int res = 1 << d;
+        for (int iz = 0; iz < res; ++iz)
+            for (int ip = 0; ip < res; ++ip) {
+                childMassesFromTables(WarpNode{d, iz, ip}, c);
+                NodeSplits& ns = splits_[levelOffset_[d] + size_t(iz) * res + ip];
+                ns.row = split(c[0] + c[1], c[2] + c[3]);
+                ns.col[0] = split(c[0], c[1]);
+                ns.col[1] = split(c[2], c[3]);
+            }
+    }
+    const double root = pyramid_[0][0];
+    const double leafArea = (2.0 / cells) * (TwoPi / cells);
+    leafPdf_.resize(leaves.size());
+    for (size_t i = 0; i < leaves.size(); ++i) leafPdf_[i] = root > 0 ? leaves[i] / root / leafArea : 0;
+}
+
+WarpSample SHSampler::warpTables(Vec2 u) const {
+    constexpr double OneMinus = 1.0 - 0x1.0p-53;
+    if (!(pyramid_[0][0] > 0)) return {};
+    int iz = 0, ip = 0;
+    double x = u.x(), y = u.y();
+    for (int d = 0; d < depth_; ++d) {
+        const NodeSplits& ns = splits_[levelOffset_[d] + (size_t(iz) << d) + ip];
+        const int r = x >= ns.row.p;
+        x = std::min((x - r * ns.row.p) * ns.row.inv[r], OneMinus);
+        const Split& cs = ns.col[r];
+        const int k = y >= cs.p;
+        y = std::min((y - k * cs.p) * cs.inv[k], OneMinus);
+        iz = 2 * iz + r, ip = 2 * ip + k;
+    }
+    const int cells = 1 << depth_;
+    const double dz = 2.0 / cells, dphi = TwoPi / cells;
+    return {-1 + (iz + x) * dz, (ip + y) * dphi, leafPdf_[(size_t(iz) << depth_) + ip]};
+}
+
+void SHSampler::warpTablesBlock(const Vec2* u, int count, WarpSample* out) const {
+    constexpr int Block = 16;
+    constexpr double OneMinus = 1.0 - 0x1.0p-53;
+    if (!(pyramid_[0][0] > 0)) {
+        for (int j = 0; j < count; ++j) out[j] = {};
+        return;
+    }
+    double x[Block], y[Block];
+    size_t iz[Block], ip[Block];
+    for (int j = 0; j < count; ++j) x[j] = u[j].x(), y[j] = u[j].y(), iz[j] = ip[j] = 0;
+    for (int d = 0; d < depth_; ++d) {
+        const NodeSplits* level = &splits_[levelOffset_[d]];
+        for (int j = 0; j < count; ++j) {
+            const NodeSplits& ns = level[(iz[j] << d) + ip[j]];
+            const int r = x[j] >= ns.row.p;
+            x[j] = std::min((x[j] - r * ns.row.p) * ns.row.inv[r], OneMinus);
+            const Split& cs = ns.col[r];
+            const int k = y[j] >= cs.p;
+            y[j] = std::min((y[j] - k * cs.p) * cs.inv[k], OneMinus);
+            iz[j] = 2 * iz[j] + r, ip[j] = 2 * ip[j] + k;
+        }
+    }
+    const int cells = 1 << depth_;
+    const double dz = 2.0 / cells, dphi = TwoPi / cells;
+    for (int j = 0; j < count; ++j)
+        out[j] = {-1 + (iz[j] + x[j]) * dz, (ip[j] + y[j]) * dphi,
+                  leafPdf_[(iz[j] << depth_) + ip[j]]};
 }
 
 void SHSampler::childMassesFromTables(const WarpNode& node, double c[4]) const {
@@ -125,10 +197,7 @@ void SHSampler::childMassesOnTheFly(const WarpNode& node, double c[4]) const {
 }
 
 WarpSample SHSampler::warp(const Vec2& u) const {
-    if (mode_ == Mode::Tables) {
-        return hierarchicalWarp(
-            [this](const WarpNode& nd, double* c) { childMassesFromTables(nd, c); }, depth_, u);
-    }
+    if (mode_ == Mode::Tables) return warpTables(u);
     return hierarchicalWarp([this](const WarpNode& nd, double* c) { childMassesOnTheFly(nd, c); },
                             depth_, u);
 }
@@ -136,9 +205,10 @@ WarpSample SHSampler::warp(const Vec2& u) const {
 void SHSampler::warp(const std::vector<Vec2>& u, std::vector<WarpSample>& out) const {
     out.resize(u.size());
     if (mode_ == Mode::Tables) {
-        hierarchicalWarpPoints(
-            [this](const WarpNode& nd, double* c) { childMassesFromTables(nd, c); }, depth_,
-            u.data(), int(u.size()), out.data());
+        // The split probabilities are stored, so nothing is left to share between points: the
+        // map is applied pointwise (which is what preserves the set's stratification).
+        for (size_t i = 0; i < u.size(); i += 16)
+            warpTablesBlock(&u[i], int(std::min<size_t>(16, u.size() - i)), &out[i]);
     } else {
         hierarchicalWarpPoints(
             [this](const WarpNode& nd, double* c) { childMassesOnTheFly(nd, c); }, depth_, u.data(),
@@ -160,10 +230,7 @@ double SHSampler::pdf(const Vec3& w) const {
         const int iz = std::min(cells - 1, int((z + 1) * 0.5 * cells));
         const int ip = std::min(cells - 1, int(phi * Inv2Pi * cells));
         // The warp's product of split probabilities telescopes to leaf/root (to rounding).
-        const double root = pyramid_[0][0];
-        if (!(root > 0)) return 0;
-        const double cellArea = (2.0 / cells) * (TwoPi / cells);
-        return pyramid_[depth_][size_t(iz) * cells + ip] / root / cellArea;
+        return leafPdf_[size_t(iz) * cells + ip];
     }
     return hierarchicalPdf([this](const WarpNode& nd, double* c) { childMassesOnTheFly(nd, c); },
                            depth_, z, phi);

@@ -1,0 +1,157 @@
+// Sampling throughput of the SH samplers against analytic Henyey–Greenstein sampling, one core.
+// Prints Google Benchmark's table, then the same-run ratios asked for in the SH sampling issue.
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <map>
+
+#include "shvol/core/rng.h"
+#include "shvol/phase/henyey_greenstein_phase.h"
+#include "shvol/phase/zonal_fit.h"
+#include "shvol/sampling/sh_sampler.h"
+#include "shvol/sampling/zonal_sh_sampler.h"
+#include "shvol/sh/sh_basis.h"
+
+using namespace shvol;
+
+namespace {
+
+const Vec3 kAxis = Vec3(0.3, -0.5, 0.8).normalized();
+
+/// A Henyey–Greenstein lobe (g = 0.8) of order n rotated to kAxis, plus a small constant.
+std::vector<double> lobe(int n) {
+    std::vector<double> y(n * n), f(n * n);
+    sh::shEval(n, kAxis, y.data());
+    for (int l = 0; l < n; ++l)
+        for (int m = -l; m <= l; ++m) f[l * (l + 1) + m] = std::pow(0.8, l) * y[l * (l + 1) + m];
+    f[0] += 0.05 * std::sqrt(FourPi);
+    return f;
+}
+
+void HGAnalytic(benchmark::State& state) {
+    const HenyeyGreensteinPhase hg(0.8);
+    Rng rng(1, 1);
+    double sink = 0;
+    for (auto _ : state) sink += hg.sample(kAxis, rng.uniform2()).wi.z();
+    benchmark::DoNotOptimize(sink);
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(HGAnalytic);
+
+void ZonalSH(benchmark::State& state) {
+    const int n = int(state.range(0));
+    const ZonalFit fit = fitZonal([](double mu) { return henyeyGreenstein(mu, 0.8); }, n);
+    const ZonalSHSampler s(fit.p);
+    Rng rng(1, 1);
+    double sink = 0, pdf;
+    for (auto _ : state) sink += s.sample(kAxis, rng.uniform2(), &pdf).z() + pdf;
+    benchmark::DoNotOptimize(sink);
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(ZonalSH)->Arg(16)->Arg(64);
+
+void SHSingle(benchmark::State& state) {
+    const int n = int(state.range(0));
+    const auto f = lobe(n);
+    const SHSampler s(n, f.data(), SHSampler::Mode::Tables);
+    Rng rng(1, 1);
+    double sink = 0;
+    for (auto _ : state) {
+        const WarpSample w = s.warp(rng.uniform2());
+        sink += w.z + w.pdf;
+    }
+    benchmark::DoNotOptimize(sink);
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(SHSingle)->Arg(3)->Arg(5)->Arg(9)->Arg(13)->Arg(20);
+
+void SHPointSet(benchmark::State& state) {
+    const int n = int(state.range(0)), count = 4096;
+    const auto f = lobe(n);
+    const SHSampler s(n, f.data(), SHSampler::Mode::Tables);
+    Rng rng(1, 1);
+    std::vector<Vec2> u(count);
+    std::vector<WarpSample> out;
+    for (auto _ : state) {
+        state.PauseTiming();
+        for (auto& p : u) p = rng.uniform2();
+        state.ResumeTiming();
+        s.warp(u, out);
+        benchmark::DoNotOptimize(out.data());
+    }
+    state.SetItemsProcessed(state.iterations() * count);
+}
+BENCHMARK(SHPointSet)->Arg(3)->Arg(5)->Arg(9)->Arg(13)->Arg(20);
+
+void SHOnTheFly(benchmark::State& state) {
+    const int n = int(state.range(0));
+    const auto f = lobe(n);
+    const SHSampler s(n, f.data(), SHSampler::Mode::OnTheFly, 8);
+    Rng rng(1, 1);
+    double sink = 0;
+    for (auto _ : state) sink += s.warp(rng.uniform2()).z;
+    benchmark::DoNotOptimize(sink);
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(SHOnTheFly)->Arg(5)->Arg(20);
+
+void SHOnTheFlyPointSet(benchmark::State& state) {
+    const int n = int(state.range(0)), count = 4096;
+    const auto f = lobe(n);
+    const SHSampler s(n, f.data(), SHSampler::Mode::OnTheFly, 8);
+    Rng rng(1, 1);
+    std::vector<Vec2> u(count);
+    std::vector<WarpSample> out;
+    for (auto& p : u) p = rng.uniform2();
+    for (auto _ : state) {
+        s.warp(u, out);
+        benchmark::DoNotOptimize(out.data());
+    }
+    state.SetItemsProcessed(state.iterations() * count);
+}
+BENCHMARK(SHOnTheFlyPointSet)->Arg(5)->Arg(20);
+
+void SHBuildTables(benchmark::State& state) {
+    const int n = int(state.range(0));
+    const auto f = lobe(n);
+    for (auto _ : state) {
+        SHSampler s(n, f.data(), SHSampler::Mode::Tables);
+        benchmark::DoNotOptimize(&s);
+    }
+}
+BENCHMARK(SHBuildTables)->Arg(5)->Arg(20)->Unit(benchmark::kMicrosecond);
+
+/// Console output plus a record of items/s per run name, for the ratios.
+class RatioReporter : public benchmark::ConsoleReporter {
+public:
+    std::map<std::string, double> rate;
+    void ReportRuns(const std::vector<Run>& runs) override {
+        for (const Run& r : runs) {
+            auto it = r.counters.find("items_per_second");
+            if (it != r.counters.end()) rate[r.benchmark_name()] = it->second;
+        }
+        ConsoleReporter::ReportRuns(runs);
+    }
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    benchmark::Initialize(&argc, argv);
+    RatioReporter reporter;
+    benchmark::RunSpecifiedBenchmarks(&reporter);
+    auto r = [&](const char* a, const char* b) {
+        const auto x = reporter.rate.find(a), y = reporter.rate.find(b);
+        if (x == reporter.rate.end() || y == reporter.rate.end()) return;
+        std::printf("  %-26s / %-22s = %.3f\n", a, b, x->second / y->second);
+    };
+    std::printf("\nSame-run ratios (items/s):\n");
+    r("ZonalSH/16", "HGAnalytic");
+    r("ZonalSH/64", "HGAnalytic");
+    r("SHSingle/20", "SHSingle/5");
+    r("SHPointSet/20", "SHPointSet/5");
+    r("SHPointSet/5", "SHSingle/5");
+    r("SHSingle/5", "HGAnalytic");
+    r("SHOnTheFly/20", "SHOnTheFly/5");
+    return 0;
+}
