@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_util.h"
+
 #include <filesystem>
 #include <fstream>
 
@@ -11,14 +13,7 @@ namespace shvol {
 
 namespace {
 std::string tmp(const std::string& name) { return testing::TempDir() + "/shvol_exr_" + name; }
-std::string messageOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+using shvol::test::messageOf;
 }  // namespace
 
 TEST(Exr, RoundTripIsExactInFloat32) {

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_util.h"
+
 #include <fstream>
 
 #include "shvol/core/error.h"
@@ -9,14 +11,7 @@
 namespace shvol {
 
 namespace {
-std::string messageOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+using shvol::test::messageOf;
 }  // namespace
 
 TEST(JsonReader, TypedAccessAndDefaults) {

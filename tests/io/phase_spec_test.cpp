@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_util.h"
+
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -16,14 +18,7 @@ namespace {
 
 const std::string kPhaseDir = std::string(SHVOL_SOURCE_DIR) + "/media/phase";
 
-std::string messageOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+using shvol::test::messageOf;
 
 PhaseFunction fromJson(const std::string& text, const std::string& file = "scene.json") {
     const Json j = Json::parse(text);

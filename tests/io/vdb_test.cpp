@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_util.h"
+
 #include <fstream>
 
 #include "shvol/core/error.h"
@@ -12,14 +14,7 @@ namespace shvol {
 
 namespace {
 std::string tmp(const std::string& name) { return testing::TempDir() + "/shvol_vdb_" + name; }
-std::string messageOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+using shvol::test::messageOf;
 VdbGridSpec sphereSpec(int res, double radius) {
     VdbGridSpec s;
     s.resolution = res;

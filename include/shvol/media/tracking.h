@@ -25,24 +25,33 @@ struct TrackingCounters {
 
 inline constexpr double NoCollision = std::numeric_limits<double>::infinity();
 
-/// Walks segments with visit(t0, t1, sigmaMaj) → bool (return false to stop). `Segments` is a
-/// callable taking that visitor. sigmaT(t) gives σ_t at ray parameter t.
-template <typename Segments, typename SigmaT>
-double deltaTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng, TrackingCounters& c) {
-    double hit = NoCollision;
+/// The walk both estimators share: tentative collisions at rate σ_maj within each segment.
+/// `Segments` is a callable taking a visitor visit(t0, t1, sigmaMaj) → bool (false stops the walk);
+/// at each tentative collision `collide(t, sigmaMaj)` is called and returns false to stop.
+template <typename Segments, typename Collide>
+void forEachTentativeCollision(const Segments& segments, Rng& rng, TrackingCounters& c,
+                               Collide&& collide) {
     segments([&](double t0, double t1, double sigmaMaj) {
         ++c.segments;
         if (!(sigmaMaj > 0)) return true;
-        double t = t0;
-        for (;;) {
+        for (double t = t0;;) {
             t -= std::log1p(-rng.uniform()) / sigmaMaj;
             if (t >= t1) return true;
             ++c.densityLookups;
-            if (rng.uniform() * sigmaMaj < sigmaT(t)) {
-                hit = t;
-                return false;
-            }
+            if (!collide(t, sigmaMaj)) return false;
         }
+    });
+}
+
+/// Delta tracking: distance of the first real collision, or NoCollision. sigmaT(t) gives σ_t at
+/// ray parameter t.
+template <typename Segments, typename SigmaT>
+double deltaTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng, TrackingCounters& c) {
+    double hit = NoCollision;
+    forEachTentativeCollision(segments, rng, c, [&](double t, double sigmaMaj) {
+        if (rng.uniform() * sigmaMaj >= sigmaT(t)) return true;  // null collision
+        hit = t;
+        return false;
     });
     return hit;
 }
@@ -53,23 +62,15 @@ template <typename Segments, typename SigmaT>
 double ratioTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng, TrackingCounters& c,
                   double rrThreshold = 0.1) {
     double T = 1;
-    segments([&](double t0, double t1, double sigmaMaj) {
-        ++c.segments;
-        if (!(sigmaMaj > 0)) return true;
-        double t = t0;
-        for (;;) {
-            t -= std::log1p(-rng.uniform()) / sigmaMaj;
-            if (t >= t1) return true;
-            ++c.densityLookups;
-            T *= std::max(0.0, 1.0 - sigmaT(t) / sigmaMaj);
-            if (T < rrThreshold) {
-                if (T <= 0 || rng.uniform() * rrThreshold >= T) {
-                    T = 0;
-                    return false;
-                }
-                T = rrThreshold;
-            }
+    forEachTentativeCollision(segments, rng, c, [&](double t, double sigmaMaj) {
+        T *= std::max(0.0, 1.0 - sigmaT(t) / sigmaMaj);
+        if (T >= rrThreshold) return true;
+        if (T <= 0 || rng.uniform() * rrThreshold >= T) {
+            T = 0;
+            return false;
         }
+        T = rrThreshold;
+        return true;
     });
     return T;
 }
