@@ -26,8 +26,8 @@ Row measure(const BenchArgs& a, const std::string& name, bool grid, int threads)
     if (doc.contains("media"))
         for (size_t i = 0; i < doc["media"].size(); ++i)
             if (doc["media"][i].value("type", "vdb") == "vdb")
-                sets.push_back("media." + std::to_string(i) + ".majorant_grid=" +
-                               (grid ? "true" : "false"));
+                sets.push_back("media." + std::to_string(i) +
+                               ".majorant_grid=" + (grid ? "true" : "false"));
     const Scene scene = loadScene(a.scene, sets);
     double best = 0, lookups = 0;
     for (int r = 0; r < a.repeats; ++r) {

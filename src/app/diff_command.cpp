@@ -37,13 +37,17 @@ void addDiffCommand(CLI::App& app, std::function<int()>& run) {
             const double n = double(a.rgb.size());
             const double rmse = std::sqrt(se / n), relRmse = std::sqrt(rel / n);
             if (*json) {
-                nlohmann::json j{{"rmse", rmse}, {"relative_rmse", relRmse}, {"max_abs_error", maxAbs},
-                                 {"mean", meanA / n}, {"reference_mean", meanB / n}};
+                nlohmann::json j{{"rmse", rmse},
+                                 {"relative_rmse", relRmse},
+                                 {"max_abs_error", maxAbs},
+                                 {"mean", meanA / n},
+                                 {"reference_mean", meanB / n}};
                 std::printf("%s\n", j.dump(2).c_str());
             } else {
-                std::printf("rmse %.6g\nrelative_rmse %.6g\nmax_abs_error %.6g\nmean %.6g\n"
-                            "reference_mean %.6g\n",
-                            rmse, relRmse, maxAbs, meanA / n, meanB / n);
+                std::printf(
+                    "rmse %.6g\nrelative_rmse %.6g\nmax_abs_error %.6g\nmean %.6g\n"
+                    "reference_mean %.6g\n",
+                    rmse, relRmse, maxAbs, meanA / n, meanB / n);
             }
             return 0;
         };

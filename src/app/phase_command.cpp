@@ -59,10 +59,10 @@ int runFit(const PhaseArgs& a) {
     }
     std::printf("# zonal SH fit of %s, order %d, window %s: p(mu) ~ sum_l p_l y_l^0(mu)\n",
                 a.spec.c_str(), a.order, shWindowName(f.window));
-    std::printf("energy_fraction    %.10g\nl2_error           %.6g\nrelative_l2_error  %.6g\n"
-                "max_error          %.6g\nmin_value          %.6g\npeak_value         %.6g\n",
-                f.energyFraction, f.l2Error, f.relativeL2Error, f.maxError, f.minValue,
-                f.peakValue);
+    std::printf(
+        "energy_fraction    %.10g\nl2_error           %.6g\nrelative_l2_error  %.6g\n"
+        "max_error          %.6g\nmin_value          %.6g\npeak_value         %.6g\n",
+        f.energyFraction, f.l2Error, f.relativeL2Error, f.maxError, f.minValue, f.peakValue);
     std::printf("l,p_l\n");
     for (int l = 0; l < a.order; ++l) std::printf("%d,%.17g\n", l, f.p[l]);
     return 0;
@@ -112,7 +112,8 @@ void commonOptions(CLI::App* c, PhaseArgs& a) {
 
 void addPhaseCommand(CLI::App& app, std::function<int()>& run) {
     auto a = std::make_shared<PhaseArgs>();
-    CLI::App* phase = app.add_subcommand("phase", "Zonal SH fits of phase functions and their samples");
+    CLI::App* phase =
+        app.add_subcommand("phase", "Zonal SH fits of phase functions and their samples");
     phase->require_subcommand(1);
     CLI::App* fit = phase->add_subcommand("fit", "Print the zonal SH coefficients and fit quality");
     commonOptions(fit, *a);
@@ -125,9 +126,10 @@ void addPhaseCommand(CLI::App& app, std::function<int()>& run) {
     sample->add_option("--count", a->count, "Number of samples")->check(CLI::Range(1LL, 1LL << 32));
     sample->add_option("--seed", a->seed, "Random seed");
     sample->add_option("--out", a->out, "Output CSV (x,y,z,pdf)")->required();
-    sample->add_option("--sampler", a->sampler,
-                       "zonal (1D warp in z, uniform phi) or general (2D hierarchical warp, "
-                       "1D-table mode)")
+    sample
+        ->add_option("--sampler", a->sampler,
+                     "zonal (1D warp in z, uniform phi) or general (2D hierarchical warp, "
+                     "1D-table mode)")
         ->check(CLI::IsMember({"zonal", "general"}));
     sample->add_option("--depth", a->depth, "Warp depth (zonal: 2^depth z-bins; general: <= 10)")
         ->check(CLI::Range(4, 22));

@@ -123,7 +123,7 @@ BENCHMARK(SHBuildTables)->Arg(5)->Arg(20)->Unit(benchmark::kMicrosecond);
 
 /// Console output plus a record of items/s per run name, for the ratios.
 class RatioReporter : public benchmark::ConsoleReporter {
-public:
+  public:
     std::map<std::string, double> rate;
     void ReportRuns(const std::vector<Run>& runs) override {
         for (const Run& r : runs) {

@@ -9,7 +9,8 @@
 
 namespace shvol {
 
-void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write) {
+void writeAtomically(const std::string& path,
+                     const std::function<void(const std::string&)>& write) {
     const std::string tmp = path + ".tmp" + std::to_string(::getpid());
     try {
         write(tmp);

@@ -11,9 +11,13 @@ Progress::Progress(std::string label, long long total, bool enabled)
     start_ = lastPrint_ = std::chrono::steady_clock::now();
 }
 
-Progress::~Progress() { done(); }
+Progress::~Progress() {
+    done();
+}
 
-bool Progress::stderrIsTerminal() { return ::isatty(STDERR_FILENO) == 1; }
+bool Progress::stderrIsTerminal() {
+    return ::isatty(STDERR_FILENO) == 1;
+}
 
 void Progress::advance(long long n) {
     const long long d = done_ += n;

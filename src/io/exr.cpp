@@ -41,7 +41,8 @@ Image readExr(const std::string& path) {
     for (int y = 0; y < img.height; ++y)
         for (int x = 0; x < img.width; ++x) {
             const Spectrum v = img.at(x, y);
-            const std::string where = "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")";
+            const std::string where =
+                "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")";
             if (!v.allFinite()) fail(path, where, "NaN or infinite value");
             if ((v < 0).any()) fail(path, where, "negative value");
         }
@@ -52,7 +53,8 @@ void writeExr(const std::string& path, const Image& image) {
     writeAtomically(path, [&](const std::string& tmp) {
         try {
             Imf::Header header(image.width, image.height);
-            for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+            for (const char* c : {"R", "G", "B"})
+                header.channels().insert(c, Imf::Channel(Imf::FLOAT));
             Imf::OutputFile file(tmp.c_str(), header);
             Imf::FrameBuffer fb;
             const size_t xs = 3 * sizeof(float), ys = xs * image.width;

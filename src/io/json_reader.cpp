@@ -30,10 +30,13 @@ Json parseJsonFile(const std::string& path) {
         // Translate the byte offset into line:column.
         size_t line = 1, col = 1;
         for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
-            if (text[i] == '\n') ++line, col = 1;
-            else ++col;
+            if (text[i] == '\n')
+                ++line, col = 1;
+            else
+                ++col;
         }
-        // e.what() is "[json.exception…] parse error at line L, column C: <reason>"; keep the reason.
+        // e.what() is "[json.exception…] parse error at line L, column C: <reason>"; keep the
+        // reason.
         std::string msg = e.what();
         const auto at = msg.find("column ");
         const auto colon = at == std::string::npos ? at : msg.find(": ", at);
@@ -63,8 +66,9 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
         if (node->is_array() && isIndex) {
             const size_t i = std::stoul(part);
             if (i >= node->size())
-                fail(file, walked, "--set: index " + part + " out of range (" +
-                                       std::to_string(node->size()) + " elements)");
+                fail(file, walked,
+                     "--set: index " + part + " out of range (" + std::to_string(node->size()) +
+                         " elements)");
             node = &(*node)[i];
             walked += "[" + part + "]";
         } else if (node->is_object() || node->is_null()) {
@@ -92,7 +96,9 @@ void JsonReader::error(const std::string& key, const std::string& msg) const {
     fail(file_, key.empty() ? path_ : keyPath(key), msg);
 }
 
-bool JsonReader::has(const std::string& key) const { return j_.contains(key); }
+bool JsonReader::has(const std::string& key) const {
+    return j_.contains(key);
+}
 
 const Json& JsonReader::get(const std::string& key, const char* type) const {
     if (!j_.contains(key)) error(key, std::string("missing required ") + type);
@@ -123,7 +129,8 @@ int JsonReader::integer(const std::string& key, int def, int lo, int hi) {
     used_.insert(key);
     if (!j_.contains(key)) return def;
     const Json& v = j_.at(key);
-    if (!v.is_number_integer()) error(key, "expected an integer, got " + typeName(v) + " " + brief(v));
+    if (!v.is_number_integer())
+        error(key, "expected an integer, got " + typeName(v) + " " + brief(v));
     const long long x = v.get<long long>();
     if (x < lo || x > hi)
         error(key, "value " + std::to_string(x) + " out of range [" + std::to_string(lo) + ", " +

@@ -71,7 +71,8 @@ PhaseFunction readPhase(JsonReader& r, const std::string& baseDir) {
         for (const char* key : {"order", "window", "evaluate", "sh_depth"})
             if (r.has(key)) r.error(key, "only valid with \"sampling\": \"sh\"");
     const int order = r.integer("order", 16, 1, 256);
-    const SHWindow window = shWindowFromName(r.choice("window", "hann", {"none", "hann", "lanczos"}));
+    const SHWindow window =
+        shWindowFromName(r.choice("window", "hann", {"none", "hann", "lanczos"}));
     const auto evaluate = r.choice("evaluate", "exact", {"exact", "sh"}) == "sh"
                               ? SHSampledPhase::Evaluate::Reconstruction
                               : SHSampledPhase::Evaluate::Exact;

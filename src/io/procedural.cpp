@@ -5,10 +5,13 @@
 namespace shvol {
 
 namespace {
-double fade(double t) { return t * t * t * (t * (t * 6 - 15) + 10); }
+double fade(double t) {
+    return t * t * t * (t * (t * 6 - 15) + 10);
+}
 Vec3 gradient(int64_t i, int64_t j, int64_t k, uint64_t seed) {
-    uint64_t h = mix64(seed ^ mix64(uint64_t(i) * 0x9E3779B1ULL ^ mix64(uint64_t(j) * 0x85EBCA77ULL ^
-                                                                        uint64_t(k) * 0xC2B2AE3DULL)));
+    uint64_t h =
+        mix64(seed ^ mix64(uint64_t(i) * 0x9E3779B1ULL ^
+                           mix64(uint64_t(j) * 0x85EBCA77ULL ^ uint64_t(k) * 0xC2B2AE3DULL)));
     // A direction from two 26-bit uniforms.
     const double u = double(h & 0x3FFFFFF) / double(1 << 26), v = double(h >> 38) / double(1 << 26);
     return sphericalDirection(1 - 2 * u, TwoPi * v);

@@ -111,7 +111,8 @@ std::unique_ptr<Medium> readMedium(JsonReader r) {
         r.has("phase") ? readPhaseFunction(r.object("phase")) : PhaseFunction(IsotropicPhase());
     if (type == "homogeneous") {
         const double sigmaT = r.number("sigma_t", 1, 0, 1e12);
-        const bool tracking = r.choice("estimator", "analytic", {"analytic", "tracking"}) == "tracking";
+        const bool tracking =
+            r.choice("estimator", "analytic", {"analytic", "tracking"}) == "tracking";
         MediumShape shape;
         JsonReader sh = r.object("shape");
         const std::string st = sh.choice("type", "box", {"box", "sphere"});
@@ -155,7 +156,8 @@ Scene sceneFromJson(const Json& doc, const std::string& path) {
         const Json& media = r.raw("media");
         if (!media.is_array()) r.error("media", "expected an array of media");
         for (size_t i = 0; i < media.size(); ++i)
-            scene.media.push_back(readMedium(JsonReader(media[i], path, "media[" + std::to_string(i) + "]")));
+            scene.media.push_back(
+                readMedium(JsonReader(media[i], path, "media[" + std::to_string(i) + "]")));
     }
     r.finish();
     return scene;

@@ -23,7 +23,7 @@ void initOpenVdb() {
 }
 
 class VdbMedium final : public Medium {
-public:
+  public:
     VdbMedium(const VdbMediumDesc& d, openvdb::FloatGrid::ConstPtr grid,
               const Eigen::Affine3d& worldToIndex, MajorantGrid majorants)
         : Medium(d.albedo, d.phase),
@@ -33,7 +33,7 @@ public:
           majorants_(std::move(majorants)),
           desc_("vdb " + d.file + ":" + d.grid) {}
 
-private:
+  private:
     // Not registered with the tree: cheap to make per ray, private to the calling thread.
     using Accessor = openvdb::tree::ValueAccessor<const openvdb::FloatTree, false>;
 
@@ -50,13 +50,12 @@ private:
     auto sigma(Accessor& acc, const Vec3& o, const Vec3& d) const {
         return [this, &acc, o, d](double t) {
             const Vec3 p = o + t * d;
-            return scale_ *
-                   double(openvdb::tools::BoxSampler::sample(acc, openvdb::Vec3R(p.x(), p.y(), p.z())));
+            return scale_ * double(openvdb::tools::BoxSampler::sample(
+                                acc, openvdb::Vec3R(p.x(), p.y(), p.z())));
         };
     }
 
-public:
-
+  public:
     double sampleCollision(const Ray& ray, double tMax, Rng& rng,
                            TrackingCounters& c) const override {
         Accessor acc(grid_->tree());
@@ -76,12 +75,13 @@ public:
     double sigmaT(const Vec3& p) const override {
         Accessor acc(grid_->tree());
         const Vec3 q = worldToIndex_ * p;
-        return scale_ * openvdb::tools::BoxSampler::sample(acc, openvdb::Vec3R(q.x(), q.y(), q.z()));
+        return scale_ *
+               openvdb::tools::BoxSampler::sample(acc, openvdb::Vec3R(q.x(), q.y(), q.z()));
     }
 
     std::string describe() const override { return desc_; }
 
-private:
+  private:
     openvdb::FloatGrid::ConstPtr grid_;
     Eigen::Affine3d worldToIndex_;
     double scale_;
@@ -179,7 +179,8 @@ size_t writeVdb(const std::string& path, const std::vector<VdbGridSpec>& specs) 
                 for (int j = 0; j < s.resolution; ++j)
                     for (int i = 0; i < s.resolution; ++i) {
                         const float v = at(i, j, k);
-                        if (v != 0.f || std::isnan(v)) acc.setValue(openvdb::Coord(i, j, k), make(v));
+                        if (v != 0.f || std::isnan(v))
+                            acc.setValue(openvdb::Coord(i, j, k), make(v));
                     }
             active += grid->activeVoxelCount();
             grid->setName(s.name);

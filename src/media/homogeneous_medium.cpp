@@ -8,7 +8,8 @@ Interval MediumShape::intersect(const Ray& ray, double tMax) const {
 }
 
 bool MediumShape::contains(const Vec3& p) const {
-    if (type == Type::Box) return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
+    if (type == Type::Box)
+        return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
     return (p - center).squaredNorm() <= radius * radius;
 }
 
@@ -22,7 +23,8 @@ double HomogeneousMedium::sampleCollision(const Ray& ray, double tMax, Rng& rng,
     if (iv.empty() || !(sigmaT_ > 0)) return NoCollision;
     if (tracking_) {
         auto segments = [&](auto&& visit) { visit(iv.t0, iv.t1, 2 * sigmaT_); };
-        return deltaTrack(segments, [&](double) { return sigmaT_; }, rng, c);
+        return deltaTrack(
+            segments, [&](double) { return sigmaT_; }, rng, c);
     }
     ++c.segments;
     const double t = iv.t0 - std::log1p(-rng.uniform()) / sigmaT_;

@@ -18,7 +18,8 @@ SHSampledPhase::SHSampledPhase(const PhaseFunction& base, int order, SHWindow wi
     sampler_ = std::make_shared<const ZonalSHSampler>(fit_->p, depth);
     if (!(sampler_->positiveMass() > 0)) throw Error("the SH fit has no positive mass");
     norm_ = sampler_->positiveMass();
-    if (evaluate_ == Evaluate::Exact && sampler_->clampedFraction() > 0) alpha_ = kDefensiveFraction;
+    if (evaluate_ == Evaluate::Exact && sampler_->clampedFraction() > 0)
+        alpha_ = kDefensiveFraction;
 }
 
 double SHSampledPhase::evalCos(double mu) const {

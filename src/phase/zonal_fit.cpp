@@ -19,9 +19,12 @@ SHWindow shWindowFromName(const std::string& name) {
 
 const char* shWindowName(SHWindow w) {
     switch (w) {
-        case SHWindow::Hann: return "hann";
-        case SHWindow::Lanczos: return "lanczos";
-        default: return "none";
+        case SHWindow::Hann:
+            return "hann";
+        case SHWindow::Lanczos:
+            return "lanczos";
+        default:
+            return "none";
     }
 }
 
@@ -55,9 +58,12 @@ const std::vector<Node>& thetaNodes() {
 double windowWeight(SHWindow w, int l, int n) {
     const double x = double(l) / n;
     switch (w) {
-        case SHWindow::Hann: return 0.5 * (1 + std::cos(Pi * x));
-        case SHWindow::Lanczos: return l == 0 ? 1.0 : std::sin(Pi * x) / (Pi * x);
-        default: return 1.0;
+        case SHWindow::Hann:
+            return 0.5 * (1 + std::cos(Pi * x));
+        case SHWindow::Lanczos:
+            return l == 0 ? 1.0 : std::sin(Pi * x) / (Pi * x);
+        default:
+            return 1.0;
     }
 }
 

@@ -21,8 +21,8 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
 
     constexpr int Tile = 16;
     const int tilesX = (cam.width + Tile - 1) / Tile, tilesY = (cam.height + Tile - 1) / Tile;
-    const int threads = options.threads > 0 ? options.threads
-                                            : tbb::this_task_arena::max_concurrency();
+    const int threads =
+        options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
     tbb::enumerable_thread_specific<PathCounters> counters;
     Progress progress("render", (long long)tilesX * tilesY, options.progress);
     const auto start = std::chrono::steady_clock::now();

@@ -46,7 +46,8 @@ struct SHIntegralTables {
 
 /// For one z-interval with Legendre integrals J, the φ-independent sums
 ///   A[m] = Σ_l f_l^m J_l^m,  B[m] = Σ_l f_l^{−m} J_l^m,
-/// so that the mass over [z-interval] × [φ-interval] is A[0]·C[0] + √2 Σ_{m≥1} (A[m]C[m] + B[m]S[m]).
+/// so that the mass over [z-interval] × [φ-interval] is A[0]·C[0] + √2 Σ_{m≥1} (A[m]C[m] +
+/// B[m]S[m]).
 void weightByCoefficients(int n, const double* f, const double* J, double* A, double* B) {
     for (int m = 0; m < n; ++m) A[m] = B[m] = 0;
     for (int l = 0; l < n; ++l) {
@@ -68,7 +69,9 @@ double cellMass(int n, const double* A, const double* B, const double* C, const 
 }  // namespace
 
 SHSampler::SHSampler(int n, const double* coeffs, Mode mode, int depth)
-    : n_(n), depth_(depth > 0 ? depth : (mode == Mode::Tables ? 7 : 16)), mode_(mode),
+    : n_(n),
+      depth_(depth > 0 ? depth : (mode == Mode::Tables ? 7 : 16)),
+      mode_(mode),
       coeffs_(coeffs, coeffs + size_t(n) * n) {
     if (n < 1 || n > 128) throw Error("SHSampler: order must be in [1, 128]");
     if (mode == Mode::Tables && depth_ > 12) throw Error("SHSampler: table depth must be ≤ 12");
@@ -87,8 +90,8 @@ void SHSampler::buildTables() {
         weightByCoefficients(n_, coeffs_.data(), &t->J[size_t(iz) * sh::triSize(n_)], A.data(),
                              B.data());
         for (int ip = 0; ip < cells; ++ip) {
-            const double m = cellMass(n_, A.data(), B.data(), &t->C[size_t(ip) * n_],
-                                      &t->S[size_t(ip) * n_]);
+            const double m =
+                cellMass(n_, A.data(), B.data(), &t->C[size_t(ip) * n_], &t->S[size_t(ip) * n_]);
             leaves[size_t(iz) * cells + ip] = m > 0 ? m : 0.0;
         }
     }
@@ -126,7 +129,8 @@ void SHSampler::buildTables() {
     const double root = pyramid_[0][0];
     const double leafArea = (2.0 / cells) * (TwoPi / cells);
     leafPdf_.resize(leaves.size());
-    for (size_t i = 0; i < leaves.size(); ++i) leafPdf_[i] = root > 0 ? leaves[i] / root / leafArea : 0;
+    for (size_t i = 0; i < leaves.size(); ++i)
+        leafPdf_[i] = root > 0 ? leaves[i] / root / leafArea : 0;
 }
 
 WarpSample SHSampler::warpTables(Vec2 u) const {
@@ -242,11 +246,13 @@ double SHSampler::probability(double z0, double z1, double phi0, double phi1) co
             [this](const WarpNode& nd, double* c) { childMassesFromTables(nd, c); }, depth_, z0, z1,
             phi0, phi1);
     return hierarchicalProbability(
-        [this](const WarpNode& nd, double* c) { childMassesOnTheFly(nd, c); }, depth_, z0, z1,
-        phi0, phi1);
+        [this](const WarpNode& nd, double* c) { childMassesOnTheFly(nd, c); }, depth_, z0, z1, phi0,
+        phi1);
 }
 
-double SHSampler::eval(const Vec3& w) const { return sh::shReconstruct(n_, coeffs_.data(), w); }
+double SHSampler::eval(const Vec3& w) const {
+    return sh::shReconstruct(n_, coeffs_.data(), w);
+}
 
 double SHSampler::positiveMass() const {
     if (mode_ == Mode::Tables) return pyramid_[0][0];

@@ -21,10 +21,11 @@ struct Result {
 };
 
 class Cli : public testing::Test {
-protected:
+  protected:
     void SetUp() override {
         dir_ = fs::path(testing::TempDir()) /
-               ("shvol_cli_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
+               ("shvol_cli_" +
+                std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
         fs::remove_all(dir_);
         fs::create_directories(dir_);
     }
@@ -34,9 +35,9 @@ protected:
     }
     Result run(const std::string& args) const {
         const std::string out = path("so.txt"), err = path("se.txt");
-        const int status = std::system((std::string(SHVOL_BINARY) + " " + args + " >" + out +
-                                        " 2>" + err + " </dev/null")
-                                           .c_str());
+        const int status = std::system(
+            (std::string(SHVOL_BINARY) + " " + args + " >" + out + " 2>" + err + " </dev/null")
+                .c_str());
         auto slurp = [](const std::string& p) {
             std::ifstream f(p);
             std::stringstream s;
@@ -91,7 +92,7 @@ TEST_F(Cli, HelpAndVersion) {
 TEST_F(Cli, RenderWritesExrAndStats) {
     write("s.json", scene(Homogeneous));
     const Result r = run("render " + path("s.json") + " -o " + path("img.exr") +
-                      " --spp 3 --seed 7 --threads 2 --set camera.fov=30 --quiet");
+                         " --spp 3 --seed 7 --threads 2 --set camera.fov=30 --quiet");
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(r.err, "");
     const Image img = readExr(path("img.exr"));
@@ -113,24 +114,31 @@ TEST_F(Cli, RenderWritesExrAndStats) {
 
 TEST_F(Cli, SameSeedSameImageAnyThreads) {
     write("s.json", scene(Homogeneous));
-    ASSERT_EQ(run("render " + path("s.json") + " -o " + path("a.exr") + " --threads 1 --quiet").code, 0);
-    ASSERT_EQ(run("render " + path("s.json") + " -o " + path("b.exr") + " --threads 2 --quiet").code, 0);
+    ASSERT_EQ(
+        run("render " + path("s.json") + " -o " + path("a.exr") + " --threads 1 --quiet").code, 0);
+    ASSERT_EQ(
+        run("render " + path("s.json") + " -o " + path("b.exr") + " --threads 2 --quiet").code, 0);
     EXPECT_EQ(readExr(path("a.exr")).rgb, readExr(path("b.exr")).rgb);
 }
 
 TEST_F(Cli, MalformedJson) {
     write("bad.json", "{\"camera\": {\"fov\": 40,}}");
-    expectOneLineError("bad.json", path("bad.json") + ": line 1, column 23: malformed JSON: syntax error while parsing object key");
+    expectOneLineError(
+        "bad.json",
+        path("bad.json") +
+            ": line 1, column 23: malformed JSON: syntax error while parsing object key");
 }
 
 TEST_F(Cli, UnknownKeyAndWrongType) {
     write("unknown.json", scene(Homogeneous, R"(, "extra": {"x": 1})"));
     expectOneLineError("unknown.json", path("unknown.json") + ": extra: unknown key");
-    write("typo.json", scene(R"({"type": "homogeneous", "sigma_t": 2, "phase": {"type": "hg", "gg": 0.5}})"));
+    write("typo.json",
+          scene(R"({"type": "homogeneous", "sigma_t": 2, "phase": {"type": "hg", "gg": 0.5}})"));
     expectOneLineError("typo.json", path("typo.json") + ": media[0].phase.gg: unknown key");
     write("type.json", scene(R"({"type": "homogeneous", "sigma_t": "dense"})"));
-    expectOneLineError("type.json",
-                       path("type.json") + ": media[0].sigma_t: expected a number, got string \"dense\"");
+    expectOneLineError(
+        "type.json",
+        path("type.json") + ": media[0].sigma_t: expected a number, got string \"dense\"");
     write("range.json", scene(R"({"type": "homogeneous", "albedo": [0.5, 1.5, 0.5]})"));
     expectOneLineError("range.json", path("range.json") + ": media[0].albedo: component 1.5");
 }
@@ -148,7 +156,8 @@ TEST_F(Cli, BadVdbFiles) {
     s.density = [](const Vec3& p) { return p.norm() < 0.3 ? 1.f : 0.f; };
     writeVdb(path("ok.vdb"), {s});
     write("grid.json", scene(R"({"type": "vdb", "file": "ok.vdb", "grid": "smoke"})"));
-    expectOneLineError("grid.json", path("ok.vdb") + ": grid 'smoke': no such grid; the file has: density");
+    expectOneLineError("grid.json",
+                       path("ok.vdb") + ": grid 'smoke': no such grid; the file has: density");
 
     s.density = [](const Vec3& p) { return p.norm() < 0.3 ? -1.f : 0.f; };
     writeVdb(path("neg.vdb"), {s});
@@ -187,9 +196,11 @@ TEST_F(Cli, BadExrFiles) {
 
 TEST_F(Cli, BadOverridesAndOutputs) {
     write("s.json", scene(Homogeneous));
-    Result r = run("render " + path("s.json") + " -o " + path("out.exr") + " --set render.spp=zero --quiet");
+    Result r = run("render " + path("s.json") + " -o " + path("out.exr") +
+                   " --set render.spp=zero --quiet");
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find("render.spp: expected an integer, got string \"zero\""), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("render.spp: expected an integer, got string \"zero\""), std::string::npos)
+        << r.err;
     EXPECT_FALSE(fs::exists(path("out.exr")));
     r = run("render " + path("s.json") + " -o " + path("no/such/dir/out.exr") + " --quiet");
     EXPECT_EQ(r.code, 1);

@@ -12,7 +12,9 @@
 namespace shvol {
 
 namespace {
-std::string tmp(const std::string& name) { return testing::TempDir() + "/shvol_exr_" + name; }
+std::string tmp(const std::string& name) {
+    return testing::TempDir() + "/shvol_exr_" + name;
+}
 using shvol::test::messageOf;
 }  // namespace
 
@@ -28,10 +30,12 @@ TEST(Exr, RoundTripIsExactInFloat32) {
 }
 
 TEST(Exr, BadFilesGiveOneClearLine) {
-    EXPECT_EQ(messageOf([] { readExr(tmp("missing.exr")); }), tmp("missing.exr") + ": file not found");
+    EXPECT_EQ(messageOf([] { readExr(tmp("missing.exr")); }),
+              tmp("missing.exr") + ": file not found");
     std::ofstream(tmp("corrupt.exr")) << "this is not an EXR file";
-    EXPECT_EQ(messageOf([] { readExr(tmp("corrupt.exr")); }).rfind(
-                  tmp("corrupt.exr") + ": not a readable OpenEXR file", 0),
+    EXPECT_EQ(messageOf([] {
+                  readExr(tmp("corrupt.exr"));
+              }).rfind(tmp("corrupt.exr") + ": not a readable OpenEXR file", 0),
               0u);
     Image img(3, 2);
     img.set(2, 1, Spectrum(NAN, 0, 0));

@@ -27,7 +27,8 @@ TEST(JsonReader, TypedAccessAndDefaults) {
 }
 
 TEST(JsonReader, ErrorsNameFileAndPath) {
-    const Json j = Json::parse(R"({"phase": {"g": "high", "typo": 1}, "n": 1.5, "v": [1, "a", 3]})");
+    const Json j =
+        Json::parse(R"({"phase": {"g": "high", "typo": 1}, "n": 1.5, "v": [1, "a", 3]})");
     JsonReader r(j, "scene.json", "media[0]");
     EXPECT_EQ(messageOf([&] { r.object("phase").number("g"); }),
               "scene.json: media[0].phase.g: expected a number, got string \"high\"");
@@ -53,8 +54,11 @@ TEST(JsonReader, ErrorsNameFileAndPath) {
 TEST(JsonReader, RangeAndChoice) {
     const Json j = Json::parse(R"({"g": 1.5, "t": "hgg"})");
     JsonReader r(j, "s.json", "p");
-    EXPECT_EQ(messageOf([&] { r.number("g", 0, -1, 1); }), "s.json: p.g: value 1.5 out of range [-1, 1]");
-    EXPECT_EQ(messageOf([&] { r.choice("t", "hg", {"hg", "isotropic"}); }),
+    EXPECT_EQ(messageOf([&] { r.number("g", 0, -1, 1); }),
+              "s.json: p.g: value 1.5 out of range [-1, 1]");
+    EXPECT_EQ(messageOf([&] {
+                  r.choice("t", "hg", {"hg", "isotropic"});
+              }),
               "s.json: p.t: unknown value \"hgg\"; expected one of \"hg\", \"isotropic\"");
 }
 

@@ -10,8 +10,8 @@
 
 #include "shvol/core/error.h"
 #include "shvol/core/rng.h"
-#include "shvol/sampling/zonal_sh_sampler.h"
 #include "shvol/io/scene_loader.h"
+#include "shvol/sampling/zonal_sh_sampler.h"
 
 namespace shvol {
 namespace {

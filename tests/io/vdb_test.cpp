@@ -13,7 +13,9 @@
 namespace shvol {
 
 namespace {
-std::string tmp(const std::string& name) { return testing::TempDir() + "/shvol_vdb_" + name; }
+std::string tmp(const std::string& name) {
+    return testing::TempDir() + "/shvol_vdb_" + name;
+}
 using shvol::test::messageOf;
 VdbGridSpec sphereSpec(int res, double radius) {
     VdbGridSpec s;
@@ -53,7 +55,8 @@ TEST(Vdb, TrackingMatchesQuadrature) {
         d.densityScale = 3;
         d.majorantGrid = grid;
         auto m = loadVdbMedium(d);
-        for (const Ray& r : {Ray{{-1, 0, 0}, {1, 0, 0}}, Ray{{-1, 0.15, -1}, Vec3(1, 0, 1).normalized()}}) {
+        for (const Ray& r :
+             {Ray{{-1, 0, 0}, {1, 0, 0}}, Ray{{-1, 0.15, -1}, Vec3(1, 0, 1).normalized()}}) {
             const double T = std::exp(-opticalDepth(*m, r, 3.0));
             for (auto est : {TransmittanceEstimator::Ratio, TransmittanceEstimator::Delta}) {
                 Rng rng(2, 3);
@@ -72,7 +75,8 @@ TEST(Vdb, TrackingMatchesQuadrature) {
             TrackingCounters c;
             int escaped = 0;
             const int n = 100000;
-            for (int i = 0; i < n; ++i) escaped += m->sampleCollision(r, NoCollision, rng, c) == NoCollision;
+            for (int i = 0; i < n; ++i)
+                escaped += m->sampleCollision(r, NoCollision, rng, c) == NoCollision;
             EXPECT_NEAR(double(escaped) / n, T, 5 * std::sqrt(T * (1 - T) / n) + 1e-4);
         }
     }
@@ -111,7 +115,9 @@ TEST(Vdb, BadInputGivesOneClearLine) {
 
     d.file = tmp("corrupt.vdb");
     std::ofstream(d.file) << "definitely not a VDB";
-    EXPECT_EQ(messageOf([&] { loadVdbMedium(d); }).rfind(d.file + ": not a readable OpenVDB file", 0), 0u);
+    EXPECT_EQ(
+        messageOf([&] { loadVdbMedium(d); }).rfind(d.file + ": not a readable OpenVDB file", 0),
+        0u);
 
     d.file = tmp("named.vdb");
     VdbGridSpec s = sphereSpec(8, 0.3);
@@ -165,7 +171,8 @@ TEST(Vdb, WhiteFurnace) {
         const int n = 20000;
         for (int i = 0; i < n; ++i) {
             Rng rng = Rng::forSample(1, i, 0);
-            const Ray r{Vec3(0.6 * (rng.uniform() - 0.5), -2, 0.6 * (rng.uniform() - 0.5)), {0, 1, 0}};
+            const Ray r{Vec3(0.6 * (rng.uniform() - 0.5), -2, 0.6 * (rng.uniform() - 0.5)),
+                        {0, 1, 0}};
             const double L = integrator.Li(r, rng, c)[1];
             s += L, s2 += L * L;
         }

@@ -72,8 +72,9 @@ TEST(HomogeneousMedium, FreeFlightDistribution) {
             }
         }
         for (int b = 0; b <= bins; ++b) {
-            const double p = b == bins ? std::exp(-sigma)
-                                       : std::exp(-sigma * b / bins) - std::exp(-sigma * (b + 1) / bins);
+            const double p = b == bins
+                                 ? std::exp(-sigma)
+                                 : std::exp(-sigma * b / bins) - std::exp(-sigma * (b + 1) / bins);
             EXPECT_NEAR(double(hist[b]) / n, p, 5 * std::sqrt(p * (1 - p) / n))
                 << "bin " << b << " tracking " << tracking;
         }

@@ -35,7 +35,8 @@ TEST(MajorantGrid, TraversalMatchesBruteForce) {
             }
     auto cellAt = [&](const Vec3& p) {
         const Vec3 q = p - Vec3(-1, -2, 0);
-        return g.cell(std::clamp(int(std::floor(q.x())), 0, 4), std::clamp(int(std::floor(q.y())), 0, 2),
+        return g.cell(std::clamp(int(std::floor(q.x())), 0, 4),
+                      std::clamp(int(std::floor(q.y())), 0, 2),
                       std::clamp(int(std::floor(q.z())), 0, 6));
     };
     for (int i = 0; i < 2000; ++i) {

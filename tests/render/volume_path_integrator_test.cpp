@@ -23,7 +23,8 @@ Scene furnaceScene(double sigmaT, Spectrum albedo, PhaseFunction phase, bool tra
     s.camera.target = Vec3(0, 0, 0);
     s.environment = Environment::constant(Spectrum::Ones(), false);
     s.settings.maxDepth = 1 << 20;
-    s.media.push_back(std::make_unique<HomogeneousMedium>(sphere(1), sigmaT, albedo, phase, tracking));
+    s.media.push_back(
+        std::make_unique<HomogeneousMedium>(sphere(1), sigmaT, albedo, phase, tracking));
     return s;
 }
 
@@ -65,8 +66,8 @@ TEST(VolumePathIntegrator, WhiteFurnaceHomogeneous) {
     for (double sigmaT : {0.3, 2.0, 10.0})
         for (double g : {0.0, 0.8, -0.5})
             for (bool nee : {true, false}) {
-                Scene s = furnaceScene(sigmaT, Spectrum::Ones(),
-                                       PhaseFunction(HenyeyGreensteinPhase(g)));
+                Scene s =
+                    furnaceScene(sigmaT, Spectrum::Ones(), PhaseFunction(HenyeyGreensteinPhase(g)));
                 s.settings.nee = nee;
                 const Estimate e = estimate(s, 20000);
                 SCOPED_TRACE("sigmaT " + std::to_string(sigmaT) + " g " + std::to_string(g) +
@@ -143,7 +144,8 @@ TEST(VolumePathIntegrator, ClosedFormAndTrackingAgree) {
     Scene b = furnaceScene(2.0, albedo, PhaseFunction(HenyeyGreensteinPhase(0.5)), true);
     Scene c = furnaceScene(2.0, albedo, PhaseFunction(HenyeyGreensteinPhase(0.5)), true);
     c.settings.transmittance = TransmittanceEstimator::Delta;
-    const Estimate ea = estimate(a, 40000, 1), eb = estimate(b, 40000, 2), ec = estimate(c, 40000, 3);
+    const Estimate ea = estimate(a, 40000, 1), eb = estimate(b, 40000, 2),
+                   ec = estimate(c, 40000, 3);
     const Spectrum sab = (ea.stdErr.square() + eb.stdErr.square()).sqrt();
     const Spectrum sac = (ea.stdErr.square() + ec.stdErr.square()).sqrt();
     expectNear(ea.mean, eb.mean, 5 * sab, "closed vs ratio");
@@ -206,7 +208,8 @@ TEST(Renderer, ImageIndependentOfThreadCount) {
     Scene s = furnaceScene(2.0, Spectrum(0.9, 0.7, 0.5), PhaseFunction(HenyeyGreensteinPhase(0.6)));
     s.camera.width = 40, s.camera.height = 36;  // partial tiles on both axes
     s.settings.spp = 4;
-    const RenderResult a = render(s, {1, false}), b = render(s, {2, false}), c = render(s, {3, false});
+    const RenderResult a = render(s, {1, false}), b = render(s, {2, false}),
+                       c = render(s, {3, false});
     EXPECT_EQ(a.image.rgb, b.image.rgb);
     EXPECT_EQ(a.image.rgb, c.image.rgb);
     s.settings.seed = 2;

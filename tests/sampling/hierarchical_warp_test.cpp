@@ -13,7 +13,9 @@ double mass(double z0, double z1, double p0, double p1) {
     return (z1 - z0) * (p1 - p0) + 0.25 * (z1 * z1 - z0 * z0) * (p1 - p0) +
            0.4 * (z1 - z0) * (std::sin(p1) - std::sin(p0));
 }
-double density(double z, double phi) { return (1 + 0.5 * z + 0.4 * std::cos(phi)) / FourPi; }
+double density(double z, double phi) {
+    return (1 + 0.5 * z + 0.4 * std::cos(phi)) / FourPi;
+}
 void children(const WarpNode& n, double c[4]) {
     for (int r = 0; r < 2; ++r)
         for (int k = 0; k < 2; ++k) {
@@ -46,7 +48,9 @@ TEST(HierarchicalWarp, MatchesTargetAndOwnPdf) {
         EXPECT_NEAR(hierarchicalPdf(children, depth, s.z, s.phi), s.pdf, 1e-12 * s.pdf);
     }
     const Chi2Result r = chi2TestSphereCells(
-        [](Rng& g) { return std::optional<Vec3>(hierarchicalWarp(children, depth, g.uniform2()).direction()); },
+        [](Rng& g) {
+            return std::optional<Vec3>(hierarchicalWarp(children, depth, g.uniform2()).direction());
+        },
         [](double z0, double z1, double p0, double p1) {
             return hierarchicalProbability(children, depth, z0, z1, p0, p1);
         });
@@ -79,7 +83,8 @@ TEST(HierarchicalWarp, PointSetsPreserveStratification) {
     const int N = 4096, depth = 8, cells = 16;
     std::vector<Vec2> ham(N), rnd(N);
     Rng rng(3, 3);
-    for (int i = 0; i < N; ++i) ham[i] = Vec2((i + 0.5) / N, radicalInverse2(i)), rnd[i] = rng.uniform2();
+    for (int i = 0; i < N; ++i)
+        ham[i] = Vec2((i + 0.5) / N, radicalInverse2(i)), rnd[i] = rng.uniform2();
     std::vector<WarpSample> wh(N), wr(N);
     hierarchicalWarpPoints(children, depth, ham.data(), N, wh.data());
     hierarchicalWarpPoints(children, depth, rnd.data(), N, wr.data());
@@ -97,8 +102,10 @@ TEST(HierarchicalWarp, PointSetsPreserveStratification) {
         double x2 = 0;
         for (int a = 0; a < cells; ++a)
             for (int b = 0; b < cells; ++b) {
-                const double e = N * mass(-1 + 2.0 * a / cells, -1 + 2.0 * (a + 1) / cells,
-                                          TwoPi * b / cells, TwoPi * (b + 1) / cells) / FourPi;
+                const double e = N *
+                                 mass(-1 + 2.0 * a / cells, -1 + 2.0 * (a + 1) / cells,
+                                      TwoPi * b / cells, TwoPi * (b + 1) / cells) /
+                                 FourPi;
                 x2 += sqr(count[a * cells + b] - e) / e;
             }
         return x2 / (cells * cells - 1);

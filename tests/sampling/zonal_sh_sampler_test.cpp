@@ -87,7 +87,8 @@ TEST(ZonalSHSampler, ExtremeAnisotropyAtLowOrder) {
             const ZonalSHSampler s(p);
             double integral = 0;
             const int bins = 1 << s.depth();
-            for (int i = 0; i < bins; ++i) integral += s.pdf(-1 + (i + 0.5) * 2.0 / bins) * TwoPi * 2.0 / bins;
+            for (int i = 0; i < bins; ++i)
+                integral += s.pdf(-1 + (i + 0.5) * 2.0 / bins) * TwoPi * 2.0 / bins;
             EXPECT_NEAR(integral, 1.0, 1e-9) << g << " " << n;
             if (n >= 3) {
                 EXPECT_GT(s.clampedFraction(), 0.0) << "order " << n << " should ring negative";
@@ -111,7 +112,9 @@ TEST(ZonalSHSampler, EvalIsTheReconstruction) {
         // Σ g^l (2l+1)/(4π) P_l(μ) with Bonnet's recurrence for the Legendre polynomials.
         double series = 0, Pm2 = 0, Pm1 = 0;
         for (int l = 0; l < 12; ++l) {
-            const double P = l == 0 ? 1.0 : l == 1 ? mu : ((2 * l - 1) * mu * Pm1 - (l - 1) * Pm2) / l;
+            const double P = l == 0   ? 1.0
+                             : l == 1 ? mu
+                                      : ((2 * l - 1) * mu * Pm1 - (l - 1) * Pm2) / l;
             Pm2 = Pm1, Pm1 = P;
             series += std::pow(0.8, l) * (2 * l + 1) / FourPi * P;
         }

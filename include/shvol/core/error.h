@@ -8,7 +8,7 @@ namespace shvol {
 /// A user-facing error. what() is the whole line printed by the command-line program, in the
 /// form "FILE: PLACE: message" (PLACE is a JSON path such as media[0].phase.g, or a grid name).
 class Error : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 

@@ -27,8 +27,12 @@ inline T sqr(T x) {
     return x * x;
 }
 /// √max(0, x): guards square roots of quantities that are ≥ 0 analytically but not in rounding.
-inline double safeSqrt(double x) { return std::sqrt(std::max(0.0, x)); }
-inline double safeAcos(double x) { return std::acos(std::clamp(x, -1.0, 1.0)); }
+inline double safeSqrt(double x) {
+    return std::sqrt(std::max(0.0, x));
+}
+inline double safeAcos(double x) {
+    return std::acos(std::clamp(x, -1.0, 1.0));
+}
 
 /// ω(cos θ, φ) with sin θ = √(1 − cos²θ).
 inline Vec3 sphericalDirection(double cosTheta, double phi) {
@@ -59,7 +63,11 @@ struct Frame {
 };
 
 /// Luminance-like scalar of a spectrum used for Russian roulette.
-inline double maxComponent(const Spectrum& s) { return s.maxCoeff(); }
-inline bool isFinite(const Spectrum& s) { return s.allFinite(); }
+inline double maxComponent(const Spectrum& s) {
+    return s.maxCoeff();
+}
+inline bool isFinite(const Spectrum& s) {
+    return s.allFinite();
+}
 
 }  // namespace shvol

@@ -8,7 +8,7 @@
 namespace shvol {
 
 class Progress {
-public:
+  public:
     /// enabled = false prints nothing (e.g. --quiet, or stderr is not a terminal).
     Progress(std::string label, long long total, bool enabled);
     ~Progress();
@@ -17,7 +17,7 @@ public:
     /// True when stderr is a terminal.
     static bool stderrIsTerminal();
 
-private:
+  private:
     void print(long long done, bool final);
     std::string label_;
     long long total_;

@@ -17,7 +17,7 @@ inline uint64_t mix64(uint64_t z) {
 
 /// PCG32 (O'Neill 2014, pcg-random.org, XSH-RR 64/32) with a selectable stream.
 class Rng {
-public:
+  public:
     Rng() { seed(0, 0); }
     Rng(uint64_t state, uint64_t stream) { seed(state, stream); }
     /// The generator for one path: stream and state derived from (seed, pixel, sample).
@@ -49,7 +49,7 @@ public:
         return {a, uniform()};
     }
 
-private:
+  private:
     uint64_t state_ = 0, inc_ = 1;
 };
 

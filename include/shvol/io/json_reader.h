@@ -20,7 +20,7 @@ Json parseJsonFile(const std::string& path);
 void applyOverride(Json& doc, const std::string& assignment, const std::string& file);
 
 class JsonReader {
-public:
+  public:
     JsonReader(const Json& j, std::string file, std::string path);
     /// Checked at construction: the value must be an object.
     const std::string& path() const { return path_; }
@@ -47,7 +47,7 @@ public:
     [[noreturn]] void error(const std::string& key, const std::string& msg) const;
     std::string keyPath(const std::string& key) const;
 
-private:
+  private:
     const Json& get(const std::string& key, const char* type) const;
     const Json& j_;
     std::string file_, path_;

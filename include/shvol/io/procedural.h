@@ -31,8 +31,8 @@ double sphereDensity(const Vec3& p, double radius, double edge);
 struct SkyParams {
     int width = 512, height = 256;
     double sunElevationDegrees = 35, sunAzimuthDegrees = 60;  ///< φ from +x towards +y
-    double sunRadiance = 2000;     ///< inside the sun disc
-    double sunAngularRadius = 0.02;  ///< radians (the real sun: 0.0047)
+    double sunRadiance = 2000;                                ///< inside the sun disc
+    double sunAngularRadius = 0.02;                           ///< radians (the real sun: 0.0047)
     Spectrum zenith{0.25, 0.45, 1.0}, horizon{0.9, 0.95, 1.0}, ground{0.2, 0.18, 0.15};
 };
 

@@ -17,8 +17,8 @@ struct VdbMediumDesc {
     Spectrum albedo = Spectrum::Ones();
     PhaseFunction phase = PhaseFunction(IsotropicPhase());
     Eigen::Affine3d toWorld = Eigen::Affine3d::Identity();  ///< the grid's world space → scene
-    bool majorantGrid = true;   ///< false: one global majorant for the whole grid (for benchmarks)
-    int majorantCellVoxels = 8; ///< majorant cell edge in voxels
+    bool majorantGrid = true;    ///< false: one global majorant for the whole grid (for benchmarks)
+    int majorantCellVoxels = 8;  ///< majorant cell edge in voxels
 };
 
 /// Loads a FloatGrid and builds its majorant grid (trilinear density lookups). Errors name the

@@ -19,7 +19,7 @@ struct MediumShape {
 };
 
 class HomogeneousMedium final : public Medium {
-public:
+  public:
     HomogeneousMedium(MediumShape shape, double sigmaT, Spectrum albedo, PhaseFunction phase,
                       bool tracking = false);
     double sampleCollision(const Ray& ray, double tMax, Rng& rng,
@@ -29,7 +29,7 @@ public:
     double sigmaT(const Vec3& p) const override { return shape_.contains(p) ? sigmaT_ : 0; }
     std::string describe() const override;
 
-private:
+  private:
     MediumShape shape_;
     double sigmaT_;
     bool tracking_;

@@ -13,7 +13,7 @@
 namespace shvol {
 
 class MajorantGrid {
-public:
+  public:
     MajorantGrid() = default;
     /// res cells covering the box [lo, hi] of the medium's own (index) space.
     MajorantGrid(const Vec3& lo, const Vec3& hi, const Eigen::Vector3i& res);
@@ -26,12 +26,12 @@ public:
     const Vec3& upper() const { return hi_; }
     double maxValue() const;
 
-    /// Visits, in order, the segments [t0, t1) of the ray o + t·d (d need not be unit length) inside
-    /// the grid and [tMin, tMax], as visit(t0, t1, cellMax) → bool; false stops the walk.
+    /// Visits, in order, the segments [t0, t1) of the ray o + t·d (d need not be unit length)
+    /// inside the grid and [tMin, tMax], as visit(t0, t1, cellMax) → bool; false stops the walk.
     template <typename Visit>
     void traverse(const Vec3& o, const Vec3& d, double tMin, double tMax, Visit&& visit) const;
 
-private:
+  private:
     size_t index(int x, int y, int z) const { return (size_t(z) * res_.y() + y) * res_.x() + x; }
     Vec3 lo_{0, 0, 0}, hi_{0, 0, 0}, cellSize_{1, 1, 1};
     Eigen::Vector3i res_{0, 0, 0};
@@ -69,8 +69,8 @@ void MajorantGrid::traverse(const Vec3& o, const Vec3& d, double tMin, double tM
     }
     double t = t0;
     for (;;) {
-        const int a = tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2)
-                                          : (tNext[1] < tNext[2] ? 1 : 2);
+        const int a =
+            tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2) : (tNext[1] < tNext[2] ? 1 : 2);
         const double tEnd = std::min(tNext[a], t1);
         if (tEnd > t && !visit(t, tEnd, max_[index(cell[0], cell[1], cell[2])])) return;
         if (tEnd >= t1) return;

@@ -22,7 +22,7 @@ enum class TransmittanceEstimator {
 };
 
 class Medium {
-public:
+  public:
     Medium(Spectrum albedo, PhaseFunction phase) : albedo_(albedo), phase_(std::move(phase)) {}
     virtual ~Medium() = default;
 
@@ -42,7 +42,7 @@ public:
     const PhaseFunction& phase() const { return phase_; }
     bool scatters() const { return albedo_.maxCoeff() > 0; }
 
-private:
+  private:
     Spectrum albedo_;
     PhaseFunction phase_;
 };

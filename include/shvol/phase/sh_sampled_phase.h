@@ -25,7 +25,7 @@ class PhaseFunction;
 class ZonalSHSampler;
 
 class SHSampledPhase {
-public:
+  public:
     static constexpr const char* kName = "sh";
     /// Uniform share α of the defensive mixture (Exact use with clamped bins only).
     static constexpr double kDefensiveFraction = 0.02;
@@ -46,7 +46,7 @@ public:
     /// α: kDefensiveFraction when the mixture is on, else 0.
     double defensiveFraction() const { return alpha_; }
 
-private:
+  private:
     double evalCos(double mu) const;
     std::shared_ptr<const PhaseFunction> base_;
     std::shared_ptr<const ZonalFit> fit_;

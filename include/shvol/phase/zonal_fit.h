@@ -23,14 +23,14 @@ SHWindow shWindowFromName(const std::string& name);  ///< "none", "hann", "lancz
 const char* shWindowName(SHWindow w);
 
 struct ZonalFit {
-    std::vector<double> p;         ///< windowed coefficients w_l p_l, l < order
+    std::vector<double> p;  ///< windowed coefficients w_l p_l, l < order
     SHWindow window = SHWindow::None;
-    double energyFraction = 0;     ///< Σ_{l<n} p_l² / ∫p² dω (Gautron 2004 eq. 15; unwindowed p_l)
-    double l2Error = 0;            ///< (∫ (p − p̃)² dω)^{1/2}
-    double relativeL2Error = 0;    ///< l2Error / (∫ p² dω)^{1/2}
-    double maxError = 0;           ///< max_μ |p − p̃| on the quadrature nodes
-    double minValue = 0;           ///< min_μ p̃ (negative: ringing)
-    double peakValue = 0;          ///< max_μ p, for scale
+    double energyFraction = 0;  ///< Σ_{l<n} p_l² / ∫p² dω (Gautron 2004 eq. 15; unwindowed p_l)
+    double l2Error = 0;         ///< (∫ (p − p̃)² dω)^{1/2}
+    double relativeL2Error = 0;  ///< l2Error / (∫ p² dω)^{1/2}
+    double maxError = 0;         ///< max_μ |p − p̃| on the quadrature nodes
+    double minValue = 0;         ///< min_μ p̃ (negative: ringing)
+    double peakValue = 0;        ///< max_μ p, for scale
 };
 
 /// Fits p at the given order (number of bands, 1 … 1024).

@@ -22,21 +22,21 @@ struct PathCounters {
     uint64_t paths = 0;
     uint64_t scatteringEvents = 0;  ///< real collisions that scattered
     uint64_t phaseSamples = 0;
-    uint64_t lightSamples = 0;         ///< NEE directions drawn
-    uint64_t transmittanceRays = 0;   ///< shadow rays whose transmittance was estimated
-    uint64_t nonFiniteSamples = 0;    ///< samples discarded because Li was NaN or Inf
+    uint64_t lightSamples = 0;       ///< NEE directions drawn
+    uint64_t transmittanceRays = 0;  ///< shadow rays whose transmittance was estimated
+    uint64_t nonFiniteSamples = 0;   ///< samples discarded because Li was NaN or Inf
     TrackingCounters tracking;
     void add(const PathCounters& o);
 };
 
 class VolumePathIntegrator {
-public:
+  public:
     explicit VolumePathIntegrator(const Scene& scene);
     /// Radiance arriving along −ray.d at ray.o (i.e. seen looking along ray.d).
     Spectrum Li(Ray ray, Rng& rng, PathCounters& c) const;
     const Effects& effects() const { return effects_; }
 
-private:
+  private:
     /// Nearest real collision over all media; sets *medium.
     double sampleCollision(const Ray& ray, Rng& rng, PathCounters& c, const Medium** medium) const;
     /// Product of the media's transmittance estimates along the whole ray.

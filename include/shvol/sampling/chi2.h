@@ -52,8 +52,8 @@ Chi2Result chi2TestSphere(const std::function<std::optional<Vec3>(Rng&)>& sample
                           const Chi2Options& opt = {});
 
 /// The same test with the expected probability of each cell given exactly, as
-/// cellProbability(z0, z1, φ0, φ1) = ∫_cell pdf dω. For samplers whose density is piecewise constant
-/// on a fine grid (hierarchical warps), where quadrature would chase every jump.
+/// cellProbability(z0, z1, φ0, φ1) = ∫_cell pdf dω. For samplers whose density is piecewise
+/// constant on a fine grid (hierarchical warps), where quadrature would chase every jump.
 Chi2Result chi2TestSphereCells(
     const std::function<std::optional<Vec3>(Rng&)>& sample,
     const std::function<double(double z0, double z1, double phi0, double phi1)>& cellProbability,

@@ -128,7 +128,8 @@ double hierarchicalProbability(const Children& children, int depth, double z0, d
             const double oz = std::min(z1, node.z1) - std::max(z0, node.z0);
             const double op = std::min(p1, node.phi1) - std::max(p0, node.phi0);
             if (!(oz > 0) || !(op > 0) || !(prob > 0)) return 0;
-            const bool inside = z0 <= node.z0 && node.z1 <= z1 && p0 <= node.phi0 && node.phi1 <= p1;
+            const bool inside =
+                z0 <= node.z0 && node.z1 <= z1 && p0 <= node.phi0 && node.phi1 <= p1;
             if (inside) return prob;
             if (node.level == depth) return prob * oz * op / node.area();
             double raw[4];
@@ -180,16 +181,19 @@ void hierarchicalWarpPoints(const Children& children, int depth, const Vec2* u, 
             }
             // Rows: choose and rescale z once per point, then partition by the choice; then the
             // same for φ within each row. (std::partition may call its predicate more than once.)
-            for (int* i = begin; i != end; ++i) side[*i] = char(detail::choose(s.pRow0, local[*i].x()));
+            for (int* i = begin; i != end; ++i)
+                side[*i] = char(detail::choose(s.pRow0, local[*i].x()));
             int* rowSplit = std::partition(begin, end, [&](int i) { return side[i] == 0; });
             int* rows[3] = {begin, rowSplit, end};
             for (int r = 0; r < 2; ++r) {
                 for (int* i = rows[r]; i != rows[r + 1]; ++i)
                     side[*i] = char(detail::choose(s.pCol0[r], local[*i].y()));
-                int* colSplit = std::partition(rows[r], rows[r + 1], [&](int i) { return side[i] == 0; });
+                int* colSplit =
+                    std::partition(rows[r], rows[r + 1], [&](int i) { return side[i] == 0; });
                 int* cols[3] = {rows[r], colSplit, rows[r + 1]};
                 for (int k = 0; k < 2; ++k)
-                    (*this)(node.child(r, k), prob * (s.c[2 * r + k] / s.total), cols[k], cols[k + 1]);
+                    (*this)(node.child(r, k), prob * (s.c[2 * r + k] / s.total), cols[k],
+                            cols[k + 1]);
             }
         }
     };

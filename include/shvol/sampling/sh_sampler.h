@@ -34,7 +34,7 @@ struct SphereSample {
 };
 
 class SHSampler {
-public:
+  public:
     enum class Mode { OnTheFly, Tables };
 
     /// coeffs: n² SH coefficients. depth: quadtree levels (default 7 for Tables = 128×128 leaves
@@ -64,7 +64,7 @@ public:
     /// Masses of the four children of a node, computed on the fly (the slow reference).
     void childMassesOnTheFly(const WarpNode& node, double c[4]) const;
 
-private:
+  private:
     void buildTables();
     void childMassesFromTables(const WarpNode& node, double c[4]) const;
 

@@ -19,7 +19,7 @@
 namespace shvol {
 
 class ZonalSHSampler {
-public:
+  public:
     /// p: n zonal coefficients (p(μ) = Σ p_l y_l^0(μ)); depth: 2^depth bins in z (default 16).
     ZonalSHSampler(std::vector<double> p, int depth = 16);
 
@@ -45,7 +45,7 @@ public:
     /// Fraction of the bins whose mass was negative and clamped to 0.
     double clampedFraction() const { return clampedFraction_; }
 
-private:
+  private:
     int bin(double z) const;
     std::vector<double> p_;
     int depth_, bins_;
