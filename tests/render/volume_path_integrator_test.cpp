@@ -89,6 +89,22 @@ TEST(VolumePathIntegrator, WhiteFurnaceWithSHSampledPhase) {
     }
 }
 
+// The furnace under an image environment (a constant image with a rotation) goes through the
+// importance-sampled NEE and its MIS weights: still 1.
+TEST(VolumePathIntegrator, WhiteFurnaceUnderImageEnvironment) {
+    Image img(24, 12);
+    for (int y = 0; y < 12; ++y)
+        for (int x = 0; x < 24; ++x) img.set(x, y, Spectrum::Ones());
+    for (double g : {0.0, 0.9}) {
+        Scene s = furnaceScene(1.5, Spectrum::Ones(), PhaseFunction(HenyeyGreensteinPhase(g)));
+        s.environment = Environment::image(img, 1.0, 30.0, false);
+        ASSERT_TRUE(Effects::of(s).environmentImage);
+        const Estimate e = estimate(s, 20000);
+        expectNear(e.mean, Spectrum::Ones(), 5 * e.stdErr + 1e-9, "furnace image env");
+        EXPECT_GT(e.counters.lightSamples, 0u);
+    }
+}
+
 TEST(VolumePathIntegrator, WhiteFurnaceWithTracking) {
     for (auto est : {TransmittanceEstimator::Ratio, TransmittanceEstimator::Delta}) {
         Scene s = furnaceScene(3.0, Spectrum::Ones(), PhaseFunction(IsotropicPhase()), true);
