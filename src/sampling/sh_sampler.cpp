@@ -109,7 +109,7 @@ void SHSampler::buildTables() {
     // Split probabilities of every internal node, and the leaves' pdf.
     auto split = [](double a, double b) {
         const double p = a + b > 0 ? a / (a + b) : 0.0;
-        return Split{p, {p > 0 ? 1 / p : 0.0, p < 1 ? 1 / (1 - p) : 0.0}};
+        return Split{{0.0, p}, {p > 0 ? 1 / p : 0.0, p < 1 ? 1 / (1 - p) : 0.0}};
     };
     levelOffset_.assign(depth_ + 1, 0);
     for (int d = 0; d < depth_; ++d) levelOffset_[d + 1] = levelOffset_[d] + (size_t(1) << (2 * d));
@@ -140,11 +140,11 @@ WarpSample SHSampler::warpTables(Vec2 u) const {
     double x = u.x(), y = u.y();
     for (int d = 0; d < depth_; ++d) {
         const NodeSplits& ns = splits_[levelOffset_[d] + (size_t(iz) << d) + ip];
-        const int r = x >= ns.row.p;
-        x = std::min((x - r * ns.row.p) * ns.row.inv[r], OneMinus);
+        const int r = x >= ns.row.p();
+        x = std::min((x - ns.row.lo[r]) * ns.row.inv[r], OneMinus);
         const Split& cs = ns.col[r];
-        const int k = y >= cs.p;
-        y = std::min((y - k * cs.p) * cs.inv[k], OneMinus);
+        const int k = y >= cs.p();
+        y = std::min((y - cs.lo[k]) * cs.inv[k], OneMinus);
         iz = 2 * iz + r, ip = 2 * ip + k;
     }
     const int cells = 1 << depth_;
@@ -166,11 +166,11 @@ void SHSampler::warpTablesBlock(const Vec2* u, int count, WarpSample* out) const
         const NodeSplits* level = &splits_[levelOffset_[d]];
         for (int j = 0; j < count; ++j) {
             const NodeSplits& ns = level[(iz[j] << d) + ip[j]];
-            const int r = x[j] >= ns.row.p;
-            x[j] = std::min((x[j] - r * ns.row.p) * ns.row.inv[r], OneMinus);
+            const int r = x[j] >= ns.row.p();
+            x[j] = std::min((x[j] - ns.row.lo[r]) * ns.row.inv[r], OneMinus);
             const Split& cs = ns.col[r];
-            const int k = y[j] >= cs.p;
-            y[j] = std::min((y[j] - k * cs.p) * cs.inv[k], OneMinus);
+            const int k = y[j] >= cs.p();
+            y[j] = std::min((y[j] - cs.lo[k]) * cs.inv[k], OneMinus);
             iz[j] = 2 * iz[j] + r, ip[j] = 2 * ip[j] + k;
         }
     }

@@ -78,10 +78,12 @@ class SHSampler {
 
     /// Tables mode: masses per level, level d has 4^d cells indexed iz·2^d + iφ.
     std::vector<std::vector<double>> pyramid_;
-    /// One binary split: side 0 with probability p; a point on side s is rescaled as
-    /// (x − s·p)·inv[s], inv = {1/p, 1/(1−p)} (indexed, not branched: the side is random).
+    /// One binary split: side 0 with probability p = lo[1]; a point on side s is rescaled as
+    /// (x − lo[s])·inv[s], lo = {0, p}, inv = {1/p, 1/(1−p)}. Indexed, not branched (the side is
+    /// random; compilers turn s·p into a mispredicted branch).
     struct Split {
-        double p, inv[2];
+        double lo[2], inv[2];
+        double p() const { return lo[1]; }
     };
     /// Per internal node (levels 0 … D−1, concatenated): the row split and the two column splits.
     struct NodeSplits {
