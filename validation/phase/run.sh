@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Reproduces validation/phase/results/ (CSV tables + PNG plots) in one command:
+#   validation/phase/run.sh            (BUILD_DIR defaults to build/)
+# 1. configures build/ if needed (clang++, Ninja, Release) and builds validate_phase and shvol with
+#    one job (the machine is shared);
+# 2. runs validate_phase (fit quality, chi², estimator variance, ns/sample; ~3 min, one core);
+# 3. runs render_compare.py (default cloud at 160×106: reference + 27 renders; ~4-5 min, 2 cores);
+# 4. installs python3-matplotlib / python3-numpy with apt-get if they are missing, and plots with
+#    Debian's /usr/bin/python3 (not a pyenv python that may be first on PATH).
+# Environment: BUILD_DIR, SKIP_RENDER=1 (keep the existing render_compare.csv), REF_SPP, SPPS, RES
+# (passed to render_compare.py).
+set -euo pipefail
+ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
+BUILD_DIR="${BUILD_DIR:-build}"
+OUT="validation/phase/results"
+PY=/usr/bin/python3
+cd "$ROOT"
+t0=$(date +%s)
+
+if [ ! -f "$BUILD_DIR/build.ninja" ]; then
+    cmake -G Ninja -B "$BUILD_DIR" -S . -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Release \
+        >/dev/null
+elif ! ninja -C "$BUILD_DIR" -t targets all 2>/dev/null | grep -q '^validate_phase:'; then
+    # validation/<topic>/ directories are globbed at configure time: re-run CMake once.
+    cmake -B "$BUILD_DIR" -S . >/dev/null
+fi
+ninja -C "$BUILD_DIR" -j1 validate_phase shvol
+
+mkdir -p "$OUT"
+"$BUILD_DIR/validate_phase" "$OUT" | tee "$OUT/validate_phase.log"
+
+if [ "${SKIP_RENDER:-0}" != 1 ]; then
+    "$PY" validation/phase/render_compare.py "$BUILD_DIR" "$OUT" | tee "$OUT/render_compare.log"
+fi
+
+if ! "$PY" -c 'import matplotlib, numpy' 2>/dev/null; then
+    SUDO=""
+    [ "$(id -u)" -ne 0 ] && SUDO=sudo
+    $SUDO apt-get update
+    $SUDO apt-get install -y --no-install-recommends python3-matplotlib python3-numpy
+fi
+"$PY" validation/phase/plot.py "$OUT"
+echo "run.sh: $(( $(date +%s) - t0 )) s"
