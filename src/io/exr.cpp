@@ -28,11 +28,15 @@ Image readExr(const std::string& path) {
         const size_t xs = 3 * sizeof(float), ys = xs * img.width;
         // Base pointer so that (dw.min.x, dw.min.y) lands on element 0.
         char* base = reinterpret_cast<char*>(img.rgb.data()) - dw.min.x * xs - dw.min.y * ys;
-        for (int c = 0; c < 3; ++c)
+        // A luminance-only file is read into the R slot and copied to G and B below (a frame
+        // buffer holds one slice per channel name).
+        for (int c = 0; c < (rgb ? 3 : 1); ++c)
             fb.insert(rgb ? std::string(1, "RGB"[c]) : std::string("Y"),
                       Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xs, ys));
         file.setFrameBuffer(fb);
         file.readPixels(dw.min.y, dw.max.y);
+        if (!rgb)
+            for (size_t i = 0; i < img.rgb.size(); i += 3) img.rgb[i + 1] = img.rgb[i + 2] = img.rgb[i];
     } catch (const Error&) {
         throw;
     } catch (const std::exception& e) {

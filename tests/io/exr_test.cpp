@@ -4,6 +4,11 @@
 
 #include "test_util.h"
 
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfOutputFile.h>
+
 #include <filesystem>
 #include <fstream>
 
@@ -27,6 +32,23 @@ TEST(Exr, RoundTripIsExactInFloat32) {
     ASSERT_EQ(back.width, 7);
     ASSERT_EQ(back.height, 5);
     EXPECT_EQ(back.rgb, img.rgb);
+}
+
+// A luminance-only (Y) file is grey: Y goes to all three channels.
+TEST(Exr, LuminanceOnlyFileIsGrey) {
+    const std::string path = tmp("y.exr");
+    {
+        Imf::Header header(2, 1);
+        header.channels().insert("Y", Imf::Channel(Imf::FLOAT));
+        Imf::OutputFile file(path.c_str(), header);
+        float y[2] = {0.5f, 2.0f};
+        Imf::FrameBuffer fb;
+        fb.insert("Y", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(y), sizeof(float), 0));
+        file.setFrameBuffer(fb);
+        file.writePixels(1);
+    }
+    const Image img = readExr(path);
+    EXPECT_EQ(img.rgb, std::vector<float>({0.5f, 0.5f, 0.5f, 2.f, 2.f, 2.f}));
 }
 
 TEST(Exr, BadFilesGiveOneClearLine) {
