@@ -34,25 +34,30 @@ struct Node {
     double mu, weight;  ///< ∫ g(μ) dμ ≈ Σ weight · g(mu)
 };
 
-/// Gauss–Legendre panels in θ, graded geometrically (ratio 1.25) from 1e−7 to π/2 on both halves.
-const std::vector<Node>& thetaNodes() {
-    static const std::vector<Node> nodes = [] {
-        std::vector<double> edges{0.0};
-        for (double t = 1e-7; t < 0.5 * Pi / 1.25; t *= 1.25) edges.push_back(t);
-        const size_t half = edges.size();
-        edges.push_back(0.5 * Pi);
-        for (size_t i = half; i-- > 1;) edges.push_back(Pi - edges[i]);
-        edges.push_back(Pi);
-        std::vector<Node> out;
-        std::vector<double> x, w;
-        for (size_t i = 0; i + 1 < edges.size(); ++i) {
-            sh::gaussLegendre(16, edges[i], edges[i + 1], x, w);
-            for (size_t k = 0; k < x.size(); ++k)
-                out.push_back({std::cos(x[k]), w[k] * std::sin(x[k])});
+/// Gauss–Legendre panels in θ, graded geometrically (ratio 1.25) from 1e−7 to π/2 on both halves,
+/// and no wider than 8/(order+1) rad: the integrand y_l^0(cos θ) p(cos θ) sin θ oscillates about
+/// l/(2π) times per radian, and 16 points per panel resolve ~1.3 oscillations exactly enough
+/// (wider panels aliased: ⟨y_l, y_l⟩ came out 0.905 at l = 96 before this cap).
+std::vector<Node> thetaNodes(int order) {
+    std::vector<double> edges{0.0};
+    for (double t = 1e-7; t < 0.5 * Pi / 1.25; t *= 1.25) edges.push_back(t);
+    const size_t half = edges.size();
+    edges.push_back(0.5 * Pi);
+    for (size_t i = half; i-- > 1;) edges.push_back(Pi - edges[i]);
+    edges.push_back(Pi);
+    const double maxWidth = 8.0 / (order + 1);
+    std::vector<Node> out;
+    std::vector<double> x, w;
+    for (size_t i = 0; i + 1 < edges.size(); ++i) {
+        const int pieces = std::max(1, int(std::ceil((edges[i + 1] - edges[i]) / maxWidth)));
+        for (int k = 0; k < pieces; ++k) {
+            const double a = edges[i] + (edges[i + 1] - edges[i]) * k / pieces;
+            const double b = edges[i] + (edges[i + 1] - edges[i]) * (k + 1) / pieces;
+            sh::gaussLegendre(16, a, b, x, w);
+            for (size_t j = 0; j < x.size(); ++j) out.push_back({std::cos(x[j]), w[j] * std::sin(x[j])});
         }
-        return out;
-    }();
-    return nodes;
+    }
+    return out;
 }
 
 double windowWeight(SHWindow w, int l, int n) {
@@ -71,7 +76,7 @@ double windowWeight(SHWindow w, int l, int n) {
 
 ZonalFit fitZonal(const std::function<double(double mu)>& p, int order, SHWindow window) {
     if (order < 1 || order > 1024) throw Error("SH order must be in [1, 1024]");
-    const std::vector<Node>& nodes = thetaNodes();
+    const std::vector<Node> nodes = thetaNodes(order);
     std::vector<double> value(nodes.size()), y(order);
     ZonalFit fit;
     fit.window = window;

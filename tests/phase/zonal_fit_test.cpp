@@ -25,6 +25,17 @@ TEST(ZonalFit, HenyeyGreensteinCoefficients) {
     }
 }
 
+// High orders (scenes accept 256): the quadrature must not alias. Isotropic has p_l = 0 for l > 0,
+// HG(0.5) has p_l = 0.5^l √((2l+1)/4π).
+TEST(ZonalFit, HighOrdersDoNotAlias) {
+    const ZonalFit iso = fitZonal([](double) { return Inv4Pi; }, 256);
+    EXPECT_NEAR(iso.p[0], 1 / std::sqrt(FourPi), 1e-13);
+    for (int l = 1; l < 256; ++l) ASSERT_NEAR(iso.p[l], 0, 1e-12) << l;
+    const ZonalFit hg = fitZonal([](double mu) { return henyeyGreenstein(mu, 0.5); }, 256);
+    for (int l = 0; l < 256; ++l)
+        ASSERT_NEAR(hg.p[l], std::pow(0.5, l) * std::sqrt((2 * l + 1) / FourPi), 1e-12) << l;
+}
+
 // Rayleigh is a degree-2 polynomial in μ: order 3 represents it exactly.
 TEST(ZonalFit, RayleighIsExactAtOrder3) {
     const ZonalFit f = fitZonal([](double mu) { return rayleigh(mu); }, 3);
