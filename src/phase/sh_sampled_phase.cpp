@@ -17,14 +17,13 @@ SHSampledPhase::SHSampledPhase(const PhaseFunction& base, int order, SHWindow wi
         [&](double mu) { return base_->eval(z, sphericalDirection(mu, 0)); }, order, window));
     sampler_ = std::make_shared<const ZonalSHSampler>(fit_->p, depth);
     if (!(sampler_->positiveMass() > 0)) throw Error("the SH fit has no positive mass");
-    norm_ = sampler_->positiveMass();
     if (evaluate_ == Evaluate::Exact && sampler_->clampedFraction() > 0)
         alpha_ = kDefensiveFraction;
 }
 
 double SHSampledPhase::evalCos(double mu) const {
     if (evaluate_ == Evaluate::Exact) return base_->eval(Vec3(0, 0, 1), sphericalDirection(mu, 0));
-    return std::max(0.0, sampler_->eval(mu)) / norm_;
+    return sampler_->pdf(mu);
 }
 
 double SHSampledPhase::eval(const Vec3& wo, const Vec3& wi) const {

@@ -9,9 +9,13 @@
 ///    order 4 loses 0.8% of its mass that way), so when any bin is clamped the sampler is mixed
 ///    with a uniform one, pdf = (1 − α) pdf_SH + α/(4π), α = kDefensiveFraction (defensive
 ///    importance sampling, Hesterberg 1995).
-///  - Evaluate::Reconstruction: the fit itself is the phase function,
-///      p_SH(μ) = max(0, p̃(μ)) / C,   C = ∫ max(0, p̃) dω (as the sampler's clamped bins see it),
-///    non-negative and normalised; sampling is then nearly proportional to it (f/pdf ≈ 1).
+///  - Evaluate::Reconstruction: the fit itself is the phase function, in the form the sampler
+///    draws it: the reconstruction averaged over each of the 2^depth z-bins, clamped at 0 and
+///    normalised, p_SH(μ) = max(0, ∫_bin p̃ dz) / (Δz · C), C = Σ_bins max(0, ∫_bin p̃) · 2π.
+///    It is exactly normalised, sampled exactly (f/pdf = 1) and has no region that is evaluated
+///    but never sampled. (The pointwise max(0, p̃)/C differs from it in bins that straddle a zero
+///    of p̃; at depth 4 that made ∫p = 1.049 for HG 0.99 at order 8, and left unsampled mass.)
+///    At the default depth 16 the two agree to ~1e−6.
 #include <memory>
 #include <string>
 
@@ -52,7 +56,7 @@ class SHSampledPhase {
     std::shared_ptr<const ZonalFit> fit_;
     std::shared_ptr<const ZonalSHSampler> sampler_;
     Evaluate evaluate_;
-    double norm_ = 1, alpha_ = 0;
+    double alpha_ = 0;
 };
 
 }  // namespace shvol
