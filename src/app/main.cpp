@@ -17,8 +17,17 @@ int main(int argc, char** argv) {
     shvol::app::addDiffCommand(app, run);
     try {
         app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
+    } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        // Like every other error: one line and exit code 1 (CLI11 would print two lines and use
+        // its own codes).
+        std::fprintf(stderr, "shvol: error: %s (see --help)\n", e.what());
+        return 1;
     }
     try {
         return run();

@@ -69,29 +69,35 @@ int runFit(const PhaseArgs& a) {
 }
 
 int runSample(const PhaseArgs& a) {
+    if (a.sampler == "general" && a.order > 128)
+        fail("", "--order", "the general sampler supports orders up to 128");
     const ZonalFit f = fitOf(a);
-    std::ostringstream csv;
-    csv << std::setprecision(17) << "x,y,z,pdf\n";
-    Rng rng(a.seed, 0);
-    if (a.sampler == "zonal") {
-        const ZonalSHSampler s(f.p, a.depth);
-        if (!(s.positiveMass() > 0)) throw Error("the SH fit has no positive mass");
-        for (long long i = 0; i < a.count; ++i) {
-            const auto x = s.sampleLocal(rng.uniform2());
-            const Vec3 w = sphericalDirection(x.cosTheta, x.phi);
-            csv << w.x() << ',' << w.y() << ',' << w.z() << ',' << x.pdf << '\n';
+    writeAtomically(a.out, [&](const std::string& tmp) {
+        std::ofstream csv(tmp);
+        csv << std::setprecision(17) << "x,y,z,pdf\n";
+        Rng rng(a.seed, 0);
+        auto row = [&](const Vec3& w, double pdf) {
+            csv << w.x() << ',' << w.y() << ',' << w.z() << ',' << pdf << '\n';
+        };
+        if (a.sampler == "zonal") {
+            const ZonalSHSampler s(f.p, a.depth);
+            if (!(s.positiveMass() > 0)) fail(a.spec, "", "the SH fit has no positive mass");
+            for (long long i = 0; i < a.count; ++i) {
+                const auto x = s.sampleLocal(rng.uniform2());
+                row(sphericalDirection(x.cosTheta, x.phi), x.pdf);
+            }
+        } else {
+            std::vector<double> c(size_t(a.order) * a.order, 0.0);
+            for (int l = 0; l < a.order; ++l) c[size_t(l) * (l + 1)] = f.p[l];
+            const SHSampler s(a.order, c.data(), SHSampler::Mode::Tables, std::min(a.depth, 10));
+            for (long long i = 0; i < a.count; ++i) {
+                const WarpSample x = s.warp(rng.uniform2());
+                row(x.direction(), x.pdf);
+            }
         }
-    } else {
-        std::vector<double> c(size_t(a.order) * a.order, 0.0);
-        for (int l = 0; l < a.order; ++l) c[size_t(l) * (l + 1)] = f.p[l];
-        const SHSampler s(a.order, c.data(), SHSampler::Mode::Tables, std::min(a.depth, 10));
-        for (long long i = 0; i < a.count; ++i) {
-            const WarpSample x = s.warp(rng.uniform2());
-            const Vec3 w = x.direction();
-            csv << w.x() << ',' << w.y() << ',' << w.z() << ',' << x.pdf << '\n';
-        }
-    }
-    writeTextAtomically(a.out, csv.str());
+        csv.close();
+        if (!csv) fail(a.out, "", "cannot write file");
+    });
     std::fprintf(stderr, "wrote %lld samples to %s\n", a.count, a.out.c_str());
     return 0;
 }

@@ -1,10 +1,12 @@
 #include <sys/resource.h>
 
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
 #include "shvol/core/atomic_file.h"
+#include "shvol/core/error.h"
 #include "shvol/core/progress.h"
 #include "shvol/io/exr.h"
 #include "shvol/io/scene_loader.h"
@@ -67,12 +69,27 @@ int runRender(const RenderArgs& a) {
     if (std::filesystem::path(out).extension() == ".exr") statsPath.resize(out.size() - 4);
     statsPath += ".stats.json";
 
+    // Fail before rendering, not after, if the outputs cannot be written.
+    for (const std::string& f : {out, statsPath}) {
+        const std::filesystem::path dir = std::filesystem::path(f).parent_path();
+        if (!dir.empty() && !std::filesystem::is_directory(dir))
+            fail(f, "", "cannot write: directory " + dir.string() + " does not exist");
+        if (std::filesystem::is_directory(f)) fail(f, "", "cannot write: is a directory");
+    }
+
     RenderOptions opt;
     opt.threads = a.threads;
     opt.progress = !a.quiet && Progress::stderrIsTerminal();
     const RenderResult r = render(scene, opt);
-    writeExr(out, r.image);
-    writeTextAtomically(statsPath, statsJson(scene, r.stats, out).dump(2) + "\n");
+    // The statistics appear only once the image is in place: the EXR is written (atomically)
+    // while the stats file is still a temporary.
+    writeAtomically(statsPath, [&](const std::string& tmp) {
+        std::ofstream f(tmp);
+        f << statsJson(scene, r.stats, out).dump(2) << "\n";
+        f.close();
+        if (!f) fail(statsPath, "", "cannot write file");
+        writeExr(out, r.image);
+    });
     if (r.stats.counters.nonFiniteSamples > 0)
         std::fprintf(stderr, "shvol: warning: %llu samples were NaN or infinite and were dropped\n",
                      (unsigned long long)r.stats.counters.nonFiniteSamples);

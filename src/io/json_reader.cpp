@@ -26,6 +26,10 @@ Json parseJsonFile(const std::string& path) {
     const std::string text = ss.str();
     try {
         return Json::parse(text);
+    } catch (const Json::out_of_range& e) {  // e.g. a number such as 1e999
+        std::string msg = e.what();
+        msg = msg.substr(msg.find("] ") == std::string::npos ? 0 : msg.find("] ") + 2);
+        fail(path, "", "malformed JSON: " + msg);
     } catch (const Json::parse_error& e) {
         // Translate the byte offset into line:column.
         size_t line = 1, col = 1;
@@ -54,7 +58,7 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
     Json value;
     try {
         value = Json::parse(text);
-    } catch (const Json::parse_error&) {
+    } catch (const Json::exception&) {  // not JSON (or a number out of range): a string
         value = text;
     }
     Json* node = &doc;
@@ -64,7 +68,7 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
         if (part.empty()) fail(file, "--set " + assignment, "empty component in key path");
         const bool isIndex = part.find_first_not_of("0123456789") == std::string::npos;
         if (node->is_array() && isIndex) {
-            const size_t i = std::stoul(part);
+            const size_t i = part.size() > 9 ? node->size() : std::stoul(part);
             if (i >= node->size())
                 fail(file, walked,
                      "--set: index " + part + " out of range (" + std::to_string(node->size()) +
@@ -131,6 +135,9 @@ int JsonReader::integer(const std::string& key, int def, int lo, int hi) {
     const Json& v = j_.at(key);
     if (!v.is_number_integer())
         error(key, "expected an integer, got " + typeName(v) + " " + brief(v));
+    if (v.is_number_unsigned() && v.get<unsigned long long>() > (unsigned long long)hi)
+        error(key, "value " + std::to_string(v.get<unsigned long long>()) + " out of range [" +
+                       std::to_string(lo) + ", " + std::to_string(hi) + "]");
     const long long x = v.get<long long>();
     if (x < lo || x > hi)
         error(key, "value " + std::to_string(x) + " out of range [" + std::to_string(lo) + ", " +

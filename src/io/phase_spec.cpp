@@ -103,7 +103,7 @@ Json phaseSpecToJson(const std::string& spec) {
     if (spec[b] == '{') {
         try {
             return Json::parse(spec);
-        } catch (const Json::parse_error& e) {
+        } catch (const Json::exception& e) {
             std::string msg = e.what();
             const auto colon = msg.find(": ", msg.find("column "));
             if (colon != std::string::npos) msg = msg.substr(colon + 2);
@@ -128,7 +128,7 @@ Json phaseSpecToJson(const std::string& spec) {
         try {
             const Json parsed = Json::parse(text);
             if (parsed.is_number()) value = parsed;
-        } catch (const Json::parse_error&) {
+        } catch (const Json::exception&) {  // not a number: keep the string
         }
         j[key] = value;
     }

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <cmath>
 #include <sstream>
 
 #include "shvol/io/exr.h"
@@ -85,8 +86,61 @@ TEST_F(Cli, HelpAndVersion) {
         EXPECT_EQ(r.code, 0) << sub;
         EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
     }
-    r = run("render");  // missing scene argument
-    EXPECT_NE(r.code, 0);
+}
+
+// Command-line mistakes follow the same contract as every other error: one line, exit code 1.
+TEST_F(Cli, UsageErrorsAreOneLine) {
+    write("s.json", scene(Homogeneous));
+    for (const std::string& args : std::vector<std::string>{"render", "render " + path("s.json") + " --spp 0",
+                                   "render " + path("s.json") + " --bogus", "frobnicate",
+                                   "phase fit hg:g=0.5"}) {
+        const Result r = run(args);
+        EXPECT_EQ(r.code, 1) << args;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
+        EXPECT_EQ(r.err.rfind("shvol: error: ", 0), 0u) << r.err;
+    }
+}
+
+// Numbers beyond double range are malformed input, not internal errors.
+TEST_F(Cli, NumberOverflowIsAnInputError) {
+    write("big.json", "{\"camera\": {\"fov\": 1e999}}");
+    expectOneLineError("big.json", path("big.json") + ": malformed JSON");
+    write("s.json", scene(Homogeneous));
+    const Result r = run("render " + path("s.json") + " -o " + path("out.exr") +
+                         " --set camera.fov=1e999 --quiet");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("camera.fov: expected a number, got string"), std::string::npos) << r.err;
+    const Result p = run("phase fit hg:g=1e999 --order 4");
+    EXPECT_EQ(p.code, 1);
+    EXPECT_NE(p.err.find("phase spec \"hg:g=1e999\": g: expected a number"), std::string::npos)
+        << p.err;
+}
+
+TEST_F(Cli, PhaseFitAndSample) {
+    Result r = run("phase fit hg:g=0.6 --order 5 --window none --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto fit = nlohmann::json::parse(r.out);
+    for (int l = 0; l < 5; ++l)
+        EXPECT_NEAR(fit["coefficients"][l].get<double>(), std::pow(0.6, l) * std::sqrt((2 * l + 1) / (4 * M_PI)),
+                    1e-12);
+    r = run("phase sample hg:g=0.6 --order 8 --count 100 --out " + path("s.csv"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    std::ifstream f(path("s.csv"));
+    std::string line;
+    int rows = 0;
+    std::getline(f, line);
+    EXPECT_EQ(line, "x,y,z,pdf");
+    while (std::getline(f, line)) {
+        double x, y, z, pdf;
+        ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf", &x, &y, &z, &pdf), 4) << line;
+        EXPECT_NEAR(x * x + y * y + z * z, 1.0, 1e-12);
+        EXPECT_GT(pdf, 0);
+        ++rows;
+    }
+    EXPECT_EQ(rows, 100);
+    r = run("phase sample hg:g=0.6 --order 200 --sampler general --count 10 --out " + path("g.csv"));
+    EXPECT_EQ(r.code, 1);
+    EXPECT_FALSE(fs::exists(path("g.csv")));
 }
 
 TEST_F(Cli, RenderWritesExrAndStats) {
@@ -204,7 +258,8 @@ TEST_F(Cli, BadOverridesAndOutputs) {
     EXPECT_FALSE(fs::exists(path("out.exr")));
     r = run("render " + path("s.json") + " -o " + path("no/such/dir/out.exr") + " --quiet");
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find("no/such/dir/out.exr"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("no/such/dir/out.exr: cannot write: directory"), std::string::npos) << r.err;
+    EXPECT_TRUE(r.out.empty());
 }
 
 TEST_F(Cli, MakeMediumAndSkyRoundTrip) {
