@@ -68,12 +68,18 @@ double cellMass(int n, const double* A, const double* B, const double* C, const 
 
 }  // namespace
 
+namespace {
+int checkedOrder(int n) {  // before n² coefficients are copied
+    if (n < 1 || n > 128) throw Error("SHSampler: order must be in [1, 128]");
+    return n;
+}
+}  // namespace
+
 SHSampler::SHSampler(int n, const double* coeffs, Mode mode, int depth)
-    : n_(n),
+    : n_(checkedOrder(n)),
       depth_(depth > 0 ? depth : (mode == Mode::Tables ? 7 : 16)),
       mode_(mode),
-      coeffs_(coeffs, coeffs + size_t(n) * n) {
-    if (n < 1 || n > 128) throw Error("SHSampler: order must be in [1, 128]");
+      coeffs_(coeffs, coeffs + size_t(n_) * n_) {
     if (mode == Mode::Tables && depth_ > 12) throw Error("SHSampler: table depth must be ≤ 12");
     if (depth_ > 40) throw Error("SHSampler: depth must be ≤ 40");
     if (mode == Mode::Tables) buildTables();

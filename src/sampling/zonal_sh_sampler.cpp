@@ -8,10 +8,17 @@
 
 namespace shvol {
 
-ZonalSHSampler::ZonalSHSampler(std::vector<double> p, int depth)
-    : p_(std::move(p)), depth_(depth), bins_(1 << depth), binWidth_(2.0 / bins_) {
-    if (p_.empty() || p_.size() > 1024) throw Error("ZonalSHSampler: order must be in [1, 1024]");
+namespace {
+int checkedDepth(size_t order, int depth) {
+    if (order < 1 || order > 1024) throw Error("ZonalSHSampler: order must be in [1, 1024]");
     if (depth < 1 || depth > 24) throw Error("ZonalSHSampler: depth must be in [1, 24]");
+    return depth;
+}
+}  // namespace
+
+ZonalSHSampler::ZonalSHSampler(std::vector<double> p, int depth)
+    : p_(std::move(p)), depth_(checkedDepth(p_.size(), depth)), bins_(1 << depth_),
+      binWidth_(2.0 / bins_) {
     const int n = int(p_.size());
     std::vector<double> Z(n), mass(bins_);
     int clamped = 0;
@@ -48,7 +55,8 @@ ZonalSHSampler::LocalSample ZonalSHSampler::sampleLocal(const Vec2& u) const {
     while (i < bins_ - 1 && cdf_[i + 1] <= x) ++i;
     // Position inside the bin: the rescaled remainder of u, as the hierarchical warp leaves it.
     const double width = cdf_[i + 1] - cdf_[i];
-    const double t = width > 0 ? std::clamp((x - cdf_[i]) / width, 0.0, 1.0) : 0.5;
+    // t < 1 so that z stays inside bin i, whose density is returned.
+    const double t = width > 0 ? std::clamp((x - cdf_[i]) / width, 0.0, 1.0 - 0x1.0p-53) : 0.5;
     const double z = std::clamp(-1 + (i + t) * binWidth_, -1.0, 1.0);
     return {z, TwoPi * u.y(), density_[i]};
 }

@@ -74,7 +74,7 @@ void MajorantGrid::traverse(const Vec3& o, const Vec3& d, double tMin, double tM
         const double tEnd = std::min(tNext[a], t1);
         if (tEnd > t && !visit(t, tEnd, max_[index(cell[0], cell[1], cell[2])])) return;
         if (tEnd >= t1) return;
-        t = tEnd;
+        t = std::max(t, tEnd);  // an entry cell misassigned by rounding must not step back
         cell[a] += step[a];
         if (cell[a] == end[a]) return;
         tNext[a] += dt[a];
