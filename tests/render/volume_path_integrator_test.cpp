@@ -82,11 +82,13 @@ TEST(VolumePathIntegrator, WhiteFurnaceHomogeneous) {
 // negative, so the Exact use also exercises the defensive mixture).
 TEST(VolumePathIntegrator, WhiteFurnaceWithSHSampledPhase) {
     const PhaseFunction hg = HenyeyGreensteinPhase(0.95);
-    for (auto use : {SHSampledPhase::Evaluate::Exact, SHSampledPhase::Evaluate::Reconstruction}) {
-        Scene s = furnaceScene(2.0, Spectrum::Ones(), SHSampledPhase(hg, 6, SHWindow::None, use));
-        const Estimate e = estimate(s, 20000);
-        expectNear(e.mean, Spectrum::Ones(), 5 * e.stdErr + 1e-9, "furnace sh phase");
-    }
+    for (auto use : {SHSampledPhase::Evaluate::Exact, SHSampledPhase::Evaluate::Reconstruction})
+        for (int depth : {4, 16}) {  // depth 4: coarse bins straddling the fit's zeros
+            Scene s = furnaceScene(2.0, Spectrum::Ones(),
+                                   SHSampledPhase(hg, 6, SHWindow::None, use, depth));
+            const Estimate e = estimate(s, 20000);
+            expectNear(e.mean, Spectrum::Ones(), 5 * e.stdErr + 1e-9, "furnace sh phase");
+        }
 }
 
 // The furnace under an image environment (a constant image with a rotation) goes through the
@@ -102,6 +104,30 @@ TEST(VolumePathIntegrator, WhiteFurnaceUnderImageEnvironment) {
         const Estimate e = estimate(s, 20000);
         expectNear(e.mean, Spectrum::Ones(), 5 * e.stdErr + 1e-9, "furnace image env");
         EXPECT_GT(e.counters.lightSamples, 0u);
+    }
+}
+
+// NEE with MIS and pure phase sampling are two estimators of the same integral: at a finite max
+// depth (1 and 2), albedo < 1 and a non-uniform image environment they must agree. An off-by-one
+// in the depth handling of either branch would separate them.
+TEST(VolumePathIntegrator, NextEventAndPhaseSamplingAgreeAtFiniteDepth) {
+    Image img(32, 16);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 32; ++x)
+            img.set(x, y, Spectrum(0.2 + (y < 6 ? 1.5 : 0.1), 0.5, x == 5 && y == 3 ? 80.0 : 0.3));
+    for (int depth : {1, 2}) {
+        Scene a = furnaceScene(1.5, Spectrum::Constant(0.7), PhaseFunction(HenyeyGreensteinPhase(0.8)));
+        a.environment = Environment::image(img, 1.0, 10.0, false);
+        a.settings.maxDepth = depth;
+        Scene b = furnaceScene(1.5, Spectrum::Constant(0.7), PhaseFunction(HenyeyGreensteinPhase(0.8)));
+        b.environment = Environment::image(img, 1.0, 10.0, false);
+        b.settings.maxDepth = depth;
+        b.settings.nee = false;
+        const Estimate ea = estimate(a, 60000, 5), eb = estimate(b, 60000, 6);
+        const Spectrum se = (ea.stdErr.square() + eb.stdErr.square()).sqrt();
+        SCOPED_TRACE("max depth " + std::to_string(depth));
+        expectNear(ea.mean, eb.mean, 5 * se, "nee vs phase sampling");
+        EXPECT_EQ(eb.counters.lightSamples, 0u);
     }
 }
 
