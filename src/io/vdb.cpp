@@ -79,6 +79,10 @@ class VdbMedium final : public Medium {
                openvdb::tools::BoxSampler::sample(acc, openvdb::Vec3R(q.x(), q.y(), q.z()));
     }
 
+    double sigmaMajorant(const Vec3& p) const override {
+        return scale_ * (1 + 1e-6) * majorants_.at(worldToIndex_ * p);
+    }
+
     std::string describe() const override { return desc_; }
 
   private:

@@ -108,6 +108,36 @@ TEST(Vdb, MajorantGridSavesLookups) {
     EXPECT_LT(lookups[1] * 3, lookups[0]);
 }
 
+// The majorant bounds the trilinearly interpolated σ_t everywhere, including within a voxel of
+// the edge of the data (the reach of trilinear interpolation) and across a scene transform.
+TEST(Vdb, MajorantBoundsDensityEverywhere) {
+    VdbGridSpec s;
+    s.resolution = 40;
+    CloudParams params;
+    params.seed = 7;
+    s.density = [params](const Vec3& x) { return float(cloudDensity(x, params)); };
+    writeVdb(tmp("bound.vdb"), {s});
+    for (bool grid : {true, false}) {
+        VdbMediumDesc d;
+        d.file = tmp("bound.vdb");
+        d.densityScale = 30;
+        d.majorantGrid = grid;
+        d.toWorld = Eigen::Translation3d(0.3, -0.2, 1) * Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()) *
+                    Eigen::Scaling(1.7);
+        auto m = loadVdbMedium(d);
+        Rng rng(11, 2);
+        int inside = 0;
+        for (int i = 0; i < 200000; ++i) {
+            const Vec3 q(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
+            const Vec3 p = d.toWorld * (1.1 * q);
+            const double sigma = m->sigmaT(p);
+            inside += sigma > 0;
+            ASSERT_LE(sigma, m->sigmaMajorant(p)) << "grid " << grid << " at " << p.transpose();
+        }
+        EXPECT_GT(inside, 10000);
+    }
+}
+
 TEST(Vdb, BadInputGivesOneClearLine) {
     VdbMediumDesc d;
     d.file = tmp("missing.vdb");

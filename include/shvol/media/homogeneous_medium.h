@@ -27,6 +27,9 @@ class HomogeneousMedium final : public Medium {
     double transmittance(const Ray& ray, double tMax, TransmittanceEstimator est, Rng& rng,
                          TrackingCounters& c) const override;
     double sigmaT(const Vec3& p) const override { return shape_.contains(p) ? sigmaT_ : 0; }
+    double sigmaMajorant(const Vec3& p) const override {
+        return shape_.contains(p) ? (tracking_ ? 2 : 1) * sigmaT_ : 0;
+    }
     std::string describe() const override;
 
   private:

@@ -25,6 +25,8 @@ class MajorantGrid {
     const Vec3& lower() const { return lo_; }
     const Vec3& upper() const { return hi_; }
     double maxValue() const;
+    /// The value of the cell containing p (0 outside the grid).
+    double at(const Vec3& p) const;
 
     /// Visits, in order, the segments [t0, t1) of the ray o + t·d (d need not be unit length)
     /// inside the grid and [tMin, tMax], as visit(t0, t1, cellMax) → bool; false stops the walk.

@@ -35,6 +35,8 @@ class Medium {
                                  TrackingCounters& c) const = 0;
     /// σ_t at a world-space point (for tests and tools; not used in hot loops).
     virtual double sigmaT(const Vec3& p) const = 0;
+    /// The majorant tracking uses at p (≥ sigmaT(p) everywhere; for tests and diagnostics).
+    virtual double sigmaMajorant(const Vec3& p) const = 0;
     /// Short description for statistics ("homogeneous box", "vdb cloud.vdb:density").
     virtual std::string describe() const = 0;
 
