@@ -13,18 +13,6 @@ namespace {
 using namespace shvol;
 using namespace shvol::sh;
 
-Eigen::Matrix3d randomRotation(Rng& rng) {
-    // uniform unit quaternion from four normals (Box–Muller)
-    double q[4];
-    for (int i = 0; i < 4; i += 2) {
-        const double u1 = std::max(rng.uniform(), 1e-300), u2 = rng.uniform();
-        const double r = std::sqrt(-2 * std::log(u1));
-        q[i] = r * std::cos(TwoPi * u2);
-        q[i + 1] = r * std::sin(TwoPi * u2);
-    }
-    return Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
-}
-
 TEST(ShRotation, IdentityAndOrthogonality) {
     const int n = 20;
     ShRotation I(n, Eigen::Matrix3d::Identity());
@@ -34,7 +22,7 @@ TEST(ShRotation, IdentityAndOrthogonality) {
             1e-15);
     Rng rng(5, 1);
     for (int t = 0; t < 10; ++t) {
-        ShRotation R(n, randomRotation(rng));
+        ShRotation R(n, uniformRandomRotation(rng));
         for (int l = 0; l < n; ++l) {
             const Eigen::MatrixXd E = R.bands[l] * R.bands[l].transpose() -
                                       Eigen::MatrixXd::Identity(2 * l + 1, 2 * l + 1);
@@ -47,7 +35,7 @@ TEST(ShRotation, Composition) {
     const int n = 16;
     Rng rng(6, 1);
     for (int t = 0; t < 10; ++t) {
-        const Eigen::Matrix3d A = randomRotation(rng), B = randomRotation(rng);
+        const Eigen::Matrix3d A = uniformRandomRotation(rng), B = uniformRandomRotation(rng);
         ShRotation RA(n, A), RB(n, B), RAB(n, A * B);
         for (int l = 0; l < n; ++l)
             EXPECT_LT((RA.bands[l] * RB.bands[l] - RAB.bands[l]).cwiseAbs().maxCoeff(), 1e-13);
@@ -62,7 +50,7 @@ TEST(ShRotation, AgreesWithReprojection) {
     for (int t = 0; t < 5; ++t) {
         Eigen::VectorXd c(n * n);
         for (int i = 0; i < n * n; ++i) c[i] = 2 * rng.uniform() - 1;
-        const Eigen::Matrix3d R = randomRotation(rng);
+        const Eigen::Matrix3d R = uniformRandomRotation(rng);
         const Eigen::Matrix3d Rinv = R.transpose();
         const Eigen::VectorXd ref = projectSH(
             n, [&](const Vec3& w) { return shReconstruct(n, c.data(), Rinv * w); }, q);
@@ -105,7 +93,7 @@ TEST(ShRotation, EulerEigenAgreesWithIvanicRuedenberg) {
         Eigen::Matrix3d::Identity(),       rotationZYZ(0.7, 0.0, 0.2),
         rotationZYZ(0.7, 1e-9, 0.2),       rotationZYZ(0.1, Pi, 0.0),
         rotationZYZ(-2.0, Pi - 1e-7, 1.3), rotationZYZ(0.0, 0.5 * Pi, 0.0)};
-    for (int t = 0; t < 10; ++t) rs.push_back(randomRotation(rng));
+    for (int t = 0; t < 10; ++t) rs.push_back(uniformRandomRotation(rng));
     for (const Eigen::Matrix3d& R : rs) {
         const ShRotation a(n, R, RotationMethod::IvanicRuedenberg);
         const ShRotation b(n, R, RotationMethod::EulerEigen);
@@ -119,7 +107,7 @@ TEST(ShRotation, EulerEigenAgreesWithIvanicRuedenberg) {
 TEST(ShRotation, HighOrderStaysAccurate) {
     const int n = 121;
     Rng rng(22, 1);
-    const Eigen::Matrix3d A = randomRotation(rng), B = randomRotation(rng);
+    const Eigen::Matrix3d A = uniformRandomRotation(rng), B = uniformRandomRotation(rng);
     const ShRotation RA(n, A), RB(n, B), RAB(n, A * B);
     for (int l : {40, 60, 90, 120}) {
         const int k = 2 * l + 1;

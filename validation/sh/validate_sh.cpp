@@ -1,5 +1,6 @@
 // validate_sh: the experiments behind validation/sh/README.md. Writes CSV and markdown tables to
 // validation/sh/results/ (or to argv[1]). Run through validation/sh/run.sh.
+#include "../../tests/sh/legendre_reference.h"
 #include <Eigen/Geometry>
 #include <boost/math/quadrature/tanh_sinh.hpp>
 #include <boost/math/special_functions/gamma.hpp>
@@ -167,16 +168,6 @@ void conversionMatrix() {
 
 // ---------------------------------------------------------------------------------------------
 // 3. Rotation orthogonality and composition error vs l.
-Eigen::Matrix3d randomRotation(Rng& rng) {
-    double q[4];
-    for (int i = 0; i < 4; i += 2) {
-        const double u1 = std::max(rng.uniform(), 1e-300), u2 = rng.uniform();
-        const double r = std::sqrt(-2 * std::log(u1));
-        q[i] = r * std::cos(TwoPi * u2);
-        q[i + 1] = r * std::sin(TwoPi * u2);
-    }
-    return Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
-}
 
 void rotationError() {
     const int n = 121;
@@ -190,7 +181,7 @@ void rotationError() {
         comp[k].assign(n, 0.0);
         Rng rng(12, 3);
         for (int t = 0; t < trials; ++t) {
-            const Eigen::Matrix3d A = randomRotation(rng), B = randomRotation(rng);
+            const Eigen::Matrix3d A = uniformRandomRotation(rng), B = uniformRandomRotation(rng);
             const auto t0 = std::chrono::steady_clock::now();
             const ShRotation RA(n, A, methods[k]);
             secs[k] += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -262,24 +253,7 @@ void legendreAccuracy() {
 // ---------------------------------------------------------------------------------------------
 // 5. Legendre-integral accuracy vs n for several interval kinds, with and without the
 //    narrow-interval switch. Reference: long double composite Gauss rule (as in the tests).
-long double refN(int l, int m, long double z, long double s) {
-    long double pmm = 1.0L;
-    for (int k = 1; k <= m; ++k) pmm *= -(2.0L * k - 1.0L) * s;
-    long double p = pmm;
-    if (l > m) {
-        long double p2 = pmm, p1 = z * (2.0L * m + 1.0L) * pmm;
-        for (int ll = m + 2; ll <= l; ++ll) {
-            const long double t = ((2.0L * ll - 1.0L) * z * p1 - (ll + m - 1.0L) * p2) / (ll - m);
-            p2 = p1;
-            p1 = t;
-        }
-        p = p1;
-    }
-    long double ratio = 1.0L;
-    for (int k = l - m + 1; k <= l + m; ++k) ratio /= k;
-    return std::sqrt((2.0L * l + 1.0L) / (4.0L * 3.14159265358979323846264338327950288L) * ratio) *
-           p;
-}
+using shvol::sh::reference::referenceN;
 
 long double refJ(int l, int m, double z0, double z1) {
     // Near z = −1 use N_l^m(−z) = (−1)^(l+m) N_l^m(z): θ is then small and exact in long double.
@@ -296,8 +270,8 @@ long double refJ(int l, int m, double z0, double z1) {
         const long double c = lo + (p + 0.5L) * h;
         for (size_t i = 0; i < gx.size(); ++i) {
             const long double t = c + 0.5L * h * gx[i];
-            const long double v = inZ ? refN(l, m, t, std::sqrt((1.0L - t) * (1.0L + t)))
-                                      : refN(l, m, std::cos(t), std::sin(t)) * std::sin(t);
+            const long double v = inZ ? referenceN(l, m, t, std::sqrt((1.0L - t) * (1.0L + t)))
+                                      : referenceN(l, m, std::cos(t), std::sin(t)) * std::sin(t);
             sum += (long double)gw[i] * 0.5L * h * v;
         }
     }

@@ -53,4 +53,17 @@ class Rng {
     uint64_t state_ = 0, inc_ = 1;
 };
 
+/// A uniformly distributed rotation: a unit quaternion from four Box–Muller normals
+/// (Shoemake 1992, "Uniform random rotations").
+inline Eigen::Matrix3d uniformRandomRotation(Rng& rng) {
+    double q[4];
+    for (int i = 0; i < 4; i += 2) {
+        const double u1 = std::max(rng.uniform(), 1e-300), u2 = rng.uniform();
+        const double r = std::sqrt(-2 * std::log(u1));
+        q[i] = r * std::cos(TwoPi * u2);
+        q[i + 1] = r * std::sin(TwoPi * u2);
+    }
+    return Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+}
+
 }  // namespace shvol
