@@ -22,61 +22,8 @@ using namespace shvol::sh;
 using reference::referenceN;
 
 // 20-point Gauss–Legendre on [−1, 1] in long double (Newton on P_20), independent of the library.
-struct GL20 {
-    long double x[20], w[20];
-    GL20() {
-        const int k = 20;
-        for (int i = 0; i < k; ++i) {
-            long double t =
-                std::cos(3.14159265358979323846264338327950288L * (i + 0.75L) / (k + 0.5L));
-            long double dp = 0;
-            for (int it = 0; it < 50; ++it) {
-                long double p0 = 1, p1 = t;
-                for (int j = 2; j <= k; ++j) {
-                    const long double p2 = ((2 * j - 1) * t * p1 - (j - 1) * p0) / j;
-                    p0 = p1;
-                    p1 = p2;
-                }
-                dp = k * (t * p1 - p0) / (t * t - 1);
-                const long double dt = p1 / dp;
-                t -= dt;
-                if (std::fabs(dt) < 1e-19L) break;
-            }
-            x[i] = t;
-            w[i] = 2 / ((1 - t * t) * dp * dp);
-        }
-    }
-};
 
-// ∫_{z0}^{z1} N_l^m(z) dz by a composite rule (32 panels × 20 Gauss points) in long double: in
-// z when the interval stays 1e-4 away from the poles (the integrand is analytic there), else in
-// θ (z = cos θ: a trigonometric polynomial of degree l+1; θ is small near the poles, so it is
-// represented to full relative precision). Both rules are exact to long-double rounding for
-// l ≤ 100.
-long double referenceJ(int l, int m, double z0, double z1) {
-    // Near z = −1 use N_l^m(−z) = (−1)^(l+m) N_l^m(z): θ is then small and exact in long double.
-    if (z1 <= 0.0 && z0 < -0.5) return ((l + m) % 2 ? -1.0L : 1.0L) * referenceJ(l, m, -z1, -z0);
-    static const GL20 gl;
-    const int panels = 32;
-    const long double a = z0, b = z1;
-    const bool inZ = 1.0L - std::max(std::fabs(a), std::fabs(b)) > 1e-4L;
-    const long double lo = inZ ? a : std::acos(b), hi = inZ ? b : std::acos(a);
-    const long double h = (hi - lo) / panels;
-    long double sum = 0;
-    for (int p = 0; p < panels; ++p) {
-        const long double c = lo + (p + 0.5L) * h;
-        for (int i = 0; i < 20; ++i) {
-            const long double t = c + 0.5L * h * gl.x[i];
-            long double v;
-            if (inZ)
-                v = referenceN(l, m, t, std::sqrt((1.0L - t) * (1.0L + t)));
-            else
-                v = referenceN(l, m, std::cos(t), std::sin(t)) * std::sin(t);
-            sum += gl.w[i] * 0.5L * h * v;
-        }
-    }
-    return sum;
-}
+using reference::referenceJ;
 
 struct Interval {
     double z0, z1;

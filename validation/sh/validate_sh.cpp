@@ -1,6 +1,5 @@
 // validate_sh: the experiments behind validation/sh/README.md. Writes CSV and markdown tables to
 // validation/sh/results/ (or to argv[1]). Run through validation/sh/run.sh.
-#include "../../tests/sh/legendre_reference.h"
 #include <Eigen/Geometry>
 #include <boost/math/quadrature/tanh_sinh.hpp>
 #include <boost/math/special_functions/gamma.hpp>
@@ -14,6 +13,7 @@
 #include <iostream>
 #include <string>
 #include <vector>
+#include "../../tests/sh/legendre_reference.h"
 
 #include "shvol/core/rng.h"
 #include "shvol/sh/hsh.h"
@@ -255,27 +255,9 @@ void legendreAccuracy() {
 //    narrow-interval switch. Reference: long double composite Gauss rule (as in the tests).
 using shvol::sh::reference::referenceN;
 
+// The 48-panel rule: finer than the tests' default, for the wider range of intervals here.
 long double refJ(int l, int m, double z0, double z1) {
-    // Near z = −1 use N_l^m(−z) = (−1)^(l+m) N_l^m(z): θ is then small and exact in long double.
-    if (z1 <= 0.0 && z0 < -0.5) return ((l + m) % 2 ? -1.0L : 1.0L) * refJ(l, m, -z1, -z0);
-    static std::vector<double> gx, gw;
-    if (gx.empty()) gaussLegendre(30, -1.0, 1.0, gx, gw);
-    const int panels = 48;
-    const long double a = z0, b = z1;
-    const bool inZ = 1.0L - std::max(std::fabs(a), std::fabs(b)) > 1e-4L;
-    const long double lo = inZ ? a : std::acos(b), hi = inZ ? b : std::acos(a);
-    const long double h = (hi - lo) / panels;
-    long double sum = 0;
-    for (int p = 0; p < panels; ++p) {
-        const long double c = lo + (p + 0.5L) * h;
-        for (size_t i = 0; i < gx.size(); ++i) {
-            const long double t = c + 0.5L * h * gx[i];
-            const long double v = inZ ? referenceN(l, m, t, std::sqrt((1.0L - t) * (1.0L + t)))
-                                      : referenceN(l, m, std::cos(t), std::sin(t)) * std::sin(t);
-            sum += (long double)gw[i] * 0.5L * h * v;
-        }
-    }
-    return sum;
+    return shvol::sh::reference::referenceJ(l, m, z0, z1, 48);
 }
 
 void integralAccuracy() {
