@@ -9,12 +9,6 @@
 
 namespace shvol {
 
-namespace {
-double luminance(const Spectrum& s) {
-    return std::max(0.0, 0.2126 * s[0] + 0.7152 * s[1] + 0.0722 * s[2]);
-}
-}  // namespace
-
 Environment Environment::constant(const Spectrum& L, bool lowerHemisphereBlack) {
     Environment e;
     e.L_ = L;
@@ -23,13 +17,14 @@ Environment Environment::constant(const Spectrum& L, bool lowerHemisphereBlack) 
 }
 
 Environment Environment::image(Image img, double scale, double rotationDegrees,
-                               bool lowerHemisphereBlack) {
+                               bool lowerHemisphereBlack, LatLongMapping mapping) {
     if (img.width <= 0 || img.height <= 0 || img.rgb.size() != size_t(3) * img.width * img.height)
         fail("", "environment", "the environment image is empty or malformed");
     Environment e;
     e.lowerBlack_ = lowerHemisphereBlack;
     e.scale_ = scale;
     e.rotation_ = rotationDegrees * Pi / 180.0;
+    e.mapping_ = mapping;
     const int W = img.width, H = img.height;
     std::vector<double> weights(size_t(W) * H);
     for (int y = 0; y < H; ++y) {
@@ -49,9 +44,7 @@ Environment Environment::image(Image img, double scale, double rotationDegrees,
 Vec2 Environment::toUv(const Vec3& w, double* sinTheta) const {
     const double cosTheta = std::clamp(w.z(), -1.0, 1.0);
     *sinTheta = safeSqrt(1 - cosTheta * cosTheta);
-    double phi = sphericalPhi(w) - rotation_;
-    phi -= TwoPi * std::floor(phi * Inv2Pi);
-    return {phi * Inv2Pi, std::acos(cosTheta) * InvPi};
+    return {latLongU(mapping_, sphericalPhi(w) - rotation_), std::acos(cosTheta) * InvPi};
 }
 
 Spectrum Environment::Le(const Vec3& dir) const {
@@ -73,7 +66,7 @@ LightSample Environment::sample(const Vec2& u) const {
     if (!(dist_->integral() > 0)) return {Vec3(0, 0, 1), Spectrum::Zero(), 0.0};
     double pdfUv;
     const Vec2 uv = dist_->sampleContinuous(u, &pdfUv);
-    const double theta = Pi * uv[1], phi = TwoPi * uv[0] + rotation_;
+    const double theta = Pi * uv[1], phi = latLongPhi(mapping_, uv[0]) + rotation_;
     const double sinTheta = std::sin(theta);
     const Vec3 w(sinTheta * std::cos(phi), sinTheta * std::sin(phi), std::cos(theta));
     if (!(sinTheta > 0) || !(pdfUv > 0)) return {w, Spectrum::Zero(), 0.0};
@@ -90,6 +83,17 @@ double Environment::pdf(const Vec3& dir) const {
     const Vec2 uv = toUv(dir.normalized(), &sinTheta);
     if (!(sinTheta > 0)) return 0.0;
     return dist_->pdf(uv) / (2 * Pi * Pi * sinTheta);
+}
+
+SkyHierarchy Environment::skyHierarchy(size_t waveletCoefficients) const {
+    if (!image_) return SkyHierarchy::constant(luminance(L_), lowerBlack_);
+    SkyHierarchy::LatLongSource src;
+    src.image = image_.get();
+    src.mapping = mapping_;
+    src.scale = scale_;
+    src.rotation = rotation_;
+    src.lowerHemisphereBlack = lowerBlack_;
+    return SkyHierarchy::fromLatLong(src, -1, waveletCoefficients);
 }
 
 }  // namespace shvol

@@ -4,6 +4,7 @@
 #include <mutex>
 
 #include "shvol/core/error.h"
+#include "shvol/sampling/sh_cell_mass.h"
 #include "shvol/sh/legendre.h"
 #include "shvol/sh/sh_basis.h"
 #include "shvol/sh/sh_integrals.h"
@@ -11,8 +12,6 @@
 namespace shvol {
 
 namespace {
-
-constexpr double Sqrt2 = 1.4142135623730951;
 
 /// The function-independent 1D integral tables at the finest level D (Jarosz §5.1): for each of
 /// the 2^D z-intervals the triangular array J_l^m, and for each φ-interval C[m] and S[m].
@@ -43,28 +42,6 @@ struct SHIntegralTables {
         return t;
     }
 };
-
-/// For one z-interval with Legendre integrals J, the φ-independent sums
-///   A[m] = Σ_l f_l^m J_l^m,  B[m] = Σ_l f_l^{−m} J_l^m,
-/// so that the mass over [z-interval] × [φ-interval] is A[0]·C[0] + √2 Σ_{m≥1} (A[m]C[m] +
-/// B[m]S[m]).
-void weightByCoefficients(int n, const double* f, const double* J, double* A, double* B) {
-    for (int m = 0; m < n; ++m) A[m] = B[m] = 0;
-    for (int l = 0; l < n; ++l) {
-        const double* Jl = J + sh::triIndex(l, 0);
-        const int c = l * (l + 1);
-        A[0] += f[c] * Jl[0];
-        for (int m = 1; m <= l; ++m) {
-            A[m] += f[c + m] * Jl[m];
-            B[m] += f[c - m] * Jl[m];
-        }
-    }
-}
-double cellMass(int n, const double* A, const double* B, const double* C, const double* S) {
-    double s = 0;
-    for (int m = 1; m < n; ++m) s += A[m] * C[m] + B[m] * S[m];
-    return A[0] * C[0] + Sqrt2 * s;
-}
 
 }  // namespace
 

@@ -66,6 +66,10 @@ struct Frame {
 inline double maxComponent(const Spectrum& s) {
     return s.maxCoeff();
 }
+/// Rec. 709 luminance 0.2126 R + 0.7152 G + 0.0722 B, clamped at 0 (importance of a radiance).
+inline double luminance(const Spectrum& s) {
+    return std::max(0.0, 0.2126 * s[0] + 0.7152 * s[1] + 0.0722 * s[2]);
+}
 inline bool isFinite(const Spectrum& s) {
     return s.allFinite();
 }

@@ -5,19 +5,18 @@
 /// Directions: w is the direction of a ray that escapes the scene (pointing from the scene
 /// towards the environment); Le(w) is the radiance arriving back along −w.
 ///
-/// Lat-long convention (z up, DESIGN.md angles):
-///   column x ↔ φ_img ∈ [2πx/W, 2π(x+1)/W), centre φ_img = 2π(x + ½)/W;
+/// Lat-long convention (z up, DESIGN.md angles; lights/latlong.h):
+///   column x ↔ u ∈ [x/W, (x+1)/W), image φ = π − 2πu (Blender, the default) or 2πu (Shvol);
 ///   row y    ↔ θ ∈ [πy/H, π(y+1)/H),       centre θ = π(y + ½)/H; row 0 (top) looks up +z.
-///   The map is rotated about +z by rotationDegrees: world φ = φ_img + rotation, so a pixel at
-///   φ_img = 0 appears at world φ = rotation (90° → +y).
+///   The map is rotated about +z by rotationDegrees: world φ = φ_img + rotation.
 /// Lookup is nearest pixel (piecewise constant) times scale.
 ///
-/// Sampling an image: a Distribution2D over (u, v) = (φ_img/2π, θ/π) with weights
+/// Sampling an image: a Distribution2D over (u, v) = (x/W, θ/π) with weights
 ///   w(x, y) = Y(x, y) · sin θ_y · a_y,
 /// Y the Rec. 709 luminance (0.2126 R + 0.7152 G + 0.0722 B, clamped at 0), θ_y the row centre,
 /// and a_y = 1 except with lowerHemisphereBlack, where a_y is the fraction of the row above the
 /// horizon (0 for rows entirely below it, so those rows are never sampled). The density over
-/// solid angle follows from dω = sin θ dθ dφ = 2π² sin θ du dv:
+/// solid angle follows from dω = sin θ dθ |dφ| = 2π² sin θ du dv:
 ///   pdf_ω(w) = pdf_uv(u, v) / (2π² sin θ)   (0 where sin θ = 0, at the exact poles).
 /// pdf > 0 wherever Le > 0 (except the poles), which keeps the estimators unbiased. A row that
 /// straddles the horizon (odd H) may produce samples just below it; they carry Le = 0.
@@ -27,6 +26,8 @@
 
 #include "shvol/core/image.h"
 #include "shvol/core/math.h"
+#include "shvol/lights/latlong.h"
+#include "shvol/lights/sky_hierarchy.h"
 #include "shvol/sampling/distribution_2d.h"
 
 namespace shvol {
@@ -46,7 +47,8 @@ class Environment {
     /// Lat-long map; builds the importance distribution once. Throws shvol::Error if the image
     /// is empty. \param scale multiplies every pixel. \param rotationDegrees about +z.
     static Environment image(Image img, double scale, double rotationDegrees,
-                             bool lowerHemisphereBlack);
+                             bool lowerHemisphereBlack,
+                             LatLongMapping mapping = LatLongMapping::Blender);
 
     /// Radiance seen along an escaping ray with direction w (w need not be normalised).
     Spectrum Le(const Vec3& w) const;
@@ -60,15 +62,20 @@ class Environment {
     bool lowerHemisphereBlack() const { return lowerBlack_; }
     /// Rotation about +z in radians.
     double rotation() const { return rotation_; }
+    LatLongMapping mapping() const { return mapping_; }
+    /// The sky on the equal-area square (luminance, exact cell averages), for the wavelet and
+    /// product samplers; K wavelet details kept (0 = all).
+    SkyHierarchy skyHierarchy(size_t waveletCoefficients = 0) const;
 
   private:
     Environment() = default;
-    /// (u, v) = (φ_img/2π, θ/π) of a unit direction, and sin θ.
+    /// (u, v) = (x/W, θ/π) of a unit direction, and sin θ.
     Vec2 toUv(const Vec3& w, double* sinTheta) const;
 
     Spectrum L_ = Spectrum::Zero();
     bool lowerBlack_ = false;
     double scale_ = 1, rotation_ = 0;
+    LatLongMapping mapping_ = LatLongMapping::Blender;
     std::shared_ptr<const Image> image_;          // null for a constant environment
     std::shared_ptr<const Distribution2D> dist_;  // null for a constant environment
 };

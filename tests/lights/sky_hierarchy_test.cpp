@@ -1,0 +1,216 @@
+#include "shvol/lights/sky_hierarchy.h"
+
+#include <gtest/gtest.h>
+
+#include "shvol/core/rng.h"
+#include "sky_test_util.h"
+
+namespace shvol {
+namespace {
+
+// The chi² tests in this file form one family: Šidák correction over all of them.
+constexpr int kChi2Tests = 6;
+
+double lum(const Spectrum& s) {
+    return 0.2126 * s[0] + 0.7152 * s[1] + 0.0722 * s[2];
+}
+
+SkyHierarchy fromImage(const Image& img, LatLongMapping m, double rotation, bool lowerBlack,
+                       int levels = -1, size_t K = 0) {
+    SkyHierarchy::LatLongSource src;
+    src.image = &img;
+    src.mapping = m;
+    src.rotation = rotation;
+    src.lowerHemisphereBlack = lowerBlack;
+    return SkyHierarchy::fromLatLong(src, levels, K);
+}
+
+/// ∫ Y dω of a lat-long image: Σ Y · (cos θ_y − cos θ_{y+1}) · 2π/W.
+double imageIntegral(const Image& img, bool upperOnly = false) {
+    double s = 0;
+    for (int y = 0; y < img.height; ++y) {
+        double zHi = std::cos(Pi * y / img.height), zLo = std::cos(Pi * (y + 1) / img.height);
+        if (upperOnly) zLo = std::max(zLo, 0.0), zHi = std::max(zHi, 0.0);
+        for (int x = 0; x < img.width; ++x)
+            s += lum(img.at(x, y)) * (zHi - zLo) * TwoPi / img.width;
+    }
+    return s;
+}
+
+double leafIntegral(const SkyHierarchy& h) {
+    const int n = h.resolution();
+    double s = 0;
+    for (int iz = 0; iz < n; ++iz)
+        for (int ip = 0; ip < n; ++ip) s += h.average(h.levels(), iz, ip);
+    return s * (2.0 / n) * (TwoPi / n);
+}
+
+Image randomImage(int W, int H, uint64_t seed) {
+    Rng rng(seed, 3);
+    Image img(W, H);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            img.set(x, y, Spectrum(rng.uniform(), rng.uniform(), rng.uniform()) * (1 + 9 * (x == 3)));
+    return img;
+}
+
+}  // namespace
+
+TEST(SkyHierarchy, MortonOrderPutsChildrenTogether) {
+    for (uint32_t iz = 0; iz < 16; ++iz)
+        for (uint32_t ip = 0; ip < 16; ++ip)
+            for (int r = 0; r < 2; ++r)
+                for (int k = 0; k < 2; ++k)
+                    EXPECT_EQ(mortonIndex(2 * iz + r, 2 * ip + k),
+                              4 * mortonIndex(iz, ip) + 2 * r + k);
+}
+
+// Area-weighted resampling preserves ∫ Y dω exactly, whatever the mapping, rotation and the
+// mismatch between the image and the leaf grid.
+TEST(SkyHierarchy, ResamplingPreservesTheIntegral) {
+    const Image img = randomImage(37, 19, 1);
+    const double ref = imageIntegral(img);
+    for (auto m : {LatLongMapping::Blender, LatLongMapping::Shvol})
+        for (double rot : {0.0, 0.3, -2.0, 7.0})
+            for (int levels : {1, 3, 6}) {
+                const SkyHierarchy h = fromImage(img, m, rot, false, levels);
+                // Leaves are stored as float: 2^-24 relative per value.
+                EXPECT_NEAR(leafIntegral(h), ref, 1e-6 * ref) << rot << " " << levels;
+                EXPECT_NEAR(h.rootAverage() * FourPi, ref, 1e-5 * ref);  // float mip-map
+            }
+    const SkyHierarchy upper = fromImage(img, LatLongMapping::Blender, 0.4, true, 5);
+    EXPECT_NEAR(leafIntegral(upper), imageIntegral(img, true), 1e-6 * ref);
+    for (int iz = 0; iz < 16; ++iz) EXPECT_EQ(upper.average(5, iz, 7), 0.0);  // z < 0
+}
+
+// A constant image gives every leaf the same average, to rounding.
+TEST(SkyHierarchy, ConstantImageIsConstant) {
+    Image img(50, 25);
+    for (int y = 0; y < 25; ++y)
+        for (int x = 0; x < 50; ++x) img.set(x, y, Spectrum(2, 2, 2));
+    const SkyHierarchy h = fromImage(img, LatLongMapping::Shvol, 1.234, false, 5);
+    for (int iz = 0; iz < 32; ++iz)
+        for (int ip = 0; ip < 32; ++ip) EXPECT_NEAR(h.average(5, iz, ip), 2.0, 1e-12);
+}
+
+// One bright pixel lands where the mapping says its centre looks: column x = 2 of 8 faces
+// φ = π − 2π·2.5/8 = 3π/8 (Blender) or 2π·2.5/8 = 5π/8 (shvol), plus the rotation.
+TEST(SkyHierarchy, BrightPixelLandsWhereTheMappingLooks) {
+    Image img(8, 4);
+    img.set(2, 1, Spectrum(100, 100, 100));  // θ ∈ [π/4, π/2]
+    const double rot = 0.25;
+    for (auto m : {LatLongMapping::Blender, LatLongMapping::Shvol}) {
+        const double phi = (m == LatLongMapping::Blender ? 3 * Pi / 8 : 5 * Pi / 8) + rot;
+        const SkyHierarchy h = fromImage(img, m, rot, false, 6);
+        uint32_t iz, ip, fz, fp;
+        skyCell(sphericalDirection(std::cos(3 * Pi / 8), phi), 6, &iz, &ip);
+        skyCell(sphericalDirection(std::cos(3 * Pi / 8), phi + Pi), 6, &fz, &fp);
+        EXPECT_GT(h.average(6, iz, ip), 1.0) << latLongMappingName(m);
+        EXPECT_EQ(h.average(6, fz, fp), 0.0) << latLongMappingName(m);
+    }
+}
+
+// Without compression the wavelet is the mip-map; with top-K the reported L2 error is the one
+// measured on the reconstructed leaves (Parseval), and it falls as K grows.
+TEST(SkyHierarchy, WaveletCompressionErrorMatchesReconstruction) {
+    const Image img = test::testSky(128, sphericalDirection(0.5, 1.0), 0.05, 200.0);
+    const SkyHierarchy full = fromImage(img, LatLongMapping::Blender, 0, false, 6);
+    EXPECT_FALSE(full.compressed());
+    EXPECT_EQ(full.relativeL2Error(), 0.0);
+    const SkyHierarchy all = fromImage(img, LatLongMapping::Blender, 0, false, 6, 4095);
+    EXPECT_FALSE(all.compressed());  // K ≥ 4^6 − 1 details: nothing dropped
+    double previous = 2;
+    for (size_t K : {10, 100, 1000, 4000}) {
+        const SkyHierarchy h = fromImage(img, LatLongMapping::Blender, 0, false, 6, K);
+        ASSERT_TRUE(h.compressed());
+        EXPECT_EQ(h.keptDetails(), K);
+        double err2 = 0, norm2 = 0;
+        for (uint32_t iz = 0; iz < 64; ++iz)
+            for (uint32_t ip = 0; ip < 64; ++ip) {
+                const double truth = full.average(6, iz, ip);
+                err2 += sqr(h.samplingAverage(6, iz, ip) - truth);
+                norm2 += truth * truth;
+            }
+        const double measured = std::sqrt(err2 / norm2);
+        EXPECT_NEAR(h.relativeL2Error(), measured, 1e-4 * measured + 1e-7) << K;
+        // Strictly smaller until only zero details (flat ground) are left to drop.
+        if (K < 4000) EXPECT_LT(h.relativeL2Error(), previous);
+        EXPECT_LE(h.relativeL2Error(), previous);
+        previous = h.relativeL2Error();
+        EXPECT_LT(h.memoryBytes(), full.memoryBytes());
+    }
+}
+
+// chi² of the sky sampler: its density equals pdf(), uncompressed and compressed (where the
+// uniform defensive share fills the holes of the compressed reconstruction).
+TEST(SkyHierarchy, SamplerChi2) {
+    const Image img = test::testSky(256, sphericalDirection(0.6, 2.0), 0.03, 1000.0);
+    int seed = 1;
+    for (size_t K : {size_t(0), size_t(300)})
+        for (bool lowerBlack : {false, true}) {
+            const SkyHierarchy h = fromImage(img, LatLongMapping::Blender, 0.7, lowerBlack, 7, K);
+            const test::GridProbability prob(7, [&](const Vec3& w) { return h.pdf(w); });
+            EXPECT_NEAR(prob.total(), 1.0, 1e-6);
+            Chi2Options opt;
+            opt.numTests = kChi2Tests;
+            opt.seed = seed++;
+            const Chi2Result r = chi2TestSphereCells(
+                [&](Rng& rng) -> std::optional<Vec3> {
+                    const WarpSample s = h.sample(rng.uniform2());
+                    if (!(s.pdf > 0)) return std::nullopt;
+                    EXPECT_NEAR(s.pdf, h.pdf(s.direction()), 1e-9 * s.pdf);
+                    return s.direction();
+                },
+                prob, opt);
+            EXPECT_TRUE(r.passed) << "K " << K << " lowerBlack " << lowerBlack << "\n" << r.report;
+        }
+}
+
+// A sky that is black except one leaf: every sample lands in that leaf, with the pdf 1/area.
+TEST(SkyHierarchy, SingleLitLeaf) {
+    std::vector<double> leaves(64 * 64, 0.0);
+    leaves[size_t(40) * 64 + 63] = 5.0;  // at the φ seam
+    const SkyHierarchy h = SkyHierarchy::fromLeaves(6, leaves);
+    Rng rng(7, 1);
+    const double area = (2.0 / 64) * (TwoPi / 64);
+    for (int i = 0; i < 1000; ++i) {
+        const WarpSample s = h.sample(rng.uniform2());
+        ASSERT_GT(s.pdf, 0);
+        uint32_t iz, ip;
+        skyCell(s.direction(), 6, &iz, &ip);
+        EXPECT_EQ(iz, 40u);
+        EXPECT_EQ(ip, 63u);
+        EXPECT_NEAR(s.pdf, 1 / area, 1e-9 / area);
+    }
+    EXPECT_EQ(h.pdf(sphericalDirection(0.0, 1.0)), 0.0);
+}
+
+// An all-black sky yields no samples and a zero pdf, never NaN.
+TEST(SkyHierarchy, BlackSkyGivesNoSamples) {
+    const SkyHierarchy h = SkyHierarchy::fromLeaves(4, std::vector<double>(256, 0.0));
+    const WarpSample s = h.sample(Vec2(0.3, 0.7));
+    EXPECT_EQ(s.pdf, 0.0);
+    EXPECT_EQ(h.pdf(Vec3(0, 0, 1)), 0.0);
+    std::vector<WarpSample> out;
+    h.sample({Vec2(0.1, 0.2), Vec2(0.9, 0.5)}, out);
+    for (const WarpSample& o : out) EXPECT_EQ(o.pdf, 0.0);
+}
+
+// The point-set warp is the single-sample warp applied pointwise (uncompressed).
+TEST(SkyHierarchy, PointSetEqualsSingleSamples) {
+    const Image img = test::testSky(64, sphericalDirection(0.3, 4.0), 0.1, 50.0);
+    const SkyHierarchy h = fromImage(img, LatLongMapping::Blender, 0, false, 6);
+    std::vector<Vec2> u;
+    Rng rng(3, 3);
+    for (int i = 0; i < 257; ++i) u.push_back(rng.uniform2());
+    std::vector<WarpSample> out;
+    h.sample(u, out);
+    for (size_t i = 0; i < u.size(); ++i) {
+        const WarpSample s = h.sample(u[i]);
+        EXPECT_NEAR(out[i].z, s.z, 1e-12);
+        EXPECT_NEAR(out[i].phi, s.phi, 1e-12);
+        EXPECT_NEAR(out[i].pdf, s.pdf, 1e-9 * s.pdf);
+    }
+}
+
+}  // namespace shvol
