@@ -47,6 +47,8 @@ nlohmann::json statsJson(const Scene& scene, const RenderStats& st, const std::s
     j["scattering_events"] = c.scatteringEvents;
     j["phase_samples"] = c.phaseSamples;
     j["light_samples"] = c.lightSamples;
+    j["product_samples"] = c.productSamples;
+    j["product_pdfs"] = c.productPdfs;
     j["transmittance_rays"] = c.transmittanceRays;
     j["density_lookups"] = c.tracking.densityLookups;
     j["density_lookups_per_second"] = c.tracking.densityLookups / std::max(1e-9, st.wallSeconds);
@@ -54,6 +56,23 @@ nlohmann::json statsJson(const Scene& scene, const RenderStats& st, const std::s
     j["non_finite_samples"] = c.nonFiniteSamples;
     j["peak_memory_mib"] = peakMemoryMiB();
     j["effects"] = st.effects;
+    if (const LightSamplingStats& ls = st.lightSampling; !ls.strategy.empty()) {
+        nlohmann::json& l = j["light_sampling"];
+        l["strategy"] = ls.strategy;
+        l["mis"] = ls.mis;
+        l["setup_s"] = ls.setupSeconds;
+        if (ls.skyResolution > 0) {
+            l["sky_resolution"] = ls.skyResolution;
+            l["sky_memory_bytes"] = ls.skyBytes;
+            l["wavelet_coefficients_kept"] = ls.waveletKept;
+            l["wavelet_coefficients_total"] = ls.waveletDetails;
+            l["wavelet_relative_l2_error"] = ls.waveletL2Error;
+        }
+        if (ls.productOrder > 0) {
+            l["product_order"] = ls.productOrder;
+            l["product_depth"] = ls.productDepth;
+        }
+    }
     for (const auto& m : scene.media) j["media"].push_back(m->describe());
     return j;
 }

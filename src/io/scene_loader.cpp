@@ -5,6 +5,7 @@
 #include "shvol/core/error.h"
 #include "shvol/io/exr.h"
 #include "shvol/io/vdb.h"
+#include "shvol/lights/product_sampler.h"
 #include "shvol/media/homogeneous_medium.h"
 
 namespace shvol {
@@ -66,13 +67,28 @@ RenderSettings readSettings(JsonReader r) {
     s.transmittance = r.choice("transmittance", "ratio", {"ratio", "delta"}) == "ratio"
                           ? TransmittanceEstimator::Ratio
                           : TransmittanceEstimator::Delta;
+    const std::string ls = r.choice("light_sampling", lightSamplingName(s.lightSampling),
+                                    {"environment", "wavelet", "product"});
+    s.lightSampling = ls == "wavelet"   ? LightSampling::Wavelet
+                      : ls == "product" ? LightSampling::Product
+                                        : LightSampling::Environment;
+    const std::string mis = r.choice("mis", misHeuristicName(s.mis), {"balance", "power", "none"});
+    s.mis = mis == "power"  ? MisHeuristic::Power
+            : mis == "none" ? MisHeuristic::None
+                            : MisHeuristic::Balance;
+    s.productOrder = r.integer("product_order", s.productOrder, 1, ProductSampler::kMaxOrder);
+    if (r.has("product_depth")) s.productDepth = r.integer("product_depth", 0, 0, 12);
     r.finish();
     return s;
 }
 
-Environment readEnvironment(JsonReader r) {
+Environment readEnvironment(JsonReader r, RenderSettings& settings) {
     const std::string type = r.choice("type", "constant", {"constant", "image"});
     const bool lowerBlack = r.boolean("lower_hemisphere_black", false);
+    // Top-K compression of the sky wavelet used by the wavelet and product light samplers.
+    const double K = r.number("wavelet_coefficients", 0, 0, 9007199254740992.0);
+    if (K != std::floor(K)) r.error("wavelet_coefficients", "expected a non-negative integer");
+    settings.waveletCoefficients = size_t(K);
     if (type == "constant") {
         const Spectrum L = spectrum(r, "radiance", 1, 0, 1e30);
         r.finish();
@@ -81,8 +97,10 @@ Environment readEnvironment(JsonReader r) {
     const std::string file = resolve(r.file(), r.string("file"));
     const double scale = r.number("scale", 1, 0, 1e30);
     const double rotation = r.number("rotation", 0, -1e6, 1e6);
+    const LatLongMapping mapping =
+        latLongMappingFromName(r.choice("mapping", "blender", {"blender", "shvol"}));
     r.finish();
-    return Environment::image(readExr(file), scale, rotation, lowerBlack);
+    return Environment::image(readExr(file), scale, rotation, lowerBlack, mapping);
 }
 
 Eigen::Affine3d readTransform(JsonReader r) {
@@ -151,7 +169,8 @@ Scene sceneFromJson(const Json& doc, const std::string& path) {
     JsonReader r(doc, path, "");
     if (r.has("camera")) scene.camera = readCamera(r.object("camera"));
     if (r.has("render")) scene.settings = readSettings(r.object("render"));
-    if (r.has("environment")) scene.environment = readEnvironment(r.object("environment"));
+    if (r.has("environment"))
+        scene.environment = readEnvironment(r.object("environment"), scene.settings);
     if (r.has("media")) {
         const Json& media = r.raw("media");
         if (!media.is_array()) r.error("media", "expected an array of media");

@@ -32,8 +32,8 @@ ProductSampler::ProductSampler(const SkyHierarchy& sky, int order, int productDe
         for (int i = 0; i < cells; ++i) {
             sh::legendreIntegrals(n_, -1 + 2.0 * i / cells, -1 + 2.0 * (i + 1) / cells,
                                   &J_[d][size_t(i) * tri]);
-            sh::phiIntegrals(n_, TwoPi * i / cells, TwoPi * (i + 1) / cells,
-                             &C_[d][size_t(i) * n_], &S_[d][size_t(i) * n_]);
+            sh::phiIntegrals(n_, TwoPi * i / cells, TwoPi * (i + 1) / cells, &C_[d][size_t(i) * n_],
+                             &S_[d][size_t(i) * n_]);
         }
     }
 }
@@ -56,9 +56,8 @@ void ProductSampler::skyChildren(int level, uint64_t skyNode, double skyAvg, dou
 
 namespace {
 /// Lobe masses of the four children of node (level, iz, iφ) into m.
-void lobeMasses(int n, const double* c, const std::vector<double>& J,
-                const std::vector<double>& C, const std::vector<double>& S, uint32_t iz,
-                uint32_t iphi, double m[4]) {
+void lobeMasses(int n, const double* c, const std::vector<double>& J, const std::vector<double>& C,
+                const std::vector<double>& S, uint32_t iz, uint32_t iphi, double m[4]) {
     double A[ProductSampler::kMaxOrder], B[ProductSampler::kMaxOrder];
     const int tri = sh::triSize(n);
     for (int r = 0; r < 2; ++r) {

@@ -10,7 +10,6 @@ namespace shvol {
 
 namespace {
 
-
 /// Adds value·|[a, b) ∩ cell| to every cell of width h on [0, n·h) overlapped by [a, b), where
 /// 0 ≤ a < b ≤ n·h.
 void distribute(double a, double b, double h, int n, double value, double* cells) {
@@ -99,7 +98,8 @@ void SkyHierarchy::buildMipMap(std::vector<double> level) {
         if (d == 0) break;
         std::vector<double> coarse(level.size() / 4);
         for (size_t i = 0; i < coarse.size(); ++i)
-            coarse[i] = 0.25 * (level[4 * i] + level[4 * i + 1] + level[4 * i + 2] + level[4 * i + 3]);
+            coarse[i] =
+                0.25 * (level[4 * i] + level[4 * i + 1] + level[4 * i + 2] + level[4 * i + 3]);
         level.swap(coarse);
     }
 }

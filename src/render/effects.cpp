@@ -15,6 +15,10 @@ Effects Effects::of(const Scene& scene) {
     const bool envBlack = env.isConstant() && env.constantRadiance().maxCoeff() <= 0;
     e.nextEvent = e.scattering && scene.settings.nee && !envBlack;
     e.environmentImage = !env.isConstant();
+    if (e.nextEvent) {
+        e.lightSampling = scene.settings.lightSampling;
+        e.mis = scene.settings.mis;
+    }
     return e;
 }
 
@@ -23,9 +27,44 @@ std::vector<std::string> Effects::names() const {
     n.push_back(environmentImage ? "environment-image" : "environment-constant");
     if (volumes) n.push_back(scattering ? "volume-tracking" : "volume-transmittance");
     if (scattering) n.push_back(multipleScattering ? "multiple-scattering" : "single-scattering");
-    if (nextEvent)
-        n.push_back(environmentImage ? "nee-environment-importance" : "nee-environment-uniform");
+    if (nextEvent) {
+        switch (lightSampling) {
+            case LightSampling::Environment:
+                n.push_back(environmentImage ? "nee-environment-importance"
+                                             : "nee-environment-uniform");
+                break;
+            case LightSampling::Wavelet:
+                n.push_back(skyCompressed ? "nee-wavelet-compressed" : "nee-wavelet");
+                break;
+            case LightSampling::Product:
+                n.push_back(skyCompressed ? "nee-product-compressed" : "nee-product");
+                break;
+        }
+        n.push_back(std::string("mis-") + misHeuristicName(mis));
+    }
     return n;
+}
+
+const char* lightSamplingName(LightSampling s) {
+    switch (s) {
+        case LightSampling::Wavelet:
+            return "wavelet";
+        case LightSampling::Product:
+            return "product";
+        default:
+            return "environment";
+    }
+}
+
+const char* misHeuristicName(MisHeuristic h) {
+    switch (h) {
+        case MisHeuristic::Power:
+            return "power";
+        case MisHeuristic::None:
+            return "none";
+        default:
+            return "balance";
+    }
 }
 
 }  // namespace shvol

@@ -63,6 +63,24 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
     st.seed = s.seed;
     for (const PathCounters& c : counters) st.counters.add(c);
     st.effects = integrator.effects().names();
+    const Effects& e = integrator.effects();
+    if (e.nextEvent) {
+        LightSamplingStats& ls = st.lightSampling;
+        ls.strategy = lightSamplingName(e.lightSampling);
+        ls.mis = misHeuristicName(e.mis);
+        ls.setupSeconds = integrator.setupSeconds();
+        if (const SkyHierarchy* sky = integrator.sky()) {
+            ls.skyResolution = sky->resolution();
+            ls.skyBytes = sky->memoryBytes();
+            ls.waveletKept = sky->keptDetails();
+            ls.waveletDetails = sky->detailCount();
+            ls.waveletL2Error = sky->relativeL2Error();
+        }
+        if (const ProductSampler* ps = integrator.product()) {
+            ls.productOrder = ps->order();
+            ls.productDepth = ps->productDepth();
+        }
+    }
     return result;
 }
 

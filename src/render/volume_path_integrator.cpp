@@ -1,5 +1,9 @@
 #include "shvol/render/volume_path_integrator.h"
 
+#include <chrono>
+
+#include "shvol/phase/zonal_fit.h"
+
 namespace shvol {
 
 void PathCounters::add(const PathCounters& o) {
@@ -7,6 +11,8 @@ void PathCounters::add(const PathCounters& o) {
     scatteringEvents += o.scatteringEvents;
     phaseSamples += o.phaseSamples;
     lightSamples += o.lightSamples;
+    productSamples += o.productSamples;
+    productPdfs += o.productPdfs;
     transmittanceRays += o.transmittanceRays;
     nonFiniteSamples += o.nonFiniteSamples;
     tracking.densityLookups += o.tracking.densityLookups;
@@ -14,16 +20,36 @@ void PathCounters::add(const PathCounters& o) {
 }
 
 VolumePathIntegrator::VolumePathIntegrator(const Scene& scene)
-    : scene_(scene), effects_(Effects::of(scene)) {}
+    : scene_(scene), effects_(Effects::of(scene)) {
+    if (!effects_.nextEvent || effects_.lightSampling == LightSampling::Environment) return;
+    const auto start = std::chrono::steady_clock::now();
+    const RenderSettings& s = scene.settings;
+    sky_ =
+        std::make_unique<const SkyHierarchy>(scene.environment.skyHierarchy(s.waveletCoefficients));
+    effects_.skyCompressed = sky_->compressed();
+    if (effects_.lightSampling == LightSampling::Product) {
+        product_ = std::make_unique<const ProductSampler>(*sky_, s.productOrder, s.productDepth);
+        const Vec3 z(0, 0, 1);
+        for (const auto& m : scene.media) {
+            // The lobe only shapes the pdf: a Hann-windowed fit rings least (zonal_fit.h).
+            const PhaseFunction& phase = m->phase();
+            const ZonalFit fit =
+                fitZonal([&](double mu) { return phase.eval(z, sphericalDirection(mu, 0)); },
+                         s.productOrder, SHWindow::Hann);
+            lobes_.push_back({fit.p, product_->defensiveShare(fit.minValue)});
+        }
+    }
+    setupSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 double VolumePathIntegrator::sampleCollision(const Ray& ray, Rng& rng, PathCounters& c,
-                                             const Medium** medium) const {
+                                             int* medium) const {
     double tHit = NoCollision;
-    *medium = nullptr;
-    for (const auto& m : scene_.media) {
+    *medium = -1;
+    for (size_t i = 0; i < scene_.media.size(); ++i) {
         // Only collisions before the nearest one found so far matter.
-        const double t = m->sampleCollision(ray, tHit, rng, c.tracking);
-        if (t < tHit) tHit = t, *medium = m.get();
+        const double t = scene_.media[i]->sampleCollision(ray, tHit, rng, c.tracking);
+        if (t < tHit) tHit = t, *medium = int(i);
     }
     return tHit;
 }
@@ -38,6 +64,53 @@ double VolumePathIntegrator::transmittance(const Ray& ray, Rng& rng, PathCounter
     return T;
 }
 
+double VolumePathIntegrator::misWeight(double pa, double pb) const {
+    switch (effects_.mis) {
+        case MisHeuristic::Balance:
+            return pa / (pa + pb);
+        case MisHeuristic::Power:
+            return pa * pa / (pa * pa + pb * pb);
+        case MisHeuristic::None:
+            break;
+    }
+    return 1;
+}
+
+VolumePathIntegrator::LightDraw VolumePathIntegrator::sampleLight(const EventLobe& lobe,
+                                                                  const Vec2& u,
+                                                                  PathCounters& c) const {
+    const Environment& env = scene_.environment;
+    WarpSample s;
+    switch (effects_.lightSampling) {
+        case LightSampling::Environment: {
+            const LightSample ls = env.sample(u);
+            return {ls.wi, ls.Le, ls.pdf};
+        }
+        case LightSampling::Wavelet:
+            s = sky_->sample(u);
+            break;
+        case LightSampling::Product:
+            ++c.productSamples;
+            s = product_->sample(lobe.c, lobe.beta, u);
+            break;
+    }
+    if (!(s.pdf > 0)) return {Vec3(0, 0, 1), Spectrum::Zero(), 0.0};
+    const Vec3 w = s.direction();
+    return {w, env.Le(w), s.pdf};
+}
+
+double VolumePathIntegrator::lightPdf(const EventLobe& lobe, const Vec3& w, PathCounters& c) const {
+    switch (effects_.lightSampling) {
+        case LightSampling::Wavelet:
+            return sky_->pdf(w);
+        case LightSampling::Product:
+            ++c.productPdfs;
+            return product_->pdf(lobe.c, lobe.beta, w);
+        default:
+            return scene_.environment.pdf(w);
+    }
+}
+
 Spectrum VolumePathIntegrator::Li(Ray ray, Rng& rng, PathCounters& c) const {
     ++c.paths;
     const Environment& env = scene_.environment;
@@ -45,34 +118,41 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Rng& rng, PathCounters& c) const {
     if (!effects_.scattering) return transmittance(ray, rng, c) * env.Le(ray.d);
 
     const RenderSettings& s = scene_.settings;
+    const bool product = product_ != nullptr;
     Spectrum L = Spectrum::Zero(), beta = Spectrum::Ones();
     double phasePdf = 0;  // pdf of the phase sample that started this ray; 0 for camera rays
+    EventLobe lobe;       // the last scattering event's lobe (product sampling)
     for (int depth = 0;;) {
-        const Medium* medium;
-        const double t = sampleCollision(ray, rng, c, &medium);
+        int mi;
+        const double t = sampleCollision(ray, rng, c, &mi);
         if (t == NoCollision) {
             double w = 1;
-            if (phasePdf > 0 && effects_.nextEvent) {
-                const double pl = env.pdf(ray.d);
-                w = phasePdf / (phasePdf + pl);
-            }
-            L += beta * w * env.Le(ray.d);
+            if (phasePdf > 0 && effects_.nextEvent)
+                w = effects_.mis == MisHeuristic::None
+                        ? 0.0
+                        : misWeight(phasePdf, lightPdf(lobe, ray.d, c));
+            if (w > 0) L += beta * w * env.Le(ray.d);
             break;
         }
         if (++depth > s.maxDepth) break;
         ++c.scatteringEvents;
-        beta *= medium->albedo();
+        const Medium& medium = *scene_.media[mi];
+        beta *= medium.albedo();
         const Vec3 p = ray(t);
-        const PhaseFunction& phase = medium->phase();
+        const PhaseFunction& phase = medium.phase();
 
         if (effects_.nextEvent) {
+            if (product) {
+                product_->rotateZonal(lobes_[mi].p.data(), ray.d, lobe.c);
+                lobe.beta = lobes_[mi].beta;
+            }
             ++c.lightSamples;
-            const LightSample ls = env.sample(rng.uniform2());
+            const LightDraw ls = sampleLight(lobe, rng.uniform2(), c);
             if (ls.pdf > 0 && ls.Le.maxCoeff() > 0) {
                 const double f = phase.eval(ray.d, ls.wi);
                 if (f > 0) {
                     const double T = transmittance(Ray{p, ls.wi}, rng, c);
-                    const double w = ls.pdf / (ls.pdf + phase.pdf(ray.d, ls.wi));
+                    const double w = misWeight(ls.pdf, phase.pdf(ray.d, ls.wi));
                     L += beta * (f * T * w / ls.pdf) * ls.Le;
                 }
             }

@@ -50,7 +50,8 @@ Image randomImage(int W, int H, uint64_t seed) {
     Image img(W, H);
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x)
-            img.set(x, y, Spectrum(rng.uniform(), rng.uniform(), rng.uniform()) * (1 + 9 * (x == 3)));
+            img.set(x, y,
+                    Spectrum(rng.uniform(), rng.uniform(), rng.uniform()) * (1 + 9 * (x == 3)));
     return img;
 }
 

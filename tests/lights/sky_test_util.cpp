@@ -14,8 +14,8 @@ Image testSky(int W, const Vec3& sun, double sunRadius, double sunRadiance) {
             Spectrum sum = Spectrum::Zero();
             for (int j = 0; j < S; ++j)
                 for (int i = 0; i < S; ++i) {
-                    const Vec3 w = latLongDirection(LatLongMapping::Blender, (x + (i + 0.5) / S) / W,
-                                                    (y + (j + 0.5) / S) / H);
+                    const Vec3 w = latLongDirection(
+                        LatLongMapping::Blender, (x + (i + 0.5) / S) / W, (y + (j + 0.5) / S) / H);
                     Spectrum L = w.z() >= 0 ? Spectrum(0.3 + 0.5 * (1 - w.z()), 0.5, 1.0)
                                             : Spectrum(0.1, 0.09, 0.08);
                     if (w.dot(sun) >= cosSun) L = Spectrum::Constant(sunRadiance);

@@ -20,7 +20,8 @@
 ///
 /// Mip-map: node averages at every level (float, 4/3·4^k values). Haar wavelet (non-standard 2D
 /// decomposition): for a node with child averages c_{rc} and average a = ¼Σc,
-///   D_φ = ¼(c00 − c01 + c10 − c11),  D_z = ¼(c00 + c01 − c10 − c11),  D_d = ¼(c00 − c01 − c10 + c11),
+///   D_φ = ¼(c00 − c01 + c10 − c11),  D_z = ¼(c00 + c01 − c10 − c11),  D_d = ¼(c00 − c01 − c10 +
+///   c11),
 /// and the children are reconstructed as c_{rc} = a + s_c D_φ + s_r D_z + s_r s_c D_d, s_0 = 1,
 /// s_1 = −1. On the unit square the orthonormal coefficient of a detail at level d is 2^{−d}·D, so
 /// keeping the K largest |2^{−d} D| (top-K compression) minimises the L2 error, which by Parseval

@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-namespace shvol {
+#include "shvol/render/scene.h"
 
-struct Scene;
+namespace shvol {
 
 struct Effects {
     bool volumes = false;             ///< at least one medium: track free flights
@@ -15,6 +15,9 @@ struct Effects {
     bool multipleScattering = false;  ///< scattering and max depth > 1
     bool nextEvent = false;           ///< NEE towards the environment (with MIS)
     bool environmentImage = false;    ///< the environment is an image (importance-sampled)
+    LightSampling lightSampling = LightSampling::Environment;  ///< strategy when nextEvent
+    MisHeuristic mis = MisHeuristic::Balance;                  ///< when nextEvent
+    bool skyCompressed = false;  ///< the sky hierarchy is top-K compressed (set by the integrator)
 
     static Effects of(const Scene& scene);
     /// Names for the statistics, e.g. {"volume-transmittance", "single-scattering", ...}.

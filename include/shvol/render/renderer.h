@@ -15,6 +15,16 @@ struct RenderOptions {
     bool progress = false;  ///< progress bar on stderr
 };
 
+/// What the light sampler of a render was and cost (empty strategy: no light sampling).
+struct LightSamplingStats {
+    std::string strategy, mis;
+    int productOrder = 0, productDepth = 0;  ///< product strategy only
+    int skyResolution = 0;                   ///< 2^k of the sky hierarchy (wavelet, product)
+    size_t skyBytes = 0, waveletKept = 0, waveletDetails = 0;
+    double waveletL2Error = 0;  ///< relative L2 error of the compressed sky
+    double setupSeconds = 0;    ///< building the sky hierarchy, tables and lobes
+};
+
 struct RenderStats {
     double wallSeconds = 0;
     int threads = 0;
@@ -22,6 +32,7 @@ struct RenderStats {
     uint64_t seed = 0;
     PathCounters counters;
     std::vector<std::string> effects;
+    LightSamplingStats lightSampling;
     double pathsPerSecond() const { return counters.paths / std::max(1e-9, wallSeconds); }
     /// Mean number of scattering events per path.
     double meanPathLength() const {

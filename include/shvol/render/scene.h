@@ -10,6 +10,21 @@
 
 namespace shvol {
 
+/// How a light direction is drawn at a scattering event (render.light_sampling).
+enum class LightSampling {
+    Environment,  ///< the environment's own sampler (uniform, or luminance·sin θ of the image)
+    Wavelet,      ///< hierarchical warp through the sky hierarchy alone (Clarberg et al. 2005)
+    Product,      ///< rotated zonal phase lobe × sky hierarchy (Jarosz et al. 2009 §5.2)
+};
+/// How light and phase samples are combined (render.mis; Veach 1997 §9.2).
+enum class MisHeuristic {
+    Balance,  ///< w_a = p_a / (p_a + p_b)
+    Power,    ///< w_a = p_a² / (p_a² + p_b²)
+    None,     ///< environment light only through light samples (phase-sampled escapes get 0)
+};
+const char* lightSamplingName(LightSampling s);
+const char* misHeuristicName(MisHeuristic h);
+
 struct RenderSettings {
     int spp = 16;
     uint64_t seed = 1;
@@ -17,6 +32,11 @@ struct RenderSettings {
     int rrDepth = 3;    ///< Russian roulette starts after this many scattering events
     bool nee = true;    ///< next-event estimation towards the environment, MIS with phase sampling
     TransmittanceEstimator transmittance = TransmittanceEstimator::Ratio;
+    LightSampling lightSampling = LightSampling::Environment;
+    MisHeuristic mis = MisHeuristic::Balance;
+    int productOrder = 8;   ///< bands of the zonal phase lobe in product sampling (1 … 32)
+    int productDepth = -1;  ///< levels warped by the product; −1: ProductSampler's default
+    size_t waveletCoefficients = 0;  ///< sky wavelet details kept (0 = all)
 };
 
 struct Scene {

@@ -1,0 +1,233 @@
+#include "shvol/lights/product_sampler.h"
+
+#include <gtest/gtest.h>
+
+#include "shvol/core/rng.h"
+#include "shvol/sh/sh_basis.h"
+#include "sky_test_util.h"
+
+namespace shvol {
+namespace {
+
+// The chi² tests in this file form one family: Šidák correction over all of them.
+constexpr int kChi2Tests = 16;
+
+/// Henyey–Greenstein zonal coefficients p_l = g^l √((2l+1)/4π) (DESIGN.md), optionally
+/// Hann-windowed.
+std::vector<double> hgLobe(double g, int n, bool hann = true) {
+    std::vector<double> p(n);
+    for (int l = 0; l < n; ++l)
+        p[l] = std::pow(g, l) * std::sqrt((2 * l + 1) / FourPi) *
+               (hann ? 0.5 * (1 + std::cos(Pi * l / n)) : 1.0);
+    return p;
+}
+
+double lobeMinimum(const std::vector<double>& p) {
+    double m = 1e300, y[64];
+    for (int i = 0; i <= 2000; ++i) {
+        sh::shEvalZonal(int(p.size()), -1 + i / 1000.0, y);
+        double v = 0;
+        for (size_t l = 0; l < p.size(); ++l) v += p[l] * y[l];
+        m = std::min(m, v);
+    }
+    return m;
+}
+
+SkyHierarchy sunSky(int levels, double sunRadius, double sunRadiance, size_t K = 0,
+                    double sunZ = 0.5, double sunPhi = 1.0) {
+    const Image img =
+        test::testSky(1 << (levels + 1), sphericalDirection(sunZ, sunPhi), sunRadius, sunRadiance);
+    SkyHierarchy::LatLongSource src;
+    src.image = &img;
+    return SkyHierarchy::fromLatLong(src, levels, K);
+}
+
+Chi2Result productChi2(const ProductSampler& ps, const double* c, double beta, uint64_t seed) {
+    const test::GridProbability prob(ps.depth(), [&](const Vec3& w) { return ps.pdf(c, beta, w); });
+    EXPECT_NEAR(prob.total(), 1.0, 1e-6);
+    Chi2Options opt;
+    opt.numTests = kChi2Tests;
+    opt.seed = seed;
+    opt.sampleCount = 400000;
+    return chi2TestSphereCells(
+        [&](Rng& rng) -> std::optional<Vec3> {
+            const WarpSample s = ps.sample(c, beta, rng.uniform2());
+            if (!(s.pdf > 0)) return std::nullopt;
+            const double p = ps.pdf(c, beta, s.direction());
+            EXPECT_NEAR(s.pdf, p, 1e-6 * p);
+            return s.direction();
+        },
+        prob, opt);
+}
+
+}  // namespace
+
+// The rotated zonal lobe is p̃(ω·ω₀): rotateZonal against the zonal reconstruction.
+TEST(ProductSampler, RotateZonalMatchesZonalReconstruction) {
+    const SkyHierarchy sky = SkyHierarchy::constant(1.0, false);
+    for (int n : {1, 2, 5, 8, 32}) {
+        const ProductSampler ps(sky, n);
+        const std::vector<double> p = hgLobe(0.7, n);
+        std::vector<double> c(n * n), y(n);
+        Rng rng(n, 1);
+        for (int i = 0; i < 20; ++i) {
+            const Vec3 axis = sphericalDirection(2 * rng.uniform() - 1, TwoPi * rng.uniform());
+            const Vec3 w = sphericalDirection(2 * rng.uniform() - 1, TwoPi * rng.uniform());
+            ps.rotateZonal(p.data(), axis, c.data());
+            sh::shEvalZonal(n, axis.dot(w), y.data());
+            double ref = 0;
+            for (int l = 0; l < n; ++l) ref += p[l] * y[l];
+            EXPECT_NEAR(sh::shReconstruct(n, c.data(), w), ref, 1e-10 * (1 + std::abs(ref)));
+        }
+    }
+}
+
+// Fast path vs slow reference: the child weights under a constant sky are the lobe's integrals
+// over the children, here checked against brute-force midpoint quadrature of p̃(ω·ω₀) in (z, φ).
+TEST(ProductSampler, ChildWeightsAreLobeIntegrals) {
+    const SkyHierarchy sky = SkyHierarchy::constant(1.0, false);
+    const int n = 8;
+    const ProductSampler ps(sky, n);
+    const std::vector<double> p = hgLobe(0.8, n);
+    std::vector<double> c(n * n), y(n);
+    const Vec3 axis = sphericalDirection(0.3, 5.5);
+    ps.rotateZonal(p.data(), axis, c.data());
+    for (const WarpNode node :
+         {WarpNode{}, WarpNode{}.child(1, 0), WarpNode{}.child(1, 1).child(0, 1)}) {
+        double w[4];
+        ps.childWeights(c.data(), node, 1.0, w);
+        for (int r = 0; r < 2; ++r)
+            for (int k = 0; k < 2; ++k) {
+                const WarpNode ch = node.child(r, k);
+                constexpr int M = 400;
+                double ref = 0;
+                for (int i = 0; i < M; ++i)
+                    for (int j = 0; j < M; ++j) {
+                        const double z = ch.z0 + (i + 0.5) / M * (ch.z1 - ch.z0);
+                        const double phi = ch.phi0 + (j + 0.5) / M * (ch.phi1 - ch.phi0);
+                        sh::shEvalZonal(n, axis.dot(sphericalDirection(z, phi)), y.data());
+                        double v = 0;
+                        for (int l = 0; l < n; ++l) v += p[l] * y[l];
+                        ref += v;
+                    }
+                ref *= ch.area() / (M * M);
+                EXPECT_NEAR(w[2 * r + k], std::max(0.0, ref), 2e-5) << node.level << r << k;
+            }
+    }
+}
+
+// chi² over the sphere: the product sampler's samples follow pdf(), for several skies (a 0.53°
+// sun, a compressed wavelet, a sun 1e6× the sky), lobe orders 2–32 and orientations including
+// both poles and the φ seam. One test per case, so that ctest spreads them over the cores.
+struct ProductChi2Case {
+    int sky, order, axis;
+    double g;
+};
+class ProductSamplerChi2 : public testing::TestWithParam<ProductChi2Case> {};
+
+TEST_P(ProductSamplerChi2, SamplesFollowPdf) {
+    static const double sun = 0.53 * Pi / 180 / 2;  // angular radius of the real sun
+    static const SkyHierarchy skies[] = {sunSky(8, sun, 5e4), sunSky(8, 0.05, 100, 2000),
+                                         sunSky(7, 0.02, 1e6)};
+    const Vec3 axes[] = {Vec3(0, 0, 1), Vec3(0, 0, -1), sphericalDirection(0.2, 0.0),
+                         sphericalDirection(0.5, TwoPi - 1e-9), sphericalDirection(0.5, 1.0)};
+    const ProductChi2Case cs = GetParam();
+    const ProductSampler ps(skies[cs.sky], cs.order);
+    const std::vector<double> p = hgLobe(cs.g, cs.order);
+    std::vector<double> c(cs.order * cs.order);
+    ps.rotateZonal(p.data(), axes[cs.axis], c.data());
+    const double beta = ps.defensiveShare(lobeMinimum(p));
+    const Chi2Result r = productChi2(ps, c.data(), beta, 1 + cs.sky * 100 + cs.order + cs.axis);
+    EXPECT_TRUE(r.passed) << "sky " << cs.sky << " order " << cs.order << " axis " << cs.axis
+                          << " g " << cs.g << "\n"
+                          << r.report;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, ProductSamplerChi2,
+    testing::Values(ProductChi2Case{0, 8, 4, 0.8}, ProductChi2Case{0, 2, 0, 0.5},
+                    ProductChi2Case{0, 32, 4, 0.95}, ProductChi2Case{1, 8, 2, 0.8},
+                    ProductChi2Case{1, 16, 3, 0.9}, ProductChi2Case{2, 8, 1, 0.8},
+                    ProductChi2Case{2, 4, 3, -0.6}, ProductChi2Case{0, 8, 2, 0.999},
+                    ProductChi2Case{2, 32, 0, -0.999}));
+
+// The same with the mixture forced on (β = 0.1) and with an unwindowed, ringing lobe, whose
+// negative regions the mixture must cover.
+TEST(ProductSampler, MixtureChi2AndNoHoles) {
+    const SkyHierarchy sky = sunSky(7, 0.04, 300);
+    const int n = 6;
+    const ProductSampler ps(sky, n);
+    const std::vector<double> p = hgLobe(0.97, n, false);
+    ASSERT_LT(lobeMinimum(p), 0);  // rings negative
+    std::vector<double> c(n * n);
+    const Vec3 axis = sphericalDirection(-0.3, 2.0);
+    ps.rotateZonal(p.data(), axis, c.data());
+    const double beta = ps.defensiveShare(lobeMinimum(p));
+    EXPECT_EQ(beta, ProductSampler::kDefensiveFraction);
+    EXPECT_TRUE(productChi2(ps, c.data(), beta, 77).passed);
+    // Every direction where the sky is lit has a positive density, also behind the lobe.
+    Rng rng(5, 5);
+    int holesWithout = 0;
+    for (int i = 0; i < 2000; ++i) {
+        const Vec3 w = sphericalDirection(2 * rng.uniform() - 1, TwoPi * rng.uniform());
+        uint32_t iz, ip;
+        skyCell(w, sky.levels(), &iz, &ip);
+        if (!(sky.average(sky.levels(), iz, ip) > 0)) continue;
+        EXPECT_GT(ps.pdf(c.data(), beta, w), 0.0);
+        holesWithout += !(ps.pdf(c.data(), w) > 0);
+    }
+    EXPECT_GT(holesWithout, 0);  // the product alone does have holes here
+}
+
+// Point sets warp like single samples.
+TEST(ProductSampler, PointSetEqualsSingleSamples) {
+    const SkyHierarchy sky = sunSky(7, 0.05, 100);
+    const ProductSampler ps(sky, 8);
+    const std::vector<double> p = hgLobe(0.8, 8);
+    std::vector<double> c(64);
+    ps.rotateZonal(p.data(), sphericalDirection(0.1, 3.0), c.data());
+    std::vector<Vec2> u;
+    Rng rng(9, 9);
+    for (int i = 0; i < 100; ++i) u.push_back(rng.uniform2());
+    std::vector<WarpSample> out;
+    ps.sample(c.data(), u, out);
+    for (size_t i = 0; i < u.size(); ++i) {
+        const WarpSample s = ps.sample(c.data(), u[i]);
+        EXPECT_NEAR(out[i].z, s.z, 1e-12);
+        EXPECT_NEAR(out[i].phi, s.phi, 1e-12);
+        EXPECT_NEAR(out[i].pdf, s.pdf, 1e-9 * s.pdf);
+    }
+}
+
+// Hard cases: an all-black sky gives no samples; a sky lit in one leaf only gets every sample
+// there with a finite pdf, wherever the lobe points.
+TEST(ProductSampler, BlackAndSingleLeafSkies) {
+    const SkyHierarchy black = SkyHierarchy::fromLeaves(5, std::vector<double>(1024, 0.0));
+    const ProductSampler pb(black, 8);
+    std::vector<double> c(64);
+    const std::vector<double> p = hgLobe(0.9, 8);
+    pb.rotateZonal(p.data(), Vec3(0, 0, 1), c.data());
+    EXPECT_EQ(pb.sample(c.data(), 0.1, Vec2(0.5, 0.5)).pdf, 0.0);
+    EXPECT_EQ(pb.pdf(c.data(), 0.1, Vec3(1, 0, 0)), 0.0);
+
+    std::vector<double> leaves(1024, 0.0);
+    leaves[size_t(3) * 32 + 0] = 1.0;  // near the south pole, at φ = 0
+    const SkyHierarchy one = SkyHierarchy::fromLeaves(5, leaves);
+    const ProductSampler ps(one, 8);
+    for (const Vec3& axis : {Vec3(0, 0, 1), Vec3(0, 0, -1), Vec3(1, 0, 0)}) {
+        ps.rotateZonal(p.data(), axis, c.data());
+        const double beta = ps.defensiveShare(lobeMinimum(p));
+        Rng rng(1, 2);
+        for (int i = 0; i < 200; ++i) {
+            const WarpSample s = ps.sample(c.data(), beta, rng.uniform2());
+            if (!(s.pdf > 0)) continue;  // the lobe may be ≤ 0 over the lit leaf
+            EXPECT_TRUE(std::isfinite(s.pdf));
+            uint32_t iz, ip;
+            skyCell(s.direction(), 5, &iz, &ip);
+            EXPECT_EQ(iz, 3u);
+            EXPECT_EQ(ip, 0u);
+        }
+    }
+}
+
+}  // namespace shvol
