@@ -3,8 +3,8 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
-#include <map>
 
+#include "ratio_reporter.h"
 #include "shvol/core/rng.h"
 #include "shvol/phase/henyey_greenstein_phase.h"
 #include "shvol/phase/zonal_fit.h"
@@ -121,30 +121,13 @@ void SHBuildTables(benchmark::State& state) {
 }
 BENCHMARK(SHBuildTables)->Arg(5)->Arg(20)->Unit(benchmark::kMicrosecond);
 
-/// Console output plus a record of items/s per run name, for the ratios.
-class RatioReporter : public benchmark::ConsoleReporter {
-  public:
-    std::map<std::string, double> rate;
-    void ReportRuns(const std::vector<Run>& runs) override {
-        for (const Run& r : runs) {
-            auto it = r.counters.find("items_per_second");
-            if (it != r.counters.end()) rate[r.benchmark_name()] = it->second;
-        }
-        ConsoleReporter::ReportRuns(runs);
-    }
-};
-
 }  // namespace
 
 int main(int argc, char** argv) {
     benchmark::Initialize(&argc, argv);
-    RatioReporter reporter;
+    bench::RatioReporter reporter;
     benchmark::RunSpecifiedBenchmarks(&reporter);
-    auto r = [&](const char* a, const char* b) {
-        const auto x = reporter.rate.find(a), y = reporter.rate.find(b);
-        if (x == reporter.rate.end() || y == reporter.rate.end()) return;
-        std::printf("  %-26s / %-22s = %.3f\n", a, b, x->second / y->second);
-    };
+    auto r = [&](const char* a, const char* b) { reporter.ratio(a, b); };
     std::printf("\nSame-run ratios (items/s):\n");
     r("ZonalSH/16", "HGAnalytic");
     r("ZonalSH/64", "HGAnalytic");

@@ -114,12 +114,13 @@ TEST(Environment, ConstantLookupAndSampling) {
     }
 }
 
+// The shvol convention (φ = 2π(x+½)/W), which scenes can still choose.
 TEST(Environment, LookupOrientation) {
     Image img(8, 4);
     img.set(2, 0, Spectrum(5, 0, 0));  // top row: around +z
     img.set(2, 3, Spectrum(0, 0, 7));  // bottom row: around −z
     img.set(0, 1, Spectrum(0, 3, 0));  // column 0: φ_img just above 0
-    const Environment env = Environment::image(img, 2.0, 0.0, false);
+    const Environment env = Environment::image(img, 2.0, 0.0, false, LatLongMapping::Shvol);
     EXPECT_FALSE(env.isConstant());
     // Column 2 covers φ ∈ [π/2, 3π/4); look at its centre, near each pole.
     const double phi2 = TwoPi * 2.5 / 8;
@@ -129,7 +130,7 @@ TEST(Environment, LookupOrientation) {
     // Row 1 covers θ ∈ [π/4, π/2); column 0 is φ ∈ [0, π/4) → +x side.
     EXPECT_DOUBLE_EQ(env.Le(sphericalDirection(std::cos(3 * Pi / 8), Pi / 8))[1], 6.0);
     // Rotation by 90°: the pixel at φ_img = 0 moves to world +y.
-    const Environment rot = Environment::image(img, 1.0, 90.0, false);
+    const Environment rot = Environment::image(img, 1.0, 90.0, false, LatLongMapping::Shvol);
     EXPECT_DOUBLE_EQ(rot.Le(sphericalDirection(std::cos(3 * Pi / 8), Pi / 2 + Pi / 8))[1], 3.0);
     EXPECT_DOUBLE_EQ(rot.Le(Vec3(-0.001, 1, 0.3))[1], 3.0);  // just past +y: φ_img ≈ 0⁺
     EXPECT_EQ(rot.Le(sphericalDirection(std::cos(3 * Pi / 8), Pi / 8))[1], 0.0);
@@ -188,4 +189,50 @@ TEST(Environment, AllBlackImageDoesNotCrash) {
 }
 
 }  // namespace
+}  // namespace shvol
+
+namespace shvol {
+
+// A marked test map: pixel (x, y) holds (x, y, 0). Each convention must put the documented column
+// in the documented direction (lights/latlong.h): with W = 8, Blender column x faces
+// φ = π − 2π(x+½)/8 and shvol column x faces φ = 2π(x+½)/8, both plus the rotation.
+TEST(Environment, LatLongMappingsAgainstAMarkedMap) {
+    Image img(8, 4);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 8; ++x) img.set(x, y, Spectrum(x, y, 0));
+    struct Probe {
+        double phi;      // world direction, just above the horizon (row 1)
+        int blenderCol;  // hand-computed from the formulas above
+        int shvolCol;
+    };
+    // Blender u = (π − φ)/2π mod 1, shvol u = φ/2π: φ = 0⁺ gives u = ½⁻ (column 3) and 0⁺
+    // (column 0); φ = π/2⁺ gives ¼⁻ (column 1) and ¼⁺ (column 2); φ = π⁺ gives 1⁻ (column 7) and
+    // ½⁺ (column 4); φ = 3π/2⁺ gives ¾⁻ (column 5) and ¾⁺ (column 6).
+    const Probe probes[] = {
+        {0.01, 3, 0}, {Pi / 2 + 0.01, 1, 2}, {Pi + 0.01, 7, 4}, {1.5 * Pi + 0.01, 5, 6}};
+    for (const Probe& p : probes) {
+        const Vec3 w = sphericalDirection(0.2, p.phi);  // θ ≈ 78°: row 1 of 4
+        const Environment b = Environment::image(img, 1, 0, false, LatLongMapping::Blender);
+        const Environment s = Environment::image(img, 1, 0, false, LatLongMapping::Shvol);
+        EXPECT_EQ(b.Le(w)[0], p.blenderCol) << p.phi;
+        EXPECT_EQ(s.Le(w)[0], p.shvolCol) << p.phi;
+        EXPECT_EQ(b.Le(w)[1], 1);
+        // A rotation of 90° turns the map: what faced φ now faces φ + 90°.
+        const Environment r = Environment::image(img, 1, 90, false, LatLongMapping::Blender);
+        EXPECT_EQ(r.Le(sphericalDirection(0.2, p.phi + Pi / 2))[0], p.blenderCol) << p.phi;
+    }
+    // The sampler agrees with the lookup: samples of a map lit in column 1 only (Blender) go
+    // towards +y (φ ∈ [π/2, 3π/4]).
+    Image col(8, 4);
+    for (int y = 0; y < 4; ++y) col.set(1, y, Spectrum::Ones());
+    const Environment e = Environment::image(col, 1, 0, false, LatLongMapping::Blender);
+    Rng rng(1, 1);
+    for (int i = 0; i < 100; ++i) {
+        const LightSample s = e.sample(rng.uniform2());
+        const double phi = sphericalPhi(s.wi);
+        EXPECT_GE(phi, Pi / 2 - 1e-9);
+        EXPECT_LE(phi, 0.75 * Pi + 1e-9);
+    }
+}
+
 }  // namespace shvol

@@ -1,0 +1,184 @@
+// Light-sampling throughput: the environment's lat-long sampler, the sky hierarchy (wavelet) and
+// the product sampler (rotated zonal lobe × sky) at orders 4–32 on 512² and 2048² skies, one
+// core. Prints Google Benchmark's table, then same-run ratios to an environment sample.
+#include <benchmark/benchmark.h>
+
+#include <memory>
+
+#include "ratio_reporter.h"
+#include "shvol/core/rng.h"
+#include "shvol/lights/environment.h"
+#include "shvol/lights/product_sampler.h"
+
+using namespace shvol;
+
+namespace {
+
+/// A 2048×1024 sky: a gradient, a ground and a 0.53° sun 1e5 times brighter.
+const Image& skyImage() {
+    static const Image img = [] {
+        Image im(2048, 1024);
+        const Vec3 sun = sphericalDirection(0.5, 1.0);
+        const double cosSun = std::cos(0.53 * Pi / 360);
+        for (int y = 0; y < im.height; ++y)
+            for (int x = 0; x < im.width; ++x) {
+                const Vec3 w = latLongDirection(LatLongMapping::Blender, (x + 0.5) / im.width,
+                                                (y + 0.5) / im.height);
+                Spectrum L = w.z() > 0 ? Spectrum(0.3 + 0.5 * (1 - w.z()), 0.5, 1.0)
+                                       : Spectrum(0.1, 0.1, 0.1);
+                if (w.dot(sun) > cosSun) L *= 1e5;
+                im.set(x, y, L);
+            }
+        return im;
+    }();
+    return img;
+}
+
+const SkyHierarchy& sky(int levels, size_t K = 0) {
+    static std::map<std::pair<int, size_t>, std::unique_ptr<SkyHierarchy>> cache;
+    auto& h = cache[{levels, K}];
+    if (!h) {
+        SkyHierarchy::LatLongSource src;
+        src.image = &skyImage();
+        h = std::make_unique<SkyHierarchy>(SkyHierarchy::fromLatLong(src, levels, K));
+    }
+    return *h;
+}
+
+const Vec3 kAxis = Vec3(0.3, -0.5, 0.8).normalized();
+
+/// Hann-windowed HG g = 0.8 lobe of order n rotated to kAxis.
+std::vector<double> lobe(const ProductSampler& ps) {
+    const int n = ps.order();
+    std::vector<double> p(n), c(n * n);
+    for (int l = 0; l < n; ++l)
+        p[l] =
+            std::pow(0.8, l) * std::sqrt((2 * l + 1) / FourPi) * 0.5 * (1 + std::cos(Pi * l / n));
+    ps.rotateZonal(p.data(), kAxis, c.data());
+    return c;
+}
+
+void EnvironmentSample(benchmark::State& state) {
+    const Environment env = Environment::image(skyImage(), 1, 0, false);
+    Rng rng(1, 1);
+    double sink = 0;
+    for (auto _ : state) sink += env.sample(rng.uniform2()).pdf;
+    benchmark::DoNotOptimize(sink);
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(EnvironmentSample);
+
+void WaveletSample(benchmark::State& state) {
+    const SkyHierarchy& h = sky(int(state.range(0)), size_t(state.range(1)));
+    Rng rng(1, 1);
+    double sink = 0;
+    for (auto _ : state) sink += h.sample(rng.uniform2()).pdf;
+    benchmark::DoNotOptimize(sink);
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(WaveletSample)->Args({9, 0})->Args({11, 0})->Args({11, 10000});
+
+void WaveletPointSet(benchmark::State& state) {
+    const SkyHierarchy& h = sky(int(state.range(0)));
+    Rng rng(1, 1);
+    std::vector<Vec2> u(64);
+    std::vector<WarpSample> out;
+    double sink = 0;
+    for (auto _ : state) {
+        for (Vec2& p : u) p = rng.uniform2();
+        h.sample(u, out);
+        sink += out[0].pdf;
+    }
+    benchmark::DoNotOptimize(sink);
+    state.SetItemsProcessed(state.iterations() * 64);
+}
+BENCHMARK(WaveletPointSet)->Arg(11);
+
+void ProductSample(benchmark::State& state) {
+    const ProductSampler ps(sky(int(state.range(1))), int(state.range(0)));
+    const std::vector<double> c = lobe(ps);
+    Rng rng(1, 1);
+    double sink = 0;
+    for (auto _ : state) sink += ps.sample(c.data(), rng.uniform2()).pdf;
+    benchmark::DoNotOptimize(sink);
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(ProductSample)->ArgsProduct({{4, 8, 16, 32}, {9, 11}});
+
+/// Per scattering event: rotate the lobe to a new axis, then draw one sample.
+void ProductEvent(benchmark::State& state) {
+    const ProductSampler ps(sky(int(state.range(1))), int(state.range(0)));
+    const int n = ps.order();
+    std::vector<double> p(n, 0.1), c(n * n);
+    Rng rng(1, 1);
+    double sink = 0;
+    for (auto _ : state) {
+        ps.rotateZonal(p.data(), sphericalDirection(2 * rng.uniform() - 1, TwoPi * rng.uniform()),
+                       c.data());
+        sink += ps.sample(c.data(), rng.uniform2()).pdf;
+    }
+    benchmark::DoNotOptimize(sink);
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(ProductEvent)->ArgsProduct({{4, 8, 16, 32}, {11}});
+
+void ProductPointSet(benchmark::State& state) {
+    const ProductSampler ps(sky(int(state.range(1))), int(state.range(0)));
+    const std::vector<double> c = lobe(ps);
+    Rng rng(1, 1);
+    std::vector<Vec2> u(64);
+    std::vector<WarpSample> out;
+    double sink = 0;
+    for (auto _ : state) {
+        for (Vec2& p : u) p = rng.uniform2();
+        ps.sample(c.data(), u, out);
+        sink += out[0].pdf;
+    }
+    benchmark::DoNotOptimize(sink);
+    state.SetItemsProcessed(state.iterations() * 64);
+}
+BENCHMARK(ProductPointSet)->ArgsProduct({{4, 8, 16, 32}, {9, 11}});
+
+void ProductPdf(benchmark::State& state) {
+    const ProductSampler ps(sky(int(state.range(1))), int(state.range(0)));
+    const std::vector<double> c = lobe(ps);
+    Rng rng(1, 1);
+    double sink = 0;
+    for (auto _ : state)
+        sink += ps.pdf(c.data(), sphericalDirection(2 * rng.uniform() - 1, TwoPi * rng.uniform()));
+    benchmark::DoNotOptimize(sink);
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(ProductPdf)->ArgsProduct({{4, 8, 16, 32}, {9, 11}});
+
+void SkyBuild(benchmark::State& state) {
+    SkyHierarchy::LatLongSource src;
+    src.image = &skyImage();
+    for (auto _ : state) {
+        const SkyHierarchy h = SkyHierarchy::fromLatLong(src, int(state.range(0)));
+        benchmark::DoNotOptimize(h.rootAverage());
+    }
+}
+BENCHMARK(SkyBuild)->Arg(9)->Arg(11)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    benchmark::Initialize(&argc, argv);
+    bench::RatioReporter reporter;
+    benchmark::RunSpecifiedBenchmarks(&reporter);
+    std::printf("\nSame-run ratios (items/s; below 1: slower than an environment sample):\n");
+    for (const char* levels : {"9", "11"}) {
+        for (const char* n : {"4", "8", "16", "32"}) {
+            const std::string args = std::string(n) + "/" + levels;
+            reporter.ratio("ProductSample/" + args, "EnvironmentSample");
+            reporter.ratio("ProductPointSet/" + args, "EnvironmentSample");
+            reporter.ratio("ProductPdf/" + args, "EnvironmentSample");
+        }
+        reporter.ratio(std::string("WaveletSample/") + levels + "/0", "EnvironmentSample");
+    }
+    for (const char* n : {"4", "8", "16", "32"})
+        reporter.ratio(std::string("ProductEvent/") + n + "/11", "EnvironmentSample");
+    reporter.ratio("WaveletSample/11/10000", "WaveletSample/11/0");
+    return 0;
+}
