@@ -27,8 +27,7 @@ inline void weightByCoefficients(int n, const double* f, const double* J, double
 }
 
 /// The cell mass M from A, B and one φ-interval's C, S.
-inline double cellMass(int n, const double* A, const double* B, const double* C,
-                       const double* S) {
+inline double cellMass(int n, const double* A, const double* B, const double* C, const double* S) {
     constexpr double Sqrt2 = 1.4142135623730951;
     double s = 0;
     for (int m = 1; m < n; ++m) s += A[m] * C[m] + B[m] * S[m];
