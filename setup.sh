@@ -10,7 +10,7 @@ cd "$(dirname "$0")"
 packages=(cmake ninja-build clang g++ pkg-config
           libopenvdb-dev libboost-iostreams-dev libembree-dev libeigen3-dev libopenexr-dev
           libtbb-dev libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
-          libboost-math-dev)
+          libboost-math-dev zlib1g-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -12,6 +12,7 @@ void addMakeSkyCommand(CLI::App& app, std::function<int()>& run);
 void addBenchCommand(CLI::App& app, std::function<int()>& run);
 void addPhaseCommand(CLI::App& app, std::function<int()>& run);
 void addDiffCommand(CLI::App& app, std::function<int()>& run);
+void addTonemapCommand(CLI::App& app, std::function<int()>& run);
 
 /// Peak resident memory of this process in MiB.
 double peakMemoryMiB();

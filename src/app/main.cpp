@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
     shvol::app::addBenchCommand(app, run);
     shvol::app::addPhaseCommand(app, run);
     shvol::app::addDiffCommand(app, run);
+    shvol::app::addTonemapCommand(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

@@ -1,0 +1,35 @@
+// shvol tonemap: an 8-bit sRGB PNG preview of a linear EXR.
+#include <cstdio>
+#include <filesystem>
+
+#include "commands.h"
+#include "shvol/core/error.h"
+#include "shvol/io/exr.h"
+#include "shvol/io/png.h"
+
+namespace shvol::app {
+
+void addTonemapCommand(CLI::App& app, std::function<int()>& run) {
+    struct Args {
+        std::string input, output;
+        double exposure = 0;
+    };
+    auto a = std::make_shared<Args>();
+    CLI::App* c = app.add_subcommand(
+        "tonemap", "Write an sRGB PNG preview of an EXR: clamp(2^exposure * v), sRGB-encoded");
+    c->add_option("image", a->input, "Input EXR")->required();
+    c->add_option("-o,--output", a->output, "Output PNG")->required();
+    c->add_option("--exposure", a->exposure, "Exposure in stops (default 0)")
+        ->check(CLI::Range(-64.0, 64.0));
+    c->callback([&run, a] {
+        run = [a] {
+            if (std::filesystem::path(a->output).extension() != ".png")
+                fail(a->output, "", "tonemap writes PNG; name the file .png");
+            const Image img = readExr(a->input);
+            writePng(a->output, img, a->exposure);
+            return 0;
+        };
+    });
+}
+
+}  // namespace shvol::app
