@@ -1,4 +1,6 @@
 // shvol make-medium and shvol make-sky: procedural inputs written through OpenVDB and OpenEXR.
+#include <cctype>
+#include <cmath>
 #include <cstdio>
 
 #include "commands.h"
@@ -57,22 +59,117 @@ void addMakeMediumCommand(CLI::App& app, std::function<int()>& run) {
     });
 }
 
+namespace {
+// A CLI11 check that a number lies in [lo, hi], or (lo, hi] with loOpen; one-line message.
+CLI::Validator numberIn(double lo, double hi, bool loOpen, const std::string& unit) {
+    const std::string range = std::string(loOpen ? "(" : "[") + CLI::detail::to_string(lo) + ", " +
+                              CLI::detail::to_string(hi) + "]" + unit;
+    return CLI::Validator(
+        [=](std::string& text) -> std::string {
+            double v = 0;
+            if (!CLI::detail::lexical_cast(text, v) || !std::isfinite(v))
+                return "expected a number, got \"" + text + "\"";
+            if (v < lo || v > hi || (loOpen && v <= lo))
+                return "must be in " + range + ", got " + text;
+            return {};
+        },
+        "in " + range);
+}
+
+bool endsWithExr(const std::string& path) {
+    if (path.size() < 4) return false;
+    std::string ext = path.substr(path.size() - 4);
+    for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    return ext == ".exr";
+}
+
+struct SkyArgs {
+    SkyParams params;
+    std::string output, model = "simple", mapping = "blender";
+    double sunRadiance = 0, sunRadius = 0;
+};
+}  // namespace
+
 void addMakeSkyCommand(CLI::App& app, std::function<int()>& run) {
-    auto p = std::make_shared<SkyParams>();
-    auto out = std::make_shared<std::string>();
+    auto a = std::make_shared<SkyArgs>();
+    SkyParams& p = a->params;
     CLI::App* c = app.add_subcommand("make-sky", "Write a procedural lat-long sky (.exr)");
-    c->add_option("-o,--output", *out, "Output .exr file")->required();
-    c->add_option("--width", p->width, "Width in pixels (height = width/2)")
-        ->check(CLI::Range(8, 16384));
-    c->add_option("--sun-elevation", p->sunElevationDegrees, "Sun elevation in degrees");
-    c->add_option("--sun-azimuth", p->sunAzimuthDegrees, "Sun azimuth in degrees (from +x to +y)");
-    c->add_option("--sun-radiance", p->sunRadiance, "Radiance inside the sun disc");
-    c->add_option("--sun-radius", p->sunAngularRadius, "Sun angular radius in radians");
-    c->callback([&run, p, out] {
-        run = [p, out] {
-            p->height = p->width / 2;
-            writeExr(*out, makeSky(*p));
-            std::fprintf(stderr, "wrote %s: %dx%d sky\n", out->c_str(), p->width, p->height);
+    c->add_option("-o,--output", a->output, "Output .exr file")
+        ->required()
+        ->check(CLI::Validator(
+            [](std::string& path) -> std::string {
+                return endsWithExr(path) ? "" : "make-sky writes OpenEXR; name the file .exr";
+            },
+            "FILE.exr"));
+    c->add_option("--model", a->model,
+                  "simple (gradient sky, arbitrary units) or preetham (Preetham et al. 1999 "
+                  "clear sky and a physical sun, kcd/m^2)")
+        ->check(CLI::IsMember({"simple", "preetham"}));
+    c->add_option("--mapping", a->mapping,
+                  "Lat-long convention: blender (default) or shvol (mirrored)")
+        ->check(CLI::IsMember({"blender", "shvol"}));
+    c->add_option("--width", p.width, "Width in pixels (height = width/2)")
+        ->check(numberIn(8, 16384, false, ""));
+    c->add_option("--sun-elevation", p.sunElevationDegrees, "Sun elevation in degrees")
+        ->check(numberIn(-90, 90, false, " degrees"));
+    c->add_option("--sun-azimuth", p.sunAzimuthDegrees,
+                  "Sun azimuth in degrees, from +x towards +y (world space)")
+        ->check(numberIn(-360, 360, false, " degrees"));
+    c->add_option("--turbidity", p.turbidity, "Atmospheric turbidity T (preetham), 2 to 10")
+        ->check(numberIn(2, 10, false, ""));
+    c->add_option("--sun-radiance", a->sunRadiance,
+                  "Radiance inside the sun disc (preetham: its luminance in kcd/m^2; default: "
+                  "physical)")
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                double v = 0;
+                if (!CLI::detail::lexical_cast(text, v) || !std::isfinite(v))
+                    return "expected a number, got \"" + text + "\"";
+                return v > 0 ? "" : "must be positive, got " + text;
+            },
+            "> 0"));
+    c->add_option("--sun-radius", a->sunRadius,
+                  "Sun angular radius in radians (default: 0.02 simple, 0.004625 preetham)")
+        ->check(numberIn(0, 0.5, true, " rad"));
+    c->callback([&run, a, c] {
+        const bool radianceGiven = c->count("--sun-radiance") > 0;
+        const bool radiusGiven = c->count("--sun-radius") > 0;
+        const bool turbidityGiven = c->count("--turbidity") > 0;
+        run = [a, radianceGiven, radiusGiven, turbidityGiven] {
+            SkyParams& p = a->params;
+            p.model = skyModelFromName(a->model);
+            p.mapping = latLongMappingFromName(a->mapping);
+            p.height = p.width / 2;
+            if (radianceGiven) p.sunRadiance = a->sunRadiance;
+            if (radiusGiven) p.sunAngularRadius = a->sunRadius;
+            const SkySummary s = describeSky(p);
+            writeExr(a->output, makeSky(p));
+            const bool preetham = p.model == SkyModel::Preetham;
+            const char* unit = preetham ? " kcd/m^2" : "";
+            std::fprintf(stderr, "wrote %s: %dx%d %s sky, %s mapping", a->output.c_str(), p.width,
+                         p.height, skyModelName(p.model), latLongMappingName(p.mapping));
+            if (preetham) std::fprintf(stderr, ", turbidity %g", p.turbidity);
+            std::fprintf(stderr, "\n  sun: elevation %g deg, azimuth %g deg, radius %g rad%s\n",
+                         p.sunElevationDegrees, p.sunAzimuthDegrees, s.sunAngularRadius,
+                         preetham && !radiusGiven ? " (true size)" : "");
+            std::fprintf(stderr, "  sun radiance (luminance) %.4g%s%s; zenith %.4g%s; ",
+                         s.sunLuminance, unit,
+                         !preetham       ? ""
+                         : radianceGiven ? " (given)"
+                         : radiusGiven   ? " (physical illuminance over this disc)"
+                                         : " (physical)",
+                         s.zenithLuminance, unit);
+            std::fprintf(stderr, "sun/zenith ratio %.4g; ground %.4g%s\n",
+                         s.sunLuminance / s.zenithLuminance,
+                         0.2126 * s.groundRadiance[0] + 0.7152 * s.groundRadiance[1] +
+                             0.0722 * s.groundRadiance[2],
+                         unit);
+            if (preetham && p.sunElevationDegrees < 0)
+                std::fprintf(stderr,
+                             "  note: the Preetham model does not cover twilight; the sky is "
+                             "that of a sun on the horizon and the disc is below the ground\n");
+            if (!preetham && turbidityGiven)
+                std::fprintf(stderr, "  note: --turbidity has no effect with --model simple\n");
             return 0;
         };
     });

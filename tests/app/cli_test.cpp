@@ -1,10 +1,10 @@
 // The shvol program as a user runs it: exit codes, one-line errors, no half-written output.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <cmath>
 #include <sstream>
 
 #include "shvol/io/exr.h"
@@ -91,9 +91,9 @@ TEST_F(Cli, HelpAndVersion) {
 // Command-line mistakes follow the same contract as every other error: one line, exit code 1.
 TEST_F(Cli, UsageErrorsAreOneLine) {
     write("s.json", scene(Homogeneous));
-    for (const std::string& args : std::vector<std::string>{"render", "render " + path("s.json") + " --spp 0",
-                                   "render " + path("s.json") + " --bogus", "frobnicate",
-                                   "phase fit hg:g=0.5"}) {
+    for (const std::string& args : std::vector<std::string>{
+             "render", "render " + path("s.json") + " --spp 0",
+             "render " + path("s.json") + " --bogus", "frobnicate", "phase fit hg:g=0.5"}) {
         const Result r = run(args);
         EXPECT_EQ(r.code, 1) << args;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
@@ -121,8 +121,8 @@ TEST_F(Cli, PhaseFitAndSample) {
     ASSERT_EQ(r.code, 0) << r.err;
     const auto fit = nlohmann::json::parse(r.out);
     for (int l = 0; l < 5; ++l)
-        EXPECT_NEAR(fit["coefficients"][l].get<double>(), std::pow(0.6, l) * std::sqrt((2 * l + 1) / (4 * M_PI)),
-                    1e-12);
+        EXPECT_NEAR(fit["coefficients"][l].get<double>(),
+                    std::pow(0.6, l) * std::sqrt((2 * l + 1) / (4 * M_PI)), 1e-12);
     r = run("phase sample hg:g=0.6 --order 8 --count 100 --out " + path("s.csv"));
     ASSERT_EQ(r.code, 0) << r.err;
     std::ifstream f(path("s.csv"));
@@ -138,7 +138,8 @@ TEST_F(Cli, PhaseFitAndSample) {
         ++rows;
     }
     EXPECT_EQ(rows, 100);
-    r = run("phase sample hg:g=0.6 --order 200 --sampler general --count 10 --out " + path("g.csv"));
+    r = run("phase sample hg:g=0.6 --order 200 --sampler general --count 10 --out " +
+            path("g.csv"));
     EXPECT_EQ(r.code, 1);
     EXPECT_FALSE(fs::exists(path("g.csv")));
 }
@@ -163,7 +164,30 @@ TEST_F(Cli, RenderWritesExrAndStats) {
         EXPECT_TRUE(stats.contains(k)) << k;
     EXPECT_EQ(stats["effects"], nlohmann::json::parse(
                                     R"(["environment-constant", "volume-tracking",
-                                        "multiple-scattering", "nee-environment-uniform"])"));
+                                        "multiple-scattering", "nee-environment-uniform", "mis-balance"])"));
+}
+
+// Product light sampling names itself in the stats with what it built and drew; a wrong
+// strategy name is one line naming the key.
+TEST_F(Cli, ProductLightSamplingStats) {
+    write("s.json", scene(Homogeneous));
+    Result r = run("render " + path("s.json") + " -o " + path("p.exr") +
+                   " --spp 2 --quiet --set render.light_sampling=product --set render.mis=power"
+                   " --set render.product_order=6");
+    ASSERT_EQ(r.code, 0) << r.err;
+    std::ifstream f(path("p.stats.json"));
+    const auto stats = nlohmann::json::parse(f);
+    EXPECT_GT(stats["product_samples"].get<long long>(), 0);
+    EXPECT_EQ(stats["light_sampling"]["strategy"], "product");
+    EXPECT_EQ(stats["light_sampling"]["mis"], "power");
+    EXPECT_EQ(stats["light_sampling"]["product_order"], 6);
+    EXPECT_GT(stats["light_sampling"]["sky_memory_bytes"].get<long long>(), 0);
+    r = run("render " + path("s.json") + " -o " + path("q.exr") +
+            " --quiet --set render.light_sampling=sun");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("render.light_sampling: unknown value \"sun\""), std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(path("q.exr")));
 }
 
 TEST_F(Cli, SameSeedSameImageAnyThreads) {
@@ -258,7 +282,8 @@ TEST_F(Cli, BadOverridesAndOutputs) {
     EXPECT_FALSE(fs::exists(path("out.exr")));
     r = run("render " + path("s.json") + " -o " + path("no/such/dir/out.exr") + " --quiet");
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find("no/such/dir/out.exr: cannot write: directory"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("no/such/dir/out.exr: cannot write: directory"), std::string::npos)
+        << r.err;
     EXPECT_TRUE(r.out.empty());
 }
 
