@@ -20,6 +20,7 @@ ProductSampler::ProductSampler(const SkyHierarchy& sky, int order, int productDe
     productDepth_ = productDepth < 0 ? defaultProductDepth(order) : productDepth;
     if (productDepth_ > 12) throw Error("product sampling: product depth must be <= 12");
     depth_ = std::max(productDepth_, sky.levels());
+    for (int l = 0; l < n_; ++l) zonalScale_.push_back(std::sqrt(FourPi / (2 * l + 1)));
     J_.resize(productDepth_ + 1);
     C_.resize(productDepth_ + 1);
     S_.resize(productDepth_ + 1);
@@ -41,8 +42,24 @@ ProductSampler::ProductSampler(const SkyHierarchy& sky, int order, int productDe
 void ProductSampler::rotateZonal(const double* p, const Vec3& axis, double* c) const {
     sh::shEval(n_, axis, c);
     for (int l = 0; l < n_; ++l) {
-        const double k = std::sqrt(FourPi / (2 * l + 1)) * p[l];
+        const double k = zonalScale_[l] * p[l];
         for (int m = -l; m <= l; ++m) c[sh::shIndex(l, m)] *= k;
+    }
+}
+
+void ProductSampler::rotateZonal(const double* p, const Vec3& axis, ZonalLobe& lobe) const {
+    const double s = std::hypot(axis.x(), axis.y());
+    sh::legendreNormalized(n_, std::clamp(axis.z(), -1.0, 1.0), s, lobe.q);
+    for (int l = 0, t = 0; l < n_; ++l) {
+        const double k = zonalScale_[l] * p[l];
+        for (int m = 0; m <= l; ++m, ++t) lobe.q[t] *= k;
+    }
+    // cos mφ₀, sin mφ₀ by the multiple-angle recurrence (φ₀ = 0 on the axis, as sh_basis.h).
+    const double c1 = s > 0 ? axis.x() / s : 1.0, s1 = s > 0 ? axis.y() / s : 0.0;
+    lobe.cosm[0] = 1, lobe.sinm[0] = 0;
+    for (int m = 1; m < n_; ++m) {
+        lobe.cosm[m] = lobe.cosm[m - 1] * c1 - lobe.sinm[m - 1] * s1;
+        lobe.sinm[m] = lobe.sinm[m - 1] * c1 + lobe.cosm[m - 1] * s1;
     }
 }
 
@@ -54,46 +71,75 @@ void ProductSampler::skyChildren(int level, uint64_t skyNode, double skyAvg, dou
     }
 }
 
-namespace {
-/// Lobe masses of the four children of node (level, iz, iφ) into m.
-void lobeMasses(int n, const double* c, const std::vector<double>& J, const std::vector<double>& C,
-                const std::vector<double>& S, uint32_t iz, uint32_t iphi, double m[4]) {
-    double A[ProductSampler::kMaxOrder], B[ProductSampler::kMaxOrder];
-    const int tri = sh::triSize(n);
+void ProductSampler::lobeMasses(const SHLobe& lobe, int level, uint32_t iz, uint32_t iphi,
+                                double m[4]) const {
+    double A[kMaxOrder], B[kMaxOrder];
+    const int tri = sh::triSize(n_);
+    const std::vector<double>&J = J_[level + 1], &C = C_[level + 1], &S = S_[level + 1];
     for (int r = 0; r < 2; ++r) {
-        weightByCoefficients(n, c, &J[size_t(2 * iz + r) * tri], A, B);
+        weightByCoefficients(n_, lobe.c, &J[size_t(2 * iz + r) * tri], A, B);
         for (int k = 0; k < 2; ++k) {
-            const size_t j = size_t(2 * iphi + k) * n;
-            m[2 * r + k] = cellMass(n, A, B, &C[j], &S[j]);
+            const size_t j = size_t(2 * iphi + k) * n_;
+            m[2 * r + k] = cellMass(n_, A, B, &C[j], &S[j]);
         }
     }
 }
-}  // namespace
 
-void ProductSampler::childWeights(const double* c, const WarpNode& node, double skyAvg,
+void ProductSampler::lobeMasses(const ZonalLobe& lobe, int level, uint32_t iz, uint32_t iphi,
+                                double m[4]) const {
+    const int tri = sh::triSize(n_);
+    const std::vector<double>&J = J_[level + 1], &C = C_[level + 1], &S = S_[level + 1];
+    double G[2][kMaxOrder];  // G_0 and 2·G_m, G_m = ∫cos(m(φ − φ₀)) dφ over the φ-children
+    for (int k = 0; k < 2; ++k) {
+        const double *Ck = &C[size_t(2 * iphi + k) * n_], *Sk = &S[size_t(2 * iphi + k) * n_];
+        G[k][0] = Ck[0];
+        for (int mm = 1; mm < n_; ++mm)
+            G[k][mm] = 2 * (lobe.cosm[mm] * Ck[mm] + lobe.sinm[mm] * Sk[mm]);
+    }
+    for (int r = 0; r < 2; ++r) {
+        double Sm[kMaxOrder] = {};
+        const double* Jr = &J[size_t(2 * iz + r) * tri];
+        for (int l = 0, t = 0; l < n_; ++l)
+            for (int mm = 0; mm <= l; ++mm, ++t) Sm[mm] += lobe.q[t] * Jr[t];
+        for (int k = 0; k < 2; ++k) {
+            double sum = 0;
+            for (int mm = 0; mm < n_; ++mm) sum += Sm[mm] * G[k][mm];
+            m[2 * r + k] = sum;
+        }
+    }
+}
+
+template <class Lobe>
+void ProductSampler::weights(const Lobe& lobe, int d, uint32_t iz, uint32_t ip, const double s[4],
+                             double w[4]) const {
+    if (d >= productDepth_) {
+        for (int i = 0; i < 4; ++i) w[i] = s[i];
+        return;
+    }
+    double m[4];
+    lobeMasses(lobe, d, iz, ip, m);
+    for (int i = 0; i < 4; ++i) w[i] = m[i] > 0 && s[i] > 0 ? m[i] * s[i] : 0.0;
+}
+
+template <class Lobe>
+void ProductSampler::childWeights(const Lobe& lobe, const WarpNode& node, double skyAvg,
                                   double w[4]) const {
     const int d = node.level;
     const int sd = std::min(d, sky_.levels());
-    skyChildren(d, mortonIndex(node.iz >> (d - sd), node.iphi >> (d - sd)), skyAvg, w);
-    if (d >= productDepth_) return;
-    double m[4];
-    lobeMasses(n_, c, J_[d + 1], C_[d + 1], S_[d + 1], node.iz, node.iphi, m);
-    for (int i = 0; i < 4; ++i) w[i] = m[i] > 0 && w[i] > 0 ? m[i] * w[i] : 0.0;
+    double s[4];
+    skyChildren(d, mortonIndex(node.iz >> (d - sd), node.iphi >> (d - sd)), skyAvg, s);
+    weights(lobe, d, node.iz, node.iphi, s, w);
 }
 
-WarpSample ProductSampler::sample(const double* c, Vec2 u) const {
-    double skyAvg = sky_.rootAverage(), s[4], w[4], m[4], prob = 1;
+template <class Lobe>
+WarpSample ProductSampler::sample(const Lobe& lobe, Vec2 u) const {
+    double skyAvg = sky_.rootAverage(), s[4], w[4], prob = 1;
     if (!(skyAvg > 0)) return {};
     uint64_t skyNode = 0;
     uint32_t iz = 0, ip = 0;
     for (int d = 0; d < depth_; ++d) {
         skyChildren(d, skyNode, skyAvg, s);
-        if (d < productDepth_) {
-            lobeMasses(n_, c, J_[d + 1], C_[d + 1], S_[d + 1], iz, ip, m);
-            for (int i = 0; i < 4; ++i) w[i] = m[i] > 0 && s[i] > 0 ? m[i] * s[i] : 0.0;
-        } else {
-            for (int i = 0; i < 4; ++i) w[i] = s[i];
-        }
+        weights(lobe, d, iz, ip, s, w);
         const detail::Split sp(w);
         if (!(sp.total > 0)) return {};
         const int r = detail::choose(sp.pRow0, u.x());
@@ -107,8 +153,9 @@ WarpSample ProductSampler::sample(const double* c, Vec2 u) const {
     return {-1 + (iz + u.x()) * hz, (ip + u.y()) * hp, prob / (hz * hp)};
 }
 
-double ProductSampler::pdf(const double* c, const Vec3& wdir) const {
-    double skyAvg = sky_.rootAverage(), s[4], w[4], m[4], prob = 1;
+template <class Lobe>
+double ProductSampler::pdf(const Lobe& lobe, const Vec3& wdir) const {
+    double skyAvg = sky_.rootAverage(), s[4], w[4], prob = 1;
     if (!(skyAvg > 0)) return 0;
     uint32_t izLeaf, ipLeaf;
     skyCell(wdir, depth_, &izLeaf, &ipLeaf);
@@ -116,12 +163,7 @@ double ProductSampler::pdf(const double* c, const Vec3& wdir) const {
     uint32_t iz = 0, ip = 0;
     for (int d = 0; d < depth_; ++d) {
         skyChildren(d, skyNode, skyAvg, s);
-        if (d < productDepth_) {
-            lobeMasses(n_, c, J_[d + 1], C_[d + 1], S_[d + 1], iz, ip, m);
-            for (int i = 0; i < 4; ++i) w[i] = m[i] > 0 && s[i] > 0 ? m[i] * s[i] : 0.0;
-        } else {
-            for (int i = 0; i < 4; ++i) w[i] = s[i];
-        }
+        weights(lobe, d, iz, ip, s, w);
         const int shift = depth_ - 1 - d;
         const int r = (izLeaf >> shift) & 1, k = (ipLeaf >> shift) & 1, i = 2 * r + k;
         const detail::Split sp(w);
@@ -134,39 +176,55 @@ double ProductSampler::pdf(const double* c, const Vec3& wdir) const {
     return prob / ((2 / cells) * (TwoPi / cells));
 }
 
-void ProductSampler::sample(const double* c, const std::vector<Vec2>& u,
+template <class Lobe>
+void ProductSampler::sample(const Lobe& lobe, const std::vector<Vec2>& u,
                             std::vector<WarpSample>& out) const {
     out.resize(u.size());
     hierarchicalWarpPoints(
-        [this, c](const WarpNode& nd, double w[4]) {
+        [this, &lobe](const WarpNode& nd, double w[4]) {
             const int sd = std::min(nd.level, sky_.levels());
             const int shift = nd.level - sd;
-            childWeights(c, nd, sky_.samplingAverage(sd, nd.iz >> shift, nd.iphi >> shift), w);
+            childWeights(lobe, nd, sky_.samplingAverage(sd, nd.iz >> shift, nd.iphi >> shift), w);
         },
         depth_, u.data(), int(u.size()), out.data());
 }
 
-WarpSample ProductSampler::sample(const double* c, double beta, Vec2 u) const {
-    if (beta <= 0) return sample(c, u);
+template <class Lobe>
+WarpSample ProductSampler::sample(const Lobe& lobe, double beta, Vec2 u) const {
+    if (beta <= 0) return sample(lobe, u);
     WarpSample s;
     if (u.x() < beta) {
         s = sky_.sample(Vec2(u.x() / beta, u.y()));
     } else {
-        s = sample(c, Vec2((u.x() - beta) / (1 - beta), u.y()));
+        s = sample(lobe, Vec2((u.x() - beta) / (1 - beta), u.y()));
     }
     // A failed branch yields no sample (its lost mass is what its pdf leaves out).
     if (!(s.pdf > 0)) return {};
-    s.pdf = pdf(c, beta, s.direction());
+    s.pdf = pdf(lobe, beta, s.direction());
     return s;
 }
 
-double ProductSampler::pdf(const double* c, double beta, const Vec3& w) const {
-    if (beta <= 0) return pdf(c, w);
-    return (1 - beta) * pdf(c, w) + beta * sky_.pdf(w);
+template <class Lobe>
+double ProductSampler::pdf(const Lobe& lobe, double beta, const Vec3& w) const {
+    if (beta <= 0) return pdf(lobe, w);
+    return (1 - beta) * pdf(lobe, w) + beta * sky_.pdf(w);
 }
 
 double ProductSampler::defensiveShare(double lobeMinimum) const {
     return lobeMinimum < 0 || sky_.compressed() ? kDefensiveFraction : 0.0;
 }
+
+// Both lobe forms.
+#define SHVOL_PRODUCT_LOBE(L)                                                 \
+    template WarpSample ProductSampler::sample(const L&, Vec2) const;         \
+    template double ProductSampler::pdf(const L&, const Vec3&) const;         \
+    template void ProductSampler::sample(const L&, const std::vector<Vec2>&,  \
+                                         std::vector<WarpSample>&) const;     \
+    template WarpSample ProductSampler::sample(const L&, double, Vec2) const; \
+    template double ProductSampler::pdf(const L&, double, const Vec3&) const; \
+    template void ProductSampler::childWeights(const L&, const WarpNode&, double, double[4]) const;
+SHVOL_PRODUCT_LOBE(ProductSampler::SHLobe)
+SHVOL_PRODUCT_LOBE(ProductSampler::ZonalLobe)
+#undef SHVOL_PRODUCT_LOBE
 
 }  // namespace shvol

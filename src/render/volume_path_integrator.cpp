@@ -91,7 +91,7 @@ VolumePathIntegrator::LightDraw VolumePathIntegrator::sampleLight(const EventLob
             break;
         case LightSampling::Product:
             ++c.productSamples;
-            s = product_->sample(lobe.c, lobe.beta, u);
+            s = product_->sample(lobe.lobe, lobe.beta, u);
             break;
     }
     if (!(s.pdf > 0)) return {Vec3(0, 0, 1), Spectrum::Zero(), 0.0};
@@ -105,7 +105,7 @@ double VolumePathIntegrator::lightPdf(const EventLobe& lobe, const Vec3& w, Path
             return sky_->pdf(w);
         case LightSampling::Product:
             ++c.productPdfs;
-            return product_->pdf(lobe.c, lobe.beta, w);
+            return product_->pdf(lobe.lobe, lobe.beta, w);
         default:
             return scene_.environment.pdf(w);
     }
@@ -143,7 +143,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Rng& rng, PathCounters& c) const {
 
         if (effects_.nextEvent) {
             if (product) {
-                product_->rotateZonal(lobes_[mi].p.data(), ray.d, lobe.c);
+                product_->rotateZonal(lobes_[mi].p.data(), ray.d, lobe.lobe);
                 lobe.beta = lobes_[mi].beta;
             }
             ++c.lightSamples;

@@ -12,6 +12,8 @@ namespace {
 // The chi² tests in this file form one family: Šidák correction over all of them.
 constexpr int kChi2Tests = 16;
 
+using SH = ProductSampler::SHLobe;
+
 /// Henyey–Greenstein zonal coefficients p_l = g^l √((2l+1)/4π) (DESIGN.md), optionally
 /// Hann-windowed.
 std::vector<double> hgLobe(double g, int n, bool hann = true) {
@@ -42,7 +44,8 @@ SkyHierarchy sunSky(int levels, double sunRadius, double sunRadiance, size_t K =
     return SkyHierarchy::fromLatLong(src, levels, K);
 }
 
-Chi2Result productChi2(const ProductSampler& ps, const double* c, double beta, uint64_t seed) {
+template <class Lobe>
+Chi2Result productChi2(const ProductSampler& ps, const Lobe& c, double beta, uint64_t seed) {
     const test::GridProbability prob(ps.depth(), [&](const Vec3& w) { return ps.pdf(c, beta, w); });
     EXPECT_NEAR(prob.total(), 1.0, 1e-6);
     Chi2Options opt;
@@ -95,7 +98,7 @@ TEST(ProductSampler, ChildWeightsAreLobeIntegrals) {
     for (const WarpNode node :
          {WarpNode{}, WarpNode{}.child(1, 0), WarpNode{}.child(1, 1).child(0, 1)}) {
         double w[4];
-        ps.childWeights(c.data(), node, 1.0, w);
+        ps.childWeights(SH{c.data()}, node, 1.0, w);
         for (int r = 0; r < 2; ++r)
             for (int k = 0; k < 2; ++k) {
                 const WarpNode ch = node.child(r, k);
@@ -134,10 +137,10 @@ TEST_P(ProductSamplerChi2, SamplesFollowPdf) {
     const ProductChi2Case cs = GetParam();
     const ProductSampler ps(skies[cs.sky], cs.order);
     const std::vector<double> p = hgLobe(cs.g, cs.order);
-    std::vector<double> c(cs.order * cs.order);
-    ps.rotateZonal(p.data(), axes[cs.axis], c.data());
+    ProductSampler::ZonalLobe zl;  // the fast path the integrator uses
+    ps.rotateZonal(p.data(), axes[cs.axis], zl);
     const double beta = ps.defensiveShare(lobeMinimum(p));
-    const Chi2Result r = productChi2(ps, c.data(), beta, 1 + cs.sky * 100 + cs.order + cs.axis);
+    const Chi2Result r = productChi2(ps, zl, beta, 1 + cs.sky * 100 + cs.order + cs.axis);
     EXPECT_TRUE(r.passed) << "sky " << cs.sky << " order " << cs.order << " axis " << cs.axis
                           << " g " << cs.g << "\n"
                           << r.report;
@@ -164,7 +167,7 @@ TEST(ProductSampler, MixtureChi2AndNoHoles) {
     ps.rotateZonal(p.data(), axis, c.data());
     const double beta = ps.defensiveShare(lobeMinimum(p));
     EXPECT_EQ(beta, ProductSampler::kDefensiveFraction);
-    EXPECT_TRUE(productChi2(ps, c.data(), beta, 77).passed);
+    EXPECT_TRUE(productChi2(ps, SH{c.data()}, beta, 77).passed);
     // Every direction where the sky is lit has a positive density, also behind the lobe.
     Rng rng(5, 5);
     int holesWithout = 0;
@@ -173,8 +176,8 @@ TEST(ProductSampler, MixtureChi2AndNoHoles) {
         uint32_t iz, ip;
         skyCell(w, sky.levels(), &iz, &ip);
         if (!(sky.average(sky.levels(), iz, ip) > 0)) continue;
-        EXPECT_GT(ps.pdf(c.data(), beta, w), 0.0);
-        holesWithout += !(ps.pdf(c.data(), w) > 0);
+        EXPECT_GT(ps.pdf(SH{c.data()}, beta, w), 0.0);
+        holesWithout += !(ps.pdf(SH{c.data()}, w) > 0);
     }
     EXPECT_GT(holesWithout, 0);  // the product alone does have holes here
 }
@@ -190,9 +193,9 @@ TEST(ProductSampler, PointSetEqualsSingleSamples) {
     Rng rng(9, 9);
     for (int i = 0; i < 100; ++i) u.push_back(rng.uniform2());
     std::vector<WarpSample> out;
-    ps.sample(c.data(), u, out);
+    ps.sample(SH{c.data()}, u, out);
     for (size_t i = 0; i < u.size(); ++i) {
-        const WarpSample s = ps.sample(c.data(), u[i]);
+        const WarpSample s = ps.sample(SH{c.data()}, u[i]);
         EXPECT_NEAR(out[i].z, s.z, 1e-12);
         EXPECT_NEAR(out[i].phi, s.phi, 1e-12);
         EXPECT_NEAR(out[i].pdf, s.pdf, 1e-9 * s.pdf);
@@ -207,8 +210,8 @@ TEST(ProductSampler, BlackAndSingleLeafSkies) {
     std::vector<double> c(64);
     const std::vector<double> p = hgLobe(0.9, 8);
     pb.rotateZonal(p.data(), Vec3(0, 0, 1), c.data());
-    EXPECT_EQ(pb.sample(c.data(), 0.1, Vec2(0.5, 0.5)).pdf, 0.0);
-    EXPECT_EQ(pb.pdf(c.data(), 0.1, Vec3(1, 0, 0)), 0.0);
+    EXPECT_EQ(pb.sample(SH{c.data()}, 0.1, Vec2(0.5, 0.5)).pdf, 0.0);
+    EXPECT_EQ(pb.pdf(SH{c.data()}, 0.1, Vec3(1, 0, 0)), 0.0);
 
     std::vector<double> leaves(1024, 0.0);
     leaves[size_t(3) * 32 + 0] = 1.0;  // near the south pole, at φ = 0
@@ -219,13 +222,50 @@ TEST(ProductSampler, BlackAndSingleLeafSkies) {
         const double beta = ps.defensiveShare(lobeMinimum(p));
         Rng rng(1, 2);
         for (int i = 0; i < 200; ++i) {
-            const WarpSample s = ps.sample(c.data(), beta, rng.uniform2());
+            const WarpSample s = ps.sample(SH{c.data()}, beta, rng.uniform2());
             if (!(s.pdf > 0)) continue;  // the lobe may be ≤ 0 over the lit leaf
             EXPECT_TRUE(std::isfinite(s.pdf));
             uint32_t iz, ip;
             skyCell(s.direction(), 5, &iz, &ip);
             EXPECT_EQ(iz, 3u);
             EXPECT_EQ(ip, 0u);
+        }
+    }
+}
+
+}  // namespace shvol
+
+namespace shvol {
+
+// Fast path vs slow reference: the factored zonal lobe gives the same child masses, samples and
+// pdfs as its full set of rotated SH coefficients, at every product level, any order, at the
+// poles and on the seam.
+TEST(ProductSampler, ZonalFastPathEqualsSHLobe) {
+    const SkyHierarchy sky = sunSky(6, 0.05, 300);
+    for (int n : {1, 3, 8, 17, 32}) {
+        const ProductSampler ps(sky, n);
+        const std::vector<double> p = hgLobe(0.85, n);
+        std::vector<double> c(n * n);
+        ProductSampler::ZonalLobe z;
+        for (const Vec3& axis : {Vec3(0, 0, 1), Vec3(0, 0, -1), sphericalDirection(0.3, 0.0),
+                                 sphericalDirection(-0.7, 4.0)}) {
+            ps.rotateZonal(p.data(), axis, c.data());
+            ps.rotateZonal(p.data(), axis, z);
+            Rng rng(n, 4);
+            for (int i = 0; i < 50; ++i) {
+                const int level = i % ps.productDepth();
+                const uint32_t iz = uint32_t(rng.uniform() * (1 << level));
+                const uint32_t ip = uint32_t(rng.uniform() * (1 << level));
+                double a[4], b[4];
+                ps.lobeMasses(SH{c.data()}, level, iz, ip, a);
+                ps.lobeMasses(z, level, iz, ip, b);
+                for (int k = 0; k < 4; ++k) EXPECT_NEAR(a[k], b[k], 1e-12) << n << " " << level;
+                const Vec2 u = rng.uniform2();
+                const WarpSample sa = ps.sample(SH{c.data()}, u), sb = ps.sample(z, u);
+                EXPECT_NEAR(sa.z, sb.z, 1e-9);
+                EXPECT_NEAR(sa.phi, sb.phi, 1e-9);
+                EXPECT_NEAR(sa.pdf, sb.pdf, 1e-9 * sa.pdf);
+            }
         }
     }
 }

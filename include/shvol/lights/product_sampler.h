@@ -20,6 +20,14 @@
 ///   pdf(ω) = Π_levels w_chosen / Σ w  ÷  leaf area,
 /// exact for any ω (pdf() walks the same path), which is what MIS needs.
 ///
+/// Lobes come in two forms that share the warp: SHLobe, any n² SH coefficients (for BRDF lobes
+/// and as the slow reference), and ZonalLobe, the fast path for rotated zonal lobes. Writing
+/// ω₀ = (z₀, φ₀) and q_l^m = √(4π/(2l+1)) p_l N_l^m(z₀), the rotated coefficients are
+/// c_l^0 = q_l^0 and c_l^{±m} = √2 q_l^m {cos, sin}(mφ₀), so the mass over a cell factors as
+///   M = S_0 G_0 + 2 Σ_{m≥1} S_m G_m,  S_m = Σ_{l≥m} q_l^m J_l^m,  G_m = ∫cos(m(φ − φ₀)) dφ
+///     = cos(mφ₀) C[m] + sin(mφ₀) S[m],
+/// which costs n(n+1)/2 per z-interval instead of n² (tested against SHLobe).
+///
 /// Holes. A child whose lobe integral is ≤ 0 (ringing of a low-order fit) or whose compressed sky
 /// average is ≤ 0 gets no samples, although the true integrand may be positive there. The
 /// mixture form sample(c, β, u) / pdf(c, β, ω) adds a share β of the sky-only sampler
@@ -28,6 +36,7 @@
 #include <vector>
 
 #include "shvol/lights/sky_hierarchy.h"
+#include "shvol/sh/legendre.h"
 
 namespace shvol {
 
@@ -45,19 +54,38 @@ class ProductSampler {
     /// of the 2π/n period of the lobe's highest band), clamped to [3, 9].
     static int defaultProductDepth(int order);
 
-    /// c (n² doubles) = the zonal coefficients p (n doubles) rotated to the unit axis.
-    void rotateZonal(const double* p, const Vec3& axis, double* c) const;
+    /// A lobe given by n² SH coefficients (flat index l(l+1)+m); c must outlive the lobe.
+    struct SHLobe {
+        const double* c;
+    };
+    /// A zonal lobe rotated to an axis, in the factored form above.
+    struct ZonalLobe {
+        double q[sh::triSize(kMaxOrder)];         ///< √(4π/(2l+1)) p_l N_l^m(z₀)
+        double cosm[kMaxOrder], sinm[kMaxOrder];  ///< cos mφ₀, sin mφ₀
+    };
 
-    /// Product warp of u ∈ [0, 1)² for the lobe c (pdf 0 if the product has no mass).
-    WarpSample sample(const double* c, Vec2 u) const;
-    /// Density of sample(c, ·) at a unit direction.
-    double pdf(const double* c, const Vec3& w) const;
+    /// c (n² doubles) = the zonal coefficients p (n doubles) rotated to the unit axis:
+    /// c_l^m = √(4π/(2l+1)) p_l y_l^m(axis).
+    void rotateZonal(const double* p, const Vec3& axis, double* c) const;
+    /// The same lobe in the fast factored form.
+    void rotateZonal(const double* p, const Vec3& axis, ZonalLobe& lobe) const;
+
+    /// Product warp of u ∈ [0, 1)² (pdf 0 if the product has no mass). Lobe: SHLobe or
+    /// ZonalLobe.
+    template <class Lobe>
+    WarpSample sample(const Lobe& lobe, Vec2 u) const;
+    /// Density of sample(lobe, ·) at a unit direction.
+    template <class Lobe>
+    double pdf(const Lobe& lobe, const Vec3& w) const;
     /// Warps a point set through the product (stratification preserved).
-    void sample(const double* c, const std::vector<Vec2>& u, std::vector<WarpSample>& out) const;
+    template <class Lobe>
+    void sample(const Lobe& lobe, const std::vector<Vec2>& u, std::vector<WarpSample>& out) const;
 
     /// Mixture with the sky-only sampler: share beta of sky.sample().
-    WarpSample sample(const double* c, double beta, Vec2 u) const;
-    double pdf(const double* c, double beta, const Vec3& w) const;
+    template <class Lobe>
+    WarpSample sample(const Lobe& lobe, double beta, Vec2 u) const;
+    template <class Lobe>
+    double pdf(const Lobe& lobe, double beta, const Vec3& w) const;
     /// β for a lobe: kDefensiveFraction when the lobe's reconstruction has a negative value
     /// (`lobeMinimum` < 0) or the sky is compressed, else 0.
     double defensiveShare(double lobeMinimum) const;
@@ -68,17 +96,27 @@ class ProductSampler {
     int depth() const { return depth_; }
     const SkyHierarchy& sky() const { return sky_; }
     /// The four child weights of a node (for tests and the point-set warp).
-    void childWeights(const double* c, const WarpNode& node, double skyAvg, double w[4]) const;
+    template <class Lobe>
+    void childWeights(const Lobe& lobe, const WarpNode& node, double skyAvg, double w[4]) const;
+    /// The lobe's masses over the four children of node (level, iz, iφ), level < productDepth.
+    void lobeMasses(const SHLobe& lobe, int level, uint32_t iz, uint32_t iphi, double m[4]) const;
+    void lobeMasses(const ZonalLobe& lobe, int level, uint32_t iz, uint32_t iphi,
+                    double m[4]) const;
 
   private:
     /// Sky averages of a node's children during a descent.
     void skyChildren(int level, uint64_t skyNode, double skyAvg, double s[4]) const;
+    /// Product (d < productDepth) or sky-only child weights during a descent.
+    template <class Lobe>
+    void weights(const Lobe& lobe, int d, uint32_t iz, uint32_t ip, const double s[4],
+                 double w[4]) const;
 
     const SkyHierarchy& sky_;
     int n_, productDepth_, depth_;
     /// Per level d = 1 … productDepth: ∫N_l^m dz over the 2^d z-intervals (triSize(n) each) and
     /// ∫cos/sin(mφ) dφ over the 2^d φ-intervals (n each).
     std::vector<std::vector<double>> J_, C_, S_;
+    std::vector<double> zonalScale_;  ///< √(4π/(2l+1))
 };
 
 }  // namespace shvol

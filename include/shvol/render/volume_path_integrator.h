@@ -63,7 +63,7 @@ class VolumePathIntegrator {
     };
     /// The lobe of the current scattering event, rotated to the propagation direction.
     struct EventLobe {
-        double c[ProductSampler::kMaxOrder * ProductSampler::kMaxOrder];
+        ProductSampler::ZonalLobe lobe;
         double beta = 0;
     };
     /// A light direction drawn at a scattering event.
