@@ -10,7 +10,7 @@
 namespace shvol {
 
 int ProductSampler::defaultProductDepth(int order) {
-    return std::clamp(int(std::ceil(std::log2(double(std::max(order, 1))))) + 3, 3, 9);
+    return std::clamp(int(std::ceil(std::log2(double(std::max(order, 1))))) + 2, 3, 9);
 }
 
 ProductSampler::ProductSampler(const SkyHierarchy& sky, int order, int productDepth)
@@ -47,17 +47,26 @@ void ProductSampler::rotateZonal(const double* p, const Vec3& axis, double* c) c
     }
 }
 
-void ProductSampler::rotateZonal(const double* p, const Vec3& axis, ZonalLobe& lobe) const {
+int ProductSampler::significantBands(const std::vector<double>& p) {
+    int n = 1;
+    for (int l = 1; l < int(p.size()); ++l)
+        if (std::abs(p[l]) > 1e-9 * std::abs(p[0])) n = l + 1;
+    return n;
+}
+
+void ProductSampler::rotateZonal(const double* p, const Vec3& axis, ZonalLobe& lobe,
+                                 int bands) const {
+    const int n = lobe.n = bands > 0 ? std::min(bands, n_) : n_;
     const double s = std::hypot(axis.x(), axis.y());
-    sh::legendreNormalized(n_, std::clamp(axis.z(), -1.0, 1.0), s, lobe.q);
-    for (int l = 0, t = 0; l < n_; ++l) {
+    sh::legendreNormalized(n, std::clamp(axis.z(), -1.0, 1.0), s, lobe.q);
+    for (int l = 0, t = 0; l < n; ++l) {
         const double k = zonalScale_[l] * p[l];
         for (int m = 0; m <= l; ++m, ++t) lobe.q[t] *= k;
     }
     // cos mφ₀, sin mφ₀ by the multiple-angle recurrence (φ₀ = 0 on the axis, as sh_basis.h).
     const double c1 = s > 0 ? axis.x() / s : 1.0, s1 = s > 0 ? axis.y() / s : 0.0;
     lobe.cosm[0] = 1, lobe.sinm[0] = 0;
-    for (int m = 1; m < n_; ++m) {
+    for (int m = 1; m < n; ++m) {
         lobe.cosm[m] = lobe.cosm[m - 1] * c1 - lobe.sinm[m - 1] * s1;
         lobe.sinm[m] = lobe.sinm[m - 1] * c1 + lobe.cosm[m - 1] * s1;
     }
@@ -87,23 +96,24 @@ void ProductSampler::lobeMasses(const SHLobe& lobe, int level, uint32_t iz, uint
 
 void ProductSampler::lobeMasses(const ZonalLobe& lobe, int level, uint32_t iz, uint32_t iphi,
                                 double m[4]) const {
-    const int tri = sh::triSize(n_);
+    // Tables are laid out for n_ bands; the lobe uses the first n (triangular prefixes).
+    const int tri = sh::triSize(n_), n = lobe.n;
     const std::vector<double>&J = J_[level + 1], &C = C_[level + 1], &S = S_[level + 1];
     double G[2][kMaxOrder];  // G_0 and 2·G_m, G_m = ∫cos(m(φ − φ₀)) dφ over the φ-children
     for (int k = 0; k < 2; ++k) {
         const double *Ck = &C[size_t(2 * iphi + k) * n_], *Sk = &S[size_t(2 * iphi + k) * n_];
         G[k][0] = Ck[0];
-        for (int mm = 1; mm < n_; ++mm)
+        for (int mm = 1; mm < n; ++mm)
             G[k][mm] = 2 * (lobe.cosm[mm] * Ck[mm] + lobe.sinm[mm] * Sk[mm]);
     }
     for (int r = 0; r < 2; ++r) {
         double Sm[kMaxOrder] = {};
         const double* Jr = &J[size_t(2 * iz + r) * tri];
-        for (int l = 0, t = 0; l < n_; ++l)
+        for (int l = 0, t = 0; l < n; ++l)
             for (int mm = 0; mm <= l; ++mm, ++t) Sm[mm] += lobe.q[t] * Jr[t];
         for (int k = 0; k < 2; ++k) {
             double sum = 0;
-            for (int mm = 0; mm < n_; ++mm) sum += Sm[mm] * G[k][mm];
+            for (int mm = 0; mm < n; ++mm) sum += Sm[mm] * G[k][mm];
             m[2 * r + k] = sum;
         }
     }

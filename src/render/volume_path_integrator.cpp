@@ -36,7 +36,8 @@ VolumePathIntegrator::VolumePathIntegrator(const Scene& scene)
             const ZonalFit fit =
                 fitZonal([&](double mu) { return phase.eval(z, sphericalDirection(mu, 0)); },
                          s.productOrder, SHWindow::Hann);
-            lobes_.push_back({fit.p, product_->defensiveShare(fit.minValue)});
+            lobes_.push_back({fit.p, ProductSampler::significantBands(fit.p),
+                              product_->defensiveShare(fit.minValue)});
         }
     }
     setupSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -143,7 +144,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Rng& rng, PathCounters& c) const {
 
         if (effects_.nextEvent) {
             if (product) {
-                product_->rotateZonal(lobes_[mi].p.data(), ray.d, lobe.lobe);
+                product_->rotateZonal(lobes_[mi].p.data(), ray.d, lobe.lobe, lobes_[mi].bands);
                 lobe.beta = lobes_[mi].beta;
             }
             ++c.lightSamples;

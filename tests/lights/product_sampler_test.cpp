@@ -271,3 +271,30 @@ TEST(ProductSampler, ZonalFastPathEqualsSHLobe) {
 }
 
 }  // namespace shvol
+
+namespace shvol {
+
+// Bands beyond significantBands() are dropped: an isotropic lobe padded with zeros to order 16
+// uses one band and samples as the full lobe does; a lobe with a tiny last band keeps it.
+TEST(ProductSampler, SignificantBands) {
+    EXPECT_EQ(ProductSampler::significantBands({0.28, 1e-17, -2e-18, 0.0}), 1);
+    EXPECT_EQ(ProductSampler::significantBands({0.28, 0.1, 0.0, 1e-6, 0.0}), 4);
+    const SkyHierarchy sky = sunSky(6, 0.05, 300);
+    const ProductSampler ps(sky, 16);
+    std::vector<double> p(16, 0.0);
+    p[0] = 1 / std::sqrt(FourPi);
+    ProductSampler::ZonalLobe full, one;
+    const Vec3 axis = sphericalDirection(0.4, 2.0);
+    ps.rotateZonal(p.data(), axis, full);
+    ps.rotateZonal(p.data(), axis, one, ProductSampler::significantBands(p));
+    EXPECT_EQ(one.n, 1);
+    Rng rng(8, 8);
+    for (int i = 0; i < 100; ++i) {
+        const Vec2 u = rng.uniform2();
+        const WarpSample a = ps.sample(full, u), b = ps.sample(one, u);
+        EXPECT_NEAR(a.z, b.z, 1e-12);
+        EXPECT_NEAR(a.pdf, b.pdf, 1e-9 * a.pdf);
+    }
+}
+
+}  // namespace shvol

@@ -34,7 +34,7 @@ struct RenderSettings {
     TransmittanceEstimator transmittance = TransmittanceEstimator::Ratio;
     LightSampling lightSampling = LightSampling::Environment;
     MisHeuristic mis = MisHeuristic::Balance;
-    int productOrder = 8;   ///< bands of the zonal phase lobe in product sampling (1 … 32)
+    int productOrder = 4;   ///< bands of the zonal phase lobe in product sampling (1 … 32)
     int productDepth = -1;  ///< levels warped by the product; −1: ProductSampler's default
     size_t waveletCoefficients = 0;  ///< sky wavelet details kept (0 = all)
 };

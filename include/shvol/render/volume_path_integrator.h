@@ -59,6 +59,7 @@ class VolumePathIntegrator {
     /// A medium's phase lobe for product sampling: zonal coefficients and defensive share β.
     struct Lobe {
         std::vector<double> p;
+        int bands = 0;  ///< significant bands of p (ProductSampler::significantBands)
         double beta = 0;
     };
     /// The lobe of the current scattering event, rotated to the propagation direction.

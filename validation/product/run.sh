@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Reproduces validation/product/results/ in one command:
+#   validation/product/run.sh          (BUILD_DIR defaults to build/)
+# 1. builds shvol with one job if needed (configuring build/ with clang++ and Ninja first);
+# 2. runs experiment.py (sunlit cloud, 2 densities x 5 phase functions x 7 strategies, sweeps;
+#    about 25 minutes on 2 cores: do not run anything else meanwhile, the timings are the result);
+# 3. installs python3-matplotlib / python3-numpy with apt-get if missing and plots with Debian's
+#    /usr/bin/python3.
+# Environment: BUILD_DIR, SKIP_RENDER=1 (replot only), REF_SPP, SPP, RES, THREADS, QUICK.
+set -euo pipefail
+ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
+BUILD_DIR="${BUILD_DIR:-build}"
+OUT="validation/product/results"
+PY=/usr/bin/python3
+cd "$ROOT"
+t0=$(date +%s)
+if [ ! -f "$BUILD_DIR/build.ninja" ]; then
+    cmake -G Ninja -B "$BUILD_DIR" -S . -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Release \
+        >/dev/null
+fi
+ninja -C "$BUILD_DIR" -j1 shvol
+mkdir -p "$OUT"
+if [ "${SKIP_RENDER:-0}" != 1 ]; then
+    "$PY" validation/product/experiment.py "$BUILD_DIR" "$OUT" | tee "$OUT/experiment.log"
+fi
+if ! "$PY" -c 'import matplotlib, numpy' 2>/dev/null; then
+    SUDO=""
+    [ "$(id -u)" -ne 0 ] && SUDO=sudo
+    $SUDO apt-get update
+    $SUDO apt-get install -y --no-install-recommends python3-matplotlib python3-numpy
+fi
+"$PY" validation/product/plot.py "$OUT"
+echo "run.sh: $(( $(date +%s) - t0 )) s"
