@@ -25,7 +25,7 @@ ProductSampler::ProductSampler(const SkyHierarchy& sky, int order, int productDe
     C_.resize(productDepth_ + 1);
     S_.resize(productDepth_ + 1);
     const int tri = sh::triSize(n_);
-    for (int d = 1; d <= productDepth_; ++d) {
+    for (int d = 0; d <= productDepth_; ++d) {
         const int cells = 1 << d;
         J_[d].resize(size_t(cells) * tri);
         C_[d].resize(size_t(cells) * n_);
@@ -74,6 +74,7 @@ void ProductSampler::rotateZonal(const double* p, const Vec3& axis, ZonalLobe& l
 
 void ProductSampler::skyChildren(int level, uint64_t skyNode, double skyAvg, double s[4]) const {
     if (level < sky_.levels()) {
+        sky_.prefetchGrandchildren(level, skyNode);
         sky_.childAverages(level, skyNode, skyAvg, s);
     } else {
         s[0] = s[1] = s[2] = s[3] = skyAvg;
@@ -119,15 +120,81 @@ void ProductSampler::lobeMasses(const ZonalLobe& lobe, int level, uint32_t iz, u
     }
 }
 
-template <class Lobe>
-void ProductSampler::weights(const Lobe& lobe, int d, uint32_t iz, uint32_t ip, const double s[4],
-                             double w[4]) const {
+/// A general SH lobe has no state to carry: each level's masses come from lobeMasses.
+template <>
+class ProductSampler::Descent<ProductSampler::SHLobe> {
+  public:
+    Descent(const ProductSampler& ps, const SHLobe& lobe) : ps_(ps), lobe_(lobe) {}
+    void masses(int level, uint32_t iz, uint32_t iphi, double m[4]) {
+        ps_.lobeMasses(lobe_, level, iz, iphi, m);
+    }
+    void follow(int, int) {}
+
+  private:
+    const ProductSampler& ps_;
+    const SHLobe& lobe_;
+};
+
+/// The zonal fast path along one root-to-leaf path. Integrals are additive over intervals, so of
+/// the two z-children only the lower one's S_m is computed from the tables (n(n+1)/2 terms) and
+/// the upper one's is the parent's minus it; likewise for the two φ-children's G_m. Each level
+/// then costs n(n+1)/2 + 2n + 4n instead of n(n+1) + 4n + 4n. sample() and pdf() both walk this
+/// way, so they agree to the last bit.
+template <>
+class ProductSampler::Descent<ProductSampler::ZonalLobe> {
+  public:
+    Descent(const ProductSampler& ps, const ZonalLobe& lobe) : ps_(ps), lobe_(lobe), n_(lobe.n) {
+        zIntegrals(0, 0, Sp_);  // the root: z ∈ [−1, 1], φ ∈ [0, 2π)
+        phiIntegrals(0, 0, Gp_);
+    }
+    void masses(int level, uint32_t iz, uint32_t iphi, double m[4]) {
+        zIntegrals(level + 1, 2 * iz, S_[0]);
+        phiIntegrals(level + 1, 2 * iphi, G_[0]);
+        for (int mm = 0; mm < n_; ++mm) S_[1][mm] = Sp_[mm] - S_[0][mm];
+        for (int mm = 0; mm < n_; ++mm) G_[1][mm] = Gp_[mm] - G_[0][mm];
+        for (int r = 0; r < 2; ++r)
+            for (int k = 0; k < 2; ++k) {
+                double sum = 0;
+                for (int mm = 0; mm < n_; ++mm) sum += S_[r][mm] * G_[k][mm];
+                m[2 * r + k] = sum;
+            }
+    }
+    /// Moves to child (r, c) of the node whose masses were computed last.
+    void follow(int r, int c) {
+        std::copy(S_[r], S_[r] + n_, Sp_);
+        std::copy(G_[c], G_[c] + n_, Gp_);
+    }
+
+  private:
+    /// S_m = Σ_l q_l^m J_l^m over z-interval i of level d.
+    void zIntegrals(int d, uint32_t i, double* S) const {
+        const double* J = &ps_.J_[d][size_t(i) * sh::triSize(ps_.n_)];
+        std::fill(S, S + n_, 0.0);
+        for (int l = 0, t = 0; l < n_; ++l)
+            for (int mm = 0; mm <= l; ++mm, ++t) S[mm] += lobe_.q[t] * J[t];
+    }
+    /// G_0 and 2·G_m, G_m = ∫cos(m(φ − φ₀)) dφ over φ-interval i of level d.
+    void phiIntegrals(int d, uint32_t i, double* G) const {
+        const double *C = &ps_.C_[d][size_t(i) * ps_.n_], *S = &ps_.S_[d][size_t(i) * ps_.n_];
+        G[0] = C[0];
+        for (int mm = 1; mm < n_; ++mm)
+            G[mm] = 2 * (lobe_.cosm[mm] * C[mm] + lobe_.sinm[mm] * S[mm]);
+    }
+
+    const ProductSampler& ps_;
+    const ZonalLobe& lobe_;
+    int n_;
+    double Sp_[kMaxOrder], Gp_[kMaxOrder], S_[2][kMaxOrder], G_[2][kMaxOrder];
+};
+
+template <class Masses>
+void ProductSampler::weights(Masses&& masses, int d, const double s[4], double w[4]) const {
     if (d >= productDepth_) {
         for (int i = 0; i < 4; ++i) w[i] = s[i];
         return;
     }
     double m[4];
-    lobeMasses(lobe, d, iz, ip, m);
+    masses(m);
     for (int i = 0; i < 4; ++i) w[i] = m[i] > 0 && s[i] > 0 ? m[i] * s[i] : 0.0;
 }
 
@@ -138,7 +205,7 @@ void ProductSampler::childWeights(const Lobe& lobe, const WarpNode& node, double
     const int sd = std::min(d, sky_.levels());
     double s[4];
     skyChildren(d, mortonIndex(node.iz >> (d - sd), node.iphi >> (d - sd)), skyAvg, s);
-    weights(lobe, d, node.iz, node.iphi, s, w);
+    weights([&](double m[4]) { lobeMasses(lobe, d, node.iz, node.iphi, m); }, d, s, w);
 }
 
 template <class Lobe>
@@ -147,14 +214,16 @@ WarpSample ProductSampler::sample(const Lobe& lobe, Vec2 u) const {
     if (!(skyAvg > 0)) return {};
     uint64_t skyNode = 0;
     uint32_t iz = 0, ip = 0;
+    Descent<Lobe> lobeWalk(*this, lobe);
     for (int d = 0; d < depth_; ++d) {
         skyChildren(d, skyNode, skyAvg, s);
-        weights(lobe, d, iz, ip, s, w);
+        weights([&](double m[4]) { lobeWalk.masses(d, iz, ip, m); }, d, s, w);
         const detail::Split sp(w);
         if (!(sp.total > 0)) return {};
         const int r = detail::choose(sp.pRow0, u.x());
         const int k = detail::choose(sp.pCol0[r], u.y());
         const int i = 2 * r + k;
+        if (d < productDepth_) lobeWalk.follow(r, k);
         prob *= sp.c[i] / sp.total;
         if (d < sky_.levels()) skyNode = 4 * skyNode + i, skyAvg = s[i];
         iz = 2 * iz + r, ip = 2 * ip + k;
@@ -171,11 +240,13 @@ double ProductSampler::pdf(const Lobe& lobe, const Vec3& wdir) const {
     skyCell(wdir, depth_, &izLeaf, &ipLeaf);
     uint64_t skyNode = 0;
     uint32_t iz = 0, ip = 0;
+    Descent<Lobe> lobeWalk(*this, lobe);
     for (int d = 0; d < depth_; ++d) {
         skyChildren(d, skyNode, skyAvg, s);
-        weights(lobe, d, iz, ip, s, w);
+        weights([&](double m[4]) { lobeWalk.masses(d, iz, ip, m); }, d, s, w);
         const int shift = depth_ - 1 - d;
         const int r = (izLeaf >> shift) & 1, k = (ipLeaf >> shift) & 1, i = 2 * r + k;
+        if (d < productDepth_) lobeWalk.follow(r, k);
         const detail::Split sp(w);
         if (!(sp.c[i] > 0)) return 0;
         prob *= sp.c[i] / sp.total;

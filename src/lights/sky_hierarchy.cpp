@@ -201,6 +201,7 @@ WarpSample SkyHierarchy::warp(Vec2 u) const {
     uint64_t node = 0;
     uint32_t iz = 0, ip = 0;
     for (int d = 0; d < levels_; ++d) {
+        prefetchGrandchildren(d, node);
         childAverages(d, node, avg, c);
         const detail::Split s(c);
         if (!(s.total > 0)) return {};
@@ -224,6 +225,7 @@ double SkyHierarchy::warpPdf(const Vec3& w) const {
     for (int d = 0; d < levels_; ++d) {
         const int shift = levels_ - 1 - d;
         const int r = (iz >> shift) & 1, k = (ip >> shift) & 1;
+        prefetchGrandchildren(d, node);
         childAverages(d, node, avg, c);
         const detail::Split s(c);
         if (!(s.c[2 * r + k] > 0)) return 0;

@@ -5,6 +5,10 @@
 // 1/(relative variance × time) — what a strategy can buy at most in a render, before
 // transmittance, free flights and path throughput add their own noise.
 //
+// Directions ω₀ are drawn uniformly over the sphere ("all"), or within 25° of the sun
+// ("towards sun": light travelling towards the sun scatters it forward into the eye, as in a
+// backlit cloud), the sun being the brightest sky cell.
+//
 // Usage: validate_product SKY.exr [OUT.csv]   (writes a CSV and prints a Markdown table)
 #include <chrono>
 #include <cstdio>
@@ -43,101 +47,121 @@ int main(int argc, char** argv) {
     const Environment env = Environment::image(readExr(argv[1]), 1.0, 0.0, false);
     const SkyHierarchy sky = env.skyHierarchy();
     const int kDirections = 64, kSamples = 20000;
+    // The sun: the brightest leaf of the sky hierarchy.
+    Vec3 sun(0, 0, 1);
+    double brightest = -1;
+    const int res = sky.resolution();
+    for (int iz = 0; iz < res; ++iz)
+        for (int ip = 0; ip < res; ++ip)
+            if (const double a = sky.average(sky.levels(), iz, ip); a > brightest)
+                brightest = a,
+                sun = sphericalDirection(-1 + (iz + 0.5) * 2.0 / res, (ip + 0.5) * TwoPi / res);
     std::ofstream csv(argc > 2 ? argv[2] : "validate_product.csv");
-    csv << "g,order,strategy,relative_variance,ns_per_estimate,efficiency\n";
-    std::printf("| g | order | strategy | relative variance | ns/estimate | efficiency |\n");
-    std::printf("|---:|---:|---|---:|---:|---:|\n");
-    for (double g : {0.0, 0.5, 0.8, 0.95}) {
-        const HenyeyGreensteinPhase hg(g);
-        for (int order : {4, 8, 16}) {
-            if (g == 0.0 && order != 8) continue;
-            const ProductSampler ps(sky, order);
-            const ZonalFit fit =
-                fitZonal([&](double mu) { return henyeyGreenstein(mu, g); }, order, SHWindow::Hann);
-            const double beta = ps.defensiveShare(fit.minValue);
-            const int bands = ProductSampler::significantBands(fit.p);
-            ProductSampler::ZonalLobe lobe;
-            // Strategies: a light draw (direction, pdf) and whether phase sampling joins by MIS.
-            using LightFn = std::function<Draw(const Vec2&)>;
-            using PdfFn = std::function<double(const Vec3&)>;
-            struct Strategy {
-                const char* name;
-                LightFn light;
-                PdfFn lightPdf;
-                bool mis;
-            };
-            const Strategy strategies[] = {
-                {"environment",
-                 [&](const Vec2& u) {
-                     const LightSample s = env.sample(u);
-                     return Draw{s.wi, s.pdf};
-                 },
-                 [&](const Vec3& w) { return env.pdf(w); }, false},
-                {"wavelet",
-                 [&](const Vec2& u) {
-                     const WarpSample s = sky.sample(u);
-                     return Draw{s.direction(), s.pdf};
-                 },
-                 [&](const Vec3& w) { return sky.pdf(w); }, false},
-                {"product",
-                 [&](const Vec2& u) {
-                     const WarpSample s = ps.sample(lobe, beta, u);
-                     return Draw{s.direction(), s.pdf};
-                 },
-                 [&](const Vec3& w) { return ps.pdf(lobe, beta, w); }, false},
-                {"mis_environment",
-                 [&](const Vec2& u) {
-                     const LightSample s = env.sample(u);
-                     return Draw{s.wi, s.pdf};
-                 },
-                 [&](const Vec3& w) { return env.pdf(w); }, true},
-                {"mis_product",
-                 [&](const Vec2& u) {
-                     const WarpSample s = ps.sample(lobe, beta, u);
-                     return Draw{s.direction(), s.pdf};
-                 },
-                 [&](const Vec3& w) { return ps.pdf(lobe, beta, w); }, true},
-            };
-            for (const Strategy& st : strategies) {
-                Rng rng(7, 11);
-                const bool usesLobe = std::string(st.name).find("product") != std::string::npos;
-                double relVar = 0, seconds = 0;
-                for (int d = 0; d < kDirections; ++d) {
-                    const Vec3 wo =
-                        sphericalDirection(2 * rng.uniform() - 1, TwoPi * rng.uniform());
-                    double s1 = 0, s2 = 0;
-                    const auto t0 = std::chrono::steady_clock::now();
-                    for (int i = 0; i < kSamples; ++i) {
-                        // The per-event work: (rotate the lobe,) draw, evaluate, weight.
-                        if (usesLobe) ps.rotateZonal(fit.p.data(), wo, lobe, bands);
-                        double x = 0;
-                        const Draw l = st.light(rng.uniform2());
-                        if (l.pdf > 0) {
-                            const double f = hg.eval(wo, l.w);
-                            const double wl = st.mis ? l.pdf / (l.pdf + hg.pdf(wo, l.w)) : 1.0;
-                            x += wl * f * luminance(env.Le(l.w)) / l.pdf;
+    csv << "directions,g,order,strategy,relative_variance,ns_per_estimate,efficiency\n";
+    std::printf(
+        "| directions | g | order | strategy | relative variance | ns/estimate | "
+        "efficiency |\n");
+    std::printf("|---|---:|---:|---|---:|---:|---:|\n");
+    const Frame sunFrame(sun);
+    for (const char* directions : {"all", "towards sun"})
+        for (double g : {0.0, 0.5, 0.8, 0.95}) {
+            const HenyeyGreensteinPhase hg(g);
+            for (int order : {4, 8, 16}) {
+                if (g == 0.0 && order != 8) continue;
+                const ProductSampler ps(sky, order);
+                const ZonalFit fit = fitZonal([&](double mu) { return henyeyGreenstein(mu, g); },
+                                              order, SHWindow::Hann);
+                const double beta = ps.defensiveShare(fit.minValue);
+                const int bands = ProductSampler::significantBands(fit.p);
+                ProductSampler::ZonalLobe lobe;
+                // Strategies: a light draw (direction, pdf) and whether phase sampling joins by
+                // MIS.
+                using LightFn = std::function<Draw(const Vec2&)>;
+                using PdfFn = std::function<double(const Vec3&)>;
+                struct Strategy {
+                    const char* name;
+                    LightFn light;
+                    PdfFn lightPdf;
+                    bool mis;
+                };
+                const Strategy strategies[] = {
+                    {"environment",
+                     [&](const Vec2& u) {
+                         const LightSample s = env.sample(u);
+                         return Draw{s.wi, s.pdf};
+                     },
+                     [&](const Vec3& w) { return env.pdf(w); }, false},
+                    {"wavelet",
+                     [&](const Vec2& u) {
+                         const WarpSample s = sky.sample(u);
+                         return Draw{s.direction(), s.pdf};
+                     },
+                     [&](const Vec3& w) { return sky.pdf(w); }, false},
+                    {"product",
+                     [&](const Vec2& u) {
+                         const WarpSample s = ps.sample(lobe, beta, u);
+                         return Draw{s.direction(), s.pdf};
+                     },
+                     [&](const Vec3& w) { return ps.pdf(lobe, beta, w); }, false},
+                    {"mis_environment",
+                     [&](const Vec2& u) {
+                         const LightSample s = env.sample(u);
+                         return Draw{s.wi, s.pdf};
+                     },
+                     [&](const Vec3& w) { return env.pdf(w); }, true},
+                    {"mis_product",
+                     [&](const Vec2& u) {
+                         const WarpSample s = ps.sample(lobe, beta, u);
+                         return Draw{s.direction(), s.pdf};
+                     },
+                     [&](const Vec3& w) { return ps.pdf(lobe, beta, w); }, true},
+                };
+                for (const Strategy& st : strategies) {
+                    Rng rng(7, 11);
+                    const bool usesLobe = std::string(st.name).find("product") != std::string::npos;
+                    double relVar = 0, seconds = 0;
+                    for (int d = 0; d < kDirections; ++d) {
+                        const Vec3 wo =
+                            directions[0] == 'a'
+                                ? sphericalDirection(2 * rng.uniform() - 1, TwoPi * rng.uniform())
+                                : sunFrame.toWorld(sphericalDirection(
+                                      1 - rng.uniform() * (1 - std::cos(25 * Pi / 180)),
+                                      TwoPi * rng.uniform()));
+                        double s1 = 0, s2 = 0;
+                        const auto t0 = std::chrono::steady_clock::now();
+                        for (int i = 0; i < kSamples; ++i) {
+                            // The per-event work: (rotate the lobe,) draw, evaluate, weight.
+                            if (usesLobe) ps.rotateZonal(fit.p.data(), wo, lobe, bands);
+                            double x = 0;
+                            const Draw l = st.light(rng.uniform2());
+                            if (l.pdf > 0) {
+                                const double f = hg.eval(wo, l.w);
+                                const double wl = st.mis ? l.pdf / (l.pdf + hg.pdf(wo, l.w)) : 1.0;
+                                x += wl * f * luminance(env.Le(l.w)) / l.pdf;
+                            }
+                            if (st.mis) {
+                                const PhaseSample p = hg.sample(wo, rng.uniform2());
+                                const double pl = st.lightPdf(p.wi);
+                                x += p.pdf / (p.pdf + pl) * p.value * luminance(env.Le(p.wi)) /
+                                     p.pdf;
+                            }
+                            s1 += x, s2 += x * x;
                         }
-                        if (st.mis) {
-                            const PhaseSample p = hg.sample(wo, rng.uniform2());
-                            const double pl = st.lightPdf(p.wi);
-                            x += p.pdf / (p.pdf + pl) * p.value * luminance(env.Le(p.wi)) / p.pdf;
-                        }
-                        s1 += x, s2 += x * x;
+                        seconds +=
+                            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0)
+                                .count();
+                        const double mean = s1 / kSamples;
+                        relVar += (s2 / kSamples - mean * mean) / (mean * mean);
                     }
-                    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0)
-                                   .count();
-                    const double mean = s1 / kSamples;
-                    relVar += (s2 / kSamples - mean * mean) / (mean * mean);
+                    relVar /= kDirections;
+                    const double ns = 1e9 * seconds / (double(kDirections) * kSamples);
+                    const double eff = 1 / (relVar * ns * 1e-9);
+                    std::printf("| %s | %.2f | %d | %s | %.4g | %.0f | %.3g |\n", directions, g,
+                                order, st.name, relVar, ns, eff);
+                    csv << directions << "," << g << "," << order << "," << st.name << "," << relVar
+                        << "," << ns << "," << eff << "\n";
                 }
-                relVar /= kDirections;
-                const double ns = 1e9 * seconds / (double(kDirections) * kSamples);
-                const double eff = 1 / (relVar * ns * 1e-9);
-                std::printf("| %.2f | %d | %s | %.4g | %.0f | %.3g |\n", g, order, st.name, relVar,
-                            ns, eff);
-                csv << g << "," << order << "," << st.name << "," << relVar << "," << ns << ","
-                    << eff << "\n";
             }
         }
-    }
     return 0;
 }

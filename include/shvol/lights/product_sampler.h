@@ -111,16 +111,19 @@ class ProductSampler {
                     double m[4]) const;
 
   private:
+    /// Per-descent lobe state: computes the lobe masses of the current node's children and
+    /// follows the chosen child (see product_sampler.cpp).
+    template <class Lobe>
+    class Descent;
     /// Sky averages of a node's children during a descent.
     void skyChildren(int level, uint64_t skyNode, double skyAvg, double s[4]) const;
     /// Product (d < productDepth) or sky-only child weights during a descent.
-    template <class Lobe>
-    void weights(const Lobe& lobe, int d, uint32_t iz, uint32_t ip, const double s[4],
-                 double w[4]) const;
+    template <class Masses>
+    void weights(Masses&& masses, int d, const double s[4], double w[4]) const;
 
     const SkyHierarchy& sky_;
     int n_, productDepth_, depth_;
-    /// Per level d = 1 … productDepth: ∫N_l^m dz over the 2^d z-intervals (triSize(n) each) and
+    /// Per level d = 0 … productDepth: ∫N_l^m dz over the 2^d z-intervals (triSize(n) each) and
     /// ∫cos/sin(mφ) dφ over the 2^d φ-intervals (n each).
     std::vector<std::vector<double>> J_, C_, S_;
     std::vector<double> zonalScale_;  ///< √(4π/(2l+1))

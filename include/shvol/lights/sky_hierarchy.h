@@ -111,6 +111,11 @@ class SkyHierarchy {
         compressedChildren(level, morton, avg, c);
     }
     double rootAverage() const { return mip_[0][0]; }
+    /// Hints the cache that a descent at node `morton` of `level` will next read one of its
+    /// children's children: in Morton order the 16 grandchildren are 64 contiguous bytes.
+    void prefetchGrandchildren(int level, uint64_t morton) const {
+        if (!compressed_ && level + 2 <= levels_) __builtin_prefetch(&mip_[level + 2][16 * morton]);
+    }
 
     /// Hierarchical warp of u ∈ [0, 1)² (with the defensive share when compressed).
     WarpSample sample(Vec2 u) const;
