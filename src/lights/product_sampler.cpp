@@ -208,10 +208,14 @@ void ProductSampler::childWeights(const Lobe& lobe, const WarpNode& node, double
     weights([&](double m[4]) { lobeMasses(lobe, d, node.iz, node.iphi, m); }, d, s, w);
 }
 
-template <class Lobe>
-WarpSample ProductSampler::sample(const Lobe& lobe, Vec2 u) const {
+/// The descent that sample() and pdf() share: at each level the children's product weights are
+/// formed and choose(level, split) picks a child (or −1 to stop with no density). Returns the
+/// product of the chosen split probabilities and the leaf cell (iz, iφ) at level depth().
+template <class Lobe, class Choose>
+double ProductSampler::descend(const Lobe& lobe, Choose&& choose, uint32_t* izOut,
+                               uint32_t* ipOut) const {
     double skyAvg = sky_.rootAverage(), s[4], w[4], prob = 1;
-    if (!(skyAvg > 0)) return {};
+    if (!(skyAvg > 0)) return 0;
     uint64_t skyNode = 0;
     uint32_t iz = 0, ip = 0;
     Descent<Lobe> lobeWalk(*this, lobe);
@@ -219,40 +223,46 @@ WarpSample ProductSampler::sample(const Lobe& lobe, Vec2 u) const {
         skyChildren(d, skyNode, skyAvg, s);
         weights([&](double m[4]) { lobeWalk.masses(d, iz, ip, m); }, d, s, w);
         const detail::Split sp(w);
-        if (!(sp.total > 0)) return {};
-        const int r = detail::choose(sp.pRow0, u.x());
-        const int k = detail::choose(sp.pCol0[r], u.y());
-        const int i = 2 * r + k;
+        const int i = choose(d, sp);
+        if (i < 0) return 0;
+        const int r = i >> 1, k = i & 1;
         if (d < productDepth_) lobeWalk.follow(r, k);
         prob *= sp.c[i] / sp.total;
         if (d < sky_.levels()) skyNode = 4 * skyNode + i, skyAvg = s[i];
         iz = 2 * iz + r, ip = 2 * ip + k;
     }
+    *izOut = iz, *ipOut = ip;
+    return prob;
+}
+
+template <class Lobe>
+WarpSample ProductSampler::sample(const Lobe& lobe, Vec2 u) const {
+    uint32_t iz, ip;
+    const double prob = descend(
+        lobe,
+        [&](int, const detail::Split& sp) {
+            if (!(sp.total > 0)) return -1;
+            const int r = detail::choose(sp.pRow0, u.x());
+            return 2 * r + detail::choose(sp.pCol0[r], u.y());
+        },
+        &iz, &ip);
+    if (!(prob > 0)) return {};
     const double cells = double(1 << depth_), hz = 2 / cells, hp = TwoPi / cells;
     return {-1 + (iz + u.x()) * hz, (ip + u.y()) * hp, prob / (hz * hp)};
 }
 
 template <class Lobe>
 double ProductSampler::pdf(const Lobe& lobe, const Vec3& wdir) const {
-    double skyAvg = sky_.rootAverage(), s[4], w[4], prob = 1;
-    if (!(skyAvg > 0)) return 0;
-    uint32_t izLeaf, ipLeaf;
+    uint32_t izLeaf, ipLeaf, iz, ip;
     skyCell(wdir, depth_, &izLeaf, &ipLeaf);
-    uint64_t skyNode = 0;
-    uint32_t iz = 0, ip = 0;
-    Descent<Lobe> lobeWalk(*this, lobe);
-    for (int d = 0; d < depth_; ++d) {
-        skyChildren(d, skyNode, skyAvg, s);
-        weights([&](double m[4]) { lobeWalk.masses(d, iz, ip, m); }, d, s, w);
-        const int shift = depth_ - 1 - d;
-        const int r = (izLeaf >> shift) & 1, k = (ipLeaf >> shift) & 1, i = 2 * r + k;
-        if (d < productDepth_) lobeWalk.follow(r, k);
-        const detail::Split sp(w);
-        if (!(sp.c[i] > 0)) return 0;
-        prob *= sp.c[i] / sp.total;
-        if (d < sky_.levels()) skyNode = 4 * skyNode + i, skyAvg = s[i];
-        iz = 2 * iz + r, ip = 2 * ip + k;
-    }
+    const double prob = descend(
+        lobe,
+        [&](int d, const detail::Split& sp) {
+            const int shift = depth_ - 1 - d;
+            const int i = 2 * ((izLeaf >> shift) & 1) + ((ipLeaf >> shift) & 1);
+            return sp.c[i] > 0 ? i : -1;
+        },
+        &iz, &ip);
     const double cells = double(1 << depth_);
     return prob / ((2 / cells) * (TwoPi / cells));
 }

@@ -2,6 +2,7 @@
 // volumetric path tracer: every strategy must render the same expected image.
 #include <gtest/gtest.h>
 
+#include "path_estimate.h"
 #include "shvol/media/homogeneous_medium.h"
 #include "shvol/render/renderer.h"
 #include "shvol/render/volume_path_integrator.h"
@@ -48,29 +49,8 @@ Image sunnySky(double sunRadiance) {
     return img;
 }
 
-struct Estimate {
-    Spectrum mean, stdErr;
-    PathCounters counters;
-};
-
-// Mean and standard error of Li over n rays entering the unit sphere from −y.
-Estimate estimate(const Scene& scene, int n, uint64_t seed) {
-    const VolumePathIntegrator integrator(scene);
-    Estimate e;
-    Spectrum s = Spectrum::Zero(), s2 = Spectrum::Zero();
-    for (int i = 0; i < n; ++i) {
-        Rng rng = Rng::forSample(seed, i, 0);
-        const Vec2 u = rng.uniform2();
-        const double r = 0.95 * std::sqrt(u.x()), phi = TwoPi * u.y();
-        const Ray ray{Vec3(r * std::cos(phi), -3, r * std::sin(phi)), Vec3(0, 1, 0)};
-        const Spectrum L = integrator.Li(ray, rng, e.counters);
-        EXPECT_TRUE(L.allFinite()) << L.transpose();
-        s += L, s2 += L * L;
-    }
-    e.mean = s / n;
-    e.stdErr = ((s2 / n - e.mean * e.mean).max(0) / n).sqrt();
-    return e;
-}
+using test::Estimate;
+using test::estimate;
 
 void configure(Scene& s, const Config& c, int order = 8) {
     s.settings.lightSampling = c.strategy;

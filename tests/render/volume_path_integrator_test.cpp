@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "path_estimate.h"
 #include "shvol/media/homogeneous_medium.h"
 #include "shvol/render/renderer.h"
 
@@ -28,31 +29,8 @@ Scene furnaceScene(double sigmaT, Spectrum albedo, PhaseFunction phase, bool tra
     return s;
 }
 
-struct Estimate {
-    Spectrum mean;
-    Spectrum stdErr;
-    PathCounters counters;
-};
-
-// Mean and standard error of Li over n camera rays aimed at random points of the medium's
-// silhouette (all rays enter the sphere of radius 1).
-Estimate estimate(const Scene& scene, int n, uint64_t seed = 1) {
-    const VolumePathIntegrator integrator(scene);
-    Estimate e;
-    Spectrum s = Spectrum::Zero(), s2 = Spectrum::Zero();
-    for (int i = 0; i < n; ++i) {
-        Rng rng = Rng::forSample(seed, i, 0);
-        const Vec2 u = rng.uniform2();
-        const double r = 0.95 * std::sqrt(u.x()), phi = TwoPi * u.y();
-        const Ray ray{Vec3(r * std::cos(phi), -3, r * std::sin(phi)), Vec3(0, 1, 0)};
-        const Spectrum L = integrator.Li(ray, rng, e.counters);
-        EXPECT_TRUE(L.allFinite());
-        s += L, s2 += L * L;
-    }
-    e.mean = s / n;
-    e.stdErr = ((s2 / n - e.mean * e.mean).max(0) / n).sqrt();
-    return e;
-}
+using test::Estimate;
+using test::estimate;
 
 void expectNear(const Spectrum& a, const Spectrum& b, const Spectrum& tol, const char* what) {
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], tol[c]) << what << " channel " << c;
@@ -116,10 +94,12 @@ TEST(VolumePathIntegrator, NextEventAndPhaseSamplingAgreeAtFiniteDepth) {
         for (int x = 0; x < 32; ++x)
             img.set(x, y, Spectrum(0.2 + (y < 6 ? 1.5 : 0.1), 0.5, x == 5 && y == 3 ? 80.0 : 0.3));
     for (int depth : {1, 2}) {
-        Scene a = furnaceScene(1.5, Spectrum::Constant(0.7), PhaseFunction(HenyeyGreensteinPhase(0.8)));
+        Scene a =
+            furnaceScene(1.5, Spectrum::Constant(0.7), PhaseFunction(HenyeyGreensteinPhase(0.8)));
         a.environment = Environment::image(img, 1.0, 10.0, false);
         a.settings.maxDepth = depth;
-        Scene b = furnaceScene(1.5, Spectrum::Constant(0.7), PhaseFunction(HenyeyGreensteinPhase(0.8)));
+        Scene b =
+            furnaceScene(1.5, Spectrum::Constant(0.7), PhaseFunction(HenyeyGreensteinPhase(0.8)));
         b.environment = Environment::image(img, 1.0, 10.0, false);
         b.settings.maxDepth = depth;
         b.settings.nee = false;

@@ -120,6 +120,9 @@ class ProductSampler {
     /// Product (d < productDepth) or sky-only child weights during a descent.
     template <class Masses>
     void weights(Masses&& masses, int d, const double s[4], double w[4]) const;
+    /// The root-to-leaf walk shared by sample() and pdf(); see product_sampler.cpp.
+    template <class Lobe, class Choose>
+    double descend(const Lobe& lobe, Choose&& choose, uint32_t* iz, uint32_t* iphi) const;
 
     const SkyHierarchy& sky_;
     int n_, productDepth_, depth_;
