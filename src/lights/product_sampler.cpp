@@ -139,7 +139,8 @@ class ProductSampler::Descent<ProductSampler::SHLobe> {
 /// the two z-children only the lower one's S_m is computed from the tables (n(n+1)/2 terms) and
 /// the upper one's is the parent's minus it; likewise for the two φ-children's G_m. Each level
 /// then costs n(n+1)/2 + 2n + 4n instead of n(n+1) + 4n + 4n. sample() and pdf() both walk this
-/// way, so they agree to the last bit.
+/// way, so they agree to the last bit for a direction inside a leaf (one that rounds onto a leaf
+/// boundary may be attributed to the neighbouring leaf by pdf(), with probability ~1e-16).
 template <>
 class ProductSampler::Descent<ProductSampler::ZonalLobe> {
   public:
@@ -214,7 +215,7 @@ void ProductSampler::childWeights(const Lobe& lobe, const WarpNode& node, double
 template <class Lobe, class Choose>
 double ProductSampler::descend(const Lobe& lobe, Choose&& choose, uint32_t* izOut,
                                uint32_t* ipOut) const {
-    double skyAvg = sky_.rootAverage(), s[4], w[4], prob = 1;
+    double skyAvg = sky_.samplingRoot(), s[4], w[4], prob = 1;
     if (!(skyAvg > 0)) return 0;
     uint64_t skyNode = 0;
     uint32_t iz = 0, ip = 0;

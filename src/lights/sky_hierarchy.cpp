@@ -29,6 +29,7 @@ SkyHierarchy SkyHierarchy::fromLatLong(const LatLongSource& src, int levels, siz
     if (W <= 0 || H <= 0) fail("", "environment", "the environment image is empty");
     if (levels < 0)
         levels = std::clamp(int(std::ceil(0.5 * std::log2(double(W) * H))), 1, kMaxLevels);
+    if (levels > kMaxLevels) throw Error("SkyHierarchy: levels out of range");
     const int N = 1 << levels;
     const double hz = 2.0 / N, hphi = TwoPi / N;
     // Row sums S[iz][iφ] = ∫ Y over the leaf, accumulated image row by image row.
@@ -76,16 +77,19 @@ SkyHierarchy SkyHierarchy::fromLeaves(int levels, const std::vector<double>& lea
     if (levels < 0 || levels > kMaxLevels) throw Error("SkyHierarchy: levels out of range");
     const uint32_t N = 1u << levels;
     if (leaves.size() != size_t(N) * N) throw Error("SkyHierarchy: wrong number of leaves");
-    std::vector<double> morton(leaves.size());
-    for (uint32_t iz = 0; iz < N; ++iz)
-        for (uint32_t ip = 0; ip < N; ++ip) {
-            const double v = leaves[size_t(iz) * N + ip];
-            if (!(v >= 0) || !std::isfinite(v))
-                throw Error("SkyHierarchy: leaf values must be finite and >= 0");
-            morton[mortonIndex(iz, ip)] = v;
-        }
+    double brightest = 0;
+    for (const double v : leaves) {
+        if (!(v >= 0) || !std::isfinite(v))
+            throw Error("SkyHierarchy: leaf values must be finite and >= 0");
+        brightest = std::max(brightest, v);
+    }
     SkyHierarchy h;
     h.levels_ = levels;
+    h.unit_ = brightest > 0 ? brightest : 1.0;
+    std::vector<double> morton(leaves.size());
+    for (uint32_t iz = 0; iz < N; ++iz)
+        for (uint32_t ip = 0; ip < N; ++ip)
+            morton[mortonIndex(iz, ip)] = leaves[size_t(iz) * N + ip] / h.unit_;
     h.buildMipMap(std::move(morton));
     if (K > 0 && K < h.detailCount()) h.compress(K);
     return h;
@@ -139,6 +143,10 @@ void SkyHierarchy::compress(size_t K) {
     double dropped2 = 0;
     for (size_t i = K; i < all.size(); ++i) dropped2 += sqr(double(all[i].magnitude));
     all.resize(K);
+    // Zero details among the K largest (flat regions) cost memory and change nothing.
+    all.erase(
+        std::remove_if(all.begin(), all.end(), [](const Detail& e) { return !(e.magnitude > 0); }),
+        all.end());
     std::sort(all.begin(), all.end(), [](const Detail& a, const Detail& b) {
         return a.level != b.level ? a.level < b.level : a.node < b.node;
     });
@@ -160,7 +168,7 @@ void SkyHierarchy::compress(size_t K) {
                                0.25 * (c00 - c01 - c10 + c11)};
         dets.back()[e.which] = float(det[e.which]);
     }
-    kept_ = K;
+    kept_ = all.size();
     l2Error_ = total2 > 0 ? std::sqrt(dropped2 / total2) : 0.0;
     compressed_ = true;
     mip_.resize(1);  // the sampler only reads the root and the kept details

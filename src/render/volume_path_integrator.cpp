@@ -36,8 +36,13 @@ VolumePathIntegrator::VolumePathIntegrator(const Scene& scene)
             const ZonalFit fit =
                 fitZonal([&](double mu) { return phase.eval(z, sphericalDirection(mu, 0)); },
                          s.productOrder, SHWindow::Hann);
-            lobes_.push_back({fit.p, ProductSampler::significantBands(fit.p),
-                              product_->defensiveShare(fit.minValue)});
+            // Without MIS the product sampler alone must reach every lit direction: the
+            // defensive share then guards against cells whose lobe mass rounds to ≤ 0 even for
+            // a fit that is non-negative at its quadrature nodes.
+            const double beta = effects_.mis == MisHeuristic::None
+                                    ? ProductSampler::kDefensiveFraction
+                                    : product_->defensiveShare(fit.minValue);
+            lobes_.push_back({fit.p, ProductSampler::significantBands(fit.p), beta});
         }
     }
     setupSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -66,15 +71,12 @@ double VolumePathIntegrator::transmittance(const Ray& ray, Rng& rng, PathCounter
 }
 
 double VolumePathIntegrator::misWeight(double pa, double pb) const {
-    switch (effects_.mis) {
-        case MisHeuristic::Balance:
-            return pa / (pa + pb);
-        case MisHeuristic::Power:
-            return pa * pa / (pa * pa + pb * pb);
-        case MisHeuristic::None:
-            break;
-    }
-    return 1;
+    if (effects_.mis == MisHeuristic::None) return 1;
+    // Written in the ratio r = p_b/p_a so that neither tiny pdfs (squares underflowing to 0/0)
+    // nor huge ones (g → 1) can make the weight NaN; pa = 0 gives 0, pb = 0 or ∞ gives 1 or 0.
+    if (!(pa > 0)) return 0;
+    const double r = pb / pa;
+    return effects_.mis == MisHeuristic::Power ? 1 / (1 + r * r) : 1 / (1 + r);
 }
 
 VolumePathIntegrator::LightDraw VolumePathIntegrator::sampleLight(const EventLobe& lobe,

@@ -124,12 +124,13 @@ TEST(SkyHierarchy, WaveletCompressionErrorMatchesReconstruction) {
     for (size_t K : {10, 100, 1000, 4000}) {
         const SkyHierarchy h = fromImage(img, LatLongMapping::Blender, 0, false, 6, K);
         ASSERT_TRUE(h.compressed());
-        EXPECT_EQ(h.keptDetails(), K);
+        EXPECT_LE(h.keptDetails(), K);  // zero details are not kept
+        if (K <= 100) EXPECT_EQ(h.keptDetails(), K);  // this sky has more non-zero details
         double err2 = 0, norm2 = 0;
         for (uint32_t iz = 0; iz < 64; ++iz)
             for (uint32_t ip = 0; ip < 64; ++ip) {
                 const double truth = full.average(6, iz, ip);
-                err2 += sqr(h.samplingAverage(6, iz, ip) - truth);
+                err2 += sqr(h.average(6, iz, ip) - truth);
                 norm2 += truth * truth;
             }
         const double measured = std::sqrt(err2 / norm2);
@@ -211,6 +212,33 @@ TEST(SkyHierarchy, PointSetEqualsSingleSamples) {
         EXPECT_NEAR(out[i].z, s.z, 1e-12);
         EXPECT_NEAR(out[i].phi, s.phi, 1e-12);
         EXPECT_NEAR(out[i].pdf, s.pdf, 1e-9 * s.pdf);
+    }
+}
+
+}  // namespace shvol
+
+namespace shvol {
+
+// Stored in sampler units, a sky of any scale keeps its shape: 1e-40 and 1e35 times a sky give
+// the same samples and pdfs as the sky itself, with no overflow or flush to zero.
+TEST(SkyHierarchy, AnyScaleSamplesTheSame) {
+    std::vector<double> leaves(16 * 16);
+    Rng rng(3, 1);
+    for (double& v : leaves) v = rng.uniform() * (rng.uniform() < 0.1 ? 1e4 : 1.0);
+    const SkyHierarchy ref = SkyHierarchy::fromLeaves(4, leaves);
+    for (double scale : {1e-40, 1e35}) {
+        std::vector<double> scaled = leaves;
+        for (double& v : scaled) v *= scale;
+        const SkyHierarchy h = SkyHierarchy::fromLeaves(4, scaled, 50);
+        const SkyHierarchy hc = SkyHierarchy::fromLeaves(4, leaves, 50);
+        EXPECT_NEAR(h.rootAverage() / ref.rootAverage(), scale, 1e-6 * scale);
+        for (int i = 0; i < 100; ++i) {
+            const Vec2 u = rng.uniform2();
+            const WarpSample a = h.sample(u), b = hc.sample(u);
+            ASSERT_GT(a.pdf, 0);
+            EXPECT_TRUE(std::isfinite(a.pdf));
+            EXPECT_NEAR(a.pdf, b.pdf, 1e-9 * b.pdf);
+        }
     }
 }
 

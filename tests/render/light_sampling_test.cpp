@@ -111,7 +111,7 @@ TEST(LightSampling, StrategiesAgreeUnderASun) {
 }
 
 // Hard cases stay finite and agree with the baseline: a sun 1e6 brighter than the sky, a sky
-// black but for one pixel, an all-black image sky, and g = ±0.999 lobes.
+// black but for one pixel, an all-black image sky, and g = ±0.999999 lobes, with every heuristic.
 TEST(LightSampling, HardCases) {
     Image onePixel(64, 32), black(64, 32);
     onePixel.set(40, 3, Spectrum(50, 40, 30));
@@ -123,7 +123,7 @@ TEST(LightSampling, HardCases) {
     const Image hot = sunnySky(1e6);
     for (const Case cs :
          {Case{&hot, 0.8, "sun 1e6"}, Case{&onePixel, 0.5, "one pixel"}, Case{&black, 0.8, "black"},
-          Case{&hot, 0.999, "g 0.999"}, Case{&hot, -0.999, "g -0.999"}}) {
+          Case{&hot, 0.999999, "g 0.999999"}, Case{&hot, -0.999999, "g -0.999999"}}) {
         auto make = [&](const Config& c) {
             Scene s = sphereScene(1.0, Spectrum::Constant(0.9), cs.g);
             s.environment = Environment::image(*cs.sky, 1.0, 0.0, false);
@@ -131,13 +131,24 @@ TEST(LightSampling, HardCases) {
             return s;
         };
         const Estimate eb = estimate(make(kConfigs[0]), 20000, 3);
-        for (const Config& c : {kConfigs[2], kConfigs[4]}) {
+        for (const Config& c : kConfigs) {
+            if (&c == &kConfigs[0]) continue;
             const Estimate e = estimate(make(c), 20000, 4);
+            // Light samples alone (mis none) almost never hit a lobe 1e-6 rad wide: unbiased, but
+            // with a weight so heavy-tailed that 20000 paths say nothing (README, render.mis).
+            // Only finiteness is asserted there.
+            if (c.mis == MisHeuristic::None && std::abs(cs.g) > 0.99) {
+                EXPECT_TRUE(e.mean.allFinite() && (e.mean >= 0).all()) << cs.what << name(c);
+                continue;
+            }
             const Spectrum se = (e.stdErr.square() + eb.stdErr.square()).sqrt();
             for (int ch = 0; ch < 3; ++ch)
                 EXPECT_NEAR(e.mean[ch], eb.mean[ch], 5 * se[ch] + 1e-12)
                     << cs.what << " " << name(c);
-            if (cs.sky == &black) EXPECT_EQ(e.mean.maxCoeff(), 0.0);
+            if (cs.sky == &black)
+                EXPECT_EQ(e.mean.maxCoeff(), 0.0);
+            else
+                EXPECT_GT(e.mean.maxCoeff(), 0.0) << cs.what << " " << name(c);
         }
     }
 }

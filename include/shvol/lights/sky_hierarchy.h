@@ -18,7 +18,9 @@
 /// Hence ∫ Y dω is preserved exactly (tests/lights/sky_hierarchy_test.cpp). k is chosen from the
 /// source resolution: 2^k ≥ √(W·H), 1 ≤ k ≤ 11 (at most 2048²).
 ///
-/// Mip-map: node averages at every level (float, 4/3·4^k values). Haar wavelet (non-standard 2D
+/// Mip-map: node averages at every level (float, 4/3·4^k values), stored in sampler units: divided
+/// by the brightest leaf, so that no scale of the sky overflows a float or flushes to zero.
+/// average() and rootAverage() convert back (× unit()). Haar wavelet (non-standard 2D
 /// decomposition): for a node with child averages c_{rc} and average a = ¼Σc,
 ///   D_φ = ¼(c00 − c01 + c10 − c11),  D_z = ¼(c00 + c01 − c10 − c11),  D_d = ¼(c00 − c01 − c10 +
 ///   c11),
@@ -93,15 +95,22 @@ class SkyHierarchy {
 
     int levels() const { return levels_; }
     int resolution() const { return 1 << levels_; }
-    /// Exact (mip-map) average at level d, cell (iz, iφ).
+    /// Average luminance at level d, cell (iz, iφ): exact (the mip-map), or for a compressed sky
+    /// the wavelet's reconstruction.
     double average(int level, uint32_t iz, uint32_t iphi) const {
-        return mip_[level][mortonIndex(iz, iphi)];
+        return unit_ * (compressed_ ? samplingAverage(level, iz, iphi)
+                                    : double(mip_[level][mortonIndex(iz, iphi)]));
     }
-    /// The average the sampler uses at a node: the mip-map's, or the compressed wavelet's
-    /// reconstruction (descending from the root, O(level · log K)).
+    /// Luminance of one sampler unit (the brightest leaf; 1 for a black sky).
+    double unit() const { return unit_; }
+    /// The average the sampler uses at a node, in sampler units: the mip-map's, or the compressed
+    /// wavelet's reconstruction (descending from the root, O(level · log K)).
     double samplingAverage(int level, uint32_t iz, uint32_t iphi) const;
-    /// Children's sampling averages of node `morton` at `level` whose own sampling average is
-    /// `avg` (used during a top-down descent, O(1) or O(log K)). level < levels().
+    /// The root's sampling average, in sampler units (where descents start).
+    double samplingRoot() const { return mip_[0][0]; }
+    /// Children's sampling averages (sampler units) of node `morton` at `level` whose own
+    /// sampling average is `avg` (used during a top-down descent, O(1) or O(log K)).
+    /// level < levels().
     void childAverages(int level, uint64_t morton, double avg, double c[4]) const {
         if (!compressed_) {
             const float* p = &mip_[level + 1][4 * morton];
@@ -110,7 +119,8 @@ class SkyHierarchy {
         }
         compressedChildren(level, morton, avg, c);
     }
-    double rootAverage() const { return mip_[0][0]; }
+    /// Mean luminance over the sphere.
+    double rootAverage() const { return unit_ * mip_[0][0]; }
     /// Hints the cache that a descent at node `morton` of `level` will next read one of its
     /// children's children: in Morton order the 16 grandchildren are 64 contiguous bytes.
     void prefetchGrandchildren(int level, uint64_t morton) const {
@@ -126,7 +136,8 @@ class SkyHierarchy {
 
     bool compressed() const { return compressed_; }
     double defensiveFraction() const { return compressed_ ? kDefensiveFraction : 0.0; }
-    /// Detail coefficients: all of them (3 per internal node) and those kept.
+    /// Detail coefficients: all of them (3 per internal node) and those kept (the non-zero ones
+    /// among the K largest).
     size_t detailCount() const;
     size_t keptDetails() const { return compressed_ ? kept_ : detailCount(); }
     /// Relative L2 error of the compressed wavelet against the full one (0 uncompressed):
@@ -145,7 +156,8 @@ class SkyHierarchy {
     double warpPdf(const Vec3& w) const;
 
     int levels_ = 0;
-    std::vector<std::vector<float>> mip_;  ///< per level, Morton order
+    double unit_ = 1;                      ///< luminance of one sampler unit
+    std::vector<std::vector<float>> mip_;  ///< per level, Morton order, in sampler units
     bool compressed_ = false;
     size_t kept_ = 0;
     double l2Error_ = 0;
