@@ -17,7 +17,9 @@ and results/run.json (settings, machine). EXRs stay in results/tmp/ (not committ
 
 Usage: experiment.py [BUILD_DIR] [OUT_DIR]
 Environment: REF_SPP (default 2048), SPP (default 64), RES (default "120,80"), THREADS (2),
-QUICK=1 (one phase function per scene, for a smoke test).
+QUICK=1 (one phase function per scene, for a smoke test), PHASES (comma-separated names, e.g.
+"hg0.8,hg0.95"), SKY (an EXR replacing the scene's sky; its environment.scale is set to 1),
+SWEEPS=0 (skip the sweeps).
 """
 import csv
 import json
@@ -44,6 +46,10 @@ PHASES = [("hg0", {"type": "hg", "g": 0.0}), ("hg0.5", {"type": "hg", "g": 0.5})
           ("mie", {"type": "tabulated", "file": "phase/mie_like.csv"})]
 if QUICK:
     PHASES = [PHASES[2]]
+if os.environ.get("PHASES"):
+    PHASES = [p for p in PHASES if p[0] in os.environ["PHASES"].split(",")]
+SKY = os.environ.get("SKY")
+SWEEPS = os.environ.get("SWEEPS", "1") != "0"
 STRATEGIES = [
     ("phase", {"render.nee": False}),
     ("environment", {"render.light_sampling": "environment", "render.mis": "none"}),
@@ -108,6 +114,8 @@ def main():
     for cloud, scale in CLOUDS:
         for pname, phase in PHASES:
             base = {"media.0.density_scale": scale, "media.0.phase": phase}
+            if SKY:
+                base.update({"environment.file": os.path.abspath(SKY), "environment.scale": 1})
             tag = f"{cloud}_{pname}"
             print(f"{tag}: reference ({REF_SPP} spp) ...", flush=True)
             ref, ref_stats = render(f"{tag}_ref", {**base, **dict(STRATEGIES)[BASELINE]},
@@ -137,7 +145,7 @@ def main():
                 print(f"  {name:16s} mse {r['mse']:.3e} var {r['variance']:.3e} "
                       f"t {r['time_s']:.2f}s eff {r['efficiency']:.3g} | equal time "
                       f"{spp_eq} spp mse {eq['mse']:.3e}", flush=True)
-            if cloud == "thin" and pname in ("hg0.8", "hg0.95"):
+            if SWEEPS and cloud == "thin" and pname in ("hg0.8", "hg0.95"):
                 mp = {**base, **dict(STRATEGIES)["mis_product"]}
                 for key, values in [("environment.wavelet_coefficients",
                                      [0, 100, 1000, 10000, 100000]),

@@ -107,7 +107,7 @@ def main():
                 f"{gain(key, s, 'eq_time_efficiency'):.2f} |")
         lines.append(f"\nReference noise floor in the MSE: {float(by[key]['mis_environment']['ref_noise_mse']):.2e}.\n")
 
-    sw = read("sweeps.csv")
+    sw = read("sweeps.csv") if os.path.exists(os.path.join(OUT, "sweeps.csv")) else []
     if sw:
         keys = []
         for r in sw:

@@ -9,7 +9,12 @@
 // ("towards sun": light travelling towards the sun scatters it forward into the eye, as in a
 // backlit cloud), the sun being the brightest sky cell.
 //
-// Usage: validate_product SKY.exr [OUT.csv]   (writes a CSV and prints a Markdown table)
+// Usage: validate_product SKY.exr|studio [OUT.csv [STUDIO_SKY.exr]]
+// (writes a CSV and prints a Markdown table; with a third argument the studio sky is also written
+// as an EXR, for renders)
+// "studio" is a synthetic 1024×512 sky of eight equal lights, discs of 4° radius and radiance 200,
+// spread over the sphere, on a background of 0.05: several bright sources of similar power
+// instead of one sun.
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -28,6 +33,25 @@ using namespace shvol;
 
 namespace {
 
+Image studioSky() {
+    Image img(1024, 512);
+    const Vec3 lights[8] = {sphericalDirection(0.9, 0.3),  sphericalDirection(0.5, 1.9),
+                            sphericalDirection(0.2, 3.4),  sphericalDirection(-0.1, 5.0),
+                            sphericalDirection(-0.4, 0.9), sphericalDirection(-0.7, 2.7),
+                            sphericalDirection(0.6, 4.4),  sphericalDirection(-0.2, 6.0)};
+    const double cosR = std::cos(4 * Pi / 180);
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            const Vec3 w = latLongDirection(LatLongMapping::Blender, (x + 0.5) / img.width,
+                                            (y + 0.5) / img.height);
+            double L = 0.05;
+            for (const Vec3& l : lights)
+                if (w.dot(l) >= cosR) L = 200;
+            img.set(x, y, Spectrum::Constant(L));
+        }
+    return img;
+}
+
 struct Draw {
     Vec3 w;
     double pdf;
@@ -44,7 +68,10 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "usage: validate_product SKY.exr [OUT.csv]\n");
         return 2;
     }
-    const Environment env = Environment::image(readExr(argv[1]), 1.0, 0.0, false);
+    const std::string skyName = argv[1];
+    const Image skyImage = skyName == "studio" ? studioSky() : readExr(skyName);
+    if (skyName == "studio" && argc > 3) writeExr(argv[3], skyImage);
+    const Environment env = Environment::image(skyImage, 1.0, 0.0, false);
     const SkyHierarchy sky = env.skyHierarchy();
     const int kDirections = 64, kSamples = 20000;
     // The sun: the brightest leaf of the sky hierarchy.
