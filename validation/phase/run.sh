@@ -41,11 +41,6 @@ if [ "${SKIP_RENDER:-0}" != 1 ]; then
     "$PY" validation/phase/render_compare.py "$BUILD_DIR" "$OUT" | tee "$OUT/render_compare.log"
 fi
 
-if ! "$PY" -c 'import matplotlib, numpy' 2>/dev/null; then
-    SUDO=""
-    [ "$(id -u)" -ne 0 ] && SUDO=sudo
-    $SUDO apt-get update
-    $SUDO apt-get install -y --no-install-recommends python3-matplotlib python3-numpy
-fi
+source validation/plot_deps.sh
 "$PY" validation/phase/plot.py "$OUT"
 echo "run.sh: $(( $(date +%s) - t0 )) s"

@@ -23,11 +23,6 @@ mkdir -p "$OUT"
 if [ "${SKIP_RENDER:-0}" != 1 ]; then
     "$PY" validation/product/experiment.py "$BUILD_DIR" "$OUT" | tee "$OUT/experiment.log"
 fi
-if ! "$PY" -c 'import matplotlib, numpy' 2>/dev/null; then
-    SUDO=""
-    [ "$(id -u)" -ne 0 ] && SUDO=sudo
-    $SUDO apt-get update
-    $SUDO apt-get install -y --no-install-recommends python3-matplotlib python3-numpy
-fi
+source validation/plot_deps.sh
 "$PY" validation/product/plot.py "$OUT"
 echo "run.sh: $(( $(date +%s) - t0 )) s"
