@@ -178,3 +178,25 @@ TEST(LightSampling, EffectsAndCounters) {
 }
 
 }  // namespace shvol
+
+namespace shvol {
+
+// The product and wavelet strategies keep the image independent of the thread count (no state
+// is shared between paths).
+TEST(LightSampling, ImageIndependentOfThreadCount) {
+    for (LightSampling ls : {LightSampling::Wavelet, LightSampling::Product}) {
+        Scene s = sphereScene(1.5, Spectrum(0.9, 0.8, 0.7), 0.8);
+        s.environment = Environment::image(sunnySky(500), 1.0, 15.0, false);
+        s.camera.position = Vec3(0, -3, 0);
+        s.camera.width = 24, s.camera.height = 20;
+        s.settings.spp = 4;
+        configure(s, {ls, MisHeuristic::Power});
+        const RenderResult a = render(s, {1, false}), b = render(s, {2, false});
+        EXPECT_EQ(a.image.rgb, b.image.rgb) << lightSamplingName(ls);
+        EXPECT_EQ(a.stats.counters.productSamples, b.stats.counters.productSamples);
+        EXPECT_EQ(a.stats.counters.productSamples > 0, ls == LightSampling::Product);
+        EXPECT_GT(a.stats.counters.lightSamples, 0u);
+    }
+}
+
+}  // namespace shvol
