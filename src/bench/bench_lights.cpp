@@ -83,19 +83,25 @@ void WaveletSample(benchmark::State& state) {
 }
 BENCHMARK(WaveletSample)->Args({9, 0})->Args({11, 0})->Args({11, 10000});
 
-void WaveletPointSet(benchmark::State& state) {
-    const SkyHierarchy& h = sky(int(state.range(0)));
+/// Warps sets of 64 random points with warp(u, out); items are points.
+template <class Warp>
+void pointSets(benchmark::State& state, const Warp& warp) {
     Rng rng(1, 1);
     std::vector<Vec2> u(64);
     std::vector<WarpSample> out;
     double sink = 0;
     for (auto _ : state) {
         for (Vec2& p : u) p = rng.uniform2();
-        h.sample(u, out);
+        warp(u, out);
         sink += out[0].pdf;
     }
     benchmark::DoNotOptimize(sink);
     state.SetItemsProcessed(state.iterations() * 64);
+}
+
+void WaveletPointSet(benchmark::State& state) {
+    const SkyHierarchy& h = sky(int(state.range(0)));
+    pointSets(state, [&](const auto& u, auto& out) { h.sample(u, out); });
 }
 BENCHMARK(WaveletPointSet)->Arg(11);
 
@@ -130,17 +136,7 @@ BENCHMARK(ProductEvent)->ArgsProduct({{4, 8, 16, 32}, {11}});
 void ProductPointSet(benchmark::State& state) {
     const ProductSampler ps(sky(int(state.range(1))), int(state.range(0)));
     const ProductSampler::ZonalLobe c = lobe(ps);
-    Rng rng(1, 1);
-    std::vector<Vec2> u(64);
-    std::vector<WarpSample> out;
-    double sink = 0;
-    for (auto _ : state) {
-        for (Vec2& p : u) p = rng.uniform2();
-        ps.sample(c, u, out);
-        sink += out[0].pdf;
-    }
-    benchmark::DoNotOptimize(sink);
-    state.SetItemsProcessed(state.iterations() * 64);
+    pointSets(state, [&](const auto& u, auto& out) { ps.sample(c, u, out); });
 }
 BENCHMARK(ProductPointSet)->ArgsProduct({{4, 8, 16, 32}, {9, 11}});
 
