@@ -17,4 +17,11 @@ void addTonemapCommand(CLI::App& app, std::function<int()>& run);
 /// Peak resident memory of this process in MiB.
 double peakMemoryMiB();
 
+/// A CLI11 check that a number lies in [lo, hi] ((lo, hi] with loOpen); its message is one line
+/// naming that range and the unit, e.g. "must be in [2, 10], got 11".
+CLI::Validator numberIn(double lo, double hi, bool loOpen = false, const std::string& unit = "");
+/// A CLI11 check that the text is a decimal integer in [lo, hi], e.g. "--spp: must be an integer
+/// in [1, 16777216], got 0" (CLI11's own number checks print a 310-digit bound).
+CLI::Validator integerIn(long long lo, long long hi);
+
 }  // namespace shvol::app

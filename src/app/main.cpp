@@ -1,5 +1,6 @@
 // shvol: a participating-media simulator. See README.md for the command-line reference.
 #include <cstdio>
+#include <string>
 
 #include "commands.h"
 #include "shvol/core/error.h"
@@ -16,6 +17,21 @@ int main(int argc, char** argv) {
     shvol::app::addPhaseCommand(app, run);
     shvol::app::addDiffCommand(app, run);
     shvol::app::addTonemapCommand(app, run);
+    // An unknown first word is a wrong subcommand, not a missing one (CLI11 would say "A
+    // subcommand is required", and print the main help with exit 0 for `shvol typo --help`).
+    if (argc >= 2 && argv[1][0] != '-') {
+        std::string names;
+        bool known = false;
+        for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+            known |= sub->get_name() == argv[1];
+            names += (names.empty() ? "" : ", ") + sub->get_name();
+        }
+        if (!known) {
+            std::fprintf(stderr, "shvol: error: unknown subcommand \"%s\"; expected one of %s\n",
+                         argv[1], names.c_str());
+            return 1;
+        }
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

@@ -29,14 +29,14 @@ void addMakeMediumCommand(CLI::App& app, std::function<int()>& run) {
         ->required();
     c->add_option("-o,--output", a->output, "Output .vdb file")->required();
     c->add_option("--resolution", a->resolution, "Voxels per axis over the unit cube")
-        ->check(CLI::Range(4, 1024));
+        ->check(integerIn(4, 1024));
     c->add_option("--grid", a->grid, "Grid name");
     c->add_option("--seed", a->seed, "Noise seed (cloud)");
-    c->add_option("--octaves", a->octaves, "fBm octaves (cloud)")->check(CLI::Range(1, 12));
+    c->add_option("--octaves", a->octaves, "fBm octaves (cloud)")->check(integerIn(1, 12));
     c->add_option("--frequency", a->frequency, "Base noise frequency (cloud)");
     c->add_option("--coverage", a->coverage, "Cloud coverage offset (cloud)");
     c->add_option("--radius", a->radius, "Radius in the unit cube (sphere)")
-        ->check(CLI::Range(0.0, 0.5));
+        ->check(numberIn(0.0, 0.5));
     c->callback([&run, a] {
         run = [a] {
             VdbGridSpec s;
@@ -60,22 +60,6 @@ void addMakeMediumCommand(CLI::App& app, std::function<int()>& run) {
 }
 
 namespace {
-// A CLI11 check that a number lies in [lo, hi], or (lo, hi] with loOpen; one-line message.
-CLI::Validator numberIn(double lo, double hi, bool loOpen, const std::string& unit) {
-    const std::string range = std::string(loOpen ? "(" : "[") + CLI::detail::to_string(lo) + ", " +
-                              CLI::detail::to_string(hi) + "]" + unit;
-    return CLI::Validator(
-        [=](std::string& text) -> std::string {
-            double v = 0;
-            if (!CLI::detail::lexical_cast(text, v) || !std::isfinite(v))
-                return "expected a number, got \"" + text + "\"";
-            if (v < lo || v > hi || (loOpen && v <= lo))
-                return "must be in " + range + ", got " + text;
-            return {};
-        },
-        "in " + range);
-}
-
 bool endsWithExr(const std::string& path) {
     if (path.size() < 4) return false;
     std::string ext = path.substr(path.size() - 4);

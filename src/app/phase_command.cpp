@@ -109,7 +109,7 @@ void commonOptions(CLI::App* c, PhaseArgs& a) {
         ->required();
     c->add_option("--order", a.order, "Number of SH bands (l < order)")
         ->required()
-        ->check(CLI::Range(1, 256));
+        ->check(integerIn(1, 256));
     c->add_option("--window", a.window, "Ringing window: none, hann or lanczos")
         ->check(CLI::IsMember({"none", "hann", "lanczos"}));
 }
@@ -129,7 +129,7 @@ void addPhaseCommand(CLI::App& app, std::function<int()>& run) {
     CLI::App* sample =
         phase->add_subcommand("sample", "Sample directions around +z with the SH sampler (CSV)");
     commonOptions(sample, *a);
-    sample->add_option("--count", a->count, "Number of samples")->check(CLI::Range(1LL, 1LL << 32));
+    sample->add_option("--count", a->count, "Number of samples")->check(integerIn(1, 1LL << 32));
     sample->add_option("--seed", a->seed, "Random seed");
     sample->add_option("--out", a->out, "Output CSV (x,y,z,pdf)")->required();
     sample
@@ -138,7 +138,7 @@ void addPhaseCommand(CLI::App& app, std::function<int()>& run) {
                      "1D-table mode)")
         ->check(CLI::IsMember({"zonal", "general"}));
     sample->add_option("--depth", a->depth, "Warp depth (zonal: 2^depth z-bins; general: <= 10)")
-        ->check(CLI::Range(4, 22));
+        ->check(integerIn(4, 22));
     sample->callback([&run, a] { run = [a] { return runSample(*a); }; });
 }
 

@@ -20,7 +20,7 @@ void addTonemapCommand(CLI::App& app, std::function<int()>& run) {
     c->add_option("image", a->input, "Input EXR")->required();
     c->add_option("-o,--output", a->output, "Output PNG")->required();
     c->add_option("--exposure", a->exposure, "Exposure in stops (default 0)")
-        ->check(CLI::Range(-64.0, 64.0));
+        ->check(numberIn(-64.0, 64.0, false, " stops"));
     c->callback([&run, a] {
         run = [a] {
             if (std::filesystem::path(a->output).extension() != ".png")

@@ -101,6 +101,39 @@ TEST_F(Cli, UsageErrorsAreOneLine) {
     }
 }
 
+// Number options say their real range in one short line; a wrong subcommand is named as such,
+// also with --help.
+TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
+    write("s.json", scene(Homogeneous));
+    struct Case {
+        std::string args, message;
+    };
+    const Case cases[] = {
+        {"render " + path("s.json") + " --spp 0",
+         "--spp: must be an integer in [1, 16777216], got 0"},
+        {"render " + path("s.json") + " --spp abc",
+         "--spp: expected an integer in [1, 16777216], got \"abc\""},
+        {"render " + path("s.json") + " --seed -1",
+         "--seed: must be an integer in [0, 9007199254740992], got -1"},
+        {"render " + path("s.json") + " --threads -2",
+         "--threads: must be an integer in [0, 4096], got -2"},
+        {"bench " + path("s.json") + " --repeats 0",
+         "--repeats: must be an integer in [1, 1000], got 0"},
+        {"make-medium cloud -o " + path("m.vdb") + " --resolution 2",
+         "--resolution: must be an integer in [4, 1024], got 2"},
+        {"batch x.json", "unknown subcommand \"batch\"; expected one of render,"},
+        {"batch --help", "unknown subcommand \"batch\""},
+    };
+    for (const Case& c : cases) {
+        const Result r = run(c.args);
+        EXPECT_EQ(r.code, 1) << c.args;
+        EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << ": " << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_LT(r.err.size(), 200u) << r.err;
+    }
+    EXPECT_FALSE(fs::exists(path("m.vdb")));
+}
+
 // Numbers beyond double range are malformed input, not internal errors.
 TEST_F(Cli, NumberOverflowIsAnInputError) {
     write("big.json", "{\"camera\": {\"fov\": 1e999}}");
