@@ -33,8 +33,10 @@ void addMakeMediumCommand(CLI::App& app, std::function<int()>& run) {
     c->add_option("--grid", a->grid, "Grid name");
     c->add_option("--seed", a->seed, "Noise seed (cloud)");
     c->add_option("--octaves", a->octaves, "fBm octaves (cloud)")->check(integerIn(1, 12));
-    c->add_option("--frequency", a->frequency, "Base noise frequency (cloud)");
-    c->add_option("--coverage", a->coverage, "Cloud coverage offset (cloud)");
+    c->add_option("--frequency", a->frequency, "Base noise frequency (cloud, default 4)")
+        ->check(numberIn(0, 1000, true));
+    c->add_option("--coverage", a->coverage, "Cloud coverage offset (cloud, default 0.1)")
+        ->check(numberIn(-1, 1));
     c->add_option("--radius", a->radius, "Radius in the unit cube (sphere)")
         ->check(numberIn(0.0, 0.5));
     c->callback([&run, a] {
@@ -51,6 +53,18 @@ void addMakeMediumCommand(CLI::App& app, std::function<int()>& run) {
                 const double edge = 1.0 / a->resolution, r = a->radius;
                 s.density = [=](const Vec3& x) { return float(sphereDensity(x, r, edge)); };
             }
+            // A grid with no density renders as nothing: refuse it before writing a file.
+            bool any = false;
+            const double h = 1.0 / s.resolution;
+            for (int k = 0; k < s.resolution && !any; ++k)
+                for (int j = 0; j < s.resolution && !any; ++j)
+                    for (int i = 0; i < s.resolution && !any; ++i)
+                        any = s.density(Vec3((i + 0.5) * h - 0.5, (j + 0.5) * h - 0.5,
+                                             (k + 0.5) * h - 0.5)) > 0;
+            if (!any)
+                fail(a->output, "",
+                     "the grid would be empty (no voxel has density > 0); raise --coverage or "
+                     "--radius");
             const size_t n = writeVdb(a->output, {s});
             std::fprintf(stderr, "wrote %s: %s grid '%s', %d^3, %zu active voxels\n",
                          a->output.c_str(), a->kind.c_str(), a->grid.c_str(), a->resolution, n);

@@ -88,6 +88,10 @@ int runRender(const RenderArgs& a) {
     if (std::filesystem::path(out).extension() == ".exr") statsPath.resize(out.size() - 4);
     statsPath += ".stats.json";
 
+    std::string ext = std::filesystem::path(out).extension().string();
+    for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    if (ext != ".exr")
+        fail(out, "", "render writes OpenEXR; name the output .exr (shvol tonemap makes a PNG)");
     // Fail before rendering, not after, if the outputs cannot be written.
     for (const std::string& f : {out, statsPath}) {
         const std::filesystem::path dir = std::filesystem::path(f).parent_path();

@@ -122,6 +122,12 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
         {"make-medium cloud -o " + path("m.vdb") + " --resolution 2",
          "--resolution: must be an integer in [4, 1024], got 2"},
         {"batch x.json", "unknown subcommand \"batch\"; expected one of render,"},
+        {"render " + path("s.json") + " -o " + path("m.png"),
+         "render writes OpenEXR; name the output .exr"},
+        {"make-medium cloud -o " + path("m.vdb") + " --coverage -2",
+         "--coverage: must be in [-1, 1], got -2"},
+        {"make-medium cloud -o " + path("m.vdb") + " --resolution 16 --coverage -1",
+         "the grid would be empty"},
         {"batch --help", "unknown subcommand \"batch\""},
     };
     for (const Case& c : cases) {
@@ -132,6 +138,7 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
         EXPECT_LT(r.err.size(), 200u) << r.err;
     }
     EXPECT_FALSE(fs::exists(path("m.vdb")));
+    EXPECT_FALSE(fs::exists(path("m.png")));
 }
 
 // Numbers beyond double range are malformed input, not internal errors.
