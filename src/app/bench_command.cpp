@@ -47,11 +47,12 @@ void addBenchCommand(CLI::App& app, std::function<int()>& run) {
     CLI::App* c = app.add_subcommand(
         "bench", "Throughput on a scene: majorant grid vs one global majorant, 2 vs 1 threads");
     c->add_option("scene", a->scene, "Scene file (default media/default.json)");
-    c->add_option("--spp", a->spp, "Samples per pixel per measurement (default 4)")
+    c->add_option("--spp", a->spp, "Samples per pixel per measurement")
         ->check(integerIn(1, 1 << 24));
     c->add_option("--repeats", a->repeats, "Repeat each measurement, keep the best")
         ->check(integerIn(1, 1000));
-    c->add_option("--set", a->sets, "Override a scene value: key.path=value (repeatable)");
+    c->add_option("--set", a->sets, "Override a scene value: key.path=value (repeatable)")
+        ->default_str("");
     c->callback([&run, a] {
         run = [a] {
             std::fprintf(stderr, "shvol bench %s (%d spp)\n", a->scene.c_str(), a->spp);

@@ -9,6 +9,8 @@ int main(int argc, char** argv) {
     CLI::App app{"shvol " SHVOL_VERSION " - volumetric path tracing of participating media"};
     app.set_version_flag("--version", "shvol " SHVOL_VERSION);
     app.require_subcommand(1);
+    // --help shows every option's default (inherited by the subcommands added below).
+    app.option_defaults()->always_capture_default();
     std::function<int()> run;
     shvol::app::addRenderCommand(app, run);
     shvol::app::addMakeMediumCommand(app, run);

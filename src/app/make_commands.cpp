@@ -33,9 +33,9 @@ void addMakeMediumCommand(CLI::App& app, std::function<int()>& run) {
     c->add_option("--grid", a->grid, "Grid name");
     c->add_option("--seed", a->seed, "Noise seed (cloud)");
     c->add_option("--octaves", a->octaves, "fBm octaves (cloud)")->check(integerIn(1, 12));
-    c->add_option("--frequency", a->frequency, "Base noise frequency (cloud, default 4)")
+    c->add_option("--frequency", a->frequency, "Base noise frequency (cloud)")
         ->check(numberIn(0, 1000, true));
-    c->add_option("--coverage", a->coverage, "Cloud coverage offset (cloud, default 0.1)")
+    c->add_option("--coverage", a->coverage, "Cloud coverage offset (cloud)")
         ->check(numberIn(-1, 1));
     c->add_option("--radius", a->radius, "Radius in the unit cube (sphere)")
         ->check(numberIn(0.0, 0.5));

@@ -132,12 +132,15 @@ void addRenderCommand(CLI::App& app, std::function<int()>& run) {
     c->add_option("-o,--output", args->output,
                   "Output EXR (default: <scene name>.exr); statistics go to <output>.stats.json");
     c->add_option("--spp", args->spp, "Samples per pixel (overrides render.spp)")
-        ->check(integerIn(1, 1 << 24));
+        ->check(integerIn(1, 1 << 24))
+        ->default_str("the scene's render.spp");
     c->add_option("--seed", args->seed, "Random seed (overrides render.seed)")
-        ->check(integerIn(0, 9007199254740992LL));
-    c->add_option("--threads", args->threads, "Worker threads (default 0: all cores)")
+        ->check(integerIn(0, 9007199254740992LL))
+        ->default_str("the scene's render.seed");
+    c->add_option("--threads", args->threads, "Worker threads (0: all cores)")
         ->check(integerIn(0, 4096));
-    c->add_option("--set", args->sets, "Override a scene value: key.path=value (repeatable)");
+    c->add_option("--set", args->sets, "Override a scene value: key.path=value (repeatable)")
+        ->default_str("");
     c->add_flag("--quiet", args->quiet, "No progress bar or summary");
     c->callback([&run, args] { run = [args] { return runRender(*args); }; });
 }

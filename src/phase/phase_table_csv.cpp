@@ -88,6 +88,13 @@ TabulatedPhase readPhaseTableCsv(const std::string& path) {
     if (angles.size() < 2)
         fail(path, end,
              "expected at least 2 (angle, value) rows, got " + std::to_string(angles.size()));
+    // A table running from about 0 to about π is almost surely in radians: read as degrees, it
+    // would be a 3° forward peak held constant out to 180°.
+    if (angles.size() >= 3 && angles.front() < 0.1 && angles.back() > 3.0 &&
+        angles.back() < Pi + 1e-3)
+        fail(path, end,
+             "angles run from " + str(angles.front()) + " to " + str(angles.back()) +
+                 ", which looks like radians (π = 3.14159); give the angles in degrees, 0 to 180");
     bool anyPositive = false;
     for (double v : values) anyPositive = anyPositive || v > 0;
     if (!anyPositive) fail(path, end, "all values are zero");

@@ -141,6 +141,17 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
     EXPECT_FALSE(fs::exists(path("m.png")));
 }
 
+// --help shows the defaults.
+TEST_F(Cli, HelpShowsDefaults) {
+    const Result m = run("make-medium --help");
+    EXPECT_NE(m.out.find("--resolution INT:integer in [4, 1024]=96"), std::string::npos) << m.out;
+    const Result b = run("bench --help");
+    EXPECT_NE(b.out.find("--spp INT:integer in [1, 16777216]=4"), std::string::npos) << b.out;
+    const Result r = run("render --help");
+    EXPECT_NE(r.out.find("--threads INT:integer in [0, 4096]=0"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("=the scene's render.spp"), std::string::npos) << r.out;
+}
+
 // Numbers beyond double range are malformed input, not internal errors.
 TEST_F(Cli, NumberOverflowIsAnInputError) {
     write("big.json", "{\"camera\": {\"fov\": 1e999}}");

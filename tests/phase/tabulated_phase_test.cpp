@@ -150,6 +150,12 @@ TEST(TabulatedCsv, OneLineErrors) {
     EXPECT_EQ(err("zero.csv", "0,0\n180,0\n"), "line 2: all values are zero");
     EXPECT_EQ(err("header2.csv", "angle,value\n0,1\nangle,value\n"),
               "line 3: angle \"angle\" is not a number");
+    EXPECT_EQ(err("radians.csv", "0,5\n1.5708,1\n3.14159,2\n"),
+              "line 3: angles run from 0 to 3.14159, which looks like radians (π = 3.14159); give "
+              "the angles in degrees, 0 to 180");
+    // A short table in degrees that ends before π is still fine.
+    EXPECT_EQ(messageOf([&] { readPhaseTableCsv(writeCsv("peak.csv", "0,5\n1,2\n2.5,1\n")); }),
+              "(no error)");
 }
 
 }  // namespace
