@@ -1,7 +1,9 @@
 // shvol bench: throughput on a scene, with and without the majorant grid, 1 and 2 threads.
 #include <cstdio>
+#include <filesystem>
 
 #include "commands.h"
+#include "shvol/core/error.h"
 #include "shvol/io/scene_loader.h"
 #include "shvol/render/renderer.h"
 
@@ -40,21 +42,40 @@ Row measure(const BenchArgs& a, const std::string& name, bool grid, int threads)
     std::fprintf(stderr, "  %-28s %12.0f paths/s\n", name.c_str(), best);
     return {name, best, lookups};
 }
+/// media/default.json in the current directory, else beside the program's source tree (the
+/// program is build/shvol in a checkout, so ../media/default.json from its directory).
+std::string defaultBenchScene() {
+    namespace fs = std::filesystem;
+    const fs::path here = "media/default.json";
+    if (fs::exists(here)) return here.string();
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+        const fs::path beside = exe.parent_path().parent_path() / "media" / "default.json";
+        if (fs::exists(beside)) return beside.string();
+    }
+    fail("media/default.json", "",
+         "no scene given, and the default scene is neither in the current directory nor in the "
+         "source tree of this program; give a scene file");
+}
 }  // namespace
 
 void addBenchCommand(CLI::App& app, std::function<int()>& run) {
     auto a = std::make_shared<BenchArgs>();
     CLI::App* c = app.add_subcommand(
         "bench", "Throughput on a scene: majorant grid vs one global majorant, 2 vs 1 threads");
-    c->add_option("scene", a->scene, "Scene file (default media/default.json)");
+    c->add_option("scene", a->scene,
+                  "Scene file (default: media/default.json here, else in the source tree of this "
+                  "shvol program)");
     c->add_option("--spp", a->spp, "Samples per pixel per measurement")
         ->check(integerIn(1, 1 << 24));
     c->add_option("--repeats", a->repeats, "Repeat each measurement, keep the best")
         ->check(integerIn(1, 1000));
     c->add_option("--set", a->sets, "Override a scene value: key.path=value (repeatable)")
         ->default_str("");
-    c->callback([&run, a] {
-        run = [a] {
+    c->callback([&run, a, c] {
+        run = [a, c] {
+            if (c->count("scene") == 0) a->scene = defaultBenchScene();
             std::fprintf(stderr, "shvol bench %s (%d spp)\n", a->scene.c_str(), a->spp);
             const Row g1 = measure(*a, "majorant grid, 1 thread", true, 1);
             const Row n1 = measure(*a, "global majorant, 1 thread", false, 1);

@@ -141,6 +141,15 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
     EXPECT_FALSE(fs::exists(path("m.png")));
 }
 
+// bench without a scene finds the default scene also when run outside the repository (ctest runs
+// in build/, where there is no media/ folder).
+TEST_F(Cli, BenchFindsTheDefaultScene) {
+    const Result r = run("bench --spp 1 --set camera.resolution=[8,6]");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("media/default.json (1 spp)"), std::string::npos) << r.err;
+    EXPECT_NE(r.out.find("majorant grid / global majorant"), std::string::npos) << r.out;
+}
+
 // --help shows the defaults.
 TEST_F(Cli, HelpShowsDefaults) {
     const Result m = run("make-medium --help");
