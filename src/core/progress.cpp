@@ -1,8 +1,11 @@
 #include "shvol/core/progress.h"
 
+#include <sys/ioctl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstring>
 
 namespace shvol {
 
@@ -36,20 +39,41 @@ void Progress::done() {
     print(done_, true);
 }
 
+std::string progressLine(const std::string& label, double frac, double elapsed, bool final,
+                         int columns) {
+    frac = std::clamp(frac, 0.0, 1.0);
+    char tail[64];
+    if (final)
+        std::snprintf(tail, sizeof tail, " 100%% %.1fs", elapsed);
+    else
+        std::snprintf(tail, sizeof tail, " %3d%% ETA %.0fs", int(100 * frac),
+                      frac > 0 ? elapsed * (1 - frac) / frac : 0.0);
+    // Keep one column free: a line that fills the last column wraps on some terminals.
+    const int room = columns - 1 - int(label.size()) - int(std::strlen(tail)) - 3;
+    std::string line = label;
+    if (room >= 4) {
+        const int width = std::min(30, room), filled = int(frac * width);
+        std::string bar(filled, '=');
+        bar.resize(width, ' ');
+        line += " [" + bar + "]";
+    }
+    line += tail;
+    if (int(line.size()) > columns - 1) line.resize(std::max(0, columns - 1));
+    return line;
+}
+
 void Progress::print(long long d, bool final) {
     const double frac = std::min(1.0, double(d) / double(total_));
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    const int width = 30, filled = int(frac * width);
-    std::string bar(filled, '=');
-    bar.resize(width, ' ');
-    if (final)
-        std::fprintf(stderr, "\r%s [%s] 100%% %.1fs      \n", label_.c_str(), bar.c_str(), elapsed);
-    else {
-        const double eta = frac > 0 ? elapsed * (1 - frac) / frac : 0;
-        std::fprintf(stderr, "\r%s [%s] %3d%% ETA %.0fs   ", label_.c_str(), bar.c_str(),
-                     int(100 * frac), eta);
-    }
+    winsize ws{};
+    const int columns =
+        ::ioctl(STDERR_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 0 ? ws.ws_col : 80;
+    const std::string line = progressLine(label_, frac, elapsed, final, columns);
+    // Pad with spaces to erase a longer previous line, within the terminal's width.
+    const int pad = std::max(0, std::min(columns - 1, lastLength_) - int(line.size()));
+    std::fprintf(stderr, "\r%s%*s%s", line.c_str(), pad, "", final ? "\n" : "");
+    lastLength_ = int(line.size());
     std::fflush(stderr);
 }
 

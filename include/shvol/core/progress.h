@@ -7,6 +7,12 @@
 
 namespace shvol {
 
+/// The text of one progress line (without the leading carriage return) fitted to a terminal of
+/// `columns` characters: "label [====    ]  42% ETA 12s", the bar shrinking to fit and left out
+/// when there is no room, so that the line never wraps (which would scroll instead of redraw).
+std::string progressLine(const std::string& label, double fraction, double elapsedSeconds,
+                         bool final, int columns);
+
 class Progress {
   public:
     /// enabled = false prints nothing (e.g. --quiet, or stderr is not a terminal).
@@ -22,6 +28,7 @@ class Progress {
     std::string label_;
     long long total_;
     bool enabled_, finished_ = false;
+    int lastLength_ = 0;  ///< length of the last line printed
     std::atomic<long long> done_{0};
     std::mutex mutex_;
     std::chrono::steady_clock::time_point start_, lastPrint_;
