@@ -1,7 +1,9 @@
 #include "shvol/io/json_reader.h"
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "shvol/core/error.h"
 
@@ -54,18 +56,36 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
     const auto eq = assignment.find('=');
     if (eq == std::string::npos || eq == 0)
         fail(file, "--set " + assignment, "expected key.path=value");
-    const std::string keyPath = assignment.substr(0, eq), text = assignment.substr(eq + 1);
+    // media[0].albedo (the notation of error messages) is media.0.albedo.
+    std::string keyPath;
+    for (char ch : assignment.substr(0, eq)) {
+        if (ch == '[')
+            keyPath += '.';
+        else if (ch != ']')
+            keyPath += ch;
+    }
+    const std::string text = assignment.substr(eq + 1);
     Json value;
     try {
         value = Json::parse(text);
     } catch (const Json::exception&) {  // not JSON (or a number out of range): a string
         value = text;
     }
+    std::vector<std::string> parts;
+    {
+        std::stringstream ss(keyPath);
+        std::string part;
+        while (std::getline(ss, part, '.')) {
+            if (part.empty()) fail(file, "--set " + assignment, "empty component in key path");
+            parts.push_back(part);
+        }
+        if (parts.empty() || keyPath.back() == '.')
+            fail(file, "--set " + assignment, "empty component in key path");
+    }
     Json* node = &doc;
-    std::stringstream ss(keyPath);
-    std::string part, walked;
-    while (std::getline(ss, part, '.')) {
-        if (part.empty()) fail(file, "--set " + assignment, "empty component in key path");
+    std::string walked;
+    for (size_t k = 0; k + 1 < parts.size(); ++k) {
+        const std::string& part = parts[k];
         const bool isIndex = part.find_first_not_of("0123456789") == std::string::npos;
         if (node->is_array() && isIndex) {
             const size_t i = part.size() > 9 ? node->size() : std::stoul(part);
@@ -82,7 +102,33 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
             fail(file, walked, "--set: cannot descend into a " + typeName(*node));
         }
     }
-    *node = value;
+    const std::string& last = parts.back();
+    if (node->is_array()) {
+        if (value.is_null()) fail(file, walked, "--set: array elements cannot be deleted");
+        const bool isIndex = last.find_first_not_of("0123456789") == std::string::npos;
+        const size_t i = !isIndex || last.size() > 9 ? node->size() : std::stoul(last);
+        if (i >= node->size())
+            fail(file, walked,
+                 "--set: index " + last + " out of range (" + std::to_string(node->size()) +
+                     " elements)");
+        (*node)[i] = value;
+        return;
+    }
+    if (!node->is_object() && !node->is_null())
+        fail(file, walked, "--set: cannot descend into a " + typeName(*node));
+    if (value.is_null()) {  // key=null deletes the key (its default applies again)
+        if (node->is_object()) node->erase(last);
+        return;
+    }
+    // A new type starts a fresh object: keys of the old type would be unknown to the new one.
+    if (last == "type" && node->is_object() && node->contains("type") && (*node)["type"] != value)
+        *node = Json::object();
+    // A file named on the command line is relative to the current directory, as a shell user
+    // expects (file names inside the scene stay relative to the scene's folder).
+    if (last == "file" && value.is_string() && !value.get<std::string>().empty() &&
+        !std::filesystem::path(value.get<std::string>()).is_absolute())
+        value = std::filesystem::absolute(value.get<std::string>()).lexically_normal().string();
+    (*node)[last] = value;
 }
 
 JsonReader::JsonReader(const Json& j, std::string file, std::string path)

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "test_util.h"
 
 #include <fstream>
@@ -87,6 +89,32 @@ TEST(JsonReader, Overrides) {
               "s.json: render.spp: --set: cannot descend into a number");
     EXPECT_EQ(messageOf([&] { applyOverride(j, "nonsense", "s.json"); }),
               "s.json: --set nonsense: expected key.path=value");
+}
+
+// --set as a user expects it: the error messages' bracket notation, null deletes, a new type
+// drops the old type's keys, and a file given on the command line is relative to the current
+// directory.
+TEST(JsonReader, OverrideSemantics) {
+    Json j = Json::parse(
+        R"({"media": [{"albedo": 1, "phase": {"type": "hg", "g": 0.5, "sampling": "sh"}}]})");
+    applyOverride(j, "media[0].albedo=0.7", "s.json");
+    EXPECT_EQ(j["media"][0]["albedo"], 0.7);
+    applyOverride(j, "media[0].albedo=null", "s.json");
+    EXPECT_FALSE(j["media"][0].contains("albedo"));
+    applyOverride(j, "media.0.phase.type=hg", "s.json");  // same type: keys stay
+    EXPECT_EQ(j["media"][0]["phase"]["g"], 0.5);
+    applyOverride(j, "media.0.phase.type=tabulated", "s.json");
+    EXPECT_EQ(j["media"][0]["phase"], Json::parse(R"({"type": "tabulated"})"));
+    applyOverride(j, "media.0.phase.file=tables/mie.csv", "s.json");
+    const std::string expected =
+        (std::filesystem::current_path() / "tables/mie.csv").lexically_normal().string();
+    EXPECT_EQ(j["media"][0]["phase"]["file"], expected);
+    applyOverride(j, "media.0.phase.file=/abs/mie.csv", "s.json");
+    EXPECT_EQ(j["media"][0]["phase"]["file"], "/abs/mie.csv");
+    EXPECT_EQ(messageOf([&] { applyOverride(j, "media.0=null", "s.json"); }),
+              "s.json: media: --set: array elements cannot be deleted");
+    EXPECT_EQ(messageOf([&] { applyOverride(j, "media.=1", "s.json"); }),
+              "s.json: --set media.=1: empty component in key path");
 }
 
 }  // namespace shvol

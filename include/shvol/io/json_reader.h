@@ -15,8 +15,12 @@ using Json = nlohmann::json;
 /// Parses a whole file; errors name the file and the line/column.
 Json parseJsonFile(const std::string& path);
 
-/// Applies an override "a.b.0.c=value" (value parsed as JSON when it is valid JSON, else taken as
-/// a string) to a document, creating objects along the path.
+/// Applies an override "a.b.0.c=value" (or "a.b[0].c=value") to a document, creating objects
+/// along the path. The value is parsed as JSON when it is valid JSON, else taken as a string.
+/// `key=null` deletes the key, so its default applies again. Setting `type` to a different value
+/// replaces the object by {"type": value}, so no key of the old type survives; later overrides
+/// add the new type's keys. A relative path assigned to a key named `file` is made absolute
+/// against the current directory.
 void applyOverride(Json& doc, const std::string& assignment, const std::string& file);
 
 class JsonReader {
