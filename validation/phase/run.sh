@@ -17,13 +17,7 @@ PY=/usr/bin/python3
 cd "$ROOT"
 t0=$(date +%s)
 
-if [ ! -f "$BUILD_DIR/build.ninja" ]; then
-    cmake -G Ninja -B "$BUILD_DIR" -S . -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Release \
-        >/dev/null
-elif ! ninja -C "$BUILD_DIR" -t targets all 2>/dev/null | grep -q '^validate_phase:'; then
-    # validation/<topic>/ directories are globbed at configure time: re-run CMake once.
-    cmake -B "$BUILD_DIR" -S . >/dev/null
-fi
+source validation/configure.sh validate_phase
 ninja -C "$BUILD_DIR" -j1 validate_phase
 if ! ninja -C "$BUILD_DIR" -j1 shvol; then
     # The tree is shared: another engineer's half-finished edit of src/app can break this target.

@@ -14,11 +14,8 @@ OUT="validation/product/results"
 PY=/usr/bin/python3
 cd "$ROOT"
 t0=$(date +%s)
-if [ ! -f "$BUILD_DIR/build.ninja" ]; then
-    cmake -G Ninja -B "$BUILD_DIR" -S . -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Release \
-        >/dev/null
-fi
-ninja -C "$BUILD_DIR" -j1 shvol
+source validation/configure.sh validate_product
+ninja -C "$BUILD_DIR" -j1 shvol validate_product
 mkdir -p "$OUT"
 if [ "${SKIP_RENDER:-0}" != 1 ]; then
     "$PY" validation/product/experiment.py "$BUILD_DIR" "$OUT" | tee "$OUT/experiment.log"

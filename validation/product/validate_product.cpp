@@ -111,37 +111,27 @@ int main(int argc, char** argv) {
                     PdfFn lightPdf;
                     bool mis;
                 };
+                const LightFn envLight = [&](const Vec2& u) {
+                    const LightSample s = env.sample(u);
+                    return Draw{s.wi, s.pdf};
+                };
+                const LightFn skyLight = [&](const Vec2& u) {
+                    const WarpSample s = sky.sample(u);
+                    return Draw{s.direction(), s.pdf};
+                };
+                const LightFn productLight = [&](const Vec2& u) {
+                    const WarpSample s = ps.sample(lobe, beta, u);
+                    return Draw{s.direction(), s.pdf};
+                };
+                const PdfFn envPdf = [&](const Vec3& w) { return env.pdf(w); };
+                const PdfFn skyPdf = [&](const Vec3& w) { return sky.pdf(w); };
+                const PdfFn productPdf = [&](const Vec3& w) { return ps.pdf(lobe, beta, w); };
                 const Strategy strategies[] = {
-                    {"environment",
-                     [&](const Vec2& u) {
-                         const LightSample s = env.sample(u);
-                         return Draw{s.wi, s.pdf};
-                     },
-                     [&](const Vec3& w) { return env.pdf(w); }, false},
-                    {"wavelet",
-                     [&](const Vec2& u) {
-                         const WarpSample s = sky.sample(u);
-                         return Draw{s.direction(), s.pdf};
-                     },
-                     [&](const Vec3& w) { return sky.pdf(w); }, false},
-                    {"product",
-                     [&](const Vec2& u) {
-                         const WarpSample s = ps.sample(lobe, beta, u);
-                         return Draw{s.direction(), s.pdf};
-                     },
-                     [&](const Vec3& w) { return ps.pdf(lobe, beta, w); }, false},
-                    {"mis_environment",
-                     [&](const Vec2& u) {
-                         const LightSample s = env.sample(u);
-                         return Draw{s.wi, s.pdf};
-                     },
-                     [&](const Vec3& w) { return env.pdf(w); }, true},
-                    {"mis_product",
-                     [&](const Vec2& u) {
-                         const WarpSample s = ps.sample(lobe, beta, u);
-                         return Draw{s.direction(), s.pdf};
-                     },
-                     [&](const Vec3& w) { return ps.pdf(lobe, beta, w); }, true},
+                    {"environment", envLight, envPdf, false},
+                    {"wavelet", skyLight, skyPdf, false},
+                    {"product", productLight, productPdf, false},
+                    {"mis_environment", envLight, envPdf, true},
+                    {"mis_product", productLight, productPdf, true},
                 };
                 for (const Strategy& st : strategies) {
                     Rng rng(7, 11);
