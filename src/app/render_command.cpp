@@ -30,7 +30,8 @@ struct RenderArgs {
     bool quiet = false;
 };
 
-nlohmann::json statsJson(const Scene& scene, const RenderStats& st, const std::string& out) {
+nlohmann::json statsJson(const Scene& scene, const RenderResult& r, const std::string& out) {
+    const RenderStats& st = r.stats;
     const PathCounters& c = st.counters;
     nlohmann::json j;
     j["shvol_version"] = SHVOL_VERSION;
@@ -74,6 +75,12 @@ nlohmann::json statsJson(const Scene& scene, const RenderStats& st, const std::s
         }
     }
     for (const auto& m : scene.media) j["media"].push_back(m->describe());
+    const ImageStatistics is = imageStatistics(r.image);
+    auto rgb = [](const Spectrum& s) { return nlohmann::json{s[0], s[1], s[2]}; };
+    j["image"] = {{"mean", rgb(is.mean)},
+                  {"min", rgb(is.min)},
+                  {"max", rgb(is.max)},
+                  {"non_finite", is.nonFinite}};
     return j;
 }
 
@@ -108,7 +115,7 @@ int runRender(const RenderArgs& a) {
     // while the stats file is still a temporary.
     writeAtomically(statsPath, [&](const std::string& tmp) {
         std::ofstream f(tmp);
-        f << statsJson(scene, r.stats, out).dump(2) << "\n";
+        f << statsJson(scene, r, out).dump(2) << "\n";
         f.close();
         if (!f) fail(statsPath, "", "cannot write file");
         writeExr(out, r.image);

@@ -22,4 +22,12 @@ struct Image {
     }
 };
 
+/// Per-channel summary of an image: mean, minimum and maximum over the finite values, and the
+/// number of non-finite values (which never enter the other three).
+struct ImageStatistics {
+    Spectrum mean = Spectrum::Zero(), min = Spectrum::Zero(), max = Spectrum::Zero();
+    long long nonFinite = 0;
+};
+ImageStatistics imageStatistics(const Image& image);
+
 }  // namespace shvol
