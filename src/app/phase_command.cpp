@@ -1,4 +1,6 @@
-// shvol phase fit | sample: the zonal SH fit of a phase function and samples from its SH sampler.
+// shvol phase fit | sample: the zonal SH fit of a phase function, and samples from the SH-sampled
+// phase function exactly as a render builds it (same keys, defaults, pdf and weights).
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -19,99 +21,192 @@ namespace shvol::app {
 
 namespace {
 
+/// Command-line values; an empty string or 0 means "not given": the spec's key, else the
+/// renderer's default, applies.
 struct PhaseArgs {
-    std::string spec, window = "hann", out, sampler = "zonal";
-    int order = 16, depth = 16;
+    std::string spec, order, window, evaluate, out, sampler = "zonal";
+    double tolerance = 0;
+    int depth = 0;
     long long count = 10000;
     unsigned long long seed = 1;
     bool json = false;
 };
 
-/// The phase function a spec names; an SH-sampled spec contributes its underlying function.
-PhaseFunction basePhase(const std::string& spec) {
-    const PhaseFunction p = parsePhaseSpec(spec, "");
-    if (const auto* sh = std::get_if<SHSampledPhase>(&p.variant())) return sh->base();
-    return p;
+constexpr int kGeneralMaxDepth = 10;  ///< SHSampler's table mode
+
+/// The SH-sampled phase function the spec and the options name: the spec's SH keys, each
+/// replaced by its option when that is given; "sampling": "sh" is implied.
+SHSampledPhase shPhase(const PhaseArgs& a) {
+    Json j = phaseSpecToJson(a.spec);
+    j["sampling"] = "sh";
+    if (!a.order.empty()) {
+        if (a.order == "auto")
+            j["order"] = "auto";
+        else
+            j["order"] = std::stoi(a.order);  // validated by the option's check
+    }
+    if (a.tolerance > 0) j["tolerance"] = a.tolerance;
+    if (!a.window.empty()) j["window"] = a.window;
+    if (!a.evaluate.empty()) j["evaluate"] = a.evaluate;
+    if (a.depth > 0) j["sh_depth"] = a.depth;
+    const PhaseFunction p = readPhaseFunction(j, "phase spec \"" + a.spec + "\"", "");
+    return std::get<SHSampledPhase>(p.variant());
 }
 
-ZonalFit fitOf(const PhaseArgs& a) {
-    const PhaseFunction p = basePhase(a.spec);
-    return fitZonal([&](double mu) { return p.eval(Vec3(0, 0, 1), sphericalDirection(mu, 0)); },
-                    a.order, shWindowFromName(a.window));
+const char* evaluateName(const SHSampledPhase& sh) {
+    return sh.evaluate() == SHSampledPhase::Evaluate::Exact ? "exact" : "sh";
+}
+
+/// m₂ of the same fit used the other way (Exact ↔ Reconstruction).
+double otherSecondMoment(const SHSampledPhase& sh) {
+    const auto other = sh.evaluate() == SHSampledPhase::Evaluate::Exact
+                           ? SHSampledPhase::Evaluate::Reconstruction
+                           : SHSampledPhase::Evaluate::Exact;
+    return SHSampledPhase(sh.base(), int(sh.fit().p.size()), sh.fit().window, other,
+                          sh.sampler().depth())
+        .weightSecondMoment();
 }
 
 int runFit(const PhaseArgs& a) {
-    const ZonalFit f = fitOf(a);
+    const SHSampledPhase sh = shPhase(a);
+    const ZonalFit& f = sh.fit();
+    const int order = int(f.p.size());
+    const double m2 = sh.weightSecondMoment(), m2other = otherSecondMoment(sh);
+    const bool exact = sh.evaluate() == SHSampledPhase::Evaluate::Exact;
+    const double m2exact = exact ? m2 : m2other;
     if (a.json) {
         nlohmann::json j;
         j["spec"] = a.spec;
-        j["order"] = a.order;
+        j["order"] = order;
         j["window"] = shWindowName(f.window);
+        j["evaluate"] = evaluateName(sh);
+        j["sh_depth"] = sh.sampler().depth();
         j["coefficients"] = f.p;
-        j["energy_fraction"] = f.energyFraction;
-        j["l2_error"] = f.l2Error;
-        j["relative_l2_error"] = f.relativeL2Error;
-        j["max_error"] = f.maxError;
-        j["min_value"] = f.minValue;
-        j["peak_value"] = f.peakValue;
+        j["before_window"] = {{"energy_fraction", f.energyFraction}};
+        j["after_window"] = {{"l2_error", f.l2Error},
+                             {"relative_l2_error", f.relativeL2Error},
+                             {"max_error", f.maxError},
+                             {"min_value", f.minValue},
+                             {"peak_value", f.peakValue}};
+        j["clamped_bins_fraction"] = sh.sampler().clampedFraction();
+        j["defensive_fraction"] = sh.defensiveFraction();
+        j["weight_second_moment"] = m2;
+        j["weight_second_moment_exact"] = m2exact;
         std::printf("%s\n", j.dump(2).c_str());
         return 0;
     }
-    std::printf("# zonal SH fit of %s, order %d, window %s: p(mu) ~ sum_l p_l y_l^0(mu)\n",
-                a.spec.c_str(), a.order, shWindowName(f.window));
+    std::printf("# zonal SH fit of %s: p(mu) ~ sum_l p_l y_l^0(mu)\n", a.spec.c_str());
     std::printf(
-        "energy_fraction    %.10g\nl2_error           %.6g\nrelative_l2_error  %.6g\n"
-        "max_error          %.6g\nmin_value          %.6g\npeak_value         %.6g\n",
-        f.energyFraction, f.l2Error, f.relativeL2Error, f.maxError, f.minValue, f.peakValue);
+        "order              %d\nwindow             %s\nevaluate           %s\n"
+        "sh_depth           %d\n",
+        order, shWindowName(f.window), evaluateName(sh), sh.sampler().depth());
+    std::printf(
+        "# before the window: the plain projection (Gautron 2004 eq. 15)\n"
+        "energy_fraction    %.10g\n",
+        f.energyFraction);
+    std::printf(
+        "# after the window: the fit as rendered, against the function\n"
+        "l2_error           %.6g\nrelative_l2_error  %.6g\nmax_error          %.6g\n"
+        "min_value          %.6g\npeak_value         %.6g\n",
+        f.l2Error, f.relativeL2Error, f.maxError, f.minValue, f.peakValue);
+    std::printf(
+        "# the sampler: weight p/pdf per phase sample, E[(p/pdf)^2] by quadrature\n"
+        "clamped_bins_fraction       %.6g\ndefensive_fraction          %.6g\n"
+        "weight_second_moment        %.6g  (evaluate %s)\n"
+        "weight_second_moment_exact  %.6g  (evaluate exact; ^100 = %.3g)\n",
+        sh.sampler().clampedFraction(), sh.defensiveFraction(), m2, evaluateName(sh), m2exact,
+        std::pow(m2exact, 100));
     std::printf("l,p_l\n");
-    for (int l = 0; l < a.order; ++l) std::printf("%d,%.17g\n", l, f.p[l]);
+    for (int l = 0; l < order; ++l) std::printf("%d,%.17g\n", l, f.p[l]);
     return 0;
 }
 
+/// Mean, variance and maximum of the weights f/pdf.
+struct WeightStats {
+    long long n = 0;
+    double sum = 0, sum2 = 0, max = 0;
+    void add(double w) { ++n, sum += w, sum2 += w * w, max = std::max(max, w); }
+    double mean() const { return sum / n; }
+    double variance() const { return std::max(0.0, sum2 / n - mean() * mean()); }
+};
+
 int runSample(const PhaseArgs& a) {
-    if (a.sampler == "general" && a.order > 128)
+    const bool general = a.sampler == "general";
+    if (general && a.depth > kGeneralMaxDepth)
+        fail("", "--depth", "the general sampler supports depths up to 10");
+    if (general && a.order != "auto" && !a.order.empty() && std::stoi(a.order) > 128)
         fail("", "--order", "the general sampler supports orders up to 128");
-    const ZonalFit f = fitOf(a);
+    const SHSampledPhase sh = shPhase(a);
+    const PhaseFunction phase(sh);
+    const int order = int(sh.fit().p.size());
+    if (general && order > 128)
+        fail("", "--order", "the general sampler supports orders up to 128");
+    const Vec3 z(0, 0, 1);
+    WeightStats ws;
     writeAtomically(a.out, [&](const std::string& tmp) {
         std::ofstream csv(tmp);
-        csv << std::setprecision(17) << "x,y,z,pdf\n";
+        csv << std::setprecision(17) << "x,y,z,pdf,weight\n";
         Rng rng(a.seed, 0);
-        auto row = [&](const Vec3& w, double pdf) {
-            csv << w.x() << ',' << w.y() << ',' << w.z() << ',' << pdf << '\n';
+        auto row = [&](const Vec3& w, double value, double pdf) {
+            const double weight = pdf > 0 ? value / pdf : 0.0;
+            ws.add(weight);
+            csv << w.x() << ',' << w.y() << ',' << w.z() << ',' << pdf << ',' << weight << '\n';
         };
-        if (a.sampler == "zonal") {
-            const ZonalSHSampler s(f.p, a.depth);
-            if (!(s.positiveMass() > 0)) fail(a.spec, "", "the SH fit has no positive mass");
+        if (!general) {
             for (long long i = 0; i < a.count; ++i) {
-                const auto x = s.sampleLocal(rng.uniform2());
-                row(sphericalDirection(x.cosTheta, x.phi), x.pdf);
+                const PhaseSample x = phase.sample(z, rng.uniform2());
+                row(x.wi, x.value, x.pdf);
             }
         } else {
-            std::vector<double> c(size_t(a.order) * a.order, 0.0);
-            for (int l = 0; l < a.order; ++l) c[size_t(l) * (l + 1)] = f.p[l];
-            const SHSampler s(a.order, c.data(), SHSampler::Mode::Tables, std::min(a.depth, 10));
+            std::vector<double> c(size_t(order) * order, 0.0);
+            for (int l = 0; l < order; ++l) c[size_t(l) * (l + 1)] = sh.fit().p[l];
+            const int depth = a.depth > 0 ? a.depth : kGeneralMaxDepth;
+            const SHSampler s(order, c.data(), SHSampler::Mode::Tables, depth);
             for (long long i = 0; i < a.count; ++i) {
                 const WarpSample x = s.warp(rng.uniform2());
-                row(x.direction(), x.pdf);
+                row(x.direction(), phase.eval(z, x.direction()), x.pdf);
             }
         }
         csv.close();
         if (!csv) fail(a.out, "", "cannot write file");
     });
-    std::fprintf(stderr, "wrote %lld samples to %s\n", a.count, a.out.c_str());
+    std::fprintf(stderr,
+                 "wrote %lld samples to %s\n"
+                 "weight p/pdf: mean %.6g, variance %.6g, max %.6g (E[(p/pdf)^2] by quadrature "
+                 "%.6g); clamped bins %.4g%%, defensive share %.4g\n",
+                 a.count, a.out.c_str(), ws.mean(), ws.variance(), ws.max,
+                 general ? NAN : sh.weightSecondMoment(), 100 * sh.sampler().clampedFraction(),
+                 sh.defensiveFraction());
     return 0;
 }
 
 void commonOptions(CLI::App* c, PhaseArgs& a) {
     c->add_option("spec", a.spec,
-                  "Phase function: JSON as in a scene, or short form such as hg:g=0.9, rayleigh, "
-                  "tabulated:file=mie.csv")
+                  "Phase function: JSON as in a scene (its SH keys are used), or short form such "
+                  "as hg:g=0.9, rayleigh, tabulated:file=mie.csv")
         ->required();
-    c->add_option("--order", a.order, "Number of SH bands (l < order)")
-        ->required()
-        ->check(integerIn(1, 256));
-    c->add_option("--window", a.window, "Ringing window: none, hann or lanczos")
-        ->check(CLI::IsMember({"none", "hann", "lanczos"}));
+    c->add_option("--order", a.order, "Number of SH bands (l < order), or auto")
+        ->check(CLI::Validator(
+            [](std::string& v) -> std::string {
+                if (v == "auto") return "";
+                return integerIn(1, 256)(v);
+            },
+            "integer in [1, 256] or auto", "order"))
+        ->default_str("the spec's order, else 16");
+    c->add_option("--tolerance", a.tolerance, "Relative L2 error that --order auto must reach")
+        ->check(numberIn(1e-9, 1))
+        ->default_str("the spec's tolerance, else 0.01");
+    c->add_option("--window", a.window, "Ringing window: auto, none, hann or lanczos")
+        ->check(CLI::IsMember({"auto", "none", "hann", "lanczos"}))
+        ->default_str("the spec's window, else auto");
+    c->add_option("--evaluate", a.evaluate,
+                  "sh: the fit is the phase function (weight 1); exact: the function itself")
+        ->check(CLI::IsMember({"sh", "exact"}))
+        ->default_str("the spec's evaluate, else sh");
+    c->add_option("--depth", a.depth,
+                  "Warp depth: 2^depth z-bins (zonal sampler, 4..22; general sampler, <= 10)")
+        ->check(integerIn(4, 22))
+        ->default_str("the spec's sh_depth, else 16 (general: 10)");
 }
 
 }  // namespace
@@ -121,24 +216,23 @@ void addPhaseCommand(CLI::App& app, std::function<int()>& run) {
     CLI::App* phase =
         app.add_subcommand("phase", "Zonal SH fits of phase functions and their samples");
     phase->require_subcommand(1);
-    CLI::App* fit = phase->add_subcommand("fit", "Print the zonal SH coefficients and fit quality");
+    CLI::App* fit = phase->add_subcommand(
+        "fit", "Print the zonal SH fit, its error and the sampler's weight moments");
     commonOptions(fit, *a);
     fit->add_flag("--json", a->json, "JSON output");
     fit->callback([&run, a] { run = [a] { return runFit(*a); }; });
 
-    CLI::App* sample =
-        phase->add_subcommand("sample", "Sample directions around +z with the SH sampler (CSV)");
+    CLI::App* sample = phase->add_subcommand(
+        "sample", "Sample directions around +z as a render would (CSV) and report the weights");
     commonOptions(sample, *a);
     sample->add_option("--count", a->count, "Number of samples")->check(integerIn(1, 1LL << 32));
     sample->add_option("--seed", a->seed, "Random seed");
-    sample->add_option("--out", a->out, "Output CSV (x,y,z,pdf)")->required();
+    sample->add_option("--out", a->out, "Output CSV (x,y,z,pdf,weight)")->required();
     sample
         ->add_option("--sampler", a->sampler,
-                     "zonal (1D warp in z, uniform phi) or general (2D hierarchical warp, "
-                     "1D-table mode)")
+                     "zonal (the renderer's: 1D warp in z, uniform phi, defensive share) or "
+                     "general (2D hierarchical warp of the fit, 1D-table mode)")
         ->check(CLI::IsMember({"zonal", "general"}));
-    sample->add_option("--depth", a->depth, "Warp depth (zonal: 2^depth z-bins; general: <= 10)")
-        ->check(integerIn(4, 22));
     sample->callback([&run, a] { run = [a] { return runSample(*a); }; });
 }
 

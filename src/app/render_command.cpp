@@ -1,5 +1,6 @@
 #include <sys/resource.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -11,6 +12,7 @@
 #include "shvol/io/exr.h"
 #include "shvol/io/scene_loader.h"
 #include "shvol/render/renderer.h"
+#include "shvol/sampling/zonal_sh_sampler.h"
 
 namespace shvol::app {
 
@@ -22,6 +24,9 @@ double peakMemoryMiB() {
 
 namespace {
 
+/// A rendered SH fit looser than this (relative L2 error) is worth a warning.
+constexpr double kLooseFit = 0.1;
+
 struct RenderArgs {
     std::string scene, output;
     int spp = 0, threads = 0;
@@ -30,7 +35,58 @@ struct RenderArgs {
     bool quiet = false;
 };
 
-nlohmann::json statsJson(const Scene& scene, const RenderResult& r, const std::string& out) {
+/// The phase function of each medium as rendered; for SH-sampled ones the resolved fit (automatic
+/// order and window filled in), its error and the per-bounce weight moment m₂.
+nlohmann::json phaseJson(const PhaseFunction& p) {
+    nlohmann::json j;
+    const auto* sh = std::get_if<SHSampledPhase>(&p.variant());
+    j["type"] = sh ? sh->base().name() : p.name();
+    j["sampling"] = sh ? "sh" : "analytic";
+    if (!sh) return j;
+    j["order"] = sh->fit().p.size();
+    j["window"] = shWindowName(sh->fit().window);
+    j["evaluate"] = sh->evaluate() == SHSampledPhase::Evaluate::Exact ? "exact" : "sh";
+    j["sh_depth"] = sh->sampler().depth();
+    j["relative_l2_error"] = sh->fit().relativeL2Error;
+    j["weight_second_moment"] = sh->weightSecondMoment();
+    j["clamped_bins_fraction"] = sh->sampler().clampedFraction();
+    return j;
+}
+
+/// Warnings about SH-sampled phase functions that make a render unreliable (issue 10 §1).
+std::vector<std::string> phaseWarnings(const Scene& scene) {
+    std::vector<std::string> w;
+    for (size_t i = 0; i < scene.media.size(); ++i) {
+        const auto* sh = std::get_if<SHSampledPhase>(&scene.media[i]->phase().variant());
+        if (!sh) continue;
+        char msg[400];
+        const int order = int(sh->fit().p.size());
+        if (sh->evaluate() == SHSampledPhase::Evaluate::Exact &&
+            sh->weightSecondMoment() > SHSampledPhase::kUnreliableSecondMoment) {
+            const double m2 = sh->weightSecondMoment();
+            std::snprintf(msg, sizeof msg,
+                          "media[%zu].phase: the SH-sampled weight p/pdf has second moment %.4g "
+                          "per bounce (%.3g after 100 bounces): multiply-scattered light will be "
+                          "noisy and underestimated in practice; use \"evaluate\": \"sh\" or a "
+                          "higher order",
+                          i, m2, std::pow(m2, 100));
+            w.push_back(msg);
+        }
+        if (sh->evaluate() == SHSampledPhase::Evaluate::Reconstruction &&
+            sh->fit().relativeL2Error > kLooseFit) {
+            std::snprintf(msg, sizeof msg,
+                          "media[%zu].phase: the phase function rendered is its order-%d SH fit, "
+                          "with relative L2 error %.3g; raise \"order\" or use \"order\": "
+                          "\"auto\"",
+                          i, order, sh->fit().relativeL2Error);
+            w.push_back(msg);
+        }
+    }
+    return w;
+}
+
+nlohmann::json statsJson(const Scene& scene, const RenderResult& r, const std::string& out,
+                         const std::vector<std::string>& warnings) {
     const RenderStats& st = r.stats;
     const PathCounters& c = st.counters;
     nlohmann::json j;
@@ -74,7 +130,11 @@ nlohmann::json statsJson(const Scene& scene, const RenderResult& r, const std::s
             l["product_depth"] = ls.productDepth;
         }
     }
-    for (const auto& m : scene.media) j["media"].push_back(m->describe());
+    for (const auto& m : scene.media) {
+        j["media"].push_back(m->describe());
+        j["phase"].push_back(phaseJson(m->phase()));
+    }
+    j["warnings"] = warnings;
     const ImageStatistics is = imageStatistics(r.image);
     auto rgb = [](const Spectrum& s) { return nlohmann::json{s[0], s[1], s[2]}; };
     j["image"] = {{"mean", rgb(is.mean)},
@@ -107,6 +167,10 @@ int runRender(const RenderArgs& a) {
         if (std::filesystem::is_directory(f)) fail(f, "", "cannot write: is a directory");
     }
 
+    const std::vector<std::string> warnings = phaseWarnings(scene);
+    for (const std::string& w : warnings)
+        std::fprintf(stderr, "shvol: warning: %s: %s\n", a.scene.c_str(), w.c_str());
+
     RenderOptions opt;
     opt.threads = a.threads;
     opt.progress = !a.quiet && Progress::stderrIsTerminal();
@@ -115,7 +179,7 @@ int runRender(const RenderArgs& a) {
     // while the stats file is still a temporary.
     writeAtomically(statsPath, [&](const std::string& tmp) {
         std::ofstream f(tmp);
-        f << statsJson(scene, r, out).dump(2) << "\n";
+        f << statsJson(scene, r, out, warnings).dump(2) << "\n";
         f.close();
         if (!f) fail(statsPath, "", "cannot write file");
         writeExr(out, r.image);

@@ -63,24 +63,17 @@ PhaseFunction readBasePhase(JsonReader& r, const std::string& baseDir) {
 }
 
 /// The parser behind both entry points; relative files are resolved against baseDir. The SH keys
-/// ("sampling": "sh", "order", "window", "evaluate", "sh_depth") wrap the phase function in an
-/// SHSampledPhase; they are errors without "sampling": "sh".
+/// wrap the phase function in an SHSampledPhase; they are errors without "sampling": "sh".
 PhaseFunction readPhase(JsonReader& r, const std::string& baseDir) {
     const bool sh = r.choice("sampling", "analytic", {"analytic", "sh"}) == "sh";
     if (!sh)
-        for (const char* key : {"order", "window", "evaluate", "sh_depth"})
+        for (const char* key : {"order", "tolerance", "window", "evaluate", "sh_depth"})
             if (r.has(key)) r.error(key, "only valid with \"sampling\": \"sh\"");
-    const int order = r.integer("order", 16, 1, 256);
-    const SHWindow window =
-        shWindowFromName(r.choice("window", "hann", {"none", "hann", "lanczos"}));
-    const auto evaluate = r.choice("evaluate", "exact", {"exact", "sh"}) == "sh"
-                              ? SHSampledPhase::Evaluate::Reconstruction
-                              : SHSampledPhase::Evaluate::Exact;
-    const int depth = r.integer("sh_depth", 16, 4, 22);
+    const SHPhaseKeys keys = readSHPhaseKeys(r);
     const PhaseFunction base = readBasePhase(r, baseDir);
     if (!sh) return base;
     try {
-        return SHSampledPhase(base, order, window, evaluate, depth);
+        return SHSampledPhase(base, keys.fit, keys.evaluate, keys.depth);
     } catch (const Error& e) {
         r.error("order", e.what());
     }
@@ -91,6 +84,26 @@ std::string specName(const std::string& spec) {
 }
 
 }  // namespace
+
+SHPhaseKeys readSHPhaseKeys(JsonReader& r) {
+    SHPhaseKeys k;
+    if (r.has("order") && r.raw("order").is_string()) {
+        if (r.string("order") != "auto")
+            r.error("order", "expected an integer 1 … 256 or \"auto\"");
+        k.fit.order = 0;
+        k.fit.tolerance = r.number("tolerance", k.fit.tolerance, 1e-9, 1);
+    } else {
+        k.fit.order = r.integer("order", k.fit.order, 1, 256);
+        if (r.has("tolerance")) r.error("tolerance", "only valid with \"order\": \"auto\"");
+    }
+    const std::string window = r.choice("window", "auto", {"auto", "none", "hann", "lanczos"});
+    if (window != "auto") k.fit.window = shWindowFromName(window);
+    k.evaluate = r.choice("evaluate", "sh", {"sh", "exact"}) == "exact"
+                     ? SHSampledPhase::Evaluate::Exact
+                     : SHSampledPhase::Evaluate::Reconstruction;
+    k.depth = r.integer("sh_depth", k.depth, 4, 22);
+    return k;
+}
 
 PhaseFunction readPhaseFunction(JsonReader r) {
     return readPhase(r, fs::path(r.file()).parent_path().string());
@@ -137,10 +150,14 @@ Json phaseSpecToJson(const std::string& spec) {
     return j;
 }
 
-PhaseFunction parsePhaseSpec(const std::string& spec, const std::string& baseDir) {
-    const Json j = phaseSpecToJson(spec);
-    JsonReader r(j, specName(spec), "");
+PhaseFunction readPhaseFunction(const Json& j, const std::string& where,
+                                const std::string& baseDir) {
+    JsonReader r(j, where, "");
     return readPhase(r, baseDir);
+}
+
+PhaseFunction parsePhaseSpec(const std::string& spec, const std::string& baseDir) {
+    return readPhaseFunction(phaseSpecToJson(spec), specName(spec), baseDir);
 }
 
 }  // namespace shvol

@@ -1,29 +1,80 @@
 #include "shvol/phase/sh_sampled_phase.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "shvol/core/error.h"
 #include "shvol/phase/phase_function.h"
 #include "shvol/sampling/warp.h"
 #include "shvol/sampling/zonal_sh_sampler.h"
+#include "shvol/sh/sh_projection.h"
 
 namespace shvol {
 
+namespace {
+ZonalFitRequest explicitRequest(int order, SHWindow window) {
+    if (order < 1) throw Error("SH order must be at least 1");
+    ZonalFitRequest r;
+    r.order = order;
+    r.window = window;
+    return r;
+}
+}  // namespace
+
 SHSampledPhase::SHSampledPhase(const PhaseFunction& base, int order, SHWindow window,
+                               Evaluate evaluate, int depth)
+    : SHSampledPhase(base, explicitRequest(order, window), evaluate, depth) {}
+
+SHSampledPhase::SHSampledPhase(const PhaseFunction& base, const ZonalFitRequest& request,
                                Evaluate evaluate, int depth)
     : base_(std::make_shared<const PhaseFunction>(base)), evaluate_(evaluate) {
     if (std::holds_alternative<SHSampledPhase>(base.variant()))
         throw Error("an SH-sampled phase function cannot wrap another one");
-    const Vec3 z(0, 0, 1);
-    fit_ = std::make_shared<const ZonalFit>(fitZonal(
-        [&](double mu) { return base_->eval(z, sphericalDirection(mu, 0)); }, order, window));
+    fit_ =
+        std::make_shared<const ZonalFit>(fitZonal([&](double mu) { return baseCos(mu); }, request));
     sampler_ = std::make_shared<const ZonalSHSampler>(fit_->p, depth);
     if (!(sampler_->positiveMass() > 0)) throw Error("the SH fit has no positive mass");
-    if (evaluate_ == Evaluate::Exact && sampler_->clampedFraction() > 0)
-        alpha_ = kDefensiveFraction;
+    if (evaluate_ == Evaluate::Exact) {
+        if (sampler_->clampedFraction() > 0) alpha_ = kDefensiveFraction;
+        m2_ = exactSecondMoment();
+    }
+}
+
+double SHSampledPhase::baseCos(double mu) const {
+    return base_->eval(Vec3(0, 0, 1), sphericalDirection(mu, 0));
+}
+
+double SHSampledPhase::exactSecondMoment() const {
+    // θ-edges: the z-bin edges (pdf is constant between them) merged with the graded edges.
+    const int bins = 1 << sampler_->depth();
+    std::vector<double> edges = gradedThetaEdges();
+    edges.reserve(edges.size() + bins);
+    for (int i = 1; i < bins; ++i) edges.push_back(std::acos(1 - 2.0 * i / bins));
+    std::sort(edges.begin(), edges.end());
+    std::vector<double> x, w;  // 4-point rule on [0, 1], mapped to each interval
+    sh::gaussLegendre(4, 0.0, 1.0, x, w);
+    double m2 = 0;
+    for (size_t i = 0; i + 1 < edges.size(); ++i) {
+        const double a = edges[i], h = edges[i + 1] - edges[i];
+        if (!(h > 0)) continue;
+        const double pdf = pdfCos(std::cos(a + 0.5 * h));
+        double pp = 0;
+        for (size_t j = 0; j < x.size(); ++j) {
+            const double t = a + h * x[j], p = baseCos(std::cos(t));
+            pp += h * w[j] * std::sin(t) * p * p;
+        }
+        if (pp > 0 && !(pdf > 0)) return INFINITY;
+        if (pp > 0) m2 += TwoPi * pp / pdf;
+    }
+    return m2;
 }
 
 double SHSampledPhase::evalCos(double mu) const {
-    if (evaluate_ == Evaluate::Exact) return base_->eval(Vec3(0, 0, 1), sphericalDirection(mu, 0));
-    return sampler_->pdf(mu);
+    return evaluate_ == Evaluate::Exact ? baseCos(mu) : sampler_->pdf(mu);
+}
+
+double SHSampledPhase::pdfCos(double mu) const {
+    return (1 - alpha_) * sampler_->pdf(mu) + alpha_ * Inv4Pi;
 }
 
 double SHSampledPhase::eval(const Vec3& wo, const Vec3& wi) const {
@@ -31,7 +82,7 @@ double SHSampledPhase::eval(const Vec3& wo, const Vec3& wi) const {
 }
 
 double SHSampledPhase::pdf(const Vec3& wo, const Vec3& wi) const {
-    return (1 - alpha_) * sampler_->pdf(wo.dot(wi)) + alpha_ * Inv4Pi;
+    return pdfCos(wo.dot(wi));
 }
 
 PhaseSample SHSampledPhase::sample(const Vec3& wo, const Vec2& u) const {

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "shvol/io/exr.h"
+#include "shvol/io/phase_spec.h"
 #include "shvol/io/vdb.h"
 
 namespace shvol {
@@ -91,9 +92,10 @@ TEST_F(Cli, HelpAndVersion) {
 // Command-line mistakes follow the same contract as every other error: one line, exit code 1.
 TEST_F(Cli, UsageErrorsAreOneLine) {
     write("s.json", scene(Homogeneous));
-    for (const std::string& args : std::vector<std::string>{
-             "render", "render " + path("s.json") + " --spp 0",
-             "render " + path("s.json") + " --bogus", "frobnicate", "phase fit hg:g=0.5"}) {
+    for (const std::string& args :
+         std::vector<std::string>{"render", "render " + path("s.json") + " --spp 0",
+                                  "render " + path("s.json") + " --bogus", "frobnicate",
+                                  "phase fit", "phase fit hg --order 0"}) {
         const Result r = run(args);
         EXPECT_EQ(r.code, 1) << args;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
@@ -179,22 +181,30 @@ TEST_F(Cli, NumberOverflowIsAnInputError) {
 TEST_F(Cli, PhaseFitAndSample) {
     Result r = run("phase fit hg:g=0.6 --order 5 --window none --json");
     ASSERT_EQ(r.code, 0) << r.err;
-    const auto fit = nlohmann::json::parse(r.out);
+    auto fit = nlohmann::json::parse(r.out);
     for (int l = 0; l < 5; ++l)
         EXPECT_NEAR(fit["coefficients"][l].get<double>(),
                     std::pow(0.6, l) * std::sqrt((2 * l + 1) / (4 * M_PI)), 1e-12);
+    EXPECT_EQ(fit["evaluate"], "sh");
+    EXPECT_EQ(fit["weight_second_moment"], 1.0);
+    EXPECT_GT(fit["weight_second_moment_exact"].get<double>(), 1.0);
+    EXPECT_TRUE(fit["before_window"].contains("energy_fraction"));
+    EXPECT_TRUE(fit["after_window"].contains("relative_l2_error"));
     r = run("phase sample hg:g=0.6 --order 8 --count 100 --out " + path("s.csv"));
     ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("weight p/pdf: mean 1,"), std::string::npos) << r.err;  // exactly 1
     std::ifstream f(path("s.csv"));
     std::string line;
     int rows = 0;
     std::getline(f, line);
-    EXPECT_EQ(line, "x,y,z,pdf");
+    EXPECT_EQ(line, "x,y,z,pdf,weight");
     while (std::getline(f, line)) {
-        double x, y, z, pdf;
-        ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf", &x, &y, &z, &pdf), 4) << line;
+        double x, y, z, pdf, w;
+        ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf", &x, &y, &z, &pdf, &w), 5)
+            << line;
         EXPECT_NEAR(x * x + y * y + z * z, 1.0, 1e-12);
         EXPECT_GT(pdf, 0);
+        EXPECT_DOUBLE_EQ(w, 1.0);
         ++rows;
     }
     EXPECT_EQ(rows, 100);
@@ -202,6 +212,54 @@ TEST_F(Cli, PhaseFitAndSample) {
             path("g.csv"));
     EXPECT_EQ(r.code, 1);
     EXPECT_FALSE(fs::exists(path("g.csv")));
+    r = run("phase sample hg:g=0.6 --order 8 --sampler general --depth 22 --out " + path("g.csv"));
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("--depth: the general sampler supports depths up to 10"),
+              std::string::npos)
+        << r.err;
+}
+
+// The SH keys of a JSON spec are used; an option replaces only the key it names.
+TEST_F(Cli, PhaseToolsUseTheSpecsKeys) {
+    const std::string spec =
+        R"('{"type": "hg", "g": 0.6, "sampling": "sh", "order": 5, "window": "none", )"
+        R"("evaluate": "exact", "sh_depth": 8}')";
+    auto fit = nlohmann::json::parse(run("phase fit " + spec + " --json").out);
+    EXPECT_EQ(fit["order"], 5);
+    EXPECT_EQ(fit["window"], "none");
+    EXPECT_EQ(fit["evaluate"], "exact");
+    EXPECT_EQ(fit["sh_depth"], 8);
+    fit = nlohmann::json::parse(run("phase fit " + spec + " --order 7 --json").out);
+    EXPECT_EQ(fit["order"], 7);
+    EXPECT_EQ(fit["window"], "none");
+    EXPECT_EQ(fit["sh_depth"], 8);
+}
+
+// phase sample reports the renderer's pdf: with evaluate exact and a fit that rings (HG 0.99,
+// order 4) the pdf includes the defensive uniform share, and the weights are p/pdf.
+TEST_F(Cli, PhaseSampleUsesTheRenderersPdf) {
+    const Result r =
+        run("phase sample hg:g=0.99 --order 4 --window none --evaluate exact --count 2000 --out " +
+            path("d.csv"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("defensive share 0.02"), std::string::npos) << r.err;
+    const PhaseFunction ph =
+        parsePhaseSpec("hg:g=0.99,sampling=sh,order=4,window=none,evaluate=exact", "");
+    const PhaseFunction hg = parsePhaseSpec("hg:g=0.99", "");
+    std::ifstream f(path("d.csv"));
+    std::string line;
+    std::getline(f, line);
+    int rows = 0;
+    while (std::getline(f, line)) {
+        double x, y, z, pdf, w;
+        ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf", &x, &y, &z, &pdf, &w), 5);
+        const Vec3 wi(x, y, z), up(0, 0, 1);
+        EXPECT_NEAR(pdf, ph.pdf(up, wi), 1e-9 * pdf);
+        EXPECT_GE(pdf, 0.02 / (4 * M_PI) * (1 - 1e-12));
+        EXPECT_NEAR(w, hg.eval(up, wi) / pdf, 1e-9 * w);
+        ++rows;
+    }
+    EXPECT_EQ(rows, 2000);
 }
 
 TEST_F(Cli, RenderWritesExrAndStats) {

@@ -52,12 +52,12 @@ TEST(SHSampledPhase, Chi2BothUses) {
 TEST(SHSampledPhase, ExactUseIsUnbiased) {
     for (double g : {0.99, -0.99, 0.6}) {
         const PhaseFunction hg = HenyeyGreensteinPhase(g);
-        const SHSampledPhase shp(hg, 4, SHWindow::None);
+        const SHSampledPhase shp(hg, 4, SHWindow::None, SHSampledPhase::Evaluate::Exact);
         EXPECT_EQ(shp.defensiveFraction() > 0, shp.sampler().clampedFraction() > 0);
         const PhaseFunction sh = shp;
         Rng rng(1, 2);
         const int n = 400000;
-        double s = 0, s2 = 0;
+        double s = 0, s2 = 0, s4 = 0;
         for (int i = 0; i < n; ++i) {
             const PhaseSample x = sh.sample(kWo, rng.uniform2());
             ASSERT_GT(x.pdf, 0);
@@ -65,11 +65,38 @@ TEST(SHSampledPhase, ExactUseIsUnbiased) {
             ASSERT_DOUBLE_EQ(x.value, hg.eval(kWo, x.wi));
             ASSERT_EQ(x.pdf, sh.pdf(kWo, x.wi));
             const double w = x.value / x.pdf;
-            s += w, s2 += w * w;
+            s += w, s2 += w * w, s4 += w * w * w * w;
         }
         const double mean = s / n, se = std::sqrt((s2 / n - mean * mean) / n);
         EXPECT_NEAR(mean, 1.0, 5 * se) << "g " << g;
+        // The quadrature second moment agrees with the sample one within 5 standard errors (the
+        // weights are bounded: the defensive share keeps p/pdf ≤ 4π p_max / α).
+        const double m2 = s2 / n, se2 = std::sqrt((s4 / n - m2 * m2) / n);
+        EXPECT_NEAR(shp.weightSecondMoment(), m2, 5 * se2) << "g " << g;
+        EXPECT_GT(shp.weightSecondMoment(), SHSampledPhase::kUnreliableSecondMoment);
     }
+}
+
+// m₂ = E[(f/pdf)²] is 1 exactly for the reconstruction, and for the exact use tends to 1 as the
+// fit sharpens: a fit that represents the function exactly (Rayleigh, order 3, no window) gives
+// 1 up to the piecewise-constant pdf's bins.
+TEST(SHSampledPhase, WeightSecondMoment) {
+    const PhaseFunction hg = HenyeyGreensteinPhase(0.8);
+    EXPECT_EQ(SHSampledPhase(hg, 8).weightSecondMoment(), 1.0);
+    const double m2lo =
+        SHSampledPhase(hg, 8, SHWindow::Hann, SHSampledPhase::Evaluate::Exact).weightSecondMoment();
+    const double m2hi = SHSampledPhase(hg, 64, SHWindow::Hann, SHSampledPhase::Evaluate::Exact)
+                            .weightSecondMoment();
+    EXPECT_GT(m2lo, m2hi);
+    EXPECT_GT(m2hi, 1.0);
+    const double m2r =
+        SHSampledPhase(RayleighPhase(), 3, SHWindow::None, SHSampledPhase::Evaluate::Exact)
+            .weightSecondMoment();
+    EXPECT_NEAR(m2r, 1.0, 1e-6);
+    // Without the defensive share a fit with no mass where p > 0 would give +∞; m₂ stays finite.
+    EXPECT_TRUE(std::isfinite(SHSampledPhase(HenyeyGreensteinPhase(0.99), 4, SHWindow::None,
+                                             SHSampledPhase::Evaluate::Exact)
+                                  .weightSecondMoment()));
 }
 
 // Reconstruction use: p_SH is non-negative, integrates to 1 and is exactly what gets sampled

@@ -14,10 +14,12 @@
 /// JSON file (JsonReader::file()).
 ///
 /// SH sampling (any type): "sampling": "sh" wraps the function in an SHSampledPhase, with
-///   "order" (bands, 1…256, default 16), "window" ("none" | "hann" | "lanczos", default "hann"),
-///   "evaluate" ("exact": the function itself, SH only for the pdf — default; "sh": the clamped,
-///   normalised SH reconstruction is the phase function), "sh_depth" (2^depth z-bins, 4…22,
-///   default 16). These keys are errors without "sampling": "sh".
+///   "order" (bands, 1…256, default 16, or "auto": the lowest order whose relative L2 error is at
+///   most "tolerance", default 0.01), "window" ("auto" | "none" | "hann" | "lanczos", default
+///   "auto": none unless the unwindowed fit rings negative, then hann), "evaluate" ("sh": the
+///   clamped, normalised SH reconstruction is the phase function — default; "exact": the function
+///   itself, SH only for the pdf), "sh_depth" (2^depth z-bins, 4…22, default 16). These keys are
+///   errors without "sampling": "sh"; "tolerance" is an error without "order": "auto".
 ///
 /// Short form: `name` or `name:key=value,key=value`, e.g. `hg:g=0.9`, `rayleigh`,
 /// `two_term_hg:g1=0.9,g2=-0.3,w=0.7`, `tabulated:file=mie.csv`. A value that parses whole as a
@@ -30,9 +32,22 @@
 
 namespace shvol {
 
+/// The SH keys of a phase object, with their defaults ("sampling" itself is not read).
+struct SHPhaseKeys {
+    ZonalFitRequest fit;
+    SHSampledPhase::Evaluate evaluate = SHSampledPhase::Evaluate::Reconstruction;
+    int depth = 16;
+};
+SHPhaseKeys readSHPhaseKeys(JsonReader& r);
+
 /// Reads a phase-function object such as {"type": "hg", "g": 0.9}. Errors name r's file and JSON
 /// path, e.g. "scene.json: media[0].phase.g: value 2 out of range [-0.999999, 0.999999]".
 PhaseFunction readPhaseFunction(JsonReader r);
+
+/// Reads the phase-function object j; errors name `where` (e.g. `phase spec "hg:g=2"`) and the
+/// key; relative table files are resolved against baseDir ("" = the current directory).
+PhaseFunction readPhaseFunction(const Json& j, const std::string& where,
+                                const std::string& baseDir);
 
 /// Reads a phase function from either a JSON object string (first non-blank character '{') or
 /// the short form above. Relative table files are resolved against baseDir ("" = the current

@@ -13,6 +13,7 @@
 /// ringing. No window makes p̃ positive for every input; the samplers clamp what remains (see
 /// sampling/zonal_sh_sampler.h), and the fit reports the minimum so users see it.
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,10 +32,41 @@ struct ZonalFit {
     double maxError = 0;         ///< max_μ |p − p̃| on the quadrature nodes
     double minValue = 0;         ///< min_μ p̃ (negative: ringing)
     double peakValue = 0;        ///< max_μ p, for scale
+    double energy = 0;           ///< ∫ p² dω
 };
 
 /// Fits p at the given order (number of bands, 1 … 1024).
 ZonalFit fitZonal(const std::function<double(double mu)>& p, int order,
                   SHWindow window = SHWindow::None);
+
+/// What a scene asks of a fit, with the two automatic choices:
+///  - order 0 ("auto"): the lowest order ≤ kMaxAutoOrder whose relative L2 error is at most
+///    `tolerance`, else kMaxAutoOrder (the fit reports the error it reaches). The error of every
+///    order comes from one unwindowed fit at kMaxAutoOrder by Parseval: ε_n² ∫p² = ∫p² − Σ_{l<n}
+///    p_l² + Σ_{l<n} (1 − w_l)² p_l².
+///  - window nullopt ("auto"): no window if the unwindowed fit nowhere dips below −10⁻³ of the
+///    function's peak (so a function the order represents exactly, such as Rayleigh from order
+///    3, stays exact, and shallow ringing is left to the samplers' clamping), else Hann.
+///    With both automatic, the order is the lowest that meets the tolerance unwindowed if that
+///    fit is non-negative, else the lowest that meets it with Hann.
+struct ZonalFitRequest {
+    static constexpr int kMaxAutoOrder = 256;
+    int order = 0;  ///< 0: auto (the default)
+    double tolerance = 0.01;
+    std::optional<SHWindow> window;  ///< nullopt: auto
+};
+
+/// The fit a request names.
+ZonalFit fitZonal(const std::function<double(double mu)>& p, const ZonalFitRequest& request);
+
+/// Relative L2 error of the order-n fit with window w by Parseval (formula above), from the
+/// unwindowed coefficients pFull (at least n of them) and ∫p² dω.
+double relativeL2ErrorByParseval(const std::vector<double>& pFull, double energy, int n,
+                                 SHWindow w);
+
+/// Edges of the θ panels for quadrature over a phase function: 0, then geometric steps (ratio
+/// 1.25) from 1e−7 rad up to π/2, mirrored down to π, so lobes as narrow as HG g = 0.999 are
+/// resolved at either pole.
+std::vector<double> gradedThetaEdges();
 
 }  // namespace shvol
