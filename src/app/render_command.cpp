@@ -1,6 +1,9 @@
 #include <sys/resource.h>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -9,6 +12,7 @@
 #include "shvol/core/atomic_file.h"
 #include "shvol/core/error.h"
 #include "shvol/core/progress.h"
+#include "shvol/io/checkpoint.h"
 #include "shvol/io/exr.h"
 #include "shvol/io/scene_loader.h"
 #include "shvol/render/renderer.h"
@@ -28,11 +32,36 @@ namespace {
 constexpr double kLooseFit = 0.1;
 
 struct RenderArgs {
-    std::string scene, output;
+    std::string scene, output, checkpoint;
     int spp = 0, threads = 0;
     long long seed = -1;
+    double timeLimit = 0, checkpointInterval = 60;
     std::vector<std::string> sets;
-    bool quiet = false;
+    bool quiet = false, resume = false;
+};
+
+/// Set by SIGINT/SIGTERM; the render polls it. A second signal ends the process at once.
+std::atomic<bool> gInterrupted{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler needs a lock-free flag");
+
+extern "C" void onInterrupt(int sig) {
+    gInterrupted.store(true);
+    std::signal(sig, SIG_DFL);
+}
+
+/// Catches SIGINT and SIGTERM for the lifetime of the object, then restores the old handlers.
+class InterruptGuard {
+  public:
+    InterruptGuard()
+        : int_(std::signal(SIGINT, onInterrupt)), term_(std::signal(SIGTERM, onInterrupt)) {}
+    ~InterruptGuard() {
+        std::signal(SIGINT, int_);
+        std::signal(SIGTERM, term_);
+    }
+
+  private:
+    void (*int_)(int);
+    void (*term_)(int);
 };
 
 /// The phase function of each medium as rendered; for SH-sampled ones the resolved fit (automatic
@@ -96,6 +125,11 @@ nlohmann::json statsJson(const Scene& scene, const RenderResult& r, const std::s
     j["resolution"] = {scene.camera.width, scene.camera.height};
     j["seed"] = st.seed;
     j["spp"] = st.spp;
+    j["interrupted"] = st.stop == RenderStop::Cancelled;
+    j["stopped_by"] = renderStopName(st.stop);
+    j["samples_per_pixel_min"] = st.minSamples;
+    j["samples_per_pixel_max"] = st.maxSamples;
+    j["resumed_from_samples"] = st.resumedFromSamples;
     j["threads"] = st.threads;
     j["wall_time_s"] = st.wallSeconds;
     j["paths"] = c.paths;
@@ -171,10 +205,36 @@ int runRender(const RenderArgs& a) {
     for (const std::string& w : warnings)
         std::fprintf(stderr, "shvol: warning: %s: %s\n", a.scene.c_str(), w.c_str());
 
+    if (a.resume && a.checkpoint.empty()) fail("", "--resume", "needs --checkpoint FILE");
+    const uint64_t identity = a.checkpoint.empty() ? 0 : renderIdentity(a.scene, sets);
+    Film film;
+    if (a.resume) film = readCheckpoint(a.checkpoint, identity);
+
     RenderOptions opt;
     opt.threads = a.threads;
     opt.progress = !a.quiet && Progress::stderrIsTerminal();
-    const RenderResult r = render(scene, opt);
+    opt.cancel = &gInterrupted;
+    opt.timeLimitSeconds = a.timeLimit;
+    auto lastCheckpoint = std::chrono::steady_clock::now();
+    if (!a.checkpoint.empty())
+        opt.afterPass = [&](const Film& f) {
+            const auto now = std::chrono::steady_clock::now();
+            const bool due =
+                f.minCount() == uint32_t(scene.settings.spp) ||
+                std::chrono::duration<double>(now - lastCheckpoint).count() >= a.checkpointInterval;
+            if (!due) return;
+            writeCheckpoint(a.checkpoint, f, identity);
+            lastCheckpoint = now;
+        };
+    RenderResult r;
+    {
+        const InterruptGuard guard;
+        r = render(scene, opt, std::move(film));
+    }
+    const bool interrupted = r.stats.stop == RenderStop::Cancelled;
+    // A render that stopped early has no closing afterPass call: save where it stopped.
+    if (!a.checkpoint.empty() && r.stats.stop != RenderStop::Completed)
+        writeCheckpoint(a.checkpoint, r.film, identity);
     // The statistics appear only once the image is in place: the EXR is written (atomically)
     // while the stats file is still a temporary.
     writeAtomically(statsPath, [&](const std::string& tmp) {
@@ -184,6 +244,12 @@ int runRender(const RenderArgs& a) {
         if (!f) fail(statsPath, "", "cannot write file");
         writeExr(out, r.image);
     });
+    if (r.stats.stop != RenderStop::Completed)
+        std::fprintf(stderr,
+                     "shvol: %s: wrote the samples finished so far (%u to %u per pixel of %d)%s\n",
+                     interrupted ? "interrupted" : "time limit reached", r.stats.minSamples,
+                     r.stats.maxSamples, scene.settings.spp,
+                     a.checkpoint.empty() ? "" : "; continue with --resume");
     if (r.stats.counters.nonFiniteSamples > 0)
         std::fprintf(stderr, "shvol: warning: %llu samples were NaN or infinite and were dropped\n",
                      (unsigned long long)r.stats.counters.nonFiniteSamples);
@@ -191,7 +257,7 @@ int runRender(const RenderArgs& a) {
         std::fprintf(stderr, "wrote %s and %s (%.2f s, %.3g paths/s, %d threads)\n", out.c_str(),
                      statsPath.c_str(), r.stats.wallSeconds, r.stats.pathsPerSecond(),
                      r.stats.threads);
-    return 0;
+    return interrupted ? 130 : 0;
 }
 
 }  // namespace
@@ -213,6 +279,18 @@ void addRenderCommand(CLI::App& app, std::function<int()>& run) {
     c->add_option("--set", args->sets, "Override a scene value: key.path=value (repeatable)")
         ->default_str("");
     c->add_flag("--quiet", args->quiet, "No progress bar or summary");
+    c->add_option("--time-limit", args->timeLimit,
+                  "Stop after this many seconds of rendering and write what is finished")
+        ->check(numberIn(0, 1e9, true))
+        ->default_str("none");
+    c->add_option("--checkpoint", args->checkpoint,
+                  "Save the progress to FILE between passes, on interruption and at the end");
+    c->add_option("--checkpoint-interval", args->checkpointInterval,
+                  "Seconds between checkpoints (written at the end of a pass)")
+        ->check(numberIn(0, 1e9));
+    c->add_flag("--resume", args->resume,
+                "Continue the render saved in --checkpoint (same scene, --set and seed; the "
+                "sample count may grow)");
     c->callback([&run, args] { run = [args] { return runRender(*args); }; });
 }
 

@@ -8,58 +8,124 @@
 
 #include <chrono>
 
+#include "shvol/core/error.h"
+
 #include "shvol/core/progress.h"
 
 namespace shvol {
 
-RenderResult render(const Scene& scene, const RenderOptions& options) {
+const char* renderStopName(RenderStop s) {
+    switch (s) {
+        case RenderStop::Cancelled:
+            return "cancelled";
+        case RenderStop::TimeLimit:
+            return "time-limit";
+        default:
+            return "completed";
+    }
+}
+
+namespace {
+
+/// Ends of the passes: 1, 2, 4, … (doubling) up to spp, without those the film already has.
+std::vector<uint32_t> passEnds(uint32_t spp, uint32_t have) {
+    std::vector<uint32_t> ends;
+    for (uint64_t e = 1;; e *= 2) {
+        const uint32_t end = uint32_t(std::min<uint64_t>(e, spp));
+        if (end > have) ends.push_back(end);
+        if (end == spp) break;
+    }
+    return ends;
+}
+
+}  // namespace
+
+RenderResult render(const Scene& scene, const RenderOptions& options, Film film) {
     const Camera& cam = scene.camera;
     const RenderSettings& s = scene.settings;
+    const uint32_t spp = uint32_t(s.spp);
+    if (film.pixels() == 0) film = Film(cam.width, cam.height);
+    if (film.width != cam.width || film.height != cam.height)
+        throw Error("the film to continue is " + std::to_string(film.width) + "x" +
+                    std::to_string(film.height) + ", the camera " + std::to_string(cam.width) +
+                    "x" + std::to_string(cam.height));
+    if (film.maxCount() > spp)
+        throw Error("the film to continue has " + std::to_string(film.maxCount()) +
+                    " samples per pixel, more than the " + std::to_string(spp) + " asked for");
     const VolumePathIntegrator integrator(scene);
     RenderResult result;
-    result.image = Image(cam.width, cam.height);
+    result.stats.resumedFromSamples = film.minCount();
 
     constexpr int Tile = 16;
     const int tilesX = (cam.width + Tile - 1) / Tile, tilesY = (cam.height + Tile - 1) / Tile;
+    const int tiles = tilesX * tilesY;
     const int threads =
         options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
     tbb::enumerable_thread_specific<PathCounters> counters;
-    Progress progress("render", (long long)tilesX * tilesY, options.progress);
+    const std::vector<uint32_t> ends = passEnds(spp, film.minCount());
+    Progress progress("render", (long long)ends.size() * tiles, options.progress);
     const auto start = std::chrono::steady_clock::now();
+    std::atomic<bool> stopped{false};
+    std::atomic<int> stopReason{int(RenderStop::Completed)};
+    auto shouldStop = [&] {
+        if (stopped.load(std::memory_order_relaxed)) return true;
+        RenderStop why = RenderStop::Completed;
+        if (options.cancel && options.cancel->load(std::memory_order_relaxed))
+            why = RenderStop::Cancelled;
+        else if (options.timeLimitSeconds > 0 &&
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
+                     options.timeLimitSeconds)
+            why = RenderStop::TimeLimit;
+        if (why == RenderStop::Completed) return false;
+        int expected = int(RenderStop::Completed);
+        stopReason.compare_exchange_strong(expected, int(why));
+        stopped = true;
+        return true;
+    };
 
     tbb::task_arena arena(threads);
-    arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 1), [&](const auto& r) {
-            PathCounters& c = counters.local();
-            for (int tile = r.begin(); tile < r.end(); ++tile) {
-                const int x0 = (tile % tilesX) * Tile, y0 = (tile / tilesX) * Tile;
-                for (int y = y0; y < std::min(y0 + Tile, cam.height); ++y)
-                    for (int x = x0; x < std::min(x0 + Tile, cam.width); ++x) {
-                        const uint64_t pixel = uint64_t(y) * cam.width + x;
-                        Spectrum sum = Spectrum::Zero();
-                        for (int i = 0; i < s.spp; ++i) {
-                            Rng rng = Rng::forSample(s.seed, pixel, i);
-                            const Vec2 u = rng.uniform2();
-                            const Spectrum L =
-                                integrator.Li(cam.generateRay(x + u.x(), y + u.y()), rng, c);
-                            if (L.allFinite())
-                                sum += L;
-                            else
-                                ++c.nonFiniteSamples;
+    for (const uint32_t end : ends) {
+        arena.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 1), [&](const auto& r) {
+                PathCounters& c = counters.local();
+                for (int tile = r.begin(); tile < r.end(); ++tile) {
+                    const int x0 = (tile % tilesX) * Tile, y0 = (tile / tilesX) * Tile;
+                    for (int y = y0; y < std::min(y0 + Tile, cam.height); ++y)
+                        for (int x = x0; x < std::min(x0 + Tile, cam.width); ++x) {
+                            const uint64_t pixel = uint64_t(y) * cam.width + x;
+                            uint32_t& n = film.count[pixel];
+                            double* sum = &film.sum[3 * pixel];
+                            for (; n < end; ++n) {
+                                if (shouldStop()) return;
+                                Rng rng = Rng::forSample(s.seed, pixel, n);
+                                const Vec2 u = rng.uniform2();
+                                const Spectrum L =
+                                    integrator.Li(cam.generateRay(x + u.x(), y + u.y()), rng, c);
+                                if (L.allFinite())
+                                    sum[0] += L[0], sum[1] += L[1], sum[2] += L[2];
+                                else
+                                    ++c.nonFiniteSamples;
+                            }
                         }
-                        result.image.set(x, y, sum / s.spp);
-                    }
-                progress.advance();
-            }
+                    progress.advance();
+                }
+            });
         });
-    });
+        if (stopped) break;
+        if (options.afterPass && end != spp) options.afterPass(film);
+    }
     progress.done();
+    if (options.afterPass && !stopped) options.afterPass(film);
+    result.image = film.image();
 
     RenderStats& st = result.stats;
     st.wallSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     st.threads = threads;
     st.spp = s.spp;
+    st.stop = RenderStop(stopReason.load());
+    st.minSamples = film.minCount();
+    st.maxSamples = film.maxCount();
     st.seed = s.seed;
     for (const PathCounters& c : counters) st.counters.add(c);
     st.effects = integrator.effects().names();
@@ -81,6 +147,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
             ls.productDepth = ps->productDepth();
         }
     }
+    result.film = std::move(film);
     return result;
 }
 

@@ -424,4 +424,61 @@ TEST_F(Cli, MakeMediumAndSkyRoundTrip) {
     EXPECT_NE(r.code, 0);
 }
 
+// SIGINT and SIGTERM during a render: the samples finished so far are written (image and stats
+// with "interrupted": true) and the exit code is 130. The render is far too long to finish.
+TEST_F(Cli, InterruptedRenderWritesWhatItHas) {
+    write("s.json", scene(Homogeneous));
+    for (const char* sig : {"INT", "TERM"}) {
+        const std::string out = path(std::string("i") + sig + ".exr");
+        // The shell's redirections apply to `wait`; the render's stderr goes to bg.txt.
+        const Result r = run("render " + path("s.json") + " -o " + out + " --spp 10000000 2>" +
+                             path("bg.txt") + " & p=$!; sleep 1.5; kill -" + sig + " $p; wait $p");
+        std::ifstream bg(path("bg.txt"));
+        const std::string err((std::istreambuf_iterator<char>(bg)), {});
+        EXPECT_EQ(r.code, 130) << sig << ": " << err;
+        EXPECT_NE(err.find("shvol: interrupted: wrote the samples finished so far"),
+                  std::string::npos)
+            << err;
+        std::ifstream f(path(std::string("i") + sig + ".stats.json"));
+        const auto stats = nlohmann::json::parse(f);
+        EXPECT_EQ(stats["interrupted"], true);
+        EXPECT_EQ(stats["stopped_by"], "cancelled");
+        EXPECT_GT(stats["samples_per_pixel_min"].get<int>(), 0);
+        const Image img = readExr(out);
+        EXPECT_EQ(img.width, 8);
+        for (float v : img.rgb) EXPECT_TRUE(std::isfinite(v) && v > 0);
+    }
+}
+
+// --time-limit stops cleanly (exit 0); --checkpoint and --resume then finish the render, and the
+// image equals an uninterrupted run's.
+TEST_F(Cli, TimeLimitCheckpointAndResume) {
+    write("s.json", scene(Homogeneous));
+    const std::string s = "render " + path("s.json") + " --spp 20000 --quiet ";
+    ASSERT_EQ(run(s + "-o " + path("full.exr")).code, 0);
+    Result r = run(s + "-o " + path("part.exr") + " --time-limit 0.002 --checkpoint " +
+                   path("ck.bin") + " --threads 1");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("time limit reached"), std::string::npos) << r.err;
+    {
+        std::ifstream f(path("part.stats.json"));
+        const auto stats = nlohmann::json::parse(f);
+        EXPECT_EQ(stats["stopped_by"], "time-limit");
+        EXPECT_EQ(stats["interrupted"], false);
+        EXPECT_LT(stats["samples_per_pixel_min"].get<int>(), 20000);
+    }
+    r = run(s + "-o " + path("part.exr") + " --checkpoint " + path("ck.bin") + " --resume");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Image a = readExr(path("part.exr")), b = readExr(path("full.exr"));
+    EXPECT_EQ(a.rgb, b.rgb);
+    // A checkpoint belongs to one render: another seed is refused.
+    r = run(s + "-o " + path("x.exr") + " --seed 9 --checkpoint " + path("ck.bin") + " --resume");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("written for a different render"), std::string::npos) << r.err;
+    r = run(s + "-o " + path("x.exr") + " --resume");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("--resume: needs --checkpoint FILE"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("x.exr")));
+}
+
 }  // namespace shvol

@@ -2,10 +2,18 @@
 /// \file Renders a scene in parallel over 16×16 tiles (TBB). Each (pixel, sample) owns an RNG
 /// keyed by (seed, pixel, sample), and each pixel is written by one tile only, so the image depends
 /// on the seed and never on the thread count.
+///
+/// Samples are taken in passes whose ends double (1, 2, 4, … spp samples per pixel), so a render
+/// stopped early (cancel flag, time limit) has about the same number of samples everywhere; each
+/// pixel is normalised by its own count (film.h). A render can continue a film from an earlier,
+/// stopped one and then gives the image of an uninterrupted run, bit for bit.
+#include <atomic>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "shvol/core/image.h"
+#include "shvol/render/film.h"
 #include "shvol/render/volume_path_integrator.h"
 
 namespace shvol {
@@ -13,7 +21,17 @@ namespace shvol {
 struct RenderOptions {
     int threads = 0;        ///< 0 = all cores
     bool progress = false;  ///< progress bar on stderr
+    /// When it becomes true (e.g. set by a signal handler) the render stops within one sample
+    /// per thread and returns what it has.
+    const std::atomic<bool>* cancel = nullptr;
+    double timeLimitSeconds = 0;  ///< > 0: stop once the render has run this long
+    /// Called between passes and once more when the render completes (not when it stops early),
+    /// with the film so far (checkpoints).
+    std::function<void(const Film&)> afterPass;
 };
+
+enum class RenderStop { Completed, Cancelled, TimeLimit };
+const char* renderStopName(RenderStop s);  ///< "completed", "cancelled", "time-limit"
 
 /// What the light sampler of a render was and cost (empty strategy: no light sampling).
 struct LightSamplingStats {
@@ -33,6 +51,9 @@ struct RenderStats {
     PathCounters counters;
     std::vector<std::string> effects;
     LightSamplingStats lightSampling;
+    RenderStop stop = RenderStop::Completed;
+    uint32_t resumedFromSamples = 0;          ///< samples per pixel (minimum) in the film continued
+    uint32_t minSamples = 0, maxSamples = 0;  ///< samples per pixel taken, over the image
     double pathsPerSecond() const { return counters.paths / std::max(1e-9, wallSeconds); }
     /// Mean number of scattering events per path.
     double meanPathLength() const {
@@ -42,9 +63,12 @@ struct RenderStats {
 
 struct RenderResult {
     Image image;
+    Film film;
     RenderStats stats;
 };
 
-RenderResult render(const Scene& scene, const RenderOptions& options);
+/// Renders scene.settings.spp samples per pixel, continuing `film` when it is not empty (it must
+/// have the camera's resolution and no pixel beyond spp samples; shvol::Error otherwise).
+RenderResult render(const Scene& scene, const RenderOptions& options, Film film = {});
 
 }  // namespace shvol

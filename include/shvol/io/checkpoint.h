@@ -1,0 +1,30 @@
+#pragma once
+/// \file Render checkpoints: the film of a render (per-pixel sample sums and counts, film.h) with
+/// the identity of the render it belongs to, so that `shvol render --resume` continues exactly
+/// that render.
+///
+/// Binary layout (little-endian, as the machines shvol runs on):
+///   "SHVOLCK1" | u64 identity | i32 width | i32 height | u32 count[w·h] | f64 sum[3·w·h] |
+///   u64 FNV-1a checksum of everything before it.
+/// Files are written atomically (temporary + rename), so a kill during a write leaves the previous
+/// checkpoint intact.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "shvol/render/film.h"
+
+namespace shvol {
+
+/// Identity of a render for checkpoints: FNV-1a of the scene document after `overrides`, with
+/// render.spp removed (a checkpoint may be continued to more samples). Everything else —
+/// camera, media, seed, render settings — must match.
+uint64_t renderIdentity(const std::string& scenePath, const std::vector<std::string>& overrides);
+
+void writeCheckpoint(const std::string& path, const Film& film, uint64_t identity);
+
+/// Reads a checkpoint; errors (missing, truncated, corrupt, or written for another render) are
+/// one line naming the file.
+Film readCheckpoint(const std::string& path, uint64_t identity);
+
+}  // namespace shvol

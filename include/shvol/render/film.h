@@ -1,0 +1,29 @@
+#pragma once
+/// \file The accumulation buffer of a render: per pixel the sum of its sample values (double, in
+/// sample order) and the number of samples taken. The image is sum / count per pixel, so a render
+/// stopped at any moment gives each pixel the mean of the samples it has; a render continued
+/// from a film adds sample i of every pixel after samples 0 … i−1, exactly as one uninterrupted
+/// run does, so resuming reproduces the uninterrupted image bit for bit.
+#include <cstdint>
+#include <vector>
+
+#include "shvol/core/image.h"
+
+namespace shvol {
+
+struct Film {
+    int width = 0, height = 0;
+    std::vector<double> sum;      ///< 3 per pixel
+    std::vector<uint32_t> count;  ///< samples taken per pixel (dropped NaN/Inf samples count)
+
+    Film() = default;
+    Film(int w, int h)
+        : width(w), height(h), sum(size_t(3) * w * h, 0.0), count(size_t(w) * h, 0) {}
+    size_t pixels() const { return count.size(); }
+    /// sum / count per pixel (0 where no sample was taken yet).
+    Image image() const;
+    uint32_t minCount() const;
+    uint32_t maxCount() const;
+};
+
+}  // namespace shvol

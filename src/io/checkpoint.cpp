@@ -1,0 +1,88 @@
+#include "shvol/io/checkpoint.h"
+
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+#include "shvol/core/atomic_file.h"
+#include "shvol/core/error.h"
+#include "shvol/io/json_reader.h"
+
+namespace shvol {
+
+namespace {
+
+constexpr char kMagic[8] = {'S', 'H', 'V', 'O', 'L', 'C', 'K', '1'};
+
+uint64_t fnv1a(const void* data, size_t n, uint64_t h = 1469598103934665603ull) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+    return h;
+}
+
+template <class T>
+void put(std::string& out, const T& v) {
+    out.append(reinterpret_cast<const char*>(&v), sizeof v);
+}
+
+}  // namespace
+
+uint64_t renderIdentity(const std::string& scenePath, const std::vector<std::string>& overrides) {
+    Json doc = parseJsonFile(scenePath);
+    for (const std::string& o : overrides) applyOverride(doc, o, scenePath);
+    if (doc.contains("render") && doc["render"].is_object()) doc["render"].erase("spp");
+    const std::string text = doc.dump();
+    return fnv1a(text.data(), text.size());
+}
+
+void writeCheckpoint(const std::string& path, const Film& film, uint64_t identity) {
+    std::string bytes(kMagic, sizeof kMagic);
+    put(bytes, identity);
+    put(bytes, int32_t(film.width));
+    put(bytes, int32_t(film.height));
+    bytes.append(reinterpret_cast<const char*>(film.count.data()),
+                 film.count.size() * sizeof(uint32_t));
+    bytes.append(reinterpret_cast<const char*>(film.sum.data()), film.sum.size() * sizeof(double));
+    put(bytes, fnv1a(bytes.data(), bytes.size()));
+    writeAtomically(path, [&](const std::string& tmp) {
+        std::ofstream f(tmp, std::ios::binary);
+        f.write(bytes.data(), std::streamsize(bytes.size()));
+        f.close();
+        if (!f) fail(path, "", "cannot write checkpoint");
+    });
+}
+
+Film readCheckpoint(const std::string& path, uint64_t identity) {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) fail(path, "", "cannot open checkpoint");
+    const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    const size_t header = sizeof kMagic + 8 + 4 + 4;
+    if (bytes.size() < header + 8 || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+        fail(path, "", "not a shvol checkpoint");
+    uint64_t id, sum;
+    int32_t w, h;
+    std::memcpy(&id, bytes.data() + 8, 8);
+    std::memcpy(&w, bytes.data() + 16, 4);
+    std::memcpy(&h, bytes.data() + 20, 4);
+    if (w <= 0 || h <= 0 || w > (1 << 16) || h > (1 << 16))
+        fail(path, "header", "invalid resolution " + std::to_string(w) + "x" + std::to_string(h));
+    const size_t pixels = size_t(w) * size_t(h);
+    const size_t expected = header + pixels * (4 + 3 * 8) + 8;
+    if (bytes.size() != expected)
+        fail(path, "",
+             "truncated or padded: " + std::to_string(bytes.size()) + " bytes, expected " +
+                 std::to_string(expected) + " for " + std::to_string(w) + "x" + std::to_string(h));
+    std::memcpy(&sum, bytes.data() + expected - 8, 8);
+    if (fnv1a(bytes.data(), expected - 8) != sum)
+        fail(path, "", "checksum mismatch (corrupt file)");
+    if (id != identity)
+        fail(path, "",
+             "written for a different render (scene, --set values, seed or resolution differ; "
+             "only the sample count may change)");
+    Film film(w, h);
+    std::memcpy(film.count.data(), bytes.data() + header, pixels * 4);
+    std::memcpy(film.sum.data(), bytes.data() + header + pixels * 4, pixels * 3 * 8);
+    return film;
+}
+
+}  // namespace shvol

@@ -1,0 +1,73 @@
+#include "shvol/io/checkpoint.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "shvol/core/error.h"
+#include "test_util.h"
+
+namespace shvol {
+
+namespace {
+
+std::string tempPath(const std::string& name) {
+    return testing::TempDir() + "ckpt_" + name;
+}
+
+Film sampleFilm() {
+    Film f(3, 2);
+    for (size_t i = 0; i < f.pixels(); ++i) {
+        f.count[i] = uint32_t(i + 1);
+        for (int c = 0; c < 3; ++c) f.sum[3 * i + c] = 0.1 * double(i) + c + 1e-17 * double(i);
+    }
+    return f;
+}
+
+}  // namespace
+
+TEST(Checkpoint, RoundTripIsExact) {
+    const std::string p = tempPath("round.bin");
+    const Film f = sampleFilm();
+    writeCheckpoint(p, f, 42);
+    const Film g = readCheckpoint(p, 42);
+    EXPECT_EQ(g.width, 3);
+    EXPECT_EQ(g.height, 2);
+    EXPECT_EQ(g.count, f.count);
+    EXPECT_EQ(g.sum, f.sum);  // bit-exact doubles
+}
+
+TEST(Checkpoint, DamagedOrForeignFilesAreRefused) {
+    const std::string p = tempPath("bad.bin");
+    writeCheckpoint(p, sampleFilm(), 42);
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, 43); }),
+              p + ": written for a different render (scene, --set values, seed or resolution "
+                  "differ; only the sample count may change)");
+    {  // flip one byte of the sums
+        std::fstream f(p, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(60);
+        f.put('\x7f');
+    }
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, 42); }),
+              p + ": checksum mismatch (corrupt file)");
+    std::filesystem::resize_file(p, 50);
+    EXPECT_NE(test::messageOf([&] { readCheckpoint(p, 42); }).find(": truncated or padded"),
+              std::string::npos);
+    std::ofstream(p) << "{\"not\": \"a checkpoint\"}";
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, 42); }), p + ": not a shvol checkpoint");
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(tempPath("missing.bin"), 42); }),
+              tempPath("missing.bin") + ": cannot open checkpoint");
+}
+
+// The identity ignores render.spp (a render may be continued to more samples) and nothing else.
+TEST(Checkpoint, IdentityIgnoresOnlyTheSampleCount) {
+    const std::string scene = tempPath("scene.json");
+    std::ofstream(scene) << R"({"render": {"spp": 4, "seed": 1}, "camera": {"fov": 30}})";
+    const uint64_t id = renderIdentity(scene, {});
+    EXPECT_EQ(renderIdentity(scene, {"render.spp=100"}), id);
+    EXPECT_NE(renderIdentity(scene, {"render.seed=2"}), id);
+    EXPECT_NE(renderIdentity(scene, {"camera.fov=31"}), id);
+}
+
+}  // namespace shvol
