@@ -1,5 +1,6 @@
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -7,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "commands.h"
 #include "shvol/core/atomic_file.h"
@@ -32,12 +34,12 @@ namespace {
 constexpr double kLooseFit = 0.1;
 
 struct RenderArgs {
-    std::string scene, output, checkpoint;
-    int spp = 0, threads = 0;
+    std::string scene, output, checkpoint, spp;
+    int threads = 0;
     long long seed = -1;
     double timeLimit = 0, checkpointInterval = 60;
     std::vector<std::string> sets;
-    bool quiet = false, resume = false;
+    bool quiet = false, resume = false, variance = false;
 };
 
 /// Set by SIGINT/SIGTERM; the render polls it. A second signal ends the process at once.
@@ -114,9 +116,8 @@ std::vector<std::string> phaseWarnings(const Scene& scene) {
     return w;
 }
 
-nlohmann::json statsJson(const Scene& scene, const RenderResult& r, const std::string& out,
-                         const std::vector<std::string>& warnings) {
-    const RenderStats& st = r.stats;
+nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderStats& st,
+                         const std::string& out, const std::vector<std::string>& warnings) {
     const PathCounters& c = st.counters;
     nlohmann::json j;
     j["shvol_version"] = SHVOL_VERSION;
@@ -169,7 +170,7 @@ nlohmann::json statsJson(const Scene& scene, const RenderResult& r, const std::s
         j["phase"].push_back(phaseJson(m->phase()));
     }
     j["warnings"] = warnings;
-    const ImageStatistics is = imageStatistics(r.image);
+    const ImageStatistics is = imageStatistics(image);
     auto rgb = [](const Spectrum& s) { return nlohmann::json{s[0], s[1], s[2]}; };
     j["image"] = {{"mean", rgb(is.mean)},
                   {"min", rgb(is.min)},
@@ -178,23 +179,69 @@ nlohmann::json statsJson(const Scene& scene, const RenderResult& r, const std::s
     return j;
 }
 
+/// The files one image goes to: the EXR, its stats and (with --variance) the standard errors.
+struct Outputs {
+    std::string image, stats, stderrImage;
+};
+
+/// "x.exr" → x.exr, x.stats.json, x.stderr.exr; `tag` (e.g. "spp16") goes before the extension.
+Outputs outputsFor(const std::string& out, const std::string& tag) {
+    std::string stem = out;
+    if (std::filesystem::path(out).extension() == ".exr") stem.resize(out.size() - 4);
+    if (!tag.empty()) stem += "." + tag;
+    return {stem + ".exr", stem + ".stats.json", stem + ".stderr.exr"};
+}
+
+/// Writes an image with its statistics (and standard errors). The statistics appear only once
+/// the images are in place: the EXRs are written (atomically) while the stats file is still a
+/// temporary.
+void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const RenderStats& st,
+                  const std::vector<std::string>& warnings, bool variance) {
+    const Image image = film.image();
+    writeAtomically(o.stats, [&](const std::string& tmp) {
+        std::ofstream f(tmp);
+        nlohmann::json j = statsJson(scene, image, st, o.image, warnings);
+        if (variance) j["standard_error"] = o.stderrImage;
+        f << j.dump(2) << "\n";
+        f.close();
+        if (!f) fail(o.stats, "", "cannot write file");
+        writeExr(o.image, image);
+        if (variance) writeExr(o.stderrImage, film.standardError());
+    });
+}
+
+/// --spp: "N" or increasing "N1,N2,…,N" (each Ni an image of its own).
+std::vector<uint32_t> parseSppList(const std::string& text) {
+    std::vector<uint32_t> list;
+    std::stringstream ss(text);
+    for (std::string item; std::getline(ss, item, ',');) {
+        const std::string err = integerIn(1, 1 << 24)(item);
+        if (!err.empty()) fail("", "--spp", err);
+        const uint32_t n = uint32_t(std::stoul(item));
+        if (!list.empty() && n <= list.back())
+            fail("", "--spp", "sample counts must increase, got " + text);
+        list.push_back(n);
+    }
+    if (list.empty()) fail("", "--spp", "expected N or N1,N2,...");
+    return list;
+}
+
 int runRender(const RenderArgs& a) {
     std::vector<std::string> sets = a.sets;
-    if (a.spp > 0) sets.push_back("render.spp=" + std::to_string(a.spp));
+    const std::vector<uint32_t> sppList =
+        a.spp.empty() ? std::vector<uint32_t>{} : parseSppList(a.spp);
+    if (!sppList.empty()) sets.push_back("render.spp=" + std::to_string(sppList.back()));
     if (a.seed >= 0) sets.push_back("render.seed=" + std::to_string(a.seed));
     const Scene scene = loadScene(a.scene, sets);
     std::string out = a.output;
     if (out.empty()) out = std::filesystem::path(a.scene).stem().string() + ".exr";
-    std::string statsPath = out;
-    if (std::filesystem::path(out).extension() == ".exr") statsPath.resize(out.size() - 4);
-    statsPath += ".stats.json";
-
     std::string ext = std::filesystem::path(out).extension().string();
     for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
     if (ext != ".exr")
         fail(out, "", "render writes OpenEXR; name the output .exr (shvol tonemap makes a PNG)");
+    const Outputs final = outputsFor(out, "");
     // Fail before rendering, not after, if the outputs cannot be written.
-    for (const std::string& f : {out, statsPath}) {
+    for (const std::string& f : {final.image, final.stats}) {
         const std::filesystem::path dir = std::filesystem::path(f).parent_path();
         if (!dir.empty() && !std::filesystem::is_directory(dir))
             fail(f, "", "cannot write: directory " + dir.string() + " does not exist");
@@ -210,22 +257,30 @@ int runRender(const RenderArgs& a) {
     Film film;
     if (a.resume) film = readCheckpoint(a.checkpoint, identity);
 
+    const uint32_t spp = uint32_t(scene.settings.spp);
     RenderOptions opt;
     opt.threads = a.threads;
     opt.progress = !a.quiet && Progress::stderrIsTerminal();
     opt.cancel = &gInterrupted;
     opt.timeLimitSeconds = a.timeLimit;
+    opt.variance = a.variance;
+    if (sppList.size() > 1) opt.stops.assign(sppList.begin(), sppList.end() - 1);
     auto lastCheckpoint = std::chrono::steady_clock::now();
-    if (!a.checkpoint.empty())
-        opt.afterPass = [&](const Film& f) {
-            const auto now = std::chrono::steady_clock::now();
-            const bool due =
-                f.minCount() == uint32_t(scene.settings.spp) ||
-                std::chrono::duration<double>(now - lastCheckpoint).count() >= a.checkpointInterval;
-            if (!due) return;
+    opt.afterPass = [&](const Film& f, const RenderStats& st) {
+        const uint32_t n = f.minCount();
+        if (n < spp && std::find(opt.stops.begin(), opt.stops.end(), n) != opt.stops.end()) {
+            const Outputs o = outputsFor(out, "spp" + std::to_string(n));
+            writeOutputs(o, scene, f, st, warnings, a.variance);
+            if (!a.quiet) std::fprintf(stderr, "wrote %s (%u spp)\n", o.image.c_str(), n);
+        }
+        const auto now = std::chrono::steady_clock::now();
+        if (!a.checkpoint.empty() &&
+            (n == spp ||
+             std::chrono::duration<double>(now - lastCheckpoint).count() >= a.checkpointInterval)) {
             writeCheckpoint(a.checkpoint, f, identity);
             lastCheckpoint = now;
-        };
+        }
+    };
     RenderResult r;
     {
         const InterruptGuard guard;
@@ -235,15 +290,7 @@ int runRender(const RenderArgs& a) {
     // A render that stopped early has no closing afterPass call: save where it stopped.
     if (!a.checkpoint.empty() && r.stats.stop != RenderStop::Completed)
         writeCheckpoint(a.checkpoint, r.film, identity);
-    // The statistics appear only once the image is in place: the EXR is written (atomically)
-    // while the stats file is still a temporary.
-    writeAtomically(statsPath, [&](const std::string& tmp) {
-        std::ofstream f(tmp);
-        f << statsJson(scene, r, out, warnings).dump(2) << "\n";
-        f.close();
-        if (!f) fail(statsPath, "", "cannot write file");
-        writeExr(out, r.image);
-    });
+    writeOutputs(final, scene, r.film, r.stats, warnings, a.variance);
     if (r.stats.stop != RenderStop::Completed)
         std::fprintf(stderr,
                      "shvol: %s: wrote the samples finished so far (%u to %u per pixel of %d)%s\n",
@@ -254,9 +301,9 @@ int runRender(const RenderArgs& a) {
         std::fprintf(stderr, "shvol: warning: %llu samples were NaN or infinite and were dropped\n",
                      (unsigned long long)r.stats.counters.nonFiniteSamples);
     if (!a.quiet)
-        std::fprintf(stderr, "wrote %s and %s (%.2f s, %.3g paths/s, %d threads)\n", out.c_str(),
-                     statsPath.c_str(), r.stats.wallSeconds, r.stats.pathsPerSecond(),
-                     r.stats.threads);
+        std::fprintf(stderr, "wrote %s and %s (%.2f s, %.3g paths/s, %d threads)\n",
+                     final.image.c_str(), final.stats.c_str(), r.stats.wallSeconds,
+                     r.stats.pathsPerSecond(), r.stats.threads);
     return interrupted ? 130 : 0;
 }
 
@@ -268,9 +315,12 @@ void addRenderCommand(CLI::App& app, std::function<int()>& run) {
     c->add_option("scene", args->scene, "Scene file (JSON)")->required();
     c->add_option("-o,--output", args->output,
                   "Output EXR (default: <scene name>.exr); statistics go to <output>.stats.json");
-    c->add_option("--spp", args->spp, "Samples per pixel (overrides render.spp)")
-        ->check(integerIn(1, 1 << 24))
+    c->add_option("--spp", args->spp,
+                  "Samples per pixel (overrides render.spp); N1,N2,...,N also writes the image "
+                  "at each Ni as <output>.sppNi.exr, identical to a render of Ni spp")
         ->default_str("the scene's render.spp");
+    c->add_flag("--variance", args->variance,
+                "Also write the standard error of each pixel's mean to <output>.stderr.exr");
     c->add_option("--seed", args->seed, "Random seed (overrides render.seed)")
         ->check(integerIn(0, 9007199254740992LL))
         ->default_str("the scene's render.seed");

@@ -13,6 +13,7 @@ namespace shvol {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'H', 'V', 'O', 'L', 'C', 'K', '1'};
+constexpr uint32_t kHasSumSq = 1;  ///< flags: the film has sums of squares (--variance)
 
 uint64_t fnv1a(const void* data, size_t n, uint64_t h = 1469598103934665603ull) {
     const auto* p = static_cast<const unsigned char*>(data);
@@ -40,9 +41,12 @@ void writeCheckpoint(const std::string& path, const Film& film, uint64_t identit
     put(bytes, identity);
     put(bytes, int32_t(film.width));
     put(bytes, int32_t(film.height));
+    put(bytes, uint32_t(film.sumSq.empty() ? 0 : kHasSumSq));
     bytes.append(reinterpret_cast<const char*>(film.count.data()),
                  film.count.size() * sizeof(uint32_t));
     bytes.append(reinterpret_cast<const char*>(film.sum.data()), film.sum.size() * sizeof(double));
+    bytes.append(reinterpret_cast<const char*>(film.sumSq.data()),
+                 film.sumSq.size() * sizeof(double));
     put(bytes, fnv1a(bytes.data(), bytes.size()));
     writeAtomically(path, [&](const std::string& tmp) {
         std::ofstream f(tmp, std::ios::binary);
@@ -56,18 +60,22 @@ Film readCheckpoint(const std::string& path, uint64_t identity) {
     std::ifstream f(path, std::ios::binary);
     if (!f) fail(path, "", "cannot open checkpoint");
     const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-    const size_t header = sizeof kMagic + 8 + 4 + 4;
+    const size_t header = sizeof kMagic + 8 + 4 + 4 + 4;
     if (bytes.size() < header + 8 || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
         fail(path, "", "not a shvol checkpoint");
     uint64_t id, sum;
     int32_t w, h;
+    uint32_t flags;
     std::memcpy(&id, bytes.data() + 8, 8);
     std::memcpy(&w, bytes.data() + 16, 4);
     std::memcpy(&h, bytes.data() + 20, 4);
+    std::memcpy(&flags, bytes.data() + 24, 4);
+    if (flags & ~kHasSumSq) fail(path, "header", "unknown flags " + std::to_string(flags));
+    const bool hasSumSq = flags & kHasSumSq;
     if (w <= 0 || h <= 0 || w > (1 << 16) || h > (1 << 16))
         fail(path, "header", "invalid resolution " + std::to_string(w) + "x" + std::to_string(h));
     const size_t pixels = size_t(w) * size_t(h);
-    const size_t expected = header + pixels * (4 + 3 * 8) + 8;
+    const size_t expected = header + pixels * (4 + 3 * 8 * (hasSumSq ? 2 : 1)) + 8;
     if (bytes.size() != expected)
         fail(path, "",
              "truncated or padded: " + std::to_string(bytes.size()) + " bytes, expected " +
@@ -82,6 +90,10 @@ Film readCheckpoint(const std::string& path, uint64_t identity) {
     Film film(w, h);
     std::memcpy(film.count.data(), bytes.data() + header, pixels * 4);
     std::memcpy(film.sum.data(), bytes.data() + header + pixels * 4, pixels * 3 * 8);
+    if (hasSumSq) {
+        film.sumSq.resize(pixels * 3);
+        std::memcpy(film.sumSq.data(), bytes.data() + header + pixels * 28, pixels * 3 * 8);
+    }
     return film;
 }
 

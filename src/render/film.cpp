@@ -1,6 +1,7 @@
 #include "shvol/render/film.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace shvol {
 
@@ -9,6 +10,20 @@ Image Film::image() const {
     for (size_t i = 0; i < pixels(); ++i)
         for (int c = 0; c < 3; ++c)
             img.rgb[3 * i + c] = count[i] ? float(sum[3 * i + c] / count[i]) : 0.f;
+    return img;
+}
+
+Image Film::standardError() const {
+    Image img(width, height);
+    for (size_t i = 0; i < pixels(); ++i) {
+        const double n = count[i];
+        if (n < 2 || sumSq.empty()) continue;
+        for (int c = 0; c < 3; ++c) {
+            const double mean = sum[3 * i + c] / n;
+            const double var = std::max(0.0, sumSq[3 * i + c] / n - mean * mean) * n / (n - 1);
+            img.rgb[3 * i + c] = float(std::sqrt(var / n));
+        }
+    }
     return img;
 }
 

@@ -6,10 +6,10 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <chrono>
 
 #include "shvol/core/error.h"
-
 #include "shvol/core/progress.h"
 
 namespace shvol {
@@ -27,15 +27,42 @@ const char* renderStopName(RenderStop s) {
 
 namespace {
 
-/// Ends of the passes: 1, 2, 4, … (doubling) up to spp, without those the film already has.
-std::vector<uint32_t> passEnds(uint32_t spp, uint32_t have) {
+/// Ends of the passes: 1, 2, 4, … (doubling) up to spp, and the requested stops, without those
+/// the film already has.
+std::vector<uint32_t> passEnds(uint32_t spp, uint32_t have, const std::vector<uint32_t>& stops) {
     std::vector<uint32_t> ends;
     for (uint64_t e = 1;; e *= 2) {
         const uint32_t end = uint32_t(std::min<uint64_t>(e, spp));
         if (end > have) ends.push_back(end);
         if (end == spp) break;
     }
+    for (uint32_t stop : stops)
+        if (stop > have && stop < spp) ends.push_back(stop);
+    std::sort(ends.begin(), ends.end());
+    ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
     return ends;
+}
+
+/// What the integrator decided and built: the effects and the light sampler.
+void describeIntegrator(const VolumePathIntegrator& integrator, RenderStats& st) {
+    st.effects = integrator.effects().names();
+    const Effects& e = integrator.effects();
+    if (!e.nextEvent) return;
+    LightSamplingStats& ls = st.lightSampling;
+    ls.strategy = lightSamplingName(e.lightSampling);
+    ls.mis = misHeuristicName(e.mis);
+    ls.setupSeconds = integrator.setupSeconds();
+    if (const SkyHierarchy* sky = integrator.sky()) {
+        ls.skyResolution = sky->resolution();
+        ls.skyBytes = sky->memoryBytes();
+        ls.waveletKept = sky->keptDetails();
+        ls.waveletDetails = sky->detailCount();
+        ls.waveletL2Error = sky->relativeL2Error();
+    }
+    if (const ProductSampler* ps = integrator.product()) {
+        ls.productOrder = ps->order();
+        ls.productDepth = ps->productDepth();
+    }
 }
 
 }  // namespace
@@ -54,7 +81,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
                     " samples per pixel, more than the " + std::to_string(spp) + " asked for");
     const VolumePathIntegrator integrator(scene);
     RenderResult result;
-    result.stats.resumedFromSamples = film.minCount();
+    const uint32_t resumedFrom = film.minCount();
 
     constexpr int Tile = 16;
     const int tilesX = (cam.width + Tile - 1) / Tile, tilesY = (cam.height + Tile - 1) / Tile;
@@ -62,7 +89,12 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
     const int threads =
         options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
     tbb::enumerable_thread_specific<PathCounters> counters;
-    const std::vector<uint32_t> ends = passEnds(spp, film.minCount());
+    const std::vector<uint32_t> ends = passEnds(spp, film.minCount(), options.stops);
+    if (options.variance && film.sumSq.empty()) {
+        if (film.minCount() > 0)
+            throw Error("the film to continue has no variance (it was rendered without it)");
+        film.sumSq.assign(film.sum.size(), 0.0);
+    }
     Progress progress("render", (long long)ends.size() * tiles, options.progress);
     const auto start = std::chrono::steady_clock::now();
     std::atomic<bool> stopped{false};
@@ -83,6 +115,22 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
         return true;
     };
 
+    // The statistics so far (between passes, when no thread is working).
+    auto snapshot = [&] {
+        RenderStats st;
+        st.wallSeconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        st.threads = threads;
+        st.spp = s.spp;
+        st.seed = s.seed;
+        st.minSamples = film.minCount();
+        st.maxSamples = film.maxCount();
+        st.resumedFromSamples = resumedFrom;
+        for (const PathCounters& c : counters) st.counters.add(c);
+        describeIntegrator(integrator, st);
+        return st;
+    };
+
     tbb::task_arena arena(threads);
     for (const uint32_t end : ends) {
         arena.execute([&] {
@@ -95,15 +143,19 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
                             const uint64_t pixel = uint64_t(y) * cam.width + x;
                             uint32_t& n = film.count[pixel];
                             double* sum = &film.sum[3 * pixel];
+                            double* sq = film.sumSq.empty() ? nullptr : &film.sumSq[3 * pixel];
                             for (; n < end; ++n) {
                                 if (shouldStop()) return;
                                 Rng rng = Rng::forSample(s.seed, pixel, n);
                                 const Vec2 u = rng.uniform2();
                                 const Spectrum L =
                                     integrator.Li(cam.generateRay(x + u.x(), y + u.y()), rng, c);
-                                if (L.allFinite())
+                                if (L.allFinite()) {
                                     sum[0] += L[0], sum[1] += L[1], sum[2] += L[2];
-                                else
+                                    if (sq)
+                                        sq[0] += L[0] * L[0], sq[1] += L[1] * L[1],
+                                            sq[2] += L[2] * L[2];
+                                } else
                                     ++c.nonFiniteSamples;
                             }
                         }
@@ -112,41 +164,13 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
             });
         });
         if (stopped) break;
-        if (options.afterPass && end != spp) options.afterPass(film);
+        if (options.afterPass) options.afterPass(film, snapshot());
     }
     progress.done();
-    if (options.afterPass && !stopped) options.afterPass(film);
     result.image = film.image();
 
-    RenderStats& st = result.stats;
-    st.wallSeconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    st.threads = threads;
-    st.spp = s.spp;
-    st.stop = RenderStop(stopReason.load());
-    st.minSamples = film.minCount();
-    st.maxSamples = film.maxCount();
-    st.seed = s.seed;
-    for (const PathCounters& c : counters) st.counters.add(c);
-    st.effects = integrator.effects().names();
-    const Effects& e = integrator.effects();
-    if (e.nextEvent) {
-        LightSamplingStats& ls = st.lightSampling;
-        ls.strategy = lightSamplingName(e.lightSampling);
-        ls.mis = misHeuristicName(e.mis);
-        ls.setupSeconds = integrator.setupSeconds();
-        if (const SkyHierarchy* sky = integrator.sky()) {
-            ls.skyResolution = sky->resolution();
-            ls.skyBytes = sky->memoryBytes();
-            ls.waveletKept = sky->keptDetails();
-            ls.waveletDetails = sky->detailCount();
-            ls.waveletL2Error = sky->relativeL2Error();
-        }
-        if (const ProductSampler* ps = integrator.product()) {
-            ls.productOrder = ps->order();
-            ls.productDepth = ps->productDepth();
-        }
-    }
+    result.stats = snapshot();
+    result.stats.stop = RenderStop(stopReason.load());
     result.film = std::move(film);
     return result;
 }

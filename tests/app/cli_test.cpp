@@ -481,4 +481,31 @@ TEST_F(Cli, TimeLimitCheckpointAndResume) {
     EXPECT_FALSE(fs::exists(path("x.exr")));
 }
 
+// --spp 4,16 writes the 4-spp image on the way (identical to a separate 4-spp render) and
+// --variance the standard error of every pixel's mean beside each image.
+TEST_F(Cli, ProgressiveSppAndVariance) {
+    write("s.json", scene(Homogeneous));
+    const std::string s = "render " + path("s.json") + " --quiet ";
+    Result r = run(s + "-o " + path("p.exr") + " --spp 4,16 --variance");
+    ASSERT_EQ(r.code, 0) << r.err;
+    ASSERT_EQ(run(s + "-o " + path("four.exr") + " --spp 4").code, 0);
+    EXPECT_EQ(readExr(path("p.spp4.exr")).rgb, readExr(path("four.exr")).rgb);
+    std::ifstream f(path("p.spp4.stats.json"));
+    const auto stats = nlohmann::json::parse(f);
+    EXPECT_EQ(stats["samples_per_pixel_min"], 4);
+    EXPECT_EQ(stats["standard_error"], path("p.spp4.stderr.exr"));
+    const Image se4 = readExr(path("p.spp4.stderr.exr")), se16 = readExr(path("p.stderr.exr"));
+    double sum4 = 0, sum16 = 0;
+    for (size_t i = 0; i < se4.rgb.size(); ++i) sum4 += se4.rgb[i], sum16 += se16.rgb[i];
+    EXPECT_GT(sum16, 0);
+    EXPECT_LT(sum16, sum4);  // 4× the samples: about half the standard error
+    r = run(s + "-o " + path("x.exr") + " --spp 16,4");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("--spp: sample counts must increase, got 16,4"), std::string::npos)
+        << r.err;
+    r = run(s + "-o " + path("x.exr") + " --spp 0");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("--spp: "), std::string::npos) << r.err;
+}
+
 }  // namespace shvol

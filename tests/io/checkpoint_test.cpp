@@ -36,6 +36,12 @@ TEST(Checkpoint, RoundTripIsExact) {
     EXPECT_EQ(g.height, 2);
     EXPECT_EQ(g.count, f.count);
     EXPECT_EQ(g.sum, f.sum);  // bit-exact doubles
+    EXPECT_TRUE(g.sumSq.empty());
+    Film v = sampleFilm();  // with sums of squares (--variance)
+    v.sumSq.assign(v.sum.size(), 0.25);
+    v.sumSq[5] = 7.5;
+    writeCheckpoint(p, v, 42);
+    EXPECT_EQ(readCheckpoint(p, 42).sumSq, v.sumSq);
 }
 
 TEST(Checkpoint, DamagedOrForeignFilesAreRefused) {

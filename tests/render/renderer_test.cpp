@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <thread>
 
 #include "shvol/core/error.h"
@@ -87,16 +88,47 @@ TEST(Renderer, TimeLimitStopsTheRender) {
     EXPECT_STREQ(renderStopName(r.stats.stop), "time-limit");
 }
 
-// Checkpoint callbacks come between passes (1, 2, 4, … samples) and once at the end.
-TEST(Renderer, AfterPassSeesEveryPass) {
+// Callbacks come after every pass (1, 2, 4, … samples, and the requested stops) with the
+// statistics so far; the film at a stop is the film of a render with that many samples.
+TEST(Renderer, AfterPassSeesEveryPassAndStop) {
     std::vector<uint32_t> seen;
+    Film at3;
     RenderOptions opt;
-    opt.afterPass = [&](const Film& f) {
+    opt.stops = {3, 8};
+    opt.afterPass = [&](const Film& f, const RenderStats& st) {
         EXPECT_EQ(f.minCount(), f.maxCount());
+        EXPECT_EQ(st.minSamples, f.minCount());
+        EXPECT_EQ(st.counters.paths, uint64_t(f.minCount()) * f.pixels());
         seen.push_back(f.minCount());
+        if (f.minCount() == 3) at3 = f;
     };
     render(smallScene(11), opt);
-    EXPECT_EQ(seen, (std::vector<uint32_t>{1, 2, 4, 8, 11}));
+    EXPECT_EQ(seen, (std::vector<uint32_t>{1, 2, 3, 4, 8, 11}));
+    EXPECT_EQ(at3.sum, render(smallScene(3), RenderOptions{}).film.sum);
+}
+
+// The standard error of each pixel's mean from the sample moments agrees with the spread of
+// independent renders (different seeds) of the same pixel.
+TEST(Renderer, StandardErrorMatchesTheSpreadOfIndependentRenders) {
+    RenderOptions opt;
+    opt.variance = true;
+    Scene s = smallScene(64);
+    const RenderResult r = render(s, opt);
+    const Image se = r.film.standardError();
+    // Var over seeds of one pixel's mean, for the centre pixel, red channel.
+    const size_t px = size_t(4 * 12 + 6);
+    const int seeds = 200;
+    double m = 0, m2 = 0;
+    for (int k = 0; k < seeds; ++k) {
+        s.settings.seed = 100 + k;
+        const double v = render(s, RenderOptions{}).image.rgb[3 * px];
+        m += v, m2 += v * v;
+    }
+    m /= seeds;
+    const double spread = std::sqrt((m2 / seeds - m * m) * seeds / (seeds - 1));
+    // The estimate from 64 samples has a relative error of roughly 1/√(2·64) ≈ 9%; allow 40%.
+    EXPECT_NEAR(se.rgb[3 * px], spread, 0.4 * spread);
+    EXPECT_GT(spread, 0);
 }
 
 TEST(Renderer, RefusesAFilmThatDoesNotFit) {

@@ -4,8 +4,8 @@
 /// that render.
 ///
 /// Binary layout (little-endian, as the machines shvol runs on):
-///   "SHVOLCK1" | u64 identity | i32 width | i32 height | u32 count[w·h] | f64 sum[3·w·h] |
-///   u64 FNV-1a checksum of everything before it.
+///   "SHVOLCK1" | u64 identity | i32 width | i32 height | u32 flags | u32 count[w·h] |
+///   f64 sum[3·w·h] | (flags bit 0: f64 sumSq[3·w·h]) | u64 FNV-1a checksum of all before it.
 /// Files are written atomically (temporary + rename), so a kill during a write leaves the previous
 /// checkpoint intact.
 #include <cstdint>

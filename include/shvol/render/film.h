@@ -15,6 +15,7 @@ struct Film {
     int width = 0, height = 0;
     std::vector<double> sum;      ///< 3 per pixel
     std::vector<uint32_t> count;  ///< samples taken per pixel (dropped NaN/Inf samples count)
+    std::vector<double> sumSq;    ///< 3 per pixel, sums of squares; empty unless asked for
 
     Film() = default;
     Film(int w, int h)
@@ -22,6 +23,9 @@ struct Film {
     size_t pixels() const { return count.size(); }
     /// sum / count per pixel (0 where no sample was taken yet).
     Image image() const;
+    /// Standard error of each pixel's mean, √((Σx²/n − x̄²)/(n − 1)) per channel, from the
+    /// sample moments (0 for n < 2); needs sumSq.
+    Image standardError() const;
     uint32_t minCount() const;
     uint32_t maxCount() const;
 };

@@ -18,6 +18,8 @@
 
 namespace shvol {
 
+struct RenderStats;
+
 struct RenderOptions {
     int threads = 0;        ///< 0 = all cores
     bool progress = false;  ///< progress bar on stderr
@@ -25,9 +27,14 @@ struct RenderOptions {
     /// per thread and returns what it has.
     const std::atomic<bool>* cancel = nullptr;
     double timeLimitSeconds = 0;  ///< > 0: stop once the render has run this long
-    /// Called between passes and once more when the render completes (not when it stops early),
-    /// with the film so far (checkpoints).
-    std::function<void(const Film&)> afterPass;
+    /// Extra pass ends (samples per pixel below spp): after each the film is exactly the film of
+    /// a render with that many samples (progressive checkpoints, --spp 16,64,256).
+    std::vector<uint32_t> stops;
+    /// Accumulate per-pixel sums of squares too (Film::standardError).
+    bool variance = false;
+    /// Called after every completed pass, the last one included (not after a stop), with the
+    /// film and the statistics so far.
+    std::function<void(const Film&, const RenderStats&)> afterPass;
 };
 
 enum class RenderStop { Completed, Cancelled, TimeLimit };
