@@ -16,6 +16,7 @@
 #include "shvol/core/progress.h"
 #include "shvol/io/checkpoint.h"
 #include "shvol/io/exr.h"
+#include "shvol/io/provenance.h"
 #include "shvol/io/scene_loader.h"
 #include "shvol/render/renderer.h"
 #include "shvol/sampling/zonal_sh_sampler.h"
@@ -116,8 +117,11 @@ std::vector<std::string> phaseWarnings(const Scene& scene) {
     return w;
 }
 
+/// Everything the stats file says about one image; `provenance` (inputs, overrides, command line,
+/// machine) is merged in as it is.
 nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderStats& st,
-                         const std::string& out, const std::vector<std::string>& warnings) {
+                         const std::string& out, const std::vector<std::string>& warnings,
+                         const nlohmann::json& provenance) {
     const PathCounters& c = st.counters;
     nlohmann::json j;
     j["shvol_version"] = SHVOL_VERSION;
@@ -170,6 +174,7 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
         j["phase"].push_back(phaseJson(m->phase()));
     }
     j["warnings"] = warnings;
+    j.update(provenance);
     const ImageStatistics is = imageStatistics(image);
     auto rgb = [](const Spectrum& s) { return nlohmann::json{s[0], s[1], s[2]}; };
     j["image"] = {{"mean", rgb(is.mean)},
@@ -196,11 +201,12 @@ Outputs outputsFor(const std::string& out, const std::string& tag) {
 /// the images are in place: the EXRs are written (atomically) while the stats file is still a
 /// temporary.
 void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const RenderStats& st,
-                  const std::vector<std::string>& warnings, bool variance) {
+                  const std::vector<std::string>& warnings, const nlohmann::json& provenance,
+                  bool variance) {
     const Image image = film.image();
     writeAtomically(o.stats, [&](const std::string& tmp) {
         std::ofstream f(tmp);
-        nlohmann::json j = statsJson(scene, image, st, o.image, warnings);
+        nlohmann::json j = statsJson(scene, image, st, o.image, warnings, provenance);
         if (variance) j["standard_error"] = o.stderrImage;
         f << j.dump(2) << "\n";
         f.close();
@@ -252,6 +258,11 @@ int runRender(const RenderArgs& a) {
     for (const std::string& w : warnings)
         std::fprintf(stderr, "shvol: warning: %s: %s\n", a.scene.c_str(), w.c_str());
 
+    const nlohmann::json provenance = {{"inputs", inputFiles(a.scene, sets)},
+                                       {"overrides", a.sets},
+                                       {"command_line", commandLine()},
+                                       {"machine", machineDescription()}};
+
     if (a.resume && a.checkpoint.empty()) fail("", "--resume", "needs --checkpoint FILE");
     const uint64_t identity = a.checkpoint.empty() ? 0 : renderIdentity(a.scene, sets);
     Film film;
@@ -270,7 +281,7 @@ int runRender(const RenderArgs& a) {
         const uint32_t n = f.minCount();
         if (n < spp && std::find(opt.stops.begin(), opt.stops.end(), n) != opt.stops.end()) {
             const Outputs o = outputsFor(out, "spp" + std::to_string(n));
-            writeOutputs(o, scene, f, st, warnings, a.variance);
+            writeOutputs(o, scene, f, st, warnings, provenance, a.variance);
             if (!a.quiet) std::fprintf(stderr, "wrote %s (%u spp)\n", o.image.c_str(), n);
         }
         const auto now = std::chrono::steady_clock::now();
@@ -290,7 +301,7 @@ int runRender(const RenderArgs& a) {
     // A render that stopped early has no closing afterPass call: save where it stopped.
     if (!a.checkpoint.empty() && r.stats.stop != RenderStop::Completed)
         writeCheckpoint(a.checkpoint, r.film, identity);
-    writeOutputs(final, scene, r.film, r.stats, warnings, a.variance);
+    writeOutputs(final, scene, r.film, r.stats, warnings, provenance, a.variance);
     if (r.stats.stop != RenderStop::Completed)
         std::fprintf(stderr,
                      "shvol: %s: wrote the samples finished so far (%u to %u per pixel of %d)%s\n",

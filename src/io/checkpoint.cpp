@@ -6,6 +6,7 @@
 
 #include "shvol/core/atomic_file.h"
 #include "shvol/core/error.h"
+#include "shvol/core/hash.h"
 #include "shvol/io/json_reader.h"
 
 namespace shvol {
@@ -14,12 +15,6 @@ namespace {
 
 constexpr char kMagic[8] = {'S', 'H', 'V', 'O', 'L', 'C', 'K', '1'};
 constexpr uint32_t kHasSumSq = 1;  ///< flags: the film has sums of squares (--variance)
-
-uint64_t fnv1a(const void* data, size_t n, uint64_t h = 1469598103934665603ull) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
-    return h;
-}
 
 template <class T>
 void put(std::string& out, const T& v) {
