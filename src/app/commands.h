@@ -2,6 +2,8 @@
 // Subcommands of the shvol program; each registers its options on the CLI11 app.
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string>
+#include <vector>
 
 namespace shvol::app {
 
@@ -13,6 +15,21 @@ void addBenchCommand(CLI::App& app, std::function<int()>& run);
 void addPhaseCommand(CLI::App& app, std::function<int()>& run);
 void addDiffCommand(CLI::App& app, std::function<int()>& run);
 void addTonemapCommand(CLI::App& app, std::function<int()>& run);
+void addBatchCommand(CLI::App& app, std::function<int()>& run);
+
+/// What `shvol render` is asked to do (its options).
+struct RenderArgs {
+    std::string scene, output, checkpoint;
+    std::string spp;  ///< "" (the scene's), "N" or "N1,N2,…,N"
+    int threads = 0;
+    long long seed = -1;  ///< < 0: the scene's
+    double timeLimit = 0, checkpointInterval = 60;
+    std::vector<std::string> sets;
+    bool quiet = false, resume = false, variance = false;
+};
+/// Renders as `shvol render` does (images, stats, checkpoints); returns the exit code (130 when
+/// interrupted). Errors are shvol::Error.
+int runRender(const RenderArgs& a);
 
 /// Peak resident memory of this process in MiB.
 double peakMemoryMiB();

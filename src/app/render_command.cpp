@@ -34,15 +34,6 @@ namespace {
 /// A rendered SH fit looser than this (relative L2 error) is worth a warning.
 constexpr double kLooseFit = 0.1;
 
-struct RenderArgs {
-    std::string scene, output, checkpoint, spp;
-    int threads = 0;
-    long long seed = -1;
-    double timeLimit = 0, checkpointInterval = 60;
-    std::vector<std::string> sets;
-    bool quiet = false, resume = false, variance = false;
-};
-
 /// Set by SIGINT/SIGTERM; the render polls it. A second signal ends the process at once.
 std::atomic<bool> gInterrupted{false};
 static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler needs a lock-free flag");
@@ -232,6 +223,8 @@ std::vector<uint32_t> parseSppList(const std::string& text) {
     return list;
 }
 
+}  // namespace
+
 int runRender(const RenderArgs& a) {
     std::vector<std::string> sets = a.sets;
     const std::vector<uint32_t> sppList =
@@ -317,8 +310,6 @@ int runRender(const RenderArgs& a) {
                      r.stats.pathsPerSecond(), r.stats.threads);
     return interrupted ? 130 : 0;
 }
-
-}  // namespace
 
 void addRenderCommand(CLI::App& app, std::function<int()>& run) {
     auto args = std::make_shared<RenderArgs>();

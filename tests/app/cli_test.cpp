@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -123,14 +124,15 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
          "--repeats: must be an integer in [1, 1000], got 0"},
         {"make-medium cloud -o " + path("m.vdb") + " --resolution 2",
          "--resolution: must be an integer in [4, 1024], got 2"},
-        {"batch x.json", "unknown subcommand \"batch\"; expected one of render,"},
+        {"frobnicate x.json", "unknown subcommand \"frobnicate\"; expected one of render,"},
+        {"batch " + path("none.json"), path("none.json") + ": cannot open file"},
         {"render " + path("s.json") + " -o " + path("m.png"),
          "render writes OpenEXR; name the output .exr"},
         {"make-medium cloud -o " + path("m.vdb") + " --coverage -2",
          "--coverage: must be in [-1, 1], got -2"},
         {"make-medium cloud -o " + path("m.vdb") + " --resolution 16 --coverage -1",
          "the grid would be empty"},
-        {"batch --help", "unknown subcommand \"batch\""},
+        {"frobnicate --help", "unknown subcommand \"frobnicate\""},
     };
     for (const Case& c : cases) {
         const Result r = run(c.args);
@@ -506,6 +508,62 @@ TEST_F(Cli, ProgressiveSppAndVariance) {
     r = run(s + "-o " + path("x.exr") + " --spp 0");
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("--spp: "), std::string::npos) << r.err;
+}
+
+// shvol batch: killed with SIGKILL in the middle and started again, it finishes the remaining
+// runs, loses no finished row and duplicates none; the metrics equal an uninterrupted batch's.
+// A sweep changed under finished runs is refused.
+TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
+    write("s.json", scene(Homogeneous));
+    const std::string sweep = R"({"scene": "s.json", "axes": {"spp": [6000, 9000, 12000]},
+        "repeats": 3, "reference": {"spp": 20000}, "metrics": ["rmse", "bias"]})";
+    write("sweep.json", sweep);
+    Result r = run("batch " + path("sweep.json") + " --quiet --output " + path("clean"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    r = run("batch " + path("sweep.json") + " --quiet --output " + path("killed") +
+            " & p=$!; sleep 0.6; kill -9 $p; wait $p");
+    EXPECT_EQ(r.code, 137);  // killed: 128 + 9
+    {  // killed before the end (about 1.3 s uninterrupted): some runs are left to do
+        std::ifstream f(path("killed/results.jsonl"));
+        int n = 0;
+        for (std::string line; std::getline(f, line);) ++n;
+        EXPECT_LT(n, 9);
+    }
+    r = run("batch " + path("sweep.json") + " --quiet --output " + path("killed"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    auto rows = [&](const std::string& dir) {
+        std::ifstream f(path(dir + "/results.jsonl"));
+        std::map<std::string, nlohmann::json> m;
+        int n = 0;
+        for (std::string line; std::getline(f, line); ++n) {
+            const auto j = nlohmann::json::parse(line);
+            m[j["run"]] = j;
+        }
+        EXPECT_EQ(size_t(n), m.size()) << dir << ": duplicated rows";
+        return m;
+    };
+    const auto clean = rows("clean"), killed = rows("killed");
+    ASSERT_EQ(clean.size(), 9u);
+    ASSERT_EQ(killed.size(), 9u);
+    for (const auto& [id, row] : clean) {
+        EXPECT_EQ(killed.at(id)["rmse"], row["rmse"]) << id;
+        EXPECT_EQ(killed.at(id)["seed"], row["seed"]) << id;
+    }
+    EXPECT_NE(clean.at("r0000")["seed"], clean.at("r0001")["seed"]);  // repeats differ
+    // The same sweep again: nothing to do.
+    r = run("batch " + path("sweep.json") + " --output " + path("clean"));
+    EXPECT_EQ(r.code, 0);
+    EXPECT_NE(r.err.find("9 of 9 runs already finished"), std::string::npos) << r.err;
+    // Changing what a finished run renders is refused.
+    std::string changed = sweep;
+    changed.replace(changed.find("9000"), 4, "9500");
+    write("sweep.json", changed);
+    r = run("batch " + path("sweep.json") + " --quiet --output " + path("clean"));
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("results.jsonl: run r0003: finished with other settings"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(run("batch " + path("sweep.json") + " --dry-run").out.substr(0, 10), "reference ");
 }
 
 }  // namespace shvol

@@ -1,0 +1,48 @@
+#pragma once
+/// \file Sweep files for `shvol batch`: a base scene, axes of values, repeats, a reference and
+/// metrics, expanded into a list of runs. The format is in README.md, "Batch experiments":
+///   {"scene": "scene.json", "set": ["camera.resolution=[150,100]"],
+///    "axes": {"media[0].phase.order": [4, 8, 16], "spp": [16, 64]}, "combine": "grid",
+///    "repeats": 2, "seed": 1,
+///    "reference": {"file": "ref.exr"}  or  {"spp": 4096, "seed": 1000000, "set": [...]},
+///    "metrics": ["rmse", "relmse", "mae", "bias", "ztest"], "output": "out/dir"}
+/// Axes combine as a grid (every combination, the first axis slowest) or zipped (equal lengths,
+/// taken together). An axis key is a scene key path as for --set, or "spp" or "seed". Each
+/// repeat has its own seed (seed + repeat index) unless "seed" is an axis.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "shvol/io/json_reader.h"
+
+namespace shvol {
+
+struct SweepRun {
+    int index = 0;
+    std::string id;                 ///< "r0007"
+    Json values;                    ///< {axis key: value, …, "repeat": k}
+    std::vector<std::string> sets;  ///< --set assignments: base, axes, render.seed, render.spp
+    /// FNV-1a of the scene document after `sets` (spp included): a finished run whose
+    /// fingerprint changed would be a different render.
+    std::string fingerprint;
+};
+
+struct SweepReference {
+    std::string file;               ///< an EXR, or where the rendered reference is cached
+    std::vector<std::string> sets;  ///< non-empty: render it (base sets + these + spp/seed)
+    bool render = false;
+};
+
+struct Sweep {
+    std::string path, scene, output;
+    std::vector<std::string> axes;  ///< axis keys in order (the ledger's columns)
+    std::vector<SweepRun> runs;
+    std::optional<SweepReference> reference;
+    std::vector<std::string> metrics;  ///< rmse, relmse, mae, bias, ztest
+};
+
+/// Reads and expands a sweep file; errors are one line naming the file and the key. Relative
+/// "scene", "output" and reference "file" paths are relative to the sweep file.
+Sweep readSweep(const std::string& path);
+
+}  // namespace shvol

@@ -1,0 +1,168 @@
+#include "shvol/io/sweep.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "shvol/core/error.h"
+#include "shvol/core/hash.h"
+
+namespace shvol {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<std::string> stringList(JsonReader& r, const std::string& key) {
+    std::vector<std::string> out;
+    if (!r.has(key)) return out;
+    const Json& j = r.raw(key);
+    if (!j.is_array()) r.error(key, "expected an array of \"key.path=value\" strings");
+    for (size_t i = 0; i < j.size(); ++i) {
+        if (!j[i].is_string() || j[i].get<std::string>().find('=') == std::string::npos)
+            r.error(key + "[" + std::to_string(i) + "]", "expected a \"key.path=value\" string");
+        out.push_back(j[i].get<std::string>());
+    }
+    return out;
+}
+
+std::string relativeTo(const std::string& sweepFile, const std::string& p) {
+    if (p.empty() || fs::path(p).is_absolute()) return p;
+    return (fs::path(sweepFile).parent_path() / p).lexically_normal().string();
+}
+
+/// "key=value" with the value as JSON text (strings quoted, so they stay strings).
+std::string assignment(const std::string& key, const Json& v) {
+    return key + "=" + v.dump();
+}
+
+std::string fingerprint(const std::string& scene, const std::vector<std::string>& sets) {
+    Json doc = parseJsonFile(scene);
+    for (const std::string& s : sets) applyOverride(doc, s, scene);
+    const std::string text = doc.dump();
+    return hexHash(fnv1a(text.data(), text.size()));
+}
+
+}  // namespace
+
+Sweep readSweep(const std::string& path) {
+    const Json doc = parseJsonFile(path);
+    JsonReader r(doc, path, "");
+    Sweep s;
+    s.path = path;
+    s.scene = relativeTo(path, r.string("scene"));
+    if (!fs::is_regular_file(s.scene)) r.error("scene", "no such file: " + s.scene);
+    const std::vector<std::string> base = stringList(r, "set");
+    s.output = relativeTo(path, r.string("output", fs::path(path).stem().string() + "_results"));
+    const bool zip = r.choice("combine", "grid", {"grid", "zip"}) == "zip";
+    const int repeats = r.integer("repeats", 1, 1, 1000000);
+    const double seed0 = r.number("seed", 1, 0, 9007199254740992.0);
+
+    // Axes, in the order the file gives them (Json sorts keys; ordered_json keeps them).
+    std::vector<Json> values;
+    if (r.has("axes")) {
+        const Json& axes = r.raw("axes");
+        if (!axes.is_object() || axes.empty())
+            r.error("axes", "expected an object {\"key.path\": [values], …}");
+        std::ifstream f(path);
+        const auto ordered = nlohmann::ordered_json::parse(f)["axes"];
+        for (auto it = ordered.begin(); it != ordered.end(); ++it) {
+            const Json& v = axes[it.key()];
+            if (!v.is_array() || v.empty())
+                fail(path, "axes." + it.key(), "expected a non-empty array of values");
+            s.axes.push_back(it.key());
+            values.push_back(v);
+        }
+    }
+    for (size_t a = 0; a < s.axes.size(); ++a) {
+        const std::string& k = s.axes[a];
+        if (k == "seed" && repeats > 1)
+            fail(path, "axes.seed", "give either a seed axis or repeats, not both");
+        for (const Json& v : values[a])
+            if ((k == "spp" || k == "seed") &&
+                !(v.is_number_integer() && v.get<long long>() >= (k == "spp" ? 1 : 0)))
+                fail(path, "axes." + k, "expected non-negative integers (spp ≥ 1)");
+        if (zip && values[a].size() != values[0].size())
+            fail(path, "axes." + k,
+                 "zipped axes need equal lengths (" + std::to_string(values[a].size()) + " vs " +
+                     std::to_string(values[0].size()) + ")");
+    }
+
+    // Points: grid (first axis slowest) or zip.
+    std::vector<std::vector<size_t>> points;
+    if (s.axes.empty()) {
+        points.push_back({});
+    } else if (zip) {
+        for (size_t i = 0; i < values[0].size(); ++i)
+            points.push_back(std::vector<size_t>(s.axes.size(), i));
+    } else {
+        std::vector<size_t> idx(s.axes.size(), 0);
+        while (true) {
+            points.push_back(idx);
+            int a = int(idx.size()) - 1;
+            while (a >= 0 && ++idx[a] == values[a].size()) idx[a--] = 0;
+            if (a < 0) break;
+        }
+    }
+    for (const auto& p : points)
+        for (int k = 0; k < repeats; ++k) {
+            SweepRun run;
+            run.index = int(s.runs.size());
+            char id[16];
+            std::snprintf(id, sizeof id, "r%04d", run.index);
+            run.id = id;
+            run.sets = base;
+            bool seedAxis = false;
+            for (size_t a = 0; a < s.axes.size(); ++a) {
+                const std::string& key = s.axes[a];
+                const Json& v = values[a][p[a]];
+                run.values[key] = v;
+                run.sets.push_back(
+                    assignment(key == "spp" || key == "seed" ? "render." + key : key, v));
+                seedAxis = seedAxis || key == "seed";
+            }
+            run.values["repeat"] = k;
+            if (!seedAxis)
+                run.sets.push_back("render.seed=" + std::to_string((long long)seed0 + k));
+            run.fingerprint = fingerprint(s.scene, run.sets);
+            s.runs.push_back(run);
+        }
+
+    if (r.has("reference")) {
+        JsonReader ref = r.object("reference");
+        SweepReference sr;
+        if (ref.has("file") && !(ref.has("spp") || ref.has("set") || ref.has("seed"))) {
+            sr.file = relativeTo(path, ref.string("file"));
+        } else {
+            sr.render = true;
+            sr.sets = base;
+            for (const std::string& a : stringList(ref, "set")) sr.sets.push_back(a);
+            sr.sets.push_back("render.spp=" + std::to_string(ref.integer("spp", 4096, 1, 1 << 24)));
+            // A seed no run uses by default, so the reference's noise is independent.
+            sr.sets.push_back("render.seed=" + std::to_string((long long)ref.number(
+                                                   "seed", 1e9, 0, 9007199254740992.0)));
+            sr.file = (fs::path(s.output) / "reference.exr").string();
+        }
+        ref.finish();
+        s.reference = sr;
+    }
+    const std::vector<std::string> known = {"rmse", "relmse", "mae", "bias", "ztest"};
+    if (r.has("metrics")) {
+        const Json& m = r.raw("metrics");
+        if (!m.is_array()) r.error("metrics", "expected an array such as [\"rmse\", \"bias\"]");
+        for (const Json& v : m) {
+            if (!v.is_string() ||
+                std::find(known.begin(), known.end(), v.get<std::string>()) == known.end())
+                r.error("metrics", "unknown metric " + v.dump() +
+                                       "; expected rmse, relmse, mae, bias or ztest");
+            s.metrics.push_back(v.get<std::string>());
+        }
+    } else if (s.reference) {
+        s.metrics = {"rmse", "relmse", "mae", "bias"};
+    }
+    if (!s.metrics.empty() && !s.reference) r.error("metrics", "metrics need a \"reference\"");
+    r.finish();
+    return s;
+}
+
+}  // namespace shvol

@@ -1,0 +1,54 @@
+#include "shvol/core/image_metrics.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "shvol/core/error.h"
+#include "shvol/core/rng.h"
+
+namespace shvol {
+
+// Hand-computed: two pixels, errors (1, −1, 0.5) and (0, 2, −0.5) against r = (1, 0, 2), (0, 1, 1).
+TEST(ImageMetrics, HandComputedValues) {
+    Image r(2, 1), x(2, 1);
+    r.set(0, 0, Spectrum(1, 0, 2)), r.set(1, 0, Spectrum(0, 1, 1));
+    x.set(0, 0, Spectrum(2, -1, 2.5)), x.set(1, 0, Spectrum(0, 3, 0.5));
+    const ImageMetrics m = imageMetrics(x, r);
+    EXPECT_EQ(m.values, 6);
+    EXPECT_DOUBLE_EQ(m.rmse, std::sqrt((1 + 1 + 0.25 + 0 + 4 + 0.25) / 6));
+    EXPECT_DOUBLE_EQ(m.mae, (1 + 1 + 0.5 + 0 + 2 + 0.5) / 6);
+    EXPECT_DOUBLE_EQ(m.bias, 2.0 / 6);
+    EXPECT_NEAR(m.relMse, (1 / 1.01 + 1 / 0.01 + 0.25 / 4.01 + 0 + 4 / 1.01 + 0.25 / 1.01) / 6,
+                1e-12);
+    const double mean = 2.0 / 6, ss = 1 + 1 + 0.25 + 0 + 4 + 0.25 - 6 * mean * mean;
+    EXPECT_NEAR(m.biasHalfWidth95, 1.96 * std::sqrt(ss / 5 / 6), 1e-12);
+    EXPECT_THROW(imageMetrics(Image(3, 1), r), Error);
+}
+
+// The z-test passes an unbiased noisy image with the right standard errors, and fails one
+// shifted by 10 standard errors in a single pixel.
+TEST(ImageMetrics, ZTest) {
+    Image r(32, 32), x(32, 32), se(32, 32), zero(32, 32);
+    Rng rng(3, 4);
+    for (int y = 0; y < 32; ++y)
+        for (int i = 0; i < 32; ++i) {
+            r.set(i, y, Spectrum::Constant(1));
+            se.set(i, y, Spectrum::Constant(0.1));
+            // Box–Muller normal deviates
+            Spectrum v;
+            for (int c = 0; c < 3; ++c) {
+                const Vec2 u = rng.uniform2();
+                v[c] = 1 + 0.1 * std::sqrt(-2 * std::log(1 - u.x())) * std::cos(TwoPi * u.y());
+            }
+            x.set(i, y, v);
+        }
+    ZTest t = zTest(x, se, r, zero);
+    EXPECT_TRUE(t.passed) << t.minP << " < " << t.threshold;
+    EXPECT_EQ(t.tested, 32 * 32 * 3);
+    x.set(5, 5, Spectrum(2, 1, 1));
+    t = zTest(x, se, r, zero);
+    EXPECT_FALSE(t.passed);
+}
+
+}  // namespace shvol

@@ -1,0 +1,82 @@
+#include "shvol/io/sweep.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "test_util.h"
+
+namespace shvol {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Writes a scene and a sweep into a fresh directory; returns the sweep's path.
+std::string writeSweep(const std::string& name, const std::string& sweep) {
+    const fs::path dir = fs::path(testing::TempDir()) / ("shvol_sweep_" + name);
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    std::ofstream(dir / "scene.json") << R"({"render": {"spp": 4}})";
+    std::ofstream(dir / "sweep.json") << sweep;
+    return (dir / "sweep.json").string();
+}
+
+}  // namespace
+
+TEST(Sweep, GridExpandsFirstAxisSlowestWithRepeats) {
+    const Sweep s =
+        readSweep(writeSweep("grid", R"({"scene": "scene.json", "set": ["camera.fov=20"],
+        "axes": {"media": [[], [{"type": "homogeneous"}]], "spp": [1, 2, 3]}, "repeats": 2,
+        "seed": 5})"));
+    ASSERT_EQ(s.runs.size(), 2u * 3u * 2u);
+    EXPECT_EQ(s.axes, (std::vector<std::string>{"media", "spp"}));
+    EXPECT_EQ(s.runs[0].values["spp"], 1);
+    EXPECT_EQ(s.runs[1].values["repeat"], 1);
+    EXPECT_EQ(s.runs[2].values["spp"], 2);
+    EXPECT_EQ(s.runs[6].values["media"].size(), 1u);
+    EXPECT_EQ(s.runs[3].id, "r0003");
+    EXPECT_EQ(s.runs[0].sets, (std::vector<std::string>{"camera.fov=20", "media=[]", "render.spp=1",
+                                                        "render.seed=5"}));
+    EXPECT_EQ(s.runs[1].sets.back(), "render.seed=6");  // each repeat its own seed
+    EXPECT_NE(s.runs[0].fingerprint, s.runs[1].fingerprint);
+    EXPECT_EQ(fs::path(s.scene).filename(), "scene.json");
+    EXPECT_EQ(fs::path(s.output).filename(), "sweep_results");
+    EXPECT_FALSE(s.reference.has_value());
+}
+
+TEST(Sweep, ZipAndReference) {
+    const Sweep s = readSweep(writeSweep("zip", R"({"scene": "scene.json", "combine": "zip",
+        "axes": {"spp": [1, 2], "seed": [7, 8]}, "reference": {"spp": 64, "set": ["camera.fov=10"]},
+        "output": "out"})"));
+    ASSERT_EQ(s.runs.size(), 2u);
+    EXPECT_EQ(s.runs[1].sets, (std::vector<std::string>{"render.spp=2", "render.seed=8"}));
+    ASSERT_TRUE(s.reference && s.reference->render);
+    EXPECT_EQ(s.reference->sets, (std::vector<std::string>{"camera.fov=10", "render.spp=64",
+                                                           "render.seed=1000000000"}));
+    EXPECT_EQ(fs::path(s.reference->file).filename(), "reference.exr");
+    EXPECT_EQ(s.metrics, (std::vector<std::string>{"rmse", "relmse", "mae", "bias"}));
+}
+
+TEST(Sweep, ErrorsNameFileAndKey) {
+    auto err = [](const std::string& name, const std::string& body) {
+        const std::string p = writeSweep(name, body);
+        std::string m = test::messageOf([&] { readSweep(p); });
+        return m.substr(m.find("sweep.json") + 10);
+    };
+    EXPECT_EQ(err("e1", R"({"scene": "nope.json"})").substr(0, 18), ": scene: no such f");
+    EXPECT_EQ(
+        err("e2",
+            R"({"scene": "scene.json", "combine": "zip", "axes": {"spp": [1], "seed": [1, 2]}})"),
+        ": axes.seed: zipped axes need equal lengths (2 vs 1)");
+    EXPECT_EQ(err("e3", R"({"scene": "scene.json", "axes": {"spp": [0]}})"),
+              ": axes.spp: expected non-negative integers (spp ≥ 1)");
+    EXPECT_EQ(err("e4", R"({"scene": "scene.json", "metrics": ["rmse"]})"),
+              ": metrics: metrics need a \"reference\"");
+    EXPECT_EQ(err("e5", R"({"scene": "scene.json", "axes": {"seed": [1]}, "repeats": 2})"),
+              ": axes.seed: give either a seed axis or repeats, not both");
+    EXPECT_EQ(err("e6", R"({"scene": "scene.json", "axis": {}})"), ": axis: unknown key");
+}
+
+}  // namespace shvol
