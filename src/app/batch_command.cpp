@@ -23,7 +23,7 @@ namespace fs = std::filesystem;
 struct BatchArgs {
     std::string sweep, output;
     int threads = 0;
-    bool dryRun = false, quiet = false;
+    bool dryRun = false, quiet = false, report = false;
 };
 
 std::string describe(const SweepRun& run) {
@@ -166,7 +166,7 @@ int runBatch(BatchArgs a) {
     if (!a.quiet)
         std::fprintf(stderr, "batch: %zu runs in %s and %s\n", ledger.rows().size(),
                      ledger.jsonlPath().c_str(), ledger.csvPath().c_str());
-    return 0;
+    return a.report ? runReport(s.output) : 0;
 }
 
 }  // namespace
@@ -183,6 +183,7 @@ void addBatchCommand(CLI::App& app, std::function<int()>& run) {
         ->check(integerIn(0, 4096));
     c->add_flag("--dry-run", a->dryRun, "Print one line per run and do nothing");
     c->add_flag("--quiet", a->quiet, "No progress");
+    c->add_flag("--report", a->report, "Then write the report (as shvol report DIR)");
     c->callback([&run, a] { run = [a] { return runBatch(*a); }; });
 }
 

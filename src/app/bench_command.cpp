@@ -42,21 +42,15 @@ Row measure(const BenchArgs& a, const std::string& name, bool grid, int threads)
     std::fprintf(stderr, "  %-28s %12.0f paths/s\n", name.c_str(), best);
     return {name, best, lookups};
 }
-/// media/default.json in the current directory, else beside the program's source tree (the
-/// program is build/shvol in a checkout, so ../media/default.json from its directory).
+/// media/default.json in the current directory, else in the program's source tree.
 std::string defaultBenchScene() {
-    namespace fs = std::filesystem;
-    const fs::path here = "media/default.json";
-    if (fs::exists(here)) return here.string();
-    std::error_code ec;
-    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    if (!ec) {
-        const fs::path beside = exe.parent_path().parent_path() / "media" / "default.json";
-        if (fs::exists(beside)) return beside.string();
-    }
-    fail("media/default.json", "",
-         "no scene given, and the default scene is neither in the current directory nor in the "
-         "source tree of this program; give a scene file");
+    if (std::filesystem::exists("media/default.json")) return "media/default.json";
+    const std::string p = sourceTreePath("media/default.json");
+    if (p.empty())
+        fail("media/default.json", "",
+             "no scene given, and the default scene is neither in the current directory nor in "
+             "the source tree of this program; give a scene file");
+    return p;
 }
 }  // namespace
 

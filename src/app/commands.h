@@ -16,6 +16,7 @@ void addPhaseCommand(CLI::App& app, std::function<int()>& run);
 void addDiffCommand(CLI::App& app, std::function<int()>& run);
 void addTonemapCommand(CLI::App& app, std::function<int()>& run);
 void addBatchCommand(CLI::App& app, std::function<int()>& run);
+void addReportCommand(CLI::App& app, std::function<int()>& run);
 
 /// What `shvol render` is asked to do (its options).
 struct RenderArgs {
@@ -30,6 +31,14 @@ struct RenderArgs {
 /// Renders as `shvol render` does (images, stats, checkpoints); returns the exit code (130 when
 /// interrupted). Errors are shvol::Error.
 int runRender(const RenderArgs& a);
+
+/// `relative` in the source tree this program was built from (the program is build/shvol in a
+/// checkout, so ../relative from its directory), or "" if it is not there.
+std::string sourceTreePath(const std::string& relative);
+
+/// Writes DIR/report.md and DIR/report.html with plots from DIR/results.jsonl (tools/report.py
+/// run by /usr/bin/python3); returns its exit code.
+int runReport(const std::string& dir);
 
 /// Peak resident memory of this process in MiB.
 double peakMemoryMiB();

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
     shvol::app::addDiffCommand(app, run);
     shvol::app::addTonemapCommand(app, run);
     shvol::app::addBatchCommand(app, run);
+    shvol::app::addReportCommand(app, run);
     // An unknown first word is a wrong subcommand, not a missing one (CLI11 would say "A
     // subcommand is required", and print the main help with exit 0 for `shvol typo --help`).
     if (argc >= 2 && argv[1][0] != '-') {

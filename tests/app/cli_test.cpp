@@ -566,4 +566,22 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
     EXPECT_EQ(run("batch " + path("sweep.json") + " --dry-run").out.substr(0, 10), "reference ");
 }
 
+// batch --report: the report has the plots and one table row per (configuration, spp).
+TEST_F(Cli, BatchReport) {
+    write("s.json", scene(Homogeneous));
+    write("sweep.json", R"({"scene": "s.json", "axes": {"media[0].albedo": [0.8, 0.5],
+        "spp": [8, 32]}, "repeats": 2, "reference": {"spp": 512}})");
+    const Result r = run("batch " + path("sweep.json") + " --quiet --report --output " + path("o"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    for (const char* f : {"report.md", "report.html", "error_vs_time.png", "error_vs_spp.png",
+                          "time_vs_media_0__albedo.png", "time_vs_spp.png"})
+        EXPECT_TRUE(fs::exists(path(std::string("o/") + f))) << f;
+    std::ifstream md(path("o/report.md"));
+    int rows = 0;
+    for (std::string line; std::getline(md, line);)
+        rows += line.rfind("| media[0].albedo=", 0) == 0;
+    EXPECT_EQ(rows, 4);
+    EXPECT_EQ(run("report " + path("nothing")).code, 1);
+}
+
 }  // namespace shvol

@@ -1,0 +1,44 @@
+// shvol report DIR: plots and tables of a batch's ledger, made by tools/report.py.
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "commands.h"
+#include "shvol/core/error.h"
+
+namespace shvol::app {
+
+namespace {
+
+std::string shellQuote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+}  // namespace
+
+int runReport(const std::string& dir) {
+    namespace fs = std::filesystem;
+    if (!fs::exists(fs::path(dir) / "results.jsonl"))
+        fail(dir, "", "no results.jsonl here: not the output directory of shvol batch");
+    const std::string script = sourceTreePath("tools/report.py");
+    if (script.empty())
+        fail("tools/report.py", "", "not found in the source tree of this shvol program");
+    if (!fs::exists("/usr/bin/python3"))
+        fail("/usr/bin/python3", "", "not installed (apt-get install python3-matplotlib)");
+    const int status =
+        std::system(("/usr/bin/python3 " + shellQuote(script) + " " + shellQuote(dir)).c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+}
+
+void addReportCommand(CLI::App& app, std::function<int()>& run) {
+    auto dir = std::make_shared<std::string>();
+    CLI::App* c = app.add_subcommand(
+        "report", "Plots and tables (report.md, report.html) of a batch's output directory");
+    c->add_option("dir", *dir, "Output directory of shvol batch (with results.jsonl)")->required();
+    c->callback([&run, dir] { run = [dir] { return runReport(*dir); }; });
+}
+
+}  // namespace shvol::app

@@ -1,0 +1,196 @@
+#!/usr/bin/python3
+"""shvol report: plots and tables of a batch's ledger (DIR/results.jsonl).
+
+Usage: report.py DIR   (shvol report DIR runs this with Debian's /usr/bin/python3)
+
+Writes DIR/report.md and DIR/report.html with:
+  - error vs time per configuration, log-log, the Pareto front over all points marked;
+  - error vs spp per configuration, log-log, with a 1/sqrt(spp) slope for scale;
+  - wall time vs each axis;
+  - a table: per configuration and spp, the mean error over repeats +- its standard deviation,
+    the mean time, and the efficiency 1/(MSE x time) when RMSE is known.
+A configuration is one combination of the sweep's axis values other than spp (repeats pooled).
+"""
+import html
+import json
+import math
+import os
+import sys
+
+try:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+except ImportError:
+    sys.exit("report.py: needs matplotlib for /usr/bin/python3: apt-get install python3-matplotlib "
+             "(./setup.sh installs it)")
+
+META = {"run", "seed", "spp", "repeat", "wall_time_s", "paths_per_second", "image", "fingerprint",
+        "rmse", "relmse", "mae", "bias", "bias_ci95", "ztest_min_p", "ztest_threshold",
+        "ztest_passed"}
+ERRORS = ["rmse", "relmse", "mae"]
+
+
+def load(directory):
+    path = os.path.join(directory, "results.jsonl")
+    rows = []
+    with open(path) as f:
+        for n, line in enumerate(f, 1):
+            if line.strip():
+                try:
+                    rows.append(json.loads(line))
+                except json.JSONDecodeError:
+                    sys.exit(f"{path}: line {n}: malformed JSON row")
+    if not rows:
+        sys.exit(f"{path}: no finished runs to report")
+    return rows
+
+
+def label(row, axes):
+    parts = []
+    for a in axes:
+        v = row.get(a)
+        parts.append(f"{a}={json.dumps(v, separators=(',', ':'))}")
+    return ", ".join(parts) if parts else "(all runs)"
+
+
+def mean_sd(xs):
+    m = sum(xs) / len(xs)
+    sd = math.sqrt(sum((x - m) ** 2 for x in xs) / (len(xs) - 1)) if len(xs) > 1 else 0.0
+    return m, sd
+
+
+def pareto(points):
+    """Indices of the points no other point beats in both time and error."""
+    order = sorted(range(len(points)), key=lambda i: (points[i][0], points[i][1]))
+    front, best = [], math.inf
+    for i in order:
+        if points[i][1] < best:
+            front.append(i)
+            best = points[i][1]
+    return front
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit("usage: report.py DIR")
+    directory = sys.argv[1]
+    rows = load(directory)
+    axes = [k for k in rows[0] if k not in META]
+    for r in rows[1:]:
+        axes += [k for k in r if k not in META and k not in axes]
+    error = next((e for e in ERRORS if all(e in r for r in rows)), None)
+
+    # groups[(config, spp)] -> rows (the repeats)
+    groups = {}
+    for r in rows:
+        groups.setdefault((label(r, axes), r.get("spp")), []).append(r)
+    configs = sorted({c for c, _ in groups})
+    summary = []  # (config, spp, n, err mean, err sd, time mean, efficiency)
+    for (c, spp), rs in sorted(groups.items(), key=lambda kv: (configs.index(kv[0][0]), kv[0][1])):
+        t, _ = mean_sd([r["wall_time_s"] for r in rs])
+        if error:
+            e, sd = mean_sd([r[error] for r in rs])
+        else:
+            e, sd = math.nan, math.nan
+        eff = 1 / (e * e * t) if error == "rmse" and e > 0 and t > 0 else math.nan
+        summary.append((c, spp, len(rs), e, sd, t, eff))
+
+    figures = []
+    if error:
+        fig, ax = plt.subplots(figsize=(7, 5))
+        pts = [(s[5], s[3]) for s in summary]
+        for c in configs:
+            xs = [s[5] for s in summary if s[0] == c]
+            ys = [s[3] for s in summary if s[0] == c]
+            ax.plot(xs, ys, "o-", label=c)
+        front = pareto(pts)
+        ax.plot([pts[i][0] for i in front], [pts[i][1] for i in front], "k--", lw=1,
+                label="Pareto front")
+        ax.scatter([pts[i][0] for i in front], [pts[i][1] for i in front], s=90,
+                   facecolors="none", edgecolors="k")
+        ax.set_xscale("log"), ax.set_yscale("log")
+        ax.set_xlabel("wall time per render (s)"), ax.set_ylabel(error)
+        ax.set_title(f"{error} vs time (mean over repeats)")
+        ax.legend(fontsize=7), ax.grid(True, which="both", alpha=0.3)
+        fig.tight_layout()
+        fig.savefig(os.path.join(directory, "error_vs_time.png"), dpi=110)
+        figures.append(("error_vs_time.png", f"{error} vs time; circled: the Pareto front"))
+
+        fig, ax = plt.subplots(figsize=(7, 5))
+        for c in configs:
+            ss = [s for s in summary if s[0] == c and s[1]]
+            ax.errorbar([s[1] for s in ss], [s[3] for s in ss], yerr=[s[4] for s in ss],
+                        fmt="o-", capsize=3, label=c)
+        spps = sorted({s[1] for s in summary if s[1]})
+        if len(spps) > 1:
+            e0 = min(s[3] for s in summary if s[1] == spps[0])
+            ax.plot(spps, [e0 * math.sqrt(spps[0] / n) for n in spps], "k:", label="∝ 1/√spp")
+        ax.set_xscale("log"), ax.set_yscale("log")
+        ax.set_xlabel("samples per pixel"), ax.set_ylabel(error)
+        ax.legend(fontsize=7), ax.grid(True, which="both", alpha=0.3)
+        fig.tight_layout()
+        fig.savefig(os.path.join(directory, "error_vs_spp.png"), dpi=110)
+        figures.append(("error_vs_spp.png", f"{error} vs spp (bars: standard deviation over "
+                                            "repeats)"))
+
+    for a in axes + ["spp"]:
+        vals = {}
+        for r in rows:
+            vals.setdefault(json.dumps(r.get(a), separators=(",", ":")), []).append(
+                r["wall_time_s"])
+        keys = list(vals)
+        fig, ax = plt.subplots(figsize=(7, 4))
+        ax.bar(range(len(keys)), [mean_sd(vals[k])[0] for k in keys],
+               yerr=[mean_sd(vals[k])[1] for k in keys], capsize=3)
+        ax.set_xticks(range(len(keys)))
+        ax.set_xticklabels([k if len(k) < 40 else k[:37] + "..." for k in keys], rotation=30,
+                           ha="right", fontsize=7)
+        ax.set_ylabel("wall time (s)"), ax.set_title(f"time vs {a}")
+        fig.tight_layout()
+        name = "time_vs_" + "".join(ch if ch.isalnum() else "_" for ch in a) + ".png"
+        fig.savefig(os.path.join(directory, name), dpi=110)
+        figures.append((name, f"mean wall time for each value of {a} (all other axes pooled)"))
+    plt.close("all")
+
+    head = ["configuration", "spp", "runs", f"{error or 'error'} (mean ± sd)", "time (s)",
+            "1/(MSE·time)"]
+    table = [head]
+    for c, spp, n, e, sd, t, eff in summary:
+        table.append([c, str(spp), str(n), f"{e:.4g} ± {sd:.2g}" if error else "",
+                      f"{t:.3g}", f"{eff:.4g}" if not math.isnan(eff) else ""])
+    md = [f"# Batch report: {os.path.abspath(directory)}", "",
+          f"{len(rows)} runs, {len(configs)} configurations; error metric: {error or 'none'}.", ""]
+    for f, caption in figures:
+        md += [f"![{caption}]({f})", "", f"*{caption}*", ""]
+    md.append("| " + " | ".join(head) + " |")
+    md.append("|" + "---|" * len(head))
+    md += ["| " + " | ".join(r) + " |" for r in table[1:]]
+    write(os.path.join(directory, "report.md"), "\n".join(md) + "\n")
+
+    body = [f"<h1>Batch report</h1><p>{html.escape(os.path.abspath(directory))}: {len(rows)} runs, "
+            f"{len(configs)} configurations; error metric: {error or 'none'}.</p>"]
+    for f, caption in figures:
+        body.append(f'<figure><img src="{f}"><figcaption>{html.escape(caption)}</figcaption>'
+                    "</figure>")
+    body.append("<table border=1 cellpadding=4>")
+    for i, r in enumerate(table):
+        tag = "th" if i == 0 else "td"
+        body.append("<tr>" + "".join(f"<{tag}>{html.escape(x)}</{tag}>" for x in r) + "</tr>")
+    body.append("</table>")
+    write(os.path.join(directory, "report.html"),
+          "<!doctype html><meta charset=utf-8><title>shvol batch report</title>\n"
+          + "\n".join(body) + "\n")
+    print(os.path.join(directory, "report.md"))
+
+
+def write(path, text):
+    tmp = path + ".tmp"
+    with open(tmp, "w") as f:
+        f.write(text)
+    os.replace(tmp, path)
+
+
+if __name__ == "__main__":
+    main()
