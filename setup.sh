@@ -1,16 +1,18 @@
 #!/usr/bin/env bash
 # shvol set-up: installs the Debian packages shvol needs (only those missing), builds, then
 #   ./setup.sh render   renders the default scene media/default.json to default.exr
-#   ./setup.sh test     runs every test (ctest)
+#   ./setup.sh test     runs every test (ctest), then the tests under ASan+UBSan and the fuzzers
 #   ./setup.sh build    only builds
 # Nothing is downloaded except Debian packages through apt-get.
 set -euo pipefail
 cd "$(dirname "$0")"
 
-packages=(cmake ninja-build clang g++ pkg-config
+# libclang-rt-14-dev: the sanitizer and libFuzzer runtimes (only recommended by clang, and
+# recommendations are not installed).
+packages=(cmake ninja-build clang libclang-rt-14-dev g++ pkg-config
           libopenvdb-dev libboost-iostreams-dev libembree-dev libeigen3-dev libopenexr-dev
           libtbb-dev libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
-          libboost-math-dev zlib1g-dev)
+          libboost-math-dev zlib1g-dev python3-matplotlib)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -26,9 +28,46 @@ fi
 cmake -G Ninja -S . -B build -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ >/dev/null
 cmake --build build -j "$(nproc)"
 
+# After the release tests: the test suite again under AddressSanitizer and
+# UndefinedBehaviorSanitizer (build-asan/), then each libFuzzer target over a copy of its seed
+# corpus for SHVOL_FUZZ_SECONDS (default 20) seconds (build-fuzz/). A fuzzer's crash input is kept
+# in build-fuzz/artifacts/. README, "Fuzzing and sanitizers".
+sanitizers() {
+  local configure=(-G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++
+                   -DSHVOL_BUILD_BENCH=OFF)
+  local t0=$SECONDS
+  cmake -S . -B build-asan "${configure[@]}" -DSHVOL_SANITIZE=ON >/dev/null
+  cmake --build build-asan -j "$(nproc)"
+  (cd build-asan && ctest --output-on-failure -j "$(nproc)")
+  echo "setup: sanitizer build and tests took $((SECONDS - t0)) s" >&2
+
+  t0=$SECONDS
+  cmake -S . -B build-fuzz "${configure[@]}" -DSHVOL_FUZZ=ON -DSHVOL_BUILD_TESTS=OFF >/dev/null
+  cmake --build build-fuzz -j "$(nproc)" --target fuzzers
+  local work artifacts="$PWD/build-fuzz/artifacts" supp="$PWD/tests/sanitizers/lsan.supp"
+  work=$(mktemp -d)
+  mkdir -p "$artifacts"
+  for name in scene phase_spec phase_csv exr vdb; do
+    mkdir "$work/$name"
+    cp tests/fuzz/"$name"/* "$work/$name/"
+    if ! LSAN_OPTIONS="suppressions=$supp" build-fuzz/"${name}_fuzzer" "$work/$name" \
+         -max_total_time="${SHVOL_FUZZ_SECONDS:-20}" -timeout=10 -rss_limit_mb=2048 \
+         -artifact_prefix="$artifacts/${name}-" >"$work/$name.log" 2>&1; then
+      tail -n 60 "$work/$name.log" >&2
+      echo "setup: ${name}_fuzzer failed; its input is in $artifacts" >&2
+      rm -rf "$work"
+      return 1
+    fi
+    echo "setup: ${name}_fuzzer: $(grep -Eo '#[0-9]+[[:space:]]+DONE.*' "$work/$name.log" | tail -n 1)" >&2
+  done
+  rm -rf "$work"
+  echo "setup: fuzz build and runs took $((SECONDS - t0)) s" >&2
+}
+
 case "${1:-build}" in
   render) build/shvol render media/default.json -o default.exr ;;
-  test)   cd build && ctest --output-on-failure -j "$(nproc)" ;;
+  test)   (cd build && ctest --output-on-failure -j "$(nproc)")
+          sanitizers ;;
   build)  ;;
   *) echo "usage: $0 [render|test|build]" >&2; exit 2 ;;
 esac

@@ -7,36 +7,74 @@
 #include <ImfOutputFile.h>
 
 #include <filesystem>
+#include <mutex>
 
 #include "shvol/core/atomic_file.h"
 #include "shvol/core/error.h"
 
 namespace shvol {
 
+namespace {
+
+// Limits that keep a small or damaged file from making OpenEXR or readExr allocate gigabytes:
+// OpenEXR checks the width and height of the data window (and tiles) against these while it reads
+// the header, before it allocates anything.
+constexpr int kMaxExrSide = 32768;
+// An image needs more than one byte of file per kMaxExrPixelsPerByte pixels (EXR's compressions
+// stay below about 200 pixels per byte even for a constant image: ZIP and DWA at zlib's ~1000:1,
+// PIZ's run-length Huffman codes at ~450:1, of 6 bytes per half RGB pixel), so a header that
+// announces more pixels describes data the file cannot hold.
+constexpr double kMaxExrPixelsPerByte = 1024;
+constexpr double kMinExrPixelLimit = 1 << 20;  // small files may still hold a 1024² constant image
+
+}  // namespace
+
 Image readExr(const std::string& path) {
-    if (!std::filesystem::exists(path)) fail(path, "", "file not found");
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (st.type() == fs::file_type::not_found) fail(path, "", "file not found");
+    if (ec) fail(path, "", "cannot read file (" + ec.message() + ")");
+    if (!fs::is_regular_file(st)) fail(path, "", "not a regular file");
+    const uintmax_t bytes = fs::file_size(path, ec);
+    if (ec) fail(path, "", "cannot read file (" + ec.message() + ")");
+    static std::once_flag limits;
+    std::call_once(limits, [] {
+        Imf::Header::setMaxImageSize(kMaxExrSide, kMaxExrSide);
+        Imf::Header::setMaxTileSize(kMaxExrSide, kMaxExrSide);
+    });
     Image img;
     try {
         Imf::InputFile file(path.c_str());
         const Imath::Box2i dw = file.header().dataWindow();
-        img = Image(dw.max.x - dw.min.x + 1, dw.max.y - dw.min.y + 1);
+        const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
+        if (w < 1 || h < 1 || w > kMaxExrSide || h > kMaxExrSide)
+            fail(path, "data window",
+                 std::to_string(w) + " x " + std::to_string(h) + " pixels; expected 1 to " +
+                     std::to_string(kMaxExrSide) + " on each side");
+        if (double(w) * double(h) > std::max(kMinExrPixelLimit, kMaxExrPixelsPerByte * bytes))
+            fail(path, "data window",
+                 std::to_string(w) + " x " + std::to_string(h) + " pixels cannot be stored in " +
+                     std::to_string(bytes) + " bytes (damaged file)");
         const Imf::ChannelList& ch = file.header().channels();
         const bool rgb = ch.findChannel("R") && ch.findChannel("G") && ch.findChannel("B");
         const bool y = ch.findChannel("Y");
         if (!rgb && !y) fail(path, "channels", "no R,G,B or Y channel");
+        img = Image(int(w), int(h));
         Imf::FrameBuffer fb;
         const size_t xs = 3 * sizeof(float), ys = xs * img.width;
-        // Base pointer so that (dw.min.x, dw.min.y) lands on element 0.
-        char* base = reinterpret_cast<char*>(img.rgb.data()) - dw.min.x * xs - dw.min.y * ys;
+        // Slice::Make places (dw.min.x, dw.min.y) on the given element (computing the slice's
+        // base address outside the array without pointer arithmetic, which would be undefined).
         // A luminance-only file is read into the R slot and copied to G and B below (a frame
         // buffer holds one slice per channel name).
         for (int c = 0; c < (rgb ? 3 : 1); ++c)
             fb.insert(rgb ? std::string(1, "RGB"[c]) : std::string("Y"),
-                      Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xs, ys));
+                      Imf::Slice::Make(Imf::FLOAT, img.rgb.data() + c, dw, xs, ys));
         file.setFrameBuffer(fb);
         file.readPixels(dw.min.y, dw.max.y);
         if (!rgb)
-            for (size_t i = 0; i < img.rgb.size(); i += 3) img.rgb[i + 1] = img.rgb[i + 2] = img.rgb[i];
+            for (size_t i = 0; i < img.rgb.size(); i += 3)
+                img.rgb[i + 1] = img.rgb[i + 2] = img.rgb[i];
     } catch (const Error&) {
         throw;
     } catch (const std::exception& e) {

@@ -14,8 +14,28 @@ std::string typeName(const Json& j) {
     if (j.is_number()) return "number";
     return j.type_name();
 }
+/// Appends j as compact JSON until out is longer than `limit`. Never throws on strings that are
+/// not valid UTF-8 (a --set value that is not JSON is taken as a string as it is; its bad bytes
+/// print as U+FFFD), and recurses no deeper than the text it prints, so that a value nested
+/// thousands of levels deep cannot overflow the stack (Json::dump recurses through all of it).
+void briefInto(const Json& j, std::string& out, size_t limit) {
+    if (out.size() > limit) return;
+    if (!j.is_structured()) {
+        out += j.dump(-1, ' ', false, Json::error_handler_t::replace);
+        return;
+    }
+    out += j.is_array() ? '[' : '{';
+    for (auto it = j.begin(); it != j.end() && out.size() <= limit; ++it) {
+        if (it != j.begin()) out += ',';
+        if (j.is_object())
+            out += Json(it.key()).dump(-1, ' ', false, Json::error_handler_t::replace) + ':';
+        briefInto(*it, out, limit);
+    }
+    out += j.is_array() ? ']' : '}';
+}
 std::string brief(const Json& j) {
-    std::string s = j.dump();
+    std::string s;
+    briefInto(j, s, 40);
     return s.size() > 40 ? s.substr(0, 37) + "..." : s;
 }
 }  // namespace
@@ -111,7 +131,7 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
             fail(file, walked,
                  "--set: index " + last + " out of range (" + std::to_string(node->size()) +
                      " elements)");
-        (*node)[i] = value;
+        (*node)[i] = std::move(value);
         return;
     }
     if (!node->is_object() && !node->is_null())
@@ -126,9 +146,13 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
     // A file named on the command line is relative to the current directory, as a shell user
     // expects (file names inside the scene stay relative to the scene's folder).
     if (last == "file" && value.is_string() && !value.get<std::string>().empty() &&
-        !std::filesystem::path(value.get<std::string>()).is_absolute())
-        value = std::filesystem::absolute(value.get<std::string>()).lexically_normal().string();
-    (*node)[last] = value;
+        !std::filesystem::path(value.get<std::string>()).is_absolute()) {
+        std::error_code ec;  // (the current directory may have been removed)
+        const auto abs = std::filesystem::absolute(value.get<std::string>(), ec);
+        if (ec) fail(file, "--set " + assignment, "cannot resolve the file name: " + ec.message());
+        value = abs.lexically_normal().string();
+    }
+    (*node)[last] = std::move(value);
 }
 
 JsonReader::JsonReader(const Json& j, std::string file, std::string path)
@@ -157,11 +181,15 @@ const Json& JsonReader::get(const std::string& key, const char* type) const {
 
 double JsonReader::number(const std::string& key, std::optional<double> def) {
     used_.insert(key);
-    if (!j_.contains(key) && def) return *def;
+    if (!j_.contains(key) && def) {
+        note(key, *def);
+        return *def;
+    }
     const Json& v = get(key, "number");
     if (!v.is_number()) error(key, "expected a number, got " + typeName(v) + " " + brief(v));
     const double x = v.get<double>();
     if (!std::isfinite(x)) error(key, "expected a finite number");
+    note(key, x);
     return x;
 }
 
@@ -177,7 +205,10 @@ double JsonReader::number(const std::string& key, double def, double lo, double 
 
 int JsonReader::integer(const std::string& key, int def, int lo, int hi) {
     used_.insert(key);
-    if (!j_.contains(key)) return def;
+    if (!j_.contains(key)) {
+        note(key, def);
+        return def;
+    }
     const Json& v = j_.at(key);
     if (!v.is_number_integer())
         error(key, "expected an integer, got " + typeName(v) + " " + brief(v));
@@ -188,22 +219,32 @@ int JsonReader::integer(const std::string& key, int def, int lo, int hi) {
     if (x < lo || x > hi)
         error(key, "value " + std::to_string(x) + " out of range [" + std::to_string(lo) + ", " +
                        std::to_string(hi) + "]");
+    note(key, x);
     return int(x);
 }
 
 bool JsonReader::boolean(const std::string& key, bool def) {
     used_.insert(key);
-    if (!j_.contains(key)) return def;
-    const Json& v = j_.at(key);
-    if (!v.is_boolean()) error(key, "expected true or false, got " + typeName(v) + " " + brief(v));
-    return v.get<bool>();
+    bool b = def;
+    if (j_.contains(key)) {
+        const Json& v = j_.at(key);
+        if (!v.is_boolean())
+            error(key, "expected true or false, got " + typeName(v) + " " + brief(v));
+        b = v.get<bool>();
+    }
+    note(key, b);
+    return b;
 }
 
 std::string JsonReader::string(const std::string& key, std::optional<std::string> def) {
     used_.insert(key);
-    if (!j_.contains(key) && def) return *def;
+    if (!j_.contains(key) && def) {
+        note(key, *def);
+        return *def;
+    }
     const Json& v = get(key, "string");
     if (!v.is_string()) error(key, "expected a string, got " + typeName(v) + " " + brief(v));
+    note(key, v);
     return v.get<std::string>();
 }
 
@@ -220,7 +261,10 @@ std::string JsonReader::choice(const std::string& key, const std::string& def,
 
 Vec3 JsonReader::vec3(const std::string& key, std::optional<Vec3> def) {
     used_.insert(key);
-    if (!j_.contains(key) && def) return *def;
+    if (!j_.contains(key) && def) {
+        note(key, {(*def)[0], (*def)[1], (*def)[2]});
+        return *def;
+    }
     const Json& v = get(key, "array of 3 numbers");
     if (!v.is_array() || v.size() != 3)
         error(key, "expected an array of 3 numbers, got " + typeName(v) + " " + brief(v));
@@ -231,6 +275,7 @@ Vec3 JsonReader::vec3(const std::string& key, std::optional<Vec3> def) {
                  "expected a number, got " + typeName(v[i]));
         r[i] = v[i].get<double>();
     }
+    note(key, v);
     return r;
 }
 
@@ -244,12 +289,25 @@ Vec3 JsonReader::vec3OrScalar(const std::string& key, std::optional<Vec3> def) {
 
 JsonReader JsonReader::object(const std::string& key) {
     used_.insert(key);
-    return JsonReader(get(key, "object"), file_, keyPath(key));
+    JsonReader child(get(key, "object"), file_, keyPath(key));
+    if (resolved_) child.recordInto(&((*resolved_)[key] = Json::object()));
+    return child;
+}
+
+JsonReader JsonReader::objectOrEmpty(const std::string& key) {
+    static const Json empty = Json::object();
+    if (j_.contains(key)) return object(key);
+    used_.insert(key);
+    JsonReader child(empty, file_, keyPath(key));
+    if (resolved_) child.recordInto(&((*resolved_)[key] = Json::object()));
+    return child;
 }
 
 const Json& JsonReader::raw(const std::string& key) {
     used_.insert(key);
-    return get(key, "value");
+    const Json& v = get(key, "value");
+    note(key, v);
+    return v;
 }
 
 void JsonReader::finish() const {

@@ -1,11 +1,18 @@
 // The only translation unit that includes OpenVDB (6–20 s to compile).
 #include "shvol/io/vdb.h"
 
+#include <openvdb/io/DelayedLoadMetadata.h>
 #include <openvdb/io/File.h>
+#include <openvdb/io/GridDescriptor.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Interpolation.h>
 
+#include <array>
+#include <cctype>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <map>
 #include <mutex>
 #include <sstream>
 
@@ -19,8 +26,336 @@ namespace {
 
 void initOpenVdb() {
     static std::once_flag once;
-    std::call_once(once, [] { openvdb::initialize(); });
+    std::call_once(once, [] {
+        openvdb::initialize();
+        // OpenVDB's reader of the "__delayedload" metadata that io::File writes into every grid
+        // trusts the counts inside it: a damaged one makes it allocate (and clear) up to 4 GB or
+        // decompress past the end of a buffer. shvol never loads lazily, so that metadata is read
+        // as opaque bytes instead (the size of which checkVdbStructure has checked).
+        openvdb::Metadata::unregisterType(openvdb::io::DelayedLoadMetadata::staticTypeName());
+    });
 }
+
+// ---- Reading a .vdb file that may be damaged or hostile ------------------------------------
+//
+// OpenVDB 10 reads sizes and counts from the file and believes them: a string or metadata length
+// is allocated before it is read, the tile and child counts of the root node drive loops that go
+// on after the stream has failed (4·10⁹ turns for a 1 KB file), a compressed chunk's size is
+// allocated before it is read, and io::bloscFromStream / unzipFromStream read a chunk marked
+// "uncompressed" into the node's buffer before they compare its size with the buffer's (a heap
+// buffer overflow with bytes from the file). So a .vdb is read in three steps:
+//  1. checkVdbStructure walks the file's outer structure with a bounded reader of its own:
+//     header, file metadata, grid descriptors, and each grid's metadata and transform type,
+//     checking every size and count against the bytes left in the file;
+//  2. VdbGridReader reads the requested grid's metadata and transform with OpenVDB, then walks
+//     the tree's topology and buffers (FloatTreeCheck) checking every count and chunk size
+//     against what OpenVDB will expect;
+//  3. only then OpenVDB reads the tree, from a stream whose failed reads throw.
+
+/// Reads [pos, end) of a file, refusing (std::runtime_error) to go past `end`.
+class BoundedReader {
+  public:
+    BoundedReader(std::istream& in, uint64_t pos, uint64_t end) : in_(in), pos_(pos), end_(end) {
+        in_.seekg(std::streamoff(pos));
+    }
+    uint64_t pos() const { return pos_; }
+    uint64_t left() const { return end_ - pos_; }
+    void need(uint64_t n, const std::string& what) const {
+        if (n > left())
+            throw std::runtime_error(what + " (" + std::to_string(n) + " bytes at byte " +
+                                     std::to_string(pos_) + ") runs past the end of " +
+                                     (end_ == fileEnd_ ? "the file" : "the grid"));
+    }
+    std::string bytes(uint64_t n, const std::string& what) {
+        need(n, what);
+        std::string b(n, '\0');
+        if (n) in_.read(&b[0], std::streamsize(n));
+        pos_ += n;
+        return b;
+    }
+    void skip(uint64_t n, const std::string& what) {
+        need(n, what);
+        pos_ += n;
+        in_.seekg(std::streamoff(pos_));
+    }
+    template <typename T>
+    T get(const std::string& what) {
+        T v;
+        const std::string b = bytes(sizeof(T), what);
+        std::memcpy(&v, b.data(), sizeof(T));
+        return v;
+    }
+    std::string string(const std::string& what) { return bytes(get<uint32_t>(what), what); }
+    void seek(uint64_t p) {
+        if (p > end_) throw std::runtime_error("offset " + std::to_string(p) + " past the end");
+        pos_ = p;
+        in_.seekg(std::streamoff(p));
+    }
+    void setFileEnd(uint64_t e) { fileEnd_ = e; }
+
+  private:
+    std::istream& in_;
+    uint64_t pos_, end_, fileEnd_ = 0;
+};
+
+std::string at(uint64_t pos) {
+    return " at byte " + std::to_string(pos);
+}
+
+/// A grid descriptor of the file (positions are byte offsets in the file).
+struct VdbGridEntry {
+    std::string uniqueName;
+    bool instance = false;
+    uint64_t descriptorPos = 0, endPos = 0;
+};
+
+/// The file's grids, after checking the outer structure (file format versions 222 to 224, i.e.
+/// OpenVDB 2.0 and later, written with grid offsets as io::File writes them):
+///   header:     int64 magic, uint32 format version, uint32 ×2 library version,
+///               char has-grid-offsets, 36-character UUID
+///   metadata:   uint32 count, count × (string name, string type, uint32 n, n bytes)
+///   grids:      int32 count, count × descriptor (string unique name, string type, string
+///               instance parent, int64 grid, block and end offsets), each followed at its grid
+///               offset by uint32 compression, metadata, string transform type, … up to its
+///               end offset
+/// (a string is a uint32 length and that many bytes). Throws std::runtime_error saying what is
+/// wrong and where.
+std::vector<VdbGridEntry> checkVdbStructure(std::istream& in, uint64_t size) {
+    BoundedReader r(in, 0, size);
+    r.setFileEnd(size);
+    auto metadata = [&](const std::string& what) {
+        const uint32_t count = r.get<uint32_t>(what);
+        r.need(uint64_t(count) * 12, what);  // each item has at least three uint32 sizes
+        for (uint32_t i = 0; i < count; ++i) {
+            r.string(what);  // name
+            const std::string type = r.string(what);
+            const uint64_t valuePos = r.pos();
+            const uint32_t n = r.get<uint32_t>(what);
+            // OpenVDB reads a registered fixed-size type (int32, vec3d, …) whatever n says.
+            if (type != "string" && openvdb::Metadata::isRegisteredType(type) &&
+                n != openvdb::Metadata::createMetadata(type)->size())
+                throw std::runtime_error(what + ": " + std::to_string(n) + "-byte " + type +
+                                         " value" + at(valuePos));
+            if (type == "bool" && n == 1) {  // read into a C++ bool: must be 0 or 1
+                if (const char b = r.bytes(1, what)[0]; b != 0 && b != 1)
+                    throw std::runtime_error(what + ": bool value " + std::to_string(int(b)) +
+                                             at(valuePos + 4));
+            } else {
+                r.skip(n, what);
+            }
+        }
+    };
+
+    if (size < 8 || r.get<int64_t>("header") != openvdb::OPENVDB_MAGIC)
+        throw std::runtime_error("no VDB header");
+    const uint32_t version = r.get<uint32_t>("header");
+    if (version < openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION ||
+        version > openvdb::OPENVDB_FILE_VERSION)
+        throw std::runtime_error(
+            "file format version " + std::to_string(version) + "; this build reads versions " +
+            std::to_string(openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION) +
+            " (OpenVDB 2.0) to " + std::to_string(openvdb::OPENVDB_FILE_VERSION));
+    r.skip(8, "header");  // library version
+    if (r.get<char>("header") == 0)
+        throw std::runtime_error("the file has no grid offsets (a VDB stream)");
+    const std::string uuid = r.bytes(36, "header");
+    for (size_t i = 0; i < uuid.size(); ++i)
+        if (i == 8 || i == 13 || i == 18 || i == 23 ? uuid[i] != '-'
+                                                    : !std::isxdigit((unsigned char)uuid[i]))
+            throw std::runtime_error("malformed UUID in the header");
+    metadata("file metadata");
+    const uint64_t countPos = r.pos();
+    const int32_t count = r.get<int32_t>("grid count");
+    if (count < 0 || uint64_t(count) > r.left() / 36)  // a descriptor has at least 36 bytes
+        throw std::runtime_error("grid count " + std::to_string(count) + at(countPos) +
+                                 " does not fit in the file");
+    std::vector<VdbGridEntry> grids;
+    for (int32_t g = 0; g < count; ++g) {
+        VdbGridEntry e;
+        e.descriptorPos = r.pos();
+        e.uniqueName = r.string("grid descriptor");
+        r.string("grid descriptor");  // type
+        e.instance = !r.string("grid descriptor").empty();
+        const int64_t gridPos = r.get<int64_t>("grid descriptor");
+        int64_t blockPos = r.get<int64_t>("grid descriptor");
+        const int64_t endPos = r.get<int64_t>("grid descriptor");
+        if (e.instance) blockPos = endPos;  // an instance has no tree (and no block offset)
+        if (gridPos != int64_t(r.pos()) || blockPos < gridPos || endPos < blockPos ||
+            uint64_t(endPos) > size)
+            throw std::runtime_error("inconsistent offsets in the descriptor of grid '" +
+                                     openvdb::io::GridDescriptor::nameAsString(e.uniqueName) + "'" +
+                                     at(e.descriptorPos));
+        e.endPos = uint64_t(endPos);
+        r.get<uint32_t>("grid compression flags");
+        metadata("grid metadata");
+        r.string("transform type");
+        if (int64_t(r.pos()) > blockPos)
+            throw std::runtime_error("grid metadata runs past the grid's data" + at(blockPos));
+        r.seek(uint64_t(endPos));
+        grids.push_back(std::move(e));
+    }
+    return grids;
+}
+
+/// Walks the topology and buffers of a FloatTree (5, 4, 3) from `in`'s position to `end` as
+/// OpenVDB 10 reads them (tree/RootNode.h, InternalNode.h and LeafNode.h readTopology and
+/// readBuffers, io/Compression.h readCompressedValues, readData and HalfReader, for file format
+/// versions ≥ 222 and a stream that is not "seekable", so that leaves read their value mask
+/// again with their buffers), allocating nothing the file asks for. Every count must fit in the
+/// grid's bytes and every value chunk must have the size OpenVDB will read it into; for Blosc
+/// chunks the Blosc header must agree. Throws std::runtime_error.
+class FloatTreeCheck {
+  public:
+    FloatTreeCheck(std::istream& in, uint64_t begin, uint64_t end, uint32_t compression, bool half)
+        : r_(in, begin, end), compression_(compression), valueBytes_(half ? 2 : 4), half_(half) {}
+
+    void run() {
+        r_.get<int32_t>("tree");  // buffer count
+        r_.get<float>("root");    // background
+        const uint32_t numTiles = r_.get<uint32_t>("root"), numChildren = r_.get<uint32_t>("root");
+        if (numTiles == 0 && numChildren == 0) return;
+        r_.need(uint64_t(numTiles) * 17, "root tiles");  // (int32 ×3, float, bool) each
+        for (uint32_t n = 0; n < numTiles; ++n)
+            if (const char active = r_.bytes(17, "root tile")[16]; active != 0 && active != 1)
+                throw std::runtime_error("root tile" + at(r_.pos() - 17) + ": active flag " +
+                                         std::to_string(int(active)) + " is not a bool");
+        r_.need(uint64_t(numChildren) * (12 + 2 * kUpperMask), "root child nodes");
+        // The root keeps its children in a map: a later child at the same key replaces an
+        // earlier one, and buffers are read in key order.
+        std::map<std::array<int32_t, 3>, std::vector<uint32_t>> children;
+        for (uint32_t n = 0; n < numChildren; ++n) {
+            std::array<int32_t, 3> key;
+            for (int32_t& k : key) k = r_.get<int32_t>("root child origin");
+            children[key] = upperTopology();
+        }
+        for (const auto& child : children)
+            for (uint32_t leaves : child.second)
+                for (uint32_t l = 0; l < leaves; ++l) {
+                    const Mask mask = readMask(kLeafMask, "leaf value mask");
+                    values(512, mask.on, kLeafMask, "leaf values");
+                }
+    }
+
+  private:
+    static constexpr uint64_t kUpperMask = 4096, kLowerMask = 512, kLeafMask = 64;  // bytes
+    struct Mask {
+        std::vector<uint64_t> words;
+        uint64_t on = 0;
+    };
+
+    Mask readMask(uint64_t bytes, const char* what) {
+        Mask m;
+        m.words.resize(bytes / 8);
+        const std::string b = r_.bytes(bytes, what);
+        std::memcpy(m.words.data(), b.data(), bytes);
+        for (uint64_t w : m.words) m.on += uint64_t(__builtin_popcountll(w));
+        return m;
+    }
+
+    /// An upper internal node's topology; returns the leaf count of each lower child.
+    std::vector<uint32_t> upperTopology() {
+        const Mask child = readMask(kUpperMask, "internal node child mask");
+        const Mask value = readMask(kUpperMask, "internal node value mask");
+        values(32768, value.on, kUpperMask, "internal node tile values");
+        r_.need(child.on * 2 * kLowerMask, "internal node children");
+        std::vector<uint32_t> leaves;
+        for (uint64_t i = 0; i < child.on; ++i) leaves.push_back(lowerTopology());
+        return leaves;
+    }
+    uint32_t lowerTopology() {
+        const Mask child = readMask(kLowerMask, "internal node child mask");
+        const Mask value = readMask(kLowerMask, "internal node value mask");
+        values(4096, value.on, kLowerMask, "internal node tile values");
+        r_.skip(child.on * kLeafMask, "leaf value masks");
+        return uint32_t(child.on);
+    }
+
+    /// io::readCompressedValues(destCount = count, a value mask with `active` bits on).
+    void values(uint64_t count, uint64_t active, uint64_t maskBytes, const char* what) {
+        const int8_t meta = r_.get<int8_t>(what);
+        using namespace openvdb::io;
+        if (meta == NO_MASK_AND_ONE_INACTIVE_VAL || meta == MASK_AND_ONE_INACTIVE_VAL ||
+            meta == MASK_AND_TWO_INACTIVE_VALS)
+            r_.skip(meta == MASK_AND_TWO_INACTIVE_VALS ? 8 : 4, what);  // float inactive values
+        if (meta == MASK_AND_NO_INACTIVE_VALS || meta == MASK_AND_ONE_INACTIVE_VAL ||
+            meta == MASK_AND_TWO_INACTIVE_VALS)
+            r_.skip(maskBytes, what);  // selection mask
+        if ((compression_ & COMPRESS_ACTIVE_MASK) && meta != NO_MASK_AND_ALL_VALS) count = active;
+        if (half_ && count == 0) return;  // HalfReader reads nothing then
+        const uint64_t bytes = count * valueBytes_;
+        if (!(compression_ & (COMPRESS_BLOSC | COMPRESS_ZIP))) return r_.skip(bytes, what);
+        const uint64_t chunkPos = r_.pos();
+        const int64_t n = r_.get<int64_t>(what);
+        if (n <= 0) {  // stored uncompressed: exactly the bytes expected
+            if (n != -int64_t(bytes))
+                throw std::runtime_error(std::string(what) + at(chunkPos) + ": " +
+                                         std::to_string(n) + "-byte chunk where " +
+                                         std::to_string(bytes) + " bytes are expected");
+            return r_.skip(bytes, what);
+        }
+        r_.need(uint64_t(n), what);
+        if (compression_ & COMPRESS_BLOSC) {
+            // Blosc header: version, versionlz, flags, typesize, uint32 nbytes, blocksize, cbytes
+            const std::string h = r_.bytes(std::min<uint64_t>(uint64_t(n), 16), what);
+            uint32_t nbytes = 0, cbytes = 0;
+            if (h.size() == 16) {
+                std::memcpy(&nbytes, h.data() + 4, 4);
+                std::memcpy(&cbytes, h.data() + 12, 4);
+            }
+            if (h.size() < 16 || nbytes != bytes || cbytes != uint64_t(n))
+                throw std::runtime_error(std::string(what) + at(chunkPos) +
+                                         ": inconsistent Blosc chunk header");
+            return r_.skip(uint64_t(n) - 16, what);
+        }
+        r_.skip(uint64_t(n), what);
+    }
+
+    BoundedReader r_;
+    uint32_t compression_;
+    uint64_t valueBytes_;
+    bool half_;
+};
+
+/// Reads one FloatGrid the way io::Archive::readGrid does (file format ≥ 222), from a stream
+/// whose failed reads throw, checking its tree with FloatTreeCheck before OpenVDB reads it.
+class VdbGridReader : public openvdb::io::Archive {
+  public:
+    openvdb::GridBase::Ptr read(std::istream& is, const VdbGridEntry& entry,
+                                const std::function<void(const openvdb::GridBase&)>& checkType) {
+        is.seekg(0);
+        readHeader(is);  // (returns whether the UUID changed; a bad header throws)
+        auto fileMetadata = std::make_shared<openvdb::io::StreamMetadata>();
+        openvdb::io::setStreamMetadataPtr(is, fileMetadata, /*transfer=*/false);
+        openvdb::io::setVersion(is, libraryVersion(), fileVersion());
+        openvdb::io::setDataCompression(is, compression());
+        is.seekg(std::streamoff(entry.descriptorPos));
+        openvdb::io::GridDescriptor gd;
+        gd.read(is);
+        openvdb::GridBase::Ptr grid = openvdb::GridBase::createGrid(gd.gridType());
+        checkType(*grid);  // before reading a tree of another type
+        grid->setSaveFloatAsHalf(gd.saveFloatAsHalf());
+        gd.seekToGrid(is);
+        readGridCompression(is);
+        auto gridMetadata = std::make_shared<openvdb::io::StreamMetadata>(*fileMetadata);
+        gridMetadata->setHalfFloat(grid->saveFloatAsHalf());
+        gridMetadata->setSeekable(false);  // leaves read their own value masks (as checked)
+        openvdb::io::setStreamMetadataPtr(is, gridMetadata, /*transfer=*/false);
+        openvdb::io::setGridClass(is, openvdb::GRID_UNKNOWN);
+        openvdb::io::setGridBackgroundValuePtr(is, nullptr);
+        grid->readMeta(is);
+        gridMetadata->gridMetadata() = static_cast<openvdb::MetaMap&>(*grid);
+        openvdb::io::setGridClass(is, grid->getGridClass());
+        grid->readTransform(is);
+        const std::streamoff tree = is.tellg();
+        FloatTreeCheck(is, uint64_t(tree), entry.endPos, openvdb::io::getDataCompression(is),
+                       grid->saveFloatAsHalf())
+            .run();
+        is.seekg(tree);
+        grid->readTopology(is);
+        grid->readBuffers(is);
+        return grid;
+    }
+};
 
 class VdbMedium final : public Medium {
   public:
@@ -73,14 +408,18 @@ class VdbMedium final : public Medium {
     }
 
     double sigmaT(const Vec3& p) const override {
-        Accessor acc(grid_->tree());
         const Vec3 q = worldToIndex_ * p;
+        // Where the majorant is 0 so is the density; this also keeps the index coordinates of
+        // points far outside the grid (or NaN) away from OpenVDB's integer voxel lookup.
+        if (!q.allFinite() || majorants_.at(q) == 0) return 0;
+        Accessor acc(grid_->tree());
         return scale_ *
                openvdb::tools::BoxSampler::sample(acc, openvdb::Vec3R(q.x(), q.y(), q.z()));
     }
 
     double sigmaMajorant(const Vec3& p) const override {
-        return scale_ * (1 + 1e-6) * majorants_.at(worldToIndex_ * p);
+        const Vec3 q = worldToIndex_ * p;
+        return q.allFinite() ? scale_ * (1 + 1e-6) * majorants_.at(q) : 0;
     }
 
     std::string describe() const override { return desc_; }
@@ -102,42 +441,77 @@ std::string ijkString(const openvdb::Coord& c) {
 }  // namespace
 
 std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc) {
+    namespace fs = std::filesystem;
     initOpenVdb();
     const std::string& path = desc.file;
     const std::string where = "grid '" + desc.grid + "'";
-    if (!std::filesystem::exists(path)) fail(path, "", "file not found");
-    openvdb::GridBase::Ptr base;
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (st.type() == fs::file_type::not_found) fail(path, "", "file not found");
+    if (ec) fail(path, "", "cannot read file (" + ec.message() + ")");
+    if (!fs::is_regular_file(st)) fail(path, "", "not a regular file");
+    const uintmax_t size = fs::file_size(path, ec);
+    if (ec) fail(path, "", "cannot read file (" + ec.message() + ")");
+
+    openvdb::FloatGrid::Ptr grid;
     try {
-        openvdb::io::File file(path);
-        file.open(false);  // no delayed loading: the whole grid is read now
-        if (!file.hasGrid(desc.grid)) {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) fail(path, "", "cannot open file");
+        in.exceptions(std::ios::failbit | std::ios::badbit);
+        const std::vector<VdbGridEntry> grids = checkVdbStructure(in, size);
+        // As io::File finds a grid: by unique name ("density[1]" for a second "density"),
+        // else the first grid of that name.
+        const VdbGridEntry* entry = nullptr;
+        for (const VdbGridEntry& e : grids)
+            if (!entry && openvdb::io::GridDescriptor::nameAsString(e.uniqueName) == desc.grid)
+                entry = &e;
+        for (const VdbGridEntry& e : grids)
+            if (!entry && openvdb::io::GridDescriptor::stripSuffix(e.uniqueName) == desc.grid)
+                entry = &e;
+        if (!entry) {
             std::string names;
-            for (auto it = file.beginName(); it != file.endName(); ++it)
-                names += (names.empty() ? "" : ", ") + it.gridName();
+            for (const VdbGridEntry& e : grids)
+                names += (names.empty() ? "" : ", ") +
+                         openvdb::io::GridDescriptor::nameAsString(e.uniqueName);
             fail(path, where, "no such grid; the file has: " + (names.empty() ? "(none)" : names));
         }
-        base = file.readGrid(desc.grid);
-        file.close();
+        if (entry->instance) fail(path, where, "instanced grids are not supported");
+        const openvdb::GridBase::Ptr base =
+            VdbGridReader().read(in, *entry, [&](const openvdb::GridBase& g) {
+                if (!g.isType<openvdb::FloatGrid>())
+                    fail(path, where, "has value type " + g.valueType() + ", expected float");
+            });
+        grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
     } catch (const Error&) {
         throw;
     } catch (const std::exception& e) {
         fail(path, "", std::string("not a readable OpenVDB file (") + e.what() + ")");
     }
-    auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
-    if (!grid) fail(path, where, "has value type " + base->valueType() + ", expected float");
     if (!grid->transform().isLinear()) fail(path, where, "non-linear transforms are not supported");
     if (grid->background() != 0.f)
         fail(path, where, "background value must be 0, is " + std::to_string(grid->background()));
 
     // Index → grid world (OpenVDB multiplies row vectors: w = [i j k 1]·M), then → scene.
-    const openvdb::Mat4d m = grid->transform().baseMap()->getAffineMap()->getMat4();
+    openvdb::Mat4d m;
+    try {  // OpenVDB throws ArithmeticError for a (nearly) singular map
+        m = grid->transform().baseMap()->getAffineMap()->getMat4();
+    } catch (const std::exception& e) {
+        fail(path, where, std::string("bad transform (") + e.what() + ")");
+    }
     Eigen::Matrix4d a;
     for (int r = 0; r < 4; ++r)
         for (int c = 0; c < 4; ++c) a(r, c) = m(c, r);
     const Eigen::Affine3d indexToWorld = desc.toWorld * Eigen::Affine3d(a);
+    const Eigen::Affine3d worldToIndex = indexToWorld.inverse();
+    if (!indexToWorld.matrix().allFinite() || !worldToIndex.matrix().allFinite() ||
+        !(std::abs(indexToWorld.linear().determinant()) > 0))
+        fail(path, where, "the transform (with the scene's) is singular or not finite");
 
-    // Pass 1: validate every stored value and find the bounds of non-zero density.
+    // Pass 1: validate every stored value and find the bounds of non-zero density. Index
+    // coordinates stay within ±2^30, so that lookups one voxel further and the bounds below
+    // cannot overflow an int.
     const openvdb::FloatTree& tree = grid->tree();
+    constexpr int kMaxIndex = 1 << 30;
     openvdb::CoordBBox bounds;
     for (auto it = tree.cbeginValueAll(); it; ++it) {
         const float v = *it;
@@ -145,25 +519,40 @@ std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc) {
             fail(path, where,
                  std::string(std::isfinite(v) ? "negative" : "NaN or infinite") + " density " +
                      std::to_string(v) + " at voxel " + ijkString(it.getCoord()));
-        if (v > 0) bounds.expand(it.getBoundingBox());
+        if (v > 0) {
+            const openvdb::CoordBBox b = it.getBoundingBox();
+            const openvdb::Coord &lo = b.min(), &hi = b.max();
+            if (std::min({lo.x(), lo.y(), lo.z()}) < -kMaxIndex ||
+                std::max({hi.x(), hi.y(), hi.z()}) > kMaxIndex)
+                fail(path, where,
+                     "density at voxel " + ijkString(it.getCoord()) +
+                         ", beyond the supported index range ±2^30");
+            bounds.expand(b);
+        }
     }
     MajorantGrid majorants;
     if (!bounds.empty()) {
         // Trilinear lookups reach one voxel beyond a stored value.
-        const Vec3 lo(bounds.min().x() - 1, bounds.min().y() - 1, bounds.min().z() - 1);
-        const Vec3 hi(bounds.max().x() + 1, bounds.max().y() + 1, bounds.max().z() + 1);
+        const Vec3 lo = Vec3(bounds.min().x(), bounds.min().y(), bounds.min().z()).array() - 1;
+        const Vec3 hi = Vec3(bounds.max().x(), bounds.max().y(), bounds.max().z()).array() + 1;
         Eigen::Vector3i res(1, 1, 1);
-        if (desc.majorantGrid)
-            res = ((hi - lo) / std::max(1, desc.majorantCellVoxels)).array().ceil().cast<int>();
+        if (desc.majorantGrid) {
+            // Cells of majorantCellVoxels voxels, doubled while the grid would have more than
+            // kMaxMajorantCells cells (one tile can cover 4096³ voxels of a file of 100 bytes).
+            constexpr double kMaxMajorantCells = 1 << 22;
+            double cell = std::max(1, desc.majorantCellVoxels);
+            while (((hi - lo) / cell).array().ceil().prod() > kMaxMajorantCells) cell *= 2;
+            res = ((hi - lo) / cell).array().ceil().cast<int>();
+        }
         majorants = MajorantGrid(lo, hi, res);
         for (auto it = tree.cbeginValueAll(); it; ++it) {
             if (*it <= 0) continue;
             const openvdb::CoordBBox b = it.getBoundingBox();
-            majorants.expand(Vec3(b.min().x() - 1, b.min().y() - 1, b.min().z() - 1),
-                             Vec3(b.max().x() + 1, b.max().y() + 1, b.max().z() + 1), *it);
+            majorants.expand(Vec3(b.min().x(), b.min().y(), b.min().z()).array() - 1,
+                             Vec3(b.max().x(), b.max().y(), b.max().z()).array() + 1, *it);
         }
     }
-    return std::make_unique<VdbMedium>(desc, grid, indexToWorld.inverse(), std::move(majorants));
+    return std::make_unique<VdbMedium>(desc, grid, worldToIndex, std::move(majorants));
 }
 
 size_t writeVdb(const std::string& path, const std::vector<VdbGridSpec>& specs) {

@@ -1,10 +1,13 @@
 #include "shvol/phase/phase_table_csv.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <vector>
 
 #include "shvol/core/error.h"
@@ -37,6 +40,11 @@ std::string str(double x) {
 }  // namespace
 
 TabulatedPhase readPhaseTableCsv(const std::string& path) {
+    // Only a regular file: /dev/zero or a terminal (tabulated:file=/dev/stdin) would never end.
+    std::error_code ec;
+    const std::filesystem::file_status st = std::filesystem::status(path, ec);
+    if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
+        fail(path, "", "not a regular file");
     std::ifstream in(path);
     if (!in) fail(path, "", "cannot open phase table");
     std::vector<double> angles, values;
@@ -95,10 +103,22 @@ TabulatedPhase readPhaseTableCsv(const std::string& path) {
         fail(path, end,
              "angles run from " + str(angles.front()) + " to " + str(angles.back()) +
                  ", which looks like radians (π = 3.14159); give the angles in degrees, 0 to 180");
-    bool anyPositive = false;
-    for (double v : values) anyPositive = anyPositive || v > 0;
-    if (!anyPositive) fail(path, end, "all values are zero");
-    return TabulatedPhase(angles, values, path);
+    double maxValue = 0;
+    for (double v : values) maxValue = std::max(maxValue, v);
+    if (!(maxValue > 0)) fail(path, end, "all values are zero");
+    // The values are normalised anyway; scaled to a maximum of 1 first, their integral can
+    // neither overflow (values near 1e308) nor make the normalisation infinite (values near
+    // 1e-320).
+    for (double& v : values) v /= maxValue;
+    // An end angle whose cosine rounds to ±1 (1e-9° or 179.9999999°) is that end: held constant
+    // out to 0° or 180°, it would give two nodes at the same μ.
+    if (std::cos(angles.front() * (Pi / 180)) == 1.0) angles.front() = 0;
+    if (std::cos(angles.back() * (Pi / 180)) == -1.0) angles.back() = 180;
+    try {
+        return TabulatedPhase(angles, values, path);
+    } catch (const std::invalid_argument& e) {  // a table the checks above should have refused
+        fail(path, end, e.what());
+    }
 }
 
 }  // namespace shvol

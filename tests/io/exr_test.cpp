@@ -9,8 +9,11 @@
 #include <ImfHeader.h>
 #include <ImfOutputFile.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <vector>
 
 #include "shvol/core/error.h"
 
@@ -74,6 +77,77 @@ TEST(Exr, FailedWriteLeavesNoFile) {
     const std::string path = tmp("nodir/out.exr");
     EXPECT_THROW(writeExr(path, Image(2, 2)), Error);
     EXPECT_FALSE(std::filesystem::exists(path));
+}
+
+// Found by fuzz/exr_fuzzer (UndefinedBehaviorSanitizer): readExr pointed its frame buffer at
+// image.data() − dataWindow.min, a pointer outside the array (undefined even when never
+// dereferenced there). A data window that does not start at (0, 0) is read correctly.
+TEST(Exr, OffsetDataWindow) {
+    const std::string path = tmp("offset.exr");
+    const Imath::Box2i dw(Imath::V2i(-3, 5), Imath::V2i(0, 6));  // 4 × 2 pixels
+    Imf::Header header(dw, dw);
+    header.channels().insert("Y", Imf::Channel(Imf::FLOAT));
+    float y[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+    {
+        Imf::OutputFile file(path.c_str(), header);
+        Imf::FrameBuffer fb;
+        fb.insert("Y", Imf::Slice::Make(Imf::FLOAT, y, dw));
+        file.setFrameBuffer(fb);
+        file.writePixels(2);
+    }
+    const Image img = readExr(path);
+    ASSERT_EQ(img.width, 4);
+    ASSERT_EQ(img.height, 2);
+    for (int i = 0; i < 8; ++i)
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(img.at(i % 4, i / 4)[c], y[i]);
+}
+
+// A header may announce any size. A DWAB file holds 256 rows per chunk, so an 8 × 4 file whose
+// data window is patched to 30000 × 256 pixels still has a valid offset table for OpenEXR, and
+// readExr allocated 92 MB for it (30000 × 30000 in a tiled file: 10 GB). A data window that the
+// file's bytes cannot hold, or wider than 32768 pixels, is now refused before any allocation.
+TEST(Exr, DataWindowLargerThanTheFileIsRefused) {
+    const std::string path = tmp("dwab.exr");
+    {
+        Imf::Header header(8, 4);
+        header.compression() = Imf::DWAB_COMPRESSION;
+        header.channels().insert("Y", Imf::Channel(Imf::FLOAT));
+        std::vector<float> y(32, 0.5f);
+        Imf::OutputFile file(path.c_str(), header);
+        Imf::FrameBuffer fb;
+        fb.insert("Y", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(y.data()), 4, 32));
+        file.setFrameBuffer(fb);
+        file.writePixels(4);
+    }
+    std::ifstream in(path, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    const std::string tag("dataWindow\0box2i\0", 17);
+    const size_t at = bytes.find(tag);
+    ASSERT_NE(at, std::string::npos);
+    const auto withMax = [&](const std::string& name, int32_t maxX, int32_t maxY) {
+        std::string b = bytes;
+        std::memcpy(&b[at + tag.size() + 4 + 8], &maxX, 4);
+        std::memcpy(&b[at + tag.size() + 4 + 12], &maxY, 4);
+        std::ofstream(tmp(name), std::ios::binary) << b;
+        return tmp(name);
+    };
+    const std::string huge = withMax("huge.exr", 29999, 255);
+    const std::string m = messageOf([&] { readExr(huge); });
+    EXPECT_EQ(m, huge + ": data window: 30000 x 256 pixels cannot be stored in " +
+                     std::to_string(bytes.size()) + " bytes (damaged file)");
+    const std::string wide = withMax("wide.exr", 99999, 3);
+    EXPECT_EQ(messageOf([&] { readExr(wide); }).rfind(wide + ": ", 0), 0u);
+}
+
+// Only regular files are read (a device such as /dev/zero never ends), and a file name the
+// system refuses (longer than NAME_MAX) gives a shvol::Error, not std::filesystem_error.
+TEST(Exr, OnlyRegularFilesAreRead) {
+    EXPECT_EQ(messageOf([] { readExr("/dev/zero"); }), "/dev/zero: not a regular file");
+    EXPECT_EQ(messageOf([] { readExr(testing::TempDir()); }),
+              testing::TempDir() + ": not a regular file");
+    const std::string longName(300, 'x');
+    EXPECT_EQ(messageOf([&] { readExr(longName); }),
+              longName + ": cannot read file (File name too long)");
 }
 
 }  // namespace shvol

@@ -117,4 +117,28 @@ TEST(JsonReader, OverrideSemantics) {
               "s.json: --set media.=1: empty component in key path");
 }
 
+// Found by fuzz/scene_fuzzer and fuzz/phase_spec_fuzzer: a --set value that is not JSON is kept
+// as a string, bytes and all; quoting it in a message must not throw nlohmann's type_error 316
+// (invalid UTF-8), which escaped as a non-shvol exception.
+TEST(JsonReader, InvalidUtf8InAValueGivesOneLine) {
+    Json j = Json::object();
+    applyOverride(j, "render.spp=\xb4\xff", "s.json");
+    JsonReader render(j["render"], "s.json", "render");
+    EXPECT_EQ(messageOf([&] { render.integer("spp", 1, 1, 10); }),
+              "s.json: render.spp: expected an integer, got string \"\xEF\xBF\xBD\xEF\xBF\xBD\"");
+    const Json k = {{"g", std::string("c-0.or\xca")}};
+    EXPECT_EQ(messageOf([&] { JsonReader(k, "spec", "").number("g"); }),
+              "spec: g: expected a number, got string \"c-0.or\xEF\xBF\xBD\"");
+}
+
+// A value nested 100000 levels deep (a 200 KB --set value or scene) is quoted in a message
+// without recursing through it (Json::dump did, and overflowed the stack).
+TEST(JsonReader, DeeplyNestedValueInAMessage) {
+    Json j = Json::object();
+    applyOverride(j, "render.spp=" + std::string(100000, '[') + std::string(100000, ']'), "s.json");
+    JsonReader render(j["render"], "s.json", "render");
+    EXPECT_EQ(messageOf([&] { render.integer("spp", 1, 1, 10); }),
+              "s.json: render.spp: expected an integer, got array " + std::string(37, '[') + "...");
+}
+
 }  // namespace shvol

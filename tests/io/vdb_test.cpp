@@ -4,7 +4,10 @@
 
 #include "test_util.h"
 
+#include <chrono>
+#include <cstring>
 #include <fstream>
+#include <iterator>
 
 #include "shvol/core/error.h"
 #include "shvol/io/procedural.h"
@@ -122,8 +125,8 @@ TEST(Vdb, MajorantBoundsDensityEverywhere) {
         d.file = tmp("bound.vdb");
         d.densityScale = 30;
         d.majorantGrid = grid;
-        d.toWorld = Eigen::Translation3d(0.3, -0.2, 1) * Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()) *
-                    Eigen::Scaling(1.7);
+        d.toWorld = Eigen::Translation3d(0.3, -0.2, 1) *
+                    Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()) * Eigen::Scaling(1.7);
         auto m = loadVdbMedium(d);
         Rng rng(11, 2);
         int inside = 0;
@@ -210,6 +213,139 @@ TEST(Vdb, WhiteFurnace) {
         EXPECT_NEAR(mean, 1.0, 5 * se + 1e-12) << "g " << g;
         EXPECT_GT(c.scatteringEvents, uint64_t(n) / 4) << "the cloud must actually scatter";
     }
+}
+
+// ---- Damaged and hostile files (fuzz/vdb_fuzzer) ------------------------------------------
+
+namespace {
+std::string seedBytes(const std::string& name) {
+    std::ifstream in(std::string(SHVOL_SOURCE_DIR) + "/tests/fuzz/vdb/" + name, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+template <typename T>
+void put(std::string& bytes, size_t at, T value) {
+    ASSERT_LE(at + sizeof(T), bytes.size());
+    std::memcpy(&bytes[at], &value, sizeof(T));
+}
+/// loadVdbMedium's message for a file with these bytes.
+std::string loadMessage(const std::string& name, const std::string& bytes) {
+    VdbMediumDesc d;
+    d.file = tmp(name);
+    std::ofstream(d.file, std::ios::binary) << bytes;
+    return messageOf([&] { loadVdbMedium(d); });
+}
+/// Where the tree starts: after the transform type `map` and the map's `mapBytes` bytes.
+size_t treeStart(const std::string& bytes, const std::string& map, size_t mapBytes) {
+    const size_t at = bytes.find(map);
+    return at == std::string::npos ? 0 : at + map.size() + mapBytes;
+}
+}  // namespace
+
+// OpenVDB 10 believes the sizes and counts in a file. Each of these small files made loadVdbMedium
+// allocate gigabytes, loop for minutes, or (the negative chunk size) write file bytes past the
+// end of a heap buffer inside io::bloscFromStream; now each is one line.
+TEST(Vdb, DamagedFilesAreRefusedBeforeOpenVdbReadsThem) {
+    const std::string sphere = seedBytes("sphere8_blosc.vdb");
+    ASSERT_GT(sphere.size(), 1000u);
+    const std::string prefix = tmp("damaged.vdb") + ": not a readable OpenVDB file (";
+
+    // The size of a grid metadata value (the "class" string) says 4 GB.
+    std::string b = sphere;
+    const std::string classMeta("\x05\0\0\0class\x06\0\0\0string", 19);
+    ASSERT_NE(b.find(classMeta), std::string::npos);
+    put<uint32_t>(b, b.find(classMeta) + classMeta.size(), 0xFFFFFFF0u);
+    std::string m = loadMessage("damaged.vdb", b);
+    EXPECT_EQ(m.rfind(prefix + "grid metadata (4294967280 bytes at byte", 0), 0u) << m;
+
+    // The root node claims 2^32 − 1 tiles.
+    const size_t tree = treeStart(sphere, "UniformScaleTranslateMap", 6 * 24);
+    ASSERT_GT(tree, 0u);
+    b = sphere;
+    put<uint32_t>(b, tree + 8, 0xFFFFFFFFu);
+    m = loadMessage("damaged.vdb", b);
+    EXPECT_EQ(m.rfind(prefix + "root tiles (73014444015 bytes at byte", 0), 0u) << m;
+
+    // The last leaf's Blosc chunk says "9000 bytes, stored uncompressed" into a smaller buffer.
+    size_t chunk = 0;
+    for (size_t i = 0; i + 24 <= sphere.size(); ++i) {
+        int64_t n;
+        uint32_t cbytes;
+        std::memcpy(&n, &sphere[i], 8);
+        std::memcpy(&cbytes, &sphere[i + 8 + 12], 4);
+        if (n > 16 && n < 5000 && sphere[i + 8] == 2 && cbytes == uint64_t(n)) chunk = i;
+    }
+    ASSERT_GT(chunk, 0u);
+    b = sphere + std::string(12000, '\0');
+    put<int64_t>(b, chunk, -9000);
+    m = loadMessage("damaged.vdb", b);
+    EXPECT_EQ(
+        m.rfind(prefix + "leaf values at byte " + std::to_string(chunk) + ": -9000-byte chunk", 0),
+        0u)
+        << m;
+
+    // A root tile's "active" byte is read into a C++ bool: 105 is not a bool.
+    b = seedBytes("root_tile.vdb");
+    const size_t tile = treeStart(b, "UniformScaleMap", 5 * 24) + 16;
+    put<char>(b, tile + 16, 105);
+    m = loadMessage("damaged.vdb", b);
+    EXPECT_EQ(m.rfind(prefix + "root tile at byte " + std::to_string(tile) +
+                          ": active flag 105 is not a bool)",
+                      0),
+              0u)
+        << m;
+
+    // A scale of 0 in the grid's transform: OpenVDB's getAffineMap threw
+    // openvdb::ArithmeticError, which escaped loadVdbMedium.
+    b = sphere;
+    const size_t map = treeStart(sphere, "UniformScaleTranslateMap", 0);
+    for (int i = 0; i < 3; ++i) put<double>(b, map + 24 + 8 * i, 0.0);
+    m = loadMessage("damaged.vdb", b);
+    EXPECT_EQ(m, tmp("damaged.vdb") +
+                     ": grid 'density': bad transform (ArithmeticError: Tried to initialize an "
+                     "affine transform from a nearly singular matrix)");
+
+    // Truncated: the descriptor's offsets point past the end.
+    m = loadMessage("damaged.vdb", seedBytes("bad_truncated.vdb"));
+    EXPECT_EQ(m.rfind(prefix + "inconsistent offsets in the descriptor of grid 'density'", 0), 0u)
+        << m;
+}
+
+// One root tile of a 586-byte file covers 4096³ voxels. Its majorant grid at the default 8-voxel
+// cells would have 512³ cells (1 GB); cells are doubled until there are at most 2^22.
+TEST(Vdb, OneTileOverAHugeRegionLoadsQuickly) {
+    VdbMediumDesc d;
+    d.file = std::string(SHVOL_SOURCE_DIR) + "/tests/fuzz/vdb/root_tile.vdb";
+    d.densityScale = 4;
+    const auto start = std::chrono::steady_clock::now();
+    const auto m = loadVdbMedium(d);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5);
+    EXPECT_NEAR(m->sigmaT(Vec3(0.5, 0.25, 0.75)), 2, 1e-6);
+    EXPECT_GE(m->sigmaMajorant(Vec3(0.5, 0.25, 0.75)), 2);
+    EXPECT_EQ(m->sigmaT(Vec3(-0.5, 0.5, 0.5)), 0);
+}
+
+TEST(Vdb, SingularTransformAndFarLookups) {
+    writeVdb(tmp("far.vdb"), {sphereSpec(8, 0.3)});
+    VdbMediumDesc d;
+    d.file = tmp("far.vdb");
+    const auto m = loadVdbMedium(d);
+    // Index coordinates beyond int range used to reach OpenVDB's integer voxel lookup.
+    EXPECT_EQ(m->sigmaT(Vec3(1e30, 0, 0)), 0);
+    EXPECT_EQ(m->sigmaT(Vec3(NAN, 0, 0)), 0);
+    EXPECT_EQ(m->sigmaMajorant(Vec3(-1e300, 1e300, 0)), 0);
+    d.toWorld = Eigen::Affine3d(Eigen::Scaling(1e-300));
+    EXPECT_EQ(
+        messageOf([&] { loadVdbMedium(d); }),
+        d.file + ": grid 'density': the transform (with the scene's) is singular or not finite");
+}
+
+TEST(Vdb, OnlyRegularFilesAreRead) {
+    VdbMediumDesc d;
+    d.file = "/dev/zero";
+    EXPECT_EQ(messageOf([&] { loadVdbMedium(d); }), "/dev/zero: not a regular file");
+    d.file = std::string(300, 'x') + ".vdb";
+    EXPECT_EQ(messageOf([&] { loadVdbMedium(d); }),
+              d.file + ": cannot read file (File name too long)");
 }
 
 }  // namespace shvol

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <functional>
@@ -156,6 +157,38 @@ TEST(TabulatedCsv, OneLineErrors) {
     // A short table in degrees that ends before π is still fine.
     EXPECT_EQ(messageOf([&] { readPhaseTableCsv(writeCsv("peak.csv", "0,5\n1,2\n2.5,1\n")); }),
               "(no error)");
+}
+
+// Found by fuzz/phase_csv_fuzzer: a table starting at 1e-7° (or ending at 179.9999999°) was held
+// constant out to 0° (180°) at a μ that rounds to the same double, and PiecewiseLinear1D threw
+// std::invalid_argument, not a shvol::Error. Such an end angle now is the end.
+TEST(TabulatedCsv, EndAnglesWhoseCosineRoundsToTheEnd) {
+    const TabulatedPhase a =
+        readPhaseTableCsv(writeCsv("near0.csv", "\x15 header\n1e-7,32\n19.999,0.5\n180,1e2\n"));
+    EXPECT_EQ(a.table().nodes().size(), 3u);
+    const TabulatedPhase b =
+        readPhaseTableCsv(writeCsv("near180.csv", "0,1\n90,2\n179.9999999,3\n"));
+    EXPECT_EQ(b.table().nodes().size(), 3u);
+    EXPECT_DOUBLE_EQ(b.evalCos(-1) / b.evalCos(1), 3.0);
+}
+
+// Values are only relative. 1e308 everywhere made the integral overflow to inf (a
+// std::invalid_argument escaped); 3e-308 in a 0.00001° forward peak made it so small that the
+// normalisation 1/∫ was inf, and the phase function evaluated to inf and NaN.
+TEST(TabulatedCsv, ExtremeValuesAreNormalised) {
+    const TabulatedPhase big =
+        readPhaseTableCsv(writeCsv("big.csv", "0,1e308\n90,1e308\n180,1e308\n"));
+    EXPECT_NEAR(big.evalCos(0.3), 1 / (4 * Pi), 1e-12);
+    const TabulatedPhase tiny =
+        readPhaseTableCsv(writeCsv("tiny.csv", "0,3e-308\n0.00001,3e-308\n0.00002,0\n180,0\n"));
+    EXPECT_TRUE(std::isfinite(tiny.evalCos(1.0)));
+    EXPECT_GT(tiny.evalCos(1.0), 0);
+    EXPECT_EQ(tiny.evalCos(0.0), 0);
+}
+
+// Only regular files: /dev/zero (tabulated:file=/dev/zero) was read forever.
+TEST(TabulatedCsv, OnlyRegularFiles) {
+    EXPECT_EQ(messageOf([] { readPhaseTableCsv("/dev/zero"); }), "/dev/zero: not a regular file");
 }
 
 }  // namespace

@@ -12,6 +12,12 @@ namespace shvol {
 
 using Json = nlohmann::json;
 
+/// j as JSON text; invalid UTF-8 in strings (e.g. a file name) is replaced by U+FFFD instead of
+/// throwing. indent < 0: one line.
+inline std::string dumpJson(const Json& j, int indent = -1) {
+    return j.dump(indent, ' ', false, Json::error_handler_t::replace);
+}
+
 /// Parses a whole file; errors name the file and the line/column.
 Json parseJsonFile(const std::string& path);
 
@@ -44,11 +50,22 @@ class JsonReader {
     /// A number s (meaning (s, s, s)) or a 3-array.
     Vec3 vec3OrScalar(const std::string& key, std::optional<Vec3> def = {});
     JsonReader object(const std::string& key);
+    /// The object at key, or an empty object (all defaults) when the key is absent.
+    JsonReader objectOrEmpty(const std::string& key);
     const Json& raw(const std::string& key);
     /// Raises an error naming the first key that was never read.
     void finish() const;
 
     [[noreturn]] void error(const std::string& key, const std::string& msg) const;
+
+    /// Records every value read from now on — defaults included — into *node, as the resolved
+    /// document (objects read through object() record into node[key]). node must outlive the
+    /// reader and its children, and must not be reallocated meanwhile.
+    void recordInto(Json* node) { resolved_ = node; }
+    /// Records a value that was derived rather than read (e.g. "order": "auto").
+    void note(const std::string& key, const Json& value) {
+        if (resolved_) (*resolved_)[key] = value;
+    }
     std::string keyPath(const std::string& key) const;
 
   private:
@@ -56,6 +73,7 @@ class JsonReader {
     const Json& j_;
     std::string file_, path_;
     std::set<std::string> used_;
+    Json* resolved_ = nullptr;
 };
 
 }  // namespace shvol
