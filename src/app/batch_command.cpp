@@ -29,7 +29,7 @@ struct BatchArgs {
 std::string describe(const SweepRun& run) {
     std::string s = run.id;
     for (auto it = run.values.begin(); it != run.values.end(); ++it)
-        s += " " + it.key() + "=" + it.value().dump();
+        s += " " + it.key() + "=" + dumpJson(it.value());
     return s;
 }
 
@@ -160,7 +160,7 @@ int runBatch(BatchArgs a) {
         if (!a.quiet && !Progress::stderrIsTerminal())
             std::fprintf(stderr, "batch: %zu/%zu %s%s\n", ledger.rows().size(), s.runs.size(),
                          describe(*run).c_str(),
-                         row.contains("rmse") ? (" rmse " + row["rmse"].dump()).c_str() : "");
+                         row.contains("rmse") ? (" rmse " + dumpJson(row["rmse"])).c_str() : "");
     }
     progress.done();
     if (!a.quiet)

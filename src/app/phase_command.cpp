@@ -92,7 +92,7 @@ int runFit(const PhaseArgs& a) {
         j["defensive_fraction"] = sh.defensiveFraction();
         j["weight_second_moment"] = m2;
         j["weight_second_moment_exact"] = m2exact;
-        std::printf("%s\n", j.dump(2).c_str());
+        std::printf("%s\n", dumpJson(j, 2).c_str());
         return 0;
     }
     std::printf("# zonal SH fit of %s: p(mu) ~ sum_l p_l y_l^0(mu)\n", a.spec.c_str());

@@ -199,7 +199,7 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
         std::ofstream f(tmp);
         nlohmann::json j = statsJson(scene, image, st, o.image, warnings, provenance);
         if (variance) j["standard_error"] = o.stderrImage;
-        f << j.dump(2) << "\n";
+        f << dumpJson(j, 2) << "\n";
         f.close();
         if (!f) fail(o.stats, "", "cannot write file");
         writeExr(o.image, image);
@@ -231,7 +231,8 @@ int runRender(const RenderArgs& a) {
         a.spp.empty() ? std::vector<uint32_t>{} : parseSppList(a.spp);
     if (!sppList.empty()) sets.push_back("render.spp=" + std::to_string(sppList.back()));
     if (a.seed >= 0) sets.push_back("render.seed=" + std::to_string(a.seed));
-    const Scene scene = loadScene(a.scene, sets);
+    nlohmann::json resolved;
+    const Scene scene = loadScene(a.scene, sets, &resolved);
     std::string out = a.output;
     if (out.empty()) out = std::filesystem::path(a.scene).stem().string() + ".exr";
     std::string ext = std::filesystem::path(out).extension().string();
@@ -251,7 +252,8 @@ int runRender(const RenderArgs& a) {
     for (const std::string& w : warnings)
         std::fprintf(stderr, "shvol: warning: %s: %s\n", a.scene.c_str(), w.c_str());
 
-    const nlohmann::json provenance = {{"inputs", inputFiles(a.scene, sets)},
+    const nlohmann::json provenance = {{"scene_resolved", resolved},
+                                       {"inputs", inputFiles(a.scene, sets)},
                                        {"overrides", a.sets},
                                        {"command_line", commandLine()},
                                        {"machine", machineDescription()}};

@@ -27,7 +27,7 @@ uint64_t renderIdentity(const std::string& scenePath, const std::vector<std::str
     Json doc = parseJsonFile(scenePath);
     for (const std::string& o : overrides) applyOverride(doc, o, scenePath);
     if (doc.contains("render") && doc["render"].is_object()) doc["render"].erase("spp");
-    const std::string text = doc.dump();
+    const std::string text = dumpJson(doc);
     return fnv1a(text.data(), text.size());
 }
 

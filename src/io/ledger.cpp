@@ -11,7 +11,7 @@ namespace shvol {
 namespace {
 
 std::string csvField(const Json& v) {
-    std::string s = v.is_string() ? v.get<std::string>() : v.dump();
+    std::string s = v.is_string() ? v.get<std::string>() : dumpJson(v);
     if (s.find_first_of(",\"\n") == std::string::npos) return s;
     std::string q = "\"";
     for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
@@ -63,7 +63,7 @@ void Ledger::append(const Json& row) {
     std::string jsonl;
     std::vector<std::string> columns;
     for (const Json& r : rows_) {
-        jsonl += r.dump() + "\n";
+        jsonl += dumpJson(r) + "\n";
         for (auto it = r.begin(); it != r.end(); ++it)
             if (std::find(columns.begin(), columns.end(), it.key()) == columns.end())
                 columns.push_back(it.key());

@@ -69,7 +69,7 @@ PhaseFunction readPhase(JsonReader& r, const std::string& baseDir) {
     if (!sh)
         for (const char* key : {"order", "tolerance", "window", "evaluate", "sh_depth"})
             if (r.has(key)) r.error(key, "only valid with \"sampling\": \"sh\"");
-    const SHPhaseKeys keys = readSHPhaseKeys(r);
+    const SHPhaseKeys keys = sh ? readSHPhaseKeys(r) : SHPhaseKeys{};
     const PhaseFunction base = readBasePhase(r, baseDir);
     if (!sh) return base;
     try {
@@ -87,8 +87,8 @@ std::string specName(const std::string& spec) {
 
 SHPhaseKeys readSHPhaseKeys(JsonReader& r) {
     SHPhaseKeys k;
-    if (r.has("order") && r.raw("order").is_string()) {
-        if (r.string("order") != "auto")
+    if (!r.has("order") || r.raw("order").is_string()) {  // "auto", the default
+        if (r.string("order", "auto") != "auto")
             r.error("order", "expected an integer 1 … 256 or \"auto\"");
         k.fit.order = 0;
         k.fit.tolerance = r.number("tolerance", k.fit.tolerance, 1e-9, 1);

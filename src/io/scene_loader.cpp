@@ -50,6 +50,8 @@ Camera readCamera(JsonReader r) {
             r.error("resolution", "expected [width, height], integers in [1, 16384]");
         c.width = res[0].get<int>();
         c.height = res[1].get<int>();
+    } else {
+        r.note("resolution", {c.width, c.height});
     }
     r.finish();
     return c;
@@ -163,29 +165,39 @@ std::unique_ptr<Medium> readMedium(JsonReader r) {
 
 }  // namespace
 
-Scene sceneFromJson(const Json& doc, const std::string& path) {
+Scene sceneFromJson(const Json& doc, const std::string& path, Json* resolved) {
     Scene scene;
     scene.path = path;
     JsonReader r(doc, path, "");
-    if (r.has("camera")) scene.camera = readCamera(r.object("camera"));
-    if (r.has("render")) scene.settings = readSettings(r.object("render"));
+    if (resolved) r.recordInto(&(*resolved = Json::object()));
+    scene.camera = readCamera(r.objectOrEmpty("camera"));
+    scene.settings = readSettings(r.objectOrEmpty("render"));
     if (r.has("environment"))
         scene.environment = readEnvironment(r.object("environment"), scene.settings);
+    else
+        r.note("environment", {{"type", "constant"}, {"radiance", 0}});  // none: black
     if (r.has("media")) {
         const Json& media = r.raw("media");
         if (!media.is_array()) r.error("media", "expected an array of media");
-        for (size_t i = 0; i < media.size(); ++i)
-            scene.media.push_back(
-                readMedium(JsonReader(media[i], path, "media[" + std::to_string(i) + "]")));
+        // Sized before the readers record into its elements, so none of them moves.
+        if (resolved) (*resolved)["media"] = Json::array();
+        if (resolved)
+            (*resolved)["media"].get_ref<Json::array_t&>().resize(media.size(), Json::object());
+        for (size_t i = 0; i < media.size(); ++i) {
+            JsonReader m(media[i], path, "media[" + std::to_string(i) + "]");
+            if (resolved) m.recordInto(&(*resolved)["media"][i]);
+            scene.media.push_back(readMedium(m));
+        }
     }
     r.finish();
     return scene;
 }
 
-Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
+Scene loadScene(const std::string& path, const std::vector<std::string>& overrides,
+                Json* resolved) {
     Json doc = parseJsonFile(path);
     for (const std::string& o : overrides) applyOverride(doc, o, path);
-    return sceneFromJson(doc, path);
+    return sceneFromJson(doc, path, resolved);
 }
 
 }  // namespace shvol

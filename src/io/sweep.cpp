@@ -33,13 +33,13 @@ std::string relativeTo(const std::string& sweepFile, const std::string& p) {
 
 /// "key=value" with the value as JSON text (strings quoted, so they stay strings).
 std::string assignment(const std::string& key, const Json& v) {
-    return key + "=" + v.dump();
+    return key + "=" + dumpJson(v);
 }
 
 std::string fingerprint(const std::string& scene, const std::vector<std::string>& sets) {
     Json doc = parseJsonFile(scene);
     for (const std::string& s : sets) applyOverride(doc, s, scene);
-    const std::string text = doc.dump();
+    const std::string text = dumpJson(doc);
     return hexHash(fnv1a(text.data(), text.size()));
 }
 
@@ -153,7 +153,7 @@ Sweep readSweep(const std::string& path) {
         for (const Json& v : m) {
             if (!v.is_string() ||
                 std::find(known.begin(), known.end(), v.get<std::string>()) == known.end())
-                r.error("metrics", "unknown metric " + v.dump() +
+                r.error("metrics", "unknown metric " + dumpJson(v) +
                                        "; expected rmse, relmse, mae, bias or ztest");
             s.metrics.push_back(v.get<std::string>());
         }

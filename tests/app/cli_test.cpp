@@ -584,4 +584,18 @@ TEST_F(Cli, BatchReport) {
     EXPECT_EQ(run("report " + path("nothing")).code, 1);
 }
 
+// A scene whose file name is not valid UTF-8 renders, and its stats are valid JSON (the name is
+// written with U+FFFD where the bad byte was).
+TEST_F(Cli, NonUtf8FileNames) {
+    const std::string name = path(
+        "sc\xff"
+        "e.json");
+    std::ofstream(name) << scene(Homogeneous);
+    const Result r = run("render '" + name + "' -o " + path("u.exr") + " --quiet");
+    ASSERT_EQ(r.code, 0) << r.err;
+    std::ifstream f(path("u.stats.json"));
+    const auto stats = nlohmann::json::parse(f);
+    EXPECT_NE(stats["scene"].get<std::string>().find("\xef\xbf\xbd"), std::string::npos);
+}
+
 }  // namespace shvol

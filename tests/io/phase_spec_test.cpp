@@ -166,7 +166,9 @@ TEST(PhaseSpec, JsonErrorsNameFileAndPath) {
               "scene.json: media[0].phase.order: value 0 out of range [1, 256]");
     EXPECT_EQ(messageOf([] { fromJson(R"({"type": "hg", "sampling": "sh", "order": "high"})"); }),
               "scene.json: media[0].phase.order: expected an integer 1 … 256 or \"auto\"");
-    EXPECT_EQ(messageOf([] { fromJson(R"({"type": "hg", "sampling": "sh", "tolerance": 0.1})"); }),
+    EXPECT_EQ(messageOf([] {
+                  fromJson(R"({"type": "hg", "sampling": "sh", "order": 8, "tolerance": 0.1})");
+              }),
               "scene.json: media[0].phase.tolerance: only valid with \"order\": \"auto\"");
     EXPECT_EQ(messageOf([] { fromJson(R"({"type": "hg", "sampling": "wavelet"})"); }),
               "scene.json: media[0].phase.sampling: unknown value \"wavelet\"; expected one of "

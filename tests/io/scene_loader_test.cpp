@@ -93,4 +93,32 @@ TEST(SceneLoader, SunlitCloudStrategiesAgree) {
     EXPECT_GT(baseMean, 0.0);
 }
 
+// The resolved scene holds every value the loader read, defaults filled in.
+TEST(SceneLoader, ResolvedSceneFillsInDefaults) {
+    const Json doc = Json::parse(R"({"render": {"spp": 3},
+        "media": [{"type": "homogeneous", "shape": {}, "phase": {"type": "hg", "sampling": "sh"}}]})");
+    Json resolved;
+    const Scene s = sceneFromJson(doc, "scene.json", &resolved);
+    EXPECT_EQ(resolved["render"]["spp"], 3);
+    EXPECT_EQ(resolved["render"]["max_depth"], s.settings.maxDepth);
+    EXPECT_EQ(resolved["render"]["nee"], true);
+    EXPECT_EQ(resolved["camera"]["fov"], s.camera.fovDegrees);
+    EXPECT_EQ(resolved["camera"]["resolution"], Json({s.camera.width, s.camera.height}));
+    EXPECT_EQ(resolved["environment"], Json({{"type", "constant"}, {"radiance", 0}}));
+    const Json& m = resolved["media"][0];
+    EXPECT_EQ(m["sigma_t"], 1.0);
+    EXPECT_EQ(m["shape"]["type"], "box");
+    EXPECT_EQ(m["phase"]["order"], "auto");
+    EXPECT_EQ(m["phase"]["tolerance"], 0.01);
+    EXPECT_EQ(m["phase"]["g"], 0.0);
+    EXPECT_EQ(m["phase"]["evaluate"], "sh");
+    // An analytic phase function records no SH keys.
+    Json r2;
+    sceneFromJson(
+        Json::parse(
+            R"({"media": [{"type": "homogeneous", "shape": {}, "phase": {"type": "hg"}}]})"),
+        "s.json", &r2);
+    EXPECT_FALSE(r2["media"][0]["phase"].contains("order"));
+}
+
 }  // namespace shvol

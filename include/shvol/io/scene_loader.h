@@ -11,11 +11,14 @@ namespace shvol {
 
 /// Loads and validates a scene. `overrides` are "key.path=value" assignments applied to the JSON
 /// before it is read (the --set option). Relative file names are resolved against the scene's
-/// directory. Every error is one line naming the file and the JSON path.
-Scene loadScene(const std::string& path, const std::vector<std::string>& overrides = {});
+/// directory. Every error is one line naming the file and the JSON path. With `resolved`, every
+/// value the loader read is stored there, defaults filled in (the fully resolved scene of the
+/// stats file; an absent environment is recorded as the black constant it stands for).
+Scene loadScene(const std::string& path, const std::vector<std::string>& overrides = {},
+                Json* resolved = nullptr);
 
 /// Builds a scene from an already-parsed document (tests use this); `path` is used for messages
 /// and to resolve relative file names.
-Scene sceneFromJson(const Json& doc, const std::string& path);
+Scene sceneFromJson(const Json& doc, const std::string& path, Json* resolved = nullptr);
 
 }  // namespace shvol
