@@ -43,12 +43,7 @@ void writeCheckpoint(const std::string& path, const Film& film, uint64_t identit
     bytes.append(reinterpret_cast<const char*>(film.sumSq.data()),
                  film.sumSq.size() * sizeof(double));
     put(bytes, fnv1a(bytes.data(), bytes.size()));
-    writeAtomically(path, [&](const std::string& tmp) {
-        std::ofstream f(tmp, std::ios::binary);
-        f.write(bytes.data(), std::streamsize(bytes.size()));
-        f.close();
-        if (!f) fail(path, "", "cannot write checkpoint");
-    });
+    writeTextAtomically(path, bytes);
 }
 
 Film readCheckpoint(const std::string& path, uint64_t identity) {

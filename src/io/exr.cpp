@@ -11,6 +11,7 @@
 
 #include "shvol/core/atomic_file.h"
 #include "shvol/core/error.h"
+#include "shvol/core/input_file.h"
 
 namespace shvol {
 
@@ -30,14 +31,7 @@ constexpr double kMinExrPixelLimit = 1 << 20;  // small files may still hold a 1
 }  // namespace
 
 Image readExr(const std::string& path) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const fs::file_status st = fs::status(path, ec);
-    if (st.type() == fs::file_type::not_found) fail(path, "", "file not found");
-    if (ec) fail(path, "", "cannot read file (" + ec.message() + ")");
-    if (!fs::is_regular_file(st)) fail(path, "", "not a regular file");
-    const uintmax_t bytes = fs::file_size(path, ec);
-    if (ec) fail(path, "", "cannot read file (" + ec.message() + ")");
+    const uintmax_t bytes = regularFileSize(path);
     static std::once_flag limits;
     std::call_once(limits, [] {
         Imf::Header::setMaxImageSize(kMaxExrSide, kMaxExrSide);

@@ -18,15 +18,6 @@ std::string csvField(const Json& v) {
     return q + "\"";
 }
 
-void writeText(const std::string& path, const std::string& text) {
-    writeAtomically(path, [&](const std::string& tmp) {
-        std::ofstream f(tmp, std::ios::binary);
-        f << text;
-        f.close();
-        if (!f) fail(path, "", "cannot write file");
-    });
-}
-
 }  // namespace
 
 Ledger::Ledger(std::string dir) : dir_(std::move(dir)) {
@@ -77,8 +68,8 @@ void Ledger::append(const Json& row) {
         csv += "\n";
     }
     // The CSV first: the JSONL is the record that a run finished.
-    writeText(csvPath(), csv);
-    writeText(jsonlPath(), jsonl);
+    writeTextAtomically(csvPath(), csv);
+    writeTextAtomically(jsonlPath(), jsonl);
 }
 
 }  // namespace shvol

@@ -18,6 +18,7 @@
 
 #include "shvol/core/atomic_file.h"
 #include "shvol/core/error.h"
+#include "shvol/core/input_file.h"
 #include "shvol/media/majorant_grid.h"
 
 namespace shvol {
@@ -441,17 +442,10 @@ std::string ijkString(const openvdb::Coord& c) {
 }  // namespace
 
 std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc) {
-    namespace fs = std::filesystem;
     initOpenVdb();
     const std::string& path = desc.file;
     const std::string where = "grid '" + desc.grid + "'";
-    std::error_code ec;
-    const fs::file_status st = fs::status(path, ec);
-    if (st.type() == fs::file_type::not_found) fail(path, "", "file not found");
-    if (ec) fail(path, "", "cannot read file (" + ec.message() + ")");
-    if (!fs::is_regular_file(st)) fail(path, "", "not a regular file");
-    const uintmax_t size = fs::file_size(path, ec);
-    if (ec) fail(path, "", "cannot read file (" + ec.message() + ")");
+    const uintmax_t size = regularFileSize(path);
 
     openvdb::FloatGrid::Ptr grid;
     try {

@@ -51,7 +51,10 @@ double PiecewiseLinear1D::cdf(double x) const {
 }
 
 double PiecewiseLinear1D::sample(double u) const {
-    u = std::clamp(u, 0.0, 1.0);
+    // u = 0 or 1 exactly would map to the end of the support, where f may be 0 (a table that
+    // starts or ends with zeros) and the sample would have value and pdf 0; 2^−53 from either
+    // end the sample is inside a segment with mass. (Moves at most 2^−53 of probability.)
+    u = std::clamp(u, 0x1p-53, 1 - 0x1p-53);
     // Last i with cdf_[i] ≤ u, so segment i has non-zero mass unless u = 1.
     int i = int(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin()) - 1;
     i = std::clamp(i, 0, int(x_.size()) - 2);

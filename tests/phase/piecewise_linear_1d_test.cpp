@@ -55,6 +55,18 @@ TEST(PiecewiseLinear1D, HistogramMatchesPdf) {
     }
 }
 
+// A table that starts and ends with zeros: u = 0 and u = 1 (an RNG can return 0) must still give
+// a point of positive density, or value/pdf would be 0/0 (found by review of the fuzzing work).
+TEST(PiecewiseLinear1D, EndsOfTheUnitIntervalLandWhereThereIsMass) {
+    const PiecewiseLinear1D f({0, 1, 2, 3, 4}, {0, 0, 1, 0, 0});
+    for (double u : {0.0, 1.0, 1e-300, std::nextafter(1.0, 0.0)}) {
+        const double x = f.sample(u);
+        EXPECT_GT(f.pdf(x), 0) << "u " << u << " x " << x;
+        EXPECT_GT(x, 1.0);
+        EXPECT_LT(x, 3.0);
+    }
+}
+
 TEST(PiecewiseLinear1D, RejectsBadInput) {
     EXPECT_THROW(PiecewiseLinear1D({0.0}, {1.0}), std::invalid_argument);
     EXPECT_THROW(PiecewiseLinear1D({0.0, 0.0}, {1.0, 1.0}), std::invalid_argument);
