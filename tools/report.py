@@ -160,7 +160,7 @@ def main():
     for c, spp, n, e, sd, t, eff in summary:
         table.append([c, str(spp), str(n), f"{e:.4g} ± {sd:.2g}" if error else "",
                       f"{t:.3g}", f"{eff:.4g}" if not math.isnan(eff) else ""])
-    md = [f"# Batch report: {os.path.abspath(directory)}", "",
+    md = [f"# Batch report: {directory}", "",
           f"{len(rows)} runs, {len(configs)} configurations; error metric: {error or 'none'}.", ""]
     for f, caption in figures:
         md += [f"![{caption}]({f})", "", f"*{caption}*", ""]
@@ -169,7 +169,7 @@ def main():
     md += ["| " + " | ".join(r) + " |" for r in table[1:]]
     write(os.path.join(directory, "report.md"), "\n".join(md) + "\n")
 
-    body = [f"<h1>Batch report</h1><p>{html.escape(os.path.abspath(directory))}: {len(rows)} runs, "
+    body = [f"<h1>Batch report</h1><p>{html.escape(directory)}: {len(rows)} runs, "
             f"{len(configs)} configurations; error metric: {error or 'none'}.</p>"]
     for f, caption in figures:
         body.append(f'<figure><img src="{f}"><figcaption>{html.escape(caption)}</figcaption>'
