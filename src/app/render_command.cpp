@@ -20,6 +20,7 @@
 #include "shvol/io/scene_loader.h"
 #include "shvol/render/renderer.h"
 #include "shvol/sampling/zonal_sh_sampler.h"
+#include "shvol_git_revision.h"
 
 namespace shvol::app {
 
@@ -116,6 +117,7 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
     const PathCounters& c = st.counters;
     nlohmann::json j;
     j["shvol_version"] = SHVOL_VERSION;
+    j["git_revision"] = SHVOL_GIT_REVISION;
     j["scene"] = scene.path;
     j["output"] = out;
     j["resolution"] = {scene.camera.width, scene.camera.height};
