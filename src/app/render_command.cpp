@@ -234,7 +234,8 @@ int runRender(const RenderArgs& a) {
     if (!sppList.empty()) sets.push_back("render.spp=" + std::to_string(sppList.back()));
     if (a.seed >= 0) sets.push_back("render.seed=" + std::to_string(a.seed));
     nlohmann::json resolved;
-    const Scene scene = loadScene(a.scene, sets, &resolved);
+    const Json doc = sceneDocument(a.scene, sets);  // read once: scene, identity, inputs
+    const Scene scene = sceneFromJson(doc, a.scene, &resolved);
     std::string out = a.output;
     if (out.empty()) out = std::filesystem::path(a.scene).stem().string() + ".exr";
     std::string ext = std::filesystem::path(out).extension().string();
@@ -255,13 +256,13 @@ int runRender(const RenderArgs& a) {
         std::fprintf(stderr, "shvol: warning: %s: %s\n", a.scene.c_str(), w.c_str());
 
     const nlohmann::json provenance = {{"scene_resolved", resolved},
-                                       {"inputs", inputFiles(a.scene, sets)},
+                                       {"inputs", inputFiles(doc, a.scene)},
                                        {"overrides", a.sets},
                                        {"command_line", commandLine()},
                                        {"machine", machineDescription()}};
 
     if (a.resume && a.checkpoint.empty()) fail("", "--resume", "needs --checkpoint FILE");
-    const uint64_t identity = a.checkpoint.empty() ? 0 : renderIdentity(a.scene, sets);
+    const uint64_t identity = a.checkpoint.empty() ? 0 : renderIdentity(doc);
     Film film;
     if (a.resume) film = readCheckpoint(a.checkpoint, identity);
 

@@ -23,9 +23,7 @@ void put(std::string& out, const T& v) {
 
 }  // namespace
 
-uint64_t renderIdentity(const std::string& scenePath, const std::vector<std::string>& overrides) {
-    Json doc = parseJsonFile(scenePath);
-    for (const std::string& o : overrides) applyOverride(doc, o, scenePath);
+uint64_t renderIdentity(Json doc) {
     if (doc.contains("render") && doc["render"].is_object()) doc["render"].erase("spp");
     const std::string text = dumpJson(doc);
     return fnv1a(text.data(), text.size());

@@ -51,9 +51,7 @@ Json fileFingerprint(const std::string& path) {
     return {{"bytes", bytes}, {"fnv1a64", hexHash(h)}};
 }
 
-Json inputFiles(const std::string& scenePath, const std::vector<std::string>& overrides) {
-    Json doc = parseJsonFile(scenePath);
-    for (const std::string& o : overrides) applyOverride(doc, o, scenePath);
+Json inputFiles(const Json& doc, const std::string& scenePath) {
     Json out = Json::array();
     Json scene = fileFingerprint(scenePath);
     scene["key"] = "(scene)";

@@ -195,9 +195,13 @@ Scene sceneFromJson(const Json& doc, const std::string& path, Json* resolved) {
 
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides,
                 Json* resolved) {
+    return sceneFromJson(sceneDocument(path, overrides), path, resolved);
+}
+
+Json sceneDocument(const std::string& path, const std::vector<std::string>& overrides) {
     Json doc = parseJsonFile(path);
     for (const std::string& o : overrides) applyOverride(doc, o, path);
-    return sceneFromJson(doc, path, resolved);
+    return doc;
 }
 
 }  // namespace shvol

@@ -6,6 +6,7 @@
 
 #include "shvol/core/error.h"
 #include "shvol/core/hash.h"
+#include "shvol/io/scene_loader.h"
 
 namespace shvol {
 
@@ -36,8 +37,8 @@ std::string assignment(const std::string& key, const Json& v) {
     return key + "=" + dumpJson(v);
 }
 
-std::string fingerprint(const std::string& scene, const std::vector<std::string>& sets) {
-    Json doc = parseJsonFile(scene);
+/// FNV-1a of the scene document `base` after the run's assignments.
+std::string fingerprint(Json doc, const std::string& scene, const std::vector<std::string>& sets) {
     for (const std::string& s : sets) applyOverride(doc, s, scene);
     const std::string text = dumpJson(doc);
     return hexHash(fnv1a(text.data(), text.size()));
@@ -88,6 +89,7 @@ Sweep readSweep(const std::string& path) {
                      std::to_string(values[0].size()) + ")");
     }
 
+    const Json sceneDoc = sceneDocument(s.scene);  // read once, not once per run
     // Points: grid (first axis slowest) or zip.
     std::vector<std::vector<size_t>> points;
     if (s.axes.empty()) {
@@ -124,7 +126,7 @@ Sweep readSweep(const std::string& path) {
             run.values["repeat"] = k;
             if (!seedAxis)
                 run.sets.push_back("render.seed=" + std::to_string((long long)seed0 + k));
-            run.fingerprint = fingerprint(s.scene, run.sets);
+            run.fingerprint = fingerprint(sceneDoc, s.scene, run.sets);
             s.runs.push_back(run);
         }
 

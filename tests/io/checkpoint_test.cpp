@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "shvol/io/scene_loader.h"
+
 #include <filesystem>
 #include <fstream>
 
@@ -70,10 +72,10 @@ TEST(Checkpoint, DamagedOrForeignFilesAreRefused) {
 TEST(Checkpoint, IdentityIgnoresOnlyTheSampleCount) {
     const std::string scene = tempPath("scene.json");
     std::ofstream(scene) << R"({"render": {"spp": 4, "seed": 1}, "camera": {"fov": 30}})";
-    const uint64_t id = renderIdentity(scene, {});
-    EXPECT_EQ(renderIdentity(scene, {"render.spp=100"}), id);
-    EXPECT_NE(renderIdentity(scene, {"render.seed=2"}), id);
-    EXPECT_NE(renderIdentity(scene, {"camera.fov=31"}), id);
+    const uint64_t id = renderIdentity(sceneDocument(scene));
+    EXPECT_EQ(renderIdentity(sceneDocument(scene, {"render.spp=100"})), id);
+    EXPECT_NE(renderIdentity(sceneDocument(scene, {"render.seed=2"})), id);
+    EXPECT_NE(renderIdentity(sceneDocument(scene, {"camera.fov=31"})), id);
 }
 
 }  // namespace shvol

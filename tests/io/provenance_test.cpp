@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "shvol/io/scene_loader.h"
+
 #include <filesystem>
 #include <fstream>
 
@@ -26,7 +28,8 @@ TEST(Provenance, InputFilesFollowEveryFileKey) {
     const std::string scene = (dir / "scene.json").string();
     std::ofstream(scene) << R"({"environment": {"type": "image", "file": "sky.exr"},
         "media": [{"file": "sub/grid.vdb"}, {"phase": {"type": "tabulated", "file": "nope.csv"}}]})";
-    const Json in = inputFiles(scene, {"media[1].phase.file=" + (dir / "table.csv").string()});
+    const Json in = inputFiles(
+        sceneDocument(scene, {"media[1].phase.file=" + (dir / "table.csv").string()}), scene);
     ASSERT_EQ(in.size(), 4u);
     EXPECT_EQ(in[0]["key"], "(scene)");
     EXPECT_EQ(in[1]["key"], "environment.file");

@@ -12,14 +12,15 @@
 #include <string>
 #include <vector>
 
+#include "shvol/io/json_reader.h"
 #include "shvol/render/film.h"
 
 namespace shvol {
 
-/// Identity of a render for checkpoints: FNV-1a of the scene document after `overrides`, with
-/// render.spp removed (a checkpoint may be continued to more samples). Everything else —
-/// camera, media, seed, render settings — must match.
-uint64_t renderIdentity(const std::string& scenePath, const std::vector<std::string>& overrides);
+/// Identity of a render for checkpoints: FNV-1a of its scene document (sceneDocument, after the
+/// overrides) with render.spp removed (a checkpoint may be continued to more samples). Everything
+/// else — camera, media, seed, render settings — must match.
+uint64_t renderIdentity(Json sceneDoc);
 
 void writeCheckpoint(const std::string& path, const Film& film, uint64_t identity);
 

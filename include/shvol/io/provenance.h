@@ -8,11 +8,11 @@
 
 namespace shvol {
 
-/// Every string value of a key named "file" in the scene document after `overrides` (the scene's
-/// inputs: grids, environment maps, phase tables), plus the scene file itself:
+/// Every string value of a key named "file" in the scene document (sceneDocument, after the
+/// overrides: the scene's inputs — grids, environment maps, phase tables), plus the scene file:
 ///   [{"key": "media[0].file", "path": "/abs/cloud.vdb", "bytes": 123, "fnv1a64": "…"}, …]
 /// Relative paths are resolved against the scene's directory as the loader does.
-Json inputFiles(const std::string& scenePath, const std::vector<std::string>& overrides);
+Json inputFiles(const Json& sceneDoc, const std::string& scenePath);
 
 /// Size and FNV-1a hash of a file's contents ({"bytes", "fnv1a64"}); shvol::Error if unreadable.
 Json fileFingerprint(const std::string& path);

@@ -9,6 +9,10 @@
 
 namespace shvol {
 
+/// The scene file's document after the overrides ("key.path=value", as --set), unvalidated: what
+/// loadScene reads, and what checkpoints, sweeps and the stats file identify a render by.
+Json sceneDocument(const std::string& path, const std::vector<std::string>& overrides = {});
+
 /// Loads and validates a scene. `overrides` are "key.path=value" assignments applied to the JSON
 /// before it is read (the --set option). Relative file names are resolved against the scene's
 /// directory. Every error is one line naming the file and the JSON path. With `resolved`, every
