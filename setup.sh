@@ -12,7 +12,7 @@ cd "$(dirname "$0")"
 packages=(cmake ninja-build clang libclang-rt-14-dev g++ pkg-config
           libopenvdb-dev libboost-iostreams-dev libembree-dev libeigen3-dev libopenexr-dev
           libtbb-dev libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
-          libboost-math-dev zlib1g-dev python3-matplotlib)
+          libboost-math-dev zlib1g-dev python3-matplotlib libopenmpi-dev openmpi-bin)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -34,7 +34,7 @@ cmake --build build -j "$(nproc)"
 # in build-fuzz/artifacts/. README, "Fuzzing and sanitizers".
 sanitizers() {
   local configure=(-G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++
-                   -DSHVOL_BUILD_BENCH=OFF)
+                   -DSHVOL_BUILD_BENCH=OFF -DSHVOL_MPI=OFF)
   local t0=$SECONDS
   cmake -S . -B build-asan "${configure[@]}" -DSHVOL_SANITIZE=ON >/dev/null
   cmake --build build-asan -j "$(nproc)"

@@ -4,9 +4,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <thread>
 
 #include "commands.h"
+#include "mpi_world.h"
 #include "shvol/core/error.h"
 #include "shvol/core/image_metrics.h"
 #include "shvol/core/progress.h"
@@ -22,7 +26,7 @@ namespace fs = std::filesystem;
 
 struct BatchArgs {
     std::string sweep, output;
-    int threads = 0;
+    int threads = 0, jobs = 1;
     bool dryRun = false, quiet = false, report = false;
 };
 
@@ -38,20 +42,30 @@ Json readJson(const std::string& path) {
     return Json::parse(f);
 }
 
-/// Renders `sets` to `image` (quietly) unless a cached render with the same fingerprint exists.
-/// Returns the exit code of the render (130: interrupted), 0 when cached.
+/// What identifies a rendered reference: the scene, its settings and whether it has a
+/// standard-error image; kept beside it in REFERENCE.fingerprint.
+std::string referenceStamp(const Sweep& s, bool variance) {
+    std::string stamp = s.scene;
+    for (const std::string& x : s.reference->sets) stamp += "\n" + x;
+    return stamp + (variance ? "\nvariance" : "");
+}
+
+/// Whether the rendered reference is on disk with the stamp the sweep gives now.
+bool referenceCached(const Sweep& s, bool variance) {
+    const std::string file = s.reference->file + ".fingerprint";
+    if (!fs::exists(s.reference->file) || !fs::exists(file)) return false;
+    std::ifstream f(file);
+    const std::string have((std::istreambuf_iterator<char>(f)), {});
+    return have == referenceStamp(s, variance);
+}
+
+/// Renders the reference (quietly; under mpirun every rank takes part) and stamps it. Returns
+/// the exit code of the render (130: interrupted).
 int renderReference(const Sweep& s, const BatchArgs& a, bool variance) {
     const SweepReference& ref = *s.reference;
-    const std::string stamp = ref.file + ".fingerprint";
-    std::string want = s.scene;
-    for (const std::string& x : ref.sets) want += "\n" + x;
-    want += variance ? "\nvariance" : "";
-    if (fs::exists(ref.file) && fs::exists(stamp)) {
-        std::ifstream f(stamp);
-        const std::string have((std::istreambuf_iterator<char>(f)), {});
-        if (have == want) return 0;
-    }
-    if (!a.quiet) std::fprintf(stderr, "batch: rendering the reference %s\n", ref.file.c_str());
+    const MpiWorld& world = MpiWorld::get();
+    if (!a.quiet && world.root())
+        std::fprintf(stderr, "batch: rendering the reference %s\n", ref.file.c_str());
     RenderArgs r;
     r.scene = s.scene;
     r.output = ref.file;
@@ -60,18 +74,182 @@ int renderReference(const Sweep& s, const BatchArgs& a, bool variance) {
     r.quiet = a.quiet;
     r.variance = variance;
     const int code = runRender(r);
-    if (code == 0) std::ofstream(stamp) << want;
+    world.barrier();  // the other ranks read it once rank 0 has written it
+    if (code == 0 && world.root())
+        std::ofstream(ref.file + ".fingerprint") << referenceStamp(s, variance);
     return code;
 }
 
+/// What every worker needs to turn a run into its ledger row.
+struct RunContext {
+    explicit RunContext(const Sweep& s) : sweep(s) {}
+    const Sweep& sweep;
+    Image reference, referenceSe;
+    bool ztest = false;
+    int threads = 0;
+};
+
+/// Renders one run and measures it against the reference. Returns the ledger row, or null with
+/// `code` set to the render's exit code when it did not finish (130: interrupted).
+Json runOne(const RunContext& c, const SweepRun& run, int& code) {
+    const Sweep& s = c.sweep;
+    RenderArgs r;
+    r.scene = s.scene;
+    r.output = (fs::path(s.output) / (run.id + ".exr")).string();
+    r.sets = run.sets;
+    r.threads = c.threads;
+    r.quiet = true;
+    r.variance = c.ztest;
+    r.oneRank = true;
+    code = runRender(r);
+    if (code) return nullptr;
+    const std::string stem = fs::path(r.output).replace_extension("").string();
+    const Json stats = readJson(stem + ".stats.json");
+    Json row = run.values;
+    row["run"] = run.id;
+    row["seed"] = stats["seed"];
+    row["spp"] = stats["spp"];
+    row["wall_time_s"] = stats["wall_time_s"];
+    row["paths_per_second"] = stats["paths_per_second"];
+    row["image"] = run.id + ".exr";
+    row["fingerprint"] = run.fingerprint;
+    if (!s.reference) return row;
+    const Image img = readExr(r.output);
+    const ImageMetrics m = imageMetrics(img, c.reference);
+    for (const std::string& k : s.metrics) {
+        if (k == "rmse") row["rmse"] = m.rmse;
+        if (k == "relmse") row["relmse"] = m.relMse;
+        if (k == "mae") row["mae"] = m.mae;
+        if (k == "bias") row["bias"] = m.bias, row["bias_ci95"] = m.biasHalfWidth95;
+        if (k == "ztest") {
+            const ZTest z = zTest(img, readExr(stem + ".stderr.exr"), c.reference, c.referenceSe);
+            row["ztest_min_p"] = z.minP;
+            row["ztest_threshold"] = z.threshold;
+            row["ztest_passed"] = z.passed;
+        }
+    }
+    return row;
+}
+
+/// The runs still to do, handed out in sweep order to the local jobs and, on rank 0 of an MPI
+/// batch, to the other ranks; finished rows go to the ledger one at a time. The first failure
+/// (an error, or a render's non-zero exit code) stops the handing out.
+class WorkQueue {
+  public:
+    WorkQueue(const Sweep& s, Ledger& ledger, std::vector<const SweepRun*> todo, bool quiet)
+        : sweep_(s),
+          ledger_(ledger),
+          todo_(std::move(todo)),
+          quiet_(quiet),
+          progress_("batch", (long long)todo_.size(), !quiet && Progress::stderrIsTerminal()) {}
+
+    /// The next run, or null when all are handed out or the batch stopped.
+    const SweepRun* next() {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        return stopped_ || next_ == todo_.size() ? nullptr : todo_[next_++];
+    }
+    void finished(const Json& row) {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        ledger_.append(row);
+        progress_.advance();
+        if (quiet_ || Progress::stderrIsTerminal()) return;
+        const auto run = std::find_if(sweep_.runs.begin(), sweep_.runs.end(),
+                                      [&](const SweepRun& r) { return r.id == row["run"]; });
+        std::fprintf(stderr, "batch: %zu/%zu %s%s\n", ledger_.rows().size(), sweep_.runs.size(),
+                     describe(*run).c_str(),
+                     row.contains("rmse") ? (" rmse " + dumpJson(row["rmse"])).c_str() : "");
+    }
+    void fail(int code, const std::string& error) {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        if (stopped_) return;
+        stopped_ = true;
+        code_ = code;
+        error_ = error;
+    }
+    /// Runs jobs until none is left, on `jobs` threads.
+    void work(const RunContext& c, int jobs) {
+        auto job = [&] {
+            while (const SweepRun* run = next()) {
+                try {
+                    int code = 0;
+                    const Json row = runOne(c, *run, code);
+                    if (code) return fail(code, "");
+                    finished(row);
+                } catch (const Error& e) {
+                    return fail(1, e.what());
+                }
+            }
+        };
+        std::vector<std::thread> threads;
+        for (int j = 1; j < jobs; ++j) threads.emplace_back(job);
+        job();
+        for (std::thread& t : threads) t.join();
+    }
+    /// Rank 0 of an MPI batch: answers the other ranks' requests for runs (from a thread of its
+    /// own while this rank renders) until each has been told to stop.
+    void serve(const MpiWorld& world) {
+        for (int active = world.size() - 1; active > 0;) {
+            int from = 0;
+            const std::string report = world.recv(kRequest, from);
+            if (report.rfind("row ", 0) == 0) finished(Json::parse(report.substr(4)));
+            if (report.rfind("code ", 0) == 0) fail(std::stoi(report.substr(5)), "");
+            if (report.rfind("error ", 0) == 0) fail(1, report.substr(6));
+            const SweepRun* run = next();
+            world.send(from, kReply, run ? std::to_string(run->index) : "stop");
+            active -= run == nullptr;
+        }
+    }
+    /// Another rank of an MPI batch: asks rank 0 for runs, reporting each one's row, until told
+    /// to stop.
+    static void ask(const MpiWorld& world, const RunContext& c) {
+        for (std::string report = "ready";;) {
+            world.send(0, kRequest, report);
+            int from = 0;
+            const std::string reply = world.recv(kReply, from);
+            if (reply == "stop") return;
+            try {
+                int code = 0;
+                const Json row = runOne(c, c.sweep.runs.at(size_t(std::stoi(reply))), code);
+                report = code ? "code " + std::to_string(code) : "row " + dumpJson(row);
+            } catch (const Error& e) {
+                report = std::string("error ") + e.what();
+            }
+        }
+    }
+    void done() { progress_.done(); }
+    int code() const { return code_; }
+    const std::string& error() const { return error_; }
+
+  private:
+    static constexpr int kRequest = 1, kReply = 2;  // MPI message tags
+    const Sweep& sweep_;
+    Ledger& ledger_;
+    std::vector<const SweepRun*> todo_;
+    bool quiet_;
+    Progress progress_;
+    std::mutex mutex_;
+    size_t next_ = 0;
+    bool stopped_ = false;
+    int code_ = 0;
+    std::string error_;
+};
+
 int runBatch(BatchArgs a) {
-    Sweep s = readSweep(a.sweep);
+    const MpiWorld& world = MpiWorld::get();
+    Sweep s;
+    collectively([&] {
+        if (world.parallel() && a.jobs > 1)
+            fail("", "--jobs",
+                 "under mpirun each rank renders one run at a time; start more ranks");
+        s = readSweep(a.sweep);
+    });
     if (!a.output.empty()) {
         s.output = a.output;
         if (s.reference && s.reference->render)
             s.reference->file = (fs::path(s.output) / "reference.exr").string();
     }
     if (a.dryRun) {
+        if (!world.root()) return 0;
         if (s.reference)
             std::printf("reference %s%s\n", s.reference->file.c_str(),
                         s.reference->render ? " (rendered once, cached)" : "");
@@ -79,93 +257,68 @@ int runBatch(BatchArgs a) {
         std::printf("%zu runs into %s\n", s.runs.size(), s.output.c_str());
         return 0;
     }
-    fs::create_directories(s.output);
-    Ledger ledger(s.output);
-    // A finished run must be the run the sweep describes now, or resuming would mix experiments.
-    for (const Json& row : ledger.rows()) {
-        const std::string id = row["run"].get<std::string>();
-        const auto it = std::find_if(s.runs.begin(), s.runs.end(),
-                                     [&](const SweepRun& r) { return r.id == id; });
-        if (it == s.runs.end() || row.value("fingerprint", "") != it->fingerprint)
-            fail(ledger.jsonlPath(), "run " + id,
-                 it == s.runs.end()
-                     ? "finished, but the sweep no longer has it; use another output directory"
-                     : "finished with other settings or another scene than the sweep now gives; "
-                       "use another output directory");
-    }
-    const bool ztest = std::find(s.metrics.begin(), s.metrics.end(), "ztest") != s.metrics.end();
-    Image reference, referenceSe;
+    // Rank 0 keeps the ledger. A finished run must be the run the sweep describes now, or
+    // resuming would mix experiments.
+    std::optional<Ledger> ledger;
+    collectively([&] {
+        if (!world.root()) return;
+        fs::create_directories(s.output);
+        ledger.emplace(s.output);
+        for (const Json& row : ledger->rows()) {
+            const std::string id = row["run"].get<std::string>();
+            const auto it = std::find_if(s.runs.begin(), s.runs.end(),
+                                         [&](const SweepRun& r) { return r.id == id; });
+            if (it == s.runs.end() || row.value("fingerprint", "") != it->fingerprint)
+                fail(ledger->jsonlPath(), "run " + id,
+                     it == s.runs.end()
+                         ? "finished, but the sweep no longer has it; use another output directory"
+                         : "finished with other settings or another scene than the sweep now "
+                           "gives; use another output directory");
+        }
+    });
+    RunContext c(s);
+    c.ztest = std::find(s.metrics.begin(), s.metrics.end(), "ztest") != s.metrics.end();
+    c.threads = a.threads > 0 ? a.threads : threadsPerRender(a.jobs);
     if (s.reference) {
-        if (s.reference->render) {
-            if (const int code = renderReference(s, a, ztest)) return code;
-        }
-        reference = readExr(s.reference->file);
-        if (ztest) {
-            const std::string se =
-                fs::path(s.reference->file).replace_extension("").string() + ".stderr.exr";
-            referenceSe = fs::exists(se) ? readExr(se) : Image(reference.width, reference.height);
-        }
+        // The ranks render the reference together (an MPI render), once.
+        if (s.reference->render && world.broadcast(world.root() && !referenceCached(s, c.ztest)))
+            if (const int code = renderReference(s, a, c.ztest)) return code;
+        collectively([&] {
+            c.reference = readExr(s.reference->file);
+            if (c.ztest) {
+                const std::string se =
+                    fs::path(s.reference->file).replace_extension("").string() + ".stderr.exr";
+                c.referenceSe =
+                    fs::exists(se) ? readExr(se) : Image(c.reference.width, c.reference.height);
+            }
+        });
+    }
+    if (!world.root()) {
+        WorkQueue::ask(world, c);
+        return 0;
     }
 
     std::vector<const SweepRun*> todo;
     for (const SweepRun& run : s.runs)
-        if (!ledger.find(run.id)) todo.push_back(&run);
+        if (!ledger->find(run.id)) todo.push_back(&run);
     if (!a.quiet && todo.size() < s.runs.size())
         std::fprintf(stderr, "batch: %zu of %zu runs already finished in %s\n",
-                     s.runs.size() - todo.size(), s.runs.size(), ledger.jsonlPath().c_str());
-    Progress progress("batch", (long long)todo.size(), !a.quiet && Progress::stderrIsTerminal());
-    for (const SweepRun* run : todo) {
-        RenderArgs r;
-        r.scene = s.scene;
-        r.output = (fs::path(s.output) / (run->id + ".exr")).string();
-        r.sets = run->sets;
-        r.threads = a.threads;
-        r.quiet = true;
-        r.variance = ztest;
-        if (const int code = runRender(r)) {
-            progress.done();
-            std::fprintf(stderr, "batch: stopped; %zu runs are in %s, run again to finish\n",
-                         ledger.rows().size(), ledger.jsonlPath().c_str());
-            return code;
-        }
-        const std::string stem = fs::path(r.output).replace_extension("").string();
-        const Json stats = readJson(stem + ".stats.json");
-        Json row = run->values;
-        row["run"] = run->id;
-        row["seed"] = stats["seed"];
-        row["spp"] = stats["spp"];
-        row["wall_time_s"] = stats["wall_time_s"];
-        row["paths_per_second"] = stats["paths_per_second"];
-        row["image"] = run->id + ".exr";
-        row["fingerprint"] = run->fingerprint;
-        if (s.reference) {
-            const Image img = readExr(r.output);
-            const ImageMetrics m = imageMetrics(img, reference);
-            for (const std::string& k : s.metrics) {
-                if (k == "rmse") row["rmse"] = m.rmse;
-                if (k == "relmse") row["relmse"] = m.relMse;
-                if (k == "mae") row["mae"] = m.mae;
-                if (k == "bias") row["bias"] = m.bias, row["bias_ci95"] = m.biasHalfWidth95;
-                if (k == "ztest") {
-                    const ZTest z =
-                        zTest(img, readExr(stem + ".stderr.exr"), reference, referenceSe);
-                    row["ztest_min_p"] = z.minP;
-                    row["ztest_threshold"] = z.threshold;
-                    row["ztest_passed"] = z.passed;
-                }
-            }
-        }
-        ledger.append(row);
-        progress.advance();
-        if (!a.quiet && !Progress::stderrIsTerminal())
-            std::fprintf(stderr, "batch: %zu/%zu %s%s\n", ledger.rows().size(), s.runs.size(),
-                         describe(*run).c_str(),
-                         row.contains("rmse") ? (" rmse " + dumpJson(row["rmse"])).c_str() : "");
+                     s.runs.size() - todo.size(), s.runs.size(), ledger->jsonlPath().c_str());
+    WorkQueue queue(s, *ledger, std::move(todo), a.quiet);
+    std::thread server;
+    if (world.parallel()) server = std::thread([&] { queue.serve(world); });
+    queue.work(c, a.jobs);
+    if (server.joinable()) server.join();
+    queue.done();
+    if (!queue.error().empty()) throw Error(queue.error());
+    if (queue.code()) {
+        std::fprintf(stderr, "batch: stopped; %zu runs are in %s, run again to finish\n",
+                     ledger->rows().size(), ledger->jsonlPath().c_str());
+        return queue.code();
     }
-    progress.done();
     if (!a.quiet)
-        std::fprintf(stderr, "batch: %zu runs in %s and %s\n", ledger.rows().size(),
-                     ledger.jsonlPath().c_str(), ledger.csvPath().c_str());
+        std::fprintf(stderr, "batch: %zu runs in %s and %s\n", ledger->rows().size(),
+                     ledger->jsonlPath().c_str(), ledger->csvPath().c_str());
     return a.report ? runReport(s.output) : 0;
 }
 
@@ -179,8 +332,13 @@ void addBatchCommand(CLI::App& app, std::function<int()>& run) {
     c->add_option("sweep", a->sweep, "Sweep file (JSON; README.md, \"Batch experiments\")")
         ->required();
     c->add_option("--output", a->output, "Output directory")->default_str("the sweep's output");
-    c->add_option("--threads", a->threads, "Worker threads per render (0: all cores)")
+    c->add_option("--threads", a->threads,
+                  "Worker threads per render (0: the cores shared between the jobs and ranks)")
         ->check(integerIn(0, 4096));
+    c->add_option("--jobs", a->jobs,
+                  "Renders at once in this process, each on its share of the cores (under "
+                  "mpirun: one per rank)")
+        ->check(integerIn(1, 256));
     c->add_flag("--dry-run", a->dryRun, "Print one line per run and do nothing");
     c->add_flag("--quiet", a->quiet, "No progress");
     c->add_flag("--report", a->report, "Then write the report (as shvol report DIR)");

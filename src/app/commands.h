@@ -27,9 +27,13 @@ struct RenderArgs {
     double timeLimit = 0, checkpointInterval = 60;
     std::vector<std::string> sets;
     bool quiet = false, resume = false, variance = false;
+    /// Render in this process alone even under mpirun (one run of a batch); otherwise the ranks
+    /// of an MPI job share the render (README.md, "MPI").
+    bool oneRank = false;
 };
 /// Renders as `shvol render` does (images, stats, checkpoints); returns the exit code (130 when
-/// interrupted). Errors are shvol::Error.
+/// interrupted). Errors are shvol::Error. Under mpirun (and without oneRank) every rank must
+/// call it: they render a share of the pixels each and rank 0 writes the outputs.
 int runRender(const RenderArgs& a);
 
 /// `relative` in the source tree this program was built from (the program is build/shvol in a

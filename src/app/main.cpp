@@ -3,9 +3,14 @@
 #include <string>
 
 #include "commands.h"
+#include "mpi_world.h"
 #include "shvol/core/error.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+int runMain(int argc, char** argv) {
+    // Under mpirun every rank parses the same command line: rank 0 alone speaks for them.
+    const bool speaks = shvol::app::MpiWorld::get().root();
     CLI::App app{"shvol " SHVOL_VERSION " - volumetric path tracing of participating media"};
     app.set_version_flag("--version", "shvol " SHVOL_VERSION);
     app.require_subcommand(1);
@@ -31,31 +36,57 @@ int main(int argc, char** argv) {
             names += (names.empty() ? "" : ", ") + sub->get_name();
         }
         if (!known) {
-            std::fprintf(stderr, "shvol: error: unknown subcommand \"%s\"; expected one of %s\n",
-                         argv[1], names.c_str());
+            if (speaks)
+                std::fprintf(stderr,
+                             "shvol: error: unknown subcommand \"%s\"; expected one of %s\n",
+                             argv[1], names.c_str());
             return 1;
         }
     }
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
+        return speaks ? app.exit(e) : 0;
     } catch (const CLI::CallForAllHelp& e) {
-        return app.exit(e);
+        return speaks ? app.exit(e) : 0;
     } catch (const CLI::CallForVersion& e) {
-        return app.exit(e);
+        return speaks ? app.exit(e) : 0;
     } catch (const CLI::ParseError& e) {
         // Like every other error: one line and exit code 1 (CLI11 would print two lines and use
         // its own codes).
-        std::fprintf(stderr, "shvol: error: %s (see --help)\n", e.what());
+        if (speaks) std::fprintf(stderr, "shvol: error: %s (see --help)\n", e.what());
         return 1;
     }
+    const std::string command = app.get_subcommands().front()->get_name();
+    if (shvol::app::MpiWorld::get().parallel() && command != "render" && command != "batch") {
+        if (speaks)
+            std::fprintf(stderr,
+                         "shvol: error: %s does not run over MPI ranks (render and batch do); "
+                         "run it without mpirun\n",
+                         command.c_str());
+        return 1;
+    }
+    std::string error;
     try {
         return run();
+    } catch (const shvol::app::ReportedOnRoot&) {
+        return 1;
     } catch (const shvol::Error& e) {
-        std::fprintf(stderr, "shvol: error: %s\n", e.what());
+        error = std::string("shvol: error: ") + e.what();
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "shvol: internal error: %s\n", e.what());
+        error = std::string("shvol: internal error: ") + e.what();
     }
+    std::fprintf(stderr, "%s\n", error.c_str());
+    // An error on one rank only (rank 0's come after the others have finished their part).
+    if (!speaks) shvol::app::MpiWorld::abort(1);
     return 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    shvol::app::MpiWorld::init(argc, argv);
+    const int code = runMain(argc, argv);
+    shvol::app::MpiWorld::finalize();
+    return code;
 }

@@ -7,10 +7,14 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
+#include <thread>
 
 #include "commands.h"
+#include "mpi_world.h"
 #include "shvol/core/atomic_file.h"
 #include "shvol/core/error.h"
 #include "shvol/core/progress.h"
@@ -44,19 +48,30 @@ extern "C" void onInterrupt(int sig) {
     std::signal(sig, SIG_DFL);
 }
 
-/// Catches SIGINT and SIGTERM for the lifetime of the object, then restores the old handlers.
+/// Catches SIGINT and SIGTERM while at least one object lives (renders of `batch --jobs` run
+/// side by side), then restores the old handlers.
 class InterruptGuard {
   public:
-    InterruptGuard()
-        : int_(std::signal(SIGINT, onInterrupt)), term_(std::signal(SIGTERM, onInterrupt)) {}
+    InterruptGuard() {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        if (depth_++ > 0) return;
+        int_ = std::signal(SIGINT, onInterrupt);
+        term_ = std::signal(SIGTERM, onInterrupt);
+    }
     ~InterruptGuard() {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        if (--depth_ > 0) return;
         std::signal(SIGINT, int_);
         std::signal(SIGTERM, term_);
     }
+    InterruptGuard(const InterruptGuard&) = delete;
+    InterruptGuard& operator=(const InterruptGuard&) = delete;
 
   private:
-    void (*int_)(int);
-    void (*term_)(int);
+    static inline std::mutex mutex_;
+    static inline int depth_ = 0;
+    static inline void (*int_)(int) = nullptr;
+    static inline void (*term_)(int) = nullptr;
 };
 
 /// The phase function of each medium as rendered; for SH-sampled ones the resolved fit (automatic
@@ -228,58 +243,86 @@ std::vector<uint32_t> parseSppList(const std::string& text) {
 }  // namespace
 
 int runRender(const RenderArgs& a) {
-    std::vector<std::string> sets = a.sets;
-    const std::vector<uint32_t> sppList =
-        a.spp.empty() ? std::vector<uint32_t>{} : parseSppList(a.spp);
-    if (!sppList.empty()) sets.push_back("render.spp=" + std::to_string(sppList.back()));
-    if (a.seed >= 0) sets.push_back("render.seed=" + std::to_string(a.seed));
-    nlohmann::json resolved;
-    const Json doc = sceneDocument(a.scene, sets);  // read once: scene, identity, inputs
-    const Scene scene = sceneFromJson(doc, a.scene, &resolved);
-    std::string out = a.output;
-    if (out.empty()) out = std::filesystem::path(a.scene).stem().string() + ".exr";
-    std::string ext = std::filesystem::path(out).extension().string();
-    for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-    if (ext != ".exr")
-        fail(out, "", "render writes OpenEXR; name the output .exr (shvol tonemap makes a PNG)");
-    const Outputs final = outputsFor(out, "");
-    // Fail before rendering, not after, if the outputs cannot be written.
-    for (const std::string& f : {final.image, final.stats}) {
-        const std::filesystem::path dir = std::filesystem::path(f).parent_path();
-        if (!dir.empty() && !std::filesystem::is_directory(dir))
-            fail(f, "", "cannot write: directory " + dir.string() + " does not exist");
-        if (std::filesystem::is_directory(f)) fail(f, "", "cannot write: is a directory");
-    }
-
-    const std::vector<std::string> warnings = phaseWarnings(scene);
-    for (const std::string& w : warnings)
-        std::fprintf(stderr, "shvol: warning: %s: %s\n", a.scene.c_str(), w.c_str());
-
-    const nlohmann::json provenance = {{"scene_resolved", resolved},
-                                       {"inputs", inputFiles(doc, a.scene)},
-                                       {"overrides", a.sets},
-                                       {"command_line", commandLine()},
-                                       {"machine", machineDescription()}};
-
-    if (a.resume && a.checkpoint.empty()) fail("", "--resume", "needs --checkpoint FILE");
-    const uint64_t identity = a.checkpoint.empty() ? 0 : renderIdentity(doc);
+    const MpiWorld& world = MpiWorld::get();
+    const bool spread = world.parallel() && !a.oneRank;  // the ranks share this render
+    const bool speaks = !spread || world.root();
+    Json doc;
+    Scene scene;
+    std::string out;
+    Outputs final;
+    std::vector<std::string> warnings;
+    nlohmann::json provenance;
+    uint64_t identity = 0;
     Film film;
-    if (a.resume) film = readCheckpoint(a.checkpoint, identity);
+    std::vector<uint32_t> stops;
+    collectively(
+        [&] {  // every rank reads the scene; a bad one fails on all of them alike
+            if (spread) {
+                if (a.timeLimit > 0 || !a.checkpoint.empty() || a.resume)
+                    fail("", a.timeLimit > 0 ? "--time-limit" : "--checkpoint",
+                         "not available in a render over several MPI ranks (README.md, \"MPI\")");
+            }
+            std::vector<std::string> sets = a.sets;
+            const std::vector<uint32_t> sppList =
+                a.spp.empty() ? std::vector<uint32_t>{} : parseSppList(a.spp);
+            if (!sppList.empty()) sets.push_back("render.spp=" + std::to_string(sppList.back()));
+            if (a.seed >= 0) sets.push_back("render.seed=" + std::to_string(a.seed));
+            nlohmann::json resolved;
+            doc = sceneDocument(a.scene, sets);  // read once: scene, identity, inputs
+            scene = sceneFromJson(doc, a.scene, &resolved);
+            out = a.output;
+            if (out.empty()) out = std::filesystem::path(a.scene).stem().string() + ".exr";
+            std::string ext = std::filesystem::path(out).extension().string();
+            for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+            if (ext != ".exr")
+                fail(out, "",
+                     "render writes OpenEXR; name the output .exr (shvol tonemap makes a PNG)");
+            final = outputsFor(out, "");
+            // Fail before rendering, not after, if the outputs cannot be written.
+            for (const std::string& f : {final.image, final.stats}) {
+                const std::filesystem::path dir = std::filesystem::path(f).parent_path();
+                if (!dir.empty() && !std::filesystem::is_directory(dir))
+                    fail(f, "", "cannot write: directory " + dir.string() + " does not exist");
+                if (std::filesystem::is_directory(f)) fail(f, "", "cannot write: is a directory");
+            }
+            warnings = phaseWarnings(scene);
+            provenance = {{"scene_resolved", resolved},
+                          {"inputs", inputFiles(doc, a.scene)},
+                          {"overrides", a.sets},
+                          {"command_line", commandLine()},
+                          {"machine", machineDescription()},
+                          {"mpi_ranks", spread ? world.size() : 1}};
+            if (a.resume && a.checkpoint.empty()) fail("", "--resume", "needs --checkpoint FILE");
+            identity = a.checkpoint.empty() ? 0 : renderIdentity(doc);
+            if (a.resume) film = readCheckpoint(a.checkpoint, identity);
+            if (sppList.size() > 1) stops.assign(sppList.begin(), sppList.end() - 1);
+        },
+        spread);
+    if (speaks)
+        for (const std::string& w : warnings)
+            std::fprintf(stderr, "shvol: warning: %s: %s\n", a.scene.c_str(), w.c_str());
 
     const uint32_t spp = uint32_t(scene.settings.spp);
     RenderOptions opt;
-    opt.threads = a.threads;
-    opt.progress = !a.quiet && Progress::stderrIsTerminal();
-    opt.cancel = &gInterrupted;
+    opt.threads = a.threads > 0 ? a.threads : spread ? threadsPerRender(1) : 0;
+    opt.progress = !a.quiet && speaks && Progress::stderrIsTerminal();
+    // Under mpirun a signal ends the ranks at once (nothing is half-written: outputs are atomic).
+    opt.cancel = spread ? nullptr : &gInterrupted;
     opt.timeLimitSeconds = a.timeLimit;
     opt.variance = a.variance;
-    if (sppList.size() > 1) opt.stops.assign(sppList.begin(), sppList.end() - 1);
+    opt.stops = stops;
+    opt.part = spread ? world.rank() : 0;
+    opt.parts = spread ? world.size() : 1;
     auto lastCheckpoint = std::chrono::steady_clock::now();
     opt.afterPass = [&](const Film& f, const RenderStats& st) {
-        const uint32_t n = f.minCount();
+        const uint32_t n = st.passEnd;
         if (n < spp && std::find(opt.stops.begin(), opt.stops.end(), n) != opt.stops.end()) {
+            Film whole = f;
+            RenderStats wholeStats = st;
+            if (spread) world.reduceToRoot(whole, wholeStats);
+            if (!speaks) return;
             const Outputs o = outputsFor(out, "spp" + std::to_string(n));
-            writeOutputs(o, scene, f, st, warnings, provenance, a.variance);
+            writeOutputs(o, scene, whole, wholeStats, warnings, provenance, a.variance);
             if (!a.quiet) std::fprintf(stderr, "wrote %s (%u spp)\n", o.image.c_str(), n);
         }
         const auto now = std::chrono::steady_clock::now();
@@ -292,9 +335,12 @@ int runRender(const RenderArgs& a) {
     };
     RenderResult r;
     {
-        const InterruptGuard guard;
+        std::optional<InterruptGuard> guard;
+        if (!spread) guard.emplace();
         r = render(scene, opt, std::move(film));
     }
+    if (spread) world.reduceToRoot(r.film, r.stats);
+    if (!speaks) return 0;
     const bool interrupted = r.stats.stop == RenderStop::Cancelled;
     // A render that stopped early has no closing afterPass call: save where it stopped.
     if (!a.checkpoint.empty() && r.stats.stop != RenderStop::Completed)
@@ -310,9 +356,11 @@ int runRender(const RenderArgs& a) {
         std::fprintf(stderr, "shvol: warning: %llu samples were NaN or infinite and were dropped\n",
                      (unsigned long long)r.stats.counters.nonFiniteSamples);
     if (!a.quiet)
-        std::fprintf(stderr, "wrote %s and %s (%.2f s, %.3g paths/s, %d threads)\n",
+        std::fprintf(stderr, "wrote %s and %s (%.2f s, %.3g paths/s, %s%d threads)\n",
                      final.image.c_str(), final.stats.c_str(), r.stats.wallSeconds,
-                     r.stats.pathsPerSecond(), r.stats.threads);
+                     r.stats.pathsPerSecond(),
+                     spread ? (std::to_string(world.size()) + " ranks of ").c_str() : "",
+                     r.stats.threads);
     return interrupted ? 130 : 0;
 }
 

@@ -89,6 +89,11 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
     const int threads =
         options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
     tbb::enumerable_thread_specific<PathCounters> counters;
+    const int parts = std::max(1, options.parts);
+    if (options.part < 0 || options.part >= parts)
+        throw Error("render part " + std::to_string(options.part) + " of " + std::to_string(parts) +
+                    " does not exist");
+    uint32_t passEnd = film.minCount();
     const std::vector<uint32_t> ends = passEnds(spp, film.minCount(), options.stops);
     if (options.variance && film.sumSq.empty()) {
         if (film.minCount() > 0)
@@ -126,6 +131,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
         st.minSamples = film.minCount();
         st.maxSamples = film.maxCount();
         st.resumedFromSamples = resumedFrom;
+        st.passEnd = passEnd;
         for (const PathCounters& c : counters) st.counters.add(c);
         describeIntegrator(integrator, st);
         return st;
@@ -138,7 +144,8 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
                 PathCounters& c = counters.local();
                 for (int tile = r.begin(); tile < r.end(); ++tile) {
                     const int x0 = (tile % tilesX) * Tile, y0 = (tile / tilesX) * Tile;
-                    for (int y = y0; y < std::min(y0 + Tile, cam.height); ++y)
+                    for (int y = y0; y < std::min(y0 + Tile, cam.height); ++y) {
+                        if (y % parts != options.part) continue;
                         for (int x = x0; x < std::min(x0 + Tile, cam.width); ++x) {
                             const uint64_t pixel = uint64_t(y) * cam.width + x;
                             uint32_t& n = film.count[pixel];
@@ -159,11 +166,13 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
                                     ++c.nonFiniteSamples;
                             }
                         }
+                    }
                     progress.advance();
                 }
             });
         });
         if (stopped) break;
+        passEnd = end;
         if (options.afterPass) options.afterPass(film, snapshot());
     }
     progress.done();

@@ -37,10 +37,13 @@ class Cli : public testing::Test {
         std::ofstream(path(name)) << text;
     }
     Result run(const std::string& args) const {
+        return runCommand(std::string(SHVOL_BINARY) + " " + args);
+    }
+    // A shell command line (e.g. mpirun … shvol …), its output captured.
+    Result runCommand(const std::string& command) const {
         const std::string out = path("so.txt"), err = path("se.txt");
-        const int status = std::system(
-            (std::string(SHVOL_BINARY) + " " + args + " >" + out + " 2>" + err + " </dev/null")
-                .c_str());
+        const int status =
+            std::system((command + " >" + out + " 2>" + err + " </dev/null").c_str());
         auto slurp = [](const std::string& p) {
             std::ifstream f(p);
             std::stringstream s;
@@ -513,6 +516,34 @@ TEST_F(Cli, ProgressiveSppAndVariance) {
 // shvol batch: killed with SIGKILL in the middle and started again, it finishes the remaining
 // runs, loses no finished row and duplicates none; the metrics equal an uninterrupted batch's.
 // A sweep changed under finished runs is refused.
+namespace {
+
+// The rows of DIR/results.jsonl by run id (a duplicated row fails the test).
+std::map<std::string, nlohmann::json> ledgerRows(const std::string& dir) {
+    std::ifstream f(dir + "/results.jsonl");
+    std::map<std::string, nlohmann::json> m;
+    int n = 0;
+    for (std::string line; std::getline(f, line); ++n) {
+        const auto j = nlohmann::json::parse(line);
+        m[j["run"]] = j;
+    }
+    EXPECT_EQ(size_t(n), m.size()) << dir << ": duplicated rows";
+    return m;
+}
+
+// Two ledgers hold the same runs with the same seeds and errors.
+void expectSameRows(const std::string& dirA, const std::string& dirB, size_t runs) {
+    const auto a = ledgerRows(dirA), b = ledgerRows(dirB);
+    ASSERT_EQ(a.size(), runs) << dirA;
+    ASSERT_EQ(b.size(), runs) << dirB;
+    for (const auto& [id, row] : a) {
+        EXPECT_EQ(b.at(id)["rmse"], row["rmse"]) << id;
+        EXPECT_EQ(b.at(id)["seed"], row["seed"]) << id;
+    }
+}
+
+}  // namespace
+
 TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
     write("s.json", scene(Homogeneous));
     const std::string sweep = R"({"scene": "s.json", "axes": {"spp": [6000, 9000, 12000]},
@@ -520,35 +551,19 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
     write("sweep.json", sweep);
     Result r = run("batch " + path("sweep.json") + " --quiet --output " + path("clean"));
     ASSERT_EQ(r.code, 0) << r.err;
-    r = run("batch " + path("sweep.json") + " --quiet --output " + path("killed") +
-            " & p=$!; sleep 0.6; kill -9 $p; wait $p");
-    EXPECT_EQ(r.code, 137);  // killed: 128 + 9
-    {  // killed before the end (about 1.3 s uninterrupted): some runs are left to do
-        std::ifstream f(path("killed/results.jsonl"));
-        int n = 0;
-        for (std::string line; std::getline(f, line);) ++n;
-        EXPECT_LT(n, 9);
+    // Killed in the middle (about 1.3 s uninterrupted), with one render at a time and with two
+    // side by side (--jobs 2), then started again with the other job count.
+    for (const std::string jobs : {"1", "2"}) {
+        const std::string out = path("killed" + jobs), again = jobs == "1" ? "2" : "1";
+        r = run("batch " + path("sweep.json") + " --quiet --jobs " + jobs + " --output " + out +
+                " & p=$!; sleep 0.6; kill -9 $p; wait $p");
+        EXPECT_EQ(r.code, 137);  // killed: 128 + 9
+        EXPECT_LT(ledgerRows(out).size(), 9u) << "some runs are left to do";
+        r = run("batch " + path("sweep.json") + " --quiet --jobs " + again + " --output " + out);
+        ASSERT_EQ(r.code, 0) << r.err;
+        expectSameRows(path("clean"), out, 9);
     }
-    r = run("batch " + path("sweep.json") + " --quiet --output " + path("killed"));
-    ASSERT_EQ(r.code, 0) << r.err;
-    auto rows = [&](const std::string& dir) {
-        std::ifstream f(path(dir + "/results.jsonl"));
-        std::map<std::string, nlohmann::json> m;
-        int n = 0;
-        for (std::string line; std::getline(f, line); ++n) {
-            const auto j = nlohmann::json::parse(line);
-            m[j["run"]] = j;
-        }
-        EXPECT_EQ(size_t(n), m.size()) << dir << ": duplicated rows";
-        return m;
-    };
-    const auto clean = rows("clean"), killed = rows("killed");
-    ASSERT_EQ(clean.size(), 9u);
-    ASSERT_EQ(killed.size(), 9u);
-    for (const auto& [id, row] : clean) {
-        EXPECT_EQ(killed.at(id)["rmse"], row["rmse"]) << id;
-        EXPECT_EQ(killed.at(id)["seed"], row["seed"]) << id;
-    }
+    const auto clean = ledgerRows(path("clean"));
     EXPECT_NE(clean.at("r0000")["seed"], clean.at("r0001")["seed"]);  // repeats differ
     // The same sweep again: nothing to do.
     r = run("batch " + path("sweep.json") + " --output " + path("clean"));
@@ -565,6 +580,67 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
         << r.err;
     EXPECT_EQ(run("batch " + path("sweep.json") + " --dry-run").out.substr(0, 10), "reference ");
 }
+
+#ifdef SHVOL_MPIEXEC
+// mpirun -np 2 shvol render: the ranks share the pixels, and the image, the intermediate --spp
+// image and the standard errors equal a single process's bit for bit; the stats count every
+// rank's paths. What a shared render cannot do is refused in one line.
+TEST_F(Cli, MpiRenderEqualsOneProcess) {
+    write("s.json", scene(Homogeneous));
+    const std::string args = path("s.json") + " --spp 4,16 --seed 7 --variance --quiet -o ";
+    Result r = run("render " + args + path("one.exr"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string mpi = std::string(SHVOL_MPIEXEC) + " " + SHVOL_BINARY + " ";
+    r = runCommand(mpi + "render " + args + path("two.exr"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    for (const char* f : {".exr", ".spp4.exr", ".stderr.exr"})
+        EXPECT_EQ(readExr(path(std::string("one") + f)).rgb,
+                  readExr(path(std::string("two") + f)).rgb)
+            << f;
+    auto stats = [&](const std::string& f) {
+        return nlohmann::json::parse(std::ifstream(path(f)));
+    };
+    const auto one = stats("one.stats.json"), two = stats("two.stats.json");
+    EXPECT_EQ(two["mpi_ranks"], 2);
+    EXPECT_EQ(one["mpi_ranks"], 1);
+    EXPECT_EQ(two["paths"], one["paths"]);
+    EXPECT_EQ(two["density_lookups"], one["density_lookups"]);
+    EXPECT_EQ(two["image"], one["image"]);
+    r = runCommand(mpi + "render " + args + path("x.exr") + " --time-limit 5");
+    EXPECT_EQ(r.code, 1);
+    const std::string line =
+        "shvol: error: --time-limit: not available in a render over several MPI ranks";
+    EXPECT_NE(r.err.find(line), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find(line), r.err.rfind(line)) << "rank 0 alone reports it: " << r.err;
+    EXPECT_FALSE(fs::exists(path("x.exr")));
+}
+
+// mpirun -np 2 shvol batch: the runs are shared out dynamically, rank 0 keeps the ledger, the
+// reference is rendered by both ranks; the rows equal a single process's. A run that fails on
+// either rank ends the batch with its one-line error, and a second start finishes nothing twice.
+TEST_F(Cli, MpiBatchEqualsOneProcess) {
+    write("s.json", scene(Homogeneous));
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [64, 128, 256],
+        "media[0].albedo": [0.5, 0.8]}, "repeats": 2, "reference": {"spp": 2048},
+        "metrics": ["rmse", "ztest"]})");
+    const std::string mpi = std::string(SHVOL_MPIEXEC) + " " + SHVOL_BINARY + " ";
+    Result r = run("batch " + path("sweep.json") + " --quiet --output " + path("one"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    r = runCommand(mpi + "batch " + path("sweep.json") + " --quiet --output " + path("two"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    expectSameRows(path("one"), path("two"), 12);
+    EXPECT_EQ(readExr(path("one/reference.exr")).rgb, readExr(path("two/reference.exr")).rgb);
+    r = runCommand(mpi + "batch " + path("sweep.json") + " --output " + path("two"));
+    EXPECT_EQ(r.code, 0);
+    EXPECT_NE(r.err.find("12 of 12 runs already finished"), std::string::npos) << r.err;
+    write("bad.json", R"({"scene": "s.json", "axes": {"media[0].albedo": [0.5, 0.6, 3, 0.7]}})");
+    r = runCommand(mpi + "batch " + path("bad.json") + " --quiet --output " + path("bad"));
+    EXPECT_EQ(r.code, 1);
+    const std::string line = "shvol: error: " + path("s.json") + ": media[0].albedo: component 3";
+    EXPECT_NE(r.err.find(line), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find(line), r.err.rfind(line)) << r.err;
+}
+#endif
 
 // batch --report: the report has the plots and one table row per (configuration, spp).
 TEST_F(Cli, BatchReport) {

@@ -191,7 +191,9 @@ TEST(LightSampling, ImageIndependentOfThreadCount) {
         s.camera.width = 24, s.camera.height = 20;
         s.settings.spp = 4;
         configure(s, {ls, MisHeuristic::Power});
-        const RenderResult a = render(s, {1, false}), b = render(s, {2, false});
+        RenderOptions one, two;
+        one.threads = 1, two.threads = 2;
+        const RenderResult a = render(s, one), b = render(s, two);
         EXPECT_EQ(a.image.rgb, b.image.rgb) << lightSamplingName(ls);
         EXPECT_EQ(a.stats.counters.productSamples, b.stats.counters.productSamples);
         EXPECT_EQ(a.stats.counters.productSamples > 0, ls == LightSampling::Product);

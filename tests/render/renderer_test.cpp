@@ -107,6 +107,41 @@ TEST(Renderer, AfterPassSeesEveryPassAndStop) {
     EXPECT_EQ(at3.sum, render(smallScene(3), RenderOptions{}).film.sum);
 }
 
+// The parts of a render split by pixel rows (the ranks of an MPI render) add up to the whole
+// film exactly, sums of squares and stop films included, and each part leaves the others' pixels
+// alone; a part that does not exist is refused.
+TEST(Renderer, PartsAddUpToTheWholeFilm) {
+    const Scene s = smallScene(7);
+    RenderOptions opt;
+    opt.variance = true;
+    opt.stops = {3};
+    const RenderResult whole = render(s, opt);
+    Film sum(12, 9);
+    sum.sumSq.assign(sum.sum.size(), 0.0);
+    opt.parts = 3;
+    for (opt.part = 0; opt.part < 3; ++opt.part) {
+        opt.afterPass = [&](const Film& f, const RenderStats& st) {
+            EXPECT_EQ(f.maxCount(), st.passEnd);  // every pixel of the part, none of the others
+            EXPECT_EQ(f.minCount(), 0u);
+        };
+        const RenderResult part = render(s, opt);
+        for (size_t i = 0; i < sum.pixels(); ++i) {
+            const bool mine = int(i / 12) % 3 == opt.part;
+            EXPECT_EQ(part.film.count[i], mine ? 7u : 0u);
+            sum.count[i] += part.film.count[i];
+            for (int c = 0; c < 3; ++c) {
+                sum.sum[3 * i + c] += part.film.sum[3 * i + c];
+                sum.sumSq[3 * i + c] += part.film.sumSq[3 * i + c];
+            }
+        }
+    }
+    EXPECT_EQ(sum.sum, whole.film.sum);
+    EXPECT_EQ(sum.sumSq, whole.film.sumSq);
+    EXPECT_EQ(sum.count, whole.film.count);
+    opt.part = 3;
+    EXPECT_THROW(render(s, opt), Error);
+}
+
 // The standard error of each pixel's mean from the sample moments agrees with the spread of
 // independent renders (different seeds) of the same pixel.
 TEST(Renderer, StandardErrorMatchesTheSpreadOfIndependentRenders) {

@@ -32,6 +32,10 @@ struct RenderOptions {
     std::vector<uint32_t> stops;
     /// Accumulate per-pixel sums of squares too (Film::standardError).
     bool variance = false;
+    /// Render only the pixel rows y with y mod parts = part (every sample of them, in the order
+    /// one process takes them); the other pixels keep their film values. Ranks of an MPI render
+    /// take one part each, and their films add up to the single-process film exactly.
+    int part = 0, parts = 1;
     /// Called after every completed pass, the last one included (not after a stop), with the
     /// film and the statistics so far.
     std::function<void(const Film&, const RenderStats&)> afterPass;
@@ -61,6 +65,7 @@ struct RenderStats {
     RenderStop stop = RenderStop::Completed;
     uint32_t resumedFromSamples = 0;          ///< samples per pixel (minimum) in the film continued
     uint32_t minSamples = 0, maxSamples = 0;  ///< samples per pixel taken, over the image
+    uint32_t passEnd = 0;  ///< samples per pixel at the end of the last completed pass
     double pathsPerSecond() const { return counters.paths / std::max(1e-9, wallSeconds); }
     /// Mean number of scattering events per path.
     double meanPathLength() const {

@@ -1,0 +1,186 @@
+#include "mpi_world.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <thread>
+
+#include "shvol/core/error.h"
+
+#ifdef SHVOL_HAVE_MPI
+#include <mpi.h>
+#endif
+
+namespace shvol::app {
+
+MpiWorld& MpiWorld::get() {
+    static MpiWorld world;
+    return world;
+}
+
+bool MpiWorld::built() {
+#ifdef SHVOL_HAVE_MPI
+    return true;
+#else
+    return false;
+#endif
+}
+
+#ifdef SHVOL_HAVE_MPI
+
+namespace {
+
+/// Started by an MPI launcher (OpenMPI's mpirun sets OMPI_COMM_WORLD_SIZE; PMIx and PMI
+/// launchers set PMIX_RANK or PMI_SIZE).
+bool launchedByMpi() {
+    for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE"})
+        if (std::getenv(v)) return true;
+    return false;
+}
+
+bool gInitialised = false;
+
+// PathCounters is a run of uint64_t counters (TrackingCounters included), reduced as one array.
+constexpr int kCounterWords = int(sizeof(PathCounters) / sizeof(uint64_t));
+static_assert(sizeof(PathCounters) % sizeof(uint64_t) == 0, "PathCounters holds uint64_t only");
+
+template <typename T>
+void reduce(std::vector<T>& v, MPI_Datatype type, bool root, MPI_Op op = MPI_SUM) {
+    if (v.empty()) return;
+    if (root)
+        MPI_Reduce(MPI_IN_PLACE, v.data(), int(v.size()), type, op, 0, MPI_COMM_WORLD);
+    else
+        MPI_Reduce(v.data(), nullptr, int(v.size()), type, op, 0, MPI_COMM_WORLD);
+}
+
+}  // namespace
+
+void MpiWorld::init(int& argc, char**& argv) {
+    if (!launchedByMpi()) return;
+    int provided = 0;
+    // The batch's rank 0 serves the queue from a thread while its main thread renders.
+    MPI_Init_thread(&argc, &argv, MPI_THREAD_MULTIPLE, &provided);
+    gInitialised = true;
+    MpiWorld& w = get();
+    MPI_Comm_rank(MPI_COMM_WORLD, &w.rank_);
+    MPI_Comm_size(MPI_COMM_WORLD, &w.size_);
+    MPI_Comm local;
+    MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &local);
+    MPI_Comm_size(local, &w.localSize_);
+    MPI_Comm_free(&local);
+    if (w.size_ > 1 && provided < MPI_THREAD_MULTIPLE && w.rank_ == 0)
+        std::fprintf(stderr,
+                     "shvol: warning: the MPI library gives no MPI_THREAD_MULTIPLE; "
+                     "shvol batch needs it with several ranks\n");
+}
+
+void MpiWorld::finalize() {
+    if (gInitialised) MPI_Finalize();
+    gInitialised = false;
+}
+
+void MpiWorld::abort(int code) {
+    if (gInitialised) MPI_Abort(MPI_COMM_WORLD, code);
+    std::exit(code);
+}
+
+std::string MpiWorld::firstError(const std::string& mine) const {
+    if (!parallel()) return mine;
+    const int candidate = mine.empty() ? size_ : rank_;
+    int first = size_;
+    MPI_Allreduce(&candidate, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    if (first == size_) return "";
+    int length = int(mine.size());
+    MPI_Bcast(&length, 1, MPI_INT, first, MPI_COMM_WORLD);
+    std::string text = mine;
+    text.resize(size_t(length));
+    MPI_Bcast(text.data(), length, MPI_CHAR, first, MPI_COMM_WORLD);
+    return text;
+}
+
+void MpiWorld::barrier() const {
+    if (parallel()) MPI_Barrier(MPI_COMM_WORLD);
+}
+
+bool MpiWorld::broadcast(bool flag) const {
+    if (!parallel()) return flag;
+    int v = flag;
+    MPI_Bcast(&v, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    return v != 0;
+}
+
+void MpiWorld::reduceToRoot(Film& film, RenderStats& stats) const {
+    if (!parallel()) return;
+    reduce(film.sum, MPI_DOUBLE, root());
+    reduce(film.count, MPI_UINT32_T, root());
+    reduce(film.sumSq, MPI_DOUBLE, root());
+    std::vector<uint64_t> c(kCounterWords);
+    std::memcpy(c.data(), &stats.counters, sizeof(PathCounters));
+    reduce(c, MPI_UINT64_T, root());
+    std::vector<double> wall{stats.wallSeconds};  // the slowest rank's
+    reduce(wall, MPI_DOUBLE, root(), MPI_MAX);
+    if (!root()) return;
+    std::memcpy(&stats.counters, c.data(), sizeof(PathCounters));
+    stats.wallSeconds = wall[0];
+    stats.minSamples = film.minCount();
+    stats.maxSamples = film.maxCount();
+}
+
+void MpiWorld::send(int to, int tag, const std::string& text) const {
+    MPI_Send(text.data(), int(text.size()), MPI_CHAR, to, tag, MPI_COMM_WORLD);
+}
+
+std::string MpiWorld::recv(int tag, int& from) const {
+    MPI_Status status;
+    MPI_Message message;
+    MPI_Mprobe(MPI_ANY_SOURCE, tag, MPI_COMM_WORLD, &message, &status);
+    int length = 0;
+    MPI_Get_count(&status, MPI_CHAR, &length);
+    std::string text(size_t(length), '\0');
+    MPI_Mrecv(text.data(), length, MPI_CHAR, &message, &status);
+    from = status.MPI_SOURCE;
+    return text;
+}
+
+#else  // built without MPI: one rank
+
+void MpiWorld::init(int&, char**&) {}
+void MpiWorld::finalize() {}
+void MpiWorld::abort(int code) {
+    std::exit(code);
+}
+std::string MpiWorld::firstError(const std::string& mine) const {
+    return mine;
+}
+bool MpiWorld::broadcast(bool flag) const {
+    return flag;
+}
+void MpiWorld::reduceToRoot(Film&, RenderStats&) const {}
+void MpiWorld::send(int, int, const std::string&) const {}
+std::string MpiWorld::recv(int, int& from) const {
+    from = 0;
+    return "";
+}
+
+#endif
+
+void collectively(const std::function<void()>& setup, bool together) {
+    if (!together || !MpiWorld::get().parallel()) return setup();
+    std::string error;
+    try {
+        setup();
+    } catch (const Error& e) {
+        error = e.what();
+    }
+    error = MpiWorld::get().firstError(error);
+    if (error.empty()) return;
+    if (MpiWorld::get().root()) throw Error(error);
+    throw ReportedOnRoot{};
+}
+
+int threadsPerRender(int jobs) {
+    const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+    return std::max(1, cores / std::max(1, jobs * MpiWorld::get().localSize()));
+}
+
+}  // namespace shvol::app
