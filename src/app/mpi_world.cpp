@@ -1,5 +1,6 @@
 #include "mpi_world.h"
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -133,7 +134,13 @@ void MpiWorld::send(int to, int tag, const std::string& text) const {
 std::string MpiWorld::recv(int tag, int& from) const {
     MPI_Status status;
     MPI_Message message;
-    MPI_Mprobe(MPI_ANY_SOURCE, tag, MPI_COMM_WORLD, &message, &status);
+    // OpenMPI's blocking probe spins a core; rank 0 waits for requests beside its own render, so
+    // it polls and sleeps instead (a millisecond of latency per run is nothing).
+    for (int found = 0;;) {
+        MPI_Improbe(MPI_ANY_SOURCE, tag, MPI_COMM_WORLD, &found, &message, &status);
+        if (found) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
     int length = 0;
     MPI_Get_count(&status, MPI_CHAR, &length);
     std::string text(size_t(length), '\0');

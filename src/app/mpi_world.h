@@ -44,8 +44,8 @@ class MpiWorld {
     /// on the order of the reduction.
     void reduceToRoot(Film& film, RenderStats& stats) const;
 
-    /// Point-to-point text messages (the batch's work queue). recv() takes a message with `tag`
-    /// from any rank and names its sender.
+    /// Point-to-point text messages (the batch's work queue). recv() waits (sleeping, not
+    /// spinning) for a message with `tag` from any rank and names its sender.
     void send(int to, int tag, const std::string& text) const;
     std::string recv(int tag, int& from) const;
 
