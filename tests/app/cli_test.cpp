@@ -616,8 +616,9 @@ TEST_F(Cli, MpiRenderEqualsOneProcess) {
 }
 
 // mpirun -np 2 shvol batch: the runs are shared out dynamically, rank 0 keeps the ledger, the
-// reference is rendered by both ranks; the rows equal a single process's. A run that fails on
-// either rank ends the batch with its one-line error, and a second start finishes nothing twice.
+// reference is rendered by both ranks; the rows equal a single process's, also after the batch
+// was stopped in the middle and started again. A run that fails on either rank ends the batch
+// with its one-line error.
 TEST_F(Cli, MpiBatchEqualsOneProcess) {
     write("s.json", scene(Homogeneous));
     write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [64, 128, 256],
@@ -633,6 +634,23 @@ TEST_F(Cli, MpiBatchEqualsOneProcess) {
     r = runCommand(mpi + "batch " + path("sweep.json") + " --output " + path("two"));
     EXPECT_EQ(r.code, 0);
     EXPECT_NE(r.err.find("12 of 12 runs already finished"), std::string::npos) << r.err;
+    // Killed (SIGKILL to mpirun and both ranks, found by their command lines in /proc) once the
+    // first row is in, and started again: the rows of one process.
+    write("slow.json", R"({"scene": "s.json", "axes": {"spp": [6000, 9000, 12000]},
+        "repeats": 3, "reference": {"spp": 20000}, "metrics": ["rmse"]})");
+    ASSERT_EQ(run("batch " + path("slow.json") + " --quiet --output " + path("slow1")).code, 0);
+    const std::string slow2 = path("slow2");
+    r = runCommand(mpi + "batch " + path("slow.json") + " --quiet --output " + slow2 +
+                   " & p=$!; i=0; while [ ! -s " + slow2 + "/results.jsonl ] && [ $i -lt 1000 ]; " +
+                   "do sleep 0.02; i=$((i+1)); done; " + "for f in $(grep -la -e '" + slow2 +
+                   "' /proc/[0-9]*/cmdline); do " +
+                   "q=${f#/proc/}; q=${q%/cmdline}; [ $q != $$ ] && kill -9 $q 2>/dev/null; " +
+                   "done; wait $p");
+    EXPECT_NE(r.code, 0);
+    EXPECT_LT(ledgerRows(path("slow2")).size(), 9u) << "some runs are left to do";
+    r = runCommand(mpi + "batch " + path("slow.json") + " --quiet --output " + path("slow2"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    expectSameRows(path("slow1"), path("slow2"), 9);
     write("bad.json", R"({"scene": "s.json", "axes": {"media[0].albedo": [0.5, 0.6, 3, 0.7]}})");
     r = runCommand(mpi + "batch " + path("bad.json") + " --quiet --output " + path("bad"));
     EXPECT_EQ(r.code, 1);
