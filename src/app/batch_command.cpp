@@ -155,9 +155,14 @@ class WorkQueue {
         if (quiet_ || Progress::stderrIsTerminal()) return;
         const auto run = std::find_if(sweep_.runs.begin(), sweep_.runs.end(),
                                       [&](const SweepRun& r) { return r.id == row["run"]; });
-        std::fprintf(stderr, "batch: %zu/%zu %s%s\n", ledger_.rows().size(), sweep_.runs.size(),
-                     describe(*run).c_str(),
-                     row.contains("rmse") ? (" rmse " + dumpJson(row["rmse"])).c_str() : "");
+        // Time per run so far × runs left (this start's runs only).
+        const double elapsed =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+        const size_t done = ++finished_;
+        std::fprintf(stderr, "batch: %zu/%zu %s%s, ETA %.0fs\n", ledger_.rows().size(),
+                     sweep_.runs.size(), describe(*run).c_str(),
+                     row.contains("rmse") ? (" rmse " + dumpJson(row["rmse"])).c_str() : "",
+                     elapsed / double(done) * double(todo_.size() - done));
     }
     void fail(int code, const std::string& error) {
         const std::lock_guard<std::mutex> lock(mutex_);
@@ -228,7 +233,8 @@ class WorkQueue {
     bool quiet_;
     Progress progress_;
     std::mutex mutex_;
-    size_t next_ = 0;
+    size_t next_ = 0, finished_ = 0;
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
     bool stopped_ = false;
     int code_ = 0;
     std::string error_;
