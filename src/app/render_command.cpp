@@ -160,6 +160,7 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
     j["non_finite_samples"] = c.nonFiniteSamples;
     j["peak_memory_mib"] = peakMemoryMiB();
     j["effects"] = st.effects;
+    j["sampler"] = sampleStreamName(scene.settings.sampler);
     if (const LightSamplingStats& ls = st.lightSampling; !ls.strategy.empty()) {
         nlohmann::json& l = j["light_sampling"];
         l["strategy"] = ls.strategy;
@@ -356,11 +357,10 @@ int runRender(const RenderArgs& a) {
         std::fprintf(stderr, "shvol: warning: %llu samples were NaN or infinite and were dropped\n",
                      (unsigned long long)r.stats.counters.nonFiniteSamples);
     if (!a.quiet)
-        std::fprintf(stderr, "wrote %s and %s (%.2f s, %.3g paths/s, %s%d threads)\n",
-                     final.image.c_str(), final.stats.c_str(), r.stats.wallSeconds,
-                     r.stats.pathsPerSecond(),
-                     spread ? (std::to_string(world.size()) + " ranks of ").c_str() : "",
-                     r.stats.threads);
+        std::fprintf(
+            stderr, "wrote %s and %s (%.2f s, %.3g paths/s, %s%d threads)\n", final.image.c_str(),
+            final.stats.c_str(), r.stats.wallSeconds, r.stats.pathsPerSecond(),
+            spread ? (std::to_string(world.size()) + " ranks of ").c_str() : "", r.stats.threads);
     return interrupted ? 130 : 0;
 }
 

@@ -65,7 +65,15 @@ RenderSettings readSettings(JsonReader r) {
     s.seed = uint64_t(seed);
     s.maxDepth = r.integer("max_depth", s.maxDepth, 0, 1 << 20);
     s.rrDepth = r.integer("rr_depth", s.rrDepth, 0, 1 << 20);
-    s.nee = r.boolean("nee", s.nee);
+    if (!r.has("nee") || r.raw("nee").is_string()) {  // "auto", the default
+        if (r.string("nee", "auto") != "auto") r.error("nee", "expected true, false or \"auto\"");
+    } else {
+        s.nee = r.boolean("nee", true);
+    }
+    s.sampler =
+        r.choice("sampler", sampleStreamName(s.sampler), {"sobol", "independent"}) == "sobol"
+            ? SampleStream::Sobol
+            : SampleStream::Independent;
     s.transmittance = r.choice("transmittance", "ratio", {"ratio", "delta"}) == "ratio"
                           ? TransmittanceEstimator::Ratio
                           : TransmittanceEstimator::Delta;

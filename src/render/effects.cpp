@@ -13,7 +13,12 @@ Effects Effects::of(const Scene& scene) {
     e.multipleScattering = e.scattering && scene.settings.maxDepth > 1;
     const Environment& env = scene.environment;
     const bool envBlack = env.isConstant() && env.constantRadiance().maxCoeff() <= 0;
-    e.nextEvent = e.scattering && scene.settings.nee && !envBlack;
+    // Unless the scene says: next-event estimation pays for a shadow ray at every scattering
+    // event. Under a constant sky phase sampling already draws directions in proportion to the
+    // integrand apart from transmittance (and the lower hemisphere), and NEE lost in every case
+    // measured, dense or thin, over the sphere or the upper hemisphere (0.37–0.92× the
+    // efficiency), so it is on for image skies only (validation/sampling/README.md).
+    e.nextEvent = e.scattering && !envBlack && scene.settings.nee.value_or(!env.isConstant());
     e.environmentImage = !env.isConstant();
     if (e.nextEvent) {
         e.lightSampling = scene.settings.lightSampling;
@@ -54,6 +59,10 @@ const char* lightSamplingName(LightSampling s) {
         default:
             return "environment";
     }
+}
+
+const char* sampleStreamName(SampleStream s) {
+    return s == SampleStream::Sobol ? "sobol" : "independent";
 }
 
 const char* misHeuristicName(MisHeuristic h) {

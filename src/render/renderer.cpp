@@ -137,6 +137,12 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
         return st;
     };
 
+    // One camera path through pixel (x, y): the jitter is the stream's first request.
+    auto pathSample = [&](auto&& sampler, int x, int y, PathCounters& c) {
+        const Vec2 u = sampler.next2D();
+        return integrator.Li(cam.generateRay(x + u.x(), y + u.y()), sampler, c);
+    };
+
     tbb::task_arena arena(threads);
     for (const uint32_t end : ends) {
         arena.execute([&] {
@@ -153,10 +159,10 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
                             double* sq = film.sumSq.empty() ? nullptr : &film.sumSq[3 * pixel];
                             for (; n < end; ++n) {
                                 if (shouldStop()) return;
-                                Rng rng = Rng::forSample(s.seed, pixel, n);
-                                const Vec2 u = rng.uniform2();
                                 const Spectrum L =
-                                    integrator.Li(cam.generateRay(x + u.x(), y + u.y()), rng, c);
+                                    s.sampler == SampleStream::Sobol
+                                        ? pathSample(SobolSampler(s.seed, pixel, n), x, y, c)
+                                        : pathSample(Rng::forSample(s.seed, pixel, n), x, y, c);
                                 if (L.allFinite()) {
                                     sum[0] += L[0], sum[1] += L[1], sum[2] += L[2];
                                     if (sq)

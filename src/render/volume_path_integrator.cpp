@@ -114,7 +114,9 @@ double VolumePathIntegrator::lightPdf(const EventLobe& lobe, const Vec3& w, Path
     }
 }
 
-Spectrum VolumePathIntegrator::Li(Ray ray, Rng& rng, PathCounters& c) const {
+template <typename Sampler>
+Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c) const {
+    Rng& rng = sampler.rng();
     ++c.paths;
     const Environment& env = scene_.environment;
     if (!effects_.volumes) return env.Le(ray.d);
@@ -150,7 +152,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Rng& rng, PathCounters& c) const {
                 lobe.beta = lobes_[mi].beta;
             }
             ++c.lightSamples;
-            const LightDraw ls = sampleLight(lobe, rng.uniform2(), c);
+            const LightDraw ls = sampleLight(lobe, sampler.next2D(), c);
             if (ls.pdf > 0 && ls.Le.maxCoeff() > 0) {
                 const double f = phase.eval(ray.d, ls.wi);
                 if (f > 0) {
@@ -162,21 +164,26 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Rng& rng, PathCounters& c) const {
         }
 
         ++c.phaseSamples;
-        const PhaseSample ps = phase.sample(ray.d, rng.uniform2());
+        const PhaseSample ps = phase.sample(ray.d, sampler.next2D());
         if (!(ps.pdf > 0) || !(ps.value > 0)) break;
         beta *= ps.value / ps.pdf;
         phasePdf = ps.pdf;
         ray = Ray{p, ps.wi};
 
         if (depth >= s.rrDepth) {
+            // Drawn whether or not it is needed: each bounce takes a fixed set of numbers.
+            const double u = sampler.next1D();
             const double q = maxComponent(beta);
             if (q < 1) {
-                if (rng.uniform() >= q) break;
+                if (u >= q) break;
                 beta /= q;
             }
         }
     }
     return L;
 }
+
+template Spectrum VolumePathIntegrator::Li(Ray, Rng&, PathCounters&) const;
+template Spectrum VolumePathIntegrator::Li(Ray, SobolSampler&, PathCounters&) const;
 
 }  // namespace shvol

@@ -285,9 +285,10 @@ TEST_F(Cli, RenderWritesExrAndStats) {
     for (const char* k : {"wall_time_s", "paths_per_second", "mean_path_length", "peak_memory_mib",
                           "density_lookups_per_second", "effects"})
         EXPECT_TRUE(stats.contains(k)) << k;
-    EXPECT_EQ(stats["effects"], nlohmann::json::parse(
-                                    R"(["environment-constant", "volume-tracking",
-                                        "multiple-scattering", "nee-environment-uniform", "mis-balance"])"));
+    // Under a constant sky next-event estimation is off unless asked for (render.nee).
+    EXPECT_EQ(stats["effects"], nlohmann::json::parse(R"(["environment-constant",
+                                    "volume-tracking", "multiple-scattering"])"));
+    EXPECT_EQ(stats["sampler"], "sobol");
 }
 
 // Product light sampling names itself in the stats with what it built and drew; a wrong
@@ -296,6 +297,7 @@ TEST_F(Cli, ProductLightSamplingStats) {
     write("s.json", scene(Homogeneous));
     Result r = run("render " + path("s.json") + " -o " + path("p.exr") +
                    " --spp 2 --quiet --set render.light_sampling=product --set render.mis=power"
+                   " --set render.nee=true"
                    " --set render.product_order=6");
     ASSERT_EQ(r.code, 0) << r.err;
     std::ifstream f(path("p.stats.json"));

@@ -53,6 +53,24 @@ TEST(SceneLoader, LightSamplingKeys) {
               std::string::npos);
 }
 
+// render.nee is true, false or "auto" (unset: decided from the scene); render.sampler names the
+// sample stream.
+TEST(SceneLoader, NeeAndSamplerKeys) {
+    EXPECT_FALSE(loadScene(kSunlitCloud, {"render.nee=\"auto\""}).settings.nee.has_value());
+    EXPECT_EQ(loadScene(kSunlitCloud, {"render.nee=false"}).settings.nee, false);
+    EXPECT_EQ(loadScene(kSunlitCloud, {"render.sampler=independent"}).settings.sampler,
+              SampleStream::Independent);
+    using test::messageOf;
+    EXPECT_NE(messageOf([] {
+                  loadScene(kSunlitCloud, {"render.nee=\"sometimes\""});
+              }).find("render.nee: expected true, false or \"auto\""),
+              std::string::npos);
+    EXPECT_NE(messageOf([] {
+                  loadScene(kSunlitCloud, {"render.sampler=halton"});
+              }).find("render.sampler: unknown value \"halton\""),
+              std::string::npos);
+}
+
 // The sunlit cloud of media/ (VDB cloud, Preetham sky, 0.53° sun) renders the same expected
 // image with every light-sampling strategy: image means over 6 seeds agree with the
 // MIS(environment, phase) baseline within 5 combined standard errors.
@@ -101,7 +119,9 @@ TEST(SceneLoader, ResolvedSceneFillsInDefaults) {
     const Scene s = sceneFromJson(doc, "scene.json", &resolved);
     EXPECT_EQ(resolved["render"]["spp"], 3);
     EXPECT_EQ(resolved["render"]["max_depth"], s.settings.maxDepth);
-    EXPECT_EQ(resolved["render"]["nee"], true);
+    EXPECT_EQ(resolved["render"]["nee"], "auto");
+    EXPECT_EQ(resolved["render"]["sampler"], "sobol");
+    EXPECT_FALSE(s.settings.nee.has_value());
     EXPECT_EQ(resolved["camera"]["fov"], s.camera.fovDegrees);
     EXPECT_EQ(resolved["camera"]["resolution"], Json({s.camera.width, s.camera.height}));
     EXPECT_EQ(resolved["environment"], Json({{"type", "constant"}, {"radiance", 0}}));

@@ -53,6 +53,7 @@ using test::Estimate;
 using test::estimate;
 
 void configure(Scene& s, const Config& c, int order = 8) {
+    s.settings.nee = true;  // also under a constant sky, where it is off unless asked for
     s.settings.lightSampling = c.strategy;
     s.settings.mis = c.mis;
     s.settings.productOrder = order;

@@ -221,8 +221,57 @@ TEST(VolumePathIntegrator, EffectsThatAreOffAreNotSimulated) {
         EXPECT_FALSE(fx.environmentImage);
         const auto names = fx.names();
         EXPECT_NE(std::find(names.begin(), names.end(), "single-scattering"), names.end());
-        EXPECT_NE(std::find(names.begin(), names.end(), "nee-environment-uniform"), names.end());
+        EXPECT_EQ(std::find(names.begin(), names.end(), "nee-environment-uniform"), names.end());
+        EXPECT_EQ(e.counters.lightSamples, 0u);
     }
+}
+
+// The Sobol stream changes the noise, not the expected value: a white furnace stays 1, and a
+// coloured medium under a sky with a hot pixel (NEE and phase sampling, 1 and 2 bounces and many)
+// has the same mean as with independent numbers.
+TEST(VolumePathIntegrator, SobolStreamKeepsTheExpectedValue) {
+    Scene w = furnaceScene(3.0, Spectrum::Ones(), PhaseFunction(HenyeyGreensteinPhase(0.7)));
+    const Estimate white = estimate(w, 4096, 3, SampleStream::Sobol);
+    for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(white.mean[ch], 1.0, 1e-12);
+    Image img(16, 8);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 16; ++x)
+            img.set(x, y, Spectrum(0.2 + (y < 4 ? 1.5 : 0.1), 0.5, x == 5 && y == 3 ? 80.0 : 0.3));
+    for (int depth : {1, 2, 64}) {
+        Scene s =
+            furnaceScene(1.5, Spectrum(0.9, 0.7, 0.5), PhaseFunction(HenyeyGreensteinPhase(0.6)));
+        s.environment = Environment::image(img, 1.0, 10.0, false);
+        s.settings.maxDepth = depth;
+        const Estimate a = estimate(s, 1 << 15, 7, SampleStream::Sobol),
+                       b = estimate(s, 1 << 15, 8, SampleStream::Independent);
+        const Spectrum se = (a.stdErr.square() + b.stdErr.square()).sqrt();
+        SCOPED_TRACE("max depth " + std::to_string(depth));
+        expectNear(a.mean, b.mean, 5 * se, "sobol vs independent");
+        EXPECT_GT(a.counters.lightSamples, 0u);
+    }
+}
+
+// Next-event estimation unless the scene says: off under a constant sky (over the sphere or the
+// upper hemisphere), on under an image; an explicit setting wins.
+TEST(VolumePathIntegrator, NextEventEstimationIsDecidedFromTheScene) {
+    Scene s = furnaceScene(2.0, Spectrum::Ones(), PhaseFunction(IsotropicPhase()));
+    EXPECT_FALSE(Effects::of(s).nextEvent);
+    s.settings.nee = true;
+    EXPECT_TRUE(Effects::of(s).nextEvent);
+    s.settings.nee.reset();
+    s.environment = Environment::constant(Spectrum::Ones(), true);
+    EXPECT_FALSE(Effects::of(s).nextEvent);
+    s.settings.nee = true;
+    EXPECT_TRUE(Effects::of(s).nextEvent);
+    s.settings.nee.reset();
+    Image img(8, 4);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 8; ++x) img.set(x, y, Spectrum::Ones());
+    s.environment = Environment::image(img, 1.0, 0.0, false);
+    EXPECT_TRUE(Effects::of(s).nextEvent);
+    s.environment = Environment::constant(Spectrum::Zero(), false);  // black: nothing to sample
+    s.settings.nee = true;
+    EXPECT_FALSE(Effects::of(s).nextEvent);
 }
 
 // The image depends on the seed only, never on the thread count.

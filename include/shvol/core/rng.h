@@ -44,6 +44,11 @@ class Rng {
         const uint64_t hi = nextU32(), lo = nextU32();
         return static_cast<double>(((hi << 32) | lo) >> 11) * 0x1.0p-53;
     }
+    /// The sample-stream interface the path tracer is written against (SobolSampler has the
+    /// same): an independent stream serves every request with fresh numbers.
+    double next1D() { return uniform(); }
+    Vec2 next2D() { return uniform2(); }
+    Rng& rng() { return *this; }
     Vec2 uniform2() {
         const double a = uniform();
         return {a, uniform()};

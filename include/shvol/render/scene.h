@@ -1,6 +1,7 @@
 #pragma once
 /// \file Everything a render needs, as loaded from a scene file.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,9 @@ enum class MisHeuristic {
     Power,    ///< w_a = p_a² / (p_a² + p_b²)
     None,     ///< environment light only through light samples (phase-sampled escapes get 0)
 };
+/// Where a path's numbers come from (sampling/sobol_sampler.h, core/rng.h).
+enum class SampleStream { Sobol, Independent };
+const char* sampleStreamName(SampleStream s);  ///< "sobol", "independent"
 const char* lightSamplingName(LightSampling s);
 const char* misHeuristicName(MisHeuristic h);
 
@@ -30,7 +34,11 @@ struct RenderSettings {
     uint64_t seed = 1;
     int maxDepth = 64;  ///< maximum number of scattering events per path (1 = single scattering)
     int rrDepth = 3;    ///< Russian roulette starts after this many scattering events
-    bool nee = true;    ///< next-event estimation towards the environment, MIS with phase sampling
+    /// Next-event estimation towards the environment, MIS with phase sampling; unset: decided
+    /// from the scene (Effects::of).
+    std::optional<bool> nee;
+    /// The numbers a path uses: Owen-scrambled Sobol' (0,2)-sequences or independent PCG32.
+    SampleStream sampler = SampleStream::Sobol;
     TransmittanceEstimator transmittance = TransmittanceEstimator::Ratio;
     LightSampling lightSampling = LightSampling::Environment;
     MisHeuristic mis = MisHeuristic::Balance;

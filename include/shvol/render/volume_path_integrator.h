@@ -23,6 +23,7 @@
 #include "shvol/lights/product_sampler.h"
 #include "shvol/render/effects.h"
 #include "shvol/render/scene.h"
+#include "shvol/sampling/sobol_sampler.h"
 
 namespace shvol {
 
@@ -45,8 +46,13 @@ class VolumePathIntegrator {
     /// Builds what the scene's effects need: the sky hierarchy for the wavelet and product
     /// strategies, and for product sampling each medium's zonal phase lobe.
     explicit VolumePathIntegrator(const Scene& scene);
-    /// Radiance arriving along −ray.d at ray.o (i.e. seen looking along ray.d).
-    Spectrum Li(Ray ray, Rng& rng, PathCounters& c) const;
+    /// Radiance arriving along −ray.d at ray.o (i.e. seen looking along ray.d). `Sampler` is
+    /// a sample stream, Rng (independent numbers) or SobolSampler (sampling/sobol_sampler.h):
+    /// per bounce a 2D light sample (with next-event estimation), a 2D phase sample and a 1D
+    /// Russian-roulette number, in that order; free-flight and transmittance tracking draw from
+    /// its rng().
+    template <typename Sampler>
+    Spectrum Li(Ray ray, Sampler& sampler, PathCounters& c) const;
     const Effects& effects() const { return effects_; }
     /// The sky hierarchy (wavelet and product strategies only; else null).
     const SkyHierarchy* sky() const { return sky_.get(); }

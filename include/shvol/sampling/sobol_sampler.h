@@ -1,0 +1,155 @@
+#pragma once
+/// \file Quasi-random sample streams for the path tracer: a padded, Owen-scrambled (0,2)-sequence
+/// keyed by (seed, pixel, sample), like Rng::forSample, so images stay independent of the thread
+/// count and a render of N samples is the first N samples of a longer one.
+///
+/// The n-th point of the (0,2)-sequence is x_n = (R(n), C·n) ∈ [0,1)², the first two dimensions
+/// of Sobol' (1967): R reverses the 32 bits of n (van der Corput), and C is the generator matrix
+/// of the polynomial x + 1, whose direction numbers are v₁ = 2⁻¹, v_k = v_{k−1} ⊕ (v_{k−1} ≫ 1).
+/// Each coordinate is scrambled by hash-based nested uniform (Owen) scrambling (Burley 2020,
+/// "Practical Hash-based Owen Scrambling", JCGT 9(4), after Laine & Karras 2011): the bits are
+/// reversed, permuted by a hash in which every bit depends only on the bits below it, and
+/// reversed back, so every bit of the result depends only on the bits above it in the input: an
+/// Owen scramble, which keeps the (0,2)-sequence's stratification. For every k ≤ 32, the first
+/// 2^k samples of a pixel then put one point in each 2^a × 2^b elementary interval (a + b = k).
+///
+/// A path asks for its numbers in a fixed order (the camera jitter, then per bounce the light
+/// sample, the phase sample and Russian roulette). Request d of a path is the (0,2)-sequence with
+/// its index shuffled and its coordinates scrambled by seeds hashed from (seed, pixel, d): each
+/// request is stratified over the pixel's samples, and different requests are decorrelated
+/// (padding, as pbrt-v4's PaddedSobolSampler).
+/// Beyond kDimensions requests, and for the variable-length draws of free-flight sampling, the
+/// stream hands out its independent PCG32 numbers (rng()). 16 bits below 2⁻³² are random too
+/// (what an Owen scramble of infinite depth would give).
+#include <cstdint>
+
+#include "shvol/core/rng.h"
+
+namespace shvol {
+
+/// The 32 bits of x in reverse order.
+inline uint32_t reverseBits32(uint32_t x) {
+#if defined(__has_builtin) && __has_builtin(__builtin_bitreverse32)
+    return __builtin_bitreverse32(x);
+#else
+    x = (x << 16) | (x >> 16);
+    x = ((x & 0x00ff00ffu) << 8) | ((x & 0xff00ff00u) >> 8);
+    x = ((x & 0x0f0f0f0fu) << 4) | ((x & 0xf0f0f0f0u) >> 4);
+    x = ((x & 0x33333333u) << 2) | ((x & 0xccccccccu) >> 2);
+    return ((x & 0x55555555u) << 1) | ((x & 0xaaaaaaaau) >> 1);
+#endif
+}
+
+/// The second Sobol' dimension of point n as a 32-bit fraction: C·n over GF(2), bit by bit
+/// (the slow reference of sobolSecondDimension).
+inline uint32_t sobolSecondDimensionBitwise(uint32_t n) {
+    uint32_t x = 0;
+    for (uint32_t v = 0x80000000u; n; n >>= 1, v ^= v >> 1)
+        if (n & 1) x ^= v;
+    return x;
+}
+
+namespace detail {
+/// C·n for each byte of n at each of its four places: table[k][b] = C·(b << 8k).
+struct SobolSecondDimensionTable {
+    uint32_t table[4][256];
+    constexpr SobolSecondDimensionTable() : table() {
+        uint32_t v[32] = {};
+        v[0] = 0x80000000u;
+        for (int i = 1; i < 32; ++i) v[i] = v[i - 1] ^ (v[i - 1] >> 1);
+        for (int k = 0; k < 4; ++k)
+            for (int b = 0; b < 256; ++b) {
+                uint32_t x = 0;
+                for (int i = 0; i < 8; ++i)
+                    if (b & (1 << i)) x ^= v[8 * k + i];
+                table[k][b] = x;
+            }
+    }
+};
+inline constexpr SobolSecondDimensionTable kSobolSecondDimension{};
+}  // namespace detail
+
+/// The second Sobol' dimension of point n as a 32-bit fraction, a byte of n at a time.
+inline uint32_t sobolSecondDimension(uint32_t n) {
+    const auto& t = detail::kSobolSecondDimension.table;
+    return t[0][n & 0xff] ^ t[1][(n >> 8) & 0xff] ^ t[2][(n >> 16) & 0xff] ^ t[3][n >> 24];
+}
+
+/// A seeded bijection of 32-bit integers in which bit i of the result (from the least
+/// significant) depends on bits 0 … i of x only (Burley 2020, the improved Laine–Karras
+/// permutation).
+inline uint32_t laineKarras(uint32_t x, uint32_t seed) {
+    x ^= x * 0x3d20adeau;
+    x += seed;
+    x *= (seed >> 16) | 1u;
+    x ^= x * 0x05526c56u;
+    x ^= x * 0x53a22864u;
+    return x;
+}
+
+/// Nested uniform scramble of a 32-bit fraction: bit i of the result (from the top) depends on
+/// bits 0 … i of x and on the seed only.
+inline uint32_t owenScramble(uint32_t x, uint32_t seed) {
+    return reverseBits32(laineKarras(reverseBits32(x), seed));
+}
+
+class SobolSampler {
+  public:
+    /// Requests served from the (0,2)-sequence before the stream falls back to rng(): the camera
+    /// jitter and the light, phase and roulette numbers of the first 42 bounces.
+    static constexpr int kDimensions = 128;
+
+    SobolSampler(uint64_t seed, uint64_t pixel, uint32_t sample)
+        : rng_(Rng::forSample(seed, pixel, sample)),
+          key_(mix64(mix64(seed) ^ (pixel * 0x9e3779b97f4a7c15ULL))),
+          index_(sample) {}
+
+    /// The next pair of the path's numbers.
+    Vec2 next2D() {
+        if (dimension_ >= kDimensions) return rng_.uniform2();
+        const Request r = request();
+        const uint32_t low = rng_.nextU32();  // 16 random bits below 2⁻³² for each coordinate
+        // owenScramble(reverseBits32(i), seed) = reverseBits32(laineKarras(i, seed)).
+        return {toUnit(reverseBits32(laineKarras(r.index, r.seedX)), low >> 16),
+                toUnit(owenScramble(sobolSecondDimension(r.index), r.seedY), low & 0xffffu)};
+    }
+    /// The next single number of the path (its own request, from the first coordinate).
+    double next1D() {
+        if (dimension_ >= kDimensions) return rng_.uniform();
+        const Request r = request();
+        return toUnit(reverseBits32(laineKarras(r.index, r.seedX)), rng_.nextU32() >> 16);
+    }
+    /// Independent numbers for draws whose count varies (free-flight and transmittance tracking).
+    Rng& rng() { return rng_; }
+
+  private:
+    /// The point of the sequence a request uses and its coordinates' scrambling seeds.
+    struct Request {
+        uint32_t index, seedX, seedY;
+    };
+    Request request() {
+        const uint64_t h = mix64(key_ + uint64_t(dimension_++));
+        // A third seed from h by a 32-bit finaliser (Wellons' lowbias32): enough for a scramble.
+        uint32_t g = uint32_t(h) ^ uint32_t(h >> 32);
+        g = (g ^ (g >> 16)) * 0x7feb352du;
+        g = (g ^ (g >> 15)) * 0x846ca68bu;
+        g ^= g >> 16;
+        // Each request visits the sequence in its own order (a nested scramble of the index
+        // maps the first 2^k samples onto an aligned block of 2^k points, which is a (0,k,2)-net
+        // too), or all requests of a sample would share the top bits of their points and be
+        // correlated (Burley 2020, §4: shuffling).
+        return {owenScramble(index_, g), uint32_t(h), uint32_t(h >> 32)};
+    }
+
+    /// x·2⁻³² with 16 random bits below (48 bits in all, exactly a double in [0, 1)).
+    static double toUnit(uint32_t x, uint32_t low16) {
+        return double((uint64_t(x) << 16) | low16) * 0x1p-48;
+    }
+
+    Rng rng_;
+    uint64_t key_;
+    uint32_t index_;
+    int dimension_ = 0;
+};
+
+}  // namespace shvol

@@ -1,0 +1,102 @@
+#include "shvol/sampling/sobol_sampler.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+namespace shvol {
+
+TEST(SobolSampler, ReverseBits) {
+    EXPECT_EQ(reverseBits32(1u), 0x80000000u);
+    EXPECT_EQ(reverseBits32(0x80000000u), 1u);
+    EXPECT_EQ(reverseBits32(0x0000f00du), 0xb00f0000u);
+    for (uint32_t x : {0u, 7u, 0x12345678u, 0xffffffffu})
+        EXPECT_EQ(reverseBits32(reverseBits32(x)), x);
+}
+
+// The second dimension's direction numbers are m_k / 2^k with m_k = 2 m_{k−1} ⊕ m_{k−1}, m₁ = 1
+// (primitive polynomial x + 1): 1, 3, 5, 15, 17, 51, 85, 255 (Bratley & Fox 1988, Table 1; Joe &
+// Kuo's new-joe-kuo-6.21201, dimension 2). Point 2^(k−1) is v_k alone.
+TEST(SobolSampler, SecondDimensionDirectionNumbers) {
+    const uint32_t m[] = {1, 3, 5, 15, 17, 51, 85, 255};
+    for (int k = 1; k <= 8; ++k)
+        EXPECT_EQ(sobolSecondDimensionBitwise(1u << (k - 1)), m[k - 1] << (32 - k)) << "k = " << k;
+    EXPECT_EQ(sobolSecondDimension(3), sobolSecondDimension(1) ^ sobolSecondDimension(2));
+    // The table-driven fast path against the bit-by-bit product.
+    Rng rng(1, 1);
+    for (int i = 0; i < 100000; ++i) {
+        const uint32_t n = i < 4096 ? uint32_t(i) : rng.nextU32();
+        ASSERT_EQ(sobolSecondDimension(n), sobolSecondDimensionBitwise(n)) << n;
+    }
+}
+
+// A nested uniform scramble: inputs that share their top j bits give outputs that share their
+// top j bits, and on the top 12 bits it is a permutation.
+TEST(SobolSampler, OwenScrambleIsNested) {
+    Rng rng(5, 0);
+    for (int t = 0; t < 2000; ++t) {
+        const uint32_t seed = rng.nextU32(), x = rng.nextU32();
+        const int j = int(rng.nextU32() % 32);
+        const uint32_t keep = j ? ~0u << (32 - j) : 0u;
+        const uint32_t y = (x & keep) | (rng.nextU32() & ~keep);
+        ASSERT_EQ(owenScramble(x, seed) & keep, owenScramble(y, seed) & keep) << "j = " << j;
+    }
+    for (uint32_t seed : {1u, 0xdeadbeefu}) {
+        std::vector<int> hit(4096, 0);
+        for (uint32_t i = 0; i < 4096; ++i) ++hit[owenScramble(i << 20, seed) >> 20];
+        for (int h : hit) ASSERT_EQ(h, 1);
+    }
+}
+
+// The first 2^k samples of a pixel put exactly one point in every elementary interval
+// [i/2^a, (i+1)/2^a) × [j/2^b, (j+1)/2^b) with a + b = k, for each request of the path.
+TEST(SobolSampler, EveryRequestIsAZeroTwoSequence) {
+    for (uint64_t pixel : {0ULL, 12345ULL}) {
+        for (int request : {0, 1, 7, SobolSampler::kDimensions - 1}) {
+            std::vector<Vec2> pts;
+            for (uint32_t n = 0; n < 1024; ++n) {
+                SobolSampler s(9, pixel, n);
+                for (int d = 0; d < request; ++d) s.next2D();
+                pts.push_back(s.next2D());
+            }
+            for (int k = 0; k <= 10; ++k)
+                for (int a = 0; a <= k; ++a) {
+                    const int b = k - a;
+                    std::vector<int> cell(size_t(1) << k, 0);
+                    for (size_t i = 0; i < (size_t(1) << k); ++i) {
+                        const int cx = int(pts[i].x() * (1 << a)), cy = int(pts[i].y() * (1 << b));
+                        ++cell[size_t(cy) * (size_t(1) << a) + size_t(cx)];
+                    }
+                    for (int c : cell)
+                        ASSERT_EQ(c, 1) << "pixel " << pixel << " request " << request << " 2^" << a
+                                        << " x 2^" << b;
+                }
+        }
+    }
+}
+
+// Requests are decorrelated from each other and pixels from each other; the numbers are in
+// [0, 1), depend only on (seed, pixel, sample), and past kDimensions come from the PCG stream.
+TEST(SobolSampler, RequestsAndPixelsAreIndependent) {
+    const int n = 4096;
+    double sxy = 0, sx = 0, sy = 0, sxx = 0, syy = 0;
+    double pxy = 0;
+    for (int i = 0; i < n; ++i) {
+        SobolSampler s(3, 77, uint32_t(i)), t(3, 78, uint32_t(i));
+        const double x = s.next1D(), y = s.next1D(), z = t.next1D();
+        sx += x, sy += y, sxx += x * x, syy += y * y, sxy += x * y, pxy += x * z;
+    }
+    const double cov = sxy / n - sx / n * sy / n;
+    const double corr = cov / std::sqrt((sxx / n - sx * sx / n / n) * (syy / n - sy * sy / n / n));
+    EXPECT_LT(std::abs(corr), 0.05);             // 1/√4096 ≈ 0.016
+    EXPECT_LT(std::abs(pxy / n - 0.25), 0.015);  // E[xz] = 1/4 for independent pixels (σ ≈ 0.0034)
+    SobolSampler a(3, 77, 5), b(3, 77, 5);
+    for (int d = 0; d < SobolSampler::kDimensions + 10; ++d) {
+        const Vec2 u = a.next2D();
+        ASSERT_EQ(u, b.next2D());
+        ASSERT_TRUE(u.x() >= 0 && u.x() < 1 && u.y() >= 0 && u.y() < 1);
+    }
+}
+
+}  // namespace shvol
