@@ -167,6 +167,7 @@ std::unique_ptr<Medium> readMedium(JsonReader r) {
     if (r.has("transform")) d.toWorld = readTransform(r.object("transform"));
     d.majorantGrid = r.boolean("majorant_grid", true);
     d.majorantCellVoxels = r.integer("majorant_cell", 8, 1, 4096);
+    d.bricks = r.choice("lookup", "bricks", {"bricks", "openvdb"}) == "bricks";
     r.finish();
     return loadVdbMedium(d);
 }

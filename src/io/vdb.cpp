@@ -14,11 +14,13 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <sstream>
 
 #include "shvol/core/atomic_file.h"
 #include "shvol/core/error.h"
 #include "shvol/core/input_file.h"
+#include "shvol/media/density_bricks.h"
 #include "shvol/media/majorant_grid.h"
 
 namespace shvol {
@@ -358,21 +360,66 @@ class VdbGridReader : public openvdb::io::Archive {
     }
 };
 
+// Not registered with the tree: cheap to make per ray, private to the calling thread.
+using Accessor = openvdb::tree::ValueAccessor<const openvdb::FloatTree, false>;
+
+/// The brick copy of a density grid (background 0): a brick at every brick position whose
+/// voxels or apron hold a non-zero value, i.e. the bricks around every leaf and tile with a
+/// positive value. None (std::nullopt) when its table or bricks would take too much memory: one
+/// tile of a tiny file can cover 4096³ voxels.
+std::optional<DensityBricks> makeBricks(const openvdb::FloatTree& tree) {
+    constexpr double kMaxTableCells = 1 << 24, kMaxBricks = 1 << 20;  // 64 MiB, 2.8 GiB
+    std::vector<std::pair<Eigen::Vector3i, Eigen::Vector3i>> boxes;   // brick coordinate ranges
+    Eigen::Vector3i lo = Eigen::Vector3i::Constant(INT32_MAX), hi = -lo;
+    double bricks = 0;
+    auto addBox = [&](const openvdb::CoordBBox& b) {
+        // Voxel x lies in the window (brick and apron) of bricks (x − 1) >> 3 … x >> 3.
+        const Eigen::Vector3i a((b.min().x() - 1) >> 3, (b.min().y() - 1) >> 3,
+                                (b.min().z() - 1) >> 3),
+            z(b.max().x() >> 3, b.max().y() >> 3, b.max().z() >> 3);
+        boxes.emplace_back(a, z);
+        lo = lo.cwiseMin(a), hi = hi.cwiseMax(z);
+        bricks += (z - a + Eigen::Vector3i::Ones()).cast<double>().prod();
+    };
+    for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf)
+        for (auto v = leaf->cbeginValueAll(); v; ++v)
+            if (*v > 0) {
+                addBox(leaf->getNodeBoundingBox());
+                break;
+            }
+    auto tiles = tree.cbeginValueAll();
+    tiles.setMaxDepth(decltype(tiles)::LEAF_DEPTH - 1);  // tiles only: leaves are done above
+    for (; tiles; ++tiles)
+        if (*tiles > 0) addBox(tiles.getBoundingBox());
+    if (boxes.empty()) return DensityBricks();
+    const Eigen::Vector3i res = hi - lo + Eigen::Vector3i::Ones();
+    if (res.cast<double>().prod() > kMaxTableCells || bricks > kMaxBricks) return std::nullopt;
+    DensityBricks d(lo, res, 0.f);
+    Accessor acc(tree);
+    for (const auto& [a, z] : boxes)
+        for (int x = a.x(); x <= z.x(); ++x)
+            for (int y = a.y(); y <= z.y(); ++y)
+                for (int k = a.z(); k <= z.z(); ++k)
+                    d.add(Eigen::Vector3i(x, y, k), [&](int i, int j, int l) {
+                        return acc.getValue(openvdb::Coord(i, j, l));
+                    });
+    return d;
+}
+
 class VdbMedium final : public Medium {
   public:
     VdbMedium(const VdbMediumDesc& d, openvdb::FloatGrid::ConstPtr grid,
-              const Eigen::Affine3d& worldToIndex, MajorantGrid majorants)
+              const Eigen::Affine3d& worldToIndex, MajorantGrid majorants,
+              std::optional<DensityBricks> bricks)
         : Medium(d.albedo, d.phase),
           grid_(std::move(grid)),
           worldToIndex_(worldToIndex),
           scale_(d.densityScale),
           majorants_(std::move(majorants)),
+          bricks_(std::move(bricks)),
           desc_("vdb " + d.file + ":" + d.grid) {}
 
   private:
-    // Not registered with the tree: cheap to make per ray, private to the calling thread.
-    using Accessor = openvdb::tree::ValueAccessor<const openvdb::FloatTree, false>;
-
     auto segments(const Vec3& o, const Vec3& d, double tMax) const {
         // The majorant is inflated by 1e-6 relative so that float rounding in the trilinear
         // interpolation can never exceed it.
@@ -383,29 +430,40 @@ class VdbMedium final : public Medium {
             });
         };
     }
-    auto sigma(Accessor& acc, const Vec3& o, const Vec3& d) const {
-        return [this, &acc, o, d](double t) {
-            const Vec3 p = o + t * d;
-            return scale_ * double(openvdb::tools::BoxSampler::sample(
-                                acc, openvdb::Vec3R(p.x(), p.y(), p.z())));
-        };
+    /// Calls track(density) with density(p) = the trilinear density at index-space point p,
+    /// from the bricks or (without them) through an OpenVDB accessor: two instantiations, no
+    /// branch per lookup.
+    template <typename Track>
+    double withDensity(Track&& track) const {
+        if (bricks_) return track([this](const Vec3& p) { return bricks_->sample(p); });
+        Accessor acc(grid_->tree());
+        return track([&acc](const Vec3& p) {
+            return openvdb::tools::BoxSampler::sample(acc, openvdb::Vec3R(p.x(), p.y(), p.z()));
+        });
+    }
+    template <typename Density>
+    auto sigma(const Density& density, const Vec3& o, const Vec3& d) const {
+        return [this, &density, o, d](double t) { return scale_ * double(density(o + t * d)); };
     }
 
   public:
     double sampleCollision(const Ray& ray, double tMax, Rng& rng,
                            TrackingCounters& c) const override {
-        Accessor acc(grid_->tree());
         const Vec3 o = worldToIndex_ * ray.o, d = worldToIndex_.linear() * ray.d;
-        return deltaTrack(segments(o, d, tMax), sigma(acc, o, d), rng, c);
+        return withDensity([&](const auto& density) {
+            return deltaTrack(segments(o, d, tMax), sigma(density, o, d), rng, c);
+        });
     }
 
     double transmittance(const Ray& ray, double tMax, TransmittanceEstimator est, Rng& rng,
                          TrackingCounters& c) const override {
-        Accessor acc(grid_->tree());
         const Vec3 o = worldToIndex_ * ray.o, d = worldToIndex_.linear() * ray.d;
-        return est == TransmittanceEstimator::Ratio
-                   ? ratioTrack(segments(o, d, tMax), sigma(acc, o, d), rng, c)
-                   : deltaTrackTransmittance(segments(o, d, tMax), sigma(acc, o, d), rng, c);
+        return withDensity([&](const auto& density) {
+            return est == TransmittanceEstimator::Ratio
+                       ? ratioTrack(segments(o, d, tMax), sigma(density, o, d), rng, c)
+                       : deltaTrackTransmittance(segments(o, d, tMax), sigma(density, o, d), rng,
+                                                 c);
+        });
     }
 
     double sigmaT(const Vec3& p) const override {
@@ -413,9 +471,7 @@ class VdbMedium final : public Medium {
         // Where the majorant is 0 so is the density; this also keeps the index coordinates of
         // points far outside the grid (or NaN) away from OpenVDB's integer voxel lookup.
         if (!q.allFinite() || majorants_.at(q) == 0) return 0;
-        Accessor acc(grid_->tree());
-        return scale_ *
-               openvdb::tools::BoxSampler::sample(acc, openvdb::Vec3R(q.x(), q.y(), q.z()));
+        return withDensity([&](const auto& density) { return scale_ * double(density(q)); });
     }
 
     double sigmaMajorant(const Vec3& p) const override {
@@ -430,6 +486,7 @@ class VdbMedium final : public Medium {
     Eigen::Affine3d worldToIndex_;
     double scale_;
     MajorantGrid majorants_;
+    std::optional<DensityBricks> bricks_;
     std::string desc_;
 };
 
@@ -546,7 +603,10 @@ std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc) {
                              Vec3(b.max().x(), b.max().y(), b.max().z()).array() + 1, *it);
         }
     }
-    return std::make_unique<VdbMedium>(desc, grid, worldToIndex, std::move(majorants));
+    std::optional<DensityBricks> bricks;
+    if (desc.bricks) bricks = makeBricks(tree);
+    return std::make_unique<VdbMedium>(desc, grid, worldToIndex, std::move(majorants),
+                                       std::move(bricks));
 }
 
 size_t writeVdb(const std::string& path, const std::vector<VdbGridSpec>& specs) {

@@ -19,6 +19,9 @@ struct VdbMediumDesc {
     Eigen::Affine3d toWorld = Eigen::Affine3d::Identity();  ///< the grid's world space → scene
     bool majorantGrid = true;    ///< false: one global majorant for the whole grid (for benchmarks)
     int majorantCellVoxels = 8;  ///< majorant cell edge in voxels
+    /// Density lookups from a brick copy of the grid (media/density_bricks.h); false: through an
+    /// OpenVDB value accessor (the reference, for benchmarks). Both give the same values.
+    bool bricks = true;
 };
 
 /// Loads a FloatGrid and builds its majorant grid (trilinear density lookups). Errors name the

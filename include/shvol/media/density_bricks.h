@@ -1,0 +1,82 @@
+#pragma once
+/// \file A copy of a VDB density grid laid out for the tracking loop: 8³-voxel bricks, one per
+/// VDB leaf position that can matter, each stored with a one-voxel apron on its +x, +y and +z
+/// sides (9³ floats), so that a trilinear lookup reads one contiguous brick; a dense table of
+/// brick indices over the bricks' bounding box finds it in one step. OpenVDB stays the file
+/// format and the source of truth: the bricks are filled from the grid at load (io/vdb.cpp), and
+/// a lookup returns exactly what openvdb::tools::BoxSampler::sample returns (the same floor,
+/// weights and order of interpolation, z then y then x, in float with double weights), so
+/// images do not change. Positions are in the grid's index space, voxel centres at integers.
+#include <Eigen/Core>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "shvol/core/math.h"
+
+namespace shvol {
+
+class DensityBricks {
+  public:
+    static constexpr int kBrick = 8;          ///< voxels per brick side (a VDB leaf)
+    static constexpr int kSide = kBrick + 1;  ///< stored per side, with the apron
+    static constexpr int kVoxels = kSide * kSide * kSide;
+
+    DensityBricks() = default;
+    /// An empty table over brick coordinates [lo, lo + res) (brick c covers voxels 8c … 8c + 7)
+    /// whose every lookup gives `background`.
+    DensityBricks(const Eigen::Vector3i& lo, const Eigen::Vector3i& res, float background);
+
+    /// Adds the brick at brick coordinate c, filled by voxel(x, y, z) for the voxels
+    /// 8c … 8c + 8 of each axis (the brick and its apron).
+    template <typename Voxel>
+    void add(const Eigen::Vector3i& c, Voxel&& voxel);
+
+    /// The trilinear interpolation of the voxels around p (BoxSampler's result).
+    float sample(const Vec3& p) const;
+
+    size_t brickCount() const { return values_.size() / kVoxels; }
+    size_t memoryBytes() const {
+        return values_.size() * sizeof(float) + table_.size() * sizeof(int32_t);
+    }
+
+  private:
+    int32_t* slot(const Eigen::Vector3i& c);
+    Eigen::Vector3i lo_{0, 0, 0}, res_{0, 0, 0};
+    float background_ = 0;
+    std::vector<int32_t> table_;  ///< brick index per table cell, −1: background
+    std::vector<float> values_;   ///< kVoxels per brick, x slowest, z fastest
+};
+
+template <typename Voxel>
+void DensityBricks::add(const Eigen::Vector3i& c, Voxel&& voxel) {
+    int32_t* s = slot(c);
+    if (!s || *s >= 0) return;
+    *s = int32_t(brickCount());
+    const Eigen::Vector3i v0 = c * kBrick;
+    for (int i = 0; i < kSide; ++i)
+        for (int j = 0; j < kSide; ++j)
+            for (int k = 0; k < kSide; ++k)
+                values_.push_back(float(voxel(v0.x() + i, v0.y() + j, v0.z() + k)));
+}
+
+inline float DensityBricks::sample(const Vec3& p) const {
+    const int ix = int(std::floor(p.x())), iy = int(std::floor(p.y())), iz = int(std::floor(p.z()));
+    // Brick coordinates by arithmetic shift (floor division by 8 for negative voxels too).
+    const int bx = (ix >> 3) - lo_.x(), by = (iy >> 3) - lo_.y(), bz = (iz >> 3) - lo_.z();
+    if (unsigned(bx) >= unsigned(res_.x()) || unsigned(by) >= unsigned(res_.y()) ||
+        unsigned(bz) >= unsigned(res_.z()))
+        return background_;
+    const int32_t b = table_[(size_t(bx) * res_.y() + by) * res_.z() + bz];
+    if (b < 0) return background_;
+    const float* v =
+        values_.data() + size_t(b) * kVoxels + ((ix & 7) * kSide + (iy & 7)) * kSide + (iz & 7);
+    const double u = p.x() - ix, w = p.y() - iy, t = p.z() - iz;
+    // BoxSampler::trilinearInterpolation: a + float((b − a)·weight), innermost along z.
+    auto lerp = [](float a, float b, double weight) { return a + float((b - a) * weight); };
+    constexpr int X = kSide * kSide, Y = kSide;
+    return lerp(lerp(lerp(v[0], v[1], t), lerp(v[Y], v[Y + 1], t), w),
+                lerp(lerp(v[X], v[X + 1], t), lerp(v[X + Y], v[X + Y + 1], t), w), u);
+}
+
+}  // namespace shvol
