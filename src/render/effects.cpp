@@ -16,7 +16,7 @@ Effects Effects::of(const Scene& scene) {
     // Unless the scene says: next-event estimation pays for a shadow ray at every scattering
     // event. Under a constant sky phase sampling already draws directions in proportion to the
     // integrand apart from transmittance (and the lower hemisphere), and NEE lost in every case
-    // measured, dense or thin, over the sphere or the upper hemisphere (0.37–0.92× the
+    // measured, dense or thin, over the sphere or the upper hemisphere (0.38–0.86× the
     // efficiency), so it is on for image skies only (validation/sampling/README.md).
     e.nextEvent = e.scattering && !envBlack && scene.settings.nee.value_or(!env.isConstant());
     e.environmentImage = !env.isConstant();
