@@ -1,9 +1,18 @@
-// shvol bench: throughput on a scene, with and without the majorant grid, 1 and 2 threads.
+// shvol bench: what a path costs on a scene and what accuracy costs in time (README, "shvol
+// bench"): throughput with each of the hot loop's choices switched back (majorant grid, brick
+// lookups, threads), the cost of one density lookup, and, with --accuracy, RMSE·√spp and the time
+// to reach an RMSE ε against a cached converged reference, for the renderer before issue 11's
+// changes and now.
+#include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
 #include "commands.h"
 #include "shvol/core/error.h"
+#include "shvol/core/hash.h"
+#include "shvol/core/image_metrics.h"
+#include "shvol/io/exr.h"
 #include "shvol/io/scene_loader.h"
 #include "shvol/render/renderer.h"
 
@@ -11,37 +20,98 @@ namespace shvol::app {
 
 namespace {
 struct BenchArgs {
-    std::string scene = "media/default.json";
-    int spp = 4, repeats = 1;
+    std::string scene = "media/default.json", cache = ".";
+    int spp = 4, repeats = 1, referenceSpp = 4096;
+    double epsilon = 0.003;
+    bool accuracy = false;
     std::vector<std::string> sets;
 };
 
-struct Row {
-    std::string name;
-    double pathsPerSecond, lookupsPerPath;
-};
-
-Row measure(const BenchArgs& a, const std::string& name, bool grid, int threads) {
-    std::vector<std::string> sets = a.sets;
-    sets.push_back("render.spp=" + std::to_string(a.spp));
-    const Json doc = parseJsonFile(a.scene);
+/// `sets` plus `key=value` for every VDB medium of the scene.
+std::vector<std::string> withVdbKey(const Json& doc, std::vector<std::string> sets,
+                                    const std::string& key, const std::string& value) {
     if (doc.contains("media"))
         for (size_t i = 0; i < doc["media"].size(); ++i)
             if (doc["media"][i].value("type", "vdb") == "vdb")
-                sets.push_back("media." + std::to_string(i) +
-                               ".majorant_grid=" + (grid ? "true" : "false"));
+                sets.push_back("media[" + std::to_string(i) + "]." + key + "=" + value);
+    return sets;
+}
+
+struct Row {
+    std::string name;
+    double pathsPerSecond = 0, lookupsPerPath = 0, segmentsPerPath = 0, secondsPerSpp = 0;
+    Image image;
+};
+
+/// The best of `repeats` renders of the scene with `sets` at `spp` on `threads` threads.
+Row measure(const BenchArgs& a, const std::string& name, std::vector<std::string> sets, int threads,
+            int spp) {
+    sets.push_back("render.spp=" + std::to_string(spp));
     const Scene scene = loadScene(a.scene, sets);
-    double best = 0, lookups = 0;
+    Row row;
+    row.name = name;
     for (int r = 0; r < a.repeats; ++r) {
         RenderOptions opt;
         opt.threads = threads;
-        const RenderResult res = render(scene, opt);
-        best = std::max(best, res.stats.pathsPerSecond());
-        lookups = double(res.stats.counters.tracking.densityLookups) / res.stats.counters.paths;
+        RenderResult res = render(scene, opt);
+        const PathCounters& c = res.stats.counters;
+        if (res.stats.pathsPerSecond() > row.pathsPerSecond) {
+            row.pathsPerSecond = res.stats.pathsPerSecond();
+            row.secondsPerSpp = res.stats.wallSeconds / spp;
+            row.image = std::move(res.image);
+        }
+        row.lookupsPerPath = double(c.tracking.densityLookups) / double(c.paths);
+        row.segmentsPerPath = double(c.tracking.segments) / double(c.paths);
     }
-    std::fprintf(stderr, "  %-28s %12.0f paths/s\n", name.c_str(), best);
-    return {name, best, lookups};
+    std::fprintf(stderr, "  %-34s %12.0f paths/s\n", name.c_str(), row.pathsPerSecond);
+    return row;
 }
+
+/// Nanoseconds per σ_t lookup of the first medium (Medium::sigmaT, with its transform and
+/// majorant check) at 2^20 points of its majorant-positive region, best of three.
+double nsPerLookup(const BenchArgs& a, const std::vector<std::string>& sets) {
+    const Scene scene = loadScene(a.scene, sets);
+    if (scene.media.empty()) return 0;
+    const Medium& m = *scene.media[0];
+    std::vector<Vec3> pts;
+    Rng rng(7, 7);
+    for (int tries = 0; pts.size() < 4096 && tries < 1 << 22; ++tries) {
+        const Vec3 p = 4 * Vec3(rng.uniform(), rng.uniform(), rng.uniform()) - Vec3::Constant(2);
+        if (m.sigmaMajorant(p) > 0) pts.push_back(p);
+    }
+    if (pts.empty()) return 0;
+    double best = INFINITY, sink = 0;
+    for (int r = 0; r < 3; ++r) {
+        const auto t0 = std::chrono::steady_clock::now();
+        for (int i = 0; i < 1 << 20; ++i) sink += m.sigmaT(pts[size_t(i) % pts.size()]);
+        best = std::min(
+            best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    volatile double keep = sink;  // the lookups must happen
+    (void)keep;
+    return best * 1e9 / double(1 << 20);
+}
+
+/// The converged reference for the scene after `sets`: rendered once at referenceSpp with its
+/// own seed and cached in the cache directory under a hash of the scene document.
+Image reference(const BenchArgs& a, std::vector<std::string> sets) {
+    sets.push_back("render.spp=" + std::to_string(a.referenceSpp));
+    sets.push_back("render.seed=1000000000");
+    const std::string text = dumpJson(sceneDocument(a.scene, sets));
+    const std::string file =
+        (std::filesystem::path(a.cache) /
+         ("shvol_bench_reference_" + hexHash(fnv1a(text.data(), text.size())) + ".exr"))
+            .string();
+    if (std::filesystem::exists(file)) {
+        std::fprintf(stderr, "  reference: %s (cached)\n", file.c_str());
+        return readExr(file);
+    }
+    std::fprintf(stderr, "  reference: rendering %d spp into %s\n", a.referenceSpp, file.c_str());
+    const RenderResult r = render(loadScene(a.scene, sets), RenderOptions{});
+    writeExr(file, r.image);
+    return r.image;
+}
+
 /// media/default.json in the current directory, else in the program's source tree.
 std::string defaultBenchScene() {
     if (std::filesystem::exists("media/default.json")) return "media/default.json";
@@ -52,12 +122,65 @@ std::string defaultBenchScene() {
              "the source tree of this program; give a scene file");
     return p;
 }
+
+int runBench(BenchArgs& a) {
+    std::fprintf(stderr, "shvol bench %s (%d spp)\n", a.scene.c_str(), a.spp);
+    const Json doc = sceneDocument(a.scene, a.sets);
+    const Row now = measure(a, "defaults, 1 thread", a.sets, 1, a.spp);
+    const Row openvdb = measure(a, "OpenVDB lookups, 1 thread",
+                                withVdbKey(doc, a.sets, "lookup", "\"openvdb\""), 1, a.spp);
+    const Row global = measure(a, "global majorant, 1 thread",
+                               withVdbKey(doc, a.sets, "majorant_grid", "false"), 1, a.spp);
+    const Row two = measure(a, "defaults, 2 threads", a.sets, 2, a.spp);
+    std::printf(
+        "| configuration | paths/s | density lookups/path | majorant segments/path |\n"
+        "|---|---:|---:|---:|\n");
+    for (const Row* r : {&now, &openvdb, &global, &two})
+        std::printf("| %s | %.0f | %.2f | %.2f |\n", r->name.c_str(), r->pathsPerSecond,
+                    r->lookupsPerPath, r->segmentsPerPath);
+    std::printf("\nns per density lookup (Medium::sigmaT): bricks %.1f, OpenVDB accessor %.1f\n",
+                nsPerLookup(a, a.sets),
+                nsPerLookup(a, withVdbKey(doc, a.sets, "lookup", "\"openvdb\"")));
+    std::printf("bricks / OpenVDB lookups (1 thread): %.2fx\n",
+                now.pathsPerSecond / openvdb.pathsPerSecond);
+    std::printf("majorant grid / global majorant (1 thread): %.2fx\n",
+                now.pathsPerSecond / global.pathsPerSecond);
+    std::printf("2 threads / 1 thread: %.2fx\n", two.pathsPerSecond / now.pathsPerSecond);
+    if (!a.accuracy) return 0;
+
+    // Before issue 11: NEE toward every sky, independent numbers, OpenVDB lookups.
+    const Image ref = reference(a, a.sets);
+    std::vector<std::string> before = withVdbKey(doc, a.sets, "lookup", "\"openvdb\"");
+    before.push_back("render.nee=true");
+    before.push_back("render.sampler=\"independent\"");
+    const Row b = measure(a, "before (NEE, independent, OpenVDB), 2 threads", before, 2, a.spp);
+    const Row n = measure(a, "now (defaults), 2 threads", a.sets, 2, a.spp);
+    std::printf(
+        "\n| renderer | ms per spp | RMSE | RMSE·√spp | time to RMSE %g |\n"
+        "|---|---:|---:|---:|---:|\n",
+        a.epsilon);
+    double timeTo[2];
+    for (int i = 0; i < 2; ++i) {
+        const Row& r = i ? n : b;
+        const double rmse = imageMetrics(r.image, ref).rmse, k = rmse * std::sqrt(a.spp);
+        timeTo[i] = (k / a.epsilon) * (k / a.epsilon) * r.secondsPerSpp;
+        std::printf("| %s | %.2f | %.4g | %.4g | %.1f s |\n", r.name.c_str(), 1e3 * r.secondsPerSpp,
+                    rmse, k, timeTo[i]);
+    }
+    std::printf(
+        "time to equal RMSE, before / now: %.2fx (the reference's own noise, %d spp, is "
+        "in every RMSE)\n",
+        timeTo[0] / timeTo[1], a.referenceSpp);
+    return 0;
+}
 }  // namespace
 
 void addBenchCommand(CLI::App& app, std::function<int()>& run) {
     auto a = std::make_shared<BenchArgs>();
     CLI::App* c = app.add_subcommand(
-        "bench", "Throughput on a scene: majorant grid vs one global majorant, 2 vs 1 threads");
+        "bench",
+        "Cost per path on a scene (majorant grid, brick lookups, threads) and, with --accuracy, "
+        "time to an RMSE before and after issue 11");
     c->add_option("scene", a->scene,
                   "Scene file (default: media/default.json here, else in the source tree of this "
                   "shvol program)");
@@ -67,22 +190,17 @@ void addBenchCommand(CLI::App& app, std::function<int()>& run) {
         ->check(integerIn(1, 1000));
     c->add_option("--set", a->sets, "Override a scene value: key.path=value (repeatable)")
         ->default_str("");
+    c->add_flag("--accuracy", a->accuracy,
+                "Also measure RMSE against a converged reference (rendered once, cached)");
+    c->add_option("--reference-spp", a->referenceSpp, "Samples per pixel of the reference")
+        ->check(integerIn(1, 1 << 24));
+    c->add_option("--epsilon", a->epsilon, "The RMSE whose time is reported")
+        ->check(numberIn(0, 1e30, true));
+    c->add_option("--cache", a->cache, "Directory of cached references");
     c->callback([&run, a, c] {
         run = [a, c] {
             if (c->count("scene") == 0) a->scene = defaultBenchScene();
-            std::fprintf(stderr, "shvol bench %s (%d spp)\n", a->scene.c_str(), a->spp);
-            const Row g1 = measure(*a, "majorant grid, 1 thread", true, 1);
-            const Row n1 = measure(*a, "global majorant, 1 thread", false, 1);
-            const Row g2 = measure(*a, "majorant grid, 2 threads", true, 2);
-            std::printf("| configuration | paths/s | density lookups/path |\n|---|---:|---:|\n");
-            for (const Row& r : {g1, n1, g2})
-                std::printf("| %s | %.0f | %.1f |\n", r.name.c_str(), r.pathsPerSecond,
-                            r.lookupsPerPath);
-            std::printf("\nmajorant grid / global majorant (1 thread): %.2fx\n",
-                        g1.pathsPerSecond / n1.pathsPerSecond);
-            std::printf("2 threads / 1 thread (majorant grid): %.2fx\n",
-                        g2.pathsPerSecond / g1.pathsPerSecond);
-            return 0;
+            return runBench(*a);
         };
     });
 }

@@ -24,14 +24,15 @@ struct MediumArgs {
 void addMakeMediumCommand(CLI::App& app, std::function<int()>& run) {
     auto a = std::make_shared<MediumArgs>();
     CLI::App* c = app.add_subcommand("make-medium", "Write a procedural density grid (.vdb)");
-    c->add_option("kind", a->kind, "cloud (fBm noise) or sphere")
-        ->check(CLI::IsMember({"cloud", "sphere"}))
+    c->add_option("kind", a->kind,
+                  "cloud (fBm noise), plume (a sparse rising smoke column) or sphere")
+        ->check(CLI::IsMember({"cloud", "plume", "sphere"}))
         ->required();
     c->add_option("-o,--output", a->output, "Output .vdb file")->required();
     c->add_option("--resolution", a->resolution, "Voxels per axis over the unit cube")
         ->check(integerIn(4, 1024));
     c->add_option("--grid", a->grid, "Grid name");
-    c->add_option("--seed", a->seed, "Noise seed (cloud)");
+    c->add_option("--seed", a->seed, "Noise seed (cloud, plume)");
     c->add_option("--octaves", a->octaves, "fBm octaves (cloud)")->check(integerIn(1, 12));
     c->add_option("--frequency", a->frequency, "Base noise frequency (cloud)")
         ->check(numberIn(0, 1000, true));
@@ -49,25 +50,38 @@ void addMakeMediumCommand(CLI::App& app, std::function<int()>& run) {
                 p.seed = a->seed, p.octaves = a->octaves, p.frequency = a->frequency;
                 p.coverage = a->coverage;
                 s.density = [p](const Vec3& x) { return float(cloudDensity(x, p)); };
+            } else if (a->kind == "plume") {
+                const uint64_t seed = a->seed;
+                s.density = [seed](const Vec3& x) { return float(plumeDensity(x, seed)); };
             } else {
                 const double edge = 1.0 / a->resolution, r = a->radius;
                 s.density = [=](const Vec3& x) { return float(sphereDensity(x, r, edge)); };
             }
-            // A grid with no density renders as nothing: refuse it before writing a file.
-            bool any = false;
+            // A grid with no density renders as nothing: refuse it before writing a file. The
+            // same pass finds how much of its bounding box the density fills.
+            long long count = 0;
+            Eigen::Vector3i lo = Eigen::Vector3i::Constant(s.resolution), hi(-1, -1, -1);
             const double h = 1.0 / s.resolution;
-            for (int k = 0; k < s.resolution && !any; ++k)
-                for (int j = 0; j < s.resolution && !any; ++j)
-                    for (int i = 0; i < s.resolution && !any; ++i)
-                        any = s.density(Vec3((i + 0.5) * h - 0.5, (j + 0.5) * h - 0.5,
-                                             (k + 0.5) * h - 0.5)) > 0;
-            if (!any)
+            for (int k = 0; k < s.resolution; ++k)
+                for (int j = 0; j < s.resolution; ++j)
+                    for (int i = 0; i < s.resolution; ++i)
+                        if (s.density(Vec3((i + 0.5) * h - 0.5, (j + 0.5) * h - 0.5,
+                                           (k + 0.5) * h - 0.5)) > 0) {
+                            ++count;
+                            lo = lo.cwiseMin(Eigen::Vector3i(i, j, k));
+                            hi = hi.cwiseMax(Eigen::Vector3i(i, j, k));
+                        }
+            if (count == 0)
                 fail(a->output, "",
                      "the grid would be empty (no voxel has density > 0); raise --coverage or "
                      "--radius");
             const size_t n = writeVdb(a->output, {s});
-            std::fprintf(stderr, "wrote %s: %s grid '%s', %d^3, %zu active voxels\n",
-                         a->output.c_str(), a->kind.c_str(), a->grid.c_str(), a->resolution, n);
+            const double box = (hi - lo + Eigen::Vector3i::Ones()).cast<double>().prod();
+            std::fprintf(stderr,
+                         "wrote %s: %s grid '%s', %d^3, %zu active voxels, %.1f%% of their "
+                         "bounding box\n",
+                         a->output.c_str(), a->kind.c_str(), a->grid.c_str(), a->resolution, n,
+                         100.0 * double(count) / box);
             return 0;
         };
     });

@@ -60,6 +60,21 @@ double cloudDensity(const Vec3& p, const CloudParams& c) {
     return std::clamp((0.5 + 0.5 * n + c.coverage - falloff) * c.sharpness, 0.0, 1.0);
 }
 
+double plumeDensity(const Vec3& p, uint64_t seed) {
+    const double h = p.z() + 0.5;  // height above the floor, 0 … 1
+    if (h <= 0 || h >= 1) return 0;
+    const double radius = 0.02 + 0.09 * h;
+    // The axis drifts sideways; turbulence displaces points more the higher they are.
+    const Vec3 axis(0.16 * std::sin(2.5 * h + 0.3), 0.1 * std::sin(3.7 * h), 0);
+    const double swirl = 0.06 * h;
+    const Vec3 q(p.x() + swirl * fbm(4 * p, seed, 3), p.y() + swirl * fbm(4 * p, seed + 1, 3), 0);
+    const double d2 = (q - axis).squaredNorm() / (radius * radius);
+    if (d2 >= 1) return 0;
+    const double texture = std::clamp(0.6 + 0.8 * fbm(8 * p, seed + 2, 4), 0.0, 1.0);
+    const double ends = std::min(1.0, std::min(h, 1 - h) / 0.05);  // fades at floor and top
+    return (1 - d2) * texture * ends;
+}
+
 double sphereDensity(const Vec3& p, double radius, double edge) {
     const double d = p.norm() - radius;
     return std::clamp(0.5 - d / std::max(edge, 1e-12), 0.0, 1.0);

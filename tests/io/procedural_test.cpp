@@ -1,5 +1,5 @@
-// Tests of the skies of `shvol make-sky` (procedural.h): the Preetham et al. 1999 clear sky, the
-// physical sun, the pixel averaging of the sun disc and the lat-long mapping.
+// Tests of procedural.h: the skies of `shvol make-sky` (the Preetham et al. 1999 clear sky, the
+// physical sun, the pixel averaging of the sun disc and the lat-long mapping) and the plume.
 //
 // Expected values come from the papers' formulas typed again here (not from the code under
 // test), from published numbers, or from geometry (solid angles, where latLongDirection says a
@@ -433,6 +433,40 @@ TEST(ProceduralSky, DefaultsAndValidation) {
     EXPECT_TRUE(bad([](SkyParams& r) { r.width = 7; }));
     EXPECT_TRUE(bad([](SkyParams& r) { r.width = 16385; }));
     EXPECT_FALSE(bad([](SkyParams&) {}));
+}
+
+}  // namespace shvol
+
+namespace shvol {
+
+// The plume of the sparse benchmark scene: values in [0, 1], nothing outside the cube, at the
+// floor or at the top, density at every height in between, and less than 15% of its bounding
+// box filled (issue 11's "sparse scene").
+TEST(ProceduralPlume, SparseColumnFromFloorToTop) {
+    const int n = 64;
+    long long filled = 0;
+    Eigen::Vector3i lo = Eigen::Vector3i::Constant(n), hi(-1, -1, -1);
+    std::vector<bool> layer(n, false);
+    for (int k = 0; k < n; ++k)
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                const Vec3 p((i + 0.5) / n - 0.5, (j + 0.5) / n - 0.5, (k + 0.5) / n - 0.5);
+                const double d = plumeDensity(p, 1);
+                ASSERT_GE(d, 0);
+                ASSERT_LE(d, 1);
+                if (d > 0) {
+                    ++filled, layer[size_t(k)] = true;
+                    lo = lo.cwiseMin(Eigen::Vector3i(i, j, k));
+                    hi = hi.cwiseMax(Eigen::Vector3i(i, j, k));
+                }
+            }
+    for (int k = n / 10; k < n - n / 10; ++k) EXPECT_TRUE(layer[size_t(k)]) << "layer " << k;
+    const double box = (hi - lo + Eigen::Vector3i::Ones()).cast<double>().prod();
+    EXPECT_LT(double(filled) / box, 0.15);
+    EXPECT_GT(double(filled) / box, 0.05);
+    EXPECT_EQ(plumeDensity(Vec3(0, 0, -0.5), 1), 0);
+    EXPECT_EQ(plumeDensity(Vec3(0.1, 0, 0.5), 1), 0);
+    EXPECT_EQ(plumeDensity(Vec3(0.45, 0.45, 0), 1), 0);
 }
 
 }  // namespace shvol

@@ -28,6 +28,12 @@ struct CloudParams {
 /// zero outside radius ½. Values are non-negative and at most about 1.
 double cloudDensity(const Vec3& p, const CloudParams& params);
 
+/// A rising smoke plume in the cube [−½, ½]³: a column from the floor to the top whose radius
+/// grows from 0.02 to 0.11 with height, drifting sideways and displaced by fBm turbulence that
+/// grows with height, with a smooth radial profile and fBm texture. It fills about 14% of its own
+/// bounding box: the sparse scene of the majorant-grid benchmarks. Values are in [0, 1].
+double plumeDensity(const Vec3& p, uint64_t seed);
+
 /// A sphere of radius r and density 1 with a smooth edge one voxel wide.
 double sphereDensity(const Vec3& p, double radius, double edge);
 
