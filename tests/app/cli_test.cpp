@@ -157,6 +157,28 @@ TEST_F(Cli, BenchFindsTheDefaultScene) {
     EXPECT_NE(r.out.find("majorant grid / global majorant"), std::string::npos) << r.out;
 }
 
+// bench --accuracy renders the reference once (cached under the cache directory) and reports
+// the time to an RMSE for the renderer before issue 11 and now; the second run uses the cache.
+TEST_F(Cli, BenchAccuracyCachesItsReference) {
+    write("s.json", scene(Homogeneous));
+    const std::string args = "bench " + path("s.json") +
+                             " --spp 2 --accuracy --reference-spp 64 --epsilon 0.01 --cache " +
+                             path("");
+    Result r = run(args);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("reference: rendering 64 spp"), std::string::npos) << r.err;
+    EXPECT_NE(r.out.find("| now (defaults), 2 threads |"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("time to equal RMSE, before / now: "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("ns per density lookup"), std::string::npos) << r.out;
+    int cached = 0;
+    for (const auto& e : fs::directory_iterator(dir_))
+        cached += e.path().filename().string().rfind("shvol_bench_reference_", 0) == 0;
+    EXPECT_EQ(cached, 1);
+    r = run(args);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("(cached)"), std::string::npos) << r.err;
+}
+
 // --help shows the defaults.
 TEST_F(Cli, HelpShowsDefaults) {
     const Result m = run("make-medium --help");
