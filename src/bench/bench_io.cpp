@@ -62,11 +62,7 @@ BENCHMARK(RatioTracking)->Arg(0)->Arg(1);
 }  // namespace shvol
 
 int main(int argc, char** argv) {
-    benchmark::Initialize(&argc, argv);
-    shvol::bench::RatioReporter reporter;
-    benchmark::RunSpecifiedBenchmarks(&reporter);
-    std::printf("\nSame-run ratios (items/s; /1 = bricks, /0 = OpenVDB accessor):\n");
-    reporter.ratio("Lookup/1", "Lookup/0");
-    reporter.ratio("RatioTracking/1", "RatioTracking/0");
-    return 0;
+    return shvol::bench::runWithRatios(
+        argc, argv, {{"Lookup/1", "Lookup/0"}, {"RatioTracking/1", "RatioTracking/0"}},
+        "Same-run ratios (items/s; /1 = bricks, /0 = OpenVDB accessor):");
 }

@@ -165,21 +165,19 @@ BENCHMARK(SkyBuild)->Arg(9)->Arg(11)->Unit(benchmark::kMillisecond);
 }  // namespace
 
 int main(int argc, char** argv) {
-    benchmark::Initialize(&argc, argv);
-    bench::RatioReporter reporter;
-    benchmark::RunSpecifiedBenchmarks(&reporter);
-    std::printf("\nSame-run ratios (items/s; below 1: slower than an environment sample):\n");
+    std::vector<std::pair<std::string, std::string>> pairs;
     for (const char* levels : {"9", "11"}) {
         for (const char* n : {"4", "8", "16", "32"}) {
             const std::string args = std::string(n) + "/" + levels;
-            reporter.ratio("ProductSample/" + args, "EnvironmentSample");
-            reporter.ratio("ProductPointSet/" + args, "EnvironmentSample");
-            reporter.ratio("ProductPdf/" + args, "EnvironmentSample");
+            for (const char* b : {"ProductSample/", "ProductPointSet/", "ProductPdf/"})
+                pairs.push_back({b + args, "EnvironmentSample"});
         }
-        reporter.ratio(std::string("WaveletSample/") + levels + "/0", "EnvironmentSample");
+        pairs.push_back({std::string("WaveletSample/") + levels + "/0", "EnvironmentSample"});
     }
     for (const char* n : {"4", "8", "16", "32"})
-        reporter.ratio(std::string("ProductEvent/") + n + "/11", "EnvironmentSample");
-    reporter.ratio("WaveletSample/11/10000", "WaveletSample/11/0");
-    return 0;
+        pairs.push_back({std::string("ProductEvent/") + n + "/11", "EnvironmentSample"});
+    pairs.push_back({"WaveletSample/11/10000", "WaveletSample/11/0"});
+    return bench::runWithRatios(
+        argc, argv, pairs,
+        "Same-run ratios (items/s; below 1: slower than an environment sample):");
 }

@@ -124,17 +124,12 @@ BENCHMARK(SHBuildTables)->Arg(5)->Arg(20)->Unit(benchmark::kMicrosecond);
 }  // namespace
 
 int main(int argc, char** argv) {
-    benchmark::Initialize(&argc, argv);
-    bench::RatioReporter reporter;
-    benchmark::RunSpecifiedBenchmarks(&reporter);
-    auto r = [&](const char* a, const char* b) { reporter.ratio(a, b); };
-    std::printf("\nSame-run ratios (items/s):\n");
-    r("ZonalSH/16", "HGAnalytic");
-    r("ZonalSH/64", "HGAnalytic");
-    r("SHSingle/20", "SHSingle/5");
-    r("SHPointSet/20", "SHPointSet/5");
-    r("SHPointSet/5", "SHSingle/5");
-    r("SHSingle/5", "HGAnalytic");
-    r("SHOnTheFly/20", "SHOnTheFly/5");
-    return 0;
+    return bench::runWithRatios(argc, argv,
+                                {{"ZonalSH/16", "HGAnalytic"},
+                                 {"ZonalSH/64", "HGAnalytic"},
+                                 {"SHSingle/20", "SHSingle/5"},
+                                 {"SHPointSet/20", "SHPointSet/5"},
+                                 {"SHPointSet/5", "SHSingle/5"},
+                                 {"SHSingle/5", "HGAnalytic"},
+                                 {"SHOnTheFly/20", "SHOnTheFly/5"}});
 }

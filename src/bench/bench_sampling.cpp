@@ -48,11 +48,8 @@ BENCHMARK(SobolSecondDimensionBitwise);
 }  // namespace shvol
 
 int main(int argc, char** argv) {
-    benchmark::Initialize(&argc, argv);
-    shvol::bench::RatioReporter reporter;
-    benchmark::RunSpecifiedBenchmarks(&reporter);
-    std::printf("\nSame-run ratios (items/s):\n");
-    reporter.ratio("SobolPath", "IndependentPath");
-    reporter.ratio("SobolSecondDimensionTable", "SobolSecondDimensionBitwise");
-    return 0;
+    return shvol::bench::runWithRatios(
+        argc, argv,
+        {{"SobolPath", "IndependentPath"},
+         {"SobolSecondDimensionTable", "SobolSecondDimensionBitwise"}});
 }

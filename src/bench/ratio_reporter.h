@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace shvol::bench {
 
@@ -26,5 +28,17 @@ class RatioReporter : public benchmark::ConsoleReporter {
         std::printf("  %-34s / %-28s = %.3f\n", a.c_str(), b.c_str(), x->second / y->second);
     }
 };
+
+/// Runs the registered benchmarks and then prints the same-run ratio a / b of each pair.
+inline int runWithRatios(int argc, char** argv,
+                         const std::vector<std::pair<std::string, std::string>>& pairs,
+                         const char* title = "Same-run ratios (items/s):") {
+    benchmark::Initialize(&argc, argv);
+    RatioReporter reporter;
+    benchmark::RunSpecifiedBenchmarks(&reporter);
+    std::printf("\n%s\n", title);
+    for (const auto& [a, b] : pairs) reporter.ratio(a, b);
+    return 0;
+}
 
 }  // namespace shvol::bench
