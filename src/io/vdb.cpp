@@ -363,46 +363,59 @@ class VdbGridReader : public openvdb::io::Archive {
 // Not registered with the tree: cheap to make per ray, private to the calling thread.
 using Accessor = openvdb::tree::ValueAccessor<const openvdb::FloatTree, false>;
 
-/// The brick copy of a density grid (background 0): a brick at every brick position whose
-/// voxels or apron hold a non-zero value, i.e. the bricks around every leaf and tile with a
-/// positive value. None (std::nullopt) when its table or bricks would take too much memory: one
-/// tile of a tiny file can cover 4096³ voxels.
+/// The brick copy of a density grid (background 0). A brick is stored at every brick position
+/// whose voxels or apron hold a non-zero value, except inside a tile, where a position whose
+/// apron lies in the same tile is a constant (no voxel is read or stored for it). None
+/// (std::nullopt) when the table or the bricks would take too much memory.
 std::optional<DensityBricks> makeBricks(const openvdb::FloatTree& tree) {
-    constexpr double kMaxTableCells = 1 << 24, kMaxBricks = 1 << 20;  // 64 MiB, 2.8 GiB
-    std::vector<std::pair<Eigen::Vector3i, Eigen::Vector3i>> boxes;   // brick coordinate ranges
+    constexpr double kMaxTableCells = 1 << 24, kMaxBricks = 1 << 18;  // 64 MiB, 729 MiB
+    struct Box {
+        Eigen::Vector3i lo, hi;  // brick coordinates, inclusive
+        float tile;              // the tile's value, or 0 for a leaf
+    };
+    std::vector<Box> boxes;
     Eigen::Vector3i lo = Eigen::Vector3i::Constant(INT32_MAX), hi = -lo;
     double bricks = 0;
-    auto addBox = [&](const openvdb::CoordBBox& b) {
+    auto addBox = [&](const openvdb::CoordBBox& b, float tile) {
         // Voxel x lies in the window (brick and apron) of bricks (x − 1) >> 3 … x >> 3.
         const Eigen::Vector3i a((b.min().x() - 1) >> 3, (b.min().y() - 1) >> 3,
                                 (b.min().z() - 1) >> 3),
             z(b.max().x() >> 3, b.max().y() >> 3, b.max().z() >> 3);
-        boxes.emplace_back(a, z);
+        boxes.push_back({a, z, tile});
         lo = lo.cwiseMin(a), hi = hi.cwiseMax(z);
-        bricks += (z - a + Eigen::Vector3i::Ones()).cast<double>().prod();
+        const Eigen::Vector3d n = (z - a + Eigen::Vector3i::Ones()).cast<double>();
+        // A tile's interior positions are constants: only its shell needs bricks.
+        bricks += tile > 0 ? n.prod() - (n.array() - 2).max(0).prod() : n.prod();
     };
     for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf)
         for (auto v = leaf->cbeginValueAll(); v; ++v)
             if (*v > 0) {
-                addBox(leaf->getNodeBoundingBox());
+                addBox(leaf->getNodeBoundingBox(), 0);
                 break;
             }
     auto tiles = tree.cbeginValueAll();
     tiles.setMaxDepth(decltype(tiles)::LEAF_DEPTH - 1);  // tiles only: leaves are done above
     for (; tiles; ++tiles)
-        if (*tiles > 0) addBox(tiles.getBoundingBox());
+        if (*tiles > 0) addBox(tiles.getBoundingBox(), *tiles);
     if (boxes.empty()) return DensityBricks();
     const Eigen::Vector3i res = hi - lo + Eigen::Vector3i::Ones();
     if (res.cast<double>().prod() > kMaxTableCells || bricks > kMaxBricks) return std::nullopt;
     DensityBricks d(lo, res, 0.f);
     Accessor acc(tree);
-    for (const auto& [a, z] : boxes)
-        for (int x = a.x(); x <= z.x(); ++x)
-            for (int y = a.y(); y <= z.y(); ++y)
-                for (int k = a.z(); k <= z.z(); ++k)
-                    d.add(Eigen::Vector3i(x, y, k), [&](int i, int j, int l) {
-                        return acc.getValue(openvdb::Coord(i, j, l));
-                    });
+    auto voxel = [&](int i, int j, int l) { return acc.getValue(openvdb::Coord(i, j, l)); };
+    for (const Box& b : boxes)
+        for (int x = b.lo.x(); x <= b.hi.x(); ++x)
+            for (int y = b.lo.y(); y <= b.hi.y(); ++y)
+                for (int z = b.lo.z(); z <= b.hi.z(); ++z) {
+                    const Eigen::Vector3i c(x, y, z);
+                    // Inside a tile with the apron too: lo + 1 … hi − 1 on every axis.
+                    const bool interior =
+                        (c.array() > b.lo.array()).all() && (c.array() < b.hi.array()).all();
+                    if (b.tile > 0 && interior)
+                        d.fill(c, b.tile);
+                    else
+                        d.add(c, voxel);
+                }
     return d;
 }
 

@@ -12,4 +12,11 @@ int32_t* DensityBricks::slot(const Eigen::Vector3i& c) {
     return &table_[(size_t(r.x()) * res_.y() + r.y()) * res_.z() + r.z()];
 }
 
+void DensityBricks::fill(const Eigen::Vector3i& c, float value) {
+    int32_t* s = slot(c);
+    if (!s || *s != -1) return;
+    *s = -2 - int32_t(constants_.size());
+    constants_.push_back(value);
+}
+
 }  // namespace shvol

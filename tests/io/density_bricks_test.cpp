@@ -83,7 +83,8 @@ TEST(DensityBricks, RendersTheSameImage) {
     EXPECT_GT(ra.stats.counters.tracking.densityLookups, 10000u);
 }
 
-// A brick table with no bricks is the background everywhere; a brick added twice is kept once.
+// A brick table with no bricks is the background everywhere; a brick added twice is kept once;
+// constant positions (tile interiors) need no brick.
 TEST(DensityBricks, EmptyTableAndRepeatedBricks) {
     DensityBricks b(Eigen::Vector3i(-1, -1, -1), Eigen::Vector3i(2, 2, 2), 0.f);
     EXPECT_EQ(b.sample(Vec3(0.5, -3.5, 2)), 0.f);
@@ -95,6 +96,17 @@ TEST(DensityBricks, EmptyTableAndRepeatedBricks) {
     EXPECT_FLOAT_EQ(b.sample(Vec3(7.5, 7.75, 7.25)), 810.f);  // reaches into the apron (x = 8)
     EXPECT_EQ(b.sample(Vec3(8, 8, 8)), 0.f);                  // brick (1, 1, 1): none
     EXPECT_EQ(b.sample(Vec3(-0.5, 1, 1)), 0.f);               // brick (−1, 0, 0): none
+    // A constant position (inside a tile) holds its value everywhere, a brick added there wins,
+    // and a constant does not replace a brick.
+    b.fill(Eigen::Vector3i(-1, 0, 0), 0.25f);
+    EXPECT_EQ(b.sample(Vec3(-0.5, 1, 1)), 0.25f);
+    b.fill(Eigen::Vector3i(0, 0, 0), 9.f);
+    EXPECT_FLOAT_EQ(b.sample(Vec3(1.5, 2.25, 3)), 324.f);
+    b.fill(Eigen::Vector3i(0, -1, 0), 0.5f);
+    b.add(Eigen::Vector3i(0, -1, 0), [](int, int, int) { return 2; });
+    EXPECT_EQ(b.sample(Vec3(3, -3, 3)), 2.f);
+    EXPECT_EQ(b.brickCount(), 2u);
+    EXPECT_EQ(b.constantCount(), 2u);
 }
 
 }  // namespace shvol

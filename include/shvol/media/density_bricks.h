@@ -32,26 +32,34 @@ class DensityBricks {
     template <typename Voxel>
     void add(const Eigen::Vector3i& c, Voxel&& voxel);
 
+    /// Marks the brick position c as holding `value` in all its voxels and its apron (inside a
+    /// tile of the VDB): no brick is stored for it. A brick added there wins.
+    void fill(const Eigen::Vector3i& c, float value);
+
     /// The trilinear interpolation of the voxels around p (BoxSampler's result).
     float sample(const Vec3& p) const;
 
     size_t brickCount() const { return values_.size() / kVoxels; }
+    size_t constantCount() const { return constants_.size(); }
     size_t memoryBytes() const {
-        return values_.size() * sizeof(float) + table_.size() * sizeof(int32_t);
+        return (values_.size() + constants_.size()) * sizeof(float) +
+               table_.size() * sizeof(int32_t);
     }
 
   private:
     int32_t* slot(const Eigen::Vector3i& c);
     Eigen::Vector3i lo_{0, 0, 0}, res_{0, 0, 0};
     float background_ = 0;
-    std::vector<int32_t> table_;  ///< brick index per table cell, −1: background
-    std::vector<float> values_;   ///< kVoxels per brick, x slowest, z fastest
+    /// Per table cell: a brick index (≥ 0), −1 for the background, or −2 − k for constants_[k].
+    std::vector<int32_t> table_;
+    std::vector<float> values_;     ///< kVoxels per brick, x slowest, z fastest
+    std::vector<float> constants_;  ///< values of the constant positions
 };
 
 template <typename Voxel>
 void DensityBricks::add(const Eigen::Vector3i& c, Voxel&& voxel) {
     int32_t* s = slot(c);
-    if (!s || *s >= 0) return;
+    if (!s || *s >= 0) return;  // outside the table, or there already
     *s = int32_t(brickCount());
     const Eigen::Vector3i v0 = c * kBrick;
     for (int i = 0; i < kSide; ++i)
@@ -68,7 +76,7 @@ inline float DensityBricks::sample(const Vec3& p) const {
         unsigned(bz) >= unsigned(res_.z()))
         return background_;
     const int32_t b = table_[(size_t(bx) * res_.y() + by) * res_.z() + bz];
-    if (b < 0) return background_;
+    if (b < 0) return b == -1 ? background_ : constants_[size_t(-2 - b)];
     const float* v =
         values_.data() + size_t(b) * kVoxels + ((ix & 7) * kSide + (iy & 7)) * kSide + (iz & 7);
     const double u = p.x() - ix, w = p.y() - iy, t = p.z() - iz;
