@@ -138,9 +138,10 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
     };
 
     // One camera path through pixel (x, y): the jitter is the stream's first request.
+    const Camera::Frame frame = cam.frame();
     auto pathSample = [&](auto&& sampler, int x, int y, PathCounters& c) {
         const Vec2 u = sampler.next2D();
-        return integrator.Li(cam.generateRay(x + u.x(), y + u.y()), sampler, c);
+        return integrator.Li(frame.generateRay(x + u.x(), y + u.y()), sampler, c);
     };
 
     tbb::task_arena arena(threads);

@@ -11,9 +11,20 @@ struct Camera {
     double extent = 2;       ///< orthographic: width of the view in scene units
     int width = 320, height = 240;
 
+    /// What every ray of the camera shares (its frame and the tangent of the half field of
+    /// view), computed once per render instead of once per ray.
+    struct Frame {
+        Type type;
+        Vec3 position, forward, right, up;
+        double aspect, tanHalf, extent;
+        int width, height;
+        Ray generateRay(double px, double py) const;
+    };
+    Frame frame() const;
+
     /// Ray through the continuous film point (px, py): px ∈ [0, width) left→right, py ∈ [0, height)
     /// top→bottom. Direction is unit length.
-    Ray generateRay(double px, double py) const;
+    Ray generateRay(double px, double py) const { return frame().generateRay(px, py); }
 };
 
 }  // namespace shvol
