@@ -4,9 +4,15 @@
 // scrambled (0,2)-sequence, as a pixel's paths see them.
 #include <gtest/gtest.h>
 
+#include "lights/sky_test_util.h"
 #include "shvol/lights/environment.h"
+#include "shvol/lights/sky_hierarchy.h"
+#include "shvol/phase/cornette_shanks_phase.h"
 #include "shvol/phase/phase_function.h"
+#include "shvol/phase/rayleigh_phase.h"
+#include "shvol/phase/schlick_phase.h"
 #include "shvol/phase/sh_sampled_phase.h"
+#include "shvol/phase/two_term_hg_phase.h"
 #include "shvol/sampling/chi2.h"
 #include "shvol/sampling/sobol_sampler.h"
 #include "shvol/sampling/zonal_sh_sampler.h"
@@ -14,8 +20,8 @@
 namespace shvol {
 namespace {
 
-constexpr int kChi2Tests = 5;  // one family: Šidák correction over the tests in this file
-constexpr int kRequest = 2;    // a phase sample of the first bounce (camera jitter, light, phase)
+constexpr int kChi2Tests = 10;  // one family: Šidák correction over the tests in this file
+constexpr int kRequest = 2;     // a phase sample of the first bounce (camera jitter, light, phase)
 
 /// The kRequest-th 2D number of consecutive samples of pixel 4711.
 class SobolPoints {
@@ -59,6 +65,19 @@ TEST(SobolFedSamplers, IsotropicChi2) {
     EXPECT_TRUE(r.passed) << r.report;
 }
 
+// The other analytic phase functions, each with its own sampling routine.
+TEST(SobolFedSamplers, OtherPhaseFunctionsChi2) {
+    const std::vector<std::pair<const char*, PhaseFunction>> phases = {
+        {"rayleigh", RayleighPhase{}},
+        {"schlick 0.8", SchlickPhase(0.8)},
+        {"cornette-shanks 0.9", CornetteShanksPhase(0.9)},
+        {"two-term hg", TwoTermHenyeyGreensteinPhase(0.8, -0.4, 0.7)}};
+    for (const auto& [name, p] : phases) {
+        const Chi2Result r = phaseChi2(p);
+        EXPECT_TRUE(r.passed) << name << "\n" << r.report;
+    }
+}
+
 // The SH-sampled phase function: cell probabilities from the sampler's CDF in μ, in kWo's frame
 // (as tests/phase/sh_sampled_phase_test.cpp).
 TEST(SobolFedSamplers, SHSampledPhaseChi2) {
@@ -82,15 +101,38 @@ TEST(SobolFedSamplers, SHSampledPhaseChi2) {
     EXPECT_TRUE(r.passed) << r.report;
 }
 
-// Importance sampling of a lat-long environment with a bright pixel and a black row.
-TEST(SobolFedSamplers, EnvironmentImageChi2) {
+namespace {
+/// A 32×16 lat-long sky with a gradient, a black row and a bright pixel.
+Environment testEnvironment() {
     Image img(32, 16);
     for (int y = 0; y < img.height; ++y)
         for (int x = 0; x < img.width; ++x)
             img.set(x, y, Spectrum(0.1 + 0.05 * x, 0.2 + 0.1 * y, 0.3 + 0.02 * (x + y)));
     for (int x = 0; x < img.width; ++x) img.set(x, 12, Spectrum::Zero());
     img.set(5, 3, Spectrum(400, 300, 200));
-    const Environment env = Environment::image(img, 1.0, 0.0, false);
+    return Environment::image(img, 1.0, 0.0, false);
+}
+}  // namespace
+
+// The wavelet strategy's sky sampler (hierarchical warping down the sky's quadtree), with the
+// exact cell probabilities of its piecewise-constant pdf.
+TEST(SobolFedSamplers, SkyHierarchyChi2) {
+    const SkyHierarchy sky = testEnvironment().skyHierarchy();
+    const test::GridProbability prob(sky.levels(), [&](const Vec3& w) { return sky.pdf(w); });
+    SobolPoints u;
+    const Chi2Result r = chi2TestSphereCells(
+        [&](Rng&) -> std::optional<Vec3> {
+            const WarpSample s = sky.sample(u.next());
+            if (!(s.pdf > 0)) return std::nullopt;
+            return s.direction();
+        },
+        prob, options());
+    EXPECT_TRUE(r.passed) << r.report;
+}
+
+// Importance sampling of a lat-long environment with a bright pixel and a black row.
+TEST(SobolFedSamplers, EnvironmentImageChi2) {
+    const Environment env = testEnvironment();
     SobolPoints u;
     const Chi2Result r = chi2TestSphere(
         [&](Rng&) -> std::optional<Vec3> {
