@@ -6,6 +6,7 @@
 
 #include "lights/sky_test_util.h"
 #include "shvol/lights/environment.h"
+#include "shvol/lights/product_sampler.h"
 #include "shvol/lights/sky_hierarchy.h"
 #include "shvol/phase/cornette_shanks_phase.h"
 #include "shvol/phase/phase_function.h"
@@ -20,7 +21,7 @@
 namespace shvol {
 namespace {
 
-constexpr int kChi2Tests = 10;  // one family: Šidák correction over the tests in this file
+constexpr int kChi2Tests = 11;  // one family: Šidák correction over the tests in this file
 constexpr int kRequest = 2;     // a phase sample of the first bounce (camera jitter, light, phase)
 
 /// The kRequest-th 2D number of consecutive samples of pixel 4711.
@@ -123,6 +124,31 @@ TEST(SobolFedSamplers, SkyHierarchyChi2) {
     const Chi2Result r = chi2TestSphereCells(
         [&](Rng&) -> std::optional<Vec3> {
             const WarpSample s = sky.sample(u.next());
+            if (!(s.pdf > 0)) return std::nullopt;
+            return s.direction();
+        },
+        prob, options());
+    EXPECT_TRUE(r.passed) << r.report;
+}
+
+// The product strategy's sampler: an HG 0.7 lobe (order 8, Hann) rotated off-axis times the sky,
+// with the 10% sky-only share, as the integrator builds it at a scattering event.
+TEST(SobolFedSamplers, ProductSamplerChi2) {
+    const SkyHierarchy sky = testEnvironment().skyHierarchy();
+    const ProductSampler ps(sky, 8);
+    std::vector<double> p(8);
+    for (int l = 0; l < 8; ++l)
+        p[size_t(l)] =
+            std::pow(0.7, l) * std::sqrt((2 * l + 1) / FourPi) * 0.5 * (1 + std::cos(Pi * l / 8));
+    ProductSampler::ZonalLobe lobe;
+    ps.rotateZonal(p.data(), kWo, lobe);
+    const double beta = ProductSampler::kDefensiveFraction;
+    const test::GridProbability prob(ps.depth(),
+                                     [&](const Vec3& w) { return ps.pdf(lobe, beta, w); });
+    SobolPoints u;
+    const Chi2Result r = chi2TestSphereCells(
+        [&](Rng&) -> std::optional<Vec3> {
+            const WarpSample s = ps.sample(lobe, beta, u.next());
             if (!(s.pdf > 0)) return std::nullopt;
             return s.direction();
         },
