@@ -80,6 +80,12 @@ int renderReference(const Sweep& s, const BatchArgs& a, bool variance) {
     return code;
 }
 
+/// The message of an error for the one line main prints: shvol::Error's as it is, any other
+/// exception's marked as internal.
+std::string errorText(const std::exception& e) {
+    return dynamic_cast<const Error*>(&e) ? e.what() : std::string("internal error: ") + e.what();
+}
+
 /// What every worker needs to turn a run into its ledger row.
 struct RunContext {
     explicit RunContext(const Sweep& s) : sweep(s) {}
@@ -180,8 +186,8 @@ class WorkQueue {
                     const Json row = runOne(c, *run, code);
                     if (code) return fail(code, "");
                     finished(row);
-                } catch (const Error& e) {
-                    return fail(1, e.what());
+                } catch (const std::exception& e) {  // not past the thread: the batch ends
+                    return fail(1, errorText(e));
                 }
             }
         };
@@ -196,7 +202,11 @@ class WorkQueue {
         for (int active = world.size() - 1; active > 0;) {
             int from = 0;
             const std::string report = world.recv(kRequest, from);
-            if (report.rfind("row ", 0) == 0) finished(Json::parse(report.substr(4)));
+            try {
+                if (report.rfind("row ", 0) == 0) finished(Json::parse(report.substr(4)));
+            } catch (const std::exception& e) {  // e.g. the ledger cannot be written
+                fail(1, errorText(e));
+            }
             if (report.rfind("code ", 0) == 0) fail(std::stoi(report.substr(5)), "");
             if (report.rfind("error ", 0) == 0) fail(1, report.substr(6));
             const SweepRun* run = next();
@@ -216,8 +226,8 @@ class WorkQueue {
                 int code = 0;
                 const Json row = runOne(c, c.sweep.runs.at(size_t(std::stoi(reply))), code);
                 report = code ? "code " + std::to_string(code) : "row " + dumpJson(row);
-            } catch (const Error& e) {
-                report = std::string("error ") + e.what();
+            } catch (const std::exception& e) {
+                report = "error " + errorText(e);
             }
         }
     }
