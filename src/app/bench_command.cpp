@@ -129,13 +129,15 @@ int runBench(BenchArgs& a) {
     const Row now = measure(a, "defaults, 1 thread", a.sets, 1, a.spp);
     const Row openvdb = measure(a, "OpenVDB lookups, 1 thread",
                                 withVdbKey(doc, a.sets, "lookup", "\"openvdb\""), 1, a.spp);
+    const Row plain = measure(a, "no decomposition, 1 thread",
+                              withVdbKey(doc, a.sets, "decomposition", "false"), 1, a.spp);
     const Row global = measure(a, "global majorant, 1 thread",
                                withVdbKey(doc, a.sets, "majorant_grid", "false"), 1, a.spp);
     const Row two = measure(a, "defaults, 2 threads", a.sets, 2, a.spp);
     std::printf(
         "| configuration | paths/s | density lookups/path | majorant segments/path |\n"
         "|---|---:|---:|---:|\n");
-    for (const Row* r : {&now, &openvdb, &global, &two})
+    for (const Row* r : {&now, &openvdb, &plain, &global, &two})
         std::printf("| %s | %.0f | %.2f | %.2f |\n", r->name.c_str(), r->pathsPerSecond,
                     r->lookupsPerPath, r->segmentsPerPath);
     std::printf("\nns per density lookup (Medium::sigmaT): bricks %.1f, OpenVDB accessor %.1f\n",
@@ -143,17 +145,22 @@ int runBench(BenchArgs& a) {
                 nsPerLookup(a, withVdbKey(doc, a.sets, "lookup", "\"openvdb\"")));
     std::printf("bricks / OpenVDB lookups (1 thread): %.2fx\n",
                 now.pathsPerSecond / openvdb.pathsPerSecond);
+    std::printf("decomposition / plain delta and ratio tracking (1 thread): %.2fx\n",
+                now.pathsPerSecond / plain.pathsPerSecond);
     std::printf("majorant grid / global majorant (1 thread): %.2fx\n",
                 now.pathsPerSecond / global.pathsPerSecond);
     std::printf("2 threads / 1 thread: %.2fx\n", two.pathsPerSecond / now.pathsPerSecond);
     if (!a.accuracy) return 0;
 
-    // Before issue 11: NEE toward every sky, independent numbers, OpenVDB lookups.
+    // Before issue 11: NEE toward every sky, independent numbers, OpenVDB lookups, plain delta
+    // and ratio tracking.
     const Image ref = reference(a, a.sets);
-    std::vector<std::string> before = withVdbKey(doc, a.sets, "lookup", "\"openvdb\"");
+    std::vector<std::string> before =
+        withVdbKey(doc, withVdbKey(doc, a.sets, "lookup", "\"openvdb\""), "decomposition", "false");
     before.push_back("render.nee=true");
     before.push_back("render.sampler=\"independent\"");
-    const Row b = measure(a, "before (NEE, independent, OpenVDB), 2 threads", before, 2, a.spp);
+    const Row b =
+        measure(a, "before (NEE, independent, OpenVDB, delta), 2 threads", before, 2, a.spp);
     const Row n = measure(a, "now (defaults), 2 threads", a.sets, 2, a.spp);
     std::printf(
         "\n| renderer | ms per spp | RMSE | RMSE·√spp | time to RMSE %g |\n"

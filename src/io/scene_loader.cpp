@@ -168,6 +168,7 @@ std::unique_ptr<Medium> readMedium(JsonReader r) {
     d.majorantGrid = r.boolean("majorant_grid", true);
     d.majorantCellVoxels = r.integer("majorant_cell", 8, 1, 4096);
     d.bricks = r.choice("lookup", "bricks", {"bricks", "openvdb"}) == "bricks";
+    d.decomposition = r.boolean("decomposition", true);
     r.finish();
     return loadVdbMedium(d);
 }

@@ -419,6 +419,34 @@ std::optional<DensityBricks> makeBricks(const openvdb::FloatTree& tree) {
     return d;
 }
 
+/// A lower bound of the trilinear density in every cell of the majorant grid: the smallest voxel
+/// value a lookup inside the cell can reach (the voxels from ⌊lo⌋ to ⌊hi⌋ + 1, background
+/// zeros included). Empty (no control part) when the cells' windows hold more than 2^27 voxels.
+std::vector<double> minorants(const openvdb::FloatTree& tree, const MajorantGrid& g) {
+    const Eigen::Vector3i res = g.resolution();
+    const Vec3 cell = g.cellUpper(0, 0, 0) - g.cellLower(0, 0, 0);
+    if ((cell.array() + 2).prod() * res.cast<double>().prod() > double(1 << 27)) return {};
+    std::vector<double> minimum(size_t(res.prod()), 0.0);
+    Accessor acc(tree);
+    size_t i = 0;
+    for (int z = 0; z < res.z(); ++z)
+        for (int y = 0; y < res.y(); ++y)
+            for (int x = 0; x < res.x(); ++x, ++i) {
+                if (g.cell(x, y, z) <= 0) continue;
+                const Vec3 lo = g.cellLower(x, y, z), hi = g.cellUpper(x, y, z);
+                float m = INFINITY;
+                for (int vz = int(std::floor(lo.z())); m > 0 && vz <= int(std::floor(hi.z())) + 1;
+                     ++vz)
+                    for (int vy = int(std::floor(lo.y()));
+                         m > 0 && vy <= int(std::floor(hi.y())) + 1; ++vy)
+                        for (int vx = int(std::floor(lo.x()));
+                             m > 0 && vx <= int(std::floor(hi.x())) + 1; ++vx)
+                            m = std::min(m, acc.getValue(openvdb::Coord(vx, vy, vz)));
+                minimum[i] = double(m);
+            }
+    return minimum;
+}
+
 class VdbMedium final : public Medium {
   public:
     VdbMedium(const VdbMediumDesc& d, openvdb::FloatGrid::ConstPtr grid,
@@ -437,9 +465,11 @@ class VdbMedium final : public Medium {
         // The majorant is inflated by 1e-6 relative so that float rounding in the trilinear
         // interpolation can never exceed it.
         const double k = scale_ * (1 + 1e-6);
-        return [this, o, d, tMax, k](auto&& visit) {
-            majorants_.traverse(o, d, 0, tMax, [&](double t0, double t1, double m) {
-                return visit(t0, t1, k * m);
+        // The minorant is deflated likewise, so that the residual σ_t − σ_min never goes below 0.
+        const double kMin = scale_ * (1 - 1e-6);
+        return [this, o, d, tMax, k, kMin](auto&& visit) {
+            majorants_.traverse(o, d, 0, tMax, [&](double t0, double t1, double m, double mn) {
+                return visit(t0, t1, k * m, kMin * mn);
             });
         };
     }
@@ -616,6 +646,7 @@ std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc) {
                              Vec3(b.max().x(), b.max().y(), b.max().z()).array() + 1, *it);
         }
     }
+    if (desc.decomposition && !majorants.empty()) majorants.setMinimum(minorants(tree, majorants));
     std::optional<DensityBricks> bricks;
     if (desc.bricks) bricks = makeBricks(tree);
     return std::make_unique<VdbMedium>(desc, grid, worldToIndex, std::move(majorants),

@@ -22,7 +22,7 @@ double HomogeneousMedium::sampleCollision(const Ray& ray, double tMax, Rng& rng,
     const Interval iv = shape_.intersect(ray, tMax);
     if (iv.empty() || !(sigmaT_ > 0)) return NoCollision;
     if (tracking_) {
-        auto segments = [&](auto&& visit) { visit(iv.t0, iv.t1, 2 * sigmaT_); };
+        auto segments = [&](auto&& visit) { visit(iv.t0, iv.t1, 2 * sigmaT_, 0.0); };
         return deltaTrack(
             segments, [&](double) { return sigmaT_; }, rng, c);
     }
@@ -39,7 +39,7 @@ double HomogeneousMedium::transmittance(const Ray& ray, double tMax, Transmittan
         ++c.segments;
         return std::exp(-sigmaT_ * (iv.t1 - iv.t0));
     }
-    auto segments = [&](auto&& visit) { visit(iv.t0, iv.t1, (tracking_ ? 2 : 1) * sigmaT_); };
+    auto segments = [&](auto&& visit) { visit(iv.t0, iv.t1, (tracking_ ? 2 : 1) * sigmaT_, 0.0); };
     auto sigma = [&](double) { return sigmaT_; };
     return est == TransmittanceEstimator::Ratio ? ratioTrack(segments, sigma, rng, c)
                                                 : deltaTrackTransmittance(segments, sigma, rng, c);

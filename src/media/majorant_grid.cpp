@@ -25,7 +25,8 @@ void MajorantGrid::expand(const Vec3& bLo, const Vec3& bHi, double value) {
 }
 
 double MajorantGrid::at(const Vec3& p) const {
-    if (max_.empty() || (p.array() < lo_.array()).any() || (p.array() > hi_.array()).any()) return 0;
+    if (max_.empty() || (p.array() < lo_.array()).any() || (p.array() > hi_.array()).any())
+        return 0;
     int c[3];
     for (int a = 0; a < 3; ++a)
         c[a] = std::clamp(int(std::floor((p[a] - lo_[a]) / cellSize_[a])), 0, res_[a] - 1);

@@ -46,7 +46,7 @@ TEST(MajorantGrid, TraversalMatchesBruteForce) {
         d.normalize();
         const Interval box = intersectBox(Ray{o, d}, g.lower(), g.upper(), 100);
         double prev = NAN, first = NAN, covered = 0;
-        g.traverse(o, d, 0, 100, [&](double t0, double t1, double m) {
+        g.traverse(o, d, 0, 100, [&](double t0, double t1, double m, double) {
             EXPECT_LT(t0, t1);
             if (std::isnan(first)) first = t0;
             if (!std::isnan(prev)) EXPECT_NEAR(t0, prev, 1e-9);
@@ -66,7 +66,7 @@ TEST(MajorantGrid, TraversalMatchesBruteForce) {
 TEST(MajorantGrid, VisitorCanStopTheWalk) {
     MajorantGrid g(Vec3(0, 0, 0), Vec3(4, 1, 1), Eigen::Vector3i(4, 1, 1));
     int visits = 0;
-    g.traverse(Vec3(-1, 0.5, 0.5), Vec3(1, 0, 0), 0, 100, [&](double, double, double) {
+    g.traverse(Vec3(-1, 0.5, 0.5), Vec3(1, 0, 0), 0, 100, [&](double, double, double, double) {
         ++visits;
         return visits < 2;
     });

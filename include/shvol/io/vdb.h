@@ -22,6 +22,9 @@ struct VdbMediumDesc {
     /// Density lookups from a brick copy of the grid (media/density_bricks.h); false: through an
     /// OpenVDB value accessor (the reference, for benchmarks). Both give the same values.
     bool bricks = true;
+    /// Decomposition and residual ratio tracking with a per-cell lower bound of the density
+    /// (media/tracking.h); false: plain delta and ratio tracking (for benchmarks).
+    bool decomposition = true;
 };
 
 /// Loads a FloatGrid and builds its majorant grid (trilinear density lookups). Errors name the

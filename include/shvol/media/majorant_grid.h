@@ -20,16 +20,25 @@ class MajorantGrid {
 
     /// max-accumulates value into every cell overlapping the closed box [bLo, bHi].
     void expand(const Vec3& bLo, const Vec3& bHi, double value);
+    /// Lower bounds of the density per cell, in index order (x fastest); empty: 0 everywhere.
+    void setMinimum(std::vector<double> minimum) { min_ = std::move(minimum); }
+    /// The box [lo, hi] of cell (x, y, z).
+    Vec3 cellLower(int x, int y, int z) const {
+        return lo_ + Vec3(x, y, z).cwiseProduct(cellSize_);
+    }
+    Vec3 cellUpper(int x, int y, int z) const { return cellLower(x + 1, y + 1, z + 1); }
     double cell(int x, int y, int z) const { return max_[index(x, y, z)]; }
     const Eigen::Vector3i& resolution() const { return res_; }
     const Vec3& lower() const { return lo_; }
     const Vec3& upper() const { return hi_; }
     double maxValue() const;
+    bool empty() const { return max_.empty(); }
     /// The value of the cell containing p (0 outside the grid).
     double at(const Vec3& p) const;
 
     /// Visits, in order, the segments [t0, t1) of the ray o + t·d (d need not be unit length)
-    /// inside the grid and [tMin, tMax], as visit(t0, t1, cellMax) → bool; false stops the walk.
+    /// inside the grid and [tMin, tMax], as visit(t0, t1, cellMax, cellMin) → bool; false stops
+    /// the walk.
     template <typename Visit>
     void traverse(const Vec3& o, const Vec3& d, double tMin, double tMax, Visit&& visit) const;
 
@@ -37,7 +46,7 @@ class MajorantGrid {
     size_t index(int x, int y, int z) const { return (size_t(z) * res_.y() + y) * res_.x() + x; }
     Vec3 lo_{0, 0, 0}, hi_{0, 0, 0}, cellSize_{1, 1, 1};
     Eigen::Vector3i res_{0, 0, 0};
-    std::vector<double> max_;
+    std::vector<double> max_, min_;
 };
 
 template <typename Visit>
@@ -74,7 +83,8 @@ void MajorantGrid::traverse(const Vec3& o, const Vec3& d, double tMin, double tM
         const int a =
             tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2) : (tNext[1] < tNext[2] ? 1 : 2);
         const double tEnd = std::min(tNext[a], t1);
-        if (tEnd > t && !visit(t, tEnd, max_[index(cell[0], cell[1], cell[2])])) return;
+        const size_t i = index(cell[0], cell[1], cell[2]);
+        if (tEnd > t && !visit(t, tEnd, max_[i], min_.empty() ? 0.0 : min_[i])) return;
         if (tEnd >= t1) return;
         t = std::max(t, tEnd);  // an entry cell misassigned by rounding must not step back
         cell[a] += step[a];

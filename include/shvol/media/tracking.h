@@ -25,45 +25,55 @@ struct TrackingCounters {
 
 inline constexpr double NoCollision = std::numeric_limits<double>::infinity();
 
-/// The walk both estimators share: tentative collisions at rate σ_maj within each segment.
-/// `Segments` is a callable taking a visitor visit(t0, t1, sigmaMaj) → bool (false stops the walk);
-/// at each tentative collision `collide(t, sigmaMaj)` is called and returns false to stop.
-template <typename Segments, typename Collide>
-void forEachTentativeCollision(const Segments& segments, Rng& rng, TrackingCounters& c,
-                               Collide&& collide) {
-    segments([&](double t0, double t1, double sigmaMaj) {
-        ++c.segments;
-        if (!(sigmaMaj > 0)) return true;
-        for (double t = t0;;) {
-            t -= std::log1p(-rng.uniform()) / sigmaMaj;
-            if (t >= t1) return true;
-            ++c.densityLookups;
-            if (!collide(t, sigmaMaj)) return false;
-        }
-    });
-}
+/// Free-flight sampling and transmittance estimation in a medium described by segments.
+/// `Segments` is a callable taking a visitor visit(t0, t1, σ_maj, σ_min) → bool (false stops the
+/// walk) with σ_min ≤ σ_t(t) ≤ σ_maj on [t0, t1). σ_t splits into a control part σ_min, constant
+/// on the segment and handled in closed form without any density lookup, and a residual part
+/// σ_t − σ_min ∈ [0, σ_maj − σ_min], tracked with null collisions at rate σ_maj − σ_min. With
+/// σ_min = 0 both functions are plain delta and ratio tracking and draw the same numbers.
 
-/// Delta tracking: distance of the first real collision, or NoCollision. sigmaT(t) gives σ_t at
-/// ray parameter t.
+/// Delta tracking with decomposition (Kutz et al. 2017, "Spectral and Decomposition Tracking
+/// for Rendering Heterogeneous Volumes", §4): the first real collision is the earlier of the
+/// control part's (exponential with rate σ_min) and the residual part's (delta tracking with
+/// majorant σ_maj − σ_min); the two are independent Poisson processes whose sum has rate σ_t.
+/// Returns its distance, or NoCollision. sigmaT(t) gives σ_t at ray parameter t.
 template <typename Segments, typename SigmaT>
 double deltaTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng, TrackingCounters& c) {
     double hit = NoCollision;
-    forEachTentativeCollision(segments, rng, c, [&](double t, double sigmaMaj) {
-        if (rng.uniform() * sigmaMaj >= sigmaT(t)) return true;  // null collision
-        hit = t;
+    segments([&](double t0, double t1, double sigmaMaj, double sigmaMin) {
+        ++c.segments;
+        if (!(sigmaMaj > 0)) return true;
+        double tControl = t1;
+        if (sigmaMin > 0) tControl = std::min(t1, t0 - std::log1p(-rng.uniform()) / sigmaMin);
+        const double sigmaRes = sigmaMaj - sigmaMin;
+        if (sigmaRes > 0)
+            for (double t = t0;;) {
+                t -= std::log1p(-rng.uniform()) / sigmaRes;
+                if (t >= tControl) break;
+                ++c.densityLookups;
+                if (rng.uniform() * sigmaRes < sigmaT(t) - sigmaMin) {  // a real collision
+                    hit = t;
+                    return false;
+                }
+            }
+        if (tControl >= t1) return true;
+        hit = tControl;
         return false;
     });
     return hit;
 }
 
-/// Ratio-tracking estimate of T over all segments. Roulette below T = rrThreshold keeps the
-/// estimator unbiased: survive with probability T/rrThreshold and continue with T = rrThreshold.
+/// Residual ratio tracking (Novák, Selle & Jarosz 2014, "Residual Ratio Tracking for
+/// Estimating Attenuation in Participating Media", §4), with the control part per segment:
+/// T = Π_segments e^{−σ_min (t1 − t0)} Π_points (1 − (σ_t − σ_min)/(σ_maj − σ_min)), over
+/// tentative points at rate σ_maj − σ_min. Roulette below T = rrThreshold keeps it unbiased:
+/// survive with probability T/rrThreshold and continue with T = rrThreshold.
 template <typename Segments, typename SigmaT>
 double ratioTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng, TrackingCounters& c,
                   double rrThreshold = 0.1) {
     double T = 1;
-    forEachTentativeCollision(segments, rng, c, [&](double t, double sigmaMaj) {
-        T *= std::max(0.0, 1.0 - sigmaT(t) / sigmaMaj);
+    // After each factor: roulette once T is below the threshold; false ends the walk (T = 0).
+    auto roulette = [&] {
         if (T >= rrThreshold) return true;
         if (T <= 0 || rng.uniform() * rrThreshold >= T) {
             T = 0;
@@ -71,6 +81,23 @@ double ratioTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng, Trac
         }
         T = rrThreshold;
         return true;
+    };
+    segments([&](double t0, double t1, double sigmaMaj, double sigmaMin) {
+        ++c.segments;
+        if (!(sigmaMaj > 0)) return true;
+        if (sigmaMin > 0) {
+            T *= std::exp(-sigmaMin * (t1 - t0));
+            if (!roulette()) return false;
+        }
+        const double sigmaRes = sigmaMaj - sigmaMin;
+        if (!(sigmaRes > 0)) return true;
+        for (double t = t0;;) {
+            t -= std::log1p(-rng.uniform()) / sigmaRes;
+            if (t >= t1) return true;
+            ++c.densityLookups;
+            T *= std::max(0.0, 1.0 - (sigmaT(t) - sigmaMin) / sigmaRes);
+            if (!roulette()) return false;
+        }
     });
     return T;
 }
