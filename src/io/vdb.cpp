@@ -368,7 +368,9 @@ using Accessor = openvdb::tree::ValueAccessor<const openvdb::FloatTree, false>;
 /// apron lies in the same tile is a constant (no voxel is read or stored for it). None
 /// (std::nullopt) when the table or the bricks would take too much memory.
 std::optional<DensityBricks> makeBricks(const openvdb::FloatTree& tree) {
-    constexpr double kMaxTableCells = 1 << 24, kMaxBricks = 1 << 18;  // 64 MiB, 729 MiB
+    // 64 MiB of table, 182 MiB of bricks and 48 M voxel reads at most: a small hostile file must
+    // not cost seconds to load (a tile is cheap to write and its shell needs bricks).
+    constexpr double kMaxTableCells = 1 << 24, kMaxBricks = 1 << 16;
     struct Box {
         Eigen::Vector3i lo, hi;  // brick coordinates, inclusive
         float tile;              // the tile's value, or 0 for a leaf
@@ -421,11 +423,12 @@ std::optional<DensityBricks> makeBricks(const openvdb::FloatTree& tree) {
 
 /// A lower bound of the trilinear density in every cell of the majorant grid: the smallest voxel
 /// value a lookup inside the cell can reach (the voxels from ⌊lo⌋ to ⌊hi⌋ + 1, background
-/// zeros included). Empty (no control part) when the cells' windows hold more than 2^27 voxels.
+/// zeros included). Empty (no control part) when the cells' windows hold more than 2^24 voxels:
+/// loading stays fast for a small file whose tiles cover a large region.
 std::vector<double> minorants(const openvdb::FloatTree& tree, const MajorantGrid& g) {
     const Eigen::Vector3i res = g.resolution();
     const Vec3 cell = g.cellUpper(0, 0, 0) - g.cellLower(0, 0, 0);
-    if ((cell.array() + 2).prod() * res.cast<double>().prod() > double(1 << 27)) return {};
+    if ((cell.array() + 2).prod() * res.cast<double>().prod() > double(1 << 24)) return {};
     std::vector<double> minimum(size_t(res.prod()), 0.0);
     Accessor acc(tree);
     size_t i = 0;
