@@ -37,11 +37,6 @@ std::string describe(const SweepRun& run) {
     return s;
 }
 
-Json readJson(const std::string& path) {
-    std::ifstream f(path);
-    return Json::parse(f);
-}
-
 /// What identifies a rendered reference: the scene, its settings and whether it has a
 /// standard-error image; kept beside it in REFERENCE.fingerprint.
 std::string referenceStamp(const Sweep& s, bool variance) {
@@ -110,7 +105,7 @@ Json runOne(const RunContext& c, const SweepRun& run, int& code) {
     code = runRender(r);
     if (code) return nullptr;
     const std::string stem = fs::path(r.output).replace_extension("").string();
-    const Json stats = readJson(stem + ".stats.json");
+    const Json stats = parseJsonFile(stem + ".stats.json");
     Json row = run.values;
     row["run"] = run.id;
     row["seed"] = stats["seed"];

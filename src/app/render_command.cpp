@@ -317,12 +317,16 @@ int runRender(const RenderArgs& a) {
     opt.afterPass = [&](const Film& f, const RenderStats& st) {
         const uint32_t n = st.passEnd;
         if (n < spp && std::find(opt.stops.begin(), opt.stops.end(), n) != opt.stops.end()) {
-            Film whole = f;
-            RenderStats wholeStats = st;
-            if (spread) world.reduceToRoot(whole, wholeStats);
+            // Over MPI ranks a copy is reduced: the rank's own film goes on rendering.
+            Film reduced;
+            RenderStats stats = st;
+            if (spread) {
+                reduced = f;
+                world.reduceToRoot(reduced, stats);
+            }
             if (!speaks) return;
             const Outputs o = outputsFor(out, "spp" + std::to_string(n));
-            writeOutputs(o, scene, whole, wholeStats, warnings, provenance, a.variance);
+            writeOutputs(o, scene, spread ? reduced : f, stats, warnings, provenance, a.variance);
             if (!a.quiet) std::fprintf(stderr, "wrote %s (%u spp)\n", o.image.c_str(), n);
         }
         const auto now = std::chrono::steady_clock::now();
