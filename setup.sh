@@ -11,7 +11,7 @@ cd "$(dirname "$0")"
 # recommendations are not installed).
 packages=(cmake ninja-build clang libclang-rt-14-dev g++ pkg-config
           libopenvdb-dev libboost-iostreams-dev libembree-dev libeigen3-dev libopenexr-dev
-          libtbb-dev libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
+          libtbb-dev libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libtinyobjloader-dev
           libboost-math-dev zlib1g-dev python3-matplotlib libopenmpi-dev openmpi-bin)
 missing=()
 for p in "${packages[@]}"; do
@@ -47,7 +47,7 @@ sanitizers() {
   local work artifacts="$PWD/build-fuzz/artifacts" supp="$PWD/tests/sanitizers/lsan.supp"
   work=$(mktemp -d)
   mkdir -p "$artifacts"
-  for name in scene phase_spec phase_csv exr vdb; do
+  for name in scene phase_spec phase_csv exr vdb ply; do
     mkdir "$work/$name"
     cp tests/fuzz/"$name"/* "$work/$name/"
     if ! LSAN_OPTIONS="suppressions=$supp" build-fuzz/"${name}_fuzzer" "$work/$name" \

@@ -1,0 +1,31 @@
+#pragma once
+/// \file Triangle meshes from OBJ (Debian's tinyobjloader) and PLY (a strict reader of our own).
+///
+/// Both keep per-vertex normals and texture coordinates when the file has them. Polygons with more
+/// than three vertices are split into a fan (v0, v_k, v_{k+1}), which keeps their winding. Every
+/// reader ends with validateMesh (surfaces/triangle_mesh.h). Errors are one shvol::Error line
+/// naming the file and the place in it ("FILE: line 12: …" for text, "FILE: byte 345: …" or
+/// "FILE: face 7: …" for binary data).
+#include <string>
+#include <string_view>
+
+#include "shvol/surfaces/triangle_mesh.h"
+
+namespace shvol {
+
+/// PLY 1.0, format ascii, binary_little_endian or binary_big_endian. Elements: `vertex` with
+/// float/double (or any scalar type) properties x, y, z, optional nx, ny, nz and u, v (also named
+/// s, t or texture_u, texture_v); `face` with a list property vertex_indices (or vertex_index).
+/// Other elements and properties are skipped, lists included. Anything else is an error: a missing
+/// header line, an unknown type, a truncated body, trailing bytes, an index out of range.
+TriangleMesh parsePly(std::string_view bytes, const std::string& name);
+TriangleMesh readPly(const std::string& path);
+
+/// Wavefront OBJ: v, vn, vt and f (all shapes, groups and objects merged; materials ignored).
+/// A vertex of the mesh is one distinct (v, vt, vn) triple of the faces.
+TriangleMesh readObj(const std::string& path);
+
+/// readObj or readPly by the file's extension (.obj, .ply; case-insensitive).
+TriangleMesh readMesh(const std::string& path);
+
+}  // namespace shvol

@@ -1,0 +1,39 @@
+#pragma once
+/// \file An indexed triangle mesh as read from OBJ or PLY (io/mesh_file.h), and its checks.
+///
+/// Triangles are counter-clockwise seen from their front side, so the geometric normal of
+/// triangle (p0, p1, p2) is n_g = (p1 − p0) × (p2 − p0) / |…|; a closed mesh whose triangles all
+/// face outwards has a positive signed volume V = (1/6) Σ p0 · (p1 × p2).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "shvol/core/math.h"
+
+namespace shvol {
+
+struct TriangleMesh {
+    std::vector<Vec3> p;            ///< vertex positions
+    std::vector<Vec3> n;            ///< per-vertex normals: empty, or one per vertex
+    std::vector<Vec2> uv;           ///< per-vertex texture coordinates: empty, or one per vertex
+    std::vector<uint32_t> indices;  ///< three vertex indices per triangle
+    size_t triangleCount() const { return indices.size() / 3; }
+};
+
+/// Throws shvol::Error "FILE: vertex K: …" or "FILE: face K: …" (K counted from 0) for a
+/// non-finite position, normal or texture coordinate, a zero normal, an index out of range, a
+/// triangle of zero area (repeated or collinear vertices), or a mesh without triangles.
+void validateMesh(const TriangleMesh& mesh, const std::string& file);
+
+/// Why the mesh is not the closed, consistently oriented surface of a solid, or "" if it is:
+/// every directed edge (a, b) of a triangle must appear exactly once, and its reverse (b, a)
+/// exactly once in another triangle (an oriented 2-manifold without boundary).
+std::string closedMeshDefect(const TriangleMesh& mesh);
+
+/// Signed enclosed volume (1/6) Σ p0 · (p1 × p2): positive when a closed mesh faces outwards.
+double signedVolume(const TriangleMesh& mesh);
+
+/// Total area Σ |(p1 − p0) × (p2 − p0)| / 2.
+double surfaceArea(const TriangleMesh& mesh);
+
+}  // namespace shvol

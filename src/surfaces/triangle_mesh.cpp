@@ -1,0 +1,156 @@
+#include "shvol/surfaces/triangle_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "shvol/core/error.h"
+
+namespace shvol {
+
+namespace {
+
+/// "(x, y, …)", with any NaN written "nan" (the C library writes "-nan" for some).
+template <typename V>
+std::string str(const V& v) {
+    std::ostringstream s;
+    for (int i = 0; i < v.size(); ++i) {
+        s << (i ? ", " : "(");
+        if (std::isnan(v[i]))
+            s << "nan";
+        else
+            s << v[i];
+    }
+    s << ")";
+    return s.str();
+}
+
+/// Directed edge (a, b) as one sortable key.
+uint64_t edgeKey(uint32_t a, uint32_t b) {
+    return (uint64_t(a) << 32) | b;
+}
+
+std::string edgeName(uint32_t a, uint32_t b) {
+    return "edge (" + std::to_string(a) + ", " + std::to_string(b) + ")";
+}
+
+}  // namespace
+
+void validateMesh(const TriangleMesh& mesh, const std::string& file) {
+    const size_t nv = mesh.p.size();
+    if (mesh.indices.size() % 3 != 0)
+        fail(file, "",
+             std::to_string(mesh.indices.size()) + " vertex indices: not whole triangles");
+    if (!mesh.n.empty() && mesh.n.size() != nv)
+        fail(file, "",
+             std::to_string(mesh.n.size()) + " normals for " + std::to_string(nv) + " vertices");
+    if (!mesh.uv.empty() && mesh.uv.size() != nv)
+        fail(file, "",
+             std::to_string(mesh.uv.size()) + " texture coordinates for " + std::to_string(nv) +
+                 " vertices");
+    if (mesh.triangleCount() == 0) fail(file, "", "the mesh has no triangles");
+    for (size_t k = 0; k < nv; ++k) {
+        const std::string place = "vertex " + std::to_string(k);
+        if (!mesh.p[k].allFinite())
+            fail(file, place, "position " + str(mesh.p[k]) + " is not finite");
+        if (!mesh.n.empty()) {
+            if (!mesh.n[k].allFinite())
+                fail(file, place, "normal " + str(mesh.n[k]) + " is not finite");
+            if (mesh.n[k].squaredNorm() == 0) fail(file, place, "normal is zero");
+        }
+        if (!mesh.uv.empty() && !mesh.uv[k].allFinite())
+            fail(file, place, "texture coordinates " + str(mesh.uv[k]) + " are not finite");
+    }
+    for (size_t f = 0; f < mesh.triangleCount(); ++f) {
+        const std::string place = "face " + std::to_string(f);
+        const uint32_t* t = &mesh.indices[3 * f];
+        for (int j = 0; j < 3; ++j)
+            if (t[j] >= nv)
+                fail(file, place,
+                     "vertex index " + std::to_string(t[j]) + " out of range (" +
+                         std::to_string(nv) + " vertices)");
+        if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0])
+            fail(file, place,
+                 "repeated vertex index in (" + std::to_string(t[0]) + ", " + std::to_string(t[1]) +
+                     ", " + std::to_string(t[2]) + "): degenerate triangle");
+        // Zero area, up to rounding: the angle at p0 within 1e-12 of 0 or π. Such a triangle
+        // has no reliable geometric normal.
+        const Vec3 e1 = mesh.p[t[1]] - mesh.p[t[0]], e2 = mesh.p[t[2]] - mesh.p[t[0]];
+        const double c = e1.cross(e2).norm();
+        if (!std::isfinite(c)) fail(file, place, "area is not finite (coordinates too large)");
+        if (!(c > 1e-12 * e1.norm() * e2.norm()))
+            fail(file, place, "zero area (collinear vertices): degenerate triangle");
+    }
+}
+
+std::string closedMeshDefect(const TriangleMesh& mesh) {
+    const size_t nt = mesh.triangleCount();
+    if (nt == 0) return "the mesh has no triangles";
+    const std::vector<uint32_t>& ix = mesh.indices;
+    for (size_t f = 0; f < nt; ++f)
+        if (ix[3 * f] == ix[3 * f + 1] || ix[3 * f + 1] == ix[3 * f + 2] ||
+            ix[3 * f + 2] == ix[3 * f])
+            return "face " + std::to_string(f) + " repeats a vertex: degenerate triangle";
+    // All directed edges, sorted: O(T log T). A closed oriented manifold has every key once and
+    // the reverse of every key.
+    std::vector<uint64_t> keys(3 * nt);
+    for (size_t f = 0; f < nt; ++f)
+        for (int j = 0; j < 3; ++j)
+            keys[3 * f + j] = edgeKey(ix[3 * f + j], ix[3 * f + (j + 1) % 3]);
+    std::sort(keys.begin(), keys.end());
+    const auto has = [&](uint64_t k) { return std::binary_search(keys.begin(), keys.end(), k); };
+    const auto reverse = [](uint64_t k) { return (k << 32) | (k >> 32); };
+    bool twice = false, open = false;
+    for (size_t i = 0; i < keys.size(); ++i) {
+        if (i + 1 < keys.size() && keys[i] == keys[i + 1]) twice = true;
+        if (!has(reverse(keys[i]))) open = true;
+        if (twice) break;
+    }
+    if (!twice && !open) return "";
+    // A defect exists: name the first face that shows it, duplicates first (they explain the
+    // missing opposite edges that inconsistent winding also causes).
+    const auto edgeOf = [&](size_t f, int j) {
+        return edgeKey(ix[3 * f + j], ix[3 * f + (j + 1) % 3]);
+    };
+    for (size_t f = 0; f < nt && twice; ++f)
+        for (int j = 0; j < 3; ++j) {
+            const uint64_t k = edgeOf(f, j);
+            const auto range = std::equal_range(keys.begin(), keys.end(), k);
+            if (range.second - range.first < 2) continue;
+            size_t other = f + 1;
+            while (other < nt && edgeOf(other, 0) != k && edgeOf(other, 1) != k &&
+                   edgeOf(other, 2) != k)
+                ++other;
+            return edgeName(uint32_t(k >> 32), uint32_t(k)) + " of face " + std::to_string(f) +
+                   " appears twice (also in face " + std::to_string(other) +
+                   "): inconsistent winding or non-manifold";
+        }
+    for (size_t f = 0; f < nt; ++f)
+        for (int j = 0; j < 3; ++j) {
+            const uint64_t k = edgeOf(f, j);
+            if (!has(reverse(k)))
+                return edgeName(uint32_t(k >> 32), uint32_t(k)) + " of face " + std::to_string(f) +
+                       " has no opposite edge: the mesh is not closed";
+        }
+    return "";  // not reached
+}
+
+double signedVolume(const TriangleMesh& mesh) {
+    double v = 0;
+    for (size_t f = 0; f < mesh.triangleCount(); ++f) {
+        const uint32_t* t = &mesh.indices[3 * f];
+        v += mesh.p[t[0]].dot(mesh.p[t[1]].cross(mesh.p[t[2]]));
+    }
+    return v / 6;
+}
+
+double surfaceArea(const TriangleMesh& mesh) {
+    double a = 0;
+    for (size_t f = 0; f < mesh.triangleCount(); ++f) {
+        const uint32_t* t = &mesh.indices[3 * f];
+        a += (mesh.p[t[1]] - mesh.p[t[0]]).cross(mesh.p[t[2]] - mesh.p[t[0]]).norm();
+    }
+    return a / 2;
+}
+
+}  // namespace shvol

@@ -1,0 +1,546 @@
+#include "shvol/io/mesh_file.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+
+#include "shvol/core/error.h"
+#include "test_util.h"
+
+namespace shvol {
+namespace {
+
+using shvol::test::messageOf;
+
+std::string tmp(const std::string& name) {
+    return testing::TempDir() + "shvol_mesh_" + name;  // TempDir() ends with '/'
+}
+
+std::string write(const std::string& name, const std::string& bytes) {
+    const std::string path = tmp(name);
+    std::ofstream(path, std::ios::binary) << bytes;
+    return path;
+}
+
+/// The message of the shvol::Error that reading `bytes` as a file called `name` throws; checks
+/// that it is one line starting with the file's path.
+std::string errorOf(const std::string& name, const std::string& bytes) {
+    const std::string path = write(name, bytes);
+    const std::string m = messageOf([&] { readMesh(path); });
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    EXPECT_EQ(m.rfind(path + ": ", 0), 0u) << m;
+    return m;
+}
+
+#define EXPECT_CONTAINS(text, part) \
+    EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
+
+/// Binary data in either byte order.
+struct Bytes {
+    bool big;
+    std::string s;
+    template <typename T>
+    Bytes& put(T x) {
+        char b[sizeof(T)];
+        std::memcpy(b, &x, sizeof x);
+        if (big) std::reverse(b, b + sizeof b);
+        s.append(b, sizeof b);
+        return *this;
+    }
+};
+
+// A square pyramid: base quad (0, 3, 2, 1) facing −z, four triangles to the apex 4.
+const double kPyramid[5][3] = {{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}, {1, 1, 1}};
+const uint32_t kPyramidQuad[4] = {0, 3, 2, 1};
+const uint32_t kPyramidTris[4][3] = {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}};
+const std::vector<uint32_t> kPyramidIndices = {0, 3, 2, 0, 2, 1, 0, 1, 4,
+                                               1, 2, 4, 2, 3, 4, 3, 0, 4};
+
+void expectPyramid(const TriangleMesh& m, bool normals, bool uvs) {
+    ASSERT_EQ(m.p.size(), 5u);
+    for (int i = 0; i < 5; ++i)
+        EXPECT_EQ(m.p[i], Vec3(kPyramid[i][0], kPyramid[i][1], kPyramid[i][2])) << i;
+    EXPECT_EQ(m.indices, kPyramidIndices);
+    EXPECT_EQ(closedMeshDefect(m), "");
+    EXPECT_DOUBLE_EQ(signedVolume(m), 4.0 / 3);
+    ASSERT_EQ(m.n.size(), normals ? 5u : 0u);
+    for (size_t i = 0; i < m.n.size(); ++i) EXPECT_EQ(m.n[i], Vec3(0, 0.5 * i, -1)) << i;
+    ASSERT_EQ(m.uv.size(), uvs ? 5u : 0u);
+    for (size_t i = 0; i < m.uv.size(); ++i) EXPECT_EQ(m.uv[i], Vec2(0.25 * i, 1 - 0.25 * i));
+}
+
+TEST(MeshFile, AsciiPly) {
+    std::string t =
+        "ply\n"
+        "format ascii 1.0\n"
+        "comment made by hand\n"
+        "obj_info pyramid\n"
+        "element vertex 5\n"
+        "property float x\n"
+        "property float y\n"
+        "property float z\n"
+        "property uchar red\n"  // skipped
+        "property float nx\n"
+        "property float ny\n"
+        "property float nz\n"
+        "property float s\n"
+        "property float t\n"
+        "element face 5\n"
+        "property int flags\n"                      // skipped
+        "property list uchar int vertex_indices\n"  //
+        "property list uchar float texcoord\n"      // skipped
+        "element material 1\n"                      // skipped
+        "property list ushort uint8 name\n"         //
+        "end_header\n";
+    for (int i = 0; i < 5; ++i)
+        t += std::to_string(kPyramid[i][0]) + " " + std::to_string(kPyramid[i][1]) + "\t" +
+             std::to_string(kPyramid[i][2]) + " 255 0 " + std::to_string(0.5 * i) + " -1 " +
+             std::to_string(0.25 * i) + " " + std::to_string(1 - 0.25 * i) + "\n";
+    t += "7 4 0 3 2 1 2 0.5 0.5\n";
+    t += "\n";  // blank lines are allowed between records
+    for (const auto& f : kPyramidTris)
+        t += "-3 3 " + std::to_string(f[0]) + " " + std::to_string(f[1]) + " " +
+             std::to_string(f[2]) + " 0\r\n";
+    t += "3 65 66 67\n\n";
+    expectPyramid(readPly(write("ascii.ply", t)), true, true);
+}
+
+/// The pyramid in binary: double positions, normals and texture coordinates (u, v) as floats,
+/// uchar counts and int indices, with unused properties and elements in between.
+std::string binaryPyramid(bool big) {
+    std::string h = std::string("ply\nformat ") +
+                    (big ? "binary_big_endian" : "binary_little_endian") +
+                    " 1.0\n"
+                    "element camera 1\n"
+                    "property list int short view\n"
+                    "property double focal\n"
+                    "element vertex 5\n"
+                    "property double x\n"
+                    "property double y\n"
+                    "property double z\n"
+                    "property float u\n"
+                    "property float v\n"
+                    "property uint16 confidence\n"
+                    "property float nx\n"
+                    "property float ny\n"
+                    "property float nz\n"
+                    "element face 5\n"
+                    "property list uchar int vertex_indices\n"
+                    "property char flag\n"
+                    "end_header\n";
+    Bytes b{big, h};
+    b.put<int32_t>(2).put<int16_t>(-7).put<int16_t>(300).put<double>(35);
+    for (int i = 0; i < 5; ++i) {
+        b.put(kPyramid[i][0]).put(kPyramid[i][1]).put(kPyramid[i][2]);
+        b.put(float(0.25 * i)).put(float(1 - 0.25 * i)).put<uint16_t>(65535);
+        b.put(0.0f).put(float(0.5 * i)).put(-1.0f);
+    }
+    b.put<uint8_t>(4);
+    for (uint32_t i : kPyramidQuad) b.put(int32_t(i));
+    b.put<int8_t>(-1);
+    for (const auto& f : kPyramidTris) {
+        b.put<uint8_t>(3);
+        for (uint32_t i : f) b.put(int32_t(i));
+        b.put<int8_t>(1);
+    }
+    return b.s;
+}
+
+TEST(MeshFile, BinaryLittleEndianPly) {
+    expectPyramid(readPly(write("le.ply", binaryPyramid(false))), true, true);
+}
+
+TEST(MeshFile, BinaryBigEndianPly) {
+    expectPyramid(readPly(write("be.ply", binaryPyramid(true))), true, true);
+    expectPyramid(parsePly(binaryPyramid(true), "in memory"), true, true);
+}
+
+/// Every PLY scalar type, by both of its names, as positions, list counts and indices.
+TEST(MeshFile, PlyScalarTypes) {
+    const char* names[][2] = {{"char", "int8"},     {"uchar", "uint8"},   {"short", "int16"},
+                              {"ushort", "uint16"}, {"int", "int32"},     {"uint", "uint32"},
+                              {"float", "float32"}, {"double", "float64"}};
+    for (int t = 0; t < 8; ++t)
+        for (const char* name : names[t])
+            for (const char* format : {"ascii", "binary_little_endian", "binary_big_endian"}) {
+                SCOPED_TRACE(std::string(name) + " " + format);
+                const std::string type = name;
+                const bool integer = t < 6;
+                std::string h = std::string("ply\nformat ") + format + " 1.0\nelement vertex 4\n";
+                for (const char* c : {"x", "y", "z"}) h += "property " + type + " " + c + "\n";
+                h += "element face 4\n";
+                h += "property list " + std::string(integer ? name : "uchar") + " " +
+                     (integer ? type : "uint") + " vertex_indices\nend_header\n";
+                const int p[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+                const int f[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+                std::string body;
+                if (format[0] == 'a') {
+                    for (const auto& v : p)
+                        body += std::to_string(v[0]) + " " + std::to_string(v[1]) + " " +
+                                std::to_string(v[2]) + "\n";
+                    for (const auto& v : f)
+                        body += "3 " + std::to_string(v[0]) + " " + std::to_string(v[1]) + " " +
+                                std::to_string(v[2]) + "\n";
+                } else {
+                    Bytes b{format[7] == 'b', ""};
+                    const auto put = [&](int x) {
+                        switch (t) {
+                            case 0:
+                                b.put(int8_t(x));
+                                break;
+                            case 1:
+                                b.put(uint8_t(x));
+                                break;
+                            case 2:
+                                b.put(int16_t(x));
+                                break;
+                            case 3:
+                                b.put(uint16_t(x));
+                                break;
+                            case 4:
+                                b.put(int32_t(x));
+                                break;
+                            case 5:
+                                b.put(uint32_t(x));
+                                break;
+                            case 6:
+                                b.put(float(x));
+                                break;
+                            default:
+                                b.put(double(x));
+                        }
+                    };
+                    for (const auto& v : p)
+                        for (int x : v) put(x);
+                    for (const auto& v : f) {
+                        if (integer)
+                            put(3);
+                        else
+                            b.put(uint8_t(3));
+                        for (int x : v)
+                            if (integer)
+                                put(x);
+                            else
+                                b.put(uint32_t(x));
+                    }
+                    body = b.s;
+                }
+                const TriangleMesh m = parsePly(h + body, "types.ply");
+                ASSERT_EQ(m.p.size(), 4u);
+                for (int i = 0; i < 4; ++i) EXPECT_EQ(m.p[i], Vec3(p[i][0], p[i][1], p[i][2]));
+                EXPECT_EQ(m.indices, std::vector<uint32_t>({0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3}));
+                EXPECT_DOUBLE_EQ(signedVolume(m), 1.0 / 6);
+            }
+}
+
+TEST(MeshFile, PlyFanKeepsTheWinding) {
+    const std::string t =
+        "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 1\nproperty list uchar uint vertex_index\nend_header\n"
+        "0 0 0\n1 0 0\n2 1 0\n1 2 0\n0 2 0\n-1 1 0\n6 0 1 2 3 4 5\n";
+    const TriangleMesh m = parsePly(t, "hexagon.ply");
+    EXPECT_EQ(m.indices, std::vector<uint32_t>({0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5}));
+    for (size_t f = 0; f < m.triangleCount(); ++f) {  // all facing +z, as the hexagon
+        const Vec3 p0 = m.p[m.indices[3 * f]];
+        EXPECT_GT((m.p[m.indices[3 * f + 1]] - p0).cross(m.p[m.indices[3 * f + 2]] - p0).z(), 0);
+    }
+    EXPECT_DOUBLE_EQ(surfaceArea(m), 4.0);
+}
+
+const std::string kAsciiHead =
+    "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+    "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n";
+const std::string kFaces = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+const std::string kAsciiTet = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n" + kFaces;
+
+TEST(MeshFile, PlyHeaderErrors) {
+    EXPECT_CONTAINS(errorOf("e1.ply", "plyx\n"), "line 1: not a PLY file");
+    EXPECT_CONTAINS(errorOf("e2.ply", "PK\3\4 zip"), "line 1: not a PLY file");
+    EXPECT_CONTAINS(
+        errorOf("e3.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"),
+        "line 4: end of file before end_header");
+    EXPECT_CONTAINS(errorOf("e4.ply",
+                            "ply\nformat ascii 1.0\nelement vertex 1\nproperty "
+                            "float128 x\nend_header\n"),
+                    "line 4: unknown type \"float128\"");
+    EXPECT_CONTAINS(errorOf("e5.ply", "ply\nformat binary_middle_endian 1.0\nend_header\n"),
+                    "line 2: unknown format \"binary_middle_endian\"");
+    EXPECT_CONTAINS(errorOf("e6.ply", "ply\nformat ascii 2.0\nend_header\n"),
+                    "line 2: unsupported PLY version \"2.0\"");
+    EXPECT_CONTAINS(errorOf("e7.ply", "ply\nformat ascii 1.0\nelemnt vertex 1\nend_header\n"),
+                    "line 3: unknown header keyword \"elemnt\"");
+    EXPECT_CONTAINS(errorOf("e8.ply", "ply\nformat ascii 1.0\nproperty float x\nend_header\n"),
+                    "line 3: property before any element");
+    EXPECT_CONTAINS(errorOf("e9.ply", "ply\nformat ascii 1.0\nelement vertex -1\nend_header\n"),
+                    "line 3: element count \"-1\" is not a whole number");
+    EXPECT_CONTAINS(
+        errorOf("e10.ply", "ply\nformat ascii 1.0\nelement vertex 99999999999999999999\n"),
+        "line 3: element count \"99999999999999999999\" is not a whole number");
+    std::string noZ = kAsciiHead;
+    noZ.replace(noZ.find("property float z"), 16, "property float w");
+    EXPECT_CONTAINS(errorOf("e11.ply", noZ + kAsciiTet),
+                    "line 3: element vertex has no property z");
+    std::string noFaces = kAsciiHead;
+    noFaces.replace(noFaces.find("vertex_indices"), 14, "vertex_labels");
+    EXPECT_CONTAINS(errorOf("e12.ply", noFaces + kAsciiTet),
+                    "line 7: element face has no list property vertex_indices");
+    std::string floatIndices = kAsciiHead;
+    floatIndices.replace(floatIndices.find("uchar int"), 9, "uchar float");
+    EXPECT_CONTAINS(errorOf("e13.ply", floatIndices + kAsciiTet),
+                    "line 8: face property vertex_indices must be a list of integers");
+    std::string floatCount = kAsciiHead;
+    floatCount.replace(floatCount.find("uchar int"), 9, "float int");
+    EXPECT_CONTAINS(errorOf("e14.ply", floatCount + kAsciiTet),
+                    "line 8: list count type \"float\" is not an integer");
+    EXPECT_CONTAINS(errorOf("e15.ply",
+                            "ply\nformat ascii 1.0\nelement face 0\nproperty list "
+                            "uchar int vertex_indices\nend_header\n"),
+                    "line 5: the header declares no element vertex");
+    std::string partialNormal = kAsciiHead;
+    partialNormal.replace(partialNormal.find("element face"), 0, "property float nx\n");
+    EXPECT_CONTAINS(errorOf("e16.ply", partialNormal + kAsciiTet),
+                    "line 3: element vertex has only some of the normal (nx, ny, nz) properties");
+    EXPECT_CONTAINS(errorOf("e17.ply",
+                            "ply\nformat ascii 1.0\nelement vertex 1\n"
+                            "property float x\nproperty double x\nend_header\n"),
+                    "line 5: property \"x\" twice in element \"vertex\"");
+}
+
+TEST(MeshFile, PlyHugeCountsFailBeforeAllocating) {
+    const std::string h =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 1099511627776\n"
+        "property float x\nend_header\n";
+    const std::string bytes = h + std::string(100 - h.size(), '\0');
+    ASSERT_EQ(bytes.size(), 100u);
+    const auto t0 = std::chrono::steady_clock::now();
+    EXPECT_EQ(errorOf("huge.ply", bytes),
+              tmp("huge.ply") +
+                  ": line 3: element \"vertex\" claims 1099511627776 records, but the rest of "
+                  "the file holds at most 1");
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 0.1);
+    std::string ascii = kAsciiHead;
+    ascii.replace(ascii.find("face 4"), 6, "face 4000000000");
+    EXPECT_CONTAINS(errorOf("huge_ascii.ply", ascii + kAsciiTet),
+                    "line 7: element \"face\" claims 4000000000 records, but the rest of the file "
+                    "holds at most 16");
+    // A list length beyond the limit, and one beyond the end of the file.
+    Bytes b{false,
+            "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+            "property float y\nproperty float z\nelement face 1\n"
+            "property list uint uint vertex_indices\nend_header\n"};
+    const size_t body = b.s.size();
+    for (int i = 0; i < 9; ++i) b.put(float(i % 4 == 0));
+    b.put<uint32_t>(4000000000u).put<uint32_t>(0);
+    EXPECT_EQ(errorOf("long_list.ply", b.s),
+              tmp("long_list.ply") + ": byte " + std::to_string(body + 36) +
+                  ": list of 4000000000 items in face 0 (at most 65536)");
+    b.s.resize(body + 36);
+    b.put<uint32_t>(1000).put<uint32_t>(0);
+    EXPECT_EQ(errorOf("long_list.ply", b.s), tmp("long_list.ply") + ": byte " +
+                                                 std::to_string(body + 36) +
+                                                 ": end of file inside face 0");
+}
+
+TEST(MeshFile, PlyBodyErrors) {
+    std::string binary = binaryPyramid(false);
+    const size_t size = binary.size();  // the last face: uchar count, 3 ints, char flag
+    binary.resize(size - 3);            // the list (3 ints) at size − 13 is cut short
+    EXPECT_EQ(errorOf("truncated.ply", binary), tmp("truncated.ply") + ": byte " +
+                                                    std::to_string(size - 14) +
+                                                    ": end of file inside face 4");
+    binary.resize(size - 14);  // without the last face
+    EXPECT_EQ(errorOf("truncated.ply", binary), tmp("truncated.ply") + ": byte " +
+                                                    std::to_string(size - 14) +
+                                                    ": end of file inside face 4");
+    binary.resize(size - 320 + 100);  // 100 bytes of the body: not even the vertices fit
+    EXPECT_CONTAINS(errorOf("truncated.ply", binary),
+                    "line 6: element \"vertex\" claims 5 records, but the rest of the file holds "
+                    "at most 1");
+    EXPECT_EQ(errorOf("trailing.ply", binaryPyramid(true) + "xy"),
+              tmp("trailing.ply") + ": byte " + std::to_string(binaryPyramid(true).size()) +
+                  ": 2 bytes after the last element");
+
+    EXPECT_EQ(errorOf("range.ply", kAsciiHead + "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 4\n"
+                                                "3 0 3 2\n3 1 2 3\n"),
+              tmp("range.ply") + ": line 15: vertex index 4 of face 1 out of range (4 vertices)");
+    EXPECT_CONTAINS(errorOf("negative.ply", kAsciiHead + "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n"
+                                                         "3 0 1 -3\n3 0 3 2\n3 1 2 3\n"),
+                    "line 15: vertex index -3 of face 1 out of range (4 vertices)");
+    EXPECT_CONTAINS(errorOf("few.ply", kAsciiHead + "0 0 0\n1 0\n0 1 0\n0 0 1\n" + kFaces),
+                    "line 11: fewer values than the header declares for vertex 1");
+    EXPECT_CONTAINS(errorOf("many.ply", kAsciiHead + "0 0 0\n1 0 0 0\n0 1 0\n0 0 1\n" + kFaces),
+                    "line 11: more values than the header declares for vertex 1");
+    EXPECT_CONTAINS(errorOf("short.ply", kAsciiHead + "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 "
+                                                      "1 3\n3 0 3 2\n"),
+                    "line 17: end of file: expected face 3");
+    EXPECT_CONTAINS(errorOf("after.ply", kAsciiHead + kAsciiTet + "\n 1 2 3\n"),
+                    "line 19: data after the last element");
+    EXPECT_CONTAINS(errorOf("word.ply", kAsciiHead + "0 0 zero\n1 0 0\n0 1 0\n0 0 1\n" + kFaces),
+                    "line 10: \"zero\" in vertex 0 is not a number");
+    EXPECT_CONTAINS(
+        errorOf("uchar.ply", kAsciiHead + "0 0 0\n1 0 0\n0 1 0\n0 0 1\n256 0 2 1\n" + kFaces),
+        "line 14: \"256\" in face 0 is not an integer from 0 to 255");
+    EXPECT_CONTAINS(errorOf("two.ply", kAsciiHead + "0 0 0\n1 0 0\n0 1 0\n0 0 1\n2 0 2\n" + kFaces),
+                    "line 14: face 0 has 2 vertices (a polygon needs at least 3)");
+    EXPECT_CONTAINS(
+        errorOf("overflow.ply", kAsciiHead + "1e999 0 0\n1 0 0\n0 1 0\n0 0 1\n" + kFaces),
+        "line 10: \"1e999\" in vertex 0 is not a number");
+}
+
+TEST(MeshFile, PlyValidationErrors) {
+    // A NaN position in a binary file, an infinite normal, a degenerate triangle.
+    Bytes b{false,
+            "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
+            "property float y\nproperty float z\nelement face 4\n"
+            "property list uchar int vertex_indices\nend_header\n"};
+    const float p[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 3; ++j)
+            b.put(i == 2 && j == 1 ? std::numeric_limits<float>::quiet_NaN() : p[i][j]);
+    for (int f : {0x000201, 0x000103, 0x000302, 0x010203}) {
+        b.put<uint8_t>(3);
+        for (int s : {16, 8, 0}) b.put<int32_t>((f >> s) & 0xff);
+    }
+    EXPECT_EQ(errorOf("nan.ply", b.s),
+              tmp("nan.ply") + ": vertex 2: position (0, nan, 0) is not finite");
+
+    std::string normals = kAsciiHead;
+    normals.replace(normals.find("element face"), 0,
+                    "property float nx\nproperty float ny\nproperty float nz\n");
+    EXPECT_EQ(errorOf("normal.ply", normals + "0 0 0 0 0 1\n1 0 0 inf 0 0\n0 1 0 0 0 1\n"
+                                              "0 0 1 0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"),
+              tmp("normal.ply") + ": vertex 1: normal (inf, 0, 0) is not finite");
+    EXPECT_EQ(errorOf("degenerate.ply", kAsciiHead + "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n"
+                                                     "3 0 1 3\n3 0 3 3\n3 1 2 3\n"),
+              tmp("degenerate.ply") +
+                  ": face 2: repeated vertex index in (0, 3, 3): degenerate triangle");
+    EXPECT_EQ(
+        errorOf("collinear.ply", kAsciiHead + "0 0 0\n1 0 0\n2 0 0\n0 0 1\n3 0 2 1\n"
+                                              "3 0 1 3\n3 0 3 2\n3 1 2 3\n"),
+        tmp("collinear.ply") + ": face 0: zero area (collinear vertices): degenerate triangle");
+}
+
+TEST(MeshFile, MissingFiles) {
+    EXPECT_EQ(messageOf([] { readMesh(tmp("missing.ply")); }),
+              tmp("missing.ply") + ": file not found");
+    EXPECT_EQ(messageOf([] { readMesh(tmp("missing.OBJ")); }),
+              tmp("missing.OBJ") + ": file not found");
+    EXPECT_EQ(messageOf([] { readPly(testing::TempDir()); }),
+              testing::TempDir() + ": not a regular file");
+    EXPECT_EQ(messageOf([] { readMesh("mesh.stl"); }),
+              "mesh.stl: unknown mesh file extension \".stl\" (expected .obj or .ply)");
+    EXPECT_EQ(messageOf([] { readMesh("dir.ply/mesh"); }),
+              "dir.ply/mesh: unknown mesh file extension \"\" (expected .obj or .ply)");
+}
+
+TEST(MeshFile, Obj) {
+    // Two objects, relative indices in the second, a quad, a missing material library.
+    const std::string obj =
+        "# pyramid\n"
+        "mtllib missing.mtl\n"
+        "o base\n"
+        "v 0 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\n"
+        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.5\n"
+        "vn 0 0 -1\n"
+        "usemtl stone\n"
+        "f 1/1/1 4/4/1 3/3/1 2/2/1\n"
+        "o sides\n"
+        "v 1 1 1 # apex\n"
+        "vn 0 -1 1\r\n"
+        "vn 1 0 1\rvn 0 1 1\n"
+        "vn -1 0 1\n"
+        "g walls\n"
+        "f -5/1/-4 -4/2/-4 -1/5/-4\n"
+        "f 2/2/3 3/3/3 5/5/3\n"
+        "\tf 3/3/4 4/4/4 5/5/4\n"
+        "f 4/4/5 1/1/5 5/5/5\n";
+    const TriangleMesh m = readObj(write("pyramid.obj", obj));
+    // Distinct (v, vt, vn) corners in order of appearance.
+    const int corners[][3] = {{1, 1, 1}, {4, 4, 1}, {3, 3, 1}, {2, 2, 1}, {1, 1, 2}, {2, 2, 2},
+                              {5, 5, 2}, {2, 2, 3}, {3, 3, 3}, {5, 5, 3}, {3, 3, 4}, {4, 4, 4},
+                              {5, 5, 4}, {4, 4, 5}, {1, 1, 5}, {5, 5, 5}};
+    const double vt[5][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0.5, 0.5}};
+    const double vn[5][3] = {{0, 0, -1}, {0, -1, 1}, {1, 0, 1}, {0, 1, 1}, {-1, 0, 1}};
+    ASSERT_EQ(m.p.size(), 16u);
+    ASSERT_EQ(m.uv.size(), 16u);
+    ASSERT_EQ(m.n.size(), 16u);
+    for (int i = 0; i < 16; ++i) {
+        const auto& c = corners[i];
+        EXPECT_EQ(m.p[i], Vec3(kPyramid[c[0] - 1][0], kPyramid[c[0] - 1][1], kPyramid[c[0] - 1][2]))
+            << i;
+        EXPECT_EQ(m.uv[i], Vec2(vt[c[1] - 1][0], vt[c[1] - 1][1])) << i;
+        EXPECT_EQ(m.n[i], Vec3(vn[c[2] - 1][0], vn[c[2] - 1][1], vn[c[2] - 1][2])) << i;
+    }
+    EXPECT_EQ(m.indices,
+              std::vector<uint32_t>({0, 1, 2, 0, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15}));
+    EXPECT_DOUBLE_EQ(signedVolume(m), 4.0 / 3);
+    EXPECT_DOUBLE_EQ(surfaceArea(m), 4 + 4 * std::sqrt(2.0));
+}
+
+TEST(MeshFile, ObjSharesVerticesAndKeepsTheWinding) {
+    const std::string obj =
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0.5 0.5 0.5\n"
+        "f 1 3 2\nf 1 2 4\nf 1 4 3\n"
+        "f 2 3 5 4\n"  // a non-planar quad: the fan (2, 3, 5), (2, 5, 4) and
+        "f 3 4 5\n";   // this triangle put a roof on the face (2, 3, 4) of the tetrahedron
+    const TriangleMesh m = readObj(write("tet.obj", obj));
+    EXPECT_EQ(m.p.size(), 5u);
+    EXPECT_TRUE(m.n.empty());
+    EXPECT_TRUE(m.uv.empty());
+    EXPECT_EQ(m.indices,
+              std::vector<uint32_t>({0, 1, 2, 0, 2, 3, 0, 3, 1, 2, 1, 4, 2, 4, 3, 1, 3, 4}));
+    EXPECT_EQ(closedMeshDefect(m), "");
+    EXPECT_DOUBLE_EQ(signedVolume(m), 1.0 / 6 + 1.0 / 12);
+}
+
+TEST(MeshFile, ObjErrors) {
+    const std::string tet = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+    EXPECT_EQ(errorOf("nan.obj", "v 0 0 0\nv 1 nan 0\n"),
+              tmp("nan.obj") + ": line 2: \"nan\" is not a finite number");
+    EXPECT_EQ(errorOf("inf.obj", "v 0 0 0\nvn -inf 0 1\n"),
+              tmp("inf.obj") + ": line 2: \"-inf\" is not a finite number");
+    EXPECT_EQ(errorOf("word.obj", "v 0 0 0\r\nvt 0 0\r\nv 1 zero 0\r\n"),
+              tmp("word.obj") + ": line 3: \"zero\" is not a number");
+    EXPECT_EQ(errorOf("two.obj", "v 0 0 0\nv 1 0\n"),
+              tmp("two.obj") + ": line 2: 2 numbers; expected v (x y z [w or r g b])");
+    // Beyond float range: tinyobjloader reads it as infinity, and validateMesh says so.
+    EXPECT_EQ(errorOf("big.obj", tet + "v 1e39 0 0\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 5\n"),
+              tmp("big.obj") + ": vertex 4: position (inf, 0, 0) is not finite");
+    // tinyobjloader reads "0e999" as 0 · 5^999 · 2^999 = 0 · ∞ = NaN.
+    EXPECT_EQ(errorOf("nan2.obj", tet + "v 0e999 0 0\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 5\n"),
+              tmp("nan2.obj") + ": vertex 4: position (nan, 0, 0) is not finite");
+    std::string polygon, face = "f";  // 300 vertices: more than tinyobjloader can count
+    for (int i = 0; i < 300; ++i) {
+        polygon += "v " + std::to_string(std::cos(i * TwoPi / 300)) + " " +
+                   std::to_string(std::sin(i * TwoPi / 300)) + " 0\n";
+        face += " " + std::to_string(i + 1);
+    }
+    EXPECT_EQ(errorOf("polygon.obj", polygon + face + "\n"),
+              tmp("polygon.obj") + ": a face has more than 255 vertices (tinyobjloader's limit)");
+    EXPECT_EQ(errorOf("range.obj", tet + "f 1 3 2\nf 1 2 4\n\nf 1 4 5\n"),
+              tmp("range.obj") + ": line 8: v index 5 out of range (4 v lines)");
+    EXPECT_EQ(errorOf("relative.obj", tet + "f -1 -2 -5\n"),
+              tmp("relative.obj") + ": line 5: relative v index points before the first v line");
+    EXPECT_EQ(errorOf("vt.obj", tet + "vt 0 0\nf 1/1 3/1 2/2\n"),
+              tmp("vt.obj") + ": line 6: vt index 2 out of range (1 vt lines)");
+    EXPECT_EQ(errorOf("zero.obj", tet + "f 1 3 2\nf 0 1 2\n"),
+              tmp("zero.obj") + ": line 6: malformed face: an index is 0 or not a number");
+    EXPECT_EQ(errorOf("mixed.obj", tet + "vt 0 0\nf 1/1 3/1 2/1\nf 1 2 4\n"),
+              tmp("mixed.obj") +
+                  ": line 7: some face corners have texture coordinates (vt) and others do not");
+    EXPECT_EQ(errorOf("line.obj", tet + "f 1 3 2\nf 1 2\n"),
+              tmp("line.obj") + ": a face has fewer than 3 vertices");
+    EXPECT_EQ(errorOf("degenerate.obj", tet + "f 1 3 2\nf 1 2 2\n"),
+              tmp("degenerate.obj") +
+                  ": face 1: repeated vertex index in (0, 2, 2): degenerate triangle");
+    EXPECT_EQ(errorOf("empty.obj", tet), tmp("empty.obj") + ": the mesh has no triangles");
+    EXPECT_EQ(errorOf("normal.obj", tet + "vn 0 0 0\nf 1//1 3//1 2//1\n"),
+              tmp("normal.obj") + ": vertex 0: normal is zero");
+}
+
+}  // namespace
+}  // namespace shvol

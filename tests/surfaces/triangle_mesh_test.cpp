@@ -1,0 +1,211 @@
+#include "shvol/surfaces/triangle_mesh.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "test_util.h"
+
+namespace shvol {
+namespace {
+
+using shvol::test::messageOf;
+
+/// The cube [-1, 1]³, two triangles per face, facing outwards. Vertex i = (x, y, z) with bit 0
+/// of i for x, bit 1 for y and bit 2 for z.
+TriangleMesh cube() {
+    TriangleMesh m;
+    for (int i = 0; i < 8; ++i) m.p.emplace_back(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1);
+    const uint32_t quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                  {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+    for (const auto& q : quads)
+        m.indices.insert(m.indices.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
+    return m;
+}
+
+/// The tetrahedron with corners 0, x, y, z, facing outwards.
+TriangleMesh tetrahedron() {
+    TriangleMesh m;
+    m.p = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+    m.indices = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
+    return m;
+}
+
+void flip(TriangleMesh& m, size_t face) {
+    std::swap(m.indices[3 * face + 1], m.indices[3 * face + 2]);
+}
+
+TEST(TriangleMesh, CubeIsClosedWithExactVolumeAndArea) {
+    const TriangleMesh m = cube();
+    EXPECT_NO_THROW(validateMesh(m, "cube.obj"));
+    EXPECT_EQ(closedMeshDefect(m), "");
+    EXPECT_EQ(signedVolume(m), 8.0);
+    EXPECT_EQ(surfaceArea(m), 24.0);
+    for (size_t f = 0; f < m.triangleCount(); ++f) {  // each normal points away from the centre
+        const Vec3 p0 = m.p[m.indices[3 * f]], p1 = m.p[m.indices[3 * f + 1]],
+                   p2 = m.p[m.indices[3 * f + 2]];
+        EXPECT_GT((p1 - p0).cross(p2 - p0).dot(p0 + p1 + p2), 0) << "face " << f;
+    }
+}
+
+TEST(TriangleMesh, TetrahedronIsClosedWithExactVolumeAndArea) {
+    const TriangleMesh m = tetrahedron();
+    EXPECT_NO_THROW(validateMesh(m, "tet.ply"));
+    EXPECT_EQ(closedMeshDefect(m), "");
+    EXPECT_DOUBLE_EQ(signedVolume(m), 1.0 / 6);
+    EXPECT_DOUBLE_EQ(surfaceArea(m), 1.5 + std::sqrt(3.0) / 2);
+}
+
+TEST(TriangleMesh, FlippedMeshIsClosedWithNegativeVolume) {
+    TriangleMesh c = cube(), t = tetrahedron();
+    for (size_t f = 0; f < c.triangleCount(); ++f) flip(c, f);
+    for (size_t f = 0; f < t.triangleCount(); ++f) flip(t, f);
+    EXPECT_EQ(closedMeshDefect(c), "");
+    EXPECT_EQ(closedMeshDefect(t), "");
+    EXPECT_EQ(signedVolume(c), -8.0);
+    EXPECT_DOUBLE_EQ(signedVolume(t), -1.0 / 6);
+    EXPECT_EQ(surfaceArea(c), 24.0);
+}
+
+TEST(TriangleMesh, OpenBoxIsDetected) {
+    TriangleMesh m = cube();
+    m.indices.resize(m.indices.size() - 6);  // without its top (+z) face
+    EXPECT_NO_THROW(validateMesh(m, "box.obj"));
+    // Face 0 = (0, 4, 6): edge (4, 6) lay against the top triangle (4, 7, 6).
+    EXPECT_EQ(closedMeshDefect(m),
+              "edge (4, 6) of face 0 has no opposite edge: the mesh is not closed");
+}
+
+TEST(TriangleMesh, NonManifoldEdgeIsDetected) {
+    TriangleMesh m = cube();
+    m.p.emplace_back(0, -2, -2);
+    m.indices.insert(m.indices.end(), {0, 1, 8});  // a fin on the cube's edge (0, 1)
+    EXPECT_NO_THROW(validateMesh(m, "fin.obj"));
+    EXPECT_EQ(closedMeshDefect(m),
+              "edge (0, 1) of face 4 appears twice (also in face 12): inconsistent winding or "
+              "non-manifold");
+}
+
+TEST(TriangleMesh, InconsistentWindingIsDetected) {
+    TriangleMesh m = cube();
+    flip(m, 7);  // (2, 7, 3) becomes (2, 3, 7)
+    const std::string d = closedMeshDefect(m);
+    EXPECT_NE(d.find("appears twice"), std::string::npos) << d;
+    EXPECT_NE(d.find("face 7"), std::string::npos) << d;
+    EXPECT_NE(d.find("inconsistent winding or non-manifold"), std::string::npos) << d;
+    EXPECT_EQ(closedMeshDefect(TriangleMesh()), "the mesh has no triangles");
+    m = cube();
+    m.indices[4] = m.indices[3];
+    EXPECT_EQ(closedMeshDefect(m), "face 1 repeats a vertex: degenerate triangle");
+}
+
+/// A torus of nu × nv quads, two triangles each, facing outwards.
+TriangleMesh torus(uint32_t nu, uint32_t nv) {
+    TriangleMesh m;
+    for (uint32_t i = 0; i < nu; ++i)
+        for (uint32_t j = 0; j < nv; ++j) {
+            const double u = TwoPi * i / nu, v = TwoPi * j / nv;
+            m.p.emplace_back((2 + std::cos(v)) * std::cos(u), (2 + std::cos(v)) * std::sin(u),
+                             std::sin(v));
+        }
+    const auto at = [&](uint32_t i, uint32_t j) { return (i % nu) * nv + j % nv; };
+    for (uint32_t i = 0; i < nu; ++i)
+        for (uint32_t j = 0; j < nv; ++j) {
+            const uint32_t a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
+            m.indices.insert(m.indices.end(), {a, b, c, a, c, d});
+        }
+    return m;
+}
+
+TEST(TriangleMesh, ClosedCheckOfAMillionTrianglesIsFast) {
+    TriangleMesh m = torus(500, 1000);
+    ASSERT_EQ(m.triangleCount(), 1000000u);
+    const auto t0 = std::chrono::steady_clock::now();
+    EXPECT_EQ(closedMeshDefect(m), "");
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("closedMeshDefect, 1M triangles: %.3f s\n", seconds);
+    EXPECT_LT(seconds, 2.0);  // O(T log T) takes about 0.1 s; a quadratic check would never end
+    EXPECT_GT(signedVolume(m), 0);
+    EXPECT_NEAR(signedVolume(m), 2 * Pi * Pi * 2, 0.01 * 4 * Pi * Pi);  // 2π²Rr², R = 2, r = 1
+    flip(m, 999999);
+    EXPECT_NE(closedMeshDefect(m).find("appears twice (also in face 999999)"), std::string::npos)
+        << closedMeshDefect(m);
+}
+
+TEST(TriangleMesh, ValidateNamesTheVertex) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double inf = std::numeric_limits<double>::infinity();
+    TriangleMesh m = tetrahedron();
+    m.p[3].x() = nan;
+    EXPECT_EQ(messageOf([&] { validateMesh(m, "m.ply"); }),
+              "m.ply: vertex 3: position (nan, 0, 1) is not finite");
+    m = tetrahedron();
+    m.n.assign(4, Vec3(0, 0, 1));
+    EXPECT_NO_THROW(validateMesh(m, "m.ply"));
+    m.n[1] = Vec3(inf, 0, 0);
+    EXPECT_EQ(messageOf([&] { validateMesh(m, "m.ply"); }),
+              "m.ply: vertex 1: normal (inf, 0, 0) is not finite");
+    m.n[1] = Vec3(0, 0, 0);
+    EXPECT_EQ(messageOf([&] { validateMesh(m, "m.ply"); }), "m.ply: vertex 1: normal is zero");
+    m = tetrahedron();
+    m.uv.assign(4, Vec2(0.5, 0.5));
+    m.uv[2].y() = -inf;
+    EXPECT_EQ(messageOf([&] { validateMesh(m, "m.ply"); }),
+              "m.ply: vertex 2: texture coordinates (0.5, -inf) are not finite");
+    m.uv.resize(3);
+    EXPECT_EQ(messageOf([&] { validateMesh(m, "m.ply"); }),
+              "m.ply: 3 texture coordinates for 4 vertices");
+    m = tetrahedron();
+    m.n.resize(5, Vec3(1, 0, 0));
+    EXPECT_EQ(messageOf([&] { validateMesh(m, "m.ply"); }), "m.ply: 5 normals for 4 vertices");
+}
+
+TEST(TriangleMesh, ValidateNamesTheFace) {
+    TriangleMesh m = cube();
+    m.indices[7] = 8;
+    EXPECT_EQ(messageOf([&] { validateMesh(m, "cube.obj"); }),
+              "cube.obj: face 2: vertex index 8 out of range (8 vertices)");
+    m = cube();
+    m.indices[5] = m.indices[4];
+    EXPECT_EQ(messageOf([&] { validateMesh(m, "cube.obj"); }),
+              "cube.obj: face 1: repeated vertex index in (0, 6, 6): degenerate triangle");
+    m = tetrahedron();
+    m.p.emplace_back(2, 0, 0);
+    m.indices.insert(m.indices.end(), {0, 1, 4});  // (0,0,0), (1,0,0), (2,0,0)
+    EXPECT_EQ(messageOf([&] { validateMesh(m, "tet.obj"); }),
+              "tet.obj: face 4: zero area (collinear vertices): degenerate triangle");
+    m.indices[12] = 1;  // (1,0,0), (0,0,0), (2,0,0): p0 between the others
+    m.indices[13] = 0;
+    EXPECT_EQ(messageOf([&] { validateMesh(m, "tet.obj"); }),
+              "tet.obj: face 4: zero area (collinear vertices): degenerate triangle");
+    m = tetrahedron();
+    m.p[3] = Vec3(0.1, 0.2, 0.3);
+    m.p[2] = Vec3(0.3, 0.6, 0.9);  // collinear with p0, p3 up to rounding
+    m.indices = {0, 3, 2};
+    EXPECT_EQ(messageOf([&] { validateMesh(m, "tet.obj"); }),
+              "tet.obj: face 0: zero area (collinear vertices): degenerate triangle");
+    m.p[2] = Vec3(0.3, 0.6, 0.9 + 1e-9);  // thin, not degenerate
+    EXPECT_NO_THROW(validateMesh(m, "tet.obj"));
+    m = tetrahedron();
+    m.p[1].x() = 1e300;
+    m.p[2].y() = 1e300;
+    EXPECT_EQ(messageOf([&] { validateMesh(m, "big.ply"); }),
+              "big.ply: face 0: area is not finite (coordinates too large)");
+}
+
+TEST(TriangleMesh, ValidateRefusesAnEmptyMesh) {
+    EXPECT_EQ(messageOf([&] { validateMesh(TriangleMesh(), "e.obj"); }),
+              "e.obj: the mesh has no triangles");
+    TriangleMesh m = tetrahedron();
+    m.indices.clear();
+    EXPECT_EQ(messageOf([&] { validateMesh(m, "e.obj"); }), "e.obj: the mesh has no triangles");
+    m.indices = {0, 1};
+    EXPECT_EQ(messageOf([&] { validateMesh(m, "e.obj"); }),
+              "e.obj: 2 vertex indices: not whole triangles");
+}
+
+}  // namespace
+}  // namespace shvol
