@@ -10,4 +10,9 @@ Vec3 sampleUniformHemisphere(const Vec2& u) {
     return sphericalDirection(u.x(), TwoPi * u.y());
 }
 
+Vec3 sampleCosineHemisphere(const Vec2& u) {
+    const double r = std::sqrt(u.x()), phi = TwoPi * u.y();
+    return {r * std::cos(phi), r * std::sin(phi), std::sqrt(1.0 - u.x())};
+}
+
 }  // namespace shvol

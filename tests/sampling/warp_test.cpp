@@ -17,7 +17,7 @@ TEST(Warp, UniformSphereIsUnitAndCoversBothPoles) {
 
 TEST(Warp, UniformSphereChi2) {
     Chi2Options opt;
-    opt.numTests = 2;  // sphere and hemisphere in this file
+    opt.numTests = 3;  // sphere, hemisphere and cosine hemisphere in this file
     const auto r = chi2TestSphere(
         [](Rng& rng) { return std::optional<Vec3>(sampleUniformSphere(rng.uniform2())); },
         [](const Vec3&) { return uniformSpherePdf(); }, opt);
@@ -27,13 +27,26 @@ TEST(Warp, UniformSphereChi2) {
 
 TEST(Warp, UniformHemisphereChi2) {
     Chi2Options opt;
-    opt.numTests = 2;
+    opt.numTests = 3;
     opt.seed = 2;
     const auto r = chi2TestSphere(
         [](Rng& rng) { return std::optional<Vec3>(sampleUniformHemisphere(rng.uniform2())); },
         [](const Vec3& w) { return w.z() >= 0 ? uniformHemispherePdf() : 0.0; }, opt);
     EXPECT_TRUE(r.passed) << r.report;
     EXPECT_NEAR(r.pdfIntegral, 1.0, 1e-9);
+}
+
+TEST(Warp, CosineHemisphereChi2) {
+    Chi2Options opt;
+    opt.numTests = 3;
+    opt.seed = 3;
+    const auto r = chi2TestSphere(
+        [](Rng& rng) { return std::optional<Vec3>(sampleCosineHemisphere(rng.uniform2())); },
+        [](const Vec3& w) { return cosineHemispherePdf(w.z()); }, opt);
+    EXPECT_TRUE(r.passed) << r.report;
+    EXPECT_NEAR(r.pdfIntegral, 1.0, 1e-7);
+    EXPECT_NEAR(sampleCosineHemisphere({0.0, 0.7}).z(), 1.0, 1e-15);
+    EXPECT_NEAR(sampleCosineHemisphere({1.0, 0.7}).z(), 0.0, 1e-15);
 }
 
 TEST(Warp, UniformHemisphereStaysAbove) {

@@ -22,4 +22,12 @@ inline double uniformHemispherePdf() {
     return Inv2Pi;
 }
 
+/// Cosine-weighted direction on z > 0 (Malley's method with the polar disk map):
+/// r = √u₁, φ = 2π u₂, ω = (r cos φ, r sin φ, √(1 − u₁)). Density cos θ / π.
+Vec3 sampleCosineHemisphere(const Vec2& u);
+/// Solid-angle density of sampleCosineHemisphere: max(0, cos θ)/π.
+inline double cosineHemispherePdf(double cosTheta) {
+    return std::max(0.0, cosTheta) * InvPi;
+}
+
 }  // namespace shvol
