@@ -1,0 +1,46 @@
+#pragma once
+/// \file One surface of a scene: a shape in world space, its BSDF, its emission, and the medium
+/// it bounds.
+///
+/// Shapes are triangle meshes (from OBJ/PLY, or the two triangles of a `rectangle`), flat disks and
+/// spheres. A shape's front side is the side its geometric normal n_g points to: counter-clockwise
+/// winding for triangles, the disk's normal, outwards for spheres. Closed surfaces that bound a
+/// medium face outwards (the loader flips a mesh whose signed volume is negative).
+#include <string>
+
+#include "shvol/surfaces/bsdf.h"
+#include "shvol/surfaces/triangle_mesh.h"
+
+namespace shvol {
+
+struct Surface {
+    enum class Kind { Mesh, Rectangle, Disk, Sphere };
+    Kind kind = Kind::Mesh;
+    TriangleMesh mesh;     ///< Mesh and Rectangle: the triangles, in world space
+    Vec3 center{0, 0, 0};  ///< Disk, Sphere
+    Vec3 normal{0, 0, 1};  ///< Disk: unit normal (its front side)
+    double radius = 1;     ///< Disk, Sphere
+    Bsdf bsdf = Bsdf::lambert(Spectrum::Constant(0.5));
+    Spectrum emission = Spectrum::Zero();  ///< radiance L_e leaving the front side
+    bool twoSidedEmission = false;         ///< emit from the back side too
+    int interiorMedium = -1;  ///< the medium filling the inside of a closed surface, or −1
+    std::string name;         ///< for messages and statistics, e.g. "surfaces[2]" or its "name"
+
+    bool emits() const { return emission.maxCoeff() > 0; }
+    bool closed() const { return kind == Kind::Sphere || kind == Kind::Mesh; }
+    /// Area of the shape.
+    double area() const;
+    /// Radiance leaving the surface towards w (unit, pointing away from it) at a point with
+    /// geometric normal ng: L_e if w is on the front side (or twoSidedEmission), else 0.
+    Spectrum Le(const Vec3& ng, const Vec3& w) const {
+        const double c = ng.dot(w);
+        return (c > 0 || (twoSidedEmission && c < 0)) ? emission : Spectrum::Zero();
+    }
+    /// The unit rectangle [−1, 1]² in the z = 0 plane facing +z, or the unit disk, placed by
+    /// toWorld (as the rectangle and disk of Mitsuba and pbrt).
+    static Surface rectangle(const Eigen::Affine3d& toWorld);
+    static Surface disk(const Eigen::Affine3d& toWorld);
+    static Surface sphere(const Vec3& center, double radius);
+};
+
+}  // namespace shvol

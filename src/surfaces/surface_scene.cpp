@@ -1,0 +1,249 @@
+#include "shvol/surfaces/surface_scene.h"
+
+#include <embree3/rtcore.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "shvol/core/error.h"
+
+namespace shvol {
+
+namespace {
+
+/// Nearest root t ∈ (t0, t1) of |o + t d − c|² = r² (d unit), or NaN. The roots are computed as
+/// t = b ∓ √disc with b = (c − o)·d and disc = r² − |(o − c) + b d|², the form that keeps
+/// precision when the ray starts far from a small sphere (pbrt-v4 §6.8.1).
+double sphereRoot(const Vec3& o, const Vec3& d, const Vec3& c, double r, double t0, double t1) {
+    const double b = (c - o).dot(d);
+    const double disc = r * r - ((o - c) + b * d).squaredNorm();
+    if (disc < 0) return std::numeric_limits<double>::quiet_NaN();
+    const double q = std::sqrt(disc);
+    if (b - q > t0 && b - q < t1) return b - q;
+    if (b + q > t0 && b + q < t1) return b + q;
+    return std::numeric_limits<double>::quiet_NaN();
+}
+
+/// t ∈ (t0, t1) where the ray meets the disk, or NaN.
+double diskRoot(const Vec3& o, const Vec3& d, const Surface& s, double t0, double t1) {
+    const double dn = d.dot(s.normal);
+    if (dn == 0) return std::numeric_limits<double>::quiet_NaN();
+    const double t = (s.center - o).dot(s.normal) / dn;
+    if (!(t > t0 && t < t1)) return std::numeric_limits<double>::quiet_NaN();
+    if ((o + t * d - s.center).squaredNorm() > s.radius * s.radius)
+        return std::numeric_limits<double>::quiet_NaN();
+    return t;
+}
+
+double analyticRoot(const Surface& s, const Vec3& o, const Vec3& d, double t0, double t1) {
+    return s.kind == Surface::Kind::Sphere ? sphereRoot(o, d, s.center, s.radius, t0, t1)
+                                           : diskRoot(o, d, s, t0, t1);
+}
+
+// Embree user geometry for spheres and disks, intersected in double precision. Only rtcIntersect1
+// and rtcOccluded1 are used, so every callback sees one ray (N == 1).
+void analyticBounds(const RTCBoundsFunctionArguments* a) {
+    const Surface& s = *static_cast<const Surface*>(a->geometryUserPtr);
+    Vec3 half = Vec3::Constant(s.radius);
+    if (s.kind == Surface::Kind::Disk)  // extent of a disk along axis i: r √(1 − n_i²)
+        for (int i = 0; i < 3; ++i) half[i] = s.radius * safeSqrt(1 - s.normal[i] * s.normal[i]);
+    const Vec3 lo = s.center - half, hi = s.center + half;
+    const float inf = std::numeric_limits<float>::infinity();
+    // Rounded outwards, so the float box contains the double shape.
+    a->bounds_o->lower_x = std::nextafter(float(lo.x()), -inf);
+    a->bounds_o->lower_y = std::nextafter(float(lo.y()), -inf);
+    a->bounds_o->lower_z = std::nextafter(float(lo.z()), -inf);
+    a->bounds_o->upper_x = std::nextafter(float(hi.x()), inf);
+    a->bounds_o->upper_y = std::nextafter(float(hi.y()), inf);
+    a->bounds_o->upper_z = std::nextafter(float(hi.z()), inf);
+}
+
+void analyticIntersect(const RTCIntersectFunctionNArguments* a) {
+    if (!a->valid[0]) return;
+    RTCRayHit& rh = *reinterpret_cast<RTCRayHit*>(a->rayhit);
+    const Surface& s = *static_cast<const Surface*>(a->geometryUserPtr);
+    const Vec3 o(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z);
+    const Vec3 d = Vec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z).normalized();
+    const double t = analyticRoot(s, o, d, rh.ray.tnear, rh.ray.tfar);
+    if (std::isnan(t)) return;
+    rh.ray.tfar = float(t);
+    rh.hit.u = rh.hit.v = 0;
+    rh.hit.Ng_x = rh.hit.Ng_y = rh.hit.Ng_z = 0;  // recomputed in double by intersect()
+    rh.hit.primID = a->primID;
+    rh.hit.geomID = a->geomID;
+    rh.hit.instID[0] = a->context->instID[0];
+}
+
+void analyticOccluded(const RTCOccludedFunctionNArguments* a) {
+    if (!a->valid[0]) return;
+    RTCRay& ray = *reinterpret_cast<RTCRay*>(a->ray);
+    const Surface& s = *static_cast<const Surface*>(a->geometryUserPtr);
+    const Vec3 o(ray.org_x, ray.org_y, ray.org_z);
+    const Vec3 d = Vec3(ray.dir_x, ray.dir_y, ray.dir_z).normalized();
+    if (!std::isnan(analyticRoot(s, o, d, ray.tnear, ray.tfar)))
+        ray.tfar = -std::numeric_limits<float>::infinity();
+}
+
+RTCRay toRtc(const Ray& ray, double tMax) {
+    RTCRay r;
+    r.org_x = float(ray.o.x()), r.org_y = float(ray.o.y()), r.org_z = float(ray.o.z());
+    r.dir_x = float(ray.d.x()), r.dir_y = float(ray.d.y()), r.dir_z = float(ray.d.z());
+    r.tnear = 0;
+    r.tfar = tMax < double(std::numeric_limits<float>::max())
+                 ? float(tMax)
+                 : std::numeric_limits<float>::infinity();
+    r.time = 0;
+    r.mask = 0xFFFFFFFFu;
+    r.id = 0;
+    r.flags = 0;
+    return r;
+}
+
+}  // namespace
+
+struct SurfaceScene::Embree {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    ~Embree() {
+        if (scene) rtcReleaseScene(scene);
+        if (device) rtcReleaseDevice(device);
+    }
+    [[noreturn]] void fail(const char* what) const {
+        throw Error(std::string("Embree: ") + what + ": error " +
+                    std::to_string(int(rtcGetDeviceError(device))));
+    }
+};
+
+SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
+    : rtc_(std::make_unique<Embree>()), surfaces_(std::move(surfaces)) {
+    const auto start = std::chrono::steady_clock::now();
+    rtc_->device = rtcNewDevice("threads=1");  // the BVH build is small; renders use TBB
+    if (!rtc_->device) throw Error("Embree: could not create a device");
+    rtc_->scene = rtcNewScene(rtc_->device);
+    rtcSetSceneFlags(rtc_->scene, RTC_SCENE_FLAG_ROBUST);
+    double scale = 0;
+    for (size_t i = 0; i < surfaces_.size(); ++i) {
+        Surface& s = surfaces_[i];
+        hasNull_ = hasNull_ || s.bsdf.type == BsdfType::Null;
+        RTCGeometry g;
+        if (s.kind == Surface::Kind::Mesh || s.kind == Surface::Kind::Rectangle) {
+            g = rtcNewGeometry(rtc_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+            const TriangleMesh& m = s.mesh;
+            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+                g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), m.p.size()));
+            auto* idx = static_cast<unsigned*>(
+                rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                        3 * sizeof(unsigned), m.triangleCount()));
+            if (!v || !idx) rtc_->fail("could not allocate a mesh buffer");
+            for (size_t k = 0; k < m.p.size(); ++k) {
+                for (int j = 0; j < 3; ++j) v[3 * k + j] = float(m.p[k][j]);
+                scale = std::max(scale, m.p[k].cwiseAbs().maxCoeff());
+            }
+            std::copy(m.indices.begin(), m.indices.end(), idx);
+            triangles_ += m.triangleCount();
+        } else {
+            g = rtcNewGeometry(rtc_->device, RTC_GEOMETRY_TYPE_USER);
+            rtcSetGeometryUserPrimitiveCount(g, 1);
+            rtcSetGeometryUserData(g, &s);
+            rtcSetGeometryBoundsFunction(g, analyticBounds, nullptr);
+            rtcSetGeometryIntersectFunction(g, analyticIntersect);
+            rtcSetGeometryOccludedFunction(g, analyticOccluded);
+            scale = std::max(scale, s.center.cwiseAbs().maxCoeff() + s.radius);
+        }
+        rtcCommitGeometry(g);
+        rtcAttachGeometryByID(rtc_->scene, g, unsigned(i));
+        rtcReleaseGeometry(g);
+    }
+    rtcCommitScene(rtc_->scene);
+    if (rtcGetDeviceError(rtc_->device) != RTC_ERROR_NONE) rtc_->fail("building the BVH");
+    epsilon_ = std::ldexp(scale > 0 ? scale : 1.0, -16);
+    buildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+SurfaceScene::~SurfaceScene() = default;
+
+bool SurfaceScene::intersect(const Ray& ray, double tMax, SurfaceHit* hit) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh;
+    rh.ray = toRtc(ray, tMax);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(rtc_->scene, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    const Surface& s = surfaces_[rh.hit.geomID];
+    hit->surface = int(rh.hit.geomID);
+    hit->primitive = rh.hit.primID;
+    hit->ns = Vec3::Zero();  // set below only from vertex normals
+    switch (s.kind) {
+        case Surface::Kind::Sphere: {
+            const Vec3 q = ray(rh.ray.tfar) - s.center;
+            hit->ng = q.normalized();
+            hit->p = s.center + s.radius * hit->ng;
+            hit->uv = Vec2(sphericalPhi(hit->ng) * Inv2Pi, safeAcos(hit->ng.z()) * InvPi);
+            break;
+        }
+        case Surface::Kind::Disk: {
+            hit->t = (s.center - ray.o).dot(s.normal) / ray.d.dot(s.normal);
+            hit->p = ray(hit->t);
+            hit->p -= (hit->p - s.center).dot(s.normal) * s.normal;  // onto the plane
+            hit->ng = s.normal;
+            hit->uv = Vec2(0, 0);
+            break;
+        }
+        default: {
+            const TriangleMesh& m = s.mesh;
+            const uint32_t* tri = &m.indices[3 * size_t(rh.hit.primID)];
+            const Vec3 &p0 = m.p[tri[0]], &p1 = m.p[tri[1]], &p2 = m.p[tri[2]];
+            // The barycentrics again in double (Möller & Trumbore 1997) for the triangle Embree
+            // found, clamped into it; Embree's float ones where the ray grazes the plane.
+            double b1 = rh.hit.u, b2 = rh.hit.v;
+            const Vec3 e1 = p1 - p0, e2 = p2 - p0, pv = ray.d.cross(e2);
+            const double det = e1.dot(pv);
+            if (std::abs(det) > 1e-12 * e1.norm() * e2.norm()) {
+                const Vec3 tv = ray.o - p0, qv = tv.cross(e1);
+                b1 = std::clamp(tv.dot(pv) / det, 0.0, 1.0);
+                b2 = std::clamp(ray.d.dot(qv) / det, 0.0, 1.0 - b1);
+            }
+            const double b0 = 1 - b1 - b2;
+            hit->p = b0 * p0 + b1 * p1 + b2 * p2;
+            hit->ng = (p1 - p0).cross(p2 - p0).normalized();
+            hit->uv = m.uv.empty()
+                          ? Vec2(b1, b2)
+                          : Vec2(b0 * m.uv[tri[0]] + b1 * m.uv[tri[1]] + b2 * m.uv[tri[2]]);
+            if (!m.n.empty()) {
+                const Vec3 n = b0 * m.n[tri[0]] + b1 * m.n[tri[1]] + b2 * m.n[tri[2]];
+                if (n.squaredNorm() > 0)
+                    hit->ns = n.dot(hit->ng) < 0 ? -n.normalized() : n.normalized();
+            }
+            break;
+        }
+    }
+    if (s.kind != Surface::Kind::Disk) hit->t = (hit->p - ray.o).dot(ray.d);
+    if (hit->ns.squaredNorm() == 0) hit->ns = hit->ng;
+    return true;
+}
+
+bool SurfaceScene::occluded(const Ray& ray, double tMax) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRay r = toRtc(ray, tMax);
+    rtcOccluded1(rtc_->scene, &ctx, &r);
+    return r.tfar < 0;
+}
+
+bool SurfaceScene::inside(int s, const Vec3& p) const {
+    const Surface& surf = surfaces_[s];
+    if (surf.kind == Surface::Kind::Sphere) return (p - surf.center).norm() < surf.radius;
+    // A direction no axis-aligned or diagonal face of a test scene is parallel to.
+    Ray ray{p, Vec3(0.5773, 0.6071, 0.5461).normalized()};
+    SurfaceHit hit;
+    for (int crossings = 0; crossings < 100000 && intersect(ray, NoHit, &hit); ++crossings) {
+        if (hit.surface == s) return hit.ng.dot(ray.d) > 0;
+        ray = spawn(hit.p, hit.ng, ray.d);
+    }
+    return false;
+}
+
+}  // namespace shvol
