@@ -157,6 +157,20 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
     j["density_lookups_per_second"] = c.tracking.densityLookups / std::max(1e-9, st.wallSeconds);
     j["majorant_segments"] = c.tracking.segments;
     j["non_finite_samples"] = c.nonFiniteSamples;
+    if (const SurfaceScene* surf = scene.surfaces.get()) {
+        nlohmann::json& sj = j["surfaces"];
+        sj["count"] = surf->surfaces().size();
+        sj["triangles"] = surf->triangleCount();
+        size_t emitters = 0;
+        for (const Surface& s : surf->surfaces()) emitters += s.emits();
+        sj["emitters"] = emitters;
+        sj["bvh_build_s"] = surf->buildSeconds();
+        sj["ray_offset"] = surf->epsilon();
+        sj["hits"] = c.surfaceHits;
+        sj["bsdf_events"] = c.surfaceEvents;
+        sj["area_light_samples"] = c.areaLightSamples;
+        sj["shadow_rays"] = c.shadowRays;
+    }
     j["peak_memory_mib"] = peakMemoryMiB();
     j["effects"] = st.effects;
     j["sampler"] = sampleStreamName(scene.settings.sampler);

@@ -1,9 +1,11 @@
 #include "shvol/io/scene_loader.h"
 
 #include <filesystem>
+#include <map>
 
 #include "shvol/core/error.h"
 #include "shvol/io/exr.h"
+#include "shvol/io/mesh_file.h"
 #include "shvol/io/vdb.h"
 #include "shvol/lights/product_sampler.h"
 #include "shvol/media/homogeneous_medium.h"
@@ -132,8 +134,107 @@ Eigen::Affine3d readTransform(JsonReader r) {
     return m;
 }
 
-std::unique_ptr<Medium> readMedium(JsonReader r) {
+Bsdf readBsdf(JsonReader r) {
+    const std::string type =
+        r.choice("type", "lambert", {"lambert", "phong", "ward", "mirror", "dielectric", "null"});
+    Bsdf b = Bsdf::null();
+    if (type == "lambert") {
+        b = Bsdf::lambert(spectrum(r, "reflectance", 0.5, 0, 1));
+    } else if (type == "phong" || type == "ward") {
+        const Spectrum rd = spectrum(r, "diffuse", 0, 0, 1);
+        const Spectrum rs = spectrum(r, "specular", 0.5, 0, 1);
+        // ρ_d + ρ_s ≤ 1 keeps the lobes energy-conserving (surfaces/bsdf.h).
+        if (((rd + rs) > 1 + 1e-12).any()) r.error("specular", "diffuse + specular exceeds 1");
+        if (type == "phong") {
+            b = Bsdf::phong(rd, rs, r.number("exponent", 22, 0, 1e6));
+        } else {
+            const double a = r.number("alpha", 0.1, 1e-4, 10);
+            b = Bsdf::ward(rd, rs, r.number("alpha_x", a, 1e-4, 10),
+                           r.number("alpha_y", a, 1e-4, 10));
+        }
+    } else if (type == "mirror") {
+        b = Bsdf::mirror(spectrum(r, "reflectance", 1, 0, 1));
+    } else if (type == "dielectric") {
+        b = Bsdf::dielectric(r.number("ior", 1.5, 1e-3, 100));
+    }
+    r.finish();
+    return b;
+}
+
+Surface readSurface(JsonReader r, size_t index) {
+    const std::string type = r.choice("type", "mesh", {"mesh", "rectangle", "disk", "sphere"});
+    const Eigen::Affine3d toWorld =
+        r.has("transform") ? readTransform(r.object("transform")) : Eigen::Affine3d::Identity();
+    Surface s;
+    if (type == "mesh") {
+        const std::string file = resolve(r.file(), r.string("file"));
+        s.kind = Surface::Kind::Mesh;
+        s.mesh = readMesh(file);
+        for (Vec3& p : s.mesh.p) p = toWorld * p;
+        // Normals transform by the inverse transpose (and stay unit length).
+        const Eigen::Matrix3d nm = toWorld.linear().inverse().transpose();
+        for (Vec3& n : s.mesh.n) n = (nm * n).normalized();
+        validateMesh(s.mesh, file);
+    } else if (type == "rectangle") {
+        s = Surface::rectangle(toWorld);
+    } else if (type == "disk") {
+        const Eigen::Matrix3d l = toWorld.linear();
+        if (std::abs((l * Vec3::UnitX()).norm() - (l * Vec3::UnitY()).norm()) >
+            1e-9 * (l * Vec3::UnitX()).norm())
+            r.error("transform", "a disk needs the same scale along x and y");
+        s = Surface::disk(toWorld);
+    } else {
+        const double radius = r.number("radius", 1, 1e-12, 1e12);
+        const Vec3 scale = toWorld.linear().colwise().norm();
+        if (scale.maxCoeff() - scale.minCoeff() > 1e-9 * scale.maxCoeff())
+            r.error("transform", "a sphere needs a uniform scale");
+        s = Surface::sphere(toWorld * r.vec3("center", Vec3::Zero()), radius * scale[0]);
+    }
+    s.bsdf = readBsdf(r.objectOrEmpty("bsdf"));
+    s.emission = spectrum(r, "emission", 0, 0, 1e30);
+    s.twoSidedEmission = r.boolean("emission_two_sided", false);
+    s.name = r.string("name", "surfaces[" + std::to_string(index) + "]");
+    r.finish();
+    return s;
+}
+
+/// The surface named by media[i].boundary: a surface's "name" or its index.
+int readBoundary(JsonReader& r, const std::vector<Surface>& surfaces) {
+    const Json& b = r.raw("boundary");
+    int s = -1;
+    if (b.is_number_integer()) {
+        s = r.integer("boundary", 0, 0, int(surfaces.size()) - 1);
+    } else {
+        const std::string name = r.string("boundary");
+        for (size_t i = 0; i < surfaces.size(); ++i)
+            if (surfaces[i].name == name) s = int(i);
+        if (s < 0) r.error("boundary", "no surface is named \"" + name + "\"");
+    }
+    const Surface& sf = surfaces[s];
+    if (!sf.closed()) r.error("boundary", sf.name + " is not a closed shape (a mesh or a sphere)");
+    if (sf.interiorMedium >= 0) r.error("boundary", sf.name + " already bounds another medium");
+    if (sf.kind == Surface::Kind::Mesh) {
+        const std::string defect = closedMeshDefect(sf.mesh);
+        if (!defect.empty()) r.error("boundary", sf.name + " is not closed: " + defect);
+    }
+    const BsdfType t = sf.bsdf.type;
+    if (t != BsdfType::Null && t != BsdfType::Dielectric)
+        r.error("boundary", sf.name + " has a " + sf.bsdf.name() +
+                                " BSDF; a medium boundary must be \"null\" or \"dielectric\"");
+    return s;
+}
+
+std::unique_ptr<Medium> readMedium(JsonReader r, std::vector<Surface>& surfaces, int index) {
     const std::string type = r.choice("type", "vdb", {"vdb", "homogeneous"});
+    if (r.has("boundary")) {
+        const int b = readBoundary(r, surfaces);
+        surfaces[b].interiorMedium = index;
+        // Outwards, so that crossing against the normal enters the medium.
+        TriangleMesh& m = surfaces[b].mesh;
+        if (surfaces[b].kind == Surface::Kind::Mesh && signedVolume(m) < 0)
+            for (size_t k = 0; k < m.indices.size(); k += 3)
+                std::swap(m.indices[k + 1], m.indices[k + 2]);
+    }
     const Spectrum albedo = spectrum(r, "albedo", 1, 0, 1);
     const PhaseFunction phase =
         r.has("phase") ? readPhaseFunction(r.object("phase")) : PhaseFunction(IsotropicPhase());
@@ -142,6 +243,11 @@ std::unique_ptr<Medium> readMedium(JsonReader r) {
         const bool tracking =
             r.choice("estimator", "analytic", {"analytic", "tracking"}) == "tracking";
         MediumShape shape;
+        if (r.has("boundary") && !r.has("shape")) {
+            shape.type = MediumShape::Type::Everywhere;
+            r.finish();
+            return std::make_unique<HomogeneousMedium>(shape, sigmaT, albedo, phase, tracking);
+        }
         JsonReader sh = r.object("shape");
         const std::string st = sh.choice("type", "box", {"box", "sphere"});
         if (st == "box") {
@@ -186,6 +292,23 @@ Scene sceneFromJson(const Json& doc, const std::string& path, Json* resolved) {
         scene.environment = readEnvironment(r.object("environment"), scene.settings);
     else
         r.note("environment", {{"type", "constant"}, {"radiance", 0}});  // none: black
+    std::vector<Surface> surfaces;
+    if (r.has("surfaces")) {
+        const Json& list = r.raw("surfaces");
+        if (!list.is_array()) r.error("surfaces", "expected an array of surfaces");
+        if (resolved) (*resolved)["surfaces"] = Json::array();
+        if (resolved)
+            (*resolved)["surfaces"].get_ref<Json::array_t&>().resize(list.size(), Json::object());
+        std::map<std::string, size_t> names;
+        for (size_t i = 0; i < list.size(); ++i) {
+            JsonReader sr(list[i], path, "surfaces[" + std::to_string(i) + "]");
+            if (resolved) sr.recordInto(&(*resolved)["surfaces"][i]);
+            surfaces.push_back(readSurface(sr, i));
+            if (!names.emplace(surfaces.back().name, i).second)
+                sr.error("name", "\"" + surfaces.back().name + "\" is also the name of surfaces[" +
+                                     std::to_string(names[surfaces.back().name]) + "]");
+        }
+    }
     if (r.has("media")) {
         const Json& media = r.raw("media");
         if (!media.is_array()) r.error("media", "expected an array of media");
@@ -196,9 +319,11 @@ Scene sceneFromJson(const Json& doc, const std::string& path, Json* resolved) {
         for (size_t i = 0; i < media.size(); ++i) {
             JsonReader m(media[i], path, "media[" + std::to_string(i) + "]");
             if (resolved) m.recordInto(&(*resolved)["media"][i]);
-            scene.media.push_back(readMedium(m));
+            scene.media.push_back(readMedium(m, surfaces, int(i)));
         }
     }
+    if (!surfaces.empty())
+        scene.surfaces = std::make_unique<const SurfaceScene>(std::move(surfaces));
     r.finish();
     return scene;
 }

@@ -3,11 +3,18 @@
 namespace shvol {
 
 Interval MediumShape::intersect(const Ray& ray, double tMax) const {
-    return type == Type::Box ? intersectBox(ray, lo, hi, tMax)
-                             : intersectSphere(ray, center, radius, tMax);
+    switch (type) {
+        case Type::Box:
+            return intersectBox(ray, lo, hi, tMax);
+        case Type::Sphere:
+            return intersectSphere(ray, center, radius, tMax);
+        default:
+            return Interval{0, tMax};
+    }
 }
 
 bool MediumShape::contains(const Vec3& p) const {
+    if (type == Type::Everywhere) return true;
     if (type == Type::Box)
         return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
     return (p - center).squaredNorm() <= radius * radius;
@@ -46,7 +53,14 @@ double HomogeneousMedium::transmittance(const Ray& ray, double tMax, Transmittan
 }
 
 std::string HomogeneousMedium::describe() const {
-    return std::string("homogeneous ") + (shape_.type == MediumShape::Type::Box ? "box" : "sphere");
+    switch (shape_.type) {
+        case MediumShape::Type::Box:
+            return "homogeneous box";
+        case MediumShape::Type::Sphere:
+            return "homogeneous sphere";
+        default:
+            return "homogeneous (inside its boundary)";
+    }
 }
 
 }  // namespace shvol

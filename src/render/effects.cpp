@@ -9,6 +9,15 @@ Effects Effects::of(const Scene& scene) {
     e.volumes = !scene.media.empty();
     bool scatters = false;
     for (const auto& m : scene.media) scatters |= m->scatters();
+    e.surfaces = scene.surfaces != nullptr;
+    if (e.surfaces)
+        for (const Surface& s : scene.surfaces->surfaces()) {
+            // render.nee: false turns off next-event estimation to every light (pure BSDF and
+            // phase sampling); "auto" keeps it for area lights, which it always pays for.
+            e.areaLights |=
+                s.emits() && scene.settings.maxDepth >= 1 && scene.settings.nee.value_or(true);
+            e.boundedMedia |= s.interiorMedium >= 0;
+        }
     e.scattering = e.volumes && scatters && scene.settings.maxDepth >= 1;
     e.multipleScattering = e.scattering && scene.settings.maxDepth > 1;
     const Environment& env = scene.environment;
@@ -18,11 +27,12 @@ Effects Effects::of(const Scene& scene) {
     // integrand apart from transmittance (and the lower hemisphere), and NEE lost in every case
     // measured, dense or thin, over the sphere or the upper hemisphere (0.38–0.86× the
     // efficiency), so it is on for image skies only (validation/sampling/README.md).
-    e.nextEvent = e.scattering && !envBlack && scene.settings.nee.value_or(!env.isConstant());
+    const bool bounces = e.scattering || (e.surfaces && scene.settings.maxDepth >= 1);
+    e.nextEvent = bounces && !envBlack && scene.settings.nee.value_or(!env.isConstant());
     e.environmentImage = !env.isConstant();
+    if (e.nextEvent || e.areaLights) e.mis = scene.settings.mis;
     if (e.nextEvent) {
         e.lightSampling = scene.settings.lightSampling;
-        e.mis = scene.settings.mis;
     }
     return e;
 }
@@ -32,6 +42,9 @@ std::vector<std::string> Effects::names() const {
     n.push_back(environmentImage ? "environment-image" : "environment-constant");
     if (volumes) n.push_back(scattering ? "volume-tracking" : "volume-transmittance");
     if (scattering) n.push_back(multipleScattering ? "multiple-scattering" : "single-scattering");
+    if (surfaces) n.push_back("surfaces");
+    if (boundedMedia) n.push_back("bounded-media");
+    if (areaLights) n.push_back("nee-area-lights");
     if (nextEvent) {
         switch (lightSampling) {
             case LightSampling::Environment:
@@ -45,8 +58,8 @@ std::vector<std::string> Effects::names() const {
                 n.push_back(skyCompressed ? "nee-product-compressed" : "nee-product");
                 break;
         }
-        n.push_back(std::string("mis-") + misHeuristicName(mis));
     }
+    if (nextEvent || areaLights) n.push_back(std::string("mis-") + misHeuristicName(mis));
     return n;
 }
 

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "shvol/core/error.h"
 #include "shvol/phase/zonal_fit.h"
 
 namespace shvol {
@@ -15,12 +16,33 @@ void PathCounters::add(const PathCounters& o) {
     productPdfs += o.productPdfs;
     transmittanceRays += o.transmittanceRays;
     nonFiniteSamples += o.nonFiniteSamples;
+    surfaceHits += o.surfaceHits;
+    surfaceEvents += o.surfaceEvents;
+    areaLightSamples += o.areaLightSamples;
+    shadowRays += o.shadowRays;
     tracking.densityLookups += o.tracking.densityLookups;
     tracking.segments += o.tracking.segments;
 }
 
 VolumePathIntegrator::VolumePathIntegrator(const Scene& scene)
-    : scene_(scene), effects_(Effects::of(scene)) {
+    : scene_(scene),
+      effects_(Effects::of(scene)),
+      mediumBit_(scene.media.size(), -1),
+      cameraPosition_(scene.camera.position) {
+    if (effects_.areaLights) areaLights_ = std::make_unique<const AreaLights>(*scene.surfaces);
+    if (effects_.boundedMedia) {
+        const auto& surfaces = scene.surfaces->surfaces();
+        for (size_t i = 0; i < surfaces.size(); ++i) {
+            const int m = surfaces[i].interiorMedium;
+            if (m < 0) continue;
+            mediumBit_[m] = int(boundaryOf_.size());
+            boundaryOf_.push_back(int(i));
+        }
+        if (boundaryOf_.size() > 64) throw Error(scene.path + ": more than 64 bounded media");
+        cameraPosition_ = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());  // not cached
+        cameraInside_ = insideAt(scene.camera.position);
+        cameraPosition_ = scene.camera.position;
+    }
     if (!effects_.nextEvent || effects_.lightSampling == LightSampling::Environment) return;
     const auto start = std::chrono::steady_clock::now();
     const RenderSettings& s = scene.settings;
@@ -48,26 +70,75 @@ VolumePathIntegrator::VolumePathIntegrator(const Scene& scene)
     setupSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-double VolumePathIntegrator::sampleCollision(const Ray& ray, Rng& rng, PathCounters& c,
-                                             int* medium) const {
-    double tHit = NoCollision;
+VolumePathIntegrator::Inside VolumePathIntegrator::insideAt(const Vec3& p) const {
+    if (p == cameraPosition_) return cameraInside_;
+    Inside in = 0;
+    for (size_t b = 0; b < boundaryOf_.size(); ++b)
+        if (scene_.surfaces->inside(boundaryOf_[b], p)) in |= Inside(1) << b;
+    return in;
+}
+
+VolumePathIntegrator::Inside VolumePathIntegrator::crossed(const SurfaceHit& hit, const Vec3& d,
+                                                           Inside inside) const {
+    const int m = scene_.surfaces->surfaces()[hit.surface].interiorMedium;
+    if (m < 0) return inside;
+    const Inside bit = Inside(1) << mediumBit_[m];
+    return d.dot(hit.ng) < 0 ? inside | bit : inside & ~bit;
+}
+
+double VolumePathIntegrator::sampleCollision(const Ray& ray, double tMax, Inside inside, Rng& rng,
+                                             PathCounters& c, int* medium) const {
+    double tHit = tMax;
     *medium = -1;
     for (size_t i = 0; i < scene_.media.size(); ++i) {
+        if (!active(i, inside)) continue;
         // Only collisions before the nearest one found so far matter.
         const double t = scene_.media[i]->sampleCollision(ray, tHit, rng, c.tracking);
         if (t < tHit) tHit = t, *medium = int(i);
     }
-    return tHit;
+    return *medium < 0 ? NoCollision : tHit;
 }
 
-double VolumePathIntegrator::transmittance(const Ray& ray, Rng& rng, PathCounters& c) const {
+double VolumePathIntegrator::transmittance(const Ray& ray, double tMax, Inside inside, Rng& rng,
+                                           PathCounters& c) const {
     ++c.transmittanceRays;
     double T = 1;
-    for (const auto& m : scene_.media) {
-        T *= m->transmittance(ray, NoCollision, scene_.settings.transmittance, rng, c.tracking);
+    for (size_t i = 0; i < scene_.media.size(); ++i) {
+        if (!active(i, inside)) continue;
+        T *= scene_.media[i]->transmittance(ray, tMax, scene_.settings.transmittance, rng,
+                                            c.tracking);
         if (T <= 0) return 0;
     }
     return T;
+}
+
+double VolumePathIntegrator::visibility(const Vec3& x, const Vec3& ng, const LightDraw& ls,
+                                        Inside inside, Rng& rng, PathCounters& c) const {
+    const SurfaceScene* surf = scene_.surfaces.get();
+    if (!surf) return effects_.volumes ? transmittance(Ray{x, ls.wi}, NoHit, inside, rng, c) : 1;
+    Ray ray = ng.squaredNorm() > 0 ? surf->spawn(x, ng, ls.wi) : Ray{x, ls.wi};
+    // An emitter's point moved off its surface towards x, so that it does not occlude itself.
+    const bool toPoint = ls.dist < NoHit;
+    const Vec3 y = toPoint ? surf->offsetTowards(ls.y, ls.ny, x) : Vec3::Zero();
+    double T = 1;
+    for (int crossings = 0;; ++crossings) {
+        const double tMax = toPoint ? (y - ray.o).norm() : NoHit;
+        ++c.shadowRays;
+        SurfaceHit hit;
+        if (!surf->hasNullSurfaces()) {
+            if (surf->occluded(ray, tMax)) return 0;
+        } else if (surf->intersect(ray, tMax, &hit)) {
+            if (surf->surfaces()[hit.surface].bsdf.type != BsdfType::Null ||
+                crossings >= kMaxNullCrossings)
+                return 0;
+            if (effects_.volumes) T *= transmittance(ray, hit.t, inside, rng, c);
+            if (T <= 0) return 0;
+            inside = crossed(hit, ray.d, inside);
+            ray = surf->spawn(hit.p, hit.ng, ray.d);
+            continue;
+        }
+        return effects_.volumes ? T * transmittance(ray, tMax, inside, rng, c) : T;
+    }
 }
 
 double VolumePathIntegrator::misWeight(double pa, double pb) const {
@@ -79,12 +150,21 @@ double VolumePathIntegrator::misWeight(double pa, double pb) const {
     return effects_.mis == MisHeuristic::Power ? 1 / (1 + r * r) : 1 / (1 + r);
 }
 
-VolumePathIntegrator::LightDraw VolumePathIntegrator::sampleLight(const EventLobe& lobe,
-                                                                  const Vec2& u,
-                                                                  PathCounters& c) const {
+double VolumePathIntegrator::environmentShare() const {
+    if (!effects_.nextEvent) return 0;
+    return effects_.areaLights ? 0.5 : 1;
+}
+
+VolumePathIntegrator::LightDraw VolumePathIntegrator::sampleEnvironment(Vertex v,
+                                                                        const EventLobe& lobe,
+                                                                        const Vec2& u,
+                                                                        PathCounters& c) const {
     const Environment& env = scene_.environment;
     WarpSample s;
-    switch (effects_.lightSampling) {
+    LightSampling strategy = effects_.lightSampling;
+    if (v == Vertex::Surface && strategy == LightSampling::Product)
+        strategy = LightSampling::Wavelet;
+    switch (strategy) {
         case LightSampling::Environment: {
             const LightSample ls = env.sample(u);
             return {ls.wi, ls.Le, ls.pdf};
@@ -102,16 +182,46 @@ VolumePathIntegrator::LightDraw VolumePathIntegrator::sampleLight(const EventLob
     return {w, env.Le(w), s.pdf};
 }
 
-double VolumePathIntegrator::lightPdf(const EventLobe& lobe, const Vec3& w, PathCounters& c) const {
+double VolumePathIntegrator::environmentPdf(Vertex v, const EventLobe& lobe, const Vec3& w,
+                                            PathCounters& c) const {
+    double pdf;
     switch (effects_.lightSampling) {
         case LightSampling::Wavelet:
-            return sky_->pdf(w);
+            pdf = sky_->pdf(w);
+            break;
         case LightSampling::Product:
+            if (v == Vertex::Surface) {
+                pdf = sky_->pdf(w);
+                break;
+            }
             ++c.productPdfs;
-            return product_->pdf(lobe.lobe, lobe.beta, w);
+            pdf = product_->pdf(lobe.lobe, lobe.beta, w);
+            break;
         default:
-            return scene_.environment.pdf(w);
+            pdf = scene_.environment.pdf(w);
     }
+    return environmentShare() * pdf;
+}
+
+template <typename Sampler>
+VolumePathIntegrator::LightDraw VolumePathIntegrator::sampleLights(const Vec3& x, Vertex v,
+                                                                   const EventLobe& lobe,
+                                                                   Sampler& sampler,
+                                                                   PathCounters& c) const {
+    ++c.lightSamples;
+    double uSelect = effects_.areaLights ? sampler.next1D() : 0;
+    const Vec2 u = sampler.next2D();
+    const double pEnv = environmentShare();
+    if (uSelect < pEnv) {
+        LightDraw ls = sampleEnvironment(v, lobe, u, c);
+        ls.pdf *= pEnv;
+        return ls;
+    }
+    ++c.areaLightSamples;
+    uSelect = std::min((uSelect - pEnv) / (1 - pEnv), std::nextafter(1.0, 0.0));
+    const AreaLightSample as = areaLights_->sample(x, uSelect, u);
+    LightDraw ls{as.wi, as.Le, as.pdf * (1 - pEnv), as.dist, as.y, as.ny};
+    return ls;
 }
 
 template <typename Sampler>
@@ -119,56 +229,128 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c) co
     Rng& rng = sampler.rng();
     ++c.paths;
     const Environment& env = scene_.environment;
-    if (!effects_.volumes) return env.Le(ray.d);
-    if (!effects_.scattering) return transmittance(ray, rng, c) * env.Le(ray.d);
+    const SurfaceScene* surf = scene_.surfaces.get();
+    if (!surf) {
+        if (!effects_.volumes) return env.Le(ray.d);
+        if (!effects_.scattering) return transmittance(ray, NoHit, 0, rng, c) * env.Le(ray.d);
+    }
 
     const RenderSettings& s = scene_.settings;
     const bool product = product_ != nullptr;
+    const bool nee = effects_.nextEvent || effects_.areaLights;
+    Inside inside = effects_.boundedMedia ? insideAt(ray.o) : 0;
     Spectrum L = Spectrum::Zero(), beta = Spectrum::Ones();
-    double phasePdf = 0;  // pdf of the phase sample that started this ray; 0 for camera rays
-    EventLobe lobe;       // the last scattering event's lobe (product sampling)
+    // The vertex that started this ray: the density with which it sampled the ray's direction
+    // (0 for the camera and delta lobes: no MIS), its position and kind.
+    double prevPdf = 0;
+    Vec3 prevP = ray.o;
+    Vertex prevVertex = Vertex::Medium;
+    EventLobe lobe;  // the last scattering event's lobe (product sampling)
+    int nullCrossings = 0;
     for (int depth = 0;;) {
-        int mi;
-        const double t = sampleCollision(ray, rng, c, &mi);
-        if (t == NoCollision) {
+        SurfaceHit hit;
+        const bool hitSurface = surf && surf->intersect(ray, NoHit, &hit);
+        int mi = -1;
+        const double t = effects_.volumes
+                             ? sampleCollision(ray, hitSurface ? hit.t : NoHit, inside, rng, c, &mi)
+                             : NoCollision;
+        if (t == NoCollision && !hitSurface) {
             double w = 1;
-            if (phasePdf > 0 && effects_.nextEvent)
+            if (prevPdf > 0 && effects_.nextEvent)
                 w = effects_.mis == MisHeuristic::None
                         ? 0.0
-                        : misWeight(phasePdf, lightPdf(lobe, ray.d, c));
+                        : misWeight(prevPdf, environmentPdf(prevVertex, lobe, ray.d, c));
             if (w > 0) L += beta * w * env.Le(ray.d);
             break;
         }
-        if (++depth > s.maxDepth) break;
-        ++c.scatteringEvents;
-        const Medium& medium = *scene_.media[mi];
-        beta *= medium.albedo();
-        const Vec3 p = ray(t);
-        const PhaseFunction& phase = medium.phase();
-
-        if (effects_.nextEvent) {
-            if (product) {
-                product_->rotateZonal(lobes_[mi].p.data(), ray.d, lobe.lobe, lobes_[mi].bands);
-                lobe.beta = lobes_[mi].beta;
+        if (t == NoCollision) {  // the surface
+            ++c.surfaceHits;
+            const Surface& sf = surf->surfaces()[hit.surface];
+            if (sf.emits()) {
+                const Spectrum Le = sf.Le(hit.ng, -ray.d);
+                double w = 1;
+                if (prevPdf > 0 && effects_.areaLights)
+                    w = effects_.mis == MisHeuristic::None
+                            ? 0.0
+                            : misWeight(prevPdf,
+                                        (1 - environmentShare()) *
+                                            areaLights_->pdf(prevP, hit.surface, hit.p, hit.ng));
+                if (w > 0) L += beta * w * Le;
             }
-            ++c.lightSamples;
-            const LightDraw ls = sampleLight(lobe, sampler.next2D(), c);
-            if (ls.pdf > 0 && ls.Le.maxCoeff() > 0) {
-                const double f = phase.eval(ray.d, ls.wi);
-                if (f > 0) {
-                    const double T = transmittance(Ray{p, ls.wi}, rng, c);
-                    const double w = misWeight(ls.pdf, phase.pdf(ray.d, ls.wi));
-                    L += beta * (f * T * w / ls.pdf) * ls.Le;
+            const Bsdf& bsdf = sf.bsdf;
+            if (bsdf.type == BsdfType::Null) {
+                if (++nullCrossings > kMaxNullCrossings) break;
+                inside = crossed(hit, ray.d, inside);
+                ray = surf->spawn(hit.p, hit.ng, ray.d);
+                continue;
+            }
+            if (++depth > s.maxDepth) break;
+            ++c.surfaceEvents;
+            const Frame frame(hit.ns);
+            const Vec3 wo = frame.toLocal(-ray.d);
+            const double cosOg = -ray.d.dot(hit.ng);
+            if (nee && !bsdf.isDelta()) {
+                const LightDraw ls = sampleLights(hit.p, Vertex::Surface, lobe, sampler, c);
+                // Reflection stays on the side it came from, judged by the geometric normal too,
+                // so that shading normals cannot leak light through a surface.
+                if (ls.pdf > 0 && ls.Le.maxCoeff() > 0 &&
+                    (bsdf.transmits() || ls.wi.dot(hit.ng) * cosOg > 0)) {
+                    const Vec3 wi = frame.toLocal(ls.wi);
+                    const Spectrum f = bsdf.eval(wo, wi) * std::abs(wi.z());
+                    if (f.maxCoeff() > 0) {
+                        const double T = visibility(hit.p, hit.ng, ls, inside, rng, c);
+                        if (T > 0) {
+                            const double w = misWeight(ls.pdf, bsdf.pdf(wo, wi));
+                            L += beta * f * (T * w / ls.pdf) * ls.Le;
+                        }
+                    }
                 }
             }
-        }
+            const std::optional<BsdfSample> bs = bsdf.sample(wo, sampler.next2D());
+            if (!bs || !(bs->pdf > 0)) break;
+            const Vec3 wi = frame.toWorld(bs->wi);
+            const bool transmitted = wi.dot(hit.ng) * cosOg < 0;
+            if (transmitted && !bsdf.transmits()) break;
+            beta *= bs->f * (std::abs(bs->wi.z()) / bs->pdf);
+            prevPdf = bs->delta ? 0 : bs->pdf;
+            prevP = hit.p;
+            prevVertex = Vertex::Surface;
+            if (transmitted) inside = crossed(hit, wi, inside);
+            ray = surf->spawn(hit.p, hit.ng, wi);
+        } else {  // a real collision in media[mi]
+            if (++depth > s.maxDepth) break;
+            ++c.scatteringEvents;
+            const Medium& medium = *scene_.media[mi];
+            beta *= medium.albedo();
+            if (!(beta.maxCoeff() > 0)) break;
+            const Vec3 p = ray(t);
+            const PhaseFunction& phase = medium.phase();
 
-        ++c.phaseSamples;
-        const PhaseSample ps = phase.sample(ray.d, sampler.next2D());
-        if (!(ps.pdf > 0) || !(ps.value > 0)) break;
-        beta *= ps.value / ps.pdf;
-        phasePdf = ps.pdf;
-        ray = Ray{p, ps.wi};
+            if (nee) {
+                if (product) {
+                    product_->rotateZonal(lobes_[mi].p.data(), ray.d, lobe.lobe, lobes_[mi].bands);
+                    lobe.beta = lobes_[mi].beta;
+                }
+                const LightDraw ls = sampleLights(p, Vertex::Medium, lobe, sampler, c);
+                if (ls.pdf > 0 && ls.Le.maxCoeff() > 0) {
+                    const double f = phase.eval(ray.d, ls.wi);
+                    if (f > 0) {
+                        const double T = visibility(p, Vec3::Zero(), ls, inside, rng, c);
+                        const double w = misWeight(ls.pdf, phase.pdf(ray.d, ls.wi));
+                        L += beta * (f * T * w / ls.pdf) * ls.Le;
+                    }
+                }
+            }
+
+            ++c.phaseSamples;
+            const PhaseSample ps = phase.sample(ray.d, sampler.next2D());
+            if (!(ps.pdf > 0) || !(ps.value > 0)) break;
+            beta *= ps.value / ps.pdf;
+            prevPdf = ps.pdf;
+            prevP = p;
+            prevVertex = Vertex::Medium;
+            ray = Ray{p, ps.wi};
+        }
 
         if (depth >= s.rrDepth) {
             // Drawn whether or not it is needed: each bounce takes a fixed set of numbers.

@@ -118,7 +118,9 @@ struct SurfaceScene::Embree {
 SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
     : rtc_(std::make_unique<Embree>()), surfaces_(std::move(surfaces)) {
     const auto start = std::chrono::steady_clock::now();
-    rtc_->device = rtcNewDevice("threads=1");  // the BVH build is small; renders use TBB
+    // No "threads=N" in the configuration: Embree would enforce it with a TBB global_control,
+    // which limits every TBB loop of the process (the render's too) while the device lives.
+    rtc_->device = rtcNewDevice(nullptr);
     if (!rtc_->device) throw Error("Embree: could not create a device");
     rtc_->scene = rtcNewScene(rtc_->device);
     rtcSetSceneFlags(rtc_->scene, RTC_SCENE_FLAG_ROBUST);

@@ -401,6 +401,66 @@ TEST_F(Cli, BadVdbFiles) {
     expectOneLineError("vec.json", path("vec.vdb") + ": grid 'density': has value type vec3s");
 }
 
+TEST_F(Cli, BadMeshFiles) {
+    auto surfaceScene = [](const std::string& file, const std::string& extra = "") {
+        return scene(Homogeneous, R"(, "surfaces": [{"type": "mesh", "file": ")" + file +
+                                      R"(", "bsdf": {"type": "null"}}])" + extra);
+    };
+    write("missing.json", surfaceScene("nothere.obj"));
+    expectOneLineError("missing.json", path("nothere.obj"));
+
+    write("corrupt.ply",
+          "ply\nformat binary_little_endian 1.0\nelement vertex 3\n"
+          "property float x\nproperty float y\nproperty float z\nend_header\nab");
+    write("corrupt.json", surfaceScene("corrupt.ply"));
+    expectOneLineError("corrupt.json", path("corrupt.ply") + ": ");
+
+    write("nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n");
+    write("nan.json", surfaceScene("nan.obj"));
+    expectOneLineError("nan.json", path("nan.obj") + ": line 3");
+
+    write("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+    write("flat.json", surfaceScene("flat.obj"));
+    expectOneLineError("flat.json", path("flat.obj") + ": face 0");
+
+    write("open.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n");
+    write(
+        "open.json",
+        scene(R"({"type": "homogeneous", "boundary": 0})",
+              R"(, "surfaces": [{"type": "mesh", "file": "open.obj", "bsdf": {"type": "null"}}])"));
+    expectOneLineError("open.json", "media[0].boundary: surfaces[0] is not closed");
+}
+
+TEST_F(Cli, SurfaceSceneSameImageAnyThreadsAndStats) {
+    write("box.obj",
+          "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\n"
+          "v -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n"
+          "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n");
+    write("s.json", scene(R"({"type": "homogeneous", "sigma_t": 1, "boundary": "glass"})",
+                          R"(, "surfaces": [
+                 {"type": "mesh", "file": "box.obj", "name": "glass",
+                  "bsdf": {"type": "dielectric", "ior": 1.4}},
+                 {"type": "rectangle", "emission": 5,
+                  "transform": {"translate": [0, 0, 2.5], "rotate": {"axis": [1, 0, 0], "degrees": 180}}},
+                 {"type": "rectangle", "bsdf": {"type": "phong", "specular": 0.5, "exponent": 22},
+                  "transform": {"translate": [0, 0, -1.5], "scale": 4}}])"));
+    ASSERT_EQ(
+        run("render " + path("s.json") + " -o " + path("a.exr") + " --threads 1 --quiet").code, 0);
+    ASSERT_EQ(
+        run("render " + path("s.json") + " -o " + path("b.exr") + " --threads 2 --quiet").code, 0);
+    EXPECT_EQ(readExr(path("a.exr")).rgb, readExr(path("b.exr")).rgb);
+    std::ifstream f(path("a.stats.json"));
+    const nlohmann::json st = nlohmann::json::parse(f);
+    EXPECT_EQ(st["surfaces"]["count"], 3);
+    EXPECT_EQ(st["surfaces"]["triangles"], 16);
+    EXPECT_EQ(st["surfaces"]["emitters"], 1);
+    EXPECT_GT(st["surfaces"]["shadow_rays"].get<double>(), 0);
+    const auto& fx = st["effects"];
+    for (const char* e : {"surfaces", "bounded-media", "nee-area-lights"})
+        EXPECT_NE(std::find(fx.begin(), fx.end(), e), fx.end()) << e;
+    EXPECT_EQ(st["scene_resolved"]["surfaces"][1]["bsdf"]["type"], "lambert");
+}
+
 TEST_F(Cli, BadExrFiles) {
     const std::string env = R"(, "environment": {"type": "image", "file": "sky.exr"})";
     auto sceneWithSky = [&](const std::string& sky) {

@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+
+#include "shvol/render/effects.h"
 #include "shvol/render/renderer.h"
 #include "test_util.h"
 
@@ -139,6 +143,135 @@ TEST(SceneLoader, ResolvedSceneFillsInDefaults) {
             R"({"media": [{"type": "homogeneous", "shape": {}, "phase": {"type": "hg"}}]})"),
         "s.json", &r2);
     EXPECT_FALSE(r2["media"][0]["phase"].contains("order"));
+}
+
+}  // namespace shvol
+
+namespace shvol {
+namespace {
+
+/// A directory with a closed box mesh (box.obj), an open one (open.obj) and a scene file path.
+struct SurfaceFiles {
+    std::string dir = ::testing::TempDir() + "shvol_surface_loader";
+    SurfaceFiles() {
+        std::filesystem::create_directories(dir);
+        std::ofstream(dir + "/box.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
+                                           "v 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n"
+                                           "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\n"
+                                           "f 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+        std::ofstream(dir + "/open.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                                            "f 1 3 2\nf 1 2 4\nf 1 4 3\n";
+        // Inward-facing: the loader turns a boundary mesh outwards.
+        std::ofstream(dir + "/inward.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                                              "f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n";
+    }
+    Scene load(const std::string& json) const {
+        return sceneFromJson(Json::parse(json), dir + "/scene.json");
+    }
+};
+
+}  // namespace
+
+TEST(SceneLoader, SurfacesAndTheirBsdfs) {
+    const SurfaceFiles f;
+    const Scene s = f.load(R"({
+      "surfaces": [
+        {"type": "mesh", "file": "box.obj", "name": "box",
+         "transform": {"translate": [1, 2, 3], "scale": 2},
+         "bsdf": {"type": "phong", "diffuse": 0.2, "specular": 0.7, "exponent": 22}},
+        {"type": "rectangle", "bsdf": {"type": "ward", "specular": 0.5, "alpha_x": 0.1,
+                                       "alpha_y": 0.3}, "emission": [1, 2, 3]},
+        {"type": "disk", "bsdf": {"type": "mirror"}},
+        {"type": "sphere", "center": [0, 0, 5], "radius": 0.5, "bsdf": {"type": "dielectric",
+                                                                       "ior": 1.33}}
+      ]})");
+    ASSERT_TRUE(s.surfaces);
+    const auto& v = s.surfaces->surfaces();
+    ASSERT_EQ(v.size(), 4u);
+    EXPECT_EQ(v[0].name, "box");
+    EXPECT_EQ(v[0].mesh.triangleCount(), 12u);
+    EXPECT_NEAR(v[0].area(), 6 * 4, 1e-12);
+    Vec3 lo = v[0].mesh.p[0],
+         hi = lo;  // translate · scale puts the unit cube at [1, 3]×[2, 4]×[3, 5]
+    for (const Vec3& p : v[0].mesh.p) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    EXPECT_NEAR((lo - Vec3(1, 2, 3)).norm(), 0, 1e-12);
+    EXPECT_NEAR((hi - Vec3(3, 4, 5)).norm(), 0, 1e-12);
+    EXPECT_EQ(v[0].bsdf.type, BsdfType::Phong);
+    EXPECT_EQ(v[0].bsdf.exponent, 22);
+    EXPECT_EQ(v[1].name, "surfaces[1]");
+    EXPECT_EQ(v[1].bsdf.type, BsdfType::Ward);
+    EXPECT_EQ(v[1].bsdf.alphaY, 0.3);
+    EXPECT_EQ(v[1].emission[2], 3);
+    EXPECT_TRUE(v[1].emits());
+    EXPECT_EQ(v[2].bsdf.type, BsdfType::Mirror);
+    EXPECT_EQ(v[3].bsdf.ior, 1.33);
+    EXPECT_EQ(v[3].radius, 0.5);
+    const Effects fx = Effects::of(s);
+    EXPECT_TRUE(fx.surfaces);
+    EXPECT_TRUE(fx.areaLights);
+    EXPECT_FALSE(fx.boundedMedia);
+}
+
+TEST(SceneLoader, MediumBoundedByAClosedSurface) {
+    const SurfaceFiles f;
+    const Scene s = f.load(R"({
+      "surfaces": [{"type": "mesh", "file": "inward.obj", "name": "glass",
+                    "bsdf": {"type": "dielectric"}}],
+      "media": [{"type": "homogeneous", "sigma_t": 2, "boundary": "glass"}]})");
+    const Surface& glass = s.surfaces->surfaces()[0];
+    EXPECT_EQ(glass.interiorMedium, 0);
+    EXPECT_GT(signedVolume(glass.mesh), 0);  // turned outwards
+    EXPECT_TRUE(Effects::of(s).boundedMedia);
+    EXPECT_EQ(s.media[0]->describe(), "homogeneous (inside its boundary)");
+    // By index too.
+    EXPECT_EQ(f.load(R"({"surfaces": [{"type": "sphere", "bsdf": {"type": "null"}}],
+                         "media": [{"type": "homogeneous", "boundary": 0}]})")
+                  .surfaces->surfaces()[0]
+                  .interiorMedium,
+              0);
+}
+
+TEST(SceneLoader, BadSurfacesGiveOneLineNamingThePlace) {
+    const SurfaceFiles f;
+    auto message = [&](const std::string& json) { return test::messageOf([&] { f.load(json); }); };
+    auto expectIn = [](const std::string& msg, const std::string& part) {
+        EXPECT_NE(msg.find(part), std::string::npos) << msg;
+        EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    };
+    expectIn(message(R"({"surfaces": [{"type": "mesh", "file": "missing.obj"}]})"), "missing.obj");
+    expectIn(message(R"({"surfaces": [{"type": "mesh", "file": "open.obj",
+                          "bsdf": {"type": "null"}}],
+                         "media": [{"type": "homogeneous", "boundary": 0}]})"),
+             "scene.json: media[0].boundary: surfaces[0] is not closed: edge");
+    expectIn(message(R"({"surfaces": [{"type": "rectangle", "bsdf": {"type": "null"}}],
+                         "media": [{"type": "homogeneous", "boundary": 0}]})"),
+             "media[0].boundary: surfaces[0] is not a closed shape");
+    expectIn(message(R"({"surfaces": [{"type": "sphere"}],
+                         "media": [{"type": "homogeneous", "boundary": 0}]})"),
+             "a medium boundary must be \"null\" or \"dielectric\"");
+    expectIn(message(R"({"surfaces": [{"type": "sphere", "bsdf": {"type": "null"}}],
+                         "media": [{"type": "homogeneous", "boundary": "glass"}]})"),
+             "media[0].boundary: no surface is named \"glass\"");
+    expectIn(message(R"({"surfaces": [{"type": "sphere", "bsdf": {"type": "null"}}],
+                         "media": [{"type": "homogeneous", "boundary": 0},
+                                   {"type": "homogeneous", "boundary": 0}]})"),
+             "media[1].boundary: surfaces[0] already bounds another medium");
+    expectIn(message(R"({"surfaces": [{"type": "sphere", "name": "a"},
+                                      {"type": "sphere", "name": "a"}]})"),
+             "surfaces[1].name: \"a\" is also the name of surfaces[0]");
+    expectIn(message(R"({"surfaces": [{"bsdf": {"type": "phong", "diffuse": 0.6,
+                                                 "specular": 0.6}, "file": "box.obj"}]})"),
+             "surfaces[0].bsdf.specular: diffuse + specular exceeds 1");
+    expectIn(message(R"({"surfaces": [{"type": "disk", "transform": {"scale": [1, 2, 1]}}]})"),
+             "surfaces[0].transform: a disk needs the same scale along x and y");
+    expectIn(message(R"({"surfaces": [{"type": "sphere", "transform": {"scale": [1, 2, 1]}}]})"),
+             "surfaces[0].transform: a sphere needs a uniform scale");
+    expectIn(message(R"({"surfaces": [{"type": "cone"}]})"), "surfaces[0].type: unknown value");
+    expectIn(message(R"({"surfaces": [{"type": "sphere", "bsdf": {"type": "lambert",
+                                                                   "reflectance": 1.5}}]})"),
+             "surfaces[0].bsdf.reflectance");
+    expectIn(message(R"({"surfaces": [{"type": "sphere", "emission": -1}]})"),
+             "surfaces[0].emission");
 }
 
 }  // namespace shvol

@@ -11,6 +11,8 @@
 
 #include "shvol/core/error.h"
 #include "shvol/io/procedural.h"
+#include "shvol/media/homogeneous_medium.h"
+#include "shvol/phase/henyey_greenstein_phase.h"
 #include "shvol/render/volume_path_integrator.h"
 
 namespace shvol {
@@ -350,6 +352,60 @@ TEST(Vdb, OnlyRegularFilesAreRead) {
     d.file = std::string(300, 'x') + ".vdb";
     EXPECT_EQ(messageOf([&] { loadVdbMedium(d); }),
               d.file + ": cannot read file (File name too long)");
+}
+
+}  // namespace shvol
+
+namespace shvol {
+
+// A VDB clipped by a closed `null` surface (media[i].boundary) is the medium inside that surface
+// only: a constant-density grid clipped by a sphere equals a homogeneous sphere.
+TEST(Vdb, ClippedByABoundaryEqualsAHomogeneousSphere) {
+    VdbGridSpec s;
+    s.resolution = 16;
+    s.density = [](const Vec3&) { return 1.0f; };
+    writeVdb(tmp("constant.vdb"), {s});
+    const PhaseFunction hg{HenyeyGreensteinPhase(0.4)};
+    Spectrum mean[2], stdErr[2];
+    for (int clipped = 0; clipped < 2; ++clipped) {
+        Scene scene;
+        scene.environment = Environment::constant(Spectrum::Ones(), false);
+        if (clipped) {
+            VdbMediumDesc d;
+            d.file = tmp("constant.vdb");
+            d.densityScale = 6;
+            d.albedo = Spectrum::Constant(0.8);
+            d.phase = hg;
+            scene.media.push_back(loadVdbMedium(d));
+            Surface boundary = Surface::sphere(Vec3::Zero(), 0.3);
+            boundary.bsdf = Bsdf::null();
+            boundary.interiorMedium = 0;
+            std::vector<Surface> v;
+            v.push_back(std::move(boundary));
+            scene.surfaces = std::make_unique<const SurfaceScene>(std::move(v));
+        } else {
+            MediumShape sphere;
+            sphere.type = MediumShape::Type::Sphere;
+            sphere.radius = 0.3;
+            scene.media.push_back(
+                std::make_unique<HomogeneousMedium>(sphere, 6, Spectrum::Constant(0.8), hg));
+        }
+        const VolumePathIntegrator integrator(scene);
+        PathCounters c;
+        Spectrum sum = Spectrum::Zero(), sum2 = Spectrum::Zero();
+        const int n = 40000;
+        for (int i = 0; i < n; ++i) {
+            Rng rng = Rng::forSample(5, uint64_t(i), 0);
+            const Vec2 u = rng.uniform2();
+            const Ray ray{Vec3(0.3 * (u.x() - 0.5), -2, 0.3 * (u.y() - 0.5)), Vec3(0, 1, 0)};
+            const Spectrum L = integrator.Li(ray, rng, c);
+            sum += L, sum2 += L * L;
+        }
+        mean[clipped] = sum / n;
+        stdErr[clipped] = ((sum2 / n - mean[clipped] * mean[clipped]).max(0) / n).sqrt();
+    }
+    EXPECT_LT(mean[0][0], 0.9);  // the medium is seen: light is absorbed
+    EXPECT_NEAR(mean[0][0], mean[1][0], 4 * std::hypot(stdErr[0][0], stdErr[1][0]));
 }
 
 }  // namespace shvol

@@ -1,6 +1,11 @@
 #include "shvol/surfaces/surface_scene.h"
 
 #include <gtest/gtest.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <chrono>
 
 #include "shvol/core/rng.h"
 #include "shvol/sampling/warp.h"
@@ -148,6 +153,29 @@ TEST(SurfaceScene, EpsilonFollowsTheSceneScale) {
     const SurfaceScene b(one(Surface::sphere(Vec3(1e4, 0, 0), 1)));
     EXPECT_NEAR(a.epsilon(), 1e-4 * std::ldexp(1.0, -16), 1e-20);
     EXPECT_NEAR(b.epsilon(), (1e4 + 1) * std::ldexp(1.0, -16), 1e-9);
+}
+
+// Building the BVH must not cap the parallelism of the process: Embree enforces a "threads=N"
+// configuration on TBB, which serialised every render loop while the device lived. Two tasks of a
+// parallel loop must run at the same time: each waits (up to 10 s) until both have started.
+TEST(SurfaceScene, LeavesTbbParallelismAlone) {
+    if (tbb::info::default_concurrency() < 2) GTEST_SKIP() << "one hardware thread";
+    const SurfaceScene scene(one(Surface::sphere(Vec3(0, 0, 0), 1)));
+    std::atomic<int> started{0};
+    std::atomic<bool> together{true};
+    tbb::parallel_for(
+        0, 2,
+        [&](int) {
+            ++started;
+            const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+            while (started < 2)
+                if (std::chrono::steady_clock::now() > end) {
+                    together = false;
+                    break;
+                }
+        },
+        tbb::simple_partitioner());
+    EXPECT_TRUE(together);
 }
 
 }  // namespace

@@ -10,7 +10,9 @@
 namespace shvol {
 
 struct MediumShape {
-    enum class Type { Box, Sphere } type = Type::Box;
+    /// Everywhere: no shape of its own, for a medium bounded by a closed surface
+    /// (media[i].boundary) that the integrator makes active only inside that surface.
+    enum class Type { Box, Sphere, Everywhere } type = Type::Box;
     Vec3 lo{0, 0, 0}, hi{1, 1, 1};  ///< box corners
     Vec3 center{0, 0, 0};           ///< sphere
     double radius = 1;

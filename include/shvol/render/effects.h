@@ -1,7 +1,8 @@
 #pragma once
 /// \file The effects a scene actually needs, decided from its content, so that a render pays only
 /// for those: no media → no volume code runs; albedo 0 → no scattering is sampled; max depth 1 →
-/// single scattering; constant environment → no image sampling.
+/// single scattering; constant environment → no image sampling; no surfaces → no Embree scene and
+/// no surface code; no emitting surface → no area-light sampling.
 #include <string>
 #include <vector>
 
@@ -15,6 +16,9 @@ struct Effects {
     bool multipleScattering = false;  ///< scattering and max depth > 1
     bool nextEvent = false;           ///< NEE towards the environment (with MIS)
     bool environmentImage = false;    ///< the environment is an image (importance-sampled)
+    bool surfaces = false;            ///< the scene has surfaces (Embree closest hits)
+    bool areaLights = false;    ///< some surface emits and render.nee is not false: NEE to it, MIS
+    bool boundedMedia = false;  ///< some medium exists only inside a closed surface
     LightSampling lightSampling = LightSampling::Environment;  ///< strategy when nextEvent
     MisHeuristic mis = MisHeuristic::Balance;                  ///< when nextEvent
     bool skyCompressed = false;  ///< the sky hierarchy is top-K compressed (set by the integrator)

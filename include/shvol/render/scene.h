@@ -8,6 +8,7 @@
 #include "shvol/lights/environment.h"
 #include "shvol/media/medium.h"
 #include "shvol/render/camera.h"
+#include "shvol/surfaces/surface_scene.h"
 
 namespace shvol {
 
@@ -52,6 +53,9 @@ struct Scene {
     RenderSettings settings;
     Environment environment = Environment::constant(Spectrum::Zero(), false);
     std::vector<std::unique_ptr<Medium>> media;
+    /// The surfaces in their Embree BVH; null when the scene has none (no surface code runs).
+    /// A surface whose interiorMedium is k bounds media[k]: that medium exists only inside it.
+    std::unique_ptr<const SurfaceScene> surfaces;
     std::string path;  ///< the scene file, for messages
 };
 

@@ -17,6 +17,21 @@
 /// only shapes its pdf, so every strategy has the same expected image.
 /// Russian roulette on max(β) after rrDepth scattering events. Without scattering (albedo 0 or
 /// max depth 0) a camera ray returns T̂·L_env directly: no collision or phase sample is drawn.
+///
+/// Surfaces (scene.surfaces, when the scene has any). Each flight runs to the nearest surface hit
+/// t_s, and free flights are sampled in [0, t_s) over the media the path is in: unbounded media,
+/// and each medium bounded by a closed surface while the path is inside that surface (entered
+/// when a ray crosses it against its outward normal, left when it crosses along it; the state of a
+/// camera ray is found by Embree). Without a collision the path meets the surface: it adds the
+/// emission L_e (MIS-weighted against area-light sampling unless the previous vertex was the
+/// camera or a delta lobe), crosses a `null` surface without counting a bounce, or scatters by
+/// the BSDF: next-event estimation to a light, then a BSDF sample, β ← β·f·|cos θ_i|/pdf.
+/// Next-event estimation at every vertex (medium or non-delta surface) picks the environment with
+/// probability ½ and the area lights with ½ when both are sampled (else the one that is), with a
+/// 1D selection number drawn before the 2D light sample when area lights exist. Shadow rays are
+/// blocked by every surface but `null` ones, and carry the media's transmittance between them.
+/// At surface vertices the product strategy's environment share is the sky hierarchy alone (the
+/// phase lobe has no meaning there).
 #include <memory>
 #include <vector>
 
@@ -24,6 +39,7 @@
 #include "shvol/render/effects.h"
 #include "shvol/render/scene.h"
 #include "shvol/sampling/sobol_sampler.h"
+#include "shvol/surfaces/area_lights.h"
 
 namespace shvol {
 
@@ -36,6 +52,10 @@ struct PathCounters {
     uint64_t productSamples = 0;     ///< of those, drawn by the product sampler
     uint64_t productPdfs = 0;        ///< product pdfs evaluated for the MIS weight of escapes
     uint64_t transmittanceRays = 0;  ///< shadow rays whose transmittance was estimated
+    uint64_t surfaceHits = 0;        ///< surface points reached (null crossings included)
+    uint64_t surfaceEvents = 0;      ///< of those, BSDF scattering events
+    uint64_t areaLightSamples = 0;   ///< points drawn on emitting surfaces
+    uint64_t shadowRays = 0;         ///< occlusion queries against the surfaces
     uint64_t nonFiniteSamples = 0;   ///< samples discarded because Li was NaN or Inf
     TrackingCounters tracking;
     void add(const PathCounters& o);
@@ -43,6 +63,9 @@ struct PathCounters {
 
 class VolumePathIntegrator {
   public:
+    /// At most this many `null` surfaces are crossed per ray (a guard against rays caught
+    /// between coincident null surfaces).
+    static constexpr int kMaxNullCrossings = 1024;
     /// Builds what the scene's effects need: the sky hierarchy for the wavelet and product
     /// strategies, and for product sampling each medium's zonal phase lobe.
     explicit VolumePathIntegrator(const Scene& scene);
@@ -73,27 +96,62 @@ class VolumePathIntegrator {
         ProductSampler::ZonalLobe lobe;
         double beta = 0;
     };
-    /// A light direction drawn at a scattering event.
+    /// A light direction drawn at a scattering event: towards the environment (dist = ∞) or
+    /// to the point y (normal ny) of an emitter at distance dist. pdf includes the choice of
+    /// light.
     struct LightDraw {
         Vec3 wi;
         Spectrum Le;
         double pdf;
+        double dist = NoHit;
+        Vec3 y{0, 0, 0}, ny{0, 0, 1};
     };
-    LightDraw sampleLight(const EventLobe& lobe, const Vec2& u, PathCounters& c) const;
-    double lightPdf(const EventLobe& lobe, const Vec3& w, PathCounters& c) const;
+    /// Where a vertex is: it decides the environment strategy (the product needs a phase lobe).
+    enum class Vertex { Medium, Surface };
+    template <typename Sampler>
+    LightDraw sampleLights(const Vec3& x, Vertex v, const EventLobe& lobe, Sampler& sampler,
+                           PathCounters& c) const;
+    LightDraw sampleEnvironment(Vertex v, const EventLobe& lobe, const Vec2& u,
+                                PathCounters& c) const;
+    /// Density of sampleLights for the environment direction w (choice included).
+    double environmentPdf(Vertex v, const EventLobe& lobe, const Vec3& w, PathCounters& c) const;
+    /// Probability that next-event estimation picks the environment.
+    double environmentShare() const;
     /// The MIS weight of a strategy with density pa against one with density pb.
     double misWeight(double pa, double pb) const;
 
-    /// Nearest real collision over all media; sets *medium to its index (−1: none).
-    double sampleCollision(const Ray& ray, Rng& rng, PathCounters& c, int* medium) const;
-    /// Product of the media's transmittance estimates along the whole ray.
-    double transmittance(const Ray& ray, Rng& rng, PathCounters& c) const;
+    /// A set of bounded media the path is inside: bit mediumBit_[k] for media[k].
+    using Inside = uint64_t;
+    bool active(size_t medium, Inside inside) const {
+        return mediumBit_[medium] < 0 || ((inside >> mediumBit_[medium]) & 1);
+    }
+    /// The bounded media containing p.
+    Inside insideAt(const Vec3& p) const;
+    /// `inside` after a ray along d crosses the surface of `hit`.
+    Inside crossed(const SurfaceHit& hit, const Vec3& d, Inside inside) const;
+
+    /// Nearest real collision in [0, tMax) over the active media; sets *medium to its index (−1:
+    /// none).
+    double sampleCollision(const Ray& ray, double tMax, Inside inside, Rng& rng, PathCounters& c,
+                           int* medium) const;
+    /// Product of the active media's transmittance estimates along [0, tMax).
+    double transmittance(const Ray& ray, double tMax, Inside inside, Rng& rng,
+                         PathCounters& c) const;
+    /// Transmittance from x (a surface point with normal ng when ng ≠ 0) to the light of ls:
+    /// 0 when a surface other than a `null` one is in the way.
+    double visibility(const Vec3& x, const Vec3& ng, const LightDraw& ls, Inside inside, Rng& rng,
+                      PathCounters& c) const;
 
     const Scene& scene_;
     Effects effects_;
     std::unique_ptr<const SkyHierarchy> sky_;
     std::unique_ptr<const ProductSampler> product_;
-    std::vector<Lobe> lobes_;  ///< per medium (product sampling)
+    std::vector<Lobe> lobes_;                       ///< per medium (product sampling)
+    std::unique_ptr<const AreaLights> areaLights_;  ///< when some surface emits
+    std::vector<int> mediumBit_;   ///< per medium: its bit in Inside, or −1 if unbounded
+    std::vector<int> boundaryOf_;  ///< per bounded medium bit: its surface
+    Vec3 cameraPosition_;
+    Inside cameraInside_ = 0;  ///< the bounded media containing the camera position
     double setupSeconds_ = 0;
 };
 

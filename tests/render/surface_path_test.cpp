@@ -1,0 +1,209 @@
+// The path tracer over surfaces and media together (VolumePathIntegrator with scene.surfaces):
+// analytic scenes with known answers, and estimators that must agree with each other.
+#include <gtest/gtest.h>
+
+#include "shvol/media/homogeneous_medium.h"
+#include "shvol/phase/henyey_greenstein_phase.h"
+#include "shvol/render/volume_path_integrator.h"
+#include "shvol/sampling/warp.h"
+#include "surfaces/surface_test_util.h"
+
+namespace shvol {
+namespace {
+
+struct Estimate {
+    Spectrum mean, stdErr;
+    PathCounters counters;
+};
+
+/// Mean and standard error of Li over n paths; ray(u) makes the camera ray from a 2D number.
+template <typename MakeRay>
+Estimate estimate(const Scene& scene, int n, MakeRay ray, uint64_t seed = 1) {
+    const VolumePathIntegrator integrator(scene);
+    Estimate e;
+    Spectrum s = Spectrum::Zero(), s2 = Spectrum::Zero();
+    for (int i = 0; i < n; ++i) {
+        Rng rng = Rng::forSample(seed, uint64_t(i), 0);
+        const Spectrum L = integrator.Li(ray(rng.uniform2()), rng, e.counters);
+        EXPECT_TRUE(L.allFinite()) << L.transpose();
+        s += L, s2 += L * L;
+    }
+    e.mean = s / n;
+    e.stdErr = ((s2 / n - e.mean * e.mean).max(0) / n).sqrt();
+    return e;
+}
+
+/// Rays from p in uniformly distributed directions.
+auto raysFrom(const Vec3& p) {
+    return [p](const Vec2& u) { return Ray{p, sampleUniformSphere(u)}; };
+}
+
+Surface meshSurface(TriangleMesh m, Bsdf bsdf) {
+    Surface s;
+    s.kind = Surface::Kind::Mesh;
+    s.mesh = std::move(m);
+    s.bsdf = bsdf;
+    return s;
+}
+
+std::unique_ptr<const SurfaceScene> surfaces(std::vector<Surface> s) {
+    return std::make_unique<const SurfaceScene>(std::move(s));
+}
+
+/// Inside a closed Lambertian enclosure of reflectance ρ emitting L_e from every point, the
+/// radiance is L_e Σ ρ^k = L_e / (1 − ρ) in every direction, whatever its shape.
+void checkClosedEnclosure(Surface enclosure, bool nee) {
+    const double rho = 0.7, Le = 0.3;
+    enclosure.bsdf = Bsdf::lambert(Spectrum::Constant(rho));
+    enclosure.emission = Spectrum::Constant(Le);
+    enclosure.twoSidedEmission = true;  // the inside is the back of an outward-facing shape
+    Scene scene;
+    scene.settings.maxDepth = 1000;
+    scene.settings.nee = nee;
+    std::vector<Surface> v;
+    v.push_back(std::move(enclosure));
+    scene.surfaces = surfaces(std::move(v));
+    const Estimate e = estimate(scene, 40000, raysFrom(Vec3(0.2, -0.3, 0.1)));
+    const double expected = Le / (1 - rho);
+    EXPECT_NEAR(e.mean[0], expected, 5 * e.stdErr[0] + 1e-9);
+    // Not a loose mean only: the spread must stay small (no weight blows up over bounces).
+    EXPECT_LT(e.stdErr[0], 0.01 * expected);
+    EXPECT_EQ(e.counters.areaLightSamples > 0, nee);
+}
+
+TEST(SurfacePath, InsideAClosedLambertianSphereIsLeOverOneMinusRho) {
+    checkClosedEnclosure(Surface::sphere(Vec3(0, 0, 0), 1), true);
+    checkClosedEnclosure(Surface::sphere(Vec3(0, 0, 0), 1), false);
+}
+
+TEST(SurfacePath, InsideAClosedLambertianMeshIsLeOverOneMinusRho) {
+    checkClosedEnclosure(meshSurface(testing::boxMesh(Vec3(-1, -1, -1), Vec3(1, 2, 1)),
+                                     Bsdf::lambert(Spectrum::Ones())),
+                         true);
+    checkClosedEnclosure(meshSurface(testing::sphereMesh(Vec3(0, 0, 0), 1.5, 8, 16),
+                                     Bsdf::lambert(Spectrum::Ones())),
+                         false);
+}
+
+/// A white furnace: constant environment 1, a white Lambertian block, a scattering medium of
+/// albedo 1 around it and one bounded by a dielectric sphere: every path returns 1.
+TEST(SurfacePath, FurnaceWithSurfacesAndMediaIsOne) {
+    for (const bool nee : {false, true}) {
+        Scene scene;
+        scene.settings.maxDepth = 100000;
+        scene.settings.nee = nee;
+        scene.environment = Environment::constant(Spectrum::Ones(), false);
+        std::vector<Surface> v;
+        v.push_back(meshSurface(testing::boxMesh(Vec3(-2, -0.5, -0.5), Vec3(-1, 0.5, 0.5)),
+                                Bsdf::lambert(Spectrum::Ones())));
+        Surface glass = Surface::sphere(Vec3(1, 0, 0), 0.8);
+        glass.bsdf = Bsdf::dielectric(1.5);
+        glass.interiorMedium = 1;
+        v.push_back(std::move(glass));
+        scene.surfaces = surfaces(std::move(v));
+        MediumShape box;
+        box.lo = Vec3(-3, -3, -3), box.hi = Vec3(3, 3, 3);
+        scene.media.push_back(std::make_unique<HomogeneousMedium>(
+            box, 0.5, Spectrum::Ones(), PhaseFunction(HenyeyGreensteinPhase(0.6))));
+        MediumShape everywhere;
+        everywhere.type = MediumShape::Type::Everywhere;
+        scene.media.push_back(std::make_unique<HomogeneousMedium>(
+            everywhere, 3, Spectrum::Ones(), PhaseFunction(HenyeyGreensteinPhase(-0.3))));
+        const Estimate e = estimate(scene, 20000, raysFrom(Vec3(0, 2, 0)));
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(e.mean[c], 1, 5 * e.stdErr[c] + 1e-9) << "nee " << nee;
+            EXPECT_LT(e.stdErr[c], 0.01) << "nee " << nee;
+        }
+        EXPECT_GT(e.counters.surfaceEvents, 0u);
+        EXPECT_GT(e.counters.scatteringEvents, 0u);
+    }
+}
+
+/// A box of light-grey Lambertian walls with a glossy Phong back wall, a rectangle light and fog:
+/// next-event estimation with MIS and pure BSDF/phase sampling estimate the same radiance.
+TEST(SurfacePath, NextEventEstimationAgreesWithBsdfSampling) {
+    Estimate e[2];
+    for (const bool nee : {false, true}) {
+        Scene scene;
+        scene.settings.maxDepth = 50;
+        scene.settings.nee = nee;
+        std::vector<Surface> v;
+        v.push_back(meshSurface(testing::boxMesh(Vec3(-1, -1, -1), Vec3(1, 1, 1)),
+                                Bsdf::lambert(Spectrum(0.7, 0.5, 0.3))));
+        Eigen::Affine3d back = Eigen::Affine3d::Identity();
+        back.translate(Vec3(0, 0.99, 0)).rotate(Eigen::AngleAxisd(Pi / 2, Vec3::UnitX()));
+        Surface glossy = Surface::rectangle(back);
+        glossy.bsdf = Bsdf::phong(Spectrum::Constant(0.2), Spectrum::Constant(0.6), 22);
+        v.push_back(std::move(glossy));
+        Eigen::Affine3d top = Eigen::Affine3d::Identity();
+        top.translate(Vec3(0, 0, 0.98)).rotate(Eigen::AngleAxisd(Pi, Vec3::UnitX())).scale(0.3);
+        Surface light = Surface::rectangle(top);  // facing down
+        light.emission = Spectrum(8, 6, 4);
+        v.push_back(std::move(light));
+        scene.surfaces = surfaces(std::move(v));
+        MediumShape fog;
+        fog.lo = Vec3(-1, -1, -1), fog.hi = Vec3(1, 1, 1);
+        scene.media.push_back(std::make_unique<HomogeneousMedium>(
+            fog, 0.4, Spectrum::Constant(0.8), PhaseFunction(HenyeyGreensteinPhase(0.5))));
+        e[nee] = estimate(scene, nee ? 100000 : 400000, [](const Vec2& u) {
+            // Looking at the back wall from the front.
+            return Ray{Vec3(0, -0.9, 0),
+                       Vec3(0.6 * (u.x() - 0.5), 1, 0.6 * (u.y() - 0.5)).normalized()};
+        });
+        EXPECT_EQ(e[nee].counters.areaLightSamples > 0, nee);
+    }
+    for (int c = 0; c < 3; ++c) {
+        const double sd = std::hypot(e[0].stdErr[c], e[1].stdErr[c]);
+        EXPECT_NEAR(e[0].mean[c], e[1].mean[c], 4.5 * sd) << "channel " << c;
+    }
+    // Next-event estimation must pay for itself on a small light.
+    EXPECT_LT(e[1].stdErr[0] * std::sqrt(100000.0), 0.7 * e[0].stdErr[0] * std::sqrt(400000.0));
+}
+
+/// A medium bounded by a closed `null` mesh is the same medium as one shaped like the mesh: the
+/// same paths, with the camera outside and inside.
+TEST(SurfacePath, NullBoundedMediumEqualsAHomogeneousBox) {
+    const PhaseFunction hg{HenyeyGreensteinPhase(0.5)};
+    for (const Vec3& eye : {Vec3(0.3, -3, 0.2), Vec3(0.3, -0.2, 0.2)}) {
+        Estimate e[2];
+        for (int bounded = 0; bounded < 2; ++bounded) {
+            Scene scene;
+            scene.settings.maxDepth = 200;
+            scene.environment = Environment::constant(Spectrum(1, 0.5, 0.25), false);
+            MediumShape shape;
+            shape.lo = Vec3(-1, -1, -1), shape.hi = Vec3(1, 1, 1);
+            if (bounded) {
+                std::vector<Surface> v;
+                v.push_back(meshSurface(testing::boxMesh(shape.lo, shape.hi), Bsdf::null()));
+                v.back().interiorMedium = 0;
+                scene.surfaces = surfaces(std::move(v));
+                shape.type = MediumShape::Type::Everywhere;
+            }
+            scene.media.push_back(
+                std::make_unique<HomogeneousMedium>(shape, 2, Spectrum::Constant(0.9), hg));
+            e[bounded] = estimate(scene, 20000, [&](const Vec2& u) {
+                return Ray{eye, (Vec3(0, 1, 0) + 0.8 * sampleUniformSphere(u)).normalized()};
+            });
+        }
+        for (int c = 0; c < 3; ++c) {
+            // The same random numbers drive both: the estimates differ only where a boundary
+            // offset of ε changes a decision, far below their standard error.
+            EXPECT_NEAR(e[0].mean[c], e[1].mean[c], 0.05 * e[0].stdErr[c]) << eye.transpose();
+        }
+        EXPECT_GT(e[1].counters.surfaceHits, 0u);
+    }
+}
+
+TEST(SurfacePath, SceneWithoutSurfacesRunsNoSurfaceCode) {
+    Scene scene;
+    scene.environment = Environment::constant(Spectrum::Ones(), false);
+    const Estimate e = estimate(scene, 100, raysFrom(Vec3(0, 0, 0)));
+    EXPECT_EQ(e.counters.surfaceHits, 0u);
+    EXPECT_EQ(e.mean[0], 1);
+    const Effects fx = Effects::of(scene);
+    EXPECT_FALSE(fx.surfaces);
+    EXPECT_FALSE(fx.areaLights);
+}
+
+}  // namespace
+}  // namespace shvol
