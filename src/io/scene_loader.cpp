@@ -279,6 +279,25 @@ std::unique_ptr<Medium> readMedium(JsonReader r, std::vector<Surface>& surfaces,
     return loadVdbMedium(d);
 }
 
+/// Reads r[key], an array of objects, element by element with read(reader, index); each element's
+/// resolved values are recorded into (*resolved)[key][index].
+template <typename Read>
+void readArray(JsonReader& r, const std::string& key, Json* resolved, Read read) {
+    if (!r.has(key)) return;
+    const Json& list = r.raw(key);
+    if (!list.is_array()) r.error(key, "expected an array of objects");
+    // Sized before the readers record into its elements, so none of them moves.
+    if (resolved)
+        ((*resolved)[key] = Json::array())
+            .get_ref<Json::array_t&>()
+            .resize(list.size(), Json::object());
+    for (size_t i = 0; i < list.size(); ++i) {
+        JsonReader element(list[i], r.file(), key + "[" + std::to_string(i) + "]");
+        if (resolved) element.recordInto(&(*resolved)[key][i]);
+        read(element, i);
+    }
+}
+
 }  // namespace
 
 Scene sceneFromJson(const Json& doc, const std::string& path, Json* resolved) {
@@ -293,35 +312,16 @@ Scene sceneFromJson(const Json& doc, const std::string& path, Json* resolved) {
     else
         r.note("environment", {{"type", "constant"}, {"radiance", 0}});  // none: black
     std::vector<Surface> surfaces;
-    if (r.has("surfaces")) {
-        const Json& list = r.raw("surfaces");
-        if (!list.is_array()) r.error("surfaces", "expected an array of surfaces");
-        if (resolved) (*resolved)["surfaces"] = Json::array();
-        if (resolved)
-            (*resolved)["surfaces"].get_ref<Json::array_t&>().resize(list.size(), Json::object());
-        std::map<std::string, size_t> names;
-        for (size_t i = 0; i < list.size(); ++i) {
-            JsonReader sr(list[i], path, "surfaces[" + std::to_string(i) + "]");
-            if (resolved) sr.recordInto(&(*resolved)["surfaces"][i]);
-            surfaces.push_back(readSurface(sr, i));
-            if (!names.emplace(surfaces.back().name, i).second)
-                sr.error("name", "\"" + surfaces.back().name + "\" is also the name of surfaces[" +
-                                     std::to_string(names[surfaces.back().name]) + "]");
-        }
-    }
-    if (r.has("media")) {
-        const Json& media = r.raw("media");
-        if (!media.is_array()) r.error("media", "expected an array of media");
-        // Sized before the readers record into its elements, so none of them moves.
-        if (resolved) (*resolved)["media"] = Json::array();
-        if (resolved)
-            (*resolved)["media"].get_ref<Json::array_t&>().resize(media.size(), Json::object());
-        for (size_t i = 0; i < media.size(); ++i) {
-            JsonReader m(media[i], path, "media[" + std::to_string(i) + "]");
-            if (resolved) m.recordInto(&(*resolved)["media"][i]);
-            scene.media.push_back(readMedium(m, surfaces, int(i)));
-        }
-    }
+    std::map<std::string, size_t> names;
+    readArray(r, "surfaces", resolved, [&](JsonReader& sr, size_t i) {
+        surfaces.push_back(readSurface(sr, i));
+        if (!names.emplace(surfaces.back().name, i).second)
+            sr.error("name", "\"" + surfaces.back().name + "\" is also the name of surfaces[" +
+                                 std::to_string(names[surfaces.back().name]) + "]");
+    });
+    readArray(r, "media", resolved, [&](JsonReader& m, size_t i) {
+        scene.media.push_back(readMedium(m, surfaces, int(i)));
+    });
     if (!surfaces.empty())
         scene.surfaces = std::make_unique<const SurfaceScene>(std::move(surfaces));
     r.finish();

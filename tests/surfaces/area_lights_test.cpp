@@ -44,6 +44,16 @@ Eigen::Affine3d placed(const Vec3& t, double angle, const Vec3& axis, const Vec3
 
 constexpr int kFamily = 6;
 
+/// The χ² test of lightChi2 for an emitter seen from x, and ∫ pdf = 1.
+void expectChi2(Surface emitter, const Vec3& x) {
+    std::vector<Surface> s;
+    s.push_back(emitting(std::move(emitter), 1));
+    const SurfaceScene scene(std::move(s));
+    const Chi2Result r = lightChi2(scene, x, kFamily);
+    EXPECT_TRUE(r.passed) << r.report;
+    EXPECT_NEAR(r.pdfIntegral, 1, 1e-3);
+}
+
 TEST(AreaLights, RectangleChi2) {
     std::vector<Surface> s;
     s.push_back(emitting(
@@ -55,31 +65,16 @@ TEST(AreaLights, RectangleChi2) {
 }
 
 TEST(AreaLights, DiskChi2) {
-    std::vector<Surface> s;
-    s.push_back(
-        emitting(Surface::disk(placed(Vec3(0, 0.5, 1), 2.5, Vec3(1, 0, 0.3), Vec3::Ones())), 1));
-    const SurfaceScene scene(std::move(s));
-    const Chi2Result r = lightChi2(scene, Vec3(0, 0, 0), kFamily);
-    EXPECT_TRUE(r.passed) << r.report;
-    EXPECT_NEAR(r.pdfIntegral, 1, 1e-3);
+    expectChi2(Surface::disk(placed(Vec3(0, 0.5, 1), 2.5, Vec3(1, 0, 0.3), Vec3::Ones())),
+               Vec3(0, 0, 0));
 }
 
 TEST(AreaLights, SphereByConeFromOutsideChi2) {
-    std::vector<Surface> s;
-    s.push_back(emitting(Surface::sphere(Vec3(0.5, 1, 2), 1), 1));
-    const SurfaceScene scene(std::move(s));
-    const Chi2Result r = lightChi2(scene, Vec3(0, 0, 0), kFamily);
-    EXPECT_TRUE(r.passed) << r.report;
-    EXPECT_NEAR(r.pdfIntegral, 1, 1e-3);
+    expectChi2(Surface::sphere(Vec3(0.5, 1, 2), 1), Vec3(0, 0, 0));
 }
 
 TEST(AreaLights, SphereByAreaFromInsideChi2) {
-    std::vector<Surface> s;
-    s.push_back(emitting(Surface::sphere(Vec3(0, 0, 0), 1), 1));
-    const SurfaceScene scene(std::move(s));
-    const Chi2Result r = lightChi2(scene, Vec3(0.2, 0.5, -0.3), kFamily);
-    EXPECT_TRUE(r.passed) << r.report;
-    EXPECT_NEAR(r.pdfIntegral, 1, 1e-3);
+    expectChi2(Surface::sphere(Vec3(0, 0, 0), 1), Vec3(0.2, 0.5, -0.3));
 }
 
 TEST(AreaLights, MeshOfUnequalTrianglesChi2) {
@@ -92,12 +87,7 @@ TEST(AreaLights, MeshOfUnequalTrianglesChi2) {
     const double angles[] = {0, 0.2, 0.5, 1.4, 2.0, 3.5, 4.1, 6.0};
     for (double a : angles) m.mesh.p.push_back(Vec3(std::cos(a), std::sin(a) * 0.7, 1.5));
     for (uint32_t k = 1; k < 8; ++k) m.mesh.indices.insert(m.mesh.indices.end(), {0, k, k + 1});
-    std::vector<Surface> s;
-    s.push_back(emitting(std::move(m), 1));
-    const SurfaceScene scene(std::move(s));
-    const Chi2Result r = lightChi2(scene, Vec3(0.1, -0.3, 0.2), kFamily);
-    EXPECT_TRUE(r.passed) << r.report;
-    EXPECT_NEAR(r.pdfIntegral, 1, 1e-3);
+    expectChi2(std::move(m), Vec3(0.1, -0.3, 0.2));
 }
 
 TEST(AreaLights, EmittersAreChosenByPower) {
