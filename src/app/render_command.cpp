@@ -171,6 +171,19 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
         sj["area_light_samples"] = c.areaLightSamples;
         sj["shadow_rays"] = c.shadowRays;
     }
+    if (const RadianceCacheStats& rc = st.radianceCache; rc.used) {
+        nlohmann::json& cj = j["radiance_cache"];
+        cj["records"] = rc.records;
+        cj["memory_bytes"] = rc.memoryBytes;
+        cj["brdf_table_bytes"] = rc.tableBytes;
+        cj["brdf_table_s"] = rc.tableSeconds;
+        cj["brdf_table_projection_error"] = rc.tableProjectionError;
+        cj["fill_s"] = rc.fillSeconds;
+        cj["record_paths"] = rc.recordPaths;
+        cj["lookups"] = c.cacheLookups;
+        cj["lookups_answered"] = c.cacheHits;
+        cj["lookup_s"] = double(c.cacheLookupNs) * 1e-9;
+    }
     j["peak_memory_mib"] = peakMemoryMiB();
     j["effects"] = st.effects;
     j["sampler"] = sampleStreamName(scene.settings.sampler);

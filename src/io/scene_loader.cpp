@@ -90,6 +90,14 @@ RenderSettings readSettings(JsonReader r) {
                             : MisHeuristic::Balance;
     s.productOrder = r.integer("product_order", s.productOrder, 1, ProductSampler::kMaxOrder);
     if (r.has("product_depth")) s.productDepth = r.integer("product_depth", 0, 0, 12);
+    JsonReader rc = r.objectOrEmpty("radiance_cache");
+    RadianceCacheSettings& c = s.radianceCache;
+    c.enabled = rc.boolean("enabled", c.enabled);
+    c.accuracy = rc.number("accuracy", c.accuracy, 1e-3, 10);
+    c.hshOrder = rc.integer("hsh_order", c.hshOrder, 1, 20);
+    c.raysPerRecord = rc.integer("rays_per_record", c.raysPerRecord, 1, 1 << 20);
+    c.maxRecords = rc.integer("max_records", c.maxRecords, 0, 1 << 24);
+    rc.finish();
     r.finish();
     return s;
 }

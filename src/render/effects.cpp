@@ -17,6 +17,10 @@ Effects Effects::of(const Scene& scene) {
             e.areaLights |=
                 s.emits() && scene.settings.maxDepth >= 1 && scene.settings.nee.value_or(true);
             e.boundedMedia |= s.interiorMedium >= 0;
+            const BsdfType t = s.bsdf.type;
+            e.radianceCache |=
+                scene.settings.radianceCache.enabled && scene.settings.maxDepth >= 1 &&
+                (t == BsdfType::Lambert || t == BsdfType::Phong || t == BsdfType::Ward);
         }
     e.scattering = e.volumes && scatters && scene.settings.maxDepth >= 1;
     e.multipleScattering = e.scattering && scene.settings.maxDepth > 1;
@@ -45,6 +49,7 @@ std::vector<std::string> Effects::names() const {
     if (surfaces) n.push_back("surfaces");
     if (boundedMedia) n.push_back("bounded-media");
     if (areaLights) n.push_back("nee-area-lights");
+    if (radianceCache) n.push_back("radiance-cache");
     if (nextEvent) {
         switch (lightSampling) {
             case LightSampling::Environment:

@@ -46,6 +46,12 @@ std::vector<uint32_t> passEnds(uint32_t spp, uint32_t have, const std::vector<ui
 /// What the integrator decided and built: the effects and the light sampler.
 void describeIntegrator(const VolumePathIntegrator& integrator, RenderStats& st) {
     st.effects = integrator.effects().names();
+    if (const RadianceCache* cache = integrator.radianceCache()) {
+        const VolumePathIntegrator::CacheBuild& b = integrator.cacheBuild();
+        st.radianceCache = {
+            true,           cache->size(), cache->memoryBytes(),   b.tableBytes,
+            b.tableSeconds, b.fillSeconds, b.tableProjectionError, b.counters.paths};
+    }
     const Effects& e = integrator.effects();
     if (!e.nextEvent) return;
     LightSamplingStats& ls = st.lightSampling;

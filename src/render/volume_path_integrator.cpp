@@ -1,6 +1,9 @@
 #include "shvol/render/volume_path_integrator.h"
 
+#include <tbb/parallel_for.h>
+
 #include <chrono>
+#include <limits>
 
 #include "shvol/core/error.h"
 #include "shvol/phase/zonal_fit.h"
@@ -17,6 +20,9 @@ void PathCounters::add(const PathCounters& o) {
     transmittanceRays += o.transmittanceRays;
     nonFiniteSamples += o.nonFiniteSamples;
     surfaceHits += o.surfaceHits;
+    cacheLookups += o.cacheLookups;
+    cacheHits += o.cacheHits;
+    cacheLookupNs += o.cacheLookupNs;
     surfaceEvents += o.surfaceEvents;
     areaLightSamples += o.areaLightSamples;
     shadowRays += o.shadowRays;
@@ -43,6 +49,12 @@ VolumePathIntegrator::VolumePathIntegrator(const Scene& scene)
         cameraInside_ = insideAt(scene.camera.position);
         cameraPosition_ = scene.camera.position;
     }
+    buildLightSamplers();
+    if (effects_.radianceCache) buildRadianceCache();  // record paths use the light samplers
+}
+
+void VolumePathIntegrator::buildLightSamplers() {
+    const Scene& scene = scene_;
     if (!effects_.nextEvent || effects_.lightSampling == LightSampling::Environment) return;
     const auto start = std::chrono::steady_clock::now();
     const RenderSettings& s = scene.settings;
@@ -225,7 +237,7 @@ VolumePathIntegrator::LightDraw VolumePathIntegrator::sampleLights(const Vec3& x
 }
 
 template <typename Sampler>
-Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c) const {
+Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, PathKind kind) const {
     Rng& rng = sampler.rng();
     ++c.paths;
     const Environment& env = scene_.environment;
@@ -247,6 +259,10 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c) co
     Vertex prevVertex = Vertex::Medium;
     EventLobe lobe;  // the last scattering event's lobe (product sampling)
     int nullCrossings = 0;
+    // Record paths of the radiance cache leave out, before their first scattering event, what
+    // the shading point's next-event estimation adds.
+    bool scattered = false;
+    const bool record = kind == PathKind::CacheRecord;
     for (int depth = 0;;) {
         SurfaceHit hit;
         const bool hitSurface = surf && surf->intersect(ray, NoHit, &hit);
@@ -260,13 +276,14 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c) co
                 w = effects_.mis == MisHeuristic::None
                         ? 0.0
                         : misWeight(prevPdf, environmentPdf(prevVertex, lobe, ray.d, c));
-            if (w > 0) L += beta * w * env.Le(ray.d);
+            if (w > 0 && !(record && !scattered && effects_.nextEvent))
+                L += beta * w * env.Le(ray.d);
             break;
         }
         if (t == NoCollision) {  // the surface
             ++c.surfaceHits;
             const Surface& sf = surf->surfaces()[hit.surface];
-            if (sf.emits()) {
+            if (sf.emits() && !(record && !scattered && effects_.areaLights)) {
                 const Spectrum Le = sf.Le(hit.ng, -ray.d);
                 double w = 1;
                 if (prevPdf > 0 && effects_.areaLights)
@@ -289,6 +306,11 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c) co
             const Frame frame(hit.ns);
             const Vec3 wo = frame.toLocal(-ray.d);
             const double cosOg = -ray.d.dot(hit.ng);
+            // A camera path's first scattering vertex: the cache answers for the indirect light,
+            // next-event estimation (with weight 1) for the direct light, and the path ends.
+            Spectrum cached;
+            const bool fromCache = kind == PathKind::Camera && !scattered && cache_ &&
+                                   tables_[hit.surface] && cachedRadiance(hit, -ray.d, &cached, c);
             if (nee && !bsdf.isDelta()) {
                 const LightDraw ls = sampleLights(hit.p, Vertex::Surface, lobe, sampler, c);
                 // Reflection stays on the side it came from, judged by the geometric normal too,
@@ -300,12 +322,17 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c) co
                     if (f.maxCoeff() > 0) {
                         const double T = visibility(hit.p, hit.ng, ls, inside, rng, c);
                         if (T > 0) {
-                            const double w = misWeight(ls.pdf, bsdf.pdf(wo, wi));
+                            const double w = fromCache ? 1.0 : misWeight(ls.pdf, bsdf.pdf(wo, wi));
                             L += beta * f * (T * w / ls.pdf) * ls.Le;
                         }
                     }
                 }
             }
+            if (fromCache) {
+                L += beta * cached;
+                break;
+            }
+            scattered = true;
             const std::optional<BsdfSample> bs = bsdf.sample(wo, sampler.next2D());
             if (!bs || !(bs->pdf > 0)) break;
             const Vec3 wi = frame.toWorld(bs->wi);
@@ -323,6 +350,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c) co
             const Medium& medium = *scene_.media[mi];
             beta *= medium.albedo();
             if (!(beta.maxCoeff() > 0)) break;
+            scattered = true;
             const Vec3 p = ray(t);
             const PhaseFunction& phase = medium.phase();
 
@@ -365,7 +393,112 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c) co
     return L;
 }
 
-template Spectrum VolumePathIntegrator::Li(Ray, Rng&, PathCounters&) const;
-template Spectrum VolumePathIntegrator::Li(Ray, SobolSampler&, PathCounters&) const;
+template Spectrum VolumePathIntegrator::Li(Ray, Rng&, PathCounters&, PathKind) const;
+template Spectrum VolumePathIntegrator::Li(Ray, SobolSampler&, PathCounters&, PathKind) const;
+
+bool VolumePathIntegrator::cachedRadiance(const SurfaceHit& hit, const Vec3& wo, Spectrum* L,
+                                          PathCounters& c) const {
+    const auto start = std::chrono::steady_clock::now();
+    ++c.cacheLookups;
+    const Vec3 n = hit.ng.dot(wo) >= 0 ? hit.ng : Vec3(-hit.ng);  // the side seen
+    const int nn = cache_->order() * cache_->order();
+    thread_local std::vector<double> lambda, coefficients;
+    lambda.resize(3 * nn);
+    coefficients.resize(3 * nn);
+    const bool found = cache_->lookup(hit.p, n, lambda.data());
+    if (found) {
+        ++c.cacheHits;
+        tables_[hit.surface]->coefficients(Frame(n).toLocal(wo), coefficients.data());
+        for (int k = 0; k < 3; ++k) {
+            double sum = 0;
+            for (int i = 0; i < nn; ++i) sum += lambda[k * nn + i] * coefficients[k * nn + i];
+            // Truncated HSH series and extrapolation by gradients can ring below zero near
+            // corners; radiance cannot (a clamp, so the cache's bias includes it).
+            (*L)[k] = std::max(0.0, sum);
+        }
+    }
+    c.cacheLookupNs += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                    std::chrono::steady_clock::now() - start)
+                                    .count());
+    return found;
+}
+
+void VolumePathIntegrator::buildRadianceCache() {
+    const RadianceCacheSettings& rc = scene_.settings.radianceCache;
+    const SurfaceScene& surf = *scene_.surfaces;
+    auto start = std::chrono::steady_clock::now();
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (const Surface& s : surf.surfaces()) {
+        const BsdfType t = s.bsdf.type;
+        const bool cached = t == BsdfType::Lambert || t == BsdfType::Phong || t == BsdfType::Ward;
+        tables_.push_back(cached ? std::make_unique<const HshBrdfTable>(s.bsdf, rc.hshOrder)
+                                 : nullptr);
+        if (cached) {
+            cacheBuild_.tableBytes += tables_.back()->memoryBytes();
+            cacheBuild_.tableProjectionError =
+                std::max(cacheBuild_.tableProjectionError, tables_.back()->projectionError());
+        }
+        if (s.kind == Surface::Kind::Mesh || s.kind == Surface::Kind::Rectangle) {
+            for (const Vec3& p : s.mesh.p) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+        } else {
+            lo = lo.cwiseMin(s.center - Vec3::Constant(s.radius));
+            hi = hi.cwiseMax(s.center + Vec3::Constant(s.radius));
+        }
+    }
+    auto now = std::chrono::steady_clock::now();
+    cacheBuild_.tableSeconds = std::chrono::duration<double>(now - start).count();
+    start = now;
+    cache_ = std::make_unique<RadianceCache>(rc.hshOrder, rc.accuracy, lo, hi);
+
+    const Camera::Frame camera = scene_.camera.frame();
+    const uint64_t seed = scene_.settings.seed;
+    const int N = rc.raysPerRecord;
+    std::vector<IncomingSample> samples(N);
+    std::vector<PathCounters> counters(N);
+    // Pixel centres coarse to fine: every 16th pixel, then the new ones of every 8th, ….
+    for (int stride = 16; stride >= 1 && int(cache_->size()) < rc.maxRecords; stride /= 2)
+        for (int y = 0; y < camera.height; y += stride)
+            for (int x = 0; x < camera.width; x += stride) {
+                if (stride < 16 && x % (2 * stride) == 0 && y % (2 * stride) == 0) continue;
+                if (int(cache_->size()) >= rc.maxRecords) break;
+                // The first surface seen through the pixel centre, past null surfaces.
+                Ray ray = camera.generateRay(x + 0.5, y + 0.5);
+                SurfaceHit hit;
+                bool found = false;
+                for (int k = 0; k < kMaxNullCrossings && surf.intersect(ray, NoHit, &hit); ++k) {
+                    if (surf.surfaces()[hit.surface].bsdf.type != BsdfType::Null) {
+                        found = true;
+                        break;
+                    }
+                    ray = surf.spawn(hit.p, hit.ng, ray.d);
+                }
+                if (!found || !tables_[hit.surface]) continue;
+                const Vec3 n = hit.ng.dot(ray.d) <= 0 ? hit.ng : Vec3(-hit.ng);
+                if (cache_->covers(hit.p, n)) continue;
+                const uint64_t index = cache_->size();
+                Rng jitterRng = Rng::forSample(seed, (uint64_t(1) << 40) + index, 0);
+                std::vector<Vec2> jitter(N);
+                for (Vec2& u : jitter) u = jitterRng.uniform2();
+                const std::vector<Vec3> dirs = RadianceCache::directions(N, jitter);
+                const Frame frame(n);
+                tbb::parallel_for(0, N, [&](int k) {
+                    const Vec3 w = frame.toWorld(dirs[k]);
+                    const Ray r = surf.spawn(hit.p, n, w);
+                    Rng rng = Rng::forSample(seed, (uint64_t(1) << 40) + index, uint32_t(k + 1));
+                    counters[k] = PathCounters{};
+                    IncomingSample& sample = samples[k];
+                    sample.w = dirs[k];
+                    sample.L = Li(r, rng, counters[k], PathKind::CacheRecord);
+                    if (!sample.L.allFinite()) sample.L = Spectrum::Zero();
+                    SurfaceHit h;
+                    sample.hit = surf.intersect(r, NoHit, &h);
+                    if (sample.hit) sample.W = h.p, sample.nW = h.ng;
+                });
+                for (const PathCounters& pc : counters) cacheBuild_.counters.add(pc);
+                cache_->add(hit.p, n, samples);
+            }
+    cacheBuild_.fillSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 }  // namespace shvol

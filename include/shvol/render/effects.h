@@ -19,6 +19,7 @@ struct Effects {
     bool surfaces = false;            ///< the scene has surfaces (Embree closest hits)
     bool areaLights = false;    ///< some surface emits and render.nee is not false: NEE to it, MIS
     bool boundedMedia = false;  ///< some medium exists only inside a closed surface
+    bool radianceCache = false;  ///< render.radiance_cache on and some surface can be cached
     LightSampling lightSampling = LightSampling::Environment;  ///< strategy when nextEvent
     MisHeuristic mis = MisHeuristic::Balance;                  ///< when nextEvent
     bool skyCompressed = false;  ///< the sky hierarchy is top-K compressed (set by the integrator)

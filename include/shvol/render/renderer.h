@@ -54,6 +54,15 @@ struct LightSamplingStats {
     double setupSeconds = 0;    ///< building the sky hierarchy, tables and lobes
 };
 
+/// What the radiance cache held and cost (render.radiance_cache; records 0 when not used).
+struct RadianceCacheStats {
+    bool used = false;
+    size_t records = 0, memoryBytes = 0, tableBytes = 0;
+    double tableSeconds = 0, fillSeconds = 0;
+    double tableProjectionError = 0;  ///< largest over the BRDF tables (1 − Gautron eq. 15)
+    uint64_t recordPaths = 0;         ///< paths traced to fill the records
+};
+
 struct RenderStats {
     double wallSeconds = 0;
     int threads = 0;
@@ -62,6 +71,7 @@ struct RenderStats {
     PathCounters counters;
     std::vector<std::string> effects;
     LightSamplingStats lightSampling;
+    RadianceCacheStats radianceCache;
     RenderStop stop = RenderStop::Completed;
     uint32_t resumedFromSamples = 0;          ///< samples per pixel (minimum) in the film continued
     uint32_t minSamples = 0, maxSamples = 0;  ///< samples per pixel taken, over the image

@@ -30,6 +30,15 @@ const char* sampleStreamName(SampleStream s);  ///< "sobol", "independent"
 const char* lightSamplingName(LightSampling s);
 const char* misHeuristicName(MisHeuristic h);
 
+/// HSH radiance caching at diffuse and glossy surfaces (render.radiance_cache; cache/).
+struct RadianceCacheSettings {
+    bool enabled = false;
+    double accuracy = 0.25;    ///< a: records count where their weight exceeds 1/a
+    int hshOrder = 8;          ///< n: HSH bands (n² coefficients per channel)
+    int raysPerRecord = 1024;  ///< N: hemisphere rays per record
+    int maxRecords = 20000;
+};
+
 struct RenderSettings {
     int spp = 16;
     uint64_t seed = 1;
@@ -46,6 +55,7 @@ struct RenderSettings {
     int productOrder = 4;   ///< bands of the zonal phase lobe in product sampling (1 … 32)
     int productDepth = -1;  ///< levels warped by the product; −1: ProductSampler's default
     size_t waveletCoefficients = 0;  ///< sky wavelet details kept (0 = all)
+    RadianceCacheSettings radianceCache;
 };
 
 struct Scene {

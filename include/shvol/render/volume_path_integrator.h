@@ -32,9 +32,24 @@
 /// blocked by every surface but `null` ones, and carry the media's transmittance between them.
 /// At surface vertices the product strategy's environment share is the sky hierarchy alone (the
 /// phase lobe has no meaning there).
+///
+/// Radiance cache (render.radiance_cache, cache/radiance_cache.h). When a camera path's first
+/// scattering vertex is a Lambert, Phong or Ward surface, the path ends there with
+///   L = L_e + (direct light by next-event estimation, weight 1) + Σ_i λ_i c_i(ω_o),
+/// λ the cache's HSH coefficients of the incoming indirect radiance, c the BRDF table of the
+/// surface (cache/hsh_brdf_table.h); where no record is valid the path goes on as without cache.
+/// The records are made by the constructor, before any pixel: camera rays through pixel centres,
+/// coarse to fine (every 16th pixel, then 8th, …, 1st), each visible cacheable point not yet
+/// covered by a record gets one, from N stratified hemisphere rays traced by Li as record paths:
+/// paths that leave out what the shading point's next-event estimation adds (the emission of
+/// area lights, and the environment when it is light-sampled, met before any scattering). The
+/// order is fixed and each ray has its own numbers, so the cache, and the image, do not depend
+/// on the thread count.
 #include <memory>
 #include <vector>
 
+#include "shvol/cache/hsh_brdf_table.h"
+#include "shvol/cache/radiance_cache.h"
 #include "shvol/lights/product_sampler.h"
 #include "shvol/render/effects.h"
 #include "shvol/render/scene.h"
@@ -56,6 +71,9 @@ struct PathCounters {
     uint64_t surfaceEvents = 0;      ///< of those, BSDF scattering events
     uint64_t areaLightSamples = 0;   ///< points drawn on emitting surfaces
     uint64_t shadowRays = 0;         ///< occlusion queries against the surfaces
+    uint64_t cacheLookups = 0;       ///< radiance-cache queries at camera paths' first vertices
+    uint64_t cacheHits = 0;          ///< of those, answered by the cache (the path ended)
+    uint64_t cacheLookupNs = 0;      ///< time spent in them (steady clock)
     uint64_t nonFiniteSamples = 0;   ///< samples discarded because Li was NaN or Inf
     TrackingCounters tracking;
     void add(const PathCounters& o);
@@ -74,8 +92,10 @@ class VolumePathIntegrator {
     /// per bounce a 2D light sample (with next-event estimation), a 2D phase sample and a 1D
     /// Russian-roulette number, in that order; free-flight and transmittance tracking draw from
     /// its rng().
+    /// A camera path, or a record path of the radiance cache (see the file comment).
+    enum class PathKind { Camera, CacheRecord };
     template <typename Sampler>
-    Spectrum Li(Ray ray, Sampler& sampler, PathCounters& c) const;
+    Spectrum Li(Ray ray, Sampler& sampler, PathCounters& c, PathKind kind = PathKind::Camera) const;
     const Effects& effects() const { return effects_; }
     /// The sky hierarchy (wavelet and product strategies only; else null).
     const SkyHierarchy* sky() const { return sky_.get(); }
@@ -83,6 +103,15 @@ class VolumePathIntegrator {
     const ProductSampler* product() const { return product_.get(); }
     /// Seconds spent building the light-sampling structures.
     double setupSeconds() const { return setupSeconds_; }
+    /// The radiance cache (null when not used), and what building it cost.
+    const RadianceCache* radianceCache() const { return cache_.get(); }
+    struct CacheBuild {
+        double tableSeconds = 0, fillSeconds = 0;
+        double tableProjectionError = 0;  ///< largest over the surfaces' BRDF tables
+        size_t tableBytes = 0;
+        PathCounters counters;  ///< of the record paths
+    };
+    const CacheBuild& cacheBuild() const { return cacheBuild_; }
 
   private:
     /// A medium's phase lobe for product sampling: zonal coefficients and defensive share β.
@@ -150,6 +179,16 @@ class VolumePathIntegrator {
     std::unique_ptr<const AreaLights> areaLights_;  ///< when some surface emits
     std::vector<int> mediumBit_;   ///< per medium: its bit in Inside, or −1 if unbounded
     std::vector<int> boundaryOf_;  ///< per bounded medium bit: its surface
+    /// The sky hierarchy, product sampler and phase lobes the light-sampling strategy needs.
+    void buildLightSamplers();
+    /// The cache's first pass (constructor): records at visible cacheable points.
+    void buildRadianceCache();
+    /// Outgoing radiance from the cache at a camera path's first surface vertex; false if no record
+    /// is valid there.
+    bool cachedRadiance(const SurfaceHit& hit, const Vec3& wo, Spectrum* L, PathCounters& c) const;
+    std::unique_ptr<RadianceCache> cache_;
+    std::vector<std::unique_ptr<const HshBrdfTable>> tables_;  ///< per surface; null: not cached
+    CacheBuild cacheBuild_;
     Vec3 cameraPosition_;
     Inside cameraInside_ = 0;  ///< the bounded media containing the camera position
     double setupSeconds_ = 0;

@@ -1,0 +1,51 @@
+#pragma once
+/// \file HSH coefficients of a cosine-weighted BRDF for a grid of outgoing directions (Gautron et
+/// al. 2004 §5 and §6.2, "BRDF Representation").
+///
+/// For each outgoing direction ω_o of the local frame (+z the normal), the coefficients of
+/// g(ω_i) = f(ω_o, ω_i) cos θ_i over the upper hemisphere,
+///   c_i(ω_o) = ∫_{H²} f(ω_o, ω_i) cos θ_i H_i(ω_i) dω_i          (Gautron eq. 17, premultiplied),
+/// so that the outgoing radiance of an incoming radiance with HSH coefficients λ is L_o = Σ λ_i
+/// c_i. ω_o is tabulated on an R × R grid of the parabolic parametrisation of Heidrich & Seidel
+/// 1999,
+///   (u, v) = (ω_x, ω_y) / (1 + ω_z) ∈ unit disk,
+/// with grid nodes outside the disk taken at its rim, and c is interpolated bilinearly.
+/// Lambert, Phong and Ward are linear in their reflectances, f = ρ_d f_d + ρ_s f_s, so the table
+/// holds the scalar coefficients of f_d (one vector: they do not depend on ω_o) and of f_s per
+/// node, and RGB coefficients are ρ_d c_d + ρ_s c_s. The integrals use a Gauss–Legendre × uniform
+/// hemisphere rule fine enough for the lobe (hemisphereQuadrature in sh/hsh.h).
+#include <vector>
+
+#include "shvol/core/math.h"
+#include "shvol/surfaces/bsdf.h"
+
+namespace shvol {
+
+class HshBrdfTable {
+  public:
+    /// \param bsdf lambert, phong or ward (others: shvol::Error). \param order n (n² coefficients).
+    /// \param resolution R, outgoing directions per side of the parabolic grid.
+    HshBrdfTable(const Bsdf& bsdf, int order, int resolution = 32);
+    int order() const { return n_; }
+    int size() const { return n_ * n_; }
+    /// RGB coefficients c(ω_o) for a local ω_o with z > 0: out[k·n² + i] for channel k.
+    void coefficients(const Vec3& wo, double* out) const;
+    /// The fraction of ∫ g² the order-n projection misses (1 − Gautron eq. 15), averaged over the
+    /// grid's outgoing directions, for the specular part (the diffuse part's, if it has no
+    /// specular part).
+    double projectionError() const { return projectionError_; }
+    size_t memoryBytes() const;
+
+  private:
+    int n_, res_;
+    Spectrum rhoD_, rhoS_;
+    std::vector<double> diffuse_;  ///< n² coefficients of f_d cos θ_i
+    std::vector<double> specular_;  ///< res² × n² coefficients of f_s cos θ_i (empty for lambert)
+    double projectionError_ = 0;
+};
+
+/// Parabolic map of Heidrich & Seidel 1999 and its inverse, for directions with z ≥ 0.
+Vec2 parabolicFromDirection(const Vec3& w);
+Vec3 directionFromParabolic(const Vec2& uv);
+
+}  // namespace shvol

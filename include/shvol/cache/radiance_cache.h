@@ -1,0 +1,88 @@
+#pragma once
+/// \file Radiance caching at surfaces with hemispherical harmonics (Gautron et al. 2004 §6.2,
+/// after Křivánek et al. 2005 "Radiance caching for efficient global illumination computation").
+///
+/// A record at a surface point P with normal N stores the incoming radiance over the hemisphere of
+/// its local frame Frame(N) as RGB HSH coefficients of order n, computed from N_r uniformly
+/// distributed (stratified) directions ω_k by Monte Carlo quadrature (Gautron eq. 22),
+///   λ_i = (2π / N_r) Σ_k L_k H_i(ω_k),
+/// with translational gradients ∂λ/∂x, ∂λ/∂y along the frame's tangents by the displaced-point
+/// quadrature of Gautron §6.2: moving P to P′ = P + Δx s re-weights the sample that met the
+/// surface point W_k (normal n_W) by the ratio of the solid angles it subtends,
+///   λ′_i = (2π / N_r) Σ_k (|W_k − P|² cos ξ′_k) / (|W_k − P′|² cos ξ_k) L_k H_i(ω′_k),
+/// ω′_k the direction from P′ to W_k, and ∂λ/∂x = (λ′ − λ)/Δx (samples that met no surface keep
+/// their direction and weight). R_i is the harmonic mean distance to the surfaces the samples met,
+/// clamped to [0.01, 0.25] × the scene's diagonal (as irradiance caches do, so that records in
+/// corners do not shrink to nothing nor open spaces reach across the scene).
+/// A query at (P, N) averages the records with weight (Gautron eq. 23)
+///   w_i = 1 / (|P − P_i| / R_i + √(1 − N·N_i))  >  1/a,
+/// each extrapolated by its gradients and rotated from its frame to the query's (eq. 24; HSH
+/// rotation through SH, sh/hsh.h, skipped when the two frames are the same).
+/// Records are found through a uniform grid over the scene holding each record in every cell its
+/// sphere of influence (radius a R_i) touches. Adding is not thread-safe; lookups are read-only.
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "shvol/core/math.h"
+
+namespace shvol {
+
+/// One incoming-radiance sample of a record: the direction it arrives from (local, z > 0), its
+/// radiance, and the first surface point along it (for the gradients).
+struct IncomingSample {
+    Vec3 w;
+    Spectrum L;
+    bool hit = false;
+    Vec3 W{0, 0, 0}, nW{0, 0, 1};
+};
+
+class RadianceCache {
+  public:
+    /// \param order HSH order n; \param accuracy a; lo, hi the scene's bounding box.
+    RadianceCache(int order, double accuracy, const Vec3& lo, const Vec3& hi);
+    ~RadianceCache();
+    int order() const { return n_; }
+    int coefficientCount() const { return 3 * n_ * n_; }
+
+    /// N_r stratified uniform directions of the upper hemisphere (z = u₁, φ = 2π u₂ on a
+    /// ⌈√N_r⌉² grid of strata, the first N_r of them, jittered by `jitter`, 2 numbers each).
+    static std::vector<Vec3> directions(int count, const std::vector<Vec2>& jitter);
+
+    /// Builds the record at (p, n) from its samples and stores it.
+    void add(const Vec3& p, const Vec3& n, const std::vector<IncomingSample>& samples);
+    /// λ (3n², channel-major) of the interpolated incoming radiance at (p, n) in the frame
+    /// Frame(n); false if no record has weight > 1/a there.
+    bool lookup(const Vec3& p, const Vec3& n, double* lambda) const;
+    /// Whether some record has weight > 1/a at (p, n).
+    bool covers(const Vec3& p, const Vec3& n) const;
+
+    size_t size() const { return records_.size(); }
+    size_t memoryBytes() const;
+
+    /// A record as stored (for tests).
+    struct Record {
+        Vec3 p, n;
+        double R;
+        std::vector<double> lambda, dx, dy;  ///< 3n² each
+    };
+    const Record& record(size_t i) const { return records_[i]; }
+    /// The record that add() would build from these samples, without storing it.
+    Record build(const Vec3& p, const Vec3& n, const std::vector<IncomingSample>& samples) const;
+
+  private:
+    double weight(const Record& r, const Vec3& p, const Vec3& n) const;
+    uint64_t cellKey(const Eigen::Vector3i& c) const;
+    Eigen::Vector3i cellOf(const Vec3& p) const;
+
+    int n_;
+    double a_, diag_, cell_;
+    Vec3 lo_;
+    std::vector<Record> records_;
+    std::unordered_map<uint64_t, std::vector<uint32_t>> grid_;
+    struct Rotation;  ///< the SH→HSH matrix for rotating records
+    std::unique_ptr<Rotation> rotation_;
+};
+
+}  // namespace shvol

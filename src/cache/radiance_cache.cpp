@@ -1,0 +1,162 @@
+#include "shvol/cache/radiance_cache.h"
+
+#include "shvol/sh/hsh.h"
+
+namespace shvol {
+
+struct RadianceCache::Rotation {
+    sh::ShToHsh C;  ///< n HSH bands through 2n SH bands (Gautron §4)
+};
+
+RadianceCache::RadianceCache(int order, double accuracy, const Vec3& lo, const Vec3& hi)
+    : n_(order),
+      a_(accuracy),
+      diag_(std::max((hi - lo).norm(), 1e-300)),
+      cell_(diag_ / 64),
+      lo_(lo),
+      rotation_(std::make_unique<Rotation>(Rotation{sh::ShToHsh(order, 2 * order)})) {}
+
+RadianceCache::~RadianceCache() = default;
+
+std::vector<Vec3> RadianceCache::directions(int count, const std::vector<Vec2>& jitter) {
+    const int k = int(std::ceil(std::sqrt(double(count))));
+    std::vector<Vec3> w(count);
+    for (int j = 0; j < count; ++j) {
+        const double u1 = (j % k + jitter[j].x()) / k, u2 = (j / k + jitter[j].y()) / k;
+        w[j] = sphericalDirection(std::max(u1, 1e-9), TwoPi * u2);
+    }
+    return w;
+}
+
+RadianceCache::Record RadianceCache::build(const Vec3& p, const Vec3& n,
+                                           const std::vector<IncomingSample>& samples) const {
+    const int nn = n_ * n_;
+    const Frame frame(n);
+    Record r{p,
+             n,
+             0,
+             std::vector<double>(3 * nn, 0.0),
+             std::vector<double>(3 * nn, 0.0),
+             std::vector<double>(3 * nn, 0.0)};
+    double invDist = 0;
+    int hits = 0;
+    for (const IncomingSample& s : samples)
+        if (s.hit) invDist += 1 / std::max((s.W - p).norm(), 1e-300), ++hits;
+    r.R = std::clamp(hits > 0 && invDist > 0 ? hits / invDist : 0.25 * diag_, 0.01 * diag_,
+                     0.25 * diag_);
+    const double scale = TwoPi / samples.size();
+    const double delta = 1e-3 * r.R;  // Δx of the finite differences
+    std::vector<double> h(nn);
+    // Σ_k weight·L_k·H(ω) into out.
+    auto accumulate = [&](std::vector<double>& out, const Vec3& w, double weight,
+                          const Spectrum& L) {
+        if (!(w.z() > 0) || !(weight > 0)) return;
+        sh::hshEval(n_, w, h.data());
+        for (int c = 0; c < 3; ++c)
+            for (int i = 0; i < nn; ++i) out[c * nn + i] += scale * weight * L[c] * h[i];
+    };
+    for (const IncomingSample& s : samples) accumulate(r.lambda, s.w, 1, s.L);
+    for (int axis = 0; axis < 2; ++axis) {
+        std::vector<double>& g = axis == 0 ? r.dx : r.dy;
+        const Vec3 moved = p + delta * (axis == 0 ? frame.s : frame.t);
+        for (const IncomingSample& s : samples) {
+            if (!s.hit) {
+                accumulate(g, s.w, 1, s.L);
+                continue;
+            }
+            const Vec3 d = s.W - p, d2 = s.W - moved;
+            const double cosXi = std::abs(s.nW.dot(d)) / d.norm();
+            const double cosXi2 = std::abs(s.nW.dot(d2)) / d2.norm();
+            if (!(cosXi > 0)) continue;
+            accumulate(g, frame.toLocal(d2.normalized()),
+                       d.squaredNorm() * cosXi2 / (d2.squaredNorm() * cosXi), s.L);
+        }
+        for (int i = 0; i < 3 * nn; ++i) g[i] = (g[i] - r.lambda[i]) / delta;
+    }
+    return r;
+}
+
+Eigen::Vector3i RadianceCache::cellOf(const Vec3& p) const {
+    return ((p - lo_) / cell_).array().floor().cast<int>();
+}
+
+uint64_t RadianceCache::cellKey(const Eigen::Vector3i& c) const {
+    // 21 bits per axis (cells beyond ±2^20 of the box alias, which only costs candidates).
+    auto b = [](int v) { return uint64_t(uint32_t(v) & 0x1FFFFFu); };
+    return b(c.x()) | (b(c.y()) << 21) | (b(c.z()) << 42);
+}
+
+void RadianceCache::add(const Vec3& p, const Vec3& n, const std::vector<IncomingSample>& samples) {
+    records_.push_back(build(p, n, samples));
+    const Record& r = records_.back();
+    const double reach = a_ * r.R;
+    const Eigen::Vector3i c0 = cellOf(p - Vec3::Constant(reach));
+    const Eigen::Vector3i c1 = cellOf(p + Vec3::Constant(reach));
+    for (int z = c0.z(); z <= c1.z(); ++z)
+        for (int y = c0.y(); y <= c1.y(); ++y)
+            for (int x = c0.x(); x <= c1.x(); ++x)
+                grid_[cellKey({x, y, z})].push_back(uint32_t(records_.size() - 1));
+}
+
+double RadianceCache::weight(const Record& r, const Vec3& p, const Vec3& n) const {
+    const double d = (p - r.p).norm() / r.R + std::sqrt(std::max(0.0, 1 - n.dot(r.n)));
+    return d > 0 ? 1 / d : std::numeric_limits<double>::infinity();
+}
+
+bool RadianceCache::covers(const Vec3& p, const Vec3& n) const {
+    const auto it = grid_.find(cellKey(cellOf(p)));
+    if (it == grid_.end()) return false;
+    for (uint32_t i : it->second)
+        if (weight(records_[i], p, n) > 1 / a_) return true;
+    return false;
+}
+
+bool RadianceCache::lookup(const Vec3& p, const Vec3& n, double* lambda) const {
+    const auto it = grid_.find(cellKey(cellOf(p)));
+    if (it == grid_.end()) return false;
+    const int nn = n_ * n_;
+    std::fill(lambda, lambda + 3 * nn, 0.0);
+    std::vector<double> moved(3 * nn);
+    double wSum = 0;
+    const Frame query(n);
+    for (uint32_t i : it->second) {
+        const Record& r = records_[i];
+        double w = weight(r, p, n);
+        if (!(w > 1 / a_)) continue;
+        w = std::min(w, 1e12);  // a query exactly at a record
+        const Frame frame(r.n);
+        const double dx = (p - r.p).dot(frame.s), dy = (p - r.p).dot(frame.t);
+        for (int k = 0; k < 3 * nn; ++k) moved[k] = r.lambda[k] + dx * r.dx[k] + dy * r.dy[k];
+        if ((r.n - n).squaredNorm() > 1e-24) {  // rotate the record's frame onto the query's
+            Eigen::Matrix3d R;
+            for (int a = 0; a < 3; ++a)
+                for (int b = 0; b < 3; ++b)
+                    R(a, b) = (a == 0   ? query.s
+                               : a == 1 ? query.t
+                                        : query.n)
+                                  .dot(b == 0   ? frame.s
+                                       : b == 1 ? frame.t
+                                                : frame.n);
+            const sh::ShRotation rot(2 * n_, R);
+            for (int c = 0; c < 3; ++c) {
+                const Eigen::VectorXd v = sh::hshRotate(
+                    rotation_->C, rot, Eigen::Map<const Eigen::VectorXd>(&moved[c * nn], nn));
+                std::copy(v.data(), v.data() + nn, &moved[c * nn]);
+            }
+        }
+        for (int k = 0; k < 3 * nn; ++k) lambda[k] += w * moved[k];
+        wSum += w;
+    }
+    if (!(wSum > 0)) return false;
+    for (int k = 0; k < 3 * nn; ++k) lambda[k] /= wSum;
+    return true;
+}
+
+size_t RadianceCache::memoryBytes() const {
+    size_t b = records_.capacity() * sizeof(Record);
+    for (const Record& r : records_) b += 3 * r.lambda.capacity() * sizeof(double);
+    for (const auto& [key, list] : grid_) b += sizeof(key) + list.capacity() * sizeof(uint32_t);
+    return b;
+}
+
+}  // namespace shvol

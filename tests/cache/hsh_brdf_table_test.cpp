@@ -1,0 +1,86 @@
+#include "shvol/cache/hsh_brdf_table.h"
+
+#include <gtest/gtest.h>
+
+#include "shvol/core/error.h"
+#include "shvol/sh/hsh.h"
+
+namespace shvol {
+namespace {
+
+/// ∫ f(ω_o, ω_i) cos θ_i L(ω_i) dω_i by a fine hemisphere rule (the reference).
+double reflected(const Bsdf& b, const Vec3& wo, const std::function<double(const Vec3&)>& L) {
+    const sh::SphereQuadrature q = sh::hemisphereQuadrature(400, 800);
+    double s = 0;
+    for (int i = 0; i < int(q.z.size()); ++i)
+        for (int j = 0; j < q.nphi; ++j) {
+            const Vec3 wi = q.direction(i, j);
+            s += q.weight(i) * b.eval(wo, wi)[0] * wi.z() * L(wi);
+        }
+    return s;
+}
+
+/// Σ λ_i c_i(ω_o) for the HSH projection λ of L.
+double dotted(const HshBrdfTable& t, const Vec3& wo, const std::function<double(const Vec3&)>& L) {
+    const int n = t.order();
+    const Eigen::VectorXd lambda = sh::projectHSH(n, L, sh::hemisphereQuadrature(2 * n, 4 * n));
+    std::vector<double> c(3 * n * n);
+    t.coefficients(wo, c.data());
+    return lambda.dot(Eigen::Map<const Eigen::VectorXd>(c.data(), n * n));
+}
+
+TEST(HshBrdfTable, ParabolicMapRoundTrip) {
+    for (const Vec3& w :
+         {Vec3(0, 0, 1), Vec3(0.6, 0, 0.8), Vec3(0.3, -0.5, 0.1).normalized(), Vec3(1, 0, 0)}) {
+        EXPECT_NEAR((directionFromParabolic(parabolicFromDirection(w)) - w).norm(), 0, 1e-12);
+        EXPECT_LE(parabolicFromDirection(w).norm(), 1 + 1e-12);
+    }
+}
+
+// A radiance field inside the span of the basis (1 and 2z − 1 are H_0 and H_1^0 up to scale) is
+// reflected exactly, up to the table's interpolation in ω_o (none at a node: ω_o = +z is the
+// centre node of an odd grid).
+TEST(HshBrdfTable, ReflectsBandLimitedRadianceExactlyAtANode) {
+    auto L = [](const Vec3& w) { return 1 + 3 * w.z(); };
+    const Vec3 up(0, 0, 1);
+    const Bsdf lambert = Bsdf::lambert(Spectrum::Constant(0.6));
+    EXPECT_NEAR(dotted(HshBrdfTable(lambert, 3, 33), up, L), reflected(lambert, up, L), 1e-9);
+    const Bsdf phong = Bsdf::phong(Spectrum::Constant(0.2), Spectrum::Constant(0.7), 22);
+    EXPECT_NEAR(dotted(HshBrdfTable(phong, 4, 33), up, L), reflected(phong, up, L), 2e-4);
+    const Bsdf ward = Bsdf::ward(Spectrum::Zero(), Spectrum::Constant(0.8), 0.2, 0.4);
+    EXPECT_NEAR(dotted(HshBrdfTable(ward, 4, 33), up, L), reflected(ward, up, L), 2e-4);
+}
+
+// Under constant radiance the result is the directional albedo at every ω_o; between nodes the
+// bilinear interpolation of the table costs a little.
+TEST(HshBrdfTable, ConstantRadianceGivesTheAlbedo) {
+    auto one = [](const Vec3&) { return 1.0; };
+    const Bsdf phong = Bsdf::phong(Spectrum::Zero(), Spectrum::Constant(1), 22);
+    const HshBrdfTable t(phong, 6, 32);
+    for (const Vec3& wo : {Vec3(0.1, 0.2, 0.97).normalized(), Vec3(0.7, -0.3, 0.4).normalized(),
+                           Vec3(-0.9, 0.1, 0.2).normalized()}) {
+        const double albedo = reflected(phong, wo, one);
+        EXPECT_NEAR(dotted(t, wo, one), albedo, 0.02 * albedo) << wo.transpose();
+    }
+}
+
+TEST(HshBrdfTable, ProjectionErrorFallsWithOrder) {
+    const Bsdf phong = Bsdf::phong(Spectrum::Zero(), Spectrum::Constant(1), 22);
+    double previous = 1;
+    for (int n : {2, 4, 6, 8, 10}) {
+        const double e = HshBrdfTable(phong, n, 9).projectionError();
+        EXPECT_LT(e, previous) << "order " << n;
+        EXPECT_GE(e, 0);
+        previous = e;
+    }
+    EXPECT_LT(previous, 0.05);  // order 10 keeps > 95% of the Phong-22 lobe's energy
+    EXPECT_LT(HshBrdfTable(Bsdf::lambert(Spectrum::Ones()), 2, 9).projectionError(), 0.01);
+}
+
+TEST(HshBrdfTable, RefusesDeltaBsdfs) {
+    EXPECT_THROW(HshBrdfTable(Bsdf::mirror(Spectrum::Ones()), 4), Error);
+    EXPECT_THROW(HshBrdfTable(Bsdf::dielectric(1.5), 4), Error);
+}
+
+}  // namespace
+}  // namespace shvol

@@ -1,0 +1,139 @@
+#include "shvol/cache/radiance_cache.h"
+
+#include <gtest/gtest.h>
+
+#include "shvol/core/rng.h"
+#include "shvol/sh/hsh.h"
+
+namespace shvol {
+namespace {
+
+std::vector<Vec2> jitter(int n, uint64_t seed) {
+    Rng rng(seed, 0);
+    std::vector<Vec2> j(n);
+    for (Vec2& u : j) u = rng.uniform2();
+    return j;
+}
+
+/// Samples at p (normal n) of a radiance field that depends on direction only (no surface hit).
+std::vector<IncomingSample> distantSamples(const Vec3& n, int count,
+                                           const std::function<Spectrum(const Vec3&)>& L) {
+    const Frame f(n);
+    std::vector<IncomingSample> s;
+    for (const Vec3& w : RadianceCache::directions(count, jitter(count, 3)))
+        s.push_back({w, L(f.toWorld(w))});
+    return s;
+}
+
+const Vec3 kLo(-1, -1, -1), kHi(1, 1, 1);
+
+// Constant radiance c: the record's irradiance ∫ L cos θ dω = π c, read through the HSH
+// coefficients of cos θ.
+TEST(RadianceCache, ConstantRadianceGivesTheIrradiance) {
+    const int n = 4;
+    RadianceCache cache(n, 0.3, kLo, kHi);
+    const Vec3 normal = Vec3(0.2, 0.3, 0.9).normalized();
+    cache.add(Vec3(0, 0, 0), normal,
+              distantSamples(normal, 1024, [](const Vec3&) { return Spectrum(0.5, 1, 2); }));
+    const Eigen::VectorXd cosine = sh::projectHSH(
+        n, [](const Vec3& w) { return w.z(); }, sh::hemisphereQuadrature(8, 16));
+    std::vector<double> lambda(cache.coefficientCount());
+    ASSERT_TRUE(cache.lookup(Vec3(0, 0, 0), normal, lambda.data()));
+    for (int c = 0; c < 3; ++c) {
+        const double E = Eigen::Map<const Eigen::VectorXd>(&lambda[c * n * n], n * n).dot(cosine);
+        EXPECT_NEAR(E, Pi * Spectrum(0.5, 1, 2)[c], 1e-3 * Pi * 2) << "channel " << c;
+    }
+}
+
+// The Monte Carlo projection of a smooth field converges to the quadrature projection.
+TEST(RadianceCache, ProjectionAgreesWithQuadrature) {
+    const int n = 5;
+    const Vec3 d = Vec3(0.5, -0.2, 0.8).normalized();
+    auto field = [&](const Vec3& w) { return std::exp(2 * w.dot(d)); };
+    RadianceCache cache(n, 0.3, kLo, kHi);
+    const RadianceCache::Record r = cache.build(
+        Vec3(0, 0, 0), Vec3(0, 0, 1), distantSamples(Vec3(0, 0, 1), 16384, [&](const Vec3& w) {
+            return Spectrum::Constant(field(w));
+        }));
+    const Eigen::VectorXd exact = sh::projectHSH(n, field, sh::hemisphereQuadrature(32, 64));
+    for (int i = 0; i < n * n; ++i) EXPECT_NEAR(r.lambda[i], exact[i], 2e-3 * exact.norm()) << i;
+}
+
+// A query with another normal gets the record's function rotated into its own frame: compared
+// with the quadrature projection of the record's (zero-extended) function seen from that frame.
+TEST(RadianceCache, RotatedLookupAgreesWithQuadrature) {
+    const int n = 4;
+    const Vec3 d = Vec3(0.3, 0.1, 0.9).normalized();
+    auto field = [&](const Vec3& w) { return std::exp(w.dot(d)); };
+    RadianceCache cache(n, 0.5, kLo, kHi);
+    const Vec3 n1(0, 0, 1);
+    cache.add(Vec3(0, 0, 0), n1, distantSamples(n1, 4096, [&](const Vec3& w) {
+                  return Spectrum::Constant(field(w));
+              }));
+    const Vec3 n2 = Vec3(0.25, 0.1, 1).normalized();  // 15° away: weight 1/√(1 − cos) > 1/a
+    std::vector<double> lambda(cache.coefficientCount());
+    ASSERT_TRUE(cache.lookup(Vec3(0, 0, 0), n2, lambda.data()));
+    const std::vector<double>& rec = cache.record(0).lambda;
+    const Frame f1(n1), f2(n2);
+    const Eigen::VectorXd expected = sh::projectHSH(
+        n,
+        [&](const Vec3& w) {
+            const Vec3 v = f1.toLocal(f2.toWorld(w));
+            return v.z() >= 0 ? sh::hshReconstruct(n, rec.data(), v) : 0.0;
+        },
+        sh::hemisphereQuadrature(64, 128));
+    const Eigen::Map<const Eigen::VectorXd> got(lambda.data(), n * n);
+    EXPECT_LT((got - expected).norm(), 0.02 * expected.norm())
+        << "got " << got.transpose() << "\nexpected " << expected.transpose();
+}
+
+// The translational gradients predict records built afresh nearby: samples meeting a ceiling
+// z = 1 whose radiance varies along x, records at x = 0 and x = h from the same strata.
+TEST(RadianceCache, GradientsMatchFiniteDifferencesOfFreshRecords) {
+    const int n = 3, count = 65536;
+    auto texture = [](const Vec3& W) { return 1 + 0.5 * std::sin(3 * W.x()) + 0.3 * W.y(); };
+    auto samplesAt = [&](const Vec3& p) {
+        std::vector<IncomingSample> s;
+        for (const Vec3& w : RadianceCache::directions(count, jitter(count, 9))) {
+            const double t = (1 - p.z()) / w.z();
+            const Vec3 W = p + t * w;
+            s.push_back({w, Spectrum::Constant(texture(W)), true, W, Vec3(0, 0, -1)});
+        }
+        return s;
+    };
+    RadianceCache cache(n, 0.3, Vec3(-5, -5, -1), Vec3(5, 5, 2));
+    const Vec3 p(0.1, 0.2, 0);
+    const RadianceCache::Record r = cache.build(p, Vec3(0, 0, 1), samplesAt(p));
+    const double h = 0.02;
+    const RadianceCache::Record rx =
+        cache.build(p + Vec3(h, 0, 0), Vec3(0, 0, 1), samplesAt(p + Vec3(h, 0, 0)));
+    const RadianceCache::Record ry =
+        cache.build(p + Vec3(0, h, 0), Vec3(0, 0, 1), samplesAt(p + Vec3(0, h, 0)));
+    const Frame f(Vec3(0, 0, 1));
+    ASSERT_NEAR(f.s.x(), 1, 1e-12);  // Frame(+z) has s = +x, t = +y
+    double err = 0, norm = 0;
+    for (int i = 0; i < n * n; ++i) {
+        const double fdx = (rx.lambda[i] - r.lambda[i]) / h, fdy = (ry.lambda[i] - r.lambda[i]) / h;
+        err += sqr(fdx - r.dx[i]) + sqr(fdy - r.dy[i]);
+        norm += sqr(fdx) + sqr(fdy);
+    }
+    EXPECT_GT(norm, 0.01);
+    EXPECT_LT(std::sqrt(err / norm), 0.05);
+}
+
+TEST(RadianceCache, WeightDecidesWhichRecordsCount) {
+    RadianceCache cache(2, 0.3, kLo, kHi);
+    cache.add(Vec3(0, 0, 0), Vec3(0, 0, 1),
+              distantSamples(Vec3(0, 0, 1), 64, [](const Vec3&) { return Spectrum::Ones(); }));
+    const double R = cache.record(0).R;
+    EXPECT_NEAR(R, 0.25 * std::sqrt(12.0), 1e-12);  // no hit: the largest radius
+    EXPECT_TRUE(cache.covers(Vec3(0.29 * R, 0, 0), Vec3(0, 0, 1)));
+    EXPECT_FALSE(cache.covers(Vec3(0.31 * R, 0, 0), Vec3(0, 0, 1)));
+    EXPECT_FALSE(cache.covers(Vec3(0, 0, 0), Vec3(1, 0, 0)));  // √(1 − 0) = 1 > a
+    std::vector<double> lambda(cache.coefficientCount());
+    EXPECT_FALSE(cache.lookup(Vec3(0.5, 0, 0), Vec3(0, 0, 1), lambda.data()));
+    EXPECT_GT(cache.memoryBytes(), 0u);
+}
+
+}  // namespace
+}  // namespace shvol

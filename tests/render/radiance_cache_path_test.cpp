@@ -1,0 +1,138 @@
+// The radiance cache in the path tracer (render.radiance_cache; VolumePathIntegrator's first pass
+// and its lookups at camera paths' first vertices).
+#include <gtest/gtest.h>
+
+#include "shvol/render/renderer.h"
+#include "shvol/render/volume_path_integrator.h"
+#include "shvol/sh/hsh.h"
+#include "surfaces/surface_test_util.h"
+
+namespace shvol {
+namespace {
+
+/// Inside a closed Lambertian box of reflectance ρ emitting L_e: the radiance is L_e/(1 − ρ)
+/// everywhere, of which L_e arrives straight from the walls (next-event estimation's part) and
+/// ρ L_e/(1 − ρ) after at least one bounce (the cache's part).
+Scene furnaceBox(double rho, double Le) {
+    Scene scene;
+    scene.camera.position = Vec3(0.1, -0.5, 0.2);
+    scene.camera.target = Vec3(0.1, 1, 0.1);
+    scene.camera.width = scene.camera.height = 24;
+    scene.camera.fovDegrees = 90;
+    scene.settings.maxDepth = 1000;
+    scene.settings.spp = 4;
+    RadianceCacheSettings& rc = scene.settings.radianceCache;
+    rc.enabled = true;
+    rc.hshOrder = 3;
+    rc.raysPerRecord = 400;
+    rc.accuracy = 0.5;
+    Surface box;
+    box.kind = Surface::Kind::Mesh;
+    box.mesh = testing::boxMesh(Vec3(-1, -1, -1), Vec3(1, 1, 1));
+    box.bsdf = Bsdf::lambert(Spectrum::Constant(rho));
+    box.emission = Spectrum::Constant(Le);
+    box.twoSidedEmission = true;
+    std::vector<Surface> v;
+    v.push_back(std::move(box));
+    scene.surfaces = std::make_unique<const SurfaceScene>(std::move(v));
+    return scene;
+}
+
+TEST(RadianceCachePath, FurnaceRecordsHoldTheIndirectIrradiance) {
+    const double rho = 0.6, Le = 0.5;
+    const Scene scene = furnaceBox(rho, Le);
+    const VolumePathIntegrator integrator(scene);
+    const RadianceCache* cache = integrator.radianceCache();
+    ASSERT_NE(cache, nullptr);
+    ASSERT_GT(cache->size(), 4u);
+    const int n = cache->order();
+    const Eigen::VectorXd cosine = sh::projectHSH(
+        n, [](const Vec3& w) { return w.z(); }, sh::hemisphereQuadrature(8, 16));
+    const double expected = Pi * rho * Le / (1 - rho);
+    // Each record is a Monte Carlo estimate (400 rays of a path tracer): their mean must agree
+    // with the analytic value within its standard error, and none may stray far.
+    std::vector<double> E;
+    for (size_t i = 0; i < cache->size(); ++i)
+        E.push_back(Eigen::Map<const Eigen::VectorXd>(cache->record(i).lambda.data(), n * n)
+                        .dot(cosine));
+    double mean = 0, var = 0;
+    for (double e : E) mean += e / E.size();
+    for (double e : E) var += sqr(e - mean) / (E.size() - 1);
+    EXPECT_NEAR(mean, expected, 4 * std::sqrt(var / E.size()) + 1e-9);
+    EXPECT_LT(std::sqrt(var), 0.1 * expected);  // the spread of one record: a few per cent
+    for (double e : E) EXPECT_NEAR(e, expected, 0.3 * expected);
+}
+
+TEST(RadianceCachePath, FurnaceRenderIsLeOverOneMinusRho) {
+    const double rho = 0.6, Le = 0.5;
+    const RenderResult r = render(furnaceBox(rho, Le), RenderOptions{});
+    const Image img = r.film.image();
+    double sum = 0;
+    for (float v : img.rgb) {
+        ASSERT_TRUE(std::isfinite(v));
+        sum += v;
+    }
+    EXPECT_NEAR(sum / img.rgb.size(), Le / (1 - rho), 0.03 * Le / (1 - rho));
+    EXPECT_GT(r.stats.counters.cacheHits, r.stats.counters.cacheLookups * 9 / 10);
+    EXPECT_TRUE(r.stats.radianceCache.used);
+}
+
+TEST(RadianceCachePath, ImageDoesNotDependOnTheThreadCount) {
+    const Scene scene = furnaceBox(0.5, 1);
+    RenderOptions one, two;
+    one.threads = 1;
+    two.threads = 2;
+    EXPECT_EQ(render(scene, one).film.image().rgb, render(scene, two).film.image().rgb);
+}
+
+}  // namespace
+}  // namespace shvol
+
+namespace shvol {
+namespace {
+
+/// A closed room with a glossy Phong-22 back wall and a light: the cached image stays within a
+/// loose bound of the path-traced one (the experiment in validation/cache measures the bias).
+TEST(RadianceCachePath, GlossyRoomStaysNearThePathTracedImage) {
+    auto room = [](bool cache) {
+        Scene scene;
+        scene.camera.position = Vec3(0, -0.95, 0);
+        scene.camera.target = Vec3(0, 1, 0);
+        scene.camera.width = scene.camera.height = 24;
+        scene.camera.fovDegrees = 80;
+        scene.settings.spp = cache ? 16 : 512;
+        scene.settings.radianceCache.enabled = cache;
+        scene.settings.radianceCache.hshOrder = 6;
+        scene.settings.radianceCache.raysPerRecord = 256;
+        std::vector<Surface> v;
+        Surface box;
+        box.kind = Surface::Kind::Mesh;
+        box.mesh = testing::boxMesh(Vec3(-1, -1, -1), Vec3(1, 1, 1));
+        box.bsdf = Bsdf::lambert(Spectrum(0.7, 0.5, 0.3));
+        v.push_back(std::move(box));
+        Eigen::Affine3d back = Eigen::Affine3d::Identity();
+        back.translate(Vec3(0, 0.99, 0)).rotate(Eigen::AngleAxisd(Pi / 2, Vec3::UnitX()));
+        Surface glossy = Surface::rectangle(back);
+        glossy.bsdf = Bsdf::phong(Spectrum::Constant(0.2), Spectrum::Constant(0.6), 22);
+        v.push_back(std::move(glossy));
+        Eigen::Affine3d top = Eigen::Affine3d::Identity();
+        top.translate(Vec3(0, 0, 0.98)).rotate(Eigen::AngleAxisd(Pi, Vec3::UnitX())).scale(0.3);
+        Surface light = Surface::rectangle(top);
+        light.emission = Spectrum(8, 6, 4);
+        v.push_back(std::move(light));
+        scene.surfaces = std::make_unique<const SurfaceScene>(std::move(v));
+        return render(scene, RenderOptions{});
+    };
+    const RenderResult pt = room(false), rc = room(true);
+    double a = 0, b = 0;
+    for (size_t i = 0; i < pt.image.rgb.size(); ++i) {
+        ASSERT_TRUE(std::isfinite(rc.image.rgb[i]));
+        ASSERT_GE(rc.image.rgb[i], 0);
+        a += pt.image.rgb[i], b += rc.image.rgb[i];
+    }
+    EXPECT_NEAR(b / a, 1, 0.1);
+    EXPECT_GT(rc.stats.radianceCache.records, 10u);
+}
+
+}  // namespace
+}  // namespace shvol
