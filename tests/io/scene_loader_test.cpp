@@ -212,6 +212,31 @@ TEST(SceneLoader, SurfacesAndTheirBsdfs) {
     EXPECT_FALSE(fx.boundedMedia);
 }
 
+TEST(SceneLoader, RadianceCacheKeys) {
+    const SurfaceFiles f;
+    const Scene off = f.load(R"({"surfaces": [{"type": "sphere"}]})");
+    EXPECT_FALSE(off.settings.radianceCache.enabled);
+    EXPECT_FALSE(Effects::of(off).radianceCache);
+    const Scene on = f.load(R"({"surfaces": [{"type": "sphere"}],
+        "render": {"radiance_cache": {"enabled": true, "accuracy": 0.1, "hsh_order": 5,
+                                      "rays_per_record": 300, "max_records": 7}}})");
+    const RadianceCacheSettings& rc = on.settings.radianceCache;
+    EXPECT_TRUE(rc.enabled);
+    EXPECT_EQ(rc.accuracy, 0.1);
+    EXPECT_EQ(rc.hshOrder, 5);
+    EXPECT_EQ(rc.raysPerRecord, 300);
+    EXPECT_EQ(rc.maxRecords, 7);
+    EXPECT_TRUE(Effects::of(on).radianceCache);
+    // Nothing to cache on: a mirror only.
+    EXPECT_FALSE(
+        Effects::of(f.load(R"({"surfaces": [{"type": "sphere", "bsdf": {"type": "mirror"}}],
+        "render": {"radiance_cache": {"enabled": true}}})"))
+            .radianceCache);
+    const std::string msg =
+        test::messageOf([&] { f.load(R"({"render": {"radiance_cache": {"hsh_order": 0}}})"); });
+    EXPECT_NE(msg.find("render.radiance_cache.hsh_order"), std::string::npos) << msg;
+}
+
 TEST(SceneLoader, MediumBoundedByAClosedSurface) {
     const SurfaceFiles f;
     const Scene s = f.load(R"({
