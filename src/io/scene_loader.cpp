@@ -97,6 +97,7 @@ RenderSettings readSettings(JsonReader r) {
     c.hshOrder = rc.integer("hsh_order", c.hshOrder, 1, 20);
     c.raysPerRecord = rc.integer("rays_per_record", c.raysPerRecord, 1, 1 << 20);
     c.maxRecords = rc.integer("max_records", c.maxRecords, 0, 1 << 24);
+    c.lightSamples = rc.integer("light_samples", c.lightSamples, 1, 1024);
     rc.finish();
     r.finish();
     return s;

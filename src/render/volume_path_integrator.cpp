@@ -311,7 +311,9 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             Spectrum cached;
             const bool fromCache = kind == PathKind::Camera && !scattered && cache_ &&
                                    tables_[hit.surface] && cachedRadiance(hit, -ray.d, &cached, c);
-            if (nee && !bsdf.isDelta()) {
+            // A cached vertex ends the path, so its direct light can afford several samples.
+            const int lightSamples = fromCache ? s.radianceCache.lightSamples : 1;
+            for (int k = 0; nee && !bsdf.isDelta() && k < lightSamples; ++k) {
                 const LightDraw ls = sampleLights(hit.p, Vertex::Surface, lobe, sampler, c);
                 // Reflection stays on the side it came from, judged by the geometric normal too,
                 // so that shading normals cannot leak light through a surface.
@@ -322,7 +324,8 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
                     if (f.maxCoeff() > 0) {
                         const double T = visibility(hit.p, hit.ng, ls, inside, rng, c);
                         if (T > 0) {
-                            const double w = fromCache ? 1.0 : misWeight(ls.pdf, bsdf.pdf(wo, wi));
+                            const double w = fromCache ? 1.0 / lightSamples
+                                                       : misWeight(ls.pdf, bsdf.pdf(wo, wi));
                             L += beta * f * (T * w / ls.pdf) * ls.Le;
                         }
                     }

@@ -219,13 +219,15 @@ TEST(SceneLoader, RadianceCacheKeys) {
     EXPECT_FALSE(Effects::of(off).radianceCache);
     const Scene on = f.load(R"({"surfaces": [{"type": "sphere"}],
         "render": {"radiance_cache": {"enabled": true, "accuracy": 0.1, "hsh_order": 5,
-                                      "rays_per_record": 300, "max_records": 7}}})");
+                                      "rays_per_record": 300, "max_records": 7,
+                                      "light_samples": 3}}})");
     const RadianceCacheSettings& rc = on.settings.radianceCache;
     EXPECT_TRUE(rc.enabled);
     EXPECT_EQ(rc.accuracy, 0.1);
     EXPECT_EQ(rc.hshOrder, 5);
     EXPECT_EQ(rc.raysPerRecord, 300);
     EXPECT_EQ(rc.maxRecords, 7);
+    EXPECT_EQ(rc.lightSamples, 3);
     EXPECT_TRUE(Effects::of(on).radianceCache);
     // Nothing to cache on: a mirror only.
     EXPECT_FALSE(

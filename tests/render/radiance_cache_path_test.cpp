@@ -53,8 +53,8 @@ TEST(RadianceCachePath, FurnaceRecordsHoldTheIndirectIrradiance) {
     // with the analytic value within its standard error, and none may stray far.
     std::vector<double> E;
     for (size_t i = 0; i < cache->size(); ++i)
-        E.push_back(Eigen::Map<const Eigen::VectorXd>(cache->record(i).lambda.data(), n * n)
-                        .dot(cosine));
+        E.push_back(
+            Eigen::Map<const Eigen::VectorXd>(cache->record(i).lambda.data(), n * n).dot(cosine));
     double mean = 0, var = 0;
     for (double e : E) mean += e / E.size();
     for (double e : E) var += sqr(e - mean) / (E.size() - 1);
@@ -65,16 +65,20 @@ TEST(RadianceCachePath, FurnaceRecordsHoldTheIndirectIrradiance) {
 
 TEST(RadianceCachePath, FurnaceRenderIsLeOverOneMinusRho) {
     const double rho = 0.6, Le = 0.5;
-    const RenderResult r = render(furnaceBox(rho, Le), RenderOptions{});
-    const Image img = r.film.image();
-    double sum = 0;
-    for (float v : img.rgb) {
-        ASSERT_TRUE(std::isfinite(v));
-        sum += v;
+    for (const int lightSamples : {1, 4}) {  // several direct-light samples share weight 1
+        Scene scene = furnaceBox(rho, Le);
+        scene.settings.radianceCache.lightSamples = lightSamples;
+        const RenderResult r = render(scene, RenderOptions{});
+        const Image img = r.film.image();
+        double sum = 0;
+        for (float v : img.rgb) {
+            ASSERT_TRUE(std::isfinite(v));
+            sum += v;
+        }
+        EXPECT_NEAR(sum / img.rgb.size(), Le / (1 - rho), 0.03 * Le / (1 - rho)) << lightSamples;
+        EXPECT_GT(r.stats.counters.cacheHits, r.stats.counters.cacheLookups * 9 / 10);
+        EXPECT_TRUE(r.stats.radianceCache.used);
     }
-    EXPECT_NEAR(sum / img.rgb.size(), Le / (1 - rho), 0.03 * Le / (1 - rho));
-    EXPECT_GT(r.stats.counters.cacheHits, r.stats.counters.cacheLookups * 9 / 10);
-    EXPECT_TRUE(r.stats.radianceCache.used);
 }
 
 TEST(RadianceCachePath, ImageDoesNotDependOnTheThreadCount) {

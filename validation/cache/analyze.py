@@ -41,7 +41,9 @@ def rows(folder):
 
 def analyze(scene, lines, fig_name):
     pt = rows(scene + "_pt")
-    cache = rows(scene + "_cache")
+    cache = [r for folder in sorted(os.listdir(HERE))
+             if folder == scene + "_cache" or folder.startswith(scene + "_cache_")
+             for r in rows(folder)]
     fit = [r for r in pt if r["spp"] >= 16]
     c = math.exp(sum(math.log(r["rmse"] * math.sqrt(r["total_s"])) for r in fit) / len(fit))
     lines.append("### %s\n" % scene)
@@ -53,24 +55,26 @@ def analyze(scene, lines, fig_name):
                                                    r["rmse"] * math.sqrt(r["total_s"])))
     lines.append("\nRadiance cache (spp: samples per pixel for the direct light and the pixel "
                  "footprint; time = tables + fill + render):\n")
-    lines.append("| a | n | N | spp | records | MiB | tables s | fill s | render s | lookups s | "
+    lines.append("| a | n | N | light samples | spp | records | MiB | tables s | fill s | render s | lookups s | "
                  "answered | RMSE | bias | PT time at equal RMSE s | speed-up |")
-    lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     best = None
     for r in sorted(cache, key=lambda r: (r["render.radiance_cache.accuracy"],
                                           r.get("render.radiance_cache.hsh_order", 6),
                                           r["render.radiance_cache.rays_per_record"],
+                                          r.get("render.radiance_cache.light_samples", 1),
                                           r["spp"])):
         t_pt = c * c / r["rmse"] ** 2
         speed = t_pt / r["total_s"]
         r["speedup"] = speed
         if best is None or speed > best["speedup"]:
             best = r
-        lines.append("| %.2f | %d | %d | %d | %d | %.1f | %.2f | %.2f | %.2f | %.2f | %.3f | "
+        lines.append("| %.2f | %d | %d | %d | %d | %d | %.1f | %.2f | %.2f | %.2f | %.2f | %.3f | "
                      "%.5f | %+.5f | %.1f | %.2f× |" % (
                          r["render.radiance_cache.accuracy"],
                          r.get("render.radiance_cache.hsh_order", 6),
-                         r["render.radiance_cache.rays_per_record"], r["spp"], r["records"],
+                         r["render.radiance_cache.rays_per_record"],
+                         r.get("render.radiance_cache.light_samples", 1), r["spp"], r["records"],
                          r["memory_mib"], r["table_s"], r["fill_s"], r["wall_time_s"],
                          r["lookup_s"], r["answered"], r["rmse"], r["bias"], t_pt, speed))
     lines.append("\nBest: a = %.2f, n = %d, N = %d, %d spp: %.2f× path tracing at equal RMSE "

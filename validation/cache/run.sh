@@ -2,12 +2,13 @@
 # The radiance-cache experiment (README.md here): path tracing against the HSH radiance cache on
 # the Cornell box with its Phong-22 back wall and on its fog variant, at 128², against rendered
 # references; each sweep of media/sweeps/cache/ writes its ledger and runs into a folder here, and
-# analyze.py turns them into tables and plots. Run it on an idle machine (about 15 minutes on two
+# analyze.py turns them into tables and plots. Run it on an idle machine (about 10 minutes on two
 # cores).
 set -euo pipefail
 cd "$(dirname "$0")"
 shvol=../../build/shvol
-for s in cornell_pt cornell_cache cornell_fog_pt cornell_fog_cache; do
+for s in cornell_pt cornell_cache cornell_cache_light cornell_cache_rays cornell_fog_pt \
+         cornell_fog_cache; do
   $shvol batch ../../media/sweeps/cache/$s.json --output $s --quiet
 done
 /usr/bin/python3 analyze.py

@@ -37,6 +37,7 @@ struct RadianceCacheSettings {
     int hshOrder = 8;          ///< n: HSH bands (n² coefficients per channel)
     int raysPerRecord = 1024;  ///< N: hemisphere rays per record
     int maxRecords = 20000;
+    int lightSamples = 1;  ///< next-event samples of the direct light at a cached vertex
 };
 
 struct RenderSettings {
