@@ -127,20 +127,7 @@ TEST(SurfacePath, NextEventEstimationAgreesWithBsdfSampling) {
         Scene scene;
         scene.settings.maxDepth = 50;
         scene.settings.nee = nee;
-        std::vector<Surface> v;
-        v.push_back(meshSurface(testing::boxMesh(Vec3(-1, -1, -1), Vec3(1, 1, 1)),
-                                Bsdf::lambert(Spectrum(0.7, 0.5, 0.3))));
-        Eigen::Affine3d back = Eigen::Affine3d::Identity();
-        back.translate(Vec3(0, 0.99, 0)).rotate(Eigen::AngleAxisd(Pi / 2, Vec3::UnitX()));
-        Surface glossy = Surface::rectangle(back);
-        glossy.bsdf = Bsdf::phong(Spectrum::Constant(0.2), Spectrum::Constant(0.6), 22);
-        v.push_back(std::move(glossy));
-        Eigen::Affine3d top = Eigen::Affine3d::Identity();
-        top.translate(Vec3(0, 0, 0.98)).rotate(Eigen::AngleAxisd(Pi, Vec3::UnitX())).scale(0.3);
-        Surface light = Surface::rectangle(top);  // facing down
-        light.emission = Spectrum(8, 6, 4);
-        v.push_back(std::move(light));
-        scene.surfaces = surfaces(std::move(v));
+        scene.surfaces = testing::glossyRoom();
         MediumShape fog;
         fog.lo = Vec3(-1, -1, -1), fog.hi = Vec3(1, 1, 1);
         scene.media.push_back(std::make_unique<HomogeneousMedium>(

@@ -1,6 +1,10 @@
 #pragma once
 // Meshes for the surfaces tests: a closed latitude-longitude sphere and a closed box, both facing
 // outwards.
+#include <memory>
+#include <vector>
+
+#include "shvol/surfaces/surface_scene.h"
 #include "shvol/surfaces/triangle_mesh.h"
 
 namespace shvol::testing {
@@ -38,6 +42,28 @@ inline TriangleMesh boxMesh(const Vec3& lo, const Vec3& hi) {
                  0, 4, 2, 2, 4, 6,   // x = lo
                  1, 3, 5, 3, 7, 5};  // x = hi
     return m;
+}
+
+/// A closed room [−1, 1]³ of coloured Lambertian walls, a glossy Phong-22 back wall at y = 0.99
+/// and a 0.6 × 0.6 rectangle light under the ceiling facing down.
+inline std::unique_ptr<const SurfaceScene> glossyRoom() {
+    std::vector<Surface> v;
+    Surface box;
+    box.kind = Surface::Kind::Mesh;
+    box.mesh = boxMesh(Vec3(-1, -1, -1), Vec3(1, 1, 1));
+    box.bsdf = Bsdf::lambert(Spectrum(0.7, 0.5, 0.3));
+    v.push_back(std::move(box));
+    Eigen::Affine3d back = Eigen::Affine3d::Identity();
+    back.translate(Vec3(0, 0.99, 0)).rotate(Eigen::AngleAxisd(Pi / 2, Vec3::UnitX()));
+    Surface glossy = Surface::rectangle(back);
+    glossy.bsdf = Bsdf::phong(Spectrum::Constant(0.2), Spectrum::Constant(0.6), 22);
+    v.push_back(std::move(glossy));
+    Eigen::Affine3d top = Eigen::Affine3d::Identity();
+    top.translate(Vec3(0, 0, 0.98)).rotate(Eigen::AngleAxisd(Pi, Vec3::UnitX())).scale(0.3);
+    Surface light = Surface::rectangle(top);
+    light.emission = Spectrum(8, 6, 4);
+    v.push_back(std::move(light));
+    return std::make_unique<const SurfaceScene>(std::move(v));
 }
 
 }  // namespace shvol::testing
