@@ -19,10 +19,14 @@ RadianceCache::RadianceCache(int order, double accuracy, const Vec3& lo, const V
 RadianceCache::~RadianceCache() = default;
 
 std::vector<Vec3> RadianceCache::directions(int count, const std::vector<Vec2>& jitter) {
-    const int k = int(std::ceil(std::sqrt(double(count))));
+    // The first k² = ⌊√N⌋² samples tile the (z, φ) square in k × k strata, the rest are
+    // uniform in all of it: every sample is uniformly distributed, so eq. 22's weight 2π/N holds.
+    const int k = int(std::floor(std::sqrt(double(count))));
     std::vector<Vec3> w(count);
     for (int j = 0; j < count; ++j) {
-        const double u1 = (j % k + jitter[j].x()) / k, u2 = (j / k + jitter[j].y()) / k;
+        const bool stratum = j < k * k;
+        const double u1 = stratum ? (j % k + jitter[j].x()) / k : jitter[j].x();
+        const double u2 = stratum ? (j / k + jitter[j].y()) / k : jitter[j].y();
         w[j] = sphericalDirection(std::max(u1, 1e-9), TwoPi * u2);
     }
     return w;
@@ -38,10 +42,17 @@ RadianceCache::Record RadianceCache::build(const Vec3& p, const Vec3& n,
              std::vector<double>(3 * nn, 0.0),
              std::vector<double>(3 * nn, 0.0),
              std::vector<double>(3 * nn, 0.0)};
+    // A hit seen edge-on (cos ξ = 0) or at P itself cannot be displaced: it counts as no hit.
+    auto usable = [&](const IncomingSample& s) {
+        if (!s.hit) return false;
+        const Vec3 d = s.W - p;
+        const double len = d.norm();
+        return len > 0 && std::abs(s.nW.dot(d)) / len > 0;
+    };
     double invDist = 0;
     int hits = 0;
     for (const IncomingSample& s : samples)
-        if (s.hit) invDist += 1 / std::max((s.W - p).norm(), 1e-300), ++hits;
+        if (usable(s)) invDist += 1 / (s.W - p).norm(), ++hits;
     r.R = std::clamp(hits > 0 && invDist > 0 ? hits / invDist : 0.25 * diag_, 0.01 * diag_,
                      0.25 * diag_);
     const double scale = TwoPi / samples.size();
@@ -60,14 +71,13 @@ RadianceCache::Record RadianceCache::build(const Vec3& p, const Vec3& n,
         std::vector<double>& g = axis == 0 ? r.dx : r.dy;
         const Vec3 moved = p + delta * (axis == 0 ? frame.s : frame.t);
         for (const IncomingSample& s : samples) {
-            if (!s.hit) {
+            if (!usable(s)) {
                 accumulate(g, s.w, 1, s.L);
                 continue;
             }
             const Vec3 d = s.W - p, d2 = s.W - moved;
             const double cosXi = std::abs(s.nW.dot(d)) / d.norm();
             const double cosXi2 = std::abs(s.nW.dot(d2)) / d2.norm();
-            if (!(cosXi > 0)) continue;
             accumulate(g, frame.toLocal(d2.normalized()),
                        d.squaredNorm() * cosXi2 / (d2.squaredNorm() * cosXi), s.L);
         }
@@ -76,26 +86,32 @@ RadianceCache::Record RadianceCache::build(const Vec3& p, const Vec3& n,
     return r;
 }
 
-Eigen::Vector3i RadianceCache::cellOf(const Vec3& p) const {
-    return ((p - lo_) / cell_).array().floor().cast<int>();
+Eigen::Vector3i RadianceCache::cellOf(const Vec3& p, int level) const {
+    return ((p - lo_) / std::ldexp(cell_, level)).array().floor().cast<int>();
 }
 
-uint64_t RadianceCache::cellKey(const Eigen::Vector3i& c) const {
-    // 21 bits per axis (cells beyond ±2^20 of the box alias, which only costs candidates).
-    auto b = [](int v) { return uint64_t(uint32_t(v) & 0x1FFFFFu); };
-    return b(c.x()) | (b(c.y()) << 21) | (b(c.z()) << 42);
+uint64_t RadianceCache::cellKey(const Eigen::Vector3i& c, int level) const {
+    // 19 bits per axis and 7 for the level (cells beyond ±2^18 of the box alias, which only
+    // costs candidates).
+    auto b = [](int v) { return uint64_t(uint32_t(v) & 0x7FFFFu); };
+    return b(c.x()) | (b(c.y()) << 19) | (b(c.z()) << 38) | (uint64_t(level) << 57);
 }
 
 void RadianceCache::add(const Vec3& p, const Vec3& n, const std::vector<IncomingSample>& samples) {
     records_.push_back(build(p, n, samples));
     const Record& r = records_.back();
+    // The level whose cells are at least as wide as the record's reach a·R: it touches at most
+    // 3 × 3 × 3 of them, whatever a and R.
     const double reach = a_ * r.R;
-    const Eigen::Vector3i c0 = cellOf(p - Vec3::Constant(reach));
-    const Eigen::Vector3i c1 = cellOf(p + Vec3::Constant(reach));
+    int level = 0;
+    while (level + 1 < kLevels && std::ldexp(cell_, level) < reach) ++level;
+    levels_ = std::max(levels_, level + 1);
+    const Eigen::Vector3i c0 = cellOf(p - Vec3::Constant(reach), level);
+    const Eigen::Vector3i c1 = cellOf(p + Vec3::Constant(reach), level);
     for (int z = c0.z(); z <= c1.z(); ++z)
         for (int y = c0.y(); y <= c1.y(); ++y)
             for (int x = c0.x(); x <= c1.x(); ++x)
-                grid_[cellKey({x, y, z})].push_back(uint32_t(records_.size() - 1));
+                grid_[cellKey({x, y, z}, level)].push_back(uint32_t(records_.size() - 1));
 }
 
 double RadianceCache::weight(const Record& r, const Vec3& p, const Vec3& n) const {
@@ -103,26 +119,30 @@ double RadianceCache::weight(const Record& r, const Vec3& p, const Vec3& n) cons
     return d > 0 ? 1 / d : std::numeric_limits<double>::infinity();
 }
 
+template <typename Visit>
+void RadianceCache::candidates(const Vec3& p, Visit visit) const {
+    for (int level = 0; level < levels_; ++level) {
+        const auto it = grid_.find(cellKey(cellOf(p, level), level));
+        if (it != grid_.end())
+            for (uint32_t i : it->second) visit(records_[i]);
+    }
+}
+
 bool RadianceCache::covers(const Vec3& p, const Vec3& n) const {
-    const auto it = grid_.find(cellKey(cellOf(p)));
-    if (it == grid_.end()) return false;
-    for (uint32_t i : it->second)
-        if (weight(records_[i], p, n) > 1 / a_) return true;
-    return false;
+    bool covered = false;
+    candidates(p, [&](const Record& r) { covered = covered || weight(r, p, n) > 1 / a_; });
+    return covered;
 }
 
 bool RadianceCache::lookup(const Vec3& p, const Vec3& n, double* lambda) const {
-    const auto it = grid_.find(cellKey(cellOf(p)));
-    if (it == grid_.end()) return false;
     const int nn = n_ * n_;
     std::fill(lambda, lambda + 3 * nn, 0.0);
     std::vector<double> moved(3 * nn);
     double wSum = 0;
     const Frame query(n);
-    for (uint32_t i : it->second) {
-        const Record& r = records_[i];
+    candidates(p, [&](const Record& r) {
         double w = weight(r, p, n);
-        if (!(w > 1 / a_)) continue;
+        if (!(w > 1 / a_)) return;
         w = std::min(w, 1e12);  // a query exactly at a record
         const Frame frame(r.n);
         const double dx = (p - r.p).dot(frame.s), dy = (p - r.p).dot(frame.t);
@@ -146,7 +166,7 @@ bool RadianceCache::lookup(const Vec3& p, const Vec3& n, double* lambda) const {
         }
         for (int k = 0; k < 3 * nn; ++k) lambda[k] += w * moved[k];
         wSum += w;
-    }
+    });
     if (!(wSum > 0)) return false;
     for (int k = 0; k < 3 * nn; ++k) lambda[k] /= wSum;
     return true;

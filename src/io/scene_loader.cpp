@@ -93,7 +93,8 @@ RenderSettings readSettings(JsonReader r) {
     JsonReader rc = r.objectOrEmpty("radiance_cache");
     RadianceCacheSettings& c = s.radianceCache;
     c.enabled = rc.boolean("enabled", c.enabled);
-    c.accuracy = rc.number("accuracy", c.accuracy, 1e-3, 10);
+    // a ≤ 1: beyond, records facing away from a query (√(1 − N·N_i) up to √2) would count.
+    c.accuracy = rc.number("accuracy", c.accuracy, 1e-3, 1);
     c.hshOrder = rc.integer("hsh_order", c.hshOrder, 1, 20);
     c.raysPerRecord = rc.integer("rays_per_record", c.raysPerRecord, 1, 1 << 20);
     c.maxRecords = rc.integer("max_records", c.maxRecords, 0, 1 << 24);
@@ -200,6 +201,11 @@ Surface readSurface(JsonReader r, size_t index) {
         s = Surface::sphere(toWorld * r.vec3("center", Vec3::Zero()), radius * scale[0]);
     }
     s.bsdf = readBsdf(r.objectOrEmpty("bsdf"));
+    // A closed glass mesh faces outwards whatever its winding or transform: a dielectric's
+    // outside is the side its normal points to.
+    if (s.kind == Surface::Kind::Mesh && s.bsdf.type == BsdfType::Dielectric &&
+        signedVolume(s.mesh) < 0 && closedMeshDefect(s.mesh).empty())
+        flipWinding(s.mesh);
     s.emission = spectrum(r, "emission", 0, 0, 1e30);
     s.twoSidedEmission = r.boolean("emission_two_sided", false);
     s.name = r.string("name", "surfaces[" + std::to_string(index) + "]");
@@ -239,10 +245,8 @@ std::unique_ptr<Medium> readMedium(JsonReader r, std::vector<Surface>& surfaces,
         const int b = readBoundary(r, surfaces);
         surfaces[b].interiorMedium = index;
         // Outwards, so that crossing against the normal enters the medium.
-        TriangleMesh& m = surfaces[b].mesh;
-        if (surfaces[b].kind == Surface::Kind::Mesh && signedVolume(m) < 0)
-            for (size_t k = 0; k < m.indices.size(); k += 3)
-                std::swap(m.indices[k + 1], m.indices[k + 2]);
+        if (surfaces[b].kind == Surface::Kind::Mesh && signedVolume(surfaces[b].mesh) < 0)
+            flipWinding(surfaces[b].mesh);
     }
     const Spectrum albedo = spectrum(r, "albedo", 1, 0, 1);
     const PhaseFunction phase =

@@ -85,15 +85,19 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
     if (film.maxCount() > spp)
         throw Error("the film to continue has " + std::to_string(film.maxCount()) +
                     " samples per pixel, more than the " + std::to_string(spp) + " asked for");
-    const VolumePathIntegrator integrator(scene);
+    const int threads =
+        options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
+    tbb::task_arena arena(threads);
+    // Built inside the arena: the radiance cache's first pass runs parallel loops.
+    std::unique_ptr<const VolumePathIntegrator> built;
+    arena.execute([&] { built = std::make_unique<const VolumePathIntegrator>(scene); });
+    const VolumePathIntegrator& integrator = *built;
     RenderResult result;
     const uint32_t resumedFrom = film.minCount();
 
     constexpr int Tile = 16;
     const int tilesX = (cam.width + Tile - 1) / Tile, tilesY = (cam.height + Tile - 1) / Tile;
     const int tiles = tilesX * tilesY;
-    const int threads =
-        options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
     tbb::enumerable_thread_specific<PathCounters> counters;
     const int parts = std::max(1, options.parts);
     if (options.part < 0 || options.part >= parts)
@@ -150,7 +154,6 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
         return integrator.Li(frame.generateRay(x + u.x(), y + u.y()), sampler, c);
     };
 
-    tbb::task_arena arena(threads);
     for (const uint32_t end : ends) {
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 1), [&](const auto& r) {

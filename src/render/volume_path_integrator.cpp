@@ -263,7 +263,9 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
     // the shading point's next-event estimation adds.
     bool scattered = false;
     const bool record = kind == PathKind::CacheRecord;
-    for (int depth = 0;;) {
+    // A record path continues a camera path from its first vertex: it starts one bounce deep,
+    // so that cached pixels see at most max_depth bounces too.
+    for (int depth = record ? 1 : 0;;) {
         SurfaceHit hit;
         const bool hitSurface = surf && surf->intersect(ray, NoHit, &hit);
         int mi = -1;
@@ -493,9 +495,19 @@ void VolumePathIntegrator::buildRadianceCache() {
                     sample.w = dirs[k];
                     sample.L = Li(r, rng, counters[k], PathKind::CacheRecord);
                     if (!sample.L.allFinite()) sample.L = Spectrum::Zero();
+                    // The first surface met that is not a null boundary (for R and gradients).
                     SurfaceHit h;
-                    sample.hit = surf.intersect(r, NoHit, &h);
-                    if (sample.hit) sample.W = h.p, sample.nW = h.ng;
+                    Ray probe = r;
+                    sample.hit = false;
+                    for (int c = 0; c < kMaxNullCrossings && surf.intersect(probe, NoHit, &h);
+                         ++c) {
+                        if (surf.surfaces()[h.surface].bsdf.type != BsdfType::Null) {
+                            sample.hit = true;
+                            sample.W = h.p, sample.nW = h.ng;
+                            break;
+                        }
+                        probe = surf.spawn(h.p, h.ng, probe.d);
+                    }
                 });
                 for (const PathCounters& pc : counters) cacheBuild_.counters.add(pc);
                 cache_->add(hit.p, n, samples);

@@ -11,8 +11,11 @@ double oneMinusCosMax(double r, double dc) {
     return sin2 / (1 + safeSqrt(1 - sin2));
 }
 
-bool seenFromOutside(const Surface& s, const Vec3& x) {
-    return (x - s.center).norm() > s.radius;
+/// Whether points of the sphere are drawn in the cone it subtends at x: from outside, and only
+/// when its far side cannot emit towards x (a two-sided emitter behind a null or glass surface
+/// could), else by area.
+bool byCone(const Surface& s, const Vec3& x) {
+    return !s.twoSidedEmission && (x - s.center).norm() > s.radius;
 }
 
 }  // namespace
@@ -52,7 +55,7 @@ AreaLightSample AreaLights::sample(const Vec3& x, double uSelect, const Vec2& u)
     const Emitter& e = emitters_[i];
     const Surface& s = scene_.surfaces()[e.surface];
     ls.surface = e.surface;
-    if (s.kind == Surface::Kind::Sphere && seenFromOutside(s, x)) {
+    if (s.kind == Surface::Kind::Sphere && byCone(s, x)) {
         const Vec3 toC = s.center - x;
         const double dc = toC.norm();
         const double omc = oneMinusCosMax(s.radius, dc);
@@ -111,7 +114,7 @@ double AreaLights::pdf(const Vec3& x, int surface, const Vec3& y, const Vec3& ny
     const Emitter& e = emitters_[i];
     const Surface& s = scene_.surfaces()[surface];
     const double pmf = select_->pmf(i);
-    if (s.kind == Surface::Kind::Sphere && seenFromOutside(s, x))
+    if (s.kind == Surface::Kind::Sphere && byCone(s, x))
         return pmf / (TwoPi * oneMinusCosMax(s.radius, (s.center - x).norm()));
     const Vec3 d = y - x;
     const double dist2 = d.squaredNorm();

@@ -153,4 +153,9 @@ double surfaceArea(const TriangleMesh& mesh) {
     return a / 2;
 }
 
+void flipWinding(TriangleMesh& mesh) {
+    for (size_t k = 0; k + 2 < mesh.indices.size(); k += 3)
+        std::swap(mesh.indices[k + 1], mesh.indices[k + 2]);
+}
+
 }  // namespace shvol

@@ -121,6 +121,36 @@ TEST(RadianceCache, GradientsMatchFiniteDifferencesOfFreshRecords) {
     EXPECT_LT(std::sqrt(err / norm), 0.05);
 }
 
+// Any number of rays covers the whole hemisphere: the mean of z and of the φ quadrant counts are
+// those of uniform directions (k² stratified, the rest uniform).
+TEST(RadianceCache, DirectionsAreUniformForAnyCount) {
+    for (int count : {5, 1000, 1024}) {
+        const int trials = 200000 / count + 1;
+        double zSum = 0;
+        int quadrant[4] = {0, 0, 0, 0}, total = 0;
+        for (int t = 0; t < trials; ++t)
+            for (const Vec3& w : RadianceCache::directions(count, jitter(count, 100 + t))) {
+                EXPECT_GT(w.z(), 0);
+                zSum += w.z();
+                ++quadrant[int(sphericalPhi(w) / (Pi / 2)) % 4];
+                ++total;
+            }
+        EXPECT_NEAR(zSum / total, 0.5, 4 * std::sqrt(1.0 / 12 / total)) << count;
+        for (int q : quadrant)
+            EXPECT_NEAR(double(q) / total, 0.25, 4 * std::sqrt(0.25 * 0.75 / total)) << count;
+    }
+}
+
+// An open-sky record (R at its largest) with a = 1 is listed in few cells: the levels of the grid.
+TEST(RadianceCache, LargeReachStaysCheap) {
+    RadianceCache cache(2, 1.0, Vec3(-100, -100, -100), Vec3(100, 100, 100));
+    for (int i = 0; i < 50; ++i)
+        cache.add(Vec3(i, 0, 0), Vec3(0, 0, 1),
+                  distantSamples(Vec3(0, 0, 1), 16, [](const Vec3&) { return Spectrum::Ones(); }));
+    EXPECT_LT(cache.memoryBytes(), size_t(1) << 20);
+    EXPECT_TRUE(cache.covers(Vec3(80, 0, 0), Vec3(0, 0, 1)));  // R = 0.25·346: reach 86
+}
+
 TEST(RadianceCache, WeightDecidesWhichRecordsCount) {
     RadianceCache cache(2, 0.3, kLo, kHi);
     cache.add(Vec3(0, 0, 0), Vec3(0, 0, 1),

@@ -250,6 +250,12 @@ TEST(SceneLoader, MediumBoundedByAClosedSurface) {
     EXPECT_GT(signedVolume(glass.mesh), 0);  // turned outwards
     EXPECT_TRUE(Effects::of(s).boundedMedia);
     EXPECT_EQ(s.media[0]->describe(), "homogeneous (inside its boundary)");
+    // A closed glass mesh without a medium faces outwards too.
+    EXPECT_GT(signedVolume(f.load(R"({"surfaces": [{"type": "mesh", "file": "inward.obj",
+                                                     "bsdf": {"type": "dielectric"}}]})")
+                               .surfaces->surfaces()[0]
+                               .mesh),
+              0);
     // By index too.
     EXPECT_EQ(f.load(R"({"surfaces": [{"type": "sphere", "bsdf": {"type": "null"}}],
                          "media": [{"type": "homogeneous", "boundary": 0}]})")

@@ -81,6 +81,22 @@ TEST(RadianceCachePath, FurnaceRenderIsLeOverOneMinusRho) {
     }
 }
 
+// A cached pixel sees no more bounces than max_depth allows: the camera path's vertex is the
+// first, the record paths continue from there. With depth d the furnace gives L_e Σ_{k≤d} ρ^k.
+TEST(RadianceCachePath, CachedPixelsRespectMaxDepth) {
+    const double rho = 0.6, Le = 0.5;
+    for (const int d : {1, 2, 3}) {
+        Scene scene = furnaceBox(rho, Le);
+        scene.settings.maxDepth = d;
+        const RenderResult r = render(scene, RenderOptions{});
+        double sum = 0;
+        for (float v : r.image.rgb) sum += v;
+        double expected = 0;
+        for (int k = 0; k <= d; ++k) expected += Le * std::pow(rho, k);
+        EXPECT_NEAR(sum / r.image.rgb.size(), expected, 0.03 * expected) << "max depth " << d;
+    }
+}
+
 TEST(RadianceCachePath, ImageDoesNotDependOnTheThreadCount) {
     const Scene scene = furnaceBox(0.5, 1);
     RenderOptions one, two;

@@ -18,8 +18,10 @@
 ///   w_i = 1 / (|P − P_i| / R_i + √(1 − N·N_i))  >  1/a,
 /// each extrapolated by its gradients and rotated from its frame to the query's (eq. 24; HSH
 /// rotation through SH, sh/hsh.h, skipped when the two frames are the same).
-/// Records are found through a uniform grid over the scene holding each record in every cell its
-/// sphere of influence (radius a R_i) touches. Adding is not thread-safe; lookups are read-only.
+/// Records are found through uniform grids of cell widths (diagonal/64)·2^l: each record is listed
+/// in the cells of the first level at least as wide as its reach a R_i (at most 3 × 3 × 3 cells),
+/// and a query visits the one cell containing it on every level. Adding is not thread-safe;
+/// lookups are read-only.
 #include <cstdint>
 #include <memory>
 #include <unordered_map>
@@ -73,9 +75,14 @@ class RadianceCache {
 
   private:
     double weight(const Record& r, const Vec3& p, const Vec3& n) const;
-    uint64_t cellKey(const Eigen::Vector3i& c) const;
-    Eigen::Vector3i cellOf(const Vec3& p) const;
+    uint64_t cellKey(const Eigen::Vector3i& c, int level) const;
+    Eigen::Vector3i cellOf(const Vec3& p, int level) const;
+    /// visit(record) for every record listed in the cells containing p, level by level.
+    template <typename Visit>
+    void candidates(const Vec3& p, Visit visit) const;
 
+    static constexpr int kLevels = 16;  ///< grid levels, cell widths diagonal/64 · 2^l
+    int levels_ = 0;                    ///< levels in use
     int n_;
     double a_, diag_, cell_;
     Vec3 lo_;

@@ -7,7 +7,8 @@
 ///    in it): p_A = 1/A, converted to solid angle at the reference point x as
 ///    p_ω = p_A · |x − y|² / |cos θ_y|;
 ///  - on a sphere seen from outside, uniformly in the cone of directions it subtends (pbrt-v4
-///    §6.2.4): p_ω = 1 / (2π (1 − cos θ_max)), sin θ_max = r / |x − c|; from inside, by area.
+///    §6.2.4): p_ω = 1 / (2π (1 − cos θ_max)), sin θ_max = r / |x − c|; from inside, or when it
+///    emits from both sides (its far side may then shine through), by area.
 /// Every pdf returned includes the probability of choosing the emitter.
 #include <optional>
 #include <vector>

@@ -33,6 +33,9 @@ std::string closedMeshDefect(const TriangleMesh& mesh);
 /// Signed enclosed volume (1/6) Σ p0 · (p1 × p2): positive when a closed mesh faces outwards.
 double signedVolume(const TriangleMesh& mesh);
 
+/// Reverses every triangle's winding (its normal flips; normals and uvs stay with the vertices).
+void flipWinding(TriangleMesh& mesh);
+
 /// Total area Σ |(p1 − p0) × (p2 − p0)| / 2.
 double surfaceArea(const TriangleMesh& mesh);
 
