@@ -36,7 +36,8 @@ const std::vector<Vec3>& points() {
 void Lookup(benchmark::State& state) {
     const auto m = cloud(state.range(0) != 0);
     size_t i = 0;
-    for (auto _ : state) benchmark::DoNotOptimize(m->sigmaT(points()[i++ & 4095]));
+    const std::vector<Vec3>& pts = points();
+    for (auto _ : state) benchmark::DoNotOptimize(m->sigmaT(pts[i++ & 4095]));
     state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(Lookup)->Arg(0)->Arg(1);
@@ -46,8 +47,9 @@ void RatioTracking(benchmark::State& state) {
     Rng rng(2, 2);
     TrackingCounters c;
     size_t i = 0;
+    const std::vector<Vec3>& pts = points();
     for (auto _ : state) {
-        const Vec3 o = points()[i++ & 4095] * 3.0;
+        const Vec3 o = pts[i++ & 4095] * 3.0;
         const Ray ray{o, (-o).normalized()};  // towards the centre, through the cloud
         benchmark::DoNotOptimize(
             m->transmittance(ray, NoCollision, TransmittanceEstimator::Ratio, rng, c));

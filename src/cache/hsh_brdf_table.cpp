@@ -45,14 +45,13 @@ double project(const Bsdf& shape, const Vec3& wo, int n, const sh::SphereQuadrat
 
 HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
     : n_(order), res_(resolution), diffuse_(order * order, 0.0) {
-    if (bsdf.type != BsdfType::Lambert && bsdf.type != BsdfType::Phong &&
-        bsdf.type != BsdfType::Ward)
+    if (!supports(bsdf))
         throw Error(std::string("HSH BRDF table: a ") + bsdf.name() +
                     " BSDF is not cached (lambert, phong and ward are)");
     rhoD_ = bsdf.reflectance;
     rhoS_ = bsdf.type == BsdfType::Lambert ? Spectrum::Zero() : bsdf.specular;
-    // Fine enough for cos^n lobes up to n ≈ 100 and Ward α ≥ 0.1 (tests/cache compare with a
-    // rule twice as fine).
+    // At least 64 × 128 nodes: tests/cache checks Phong 22 and Ward α = 0.2/0.4 against a rule
+    // of 400 × 800 to 2e-4 (HshBrdfTable.ReflectsBandLimitedRadianceExactlyAtANode).
     const sh::SphereQuadrature q =
         sh::hemisphereQuadrature(std::max(64, 2 * n_), std::max(128, 4 * n_));
     const Vec3 up(0, 0, 1);

@@ -38,6 +38,7 @@ RadianceCache::Record RadianceCache::build(const Vec3& p, const Vec3& n,
     const Frame frame(n);
     Record r{p,
              n,
+             frame,
              0,
              std::vector<double>(3 * nn, 0.0),
              std::vector<double>(3 * nn, 0.0),
@@ -137,14 +138,15 @@ bool RadianceCache::covers(const Vec3& p, const Vec3& n) const {
 bool RadianceCache::lookup(const Vec3& p, const Vec3& n, double* lambda) const {
     const int nn = n_ * n_;
     std::fill(lambda, lambda + 3 * nn, 0.0);
-    std::vector<double> moved(3 * nn);
+    thread_local std::vector<double> moved;  // scratch: lookups run once per pixel sample
+    moved.resize(3 * nn);
     double wSum = 0;
     const Frame query(n);
     candidates(p, [&](const Record& r) {
         double w = weight(r, p, n);
         if (!(w > 1 / a_)) return;
         w = std::min(w, 1e12);  // a query exactly at a record
-        const Frame frame(r.n);
+        const Frame& frame = r.frame;
         const double dx = (p - r.p).dot(frame.s), dy = (p - r.p).dot(frame.t);
         for (int k = 0; k < 3 * nn; ++k) moved[k] = r.lambda[k] + dx * r.dx[k] + dy * r.dy[k];
         if ((r.n - n).squaredNorm() > 1e-24) {  // rotate the record's frame onto the query's

@@ -525,7 +525,9 @@ class VdbMedium final : public Medium {
         return q.allFinite() ? scale_ * (1 + 1e-6) * majorants_.at(q) : 0;
     }
 
-    std::string describe() const override { return desc_; }
+    std::string describe() const override {
+        return desc_ + (bricks_ ? ", brick lookups" : ", OpenVDB lookups");
+    }
 
   private:
     openvdb::FloatGrid::ConstPtr grid_;

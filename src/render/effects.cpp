@@ -1,5 +1,6 @@
 #include "shvol/render/effects.h"
 
+#include "shvol/cache/hsh_brdf_table.h"
 #include "shvol/render/scene.h"
 
 namespace shvol {
@@ -17,10 +18,8 @@ Effects Effects::of(const Scene& scene) {
             e.areaLights |=
                 s.emits() && scene.settings.maxDepth >= 1 && scene.settings.nee.value_or(true);
             e.boundedMedia |= s.interiorMedium >= 0;
-            const BsdfType t = s.bsdf.type;
-            e.radianceCache |=
-                scene.settings.radianceCache.enabled && scene.settings.maxDepth >= 1 &&
-                (t == BsdfType::Lambert || t == BsdfType::Phong || t == BsdfType::Ward);
+            e.radianceCache |= scene.settings.radianceCache.enabled &&
+                               scene.settings.maxDepth >= 1 && HshBrdfTable::supports(s.bsdf);
         }
     e.scattering = e.volumes && scatters && scene.settings.maxDepth >= 1;
     e.multipleScattering = e.scattering && scene.settings.maxDepth > 1;

@@ -45,9 +45,7 @@ VolumePathIntegrator::VolumePathIntegrator(const Scene& scene)
             boundaryOf_.push_back(int(i));
         }
         if (boundaryOf_.size() > 64) throw Error(scene.path + ": more than 64 bounded media");
-        cameraPosition_ = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());  // not cached
-        cameraInside_ = insideAt(scene.camera.position);
-        cameraPosition_ = scene.camera.position;
+        cameraInside_ = insideOf(scene.camera.position);
     }
     buildLightSamplers();
     if (effects_.radianceCache) buildRadianceCache();  // record paths use the light samplers
@@ -83,7 +81,10 @@ void VolumePathIntegrator::buildLightSamplers() {
 }
 
 VolumePathIntegrator::Inside VolumePathIntegrator::insideAt(const Vec3& p) const {
-    if (p == cameraPosition_) return cameraInside_;
+    return p == cameraPosition_ ? cameraInside_ : insideOf(p);
+}
+
+VolumePathIntegrator::Inside VolumePathIntegrator::insideOf(const Vec3& p) const {
     Inside in = 0;
     for (size_t b = 0; b < boundaryOf_.size(); ++b)
         if (scene_.surfaces->inside(boundaryOf_[b], p)) in |= Inside(1) << b;
@@ -432,10 +433,8 @@ void VolumePathIntegrator::buildRadianceCache() {
     const RadianceCacheSettings& rc = scene_.settings.radianceCache;
     const SurfaceScene& surf = *scene_.surfaces;
     auto start = std::chrono::steady_clock::now();
-    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
     for (const Surface& s : surf.surfaces()) {
-        const BsdfType t = s.bsdf.type;
-        const bool cached = t == BsdfType::Lambert || t == BsdfType::Phong || t == BsdfType::Ward;
+        const bool cached = HshBrdfTable::supports(s.bsdf);
         tables_.push_back(cached ? std::make_unique<const HshBrdfTable>(s.bsdf, rc.hshOrder)
                                  : nullptr);
         if (cached) {
@@ -443,17 +442,11 @@ void VolumePathIntegrator::buildRadianceCache() {
             cacheBuild_.tableProjectionError =
                 std::max(cacheBuild_.tableProjectionError, tables_.back()->projectionError());
         }
-        if (s.kind == Surface::Kind::Mesh || s.kind == Surface::Kind::Rectangle) {
-            for (const Vec3& p : s.mesh.p) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-        } else {
-            lo = lo.cwiseMin(s.center - Vec3::Constant(s.radius));
-            hi = hi.cwiseMax(s.center + Vec3::Constant(s.radius));
-        }
     }
     auto now = std::chrono::steady_clock::now();
     cacheBuild_.tableSeconds = std::chrono::duration<double>(now - start).count();
     start = now;
-    cache_ = std::make_unique<RadianceCache>(rc.hshOrder, rc.accuracy, lo, hi);
+    cache_ = std::make_unique<RadianceCache>(rc.hshOrder, rc.accuracy, surf.lower(), surf.upper());
 
     const Camera::Frame camera = scene_.camera.frame();
     const uint64_t seed = scene_.settings.seed;

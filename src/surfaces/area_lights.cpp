@@ -26,31 +26,30 @@ AreaLights::AreaLights(const SurfaceScene& scene)
     for (size_t i = 0; i < scene.surfaces().size(); ++i) {
         const Surface& s = scene.surfaces()[i];
         if (!s.emits()) continue;
-        Emitter e{int(i), std::nullopt, s.area()};
+        Emitter e{int(i), std::nullopt, 0};
         if (s.kind == Surface::Kind::Mesh || s.kind == Surface::Kind::Rectangle) {
             const TriangleMesh& m = s.mesh;
             std::vector<double> a(m.triangleCount());
-            for (size_t k = 0; k < a.size(); ++k) {
-                const uint32_t* t = &m.indices[3 * k];
-                a[k] = 0.5 * (m.p[t[1]] - m.p[t[0]]).cross(m.p[t[2]] - m.p[t[0]]).norm();
-            }
+            for (size_t k = 0; k < a.size(); ++k) e.area += a[k] = triangleArea(m, k);
             e.triangles.emplace(a.data(), int(a.size()));
+        } else {
+            e.area = s.area();
         }
         emitterOf_[i] = int(emitters_.size());
-        emitters_.push_back(std::move(e));
-        power.push_back(s.area() * (s.twoSidedEmission ? 2 : 1) *
+        power.push_back(e.area * (s.twoSidedEmission ? 2 : 1) *
                         std::max(luminance(s.emission), 1e-9 * s.emission.maxCoeff()));
+        emitters_.push_back(std::move(e));
     }
     if (!power.empty()) select_.emplace(power.data(), int(power.size()));
 }
 
 AreaLightSample AreaLights::sample(const Vec3& x, double uSelect, const Vec2& u) const {
     AreaLightSample ls;
-    double pmf;
+    double density;  // of the continuous position; the emitter's probability is its pmf
     int i;
     // The position inside the chosen bin is again uniform: it picks the triangle.
-    const double xs = select_->sampleContinuous(uSelect, &pmf, &i);
-    pmf = select_->pmf(i);
+    const double xs = select_->sampleContinuous(uSelect, &density, &i);
+    const double pmf = select_->pmf(i);
     const double uNext = std::clamp(xs * select_->count() - i, 0.0, std::nextafter(1.0, 0.0));
     const Emitter& e = emitters_[i];
     const Surface& s = scene_.surfaces()[e.surface];

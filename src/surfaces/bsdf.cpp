@@ -153,7 +153,7 @@ double pdfGlossy(const Bsdf& b, const Vec3& wo, const Vec3& wi) {
     } else {
         lobe = wardPdf(wo, wi, b.alphaX, b.alphaY);
     }
-    return (1 - ps) * wi.z() * InvPi + ps * lobe;
+    return (1 - ps) * cosineHemispherePdf(wi.z()) + ps * lobe;
 }
 
 // u.x rescaled to [0, 1) after choosing the interval [a, a + w) it fell in.
@@ -172,7 +172,7 @@ Spectrum Bsdf::eval(const Vec3& wo, const Vec3& wi) const {
 
 double Bsdf::pdf(const Vec3& wo, const Vec3& wi) const {
     if (isDelta() || wo.z() * wi.z() <= 0) return 0.0;
-    if (type == BsdfType::Lambert) return std::abs(wi.z()) * InvPi;
+    if (type == BsdfType::Lambert) return cosineHemispherePdf(std::abs(wi.z()));
     const double side = wo.z() > 0 ? 1.0 : -1.0;
     return pdfGlossy(*this, upper(wo, side), upper(wi, side));
 }
@@ -184,7 +184,8 @@ std::optional<BsdfSample> Bsdf::sample(const Vec3& wo, const Vec2& u) const {
     switch (type) {
         case BsdfType::Lambert: {
             const Vec3 wi = sampleCosineHemisphere(u);
-            return BsdfSample{upper(wi, side), reflectance * InvPi, wi.z() * InvPi, false};
+            return BsdfSample{upper(wi, side), reflectance * InvPi, cosineHemispherePdf(wi.z()),
+                              false};
         }
         case BsdfType::Phong:
         case BsdfType::Ward: {

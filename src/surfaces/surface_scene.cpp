@@ -124,7 +124,8 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
     if (!rtc_->device) throw Error("Embree: could not create a device");
     rtc_->scene = rtcNewScene(rtc_->device);
     rtcSetSceneFlags(rtc_->scene, RTC_SCENE_FLAG_ROBUST);
-    double scale = 0;
+    lo_ = Vec3::Constant(std::numeric_limits<double>::infinity());
+    hi_ = -lo_;
     for (size_t i = 0; i < surfaces_.size(); ++i) {
         Surface& s = surfaces_[i];
         hasNull_ = hasNull_ || s.bsdf.type == BsdfType::Null;
@@ -140,7 +141,7 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
             if (!v || !idx) rtc_->fail("could not allocate a mesh buffer");
             for (size_t k = 0; k < m.p.size(); ++k) {
                 for (int j = 0; j < 3; ++j) v[3 * k + j] = float(m.p[k][j]);
-                scale = std::max(scale, m.p[k].cwiseAbs().maxCoeff());
+                lo_ = lo_.cwiseMin(m.p[k]), hi_ = hi_.cwiseMax(m.p[k]);
             }
             std::copy(m.indices.begin(), m.indices.end(), idx);
             triangles_ += m.triangleCount();
@@ -151,7 +152,9 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
             rtcSetGeometryBoundsFunction(g, analyticBounds, nullptr);
             rtcSetGeometryIntersectFunction(g, analyticIntersect);
             rtcSetGeometryOccludedFunction(g, analyticOccluded);
-            scale = std::max(scale, s.center.cwiseAbs().maxCoeff() + s.radius);
+            // The box of a disk's sphere: a bound, enough for ε and the cache's grid.
+            lo_ = lo_.cwiseMin(s.center - Vec3::Constant(s.radius));
+            hi_ = hi_.cwiseMax(s.center + Vec3::Constant(s.radius));
         }
         rtcCommitGeometry(g);
         rtcAttachGeometryByID(rtc_->scene, g, unsigned(i));
@@ -159,6 +162,8 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
     }
     rtcCommitScene(rtc_->scene);
     if (rtcGetDeviceError(rtc_->device) != RTC_ERROR_NONE) rtc_->fail("building the BVH");
+    const double scale =
+        surfaces_.empty() ? 0 : std::max(lo_.cwiseAbs().maxCoeff(), hi_.cwiseAbs().maxCoeff());
     epsilon_ = std::ldexp(scale > 0 ? scale : 1.0, -16);
     buildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

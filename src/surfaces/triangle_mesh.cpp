@@ -144,13 +144,15 @@ double signedVolume(const TriangleMesh& mesh) {
     return v / 6;
 }
 
+double triangleArea(const TriangleMesh& mesh, size_t f) {
+    const uint32_t* t = &mesh.indices[3 * f];
+    return 0.5 * (mesh.p[t[1]] - mesh.p[t[0]]).cross(mesh.p[t[2]] - mesh.p[t[0]]).norm();
+}
+
 double surfaceArea(const TriangleMesh& mesh) {
     double a = 0;
-    for (size_t f = 0; f < mesh.triangleCount(); ++f) {
-        const uint32_t* t = &mesh.indices[3 * f];
-        a += (mesh.p[t[1]] - mesh.p[t[0]]).cross(mesh.p[t[2]] - mesh.p[t[0]]).norm();
-    }
-    return a / 2;
+    for (size_t f = 0; f < mesh.triangleCount(); ++f) a += triangleArea(mesh, f);
+    return a;
 }
 
 void flipWinding(TriangleMesh& mesh) {

@@ -60,6 +60,9 @@ TEST(DensityBricks, SameValuesAsOpenVdb) {
     const auto bricks = loadVdbMedium(d);
     d.bricks = false;
     const auto openvdb = loadVdbMedium(d);
+    // The comparison means something only if the bricks were built (no silent fallback).
+    EXPECT_NE(bricks->describe().find("brick lookups"), std::string::npos) << bricks->describe();
+    EXPECT_NE(openvdb->describe().find("OpenVDB lookups"), std::string::npos);
     expectSameDensity(*bricks, *openvdb, Vec3(-30, -15, -10), Vec3(20, 15, 40), 300000);
     expectSameDensity(*bricks, *openvdb, Vec3(-110, 30, 0), Vec3(-90, 50, 15), 20000);
     expectSameDensity(*bricks, *openvdb, Vec3(120, -8, -8), Vec3(264, 136, 136), 100000);
@@ -77,6 +80,8 @@ TEST(DensityBricks, RendersTheSameImage) {
     std::vector<std::string> viaOpenVdb = sets;
     viaOpenVdb.push_back("media[0].lookup=\"openvdb\"");
     const Scene b = loadScene(scene, viaOpenVdb);
+    EXPECT_NE(a.media[0]->describe().find("brick lookups"), std::string::npos);
+    EXPECT_NE(b.media[0]->describe().find("OpenVDB lookups"), std::string::npos);
     const RenderResult ra = render(a, RenderOptions{}), rb = render(b, RenderOptions{});
     EXPECT_EQ(ra.image.rgb, rb.image.rgb);
     EXPECT_EQ(ra.stats.counters.tracking.densityLookups, rb.stats.counters.tracking.densityLookups);

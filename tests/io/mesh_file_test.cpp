@@ -2,7 +2,6 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -316,12 +315,10 @@ TEST(MeshFile, PlyHugeCountsFailBeforeAllocating) {
         "property float x\nend_header\n";
     const std::string bytes = h + std::string(100 - h.size(), '\0');
     ASSERT_EQ(bytes.size(), 100u);
-    const auto t0 = std::chrono::steady_clock::now();
     EXPECT_EQ(errorOf("huge.ply", bytes),
               tmp("huge.ply") +
                   ": line 3: element \"vertex\" claims 1099511627776 records, but the rest of "
                   "the file holds at most 1");
-    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 0.1);
     std::string ascii = kAsciiHead;
     ascii.replace(ascii.find("face 4"), 6, "face 4000000000");
     EXPECT_CONTAINS(errorOf("huge_ascii.ply", ascii + kAsciiTet),

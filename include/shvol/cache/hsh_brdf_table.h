@@ -23,6 +23,11 @@ namespace shvol {
 
 class HshBrdfTable {
   public:
+    /// Whether a BSDF can be tabulated (and its surfaces cached): lambert, phong and ward.
+    static bool supports(const Bsdf& bsdf) {
+        return bsdf.type == BsdfType::Lambert || bsdf.type == BsdfType::Phong ||
+               bsdf.type == BsdfType::Ward;
+    }
     /// \param bsdf lambert, phong or ward (others: shvol::Error). \param order n (n² coefficients).
     /// \param resolution R, outgoing directions per side of the parabolic grid.
     HshBrdfTable(const Bsdf& bsdf, int order, int resolution = 32);

@@ -48,8 +48,9 @@ class RadianceCache {
     int order() const { return n_; }
     int coefficientCount() const { return 3 * n_ * n_; }
 
-    /// N_r stratified uniform directions of the upper hemisphere (z = u₁, φ = 2π u₂ on a
-    /// ⌈√N_r⌉² grid of strata, the first N_r of them, jittered by `jitter`, 2 numbers each).
+    /// N_r uniform directions of the upper hemisphere (z = u₁, φ = 2π u₂): the first ⌊√N_r⌋²
+    /// jittered in a ⌊√N_r⌋ × ⌊√N_r⌋ grid of strata, the rest uniform; `jitter` gives each its
+    /// 2 numbers.
     static std::vector<Vec3> directions(int count, const std::vector<Vec2>& jitter);
 
     /// Builds the record at (p, n) from its samples and stores it.
@@ -66,6 +67,7 @@ class RadianceCache {
     /// A record as stored (for tests).
     struct Record {
         Vec3 p, n;
+        Frame frame;  ///< Frame(n): the frame of λ and of the gradients' x and y
         double R;
         std::vector<double> lambda, dx, dy;  ///< 3n² each
     };

@@ -18,13 +18,11 @@ struct Camera {
         Vec3 position, forward, right, up;
         double aspect, tanHalf, extent;
         int width, height;
+        /// Ray through the continuous film point (px, py): px ∈ [0, width) left→right,
+        /// py ∈ [0, height) top→bottom. Direction is unit length.
         Ray generateRay(double px, double py) const;
     };
     Frame frame() const;
-
-    /// Ray through the continuous film point (px, py): px ∈ [0, width) left→right, py ∈ [0, height)
-    /// top→bottom. Direction is unit length.
-    Ray generateRay(double px, double py) const { return frame().generateRay(px, py); }
 };
 
 }  // namespace shvol

@@ -17,8 +17,8 @@ struct Effects {
     bool nextEvent = false;           ///< NEE towards the environment (with MIS)
     bool environmentImage = false;    ///< the environment is an image (importance-sampled)
     bool surfaces = false;            ///< the scene has surfaces (Embree closest hits)
-    bool areaLights = false;    ///< some surface emits and render.nee is not false: NEE to it, MIS
-    bool boundedMedia = false;  ///< some medium exists only inside a closed surface
+    bool areaLights = false;     ///< some surface emits and render.nee is not false: NEE to it, MIS
+    bool boundedMedia = false;   ///< some medium exists only inside a closed surface
     bool radianceCache = false;  ///< render.radiance_cache on and some surface can be cached
     LightSampling lightSampling = LightSampling::Environment;  ///< strategy when nextEvent
     MisHeuristic mis = MisHeuristic::Balance;                  ///< when nextEvent

@@ -154,7 +154,9 @@ class VolumePathIntegrator {
     bool active(size_t medium, Inside inside) const {
         return mediumBit_[medium] < 0 || ((inside >> mediumBit_[medium]) & 1);
     }
-    /// The bounded media containing p.
+    /// The bounded media containing p (asked of Embree), and the same answered from the cache
+    /// for the camera position.
+    Inside insideOf(const Vec3& p) const;
     Inside insideAt(const Vec3& p) const;
     /// `inside` after a ray along d crosses the surface of `hit`.
     Inside crossed(const SurfaceHit& hit, const Vec3& d, Inside inside) const;

@@ -59,6 +59,9 @@ class SurfaceScene {
 
     const std::vector<Surface>& surfaces() const { return surfaces_; }
     double epsilon() const { return epsilon_; }
+    /// A box containing every surface.
+    const Vec3& lower() const { return lo_; }
+    const Vec3& upper() const { return hi_; }
     size_t triangleCount() const { return triangles_; }
     bool hasNullSurfaces() const { return hasNull_; }
     double buildSeconds() const { return buildSeconds_; }
@@ -68,6 +71,7 @@ class SurfaceScene {
     std::unique_ptr<Embree> rtc_;
     std::vector<Surface> surfaces_;
     double epsilon_ = 0;
+    Vec3 lo_, hi_;
     size_t triangles_ = 0;
     bool hasNull_ = false;
     double buildSeconds_ = 0;

@@ -36,6 +36,8 @@ double signedVolume(const TriangleMesh& mesh);
 /// Reverses every triangle's winding (its normal flips; normals and uvs stay with the vertices).
 void flipWinding(TriangleMesh& mesh);
 
+/// Area |(p1 − p0) × (p2 − p0)| / 2 of triangle f.
+double triangleArea(const TriangleMesh& mesh, size_t f);
 /// Total area Σ |(p1 − p0) × (p2 − p0)| / 2.
 double surfaceArea(const TriangleMesh& mesh);
 
