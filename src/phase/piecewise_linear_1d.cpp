@@ -60,7 +60,9 @@ double PiecewiseLinear1D::sample(double u) const {
     i = std::clamp(i, 0, int(x_.size()) - 2);
     while (i > 0 && cdf_[i + 1] == cdf_[i]) --i;  // u = 1 landed on trailing empty segments
     const double mass = cdf_[i + 1] - cdf_[i];
-    const double v = mass > 0 ? std::clamp((u - cdf_[i]) / mass, 0.0, 1.0) : 0.0;
+    // Kept 2^−53 inside the segment too: u exactly on a cdf node would otherwise land on the node,
+    // where f may be 0 between two lobes (a table 1, 0, 1 sampled at u = ½).
+    const double v = mass > 0 ? std::clamp((u - cdf_[i]) / mass, 0x1p-53, 1 - 0x1p-53) : 0.0;
     const double f0 = f_[i], f1 = f_[i + 1];
     const double num = v * (f0 + f1);
     const double den = f0 + std::sqrt((1 - v) * f0 * f0 + v * f1 * f1);

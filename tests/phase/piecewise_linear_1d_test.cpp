@@ -67,6 +67,17 @@ TEST(PiecewiseLinear1D, EndsOfTheUnitIntervalLandWhereThereIsMass) {
     }
 }
 
+// A zero between two lobes sits exactly on a cdf node; u on that node must still land where there
+// is mass (found by the phase_csv fuzzer: a table 1, 0, 1 sampled at u = ½ returned pdf 0).
+TEST(PiecewiseLinear1D, CdfNodeAtAZeroLandsWhereThereIsMass) {
+    const PiecewiseLinear1D t({-1, 0, 1}, {1, 0, 1});
+    for (double u : {0.5, std::nextafter(0.5, 0.0), std::nextafter(0.5, 1.0)}) {
+        const double x = t.sample(u);
+        EXPECT_GT(t.pdf(x), 0) << "u " << u << " x " << x;
+        EXPECT_NEAR(x, 0, 1e-7);
+    }
+}
+
 TEST(PiecewiseLinear1D, RejectsBadInput) {
     EXPECT_THROW(PiecewiseLinear1D({0.0}, {1.0}), std::invalid_argument);
     EXPECT_THROW(PiecewiseLinear1D({0.0, 0.0}, {1.0, 1.0}), std::invalid_argument);
