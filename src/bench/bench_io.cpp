@@ -1,6 +1,8 @@
 // Density lookups in the VDB cloud of media/: through the brick copy (media/density_bricks.h)
 // and through an OpenVDB accessor, per point (Medium::sigmaT) and inside ratio tracking along
-// rays through the cloud (items: density lookups), with same-run ratios.
+// rays through the cloud (items: density lookups); free flights through the sparse plume with
+// the majorant grid and with one global majorant, and what a segment and a tentative collision
+// cost there; with same-run ratios.
 #include <benchmark/benchmark.h>
 
 #include <vector>
@@ -60,11 +62,58 @@ void RatioTracking(benchmark::State& state) {
 }
 BENCHMARK(RatioTracking)->Arg(0)->Arg(1);
 
+/// Free flights through the sparse plume of media/plume.json (a column filling < 15% of its
+/// box): rays from a sphere around the box towards random points of it (items: rays), with
+/// density scale `scale` and majorant cells of `cell` voxels (0: automatic, −1: one global
+/// majorant).
+void plumeFlights(benchmark::State& state, double scale, int cell) {
+    VdbMediumDesc d;
+    d.file = std::string(SHVOL_SOURCE_DIR) + "/media/plume.vdb";
+    d.densityScale = scale;
+    d.majorantGrid = cell >= 0;
+    d.majorantCellVoxels = std::max(0, cell);
+    const auto m = loadVdbMedium(d);
+    Rng rng(3, 3);
+    TrackingCounters c;
+    size_t i = 0;
+    const std::vector<Vec3>& pts = points();
+    for (auto _ : state) {
+        const Vec3 o = pts[i & 4095].normalized() * 2.0, target = pts[(i * 7 + 1) & 4095];
+        ++i;
+        benchmark::DoNotOptimize(
+            m->sampleCollision(Ray{o, (target - o).normalized()}, NoCollision, rng, c));
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()));
+    state.counters["lookups/ray"] = double(c.densityLookups) / double(state.iterations());
+    state.counters["segments/ray"] = double(c.segments) / double(state.iterations());
+}
+
+/// The plume as media/plume.json has it (density scale 80): /0 one global majorant, /1 the
+/// automatic majorant grid, /2 and /8 cells of 2 and 8 voxels.
+void PlumeFreeFlight(benchmark::State& state) {
+    const int cell = int(state.range(0));
+    plumeFlights(state, 80, cell == 0 ? -1 : cell == 1 ? 0 : cell);
+}
+BENCHMARK(PlumeFreeFlight)->Arg(0)->Arg(1)->Arg(2)->Arg(8);
+
+/// The plume at density scale 1e−9 (no tentative collisions) with cells of 2 and 8 voxels: the
+/// difference in time over the difference in segments is the cost of a segment; with it,
+/// PlumeFreeFlight/8 − PlumeSegments/8 gives the cost of a tentative collision (the ratio the
+/// automatic majorant cell size uses, io/vdb.cpp).
+void PlumeSegments(benchmark::State& state) {
+    plumeFlights(state, 1e-9, int(state.range(0)));
+}
+BENCHMARK(PlumeSegments)->Arg(2)->Arg(8);
+
 }  // namespace
 }  // namespace shvol
 
 int main(int argc, char** argv) {
     return shvol::bench::runWithRatios(
-        argc, argv, {{"Lookup/1", "Lookup/0"}, {"RatioTracking/1", "RatioTracking/0"}},
-        "Same-run ratios (items/s; /1 = bricks, /0 = OpenVDB accessor):");
+        argc, argv,
+        {{"Lookup/1", "Lookup/0"},
+         {"RatioTracking/1", "RatioTracking/0"},
+         {"PlumeFreeFlight/1", "PlumeFreeFlight/0"}},
+        "Same-run ratios (items/s; Lookup and RatioTracking: /1 bricks, /0 OpenVDB accessor; "
+        "PlumeFreeFlight: /1 automatic majorant grid, /0 one global majorant):");
 }

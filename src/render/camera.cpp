@@ -2,27 +2,27 @@
 
 namespace shvol {
 
+// The film point (px, py) maps to s = (2px/width − 1, 1 − 2py/height) ∈ [−1, 1]² (y up); the
+// perspective direction is forward + s_x·tan(fov/2)·aspect·right + s_y·tan(fov/2)·up, the
+// orthographic origin position + s_x·extent/2·right + s_y·extent/(2·aspect)·up.
 Camera::Frame Camera::frame() const {
+    const Vec3 forward = (target - position).normalized();
+    const Vec3 right = forward.cross(up).normalized();
+    const Vec3 upward = right.cross(forward);
+    const double aspect = double(width) / height;
+    const bool ortho = type == Type::Orthographic;
+    const double tanHalf = std::tan(0.5 * fovDegrees * Pi / 180);
+    // Half the film's width and height in the plane at unit distance (or in scene units).
+    const double hx = ortho ? 0.5 * extent : tanHalf * aspect;
+    const double hy = ortho ? 0.5 * extent / aspect : tanHalf;
     Frame f;
     f.type = type;
-    f.position = position;
-    f.forward = (target - position).normalized();
-    f.right = f.forward.cross(up).normalized();
-    f.up = f.right.cross(f.forward);
-    f.aspect = double(width) / height;
-    f.tanHalf = std::tan(0.5 * fovDegrees * Pi / 180);
-    f.extent = extent;
-    f.width = width, f.height = height;
+    f.dx = (2 * hx / width) * right;
+    f.dy = (-2 * hy / height) * upward;
+    const Vec3 corner = -hx * right + hy * upward;  // s = (−1, 1): the top left
+    f.origin = ortho ? Vec3(position + corner) : position;
+    f.direction = ortho ? forward : Vec3(forward + corner);
     return f;
-}
-
-Ray Camera::Frame::generateRay(double px, double py) const {
-    const double sx = 2 * px / width - 1, sy = 1 - 2 * py / height;  // ∈ [−1, 1], y up
-    if (type == Type::Orthographic) {
-        const Vec3 o = position + sx * 0.5 * extent * right + sy * 0.5 * extent / aspect * up;
-        return {o, forward};
-    }
-    return {position, (forward + sx * tanHalf * aspect * right + sy * tanHalf * up).normalized()};
 }
 
 }  // namespace shvol

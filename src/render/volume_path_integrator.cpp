@@ -455,8 +455,8 @@ void VolumePathIntegrator::buildRadianceCache() {
     std::vector<PathCounters> counters(N);
     // Pixel centres coarse to fine: every 16th pixel, then the new ones of every 8th, ….
     for (int stride = 16; stride >= 1 && int(cache_->size()) < rc.maxRecords; stride /= 2)
-        for (int y = 0; y < camera.height; y += stride)
-            for (int x = 0; x < camera.width; x += stride) {
+        for (int y = 0; y < scene_.camera.height; y += stride)
+            for (int x = 0; x < scene_.camera.width; x += stride) {
                 if (stride < 16 && x % (2 * stride) == 0 && y % (2 * stride) == 0) continue;
                 if (int(cache_->size()) >= rc.maxRecords) break;
                 // The first surface seen through the pixel centre, past null surfaces.

@@ -75,6 +75,26 @@ TEST(SceneLoader, NeeAndSamplerKeys) {
               std::string::npos);
 }
 
+// media[i].majorant_cell is an integer or "auto" (the default, chosen at load); the choice is in
+// the medium's description.
+TEST(SceneLoader, MajorantCellKey) {
+    EXPECT_NE(loadScene(kSunlitCloud, {}).media[0]->describe().find("(auto)"), std::string::npos);
+    EXPECT_NE(loadScene(kSunlitCloud, {"media[0].majorant_cell=\"auto\""})
+                  .media[0]
+                  ->describe()
+                  .find("(auto)"),
+              std::string::npos);
+    EXPECT_NE(loadScene(kSunlitCloud, {"media[0].majorant_cell=6"})
+                  .media[0]
+                  ->describe()
+                  .find("majorant cells of 6 voxels,"),
+              std::string::npos);
+    EXPECT_NE(test::messageOf([] {
+                  loadScene(kSunlitCloud, {"media[0].majorant_cell=\"fine\""});
+              }).find("media[0].majorant_cell: expected an integer 1 … 4096 or \"auto\""),
+              std::string::npos);
+}
+
 // The sunlit cloud of media/ (VDB cloud, Preetham sky, 0.53° sun) renders the same expected
 // image with every light-sampling strategy: image means over 6 seeds agree with the
 // MIS(environment, phase) baseline within 5 combined standard errors.

@@ -117,6 +117,33 @@ TEST(Vdb, MajorantGridSavesLookups) {
     EXPECT_LT(lookups[1] * 3, lookups[0]);
 }
 
+// The automatic cell size follows the cost model's limits: a nearly transparent medium costs
+// segments only (the coarsest candidate, 32 voxels), a small dense sphere costs tentative
+// collisions in its cells' empty corners (the finest, 2 voxels).
+TEST(Vdb, AutomaticMajorantCells) {
+    // The sphere with a speck in one corner, so that the grid spans 66 voxels.
+    VdbGridSpec s = sphereSpec(64, 0.1);
+    s.density = [](const Vec3& p) {
+        return p.minCoeff() > 0.45 ? 1.f : float(sphereDensity(p, 0.1, 1.0 / 64));
+    };
+    writeVdb(tmp("auto.vdb"), {s});
+    for (double scale : {1e-3, 1e4}) {
+        VdbMediumDesc d;
+        d.file = tmp("auto.vdb");
+        d.densityScale = scale;
+        const std::string want =
+            scale < 1 ? "cells of 32 voxels (auto)" : "cells of 2 voxels (auto)";
+        const std::string got = loadVdbMedium(d)->describe();
+        EXPECT_NE(got.find(want), std::string::npos) << got;
+    }
+    VdbMediumDesc d;
+    d.file = tmp("auto.vdb");
+    d.majorantCellVoxels = 5;
+    EXPECT_NE(loadVdbMedium(d)->describe().find("cells of 5 voxels,"), std::string::npos);
+    d.majorantGrid = false;
+    EXPECT_NE(loadVdbMedium(d)->describe().find("one global majorant"), std::string::npos);
+}
+
 // The majorant bounds the trilinearly interpolated σ_t everywhere, including within a voxel of
 // the edge of the data (the reach of trilinear interpolation) and across a scene transform.
 TEST(Vdb, MajorantBoundsDensityEverywhere) {
@@ -126,11 +153,14 @@ TEST(Vdb, MajorantBoundsDensityEverywhere) {
     params.seed = 7;
     s.density = [params](const Vec3& x) { return float(cloudDensity(x, params)); };
     writeVdb(tmp("bound.vdb"), {s});
-    for (bool grid : {true, false}) {
+    // One global majorant, the automatic cell size and fixed ones (coarsened or not).
+    for (int cell : {-1, 0, 1, 3, 8, 32}) {
+        const bool grid = cell >= 0;
         VdbMediumDesc d;
         d.file = tmp("bound.vdb");
         d.densityScale = 30;
         d.majorantGrid = grid;
+        d.majorantCellVoxels = std::max(0, cell);
         d.toWorld = Eigen::Translation3d(0.3, -0.2, 1) *
                     Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()) * Eigen::Scaling(1.7);
         auto m = loadVdbMedium(d);
@@ -141,7 +171,7 @@ TEST(Vdb, MajorantBoundsDensityEverywhere) {
             const Vec3 p = d.toWorld * (1.1 * q);
             const double sigma = m->sigmaT(p);
             inside += sigma > 0;
-            ASSERT_LE(sigma, m->sigmaMajorant(p)) << "grid " << grid << " at " << p.transpose();
+            ASSERT_LE(sigma, m->sigmaMajorant(p)) << "cell " << cell << " at " << p.transpose();
         }
         EXPECT_GT(inside, 10000);
     }

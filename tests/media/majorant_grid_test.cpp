@@ -73,4 +73,41 @@ TEST(MajorantGrid, VisitorCanStopTheWalk) {
     EXPECT_EQ(visits, 2);
 }
 
+// A coarsened grid holds what expand() gives a grid built directly with cells twice as large
+// (aligned with the fine cells, an odd resolution rounding up).
+TEST(MajorantGrid, CoarsenedEqualsDirectBuild) {
+    const Vec3 lo(-1, -2, 0);
+    const Eigen::Vector3i res(5, 3, 7), half(3, 2, 4);
+    MajorantGrid fine(lo, lo + res.cast<double>(), res);
+    MajorantGrid direct(lo, lo + 2 * half.cast<double>(), half);
+    Rng rng(8, 1);
+    for (int i = 0; i < 40; ++i) {
+        const Vec3 a = lo + Vec3(5 * rng.uniform(), 3 * rng.uniform(), 7 * rng.uniform());
+        const Vec3 b = a + 1.5 * Vec3(rng.uniform(), rng.uniform(), rng.uniform());
+        const double v = rng.uniform();
+        fine.expand(a, b, v);
+        direct.expand(a, b, v);
+    }
+    const MajorantGrid coarse = fine.coarsened();
+    ASSERT_EQ(coarse.resolution(), half);
+    EXPECT_EQ(coarse.upper(), direct.upper());
+    for (int z = 0; z < half.z(); ++z)
+        for (int y = 0; y < half.y(); ++y)
+            for (int x = 0; x < half.x(); ++x)
+                EXPECT_EQ(coarse.cell(x, y, z), direct.cell(x, y, z)) << x << y << z;
+}
+
+// The cost of a line is segmentCost per cell crossed plus scale·∫ cellMax dt, t measured in
+// units of the direction's length.
+TEST(MajorantGrid, TrackingCostCountsSegmentsAndOpticalDepth) {
+    MajorantGrid g(Vec3(0, 0, 0), Vec3(4, 1, 1), Eigen::Vector3i(4, 1, 1));
+    for (int x = 1; x < 4; ++x) g.expand(Vec3(x + 0.4, 0.4, 0.4), Vec3(x + 0.6, 0.6, 0.6), x);
+    // Along x with |d| = 2: four segments of Δt = 0.5 with majorants 0, 1, 2, 3.
+    const std::vector<std::pair<Vec3, Vec3>> line{{Vec3(0.5, 0.5, 0.5), Vec3(2, 0, 0)}};
+    EXPECT_NEAR(g.trackingCost(line, 3.0, 0.25), 4 * 0.25 + 3.0 * 6 * 0.5, 1e-12);
+    // A line missing the grid costs nothing; the mean is over all lines.
+    const std::vector<std::pair<Vec3, Vec3>> two{line[0], {Vec3(0.5, 5, 0.5), Vec3(1, 0, 0)}};
+    EXPECT_NEAR(g.trackingCost(two, 3.0, 0.25), 0.5 * (1 + 9), 1e-12);
+}
+
 }  // namespace shvol

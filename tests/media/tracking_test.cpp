@@ -95,4 +95,35 @@ TEST(Tracking, ResidualRatioTrackingMeanAndSpread) {
     EXPECT_LT(double(lookups[1]), 0.9 * double(lookups[0]));
 }
 
+// The optical-depth budget carries across segments: the same ray cut into more segments with
+// the same bounds draws the same numbers and gives the same distance (to rounding), with and
+// without the control part, and the same transmittance without it (with it, roulette may also
+// be asked after each segment's control factor).
+TEST(Tracking, SplittingSegmentsKeepsTheNumbers) {
+    auto split = [](int pieces, bool control) {
+        return [=](auto&& visit) {
+            for (int k = 0; k < pieces; ++k)
+                if (!visit(2.5 * k / pieces, 2.5 * (k + 1) / pieces, 3.0, control ? 0.1 : 0.0))
+                    return;
+        };
+    };
+    for (bool control : {false, true})
+        for (int i = 0; i < 2000; ++i) {
+            Rng a(9, uint64_t(i)), b(9, uint64_t(i));
+            TrackingCounters ca, cb;
+            const double ta = deltaTrack(split(1, control), sigmaT, a, ca);
+            const double tb = deltaTrack(split(7, control), sigmaT, b, cb);
+            if (ta == NoCollision)
+                EXPECT_EQ(tb, NoCollision) << i;
+            else
+                EXPECT_NEAR(ta, tb, 1e-12) << i;
+            EXPECT_EQ(ca.densityLookups, cb.densityLookups) << i;
+            EXPECT_EQ(a.nextU32(), b.nextU32()) << i;  // the same count of numbers drawn
+            if (control) continue;
+            const double Ta = ratioTrack(split(1, false), sigmaT, a, ca);
+            const double Tb = ratioTrack(split(7, false), sigmaT, b, cb);
+            EXPECT_NEAR(Ta, Tb, 1e-12) << i;
+        }
+}
+
 }  // namespace shvol

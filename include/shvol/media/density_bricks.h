@@ -68,7 +68,7 @@ void DensityBricks::add(const Eigen::Vector3i& c, Voxel&& voxel) {
                 values_.push_back(float(voxel(v0.x() + i, v0.y() + j, v0.z() + k)));
 }
 
-inline float DensityBricks::sample(const Vec3& p) const {
+inline __attribute__((always_inline)) float DensityBricks::sample(const Vec3& p) const {
     const int ix = int(std::floor(p.x())), iy = int(std::floor(p.y())), iz = int(std::floor(p.z()));
     // Brick coordinates by arithmetic shift (floor division by 8 for negative voxels too).
     const int bx = (ix >> 3) - lo_.x(), by = (iy >> 3) - lo_.y(), bz = (iz >> 3) - lo_.z();

@@ -6,6 +6,7 @@
 /// cells cost one DDA step and no density lookup (pbrt-v4's DDAMajorantIterator does the same;
 /// the traversal is Amanatides & Woo 1987).
 #include <Eigen/Core>
+#include <utility>
 #include <vector>
 
 #include "shvol/core/math.h"
@@ -21,20 +22,34 @@ class MajorantGrid {
     /// max-accumulates value into every cell overlapping the closed box [bLo, bHi].
     void expand(const Vec3& bLo, const Vec3& bHi, double value);
     /// Lower bounds of the density per cell, in index order (x fastest); empty: 0 everywhere.
-    void setMinimum(std::vector<double> minimum) { min_ = std::move(minimum); }
+    void setMinimum(const std::vector<double>& minimum);
     /// The box [lo, hi] of cell (x, y, z).
     Vec3 cellLower(int x, int y, int z) const {
         return lo_ + Vec3(x, y, z).cwiseProduct(cellSize_);
     }
     Vec3 cellUpper(int x, int y, int z) const { return cellLower(x + 1, y + 1, z + 1); }
-    double cell(int x, int y, int z) const { return max_[index(x, y, z)]; }
+    double cell(int x, int y, int z) const { return cells_[index(x, y, z)].max; }
     const Eigen::Vector3i& resolution() const { return res_; }
     const Vec3& lower() const { return lo_; }
     const Vec3& upper() const { return hi_; }
     double maxValue() const;
-    bool empty() const { return max_.empty(); }
+    bool empty() const { return cells_.empty(); }
     /// The value of the cell containing p (0 outside the grid).
     double at(const Vec3& p) const;
+
+    /// The grid with cells twice as large on every axis, ⌈res/2⌉ of them from the same lower
+    /// corner (its box grows to lo + 2·cellSize·⌈res/2⌉): each cell holds the largest value of
+    /// the cells it covers, which is what expand() with the same boxes would have given it.
+    /// Lower bounds are not carried over.
+    MajorantGrid coarsened() const;
+
+    /// The expected cost of tracking along lines through the grid, mean over `rays` (origin and
+    /// direction in the grid's space, the direction's length setting the units of t):
+    ///   segmentCost · (segments visited) + scale · ∫ cellMax dt,
+    /// the second term being the expected number of tentative collisions at rate scale·cellMax.
+    /// Whole lines are counted (t from −∞ to ∞), not rays.
+    double trackingCost(const std::vector<std::pair<Vec3, Vec3>>& rays, double scale,
+                        double segmentCost) const;
 
     /// Visits, in order, the segments [t0, t1) of the ray o + t·d (d need not be unit length)
     /// inside the grid and [tMin, tMax], as visit(t0, t1, cellMax, cellMin) → bool; false stops
@@ -44,52 +59,64 @@ class MajorantGrid {
 
   private:
     size_t index(int x, int y, int z) const { return (size_t(z) * res_.y() + y) * res_.x() + x; }
-    Vec3 lo_{0, 0, 0}, hi_{0, 0, 0}, cellSize_{1, 1, 1};
+    Vec3 lo_{0, 0, 0}, hi_{0, 0, 0}, cellSize_{1, 1, 1}, invCellSize_{1, 1, 1};
     Eigen::Vector3i res_{0, 0, 0};
-    std::vector<double> max_, min_;
+    /// Per cell, x fastest: the upper and the lower bound of the density (min 0 until
+    /// setMinimum).
+    struct Bounds {
+        double max = 0, min = 0;
+    };
+    std::vector<Bounds> cells_;
 };
 
 template <typename Visit>
 void MajorantGrid::traverse(const Vec3& o, const Vec3& d, double tMin, double tMax,
                             Visit&& visit) const {
-    if (max_.empty()) return;
-    // Clip to the grid's box.
+    if (cells_.empty()) return;
+    // Clip to the grid's box. Three divisions per ray; everything after them multiplies.
+    const Vec3 invD = d.cwiseInverse();
     double t0 = tMin, t1 = tMax;
     for (int a = 0; a < 3; ++a) {
-        const double inv = 1.0 / d[a];
-        double tn = (lo_[a] - o[a]) * inv, tf = (hi_[a] - o[a]) * inv;
+        double tn = (lo_[a] - o[a]) * invD[a], tf = (hi_[a] - o[a]) * invD[a];
         if (tn > tf) std::swap(tn, tf);
         if (tn > t0) t0 = tn;
         if (tf < t1) t1 = tf;
     }
     if (!(t0 < t1)) return;
-    int cell[3], step[3], end[3];
+    // The walk keeps its state in scalars (an axis-indexed array would live on the stack and
+    // every step would wait on a store), and the cell as one linear index.
+    int cell[3], left[3];
     double tNext[3], dt[3];
+    ptrdiff_t stride[3] = {1, res_.x(), ptrdiff_t(res_.x()) * res_.y()};
     const Vec3 p = o + t0 * d;
     for (int a = 0; a < 3; ++a) {
-        cell[a] = std::clamp(int(std::floor((p[a] - lo_[a]) / cellSize_[a])), 0, res_[a] - 1);
-        if (d[a] == 0) {
-            step[a] = 0, end[a] = -2, tNext[a] = INFINITY, dt[a] = INFINITY;
-            continue;
-        }
+        cell[a] = std::clamp(int(std::floor((p[a] - lo_[a]) * invCellSize_[a])), 0, res_[a] - 1);
         const bool pos = d[a] > 0;
-        step[a] = pos ? 1 : -1;
-        end[a] = pos ? res_[a] : -1;
-        tNext[a] = (lo_[a] + (cell[a] + (pos ? 1 : 0)) * cellSize_[a] - o[a]) / d[a];
-        dt[a] = cellSize_[a] / std::abs(d[a]);
+        left[a] = pos ? res_[a] - 1 - cell[a] : cell[a];  // steps before leaving the grid
+        if (!pos) stride[a] = -stride[a];
+        tNext[a] = d[a] == 0 ? INFINITY
+                             : (lo_[a] + (cell[a] + (pos ? 1 : 0)) * cellSize_[a] - o[a]) * invD[a];
+        dt[a] = d[a] == 0 ? INFINITY : cellSize_[a] * std::abs(invD[a]);
     }
+    double tx = tNext[0], ty = tNext[1], tz = tNext[2];
+    int lx = left[0], ly = left[1], lz = left[2];
+    const Bounds* c = cells_.data() + index(cell[0], cell[1], cell[2]);
     double t = t0;
     for (;;) {
-        const int a =
-            tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2) : (tNext[1] < tNext[2] ? 1 : 2);
-        const double tEnd = std::min(tNext[a], t1);
-        const size_t i = index(cell[0], cell[1], cell[2]);
-        if (tEnd > t && !visit(t, tEnd, max_[i], min_.empty() ? 0.0 : min_[i])) return;
+        const double tEnd = std::min(std::min(tx, ty), std::min(tz, t1));
+        if (tEnd > t && !visit(t, tEnd, c->max, c->min)) return;
         if (tEnd >= t1) return;
         t = std::max(t, tEnd);  // an entry cell misassigned by rounding must not step back
-        cell[a] += step[a];
-        if (cell[a] == end[a]) return;
-        tNext[a] += dt[a];
+        if (tx <= ty && tx <= tz) {
+            if (--lx < 0) return;
+            c += stride[0], tx += dt[0];
+        } else if (ty <= tz) {
+            if (--ly < 0) return;
+            c += stride[1], ty += dt[1];
+        } else {
+            if (--lz < 0) return;
+            c += stride[2], tz += dt[2];
+        }
     }
 }
 

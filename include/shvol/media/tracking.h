@@ -10,6 +10,7 @@
 ///    transmittance estimate T = Π (1 − σ_t/σ_maj) over all tentative collisions, with Russian
 ///    roulette once T is small so that optically thick media end the walk early.
 /// Both are templates so the medium's lookup and segment walk are inlined (static dispatch).
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -30,7 +31,37 @@ inline constexpr double NoCollision = std::numeric_limits<double>::infinity();
 /// walk) with σ_min ≤ σ_t(t) ≤ σ_maj on [t0, t1). σ_t splits into a control part σ_min, constant
 /// on the segment and handled in closed form without any density lookup, and a residual part
 /// σ_t − σ_min ∈ [0, σ_maj − σ_min], tracked with null collisions at rate σ_maj − σ_min. With
-/// σ_min = 0 both functions are plain delta and ratio tracking and draw the same numbers.
+/// σ_min = 0 both functions are plain delta and ratio tracking.
+///
+/// Both Poisson processes (control events at rate σ_min, tentative collisions at rate
+/// σ_maj − σ_min) have piecewise-constant rates, so each is sampled by inverting its cumulative
+/// rate Λ(t) = ∫ rate: the next event after s is where Λ grows by E ~ Exp(1). The unused part of
+/// E is carried into the next segment (the optical-depth budget below) instead of drawing a new
+/// exponential per segment, which the memorylessness of the exponential would also allow: a
+/// segment without an event costs a multiply and a compare, no logarithm and no random number,
+/// and splitting a segment in two does not change the numbers drawn.
+
+/// An optical-depth budget E ~ Exp(1) of a Poisson process with piecewise-constant rate: drawn
+/// when first needed, spent segment by segment.
+class OpticalDepthBudget {
+  public:
+    /// Moves *t, at rate `rate` > 0 (invRate = 1/rate), to the process's next event if it comes
+    /// before tEnd (true; the next call draws a new budget), else spends the budget up to tEnd
+    /// (false, *t unchanged).
+    bool next(double rate, double invRate, double tEnd, Rng& rng, double* t) {
+        const double s = (tau_ < 0 ? -std::log1p(-rng.uniform()) : tau_) * invRate;
+        if (*t + s >= tEnd) {
+            tau_ = (*t + s - tEnd) * rate;
+            return false;
+        }
+        *t += s;
+        tau_ = -1;
+        return true;
+    }
+
+  private:
+    double tau_ = -1;  ///< the budget left, or < 0: not drawn
+};
 
 /// Delta tracking with decomposition (Kutz et al. 2017, "Spectral and Decomposition Tracking
 /// for Rendering Heterogeneous Volumes", §4): the first real collision is the earlier of the
@@ -38,18 +69,23 @@ inline constexpr double NoCollision = std::numeric_limits<double>::infinity();
 /// majorant σ_maj − σ_min); the two are independent Poisson processes whose sum has rate σ_t.
 /// Returns its distance, or NoCollision. sigmaT(t) gives σ_t at ray parameter t.
 template <typename Segments, typename SigmaT>
-double deltaTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng, TrackingCounters& c) {
+double deltaTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rngRef,
+                  TrackingCounters& counters) {
+    // The walk works on local copies (kept in registers: the caller's objects could alias the
+    // lookups' memory as far as the compiler knows) and writes them back at the end.
+    Rng rng = rngRef;
+    TrackingCounters c = counters;
     double hit = NoCollision;
+    OpticalDepthBudget control, residual;
     segments([&](double t0, double t1, double sigmaMaj, double sigmaMin) {
         ++c.segments;
         if (!(sigmaMaj > 0)) return true;
-        double tControl = t1;
-        if (sigmaMin > 0) tControl = std::min(t1, t0 - std::log1p(-rng.uniform()) / sigmaMin);
-        const double sigmaRes = sigmaMaj - sigmaMin;
+        double tControl = t0;
+        if (!(sigmaMin > 0 && control.next(sigmaMin, 1 / sigmaMin, t1, rng, &tControl)))
+            tControl = t1;
+        const double sigmaRes = sigmaMaj - sigmaMin, invRes = 1 / sigmaRes;
         if (sigmaRes > 0)
-            for (double t = t0;;) {
-                t -= std::log1p(-rng.uniform()) / sigmaRes;
-                if (t >= tControl) break;
+            for (double t = t0; residual.next(sigmaRes, invRes, tControl, rng, &t);) {
                 ++c.densityLookups;
                 if (rng.uniform() * sigmaRes < sigmaT(t) - sigmaMin) {  // a real collision
                     hit = t;
@@ -60,6 +96,7 @@ double deltaTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng, Trac
         hit = tControl;
         return false;
     });
+    rngRef = rng, counters = c;
     return hit;
 }
 
@@ -69,8 +106,10 @@ double deltaTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng, Trac
 /// tentative points at rate σ_maj − σ_min. Roulette below T = rrThreshold keeps it unbiased:
 /// survive with probability T/rrThreshold and continue with T = rrThreshold.
 template <typename Segments, typename SigmaT>
-double ratioTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng, TrackingCounters& c,
-                  double rrThreshold = 0.1) {
+double ratioTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rngRef,
+                  TrackingCounters& counters, double rrThreshold = 0.1) {
+    Rng rng = rngRef;  // local copies, as in deltaTrack
+    TrackingCounters c = counters;
     double T = 1;
     // After each factor: roulette once T is below the threshold; false ends the walk (T = 0).
     auto roulette = [&] {
@@ -82,6 +121,7 @@ double ratioTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng, Trac
         T = rrThreshold;
         return true;
     };
+    OpticalDepthBudget residual;
     segments([&](double t0, double t1, double sigmaMaj, double sigmaMin) {
         ++c.segments;
         if (!(sigmaMaj > 0)) return true;
@@ -91,14 +131,15 @@ double ratioTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng, Trac
         }
         const double sigmaRes = sigmaMaj - sigmaMin;
         if (!(sigmaRes > 0)) return true;
-        for (double t = t0;;) {
-            t -= std::log1p(-rng.uniform()) / sigmaRes;
-            if (t >= t1) return true;
+        const double invRes = 1 / sigmaRes;
+        for (double t = t0; residual.next(sigmaRes, invRes, t1, rng, &t);) {
             ++c.densityLookups;
-            T *= std::max(0.0, 1.0 - (sigmaT(t) - sigmaMin) / sigmaRes);
+            T *= std::max(0.0, 1.0 - (sigmaT(t) - sigmaMin) * invRes);
             if (!roulette()) return false;
         }
+        return true;
     });
+    rngRef = rng, counters = c;
     return T;
 }
 
