@@ -498,11 +498,11 @@ class VdbMedium final : public Medium {
     }
 
   public:
-    double sampleCollision(const Ray& ray, double tMax, Rng& rng,
-                           TrackingCounters& c) const override {
+    double sampleCollision(const Ray& ray, double tMax, Rng& rng, TrackingCounters& c,
+                           const Vec2* first) const override {
         const Vec3 o = worldToIndex_ * ray.o, d = worldToIndex_.linear() * ray.d;
         return withDensity([&](const auto& density) {
-            return deltaTrack(segments(o, d, tMax), sigma(density, o, d), rng, c);
+            return deltaTrack(segments(o, d, tMax), sigma(density, o, d), rng, c, first);
         });
     }
 

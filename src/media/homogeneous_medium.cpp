@@ -25,16 +25,16 @@ HomogeneousMedium::HomogeneousMedium(MediumShape shape, double sigmaT, Spectrum 
     : Medium(albedo, std::move(phase)), shape_(shape), sigmaT_(sigmaT), tracking_(tracking) {}
 
 double HomogeneousMedium::sampleCollision(const Ray& ray, double tMax, Rng& rng,
-                                          TrackingCounters& c) const {
+                                          TrackingCounters& c, const Vec2* first) const {
     const Interval iv = shape_.intersect(ray, tMax);
     if (iv.empty() || !(sigmaT_ > 0)) return NoCollision;
     if (tracking_) {
         auto segments = [&](auto&& visit) { visit(iv.t0, iv.t1, 2 * sigmaT_, 0.0); };
         return deltaTrack(
-            segments, [&](double) { return sigmaT_; }, rng, c);
+            segments, [&](double) { return sigmaT_; }, rng, c, first);
     }
     ++c.segments;
-    const double t = iv.t0 - std::log1p(-rng.uniform()) / sigmaT_;
+    const double t = iv.t0 - std::log1p(-(first ? first->x() : rng.uniform())) / sigmaT_;
     return t < iv.t1 ? t : NoCollision;
 }
 

@@ -100,13 +100,16 @@ VolumePathIntegrator::Inside VolumePathIntegrator::crossed(const SurfaceHit& hit
 }
 
 double VolumePathIntegrator::sampleCollision(const Ray& ray, double tMax, Inside inside, Rng& rng,
-                                             PathCounters& c, int* medium) const {
+                                             const Vec2& first, PathCounters& c,
+                                             int* medium) const {
     double tHit = tMax;
     *medium = -1;
+    const Vec2* u = &first;  // for the first active medium; the others' flights are independent
     for (size_t i = 0; i < scene_.media.size(); ++i) {
         if (!active(i, inside)) continue;
         // Only collisions before the nearest one found so far matter.
-        const double t = scene_.media[i]->sampleCollision(ray, tHit, rng, c.tracking);
+        const double t = scene_.media[i]->sampleCollision(ray, tHit, rng, c.tracking, u);
+        u = nullptr;
         if (t < tHit) tHit = t, *medium = int(i);
     }
     return *medium < 0 ? NoCollision : tHit;
@@ -270,9 +273,11 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
         SurfaceHit hit;
         const bool hitSurface = surf && surf->intersect(ray, NoHit, &hit);
         int mi = -1;
-        const double t = effects_.volumes
-                             ? sampleCollision(ray, hitSurface ? hit.t : NoHit, inside, rng, c, &mi)
-                             : NoCollision;
+        double t = NoCollision;
+        if (effects_.volumes && anyActive(inside)) {
+            const Vec2 uFlight = sampler.next2D();
+            t = sampleCollision(ray, hitSurface ? hit.t : NoHit, inside, rng, uFlight, c, &mi);
+        }
         if (t == NoCollision && !hitSurface) {
             double w = 1;
             if (prevPdf > 0 && effects_.nextEvent)

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "shvol/core/rng.h"
+#include "shvol/sampling/sobol_sampler.h"
 
 namespace shvol {
 namespace {
@@ -124,6 +125,48 @@ TEST(Tracking, SplittingSegmentsKeepsTheNumbers) {
             const double Tb = ratioTrack(split(7, false), sigmaT, b, cb);
             EXPECT_NEAR(Ta, Tb, 1e-12) << i;
         }
+}
+
+// The flight's first two numbers come from the given pair: with σ_maj = σ_t the first
+// tentative collision is real and lies at −ln(1 − u₁)/σ, and no number is drawn from the rng.
+TEST(Tracking, FirstNumbersComeFromThePair) {
+    auto segment = [](auto&& visit) { visit(0.0, 10.0, 2.0, 0.0); };
+    auto sigma = [](double) { return 2.0; };
+    for (double u : {0.0, 0.3, 0.9}) {
+        Rng rng(1, 2), copy = rng;
+        TrackingCounters c;
+        const Vec2 first(u, 0.5);
+        EXPECT_DOUBLE_EQ(deltaTrack(segment, sigma, rng, c, &first), -std::log1p(-u) / 2);
+        EXPECT_EQ(rng.nextU32(), copy.nextU32());
+    }
+}
+
+// Fed by the Sobol' stream (a pixel's samples 0 … n−1), free flights keep their distribution:
+// the chi² of DecompositionFreeFlightDistribution, with and without the control part.
+TEST(Tracking, SobolFedFreeFlightDistribution) {
+    const int n = 1 << 16, bins = 20;
+    const double escape = std::exp(-opticalDepth(2.5));
+    for (bool control : {false, true}) {
+        TrackingCounters c;
+        std::vector<int> hist(bins + 1, 0);
+        for (int i = 0; i < n; ++i) {
+            SobolSampler sampler(7, 3, uint32_t(i));
+            const Vec2 first = sampler.next2D();
+            const double t = deltaTrack(segments(control), sigmaT, sampler.rng(), c, &first);
+            if (t == NoCollision) {
+                ++hist[bins];
+                continue;
+            }
+            const double u = (1 - std::exp(-opticalDepth(t))) / (1 - escape);
+            ++hist[std::min(bins - 1, int(u * bins))];
+        }
+        double chi2 = 0;
+        for (int b = 0; b <= bins; ++b) {
+            const double expected = n * (b < bins ? (1 - escape) / bins : escape);
+            chi2 += (hist[b] - expected) * (hist[b] - expected) / expected;
+        }
+        EXPECT_LT(chi2, 45.3) << "control " << control;  // χ²(20) at p = 0.001
+    }
 }
 
 }  // namespace shvol

@@ -24,8 +24,8 @@ class HomogeneousMedium final : public Medium {
   public:
     HomogeneousMedium(MediumShape shape, double sigmaT, Spectrum albedo, PhaseFunction phase,
                       bool tracking = false);
-    double sampleCollision(const Ray& ray, double tMax, Rng& rng,
-                           TrackingCounters& c) const override;
+    double sampleCollision(const Ray& ray, double tMax, Rng& rng, TrackingCounters& c,
+                           const Vec2* first = nullptr) const override;
     double transmittance(const Ray& ray, double tMax, TransmittanceEstimator est, Rng& rng,
                          TrackingCounters& c) const override;
     double sigmaT(const Vec3& p) const override { return shape_.contains(p) ? sigmaT_ : 0; }

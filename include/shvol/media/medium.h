@@ -27,9 +27,11 @@ class Medium {
     virtual ~Medium() = default;
 
     /// Distance t ∈ [0, tMax) of the first real collision along the ray, or NoCollision.
-    /// Its density is σ_t(t)·T(0, t).
-    virtual double sampleCollision(const Ray& ray, double tMax, Rng& rng,
-                                   TrackingCounters& c) const = 0;
+    /// Its density is σ_t(t)·T(0, t). The flight's first two uniform numbers come from `first`
+    /// when it is given (a stratified pair of the path's sample stream; FlightNumbers), the
+    /// others from rng.
+    virtual double sampleCollision(const Ray& ray, double tMax, Rng& rng, TrackingCounters& c,
+                                   const Vec2* first = nullptr) const = 0;
     /// Unbiased estimate of T(0, tMax) along the ray.
     virtual double transmittance(const Ray& ray, double tMax, TransmittanceEstimator est, Rng& rng,
                                  TrackingCounters& c) const = 0;

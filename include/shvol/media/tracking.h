@@ -41,6 +41,23 @@ inline constexpr double NoCollision = std::numeric_limits<double>::infinity();
 /// segment without an event costs a multiply and a compare, no logarithm and no random number,
 /// and splitting a segment in two does not change the numbers drawn.
 
+/// The uniform numbers of one free flight: the first two from a pair drawn from the path's
+/// sample stream (a Sobol' request, stratified over a pixel's samples), the rest from an Rng.
+/// Without a pair every number comes from the Rng.
+class FlightNumbers {
+  public:
+    FlightNumbers(const Rng& rng, const Vec2* first) : rng_(rng), left_(first ? 2 : 0) {
+        if (first) first_[0] = first->x(), first_[1] = first->y();
+    }
+    double uniform() { return left_ > 0 ? first_[2 - left_--] : rng_.uniform(); }
+    const Rng& rng() const { return rng_; }
+
+  private:
+    Rng rng_;
+    int left_;
+    double first_[2] = {0, 0};
+};
+
 /// An optical-depth budget E ~ Exp(1) of a Poisson process with piecewise-constant rate: drawn
 /// when first needed, spent segment by segment.
 class OpticalDepthBudget {
@@ -48,7 +65,8 @@ class OpticalDepthBudget {
     /// Moves *t, at rate `rate` > 0 (invRate = 1/rate), to the process's next event if it comes
     /// before tEnd (true; the next call draws a new budget), else spends the budget up to tEnd
     /// (false, *t unchanged).
-    bool next(double rate, double invRate, double tEnd, Rng& rng, double* t) {
+    template <typename Uniform>
+    bool next(double rate, double invRate, double tEnd, Uniform& rng, double* t) {
         const double s = (tau_ < 0 ? -std::log1p(-rng.uniform()) : tau_) * invRate;
         if (*t + s >= tEnd) {
             tau_ = (*t + s - tEnd) * rate;
@@ -67,13 +85,14 @@ class OpticalDepthBudget {
 /// for Rendering Heterogeneous Volumes", §4): the first real collision is the earlier of the
 /// control part's (exponential with rate σ_min) and the residual part's (delta tracking with
 /// majorant σ_maj − σ_min); the two are independent Poisson processes whose sum has rate σ_t.
-/// Returns its distance, or NoCollision. sigmaT(t) gives σ_t at ray parameter t.
+/// Returns its distance, or NoCollision. sigmaT(t) gives σ_t at ray parameter t. The first two
+/// numbers come from `first` when given (FlightNumbers), the others from rng.
 template <typename Segments, typename SigmaT>
 double deltaTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rngRef,
-                  TrackingCounters& counters) {
+                  TrackingCounters& counters, const Vec2* first = nullptr) {
     // The walk works on local copies (kept in registers: the caller's objects could alias the
     // lookups' memory as far as the compiler knows) and writes them back at the end.
-    Rng rng = rngRef;
+    FlightNumbers rng(rngRef, first);
     TrackingCounters c = counters;
     double hit = NoCollision;
     OpticalDepthBudget control, residual;
@@ -96,7 +115,7 @@ double deltaTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rngRef,
         hit = tControl;
         return false;
     });
-    rngRef = rng, counters = c;
+    rngRef = rng.rng(), counters = c;
     return hit;
 }
 

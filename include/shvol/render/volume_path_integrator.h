@@ -89,9 +89,10 @@ class VolumePathIntegrator {
     explicit VolumePathIntegrator(const Scene& scene);
     /// Radiance arriving along −ray.d at ray.o (i.e. seen looking along ray.d). `Sampler` is
     /// a sample stream, Rng (independent numbers) or SobolSampler (sampling/sobol_sampler.h):
-    /// per bounce a 2D light sample (with next-event estimation), a 2D phase sample and a 1D
-    /// Russian-roulette number, in that order; free-flight and transmittance tracking draw from
-    /// its rng().
+    /// per flight through active media a 2D pair for the free flight's first two numbers (its first
+    /// exponential and acceptance test), then per bounce a 2D light sample (with next-event
+    /// estimation), a 2D phase sample and a 1D Russian-roulette number, in that order; the rest
+    /// of free-flight tracking, and transmittance tracking, draw from its rng().
     /// A camera path, or a record path of the radiance cache (see the file comment).
     enum class PathKind { Camera, CacheRecord };
     template <typename Sampler>
@@ -154,6 +155,13 @@ class VolumePathIntegrator {
     bool active(size_t medium, Inside inside) const {
         return mediumBit_[medium] < 0 || ((inside >> mediumBit_[medium]) & 1);
     }
+    /// Whether a flight inside `inside` crosses any medium (then it draws its flight numbers, so
+    /// that a flight outside every bounded medium leaves the sample stream as it is).
+    bool anyActive(Inside inside) const {
+        for (size_t i = 0; i < mediumBit_.size(); ++i)
+            if (active(i, inside)) return true;
+        return false;
+    }
     /// The bounded media containing p (asked of Embree), and the same answered from the cache
     /// for the camera position.
     Inside insideOf(const Vec3& p) const;
@@ -162,9 +170,9 @@ class VolumePathIntegrator {
     Inside crossed(const SurfaceHit& hit, const Vec3& d, Inside inside) const;
 
     /// Nearest real collision in [0, tMax) over the active media; sets *medium to its index (−1:
-    /// none).
-    double sampleCollision(const Ray& ray, double tMax, Inside inside, Rng& rng, PathCounters& c,
-                           int* medium) const;
+    /// none). `first` gives the first active medium's first two numbers (FlightNumbers).
+    double sampleCollision(const Ray& ray, double tMax, Inside inside, Rng& rng, const Vec2& first,
+                           PathCounters& c, int* medium) const;
     /// Product of the active media's transmittance estimates along [0, tMax).
     double transmittance(const Ray& ray, double tMax, Inside inside, Rng& rng,
                          PathCounters& c) const;
