@@ -81,6 +81,70 @@ class OpticalDepthBudget {
     double tau_ = -1;  ///< the budget left, or < 0: not drawn
 };
 
+namespace detail {
+/// The walk along the segments of delta tracking (kDelta: the first real collision, returned,
+/// or NoCollision) or residual ratio tracking (kRatio: the transmittance estimate to the end of
+/// the segments, in *transmittance). Both at once would serve both from the same tentative
+/// collisions (next-flight estimation, Novák et al. 2014 §5); measured under a constant sky it
+/// raised the error (validation/cycles/README.md), so nothing asks for it.
+template <bool kDelta, bool kRatio, typename Segments, typename SigmaT>
+double track(const Segments& segments, const SigmaT& sigmaT, Rng& rngRef,
+             TrackingCounters& counters, const Vec2* first, double* transmittance,
+             double rrThreshold) {
+    // The walk works on local copies (kept in registers: the caller's objects could alias the
+    // lookups' memory as far as the compiler knows) and writes them back at the end.
+    FlightNumbers rng(rngRef, first);
+    TrackingCounters c = counters;
+    double hit = kDelta ? NoCollision : 0, T = kRatio ? 1 : 0;
+    // Ratio tracking's roulette once T is below the threshold: survive with probability
+    // T/rrThreshold and continue with T = rrThreshold, else T = 0.
+    auto roulette = [&] {
+        if (T >= rrThreshold) return;
+        T = T > 0 && rng.uniform() * rrThreshold < T ? rrThreshold : 0;
+    };
+    auto tracking = [&] { return kDelta && hit == NoCollision; };
+    auto ratio = [&] { return kRatio && T > 0; };
+    OpticalDepthBudget control, residual;
+    segments([&](double t0, double t1, double sigmaMaj, double sigmaMin) {
+        ++c.segments;
+        if (!(sigmaMaj > 0)) return true;
+        // The control part: delta tracking's exponential event at rate σ_min (a real collision),
+        // ratio tracking's factor e^{−σ_min (t1 − t0)}.
+        double tControl = t0;
+        if (!(tracking() && sigmaMin > 0 &&
+              control.next(sigmaMin, 1 / sigmaMin, t1, rng, &tControl)))
+            tControl = t1;
+        if (ratio() && sigmaMin > 0) {
+            T *= std::exp(-sigmaMin * (t1 - t0));
+            roulette();
+        }
+        // The residual part: tentative collisions at rate σ_maj − σ_min, up to where either
+        // estimator still needs them.
+        const double sigmaRes = sigmaMaj - sigmaMin, invRes = 1 / sigmaRes;
+        double tEnd = ratio() ? t1 : tracking() ? tControl : t0;
+        if (sigmaRes > 0)
+            for (double t = t0; t < tEnd && residual.next(sigmaRes, invRes, tEnd, rng, &t);) {
+                ++c.densityLookups;
+                const double s = sigmaT(t) - sigmaMin;
+                if (tracking() && rng.uniform() * sigmaRes < s) {  // a real collision
+                    hit = t;
+                    if (!ratio()) break;
+                }
+                if (ratio()) {
+                    T *= std::max(0.0, 1.0 - s * invRes);
+                    roulette();
+                    if (!ratio()) tEnd = tracking() ? tControl : t0;
+                }
+            }
+        if (tracking() && tControl < t1) hit = tControl;
+        return tracking() || ratio();
+    });
+    rngRef = rng.rng(), counters = c;
+    if (kRatio) *transmittance = T;
+    return hit;
+}
+}  // namespace detail
+
 /// Delta tracking with decomposition (Kutz et al. 2017, "Spectral and Decomposition Tracking
 /// for Rendering Heterogeneous Volumes", §4): the first real collision is the earlier of the
 /// control part's (exponential with rate σ_min) and the residual part's (delta tracking with
@@ -88,35 +152,9 @@ class OpticalDepthBudget {
 /// Returns its distance, or NoCollision. sigmaT(t) gives σ_t at ray parameter t. The first two
 /// numbers come from `first` when given (FlightNumbers), the others from rng.
 template <typename Segments, typename SigmaT>
-double deltaTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rngRef,
-                  TrackingCounters& counters, const Vec2* first = nullptr) {
-    // The walk works on local copies (kept in registers: the caller's objects could alias the
-    // lookups' memory as far as the compiler knows) and writes them back at the end.
-    FlightNumbers rng(rngRef, first);
-    TrackingCounters c = counters;
-    double hit = NoCollision;
-    OpticalDepthBudget control, residual;
-    segments([&](double t0, double t1, double sigmaMaj, double sigmaMin) {
-        ++c.segments;
-        if (!(sigmaMaj > 0)) return true;
-        double tControl = t0;
-        if (!(sigmaMin > 0 && control.next(sigmaMin, 1 / sigmaMin, t1, rng, &tControl)))
-            tControl = t1;
-        const double sigmaRes = sigmaMaj - sigmaMin, invRes = 1 / sigmaRes;
-        if (sigmaRes > 0)
-            for (double t = t0; residual.next(sigmaRes, invRes, tControl, rng, &t);) {
-                ++c.densityLookups;
-                if (rng.uniform() * sigmaRes < sigmaT(t) - sigmaMin) {  // a real collision
-                    hit = t;
-                    return false;
-                }
-            }
-        if (tControl >= t1) return true;
-        hit = tControl;
-        return false;
-    });
-    rngRef = rng.rng(), counters = c;
-    return hit;
+double deltaTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng, TrackingCounters& c,
+                  const Vec2* first = nullptr) {
+    return detail::track<true, false>(segments, sigmaT, rng, c, first, nullptr, 0.0);
 }
 
 /// Residual ratio tracking (Novák, Selle & Jarosz 2014, "Residual Ratio Tracking for
@@ -125,40 +163,10 @@ double deltaTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rngRef,
 /// tentative points at rate σ_maj − σ_min. Roulette below T = rrThreshold keeps it unbiased:
 /// survive with probability T/rrThreshold and continue with T = rrThreshold.
 template <typename Segments, typename SigmaT>
-double ratioTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rngRef,
-                  TrackingCounters& counters, double rrThreshold = 0.1) {
-    Rng rng = rngRef;  // local copies, as in deltaTrack
-    TrackingCounters c = counters;
-    double T = 1;
-    // After each factor: roulette once T is below the threshold; false ends the walk (T = 0).
-    auto roulette = [&] {
-        if (T >= rrThreshold) return true;
-        if (T <= 0 || rng.uniform() * rrThreshold >= T) {
-            T = 0;
-            return false;
-        }
-        T = rrThreshold;
-        return true;
-    };
-    OpticalDepthBudget residual;
-    segments([&](double t0, double t1, double sigmaMaj, double sigmaMin) {
-        ++c.segments;
-        if (!(sigmaMaj > 0)) return true;
-        if (sigmaMin > 0) {
-            T *= std::exp(-sigmaMin * (t1 - t0));
-            if (!roulette()) return false;
-        }
-        const double sigmaRes = sigmaMaj - sigmaMin;
-        if (!(sigmaRes > 0)) return true;
-        const double invRes = 1 / sigmaRes;
-        for (double t = t0; residual.next(sigmaRes, invRes, t1, rng, &t);) {
-            ++c.densityLookups;
-            T *= std::max(0.0, 1.0 - (sigmaT(t) - sigmaMin) * invRes);
-            if (!roulette()) return false;
-        }
-        return true;
-    });
-    rngRef = rng, counters = c;
+double ratioTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng, TrackingCounters& c,
+                  double rrThreshold = 0.1) {
+    double T;
+    detail::track<false, true>(segments, sigmaT, rng, c, nullptr, &T, rrThreshold);
     return T;
 }
 
