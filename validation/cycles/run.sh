@@ -12,7 +12,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 shvol=${SHVOL:-$root/build/shvol}
 REF_SPP=${REF_SPP:-16384}
-CYCLES_SPP=${CYCLES_SPP:-2048}
+CYCLES_SPP=${CYCLES_SPP:-1024}
 SCENES=${SCENES:-"cloud dense_cloud plume"}
 if ! command -v blender > /dev/null; then
   apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends blender

@@ -13,12 +13,12 @@
 /// Owen scramble, which keeps the (0,2)-sequence's stratification. For every k ≤ 32, the first
 /// 2^k samples of a pixel then put one point in each 2^a × 2^b elementary interval (a + b = k).
 ///
-/// A path asks for its numbers in a fixed order (the camera jitter, then per bounce the light
-/// sample, the phase sample and Russian roulette). Request d of a path is the (0,2)-sequence with
+/// A path asks for its numbers in a fixed order (the camera jitter, then per bounce the free
+/// flight's first two numbers, the light sample, the phase sample and Russian roulette). Request d of a path is the (0,2)-sequence with
 /// its index shuffled and its coordinates scrambled by seeds hashed from (seed, pixel, d): each
 /// request is stratified over the pixel's samples, and different requests are decorrelated
 /// (padding, as pbrt-v4's PaddedSobolSampler).
-/// Beyond kDimensions requests, and for the variable-length draws of free-flight sampling, the
+/// Beyond kDimensions requests, and for the rest of the variable-length draws of tracking, the
 /// stream hands out its independent PCG32 numbers (rng()). 16 bits below 2⁻³² are random too
 /// (what an Owen scramble of infinite depth would give).
 #include <cstdint>
@@ -96,7 +96,7 @@ inline uint32_t owenScramble(uint32_t x, uint32_t seed) {
 class SobolSampler {
   public:
     /// Requests served from the (0,2)-sequence before the stream falls back to rng(): the camera
-    /// jitter and the light, phase and roulette numbers of the first 42 bounces.
+    /// jitter and the flight, light, phase and roulette numbers of the first 32 to 42 bounces.
     static constexpr int kDimensions = 128;
 
     SobolSampler(uint64_t seed, uint64_t pixel, uint32_t sample)
