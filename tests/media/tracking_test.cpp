@@ -32,34 +32,43 @@ auto segments(bool control) {
     };
 }
 
+/// χ² over 20 equal-probability bins of P(t < x) = 1 − e^{−τ(x)} (x < 2.5) plus the escapes, for
+/// n distances drawn by flight(i); each must lie in [0, 2.5) or be NoCollision.
+template <typename Flight>
+double freeFlightChi2(int n, Flight&& flight) {
+    const int bins = 20;
+    const double escape = std::exp(-opticalDepth(2.5));
+    std::vector<int> hist(bins + 1, 0);
+    for (int i = 0; i < n; ++i) {
+        const double t = flight(i);
+        if (t == NoCollision) {
+            ++hist[bins];
+            continue;
+        }
+        EXPECT_GE(t, 0);
+        EXPECT_LT(t, 2.5);
+        const double u = (1 - std::exp(-opticalDepth(t))) / (1 - escape);  // ∈ [0, 1)
+        ++hist[std::min(bins - 1, int(u * bins))];
+    }
+    double chi2 = 0;
+    for (int b = 0; b <= bins; ++b) {
+        const double expected = n * (b < bins ? (1 - escape) / bins : escape);
+        chi2 += (hist[b] - expected) * (hist[b] - expected) / expected;
+    }
+    return chi2;
+}
+
 }  // namespace
 
 // Free-flight distances follow P(t < x) = 1 − e^{−τ(x)} (chi² over 20 equal-probability bins plus
 // the escapes), with and without the control part; the control part saves lookups.
 TEST(Tracking, DecompositionFreeFlightDistribution) {
-    const int n = 200000, bins = 20;
-    const double escape = std::exp(-opticalDepth(2.5));
     uint64_t lookups[2];
     for (bool control : {false, true}) {
         Rng rng(3, control);
         TrackingCounters c;
-        std::vector<int> hist(bins + 1, 0);
-        for (int i = 0; i < n; ++i) {
-            const double t = deltaTrack(segments(control), sigmaT, rng, c);
-            if (t == NoCollision) {
-                ++hist[bins];
-                continue;
-            }
-            ASSERT_GE(t, 0);
-            ASSERT_LT(t, 2.5);
-            const double u = (1 - std::exp(-opticalDepth(t))) / (1 - escape);  // ∈ [0, 1)
-            ++hist[std::min(bins - 1, int(u * bins))];
-        }
-        double chi2 = 0;
-        for (int b = 0; b <= bins; ++b) {
-            const double expected = n * (b < bins ? (1 - escape) / bins : escape);
-            chi2 += (hist[b] - expected) * (hist[b] - expected) / expected;
-        }
+        const double chi2 = freeFlightChi2(
+            200000, [&](int) { return deltaTrack(segments(control), sigmaT, rng, c); });
         EXPECT_LT(chi2, 45.3) << "control " << control;  // χ²(20) at p = 0.001
         lookups[control] = c.densityLookups;
     }
@@ -144,27 +153,13 @@ TEST(Tracking, FirstNumbersComeFromThePair) {
 // Fed by the Sobol' stream (a pixel's samples 0 … n−1), free flights keep their distribution:
 // the chi² of DecompositionFreeFlightDistribution, with and without the control part.
 TEST(Tracking, SobolFedFreeFlightDistribution) {
-    const int n = 1 << 16, bins = 20;
-    const double escape = std::exp(-opticalDepth(2.5));
     for (bool control : {false, true}) {
         TrackingCounters c;
-        std::vector<int> hist(bins + 1, 0);
-        for (int i = 0; i < n; ++i) {
+        const double chi2 = freeFlightChi2(1 << 16, [&](int i) {
             SobolSampler sampler(7, 3, uint32_t(i));
             const Vec2 first = sampler.next2D();
-            const double t = deltaTrack(segments(control), sigmaT, sampler.rng(), c, &first);
-            if (t == NoCollision) {
-                ++hist[bins];
-                continue;
-            }
-            const double u = (1 - std::exp(-opticalDepth(t))) / (1 - escape);
-            ++hist[std::min(bins - 1, int(u * bins))];
-        }
-        double chi2 = 0;
-        for (int b = 0; b <= bins; ++b) {
-            const double expected = n * (b < bins ? (1 - escape) / bins : escape);
-            chi2 += (hist[b] - expected) * (hist[b] - expected) / expected;
-        }
+            return deltaTrack(segments(control), sigmaT, sampler.rng(), c, &first);
+        });
         EXPECT_LT(chi2, 45.3) << "control " << control;  // χ²(20) at p = 0.001
     }
 }
