@@ -28,6 +28,20 @@ TEST(SobolSampler, SecondDimensionDirectionNumbers) {
     for (int i = 0; i < 100000; ++i) {
         const uint32_t n = i < 4096 ? uint32_t(i) : rng.nextU32();
         ASSERT_EQ(sobolSecondDimension(n), sobolSecondDimensionBitwise(n)) << n;
+        ASSERT_EQ(sobolSecondDimensionReversed(n), reverseBits32(sobolSecondDimensionBitwise(n)))
+            << n;
+    }
+}
+
+// The two identities the sampler's requests are computed by (the index reversed once per
+// sampler, C·index from the reversed table): each equals the Owen scramble it replaces.
+TEST(SobolSampler, FastRequestsMatchTheDefinition) {
+    Rng rng(3, 3);
+    for (int i = 0; i < 100000; ++i) {
+        const uint32_t n = rng.nextU32(), g = rng.nextU32();
+        ASSERT_EQ(reverseBits32(laineKarras(reverseBits32(n), g)), owenScramble(n, g));
+        ASSERT_EQ(reverseBits32(laineKarras(sobolSecondDimensionReversed(n), g)),
+                  owenScramble(sobolSecondDimension(n), g));
     }
 }
 

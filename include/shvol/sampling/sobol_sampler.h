@@ -14,13 +14,13 @@
 /// 2^k samples of a pixel then put one point in each 2^a × 2^b elementary interval (a + b = k).
 ///
 /// A path asks for its numbers in a fixed order (the camera jitter, then per bounce the free
-/// flight's first two numbers, the light sample, the phase sample and Russian roulette). Request d of a path is the (0,2)-sequence with
-/// its index shuffled and its coordinates scrambled by seeds hashed from (seed, pixel, d): each
-/// request is stratified over the pixel's samples, and different requests are decorrelated
-/// (padding, as pbrt-v4's PaddedSobolSampler).
-/// Beyond kDimensions requests, and for the rest of the variable-length draws of tracking, the
-/// stream hands out its independent PCG32 numbers (rng()). 16 bits below 2⁻³² are random too
-/// (what an Owen scramble of infinite depth would give).
+/// flight's first two numbers, the light sample, the phase sample and Russian roulette). Request d
+/// of a path is the (0,2)-sequence with its index shuffled and its coordinates scrambled by seeds
+/// hashed from (seed, pixel, d): each request is stratified over the pixel's samples, and different
+/// requests are decorrelated (padding, as pbrt-v4's PaddedSobolSampler). Beyond kDimensions
+/// requests, and for the rest of the variable-length draws of tracking, the stream hands out its
+/// independent PCG32 numbers (rng()). 16 bits below 2⁻³² are random too (what an Owen scramble of
+/// infinite depth would give).
 #include <cstdint>
 
 #include "shvol/core/rng.h"
@@ -50,19 +50,24 @@ inline uint32_t sobolSecondDimensionBitwise(uint32_t n) {
 }
 
 namespace detail {
-/// C·n for each byte of n at each of its four places: table[k][b] = C·(b << 8k).
+/// C·n for each byte of n at each of its four places: table[k][b] = C·(b << 8k), and the same
+/// with its bits reversed (reversal commutes with XOR, so the reversed C·n is the XOR of
+/// reversed entries).
 struct SobolSecondDimensionTable {
     uint32_t table[4][256];
-    constexpr SobolSecondDimensionTable() : table() {
+    uint32_t reversed[4][256];
+    constexpr SobolSecondDimensionTable() : table(), reversed() {
         uint32_t v[32] = {};
         v[0] = 0x80000000u;
         for (int i = 1; i < 32; ++i) v[i] = v[i - 1] ^ (v[i - 1] >> 1);
         for (int k = 0; k < 4; ++k)
             for (int b = 0; b < 256; ++b) {
-                uint32_t x = 0;
+                uint32_t x = 0, r = 0;
                 for (int i = 0; i < 8; ++i)
                     if (b & (1 << i)) x ^= v[8 * k + i];
+                for (int i = 0; i < 32; ++i) r |= ((x >> i) & 1u) << (31 - i);
                 table[k][b] = x;
+                reversed[k][b] = r;
             }
     }
 };
@@ -72,6 +77,12 @@ inline constexpr SobolSecondDimensionTable kSobolSecondDimension{};
 /// The second Sobol' dimension of point n as a 32-bit fraction, a byte of n at a time.
 inline uint32_t sobolSecondDimension(uint32_t n) {
     const auto& t = detail::kSobolSecondDimension.table;
+    return t[0][n & 0xff] ^ t[1][(n >> 8) & 0xff] ^ t[2][(n >> 16) & 0xff] ^ t[3][n >> 24];
+}
+
+/// reverseBits32(sobolSecondDimension(n)), a byte of n at a time.
+inline uint32_t sobolSecondDimensionReversed(uint32_t n) {
+    const auto& t = detail::kSobolSecondDimension.reversed;
     return t[0][n & 0xff] ^ t[1][(n >> 8) & 0xff] ^ t[2][(n >> 16) & 0xff] ^ t[3][n >> 24];
 }
 
@@ -102,16 +113,18 @@ class SobolSampler {
     SobolSampler(uint64_t seed, uint64_t pixel, uint32_t sample)
         : rng_(Rng::forSample(seed, pixel, sample)),
           key_(mix64(mix64(seed) ^ (pixel * 0x9e3779b97f4a7c15ULL))),
-          index_(sample) {}
+          reversedIndex_(reverseBits32(sample)) {}
 
     /// The next pair of the path's numbers.
     Vec2 next2D() {
         if (dimension_ >= kDimensions) return rng_.uniform2();
         const Request r = request();
         const uint32_t low = rng_.nextU32();  // 16 random bits below 2⁻³² for each coordinate
-        // owenScramble(reverseBits32(i), seed) = reverseBits32(laineKarras(i, seed)).
+        // owenScramble(reverseBits32(i), seed) = reverseBits32(laineKarras(i, seed)), and
+        // owenScramble(C·i, seed) = reverseBits32(laineKarras(reversed C·i, seed)).
         return {toUnit(reverseBits32(laineKarras(r.index, r.seedX)), low >> 16),
-                toUnit(owenScramble(sobolSecondDimension(r.index), r.seedY), low & 0xffffu)};
+                toUnit(reverseBits32(laineKarras(sobolSecondDimensionReversed(r.index), r.seedY)),
+                       low & 0xffffu)};
     }
     /// The next single number of the path (its own request, from the first coordinate).
     double next1D() {
@@ -138,7 +151,8 @@ class SobolSampler {
         // maps the first 2^k samples onto an aligned block of 2^k points, which is a (0,k,2)-net
         // too), or all requests of a sample would share the top bits of their points and be
         // correlated (Burley 2020, §4: shuffling).
-        return {owenScramble(index_, g), uint32_t(h), uint32_t(h >> 32)};
+        // owenScramble(index, g), with the index's reversal done once per sampler.
+        return {reverseBits32(laineKarras(reversedIndex_, g)), uint32_t(h), uint32_t(h >> 32)};
     }
 
     /// x·2⁻³² with 16 random bits below (48 bits in all, exactly a double in [0, 1)).
@@ -148,7 +162,7 @@ class SobolSampler {
 
     Rng rng_;
     uint64_t key_;
-    uint32_t index_;
+    uint32_t reversedIndex_;  ///< the sample index, bits reversed
     int dimension_ = 0;
 };
 
