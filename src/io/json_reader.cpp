@@ -223,6 +223,14 @@ int JsonReader::integer(const std::string& key, int def, int lo, int hi) {
     return int(x);
 }
 
+std::optional<int> JsonReader::integerOrAuto(const std::string& key, int lo, int hi) {
+    if (has(key) && !raw(key).is_string()) return integer(key, lo, lo, hi);
+    if (string(key, "auto") != "auto")
+        error(key, "expected an integer " + std::to_string(lo) + " … " + std::to_string(hi) +
+                       " or \"auto\"");
+    return std::nullopt;
+}
+
 bool JsonReader::boolean(const std::string& key, bool def) {
     used_.insert(key);
     bool b = def;

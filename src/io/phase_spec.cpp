@@ -87,15 +87,12 @@ std::string specName(const std::string& spec) {
 
 SHPhaseKeys readSHPhaseKeys(JsonReader& r) {
     SHPhaseKeys k;
-    if (!r.has("order") || r.raw("order").is_string()) {  // "auto", the default
-        if (r.string("order", "auto") != "auto")
-            r.error("order", "expected an integer 1 … 256 or \"auto\"");
-        k.fit.order = 0;
+    const std::optional<int> order = r.integerOrAuto("order", 1, 256);
+    k.fit.order = order.value_or(0);  // 0: "auto", the default
+    if (!order)
         k.fit.tolerance = r.number("tolerance", k.fit.tolerance, 1e-9, 1);
-    } else {
-        k.fit.order = r.integer("order", k.fit.order, 1, 256);
-        if (r.has("tolerance")) r.error("tolerance", "only valid with \"order\": \"auto\"");
-    }
+    else if (r.has("tolerance"))
+        r.error("tolerance", "only valid with \"order\": \"auto\"");
     const std::string window = r.choice("window", "auto", {"auto", "none", "hann", "lanczos"});
     if (window != "auto") k.fit.window = shWindowFromName(window);
     k.evaluate = r.choice("evaluate", "sh", {"sh", "exact"}) == "exact"

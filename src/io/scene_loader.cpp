@@ -285,12 +285,7 @@ std::unique_ptr<Medium> readMedium(JsonReader r, std::vector<Surface>& surfaces,
     d.phase = phase;
     if (r.has("transform")) d.toWorld = readTransform(r.object("transform"));
     d.majorantGrid = r.boolean("majorant_grid", true);
-    if (!r.has("majorant_cell") || r.raw("majorant_cell").is_string()) {  // "auto", the default
-        if (r.string("majorant_cell", "auto") != "auto")
-            r.error("majorant_cell", "expected an integer 1 … 4096 or \"auto\"");
-    } else {
-        d.majorantCellVoxels = r.integer("majorant_cell", 8, 1, 4096);
-    }
+    d.majorantCellVoxels = r.integerOrAuto("majorant_cell", 1, 4096).value_or(0);  // 0: "auto"
     d.bricks = r.choice("lookup", "bricks", {"bricks", "openvdb"}) == "bricks";
     d.decomposition = r.boolean("decomposition", true);
     r.finish();

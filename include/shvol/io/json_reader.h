@@ -41,6 +41,8 @@ class JsonReader {
     /// number in [lo, hi]
     double number(const std::string& key, double def, double lo, double hi);
     int integer(const std::string& key, int def, int lo, int hi);
+    /// An integer in [lo, hi], or "auto" (also when the key is absent): nullopt.
+    std::optional<int> integerOrAuto(const std::string& key, int lo, int hi);
     bool boolean(const std::string& key, bool def);
     std::string string(const std::string& key, std::optional<std::string> def = {});
     /// One of the listed strings.
