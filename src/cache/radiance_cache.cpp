@@ -37,7 +37,6 @@ RadianceCache::Record RadianceCache::build(const Vec3& p, const Vec3& n,
     const int nn = n_ * n_;
     const Frame frame(n);
     Record r{p,
-             n,
              frame,
              0,
              std::vector<double>(3 * nn, 0.0),
@@ -116,7 +115,7 @@ void RadianceCache::add(const Vec3& p, const Vec3& n, const std::vector<Incoming
 }
 
 double RadianceCache::weight(const Record& r, const Vec3& p, const Vec3& n) const {
-    const double d = (p - r.p).norm() / r.R + std::sqrt(std::max(0.0, 1 - n.dot(r.n)));
+    const double d = (p - r.p).norm() / r.R + std::sqrt(std::max(0.0, 1 - n.dot(r.frame.n)));
     return d > 0 ? 1 / d : std::numeric_limits<double>::infinity();
 }
 
@@ -149,7 +148,7 @@ bool RadianceCache::lookup(const Vec3& p, const Vec3& n, double* lambda) const {
         const Frame& frame = r.frame;
         const double dx = (p - r.p).dot(frame.s), dy = (p - r.p).dot(frame.t);
         for (int k = 0; k < 3 * nn; ++k) moved[k] = r.lambda[k] + dx * r.dx[k] + dy * r.dy[k];
-        if ((r.n - n).squaredNorm() > 1e-24) {  // rotate the record's frame onto the query's
+        if ((r.frame.n - n).squaredNorm() > 1e-24) {  // rotate the record's frame onto the query's
             Eigen::Matrix3d R;
             for (int a = 0; a < 3; ++a)
                 for (int b = 0; b < 3; ++b)

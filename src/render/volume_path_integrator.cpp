@@ -434,6 +434,19 @@ bool VolumePathIntegrator::cachedRadiance(const SurfaceHit& hit, const Vec3& wo,
     return found;
 }
 
+namespace {
+/// The first surface along the ray that is not a `null` one, crossing at most
+/// VolumePathIntegrator::kMaxNullCrossings of those.
+bool firstNonNullHit(const SurfaceScene& surf, Ray ray, SurfaceHit* hit) {
+    for (int k = 0; k < VolumePathIntegrator::kMaxNullCrossings && surf.intersect(ray, NoHit, hit);
+         ++k) {
+        if (surf.surfaces()[hit->surface].bsdf.type != BsdfType::Null) return true;
+        ray = surf.spawn(hit->p, hit->ng, ray.d);
+    }
+    return false;
+}
+}  // namespace
+
 void VolumePathIntegrator::buildRadianceCache() {
     const RadianceCacheSettings& rc = scene_.settings.radianceCache;
     const SurfaceScene& surf = *scene_.surfaces;
@@ -465,17 +478,9 @@ void VolumePathIntegrator::buildRadianceCache() {
                 if (stride < 16 && x % (2 * stride) == 0 && y % (2 * stride) == 0) continue;
                 if (int(cache_->size()) >= rc.maxRecords) break;
                 // The first surface seen through the pixel centre, past null surfaces.
-                Ray ray = camera.generateRay(x + 0.5, y + 0.5);
+                const Ray ray = camera.generateRay(x + 0.5, y + 0.5);
                 SurfaceHit hit;
-                bool found = false;
-                for (int k = 0; k < kMaxNullCrossings && surf.intersect(ray, NoHit, &hit); ++k) {
-                    if (surf.surfaces()[hit.surface].bsdf.type != BsdfType::Null) {
-                        found = true;
-                        break;
-                    }
-                    ray = surf.spawn(hit.p, hit.ng, ray.d);
-                }
-                if (!found || !tables_[hit.surface]) continue;
+                if (!firstNonNullHit(surf, ray, &hit) || !tables_[hit.surface]) continue;
                 const Vec3 n = hit.ng.dot(ray.d) <= 0 ? hit.ng : Vec3(-hit.ng);
                 if (cache_->covers(hit.p, n)) continue;
                 const uint64_t index = cache_->size();
@@ -495,17 +500,8 @@ void VolumePathIntegrator::buildRadianceCache() {
                     if (!sample.L.allFinite()) sample.L = Spectrum::Zero();
                     // The first surface met that is not a null boundary (for R and gradients).
                     SurfaceHit h;
-                    Ray probe = r;
-                    sample.hit = false;
-                    for (int c = 0; c < kMaxNullCrossings && surf.intersect(probe, NoHit, &h);
-                         ++c) {
-                        if (surf.surfaces()[h.surface].bsdf.type != BsdfType::Null) {
-                            sample.hit = true;
-                            sample.W = h.p, sample.nW = h.ng;
-                            break;
-                        }
-                        probe = surf.spawn(h.p, h.ng, probe.d);
-                    }
+                    sample.hit = firstNonNullHit(surf, r, &h);
+                    if (sample.hit) sample.W = h.p, sample.nW = h.ng;
                 });
                 for (const PathCounters& pc : counters) cacheBuild_.counters.add(pc);
                 cache_->add(hit.p, n, samples);

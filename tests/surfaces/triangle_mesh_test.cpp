@@ -59,8 +59,8 @@ TEST(TriangleMesh, TetrahedronIsClosedWithExactVolumeAndArea) {
 
 TEST(TriangleMesh, FlippedMeshIsClosedWithNegativeVolume) {
     TriangleMesh c = cube(), t = tetrahedron();
-    for (size_t f = 0; f < c.triangleCount(); ++f) flip(c, f);
-    for (size_t f = 0; f < t.triangleCount(); ++f) flip(t, f);
+    flipWinding(c);
+    flipWinding(t);
     EXPECT_EQ(closedMeshDefect(c), "");
     EXPECT_EQ(closedMeshDefect(t), "");
     EXPECT_EQ(signedVolume(c), -8.0);

@@ -66,8 +66,8 @@ class RadianceCache {
 
     /// A record as stored (for tests).
     struct Record {
-        Vec3 p, n;
-        Frame frame;  ///< Frame(n): the frame of λ and of the gradients' x and y
+        Vec3 p;
+        Frame frame;  ///< Frame(n) (frame.n is the normal): the frame of λ and of the gradients
         double R;
         std::vector<double> lambda, dx, dy;  ///< 3n² each
     };
