@@ -13,6 +13,7 @@
 #include "shvol/core/hash.h"
 #include "shvol/core/image_metrics.h"
 #include "shvol/io/exr.h"
+#include "shvol/io/provenance.h"
 #include "shvol/io/scene_loader.h"
 #include "shvol/render/renderer.h"
 
@@ -93,11 +94,17 @@ double nsPerLookup(const BenchArgs& a, const std::vector<std::string>& sets) {
 }
 
 /// The converged reference for the scene after `sets`: rendered once at referenceSpp with its
-/// own seed and cached in the cache directory under a hash of the scene document.
+/// own seed and cached in the cache directory under a hash of the scene document and of the
+/// contents of the files it names (a changed .vdb renders a new reference).
 Image reference(const BenchArgs& a, std::vector<std::string> sets) {
     sets.push_back("render.spp=" + std::to_string(a.referenceSpp));
     sets.push_back("render.seed=1000000000");
-    const std::string text = dumpJson(sceneDocument(a.scene, sets));
+    const Json doc = sceneDocument(a.scene, sets);
+    std::string text = dumpJson(doc);
+    for (const Json& f : inputFiles(doc, a.scene))  // the scene file itself is in `text`
+        if (f.at("key") != "(scene)")
+            text +=
+                "\n" + f.at("key").get<std::string>() + " " + f.at("fnv1a64").get<std::string>();
     const std::string file =
         (std::filesystem::path(a.cache) /
          ("shvol_bench_reference_" + hexHash(fnv1a(text.data(), text.size())) + ".exr"))

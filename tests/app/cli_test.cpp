@@ -179,6 +179,31 @@ TEST_F(Cli, BenchAccuracyCachesItsReference) {
     EXPECT_NE(r.err.find("(cached)"), std::string::npos) << r.err;
 }
 
+// The cached reference is keyed by the contents of the files the scene names too: a .vdb
+// rewritten under the same name renders a new reference, not the stale one.
+TEST_F(Cli, BenchAccuracyReferenceFollowsTheVdbContents) {
+    VdbGridSpec s;
+    s.resolution = 8;
+    s.density = [](const Vec3& p) { return p.norm() < 0.4 ? 1.f : 0.f; };
+    writeVdb(path("m.vdb"), {s});
+    write("s.json", scene(R"({"type": "vdb", "file": "m.vdb"})"));
+    const std::string args = "bench " + path("s.json") +
+                             " --spp 1 --accuracy --reference-spp 16 --epsilon 0.1 --cache " +
+                             path("");
+    Result r = run(args);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("reference: rendering 16 spp"), std::string::npos) << r.err;
+    s.density = [](const Vec3& p) { return p.norm() < 0.4 ? 3.f : 0.f; };
+    writeVdb(path("m.vdb"), {s});
+    r = run(args);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("reference: rendering 16 spp"), std::string::npos) << r.err;
+    int cached = 0;
+    for (const auto& e : fs::directory_iterator(dir_))
+        cached += e.path().filename().string().rfind("shvol_bench_reference_", 0) == 0;
+    EXPECT_EQ(cached, 2);
+}
+
 // --help shows the defaults.
 TEST_F(Cli, HelpShowsDefaults) {
     const Result m = run("make-medium --help");
