@@ -64,15 +64,18 @@ class OpticalDepthBudget {
   public:
     /// Moves *t, at rate `rate` > 0 (invRate = 1/rate), to the process's next event if it comes
     /// before tEnd (true; the next call draws a new budget), else spends the budget up to tEnd
-    /// (false, *t unchanged).
+    /// (false, *t unchanged). The budget carried from segment to segment only has the segment's
+    /// optical depth subtracted (one subtraction on the chain from one segment to the next; the
+    /// optical depth itself depends only on the segment).
     template <typename Uniform>
     bool next(double rate, double invRate, double tEnd, Uniform& rng, double* t) {
-        const double s = (tau_ < 0 ? -std::log1p(-rng.uniform()) : tau_) * invRate;
-        if (*t + s >= tEnd) {
-            tau_ = (*t + s - tEnd) * rate;
+        if (tau_ < 0) tau_ = -std::log1p(-rng.uniform());
+        const double depth = (tEnd - *t) * rate;
+        if (tau_ >= depth) {
+            tau_ -= depth;
             return false;
         }
-        *t += s;
+        *t = std::min(*t + tau_ * invRate, tEnd);
         tau_ = -1;
         return true;
     }
