@@ -530,6 +530,21 @@ class VdbMedium final : public Medium {
         return q.allFinite() ? scale_ * (1 + 1e-6) * majorants_.at(q) : 0;
     }
 
+    Bounds3 bounds() const override {
+        Bounds3 b{Vec3::Constant(INFINITY), Vec3::Constant(-INFINITY)};  // empty without density
+        if (majorants_.empty()) return b;
+        const Eigen::Affine3d indexToWorld = worldToIndex_.inverse();
+        const Vec3 lo = majorants_.lower(), hi = majorants_.upper();
+        for (int k = 0; k < 8; ++k) {
+            const Vec3 p = indexToWorld * Vec3(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(),
+                                               k & 4 ? hi.z() : lo.z());
+            b.lo = b.lo.cwiseMin(p), b.hi = b.hi.cwiseMax(p);
+        }
+        // Widened by a rounding margin: the medium's own clip (in index space) decides the rest.
+        const Vec3 pad = 1e-9 * ((b.hi - b.lo).array() + b.lo.array().abs() + b.hi.array().abs());
+        return {b.lo - pad, b.hi + pad};
+    }
+
     std::string describe() const override {
         if (!bricks_) return desc_ + ", OpenVDB lookups";
         char b[96];

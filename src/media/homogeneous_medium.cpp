@@ -13,6 +13,17 @@ Interval MediumShape::intersect(const Ray& ray, double tMax) const {
     }
 }
 
+Bounds3 HomogeneousMedium::bounds() const {
+    switch (shape_.type) {
+        case MediumShape::Type::Box:
+            return {shape_.lo, shape_.hi};
+        case MediumShape::Type::Sphere:
+            return {shape_.center.array() - shape_.radius, shape_.center.array() + shape_.radius};
+        default:
+            return {};
+    }
+}
+
 bool MediumShape::contains(const Vec3& p) const {
     if (type == Type::Everywhere) return true;
     if (type == Type::Box)

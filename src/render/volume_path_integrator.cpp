@@ -36,6 +36,10 @@ VolumePathIntegrator::VolumePathIntegrator(const Scene& scene)
       mediumBit_(scene.media.size(), -1),
       cameraPosition_(scene.camera.position) {
     if (effects_.areaLights) areaLights_ = std::make_unique<const AreaLights>(*scene.surfaces);
+    for (const auto& m : scene.media) {
+        mediumBounds_.push_back(m->bounds());
+        mediumBounded_.push_back(!mediumBounds_.back().isEverywhere());
+    }
     if (effects_.boundedMedia) {
         const auto& surfaces = scene.surfaces->surfaces();
         for (size_t i = 0; i < surfaces.size(); ++i) {
@@ -100,16 +104,20 @@ VolumePathIntegrator::Inside VolumePathIntegrator::crossed(const SurfaceHit& hit
 }
 
 double VolumePathIntegrator::sampleCollision(const Ray& ray, double tMax, Inside inside, Rng& rng,
-                                             const Vec2& first, PathCounters& c,
+                                             const DeferredPair& first, PathCounters& c,
                                              int* medium) const {
     double tHit = tMax;
     *medium = -1;
-    const Vec2* u = &first;  // for the first active medium; the others' flights are independent
+    // The pair for the first medium the ray meets; the others' flights are independent.
+    const DeferredPair* pending = &first;
+    Vec2 u;
     for (size_t i = 0; i < scene_.media.size(); ++i) {
-        if (!active(i, inside)) continue;
         // Only collisions before the nearest one found so far matter.
-        const double t = scene_.media[i]->sampleCollision(ray, tHit, rng, c.tracking, u);
-        u = nullptr;
+        if (!active(i, inside) || !meets(i, ray, tHit)) continue;
+        if (pending) u = pending->value();
+        const double t =
+            scene_.media[i]->sampleCollision(ray, tHit, rng, c.tracking, pending ? &u : nullptr);
+        pending = nullptr;
         if (t < tHit) tHit = t, *medium = int(i);
     }
     return *medium < 0 ? NoCollision : tHit;
@@ -120,7 +128,7 @@ double VolumePathIntegrator::transmittance(const Ray& ray, double tMax, Inside i
     ++c.transmittanceRays;
     double T = 1;
     for (size_t i = 0; i < scene_.media.size(); ++i) {
-        if (!active(i, inside)) continue;
+        if (!active(i, inside) || !meets(i, ray, tMax)) continue;
         T *= scene_.media[i]->transmittance(ray, tMax, scene_.settings.transmittance, rng,
                                             c.tracking);
         if (T <= 0) return 0;
@@ -275,7 +283,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
         int mi = -1;
         double t = NoCollision;
         if (effects_.volumes && anyActive(inside)) {
-            const Vec2 uFlight = sampler.next2D();
+            const DeferredPair uFlight = deferred2D(sampler);
             t = sampleCollision(ray, hitSurface ? hit.t : NoHit, inside, rng, uFlight, c, &mi);
         }
         if (t == NoCollision && !hitSurface) {

@@ -145,7 +145,8 @@ TEST(Vdb, AutomaticMajorantCells) {
 }
 
 // The majorant bounds the trilinearly interpolated σ_t everywhere, including within a voxel of
-// the edge of the data (the reach of trilinear interpolation) and across a scene transform.
+// the edge of the data (the reach of trilinear interpolation) and across a scene transform; the
+// medium's world bounds hold every point where the majorant is positive.
 TEST(Vdb, MajorantBoundsDensityEverywhere) {
     VdbGridSpec s;
     s.resolution = 40;
@@ -164,16 +165,24 @@ TEST(Vdb, MajorantBoundsDensityEverywhere) {
         d.toWorld = Eigen::Translation3d(0.3, -0.2, 1) *
                     Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()) * Eigen::Scaling(1.7);
         auto m = loadVdbMedium(d);
+        const Bounds3 b = m->bounds();
+        ASSERT_FALSE(b.isEverywhere());
         Rng rng(11, 2);
-        int inside = 0;
+        int inside = 0, outsideBounds = 0;
         for (int i = 0; i < 200000; ++i) {
             const Vec3 q(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
             const Vec3 p = d.toWorld * (1.1 * q);
             const double sigma = m->sigmaT(p);
             inside += sigma > 0;
             ASSERT_LE(sigma, m->sigmaMajorant(p)) << "cell " << cell << " at " << p.transpose();
+            const bool inBounds =
+                (p.array() >= b.lo.array()).all() && (p.array() <= b.hi.array()).all();
+            if (m->sigmaMajorant(p) > 0)
+                ASSERT_TRUE(inBounds) << "cell " << cell << " at " << p.transpose();
+            outsideBounds += !inBounds;
         }
         EXPECT_GT(inside, 10000);
+        EXPECT_GT(outsideBounds, 1000);  // the rotated data's box is not all of the sampled region
     }
 }
 

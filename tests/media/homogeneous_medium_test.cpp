@@ -122,4 +122,34 @@ TEST(HomogeneousMedium, SphereShape) {
     EXPECT_EQ(m.sigmaT(Vec3(1, 2, 4)), 0.0);
 }
 
+// The bounds are the shape's box: every point with σ_t > 0 lies in them, and they are tight
+// (their corners' neighbourhood holds the box's and the sphere's extreme points).
+TEST(HomogeneousMedium, BoundsHoldTheShape) {
+    MediumShape sphere;
+    sphere.type = MediumShape::Type::Sphere;
+    sphere.center = Vec3(1, 2, 3);
+    sphere.radius = 0.5;
+    MediumShape everywhere;
+    everywhere.type = MediumShape::Type::Everywhere;
+    for (const MediumShape& s : {slab(), sphere, everywhere}) {
+        const HomogeneousMedium m(s, 2.0, Spectrum::Ones(), PhaseFunction(IsotropicPhase()));
+        const Bounds3 b = m.bounds();
+        EXPECT_EQ(b.isEverywhere(), s.type == MediumShape::Type::Everywhere);
+        Rng rng(4, 4);
+        for (int i = 0; i < 20000; ++i) {
+            const Vec3 p = Vec3(1, 2, 2) + 24 * (Vec3(rng.uniform(), rng.uniform(), rng.uniform()) -
+                                                 Vec3::Constant(0.5));
+            if (m.sigmaT(p) > 0)
+                ASSERT_TRUE((p.array() >= b.lo.array()).all() && (p.array() <= b.hi.array()).all())
+                    << p.transpose();
+        }
+    }
+    EXPECT_EQ(
+        HomogeneousMedium(sphere, 1, Spectrum::Ones(), PhaseFunction(IsotropicPhase())).bounds().hi,
+        Vec3(1.5, 2.5, 3.5));
+    EXPECT_EQ(
+        HomogeneousMedium(slab(), 1, Spectrum::Ones(), PhaseFunction(IsotropicPhase())).bounds().lo,
+        Vec3(-10, -10, 0));
+}
+
 }  // namespace shvol

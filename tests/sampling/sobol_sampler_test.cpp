@@ -45,6 +45,26 @@ TEST(SobolSampler, FastRequestsMatchTheDefinition) {
     }
 }
 
+// A deferred request takes its place in the stream when it is made: read late, or never, it
+// leaves the numbers of every other request and of the independent stream unchanged, and read it
+// gives what next2D would have. Past kDimensions the pairs come from the independent stream.
+TEST(SobolSampler, DeferredRequestsKeepTheStream) {
+    for (uint32_t sample : {0u, 1u, 77u}) {
+        SobolSampler eager(9, 4, sample), deferred(9, 4, sample);
+        for (int bounce = 0; bounce < SobolSampler::kDimensions / 3 + 2; ++bounce) {
+            const Vec2 flight = eager.next2D(), phase = eager.next2D();
+            const double roulette = eager.next1D(), tracking = eager.rng().uniform();
+            const DeferredPair f = deferred.deferred2D();
+            const Vec2 p = deferred.next2D();
+            const double r = deferred.next1D();
+            ASSERT_EQ(p, phase) << bounce;
+            ASSERT_EQ(r, roulette) << bounce;
+            if (bounce % 2) ASSERT_EQ(f.value(), flight) << bounce;  // read after the others
+            ASSERT_EQ(deferred.rng().uniform(), tracking) << bounce;
+        }
+    }
+}
+
 // A nested uniform scramble: inputs that share their top j bits give outputs that share their
 // top j bits, and on the top 12 bits it is a permutation.
 TEST(SobolSampler, OwenScrambleIsNested) {

@@ -17,7 +17,31 @@ struct Interval {
 };
 
 /// Slab test of a ray against an axis-aligned box, clipped to [0, tMax].
-Interval intersectBox(const Ray& ray, const Vec3& lo, const Vec3& hi, double tMax);
+inline Interval intersectBox(const Ray& ray, const Vec3& lo, const Vec3& hi, double tMax) {
+    double t0 = 0, t1 = tMax;
+    for (int a = 0; a < 3; ++a) {
+        const double inv = 1.0 / ray.d[a];  // ±inf for axis-parallel rays is handled by IEEE
+        double tn = (lo[a] - ray.o[a]) * inv, tf = (hi[a] - ray.o[a]) * inv;
+        if (tn > tf) std::swap(tn, tf);
+        // NaN (0·inf when the origin lies on a slab plane) must not widen the interval.
+        if (tn > t0) t0 = tn;
+        if (tf < t1) t1 = tf;
+        if (t0 > t1) return {};
+    }
+    return {t0, t1};
+}
+
+/// An axis-aligned box [lo, hi]; by default all of space.
+struct Bounds3 {
+    Vec3 lo = Vec3::Constant(-INFINITY), hi = Vec3::Constant(INFINITY);
+    bool isEverywhere() const {
+        return (lo.array() == -INFINITY).all() && (hi.array() == INFINITY).all();
+    }
+    /// Whether the ray meets the box within [0, tMax].
+    bool hits(const Ray& ray, double tMax) const {
+        return !intersectBox(ray, lo, hi, tMax).empty();
+    }
+};
 /// Ray against a sphere (center c, radius r), clipped to [0, tMax].
 Interval intersectSphere(const Ray& ray, const Vec3& c, double r, double tMax);
 

@@ -32,6 +32,7 @@ class HomogeneousMedium final : public Medium {
     double sigmaMajorant(const Vec3& p) const override {
         return shape_.contains(p) ? (tracking_ ? 2 : 1) * sigmaT_ : 0;
     }
+    Bounds3 bounds() const override;
     std::string describe() const override;
 
   private:

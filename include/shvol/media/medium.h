@@ -39,6 +39,9 @@ class Medium {
     virtual double sigmaT(const Vec3& p) const = 0;
     /// The majorant tracking uses at p (≥ sigmaT(p) everywhere; for tests and diagnostics).
     virtual double sigmaMajorant(const Vec3& p) const = 0;
+    /// A world-space box outside which σ_t = 0 (all of space unless a medium knows better): the
+    /// integrator skips the medium, and its flight's numbers, on rays that miss it.
+    virtual Bounds3 bounds() const { return {}; }
     /// Short description for statistics ("homogeneous box", "vdb cloud.vdb:density").
     virtual std::string describe() const = 0;
 

@@ -104,6 +104,28 @@ inline uint32_t owenScramble(uint32_t x, uint32_t seed) {
     return reverseBits32(laineKarras(reverseBits32(x), seed));
 }
 
+/// A 2D request of a path's sample stream whose value is computed when first read: the request
+/// takes its place in the stream (its dimension, and the stream's random low bits) when it is
+/// made, so the requests after it are unchanged whether or not it is ever read. A free flight
+/// that never reaches a non-empty majorant cell (most camera rays of a sparse scene) then costs no
+/// scramble. Either a given pair or a request of a SobolSampler.
+class DeferredPair {
+  public:
+    explicit DeferredPair(const Vec2& u) : u_(u) {}
+    /// The pair: the given one, or the Sobol' request's point (SobolSampler::next2D).
+    Vec2 value() const;
+
+  private:
+    friend class SobolSampler;
+    DeferredPair(uint64_t key, uint32_t reversedIndex, int dimension, uint32_t low)
+        : key_(key), reversedIndex_(reversedIndex), dimension_(dimension), low_(low) {}
+    Vec2 u_{0, 0};
+    uint64_t key_ = 0;
+    uint32_t reversedIndex_ = 0;
+    int dimension_ = -1;  ///< < 0: u_ is the pair
+    uint32_t low_ = 0;
+};
+
 class SobolSampler {
   public:
     /// Requests served from the (0,2)-sequence before the stream falls back to rng(): the camera
@@ -116,32 +138,33 @@ class SobolSampler {
           reversedIndex_(reverseBits32(sample)) {}
 
     /// The next pair of the path's numbers.
-    Vec2 next2D() {
-        if (dimension_ >= kDimensions) return rng_.uniform2();
-        const Request r = request();
-        const uint32_t low = rng_.nextU32();  // 16 random bits below 2⁻³² for each coordinate
-        // owenScramble(reverseBits32(i), seed) = reverseBits32(laineKarras(i, seed)), and
-        // owenScramble(C·i, seed) = reverseBits32(laineKarras(reversed C·i, seed)).
-        return {toUnit(reverseBits32(laineKarras(r.index, r.seedX)), low >> 16),
-                toUnit(reverseBits32(laineKarras(sobolSecondDimensionReversed(r.index), r.seedY)),
-                       low & 0xffffu)};
+    Vec2 next2D() { return deferred2D().value(); }
+    /// The next pair of the path's numbers, computed when first read (DeferredPair).
+    DeferredPair deferred2D() {
+        if (dimension_ >= kDimensions) return DeferredPair(rng_.uniform2());
+        // 16 random bits below 2⁻³² for each coordinate, drawn now to keep the stream's order.
+        const uint32_t low = rng_.nextU32();
+        return DeferredPair(key_, reversedIndex_, dimension_++, low);
     }
     /// The next single number of the path (its own request, from the first coordinate).
     double next1D() {
         if (dimension_ >= kDimensions) return rng_.uniform();
-        const Request r = request();
+        const Request r = request(key_, reversedIndex_, dimension_++);
         return toUnit(reverseBits32(laineKarras(r.index, r.seedX)), rng_.nextU32() >> 16);
     }
     /// Independent numbers for draws whose count varies (free-flight and transmittance tracking).
     Rng& rng() { return rng_; }
 
   private:
+    friend class DeferredPair;
     /// The point of the sequence a request uses and its coordinates' scrambling seeds.
     struct Request {
         uint32_t index, seedX, seedY;
     };
-    Request request() {
-        const uint64_t h = mix64(key_ + uint64_t(dimension_++));
+    /// Request `dimension` of the stream with key `key` for the sample whose reversed index is
+    /// `reversedIndex`.
+    static Request request(uint64_t key, uint32_t reversedIndex, int dimension) {
+        const uint64_t h = mix64(key + uint64_t(dimension));
         // A third seed from h by a 32-bit finaliser (Wellons' lowbias32): enough for a scramble.
         uint32_t g = uint32_t(h) ^ uint32_t(h >> 32);
         g = (g ^ (g >> 16)) * 0x7feb352du;
@@ -152,7 +175,7 @@ class SobolSampler {
         // too), or all requests of a sample would share the top bits of their points and be
         // correlated (Burley 2020, §4: shuffling).
         // owenScramble(index, g), with the index's reversal done once per sampler.
-        return {reverseBits32(laineKarras(reversedIndex_, g)), uint32_t(h), uint32_t(h >> 32)};
+        return {reverseBits32(laineKarras(reversedIndex, g)), uint32_t(h), uint32_t(h >> 32)};
     }
 
     /// x·2⁻³² with 16 random bits below (48 bits in all, exactly a double in [0, 1)).
@@ -165,5 +188,24 @@ class SobolSampler {
     uint32_t reversedIndex_;  ///< the sample index, bits reversed
     int dimension_ = 0;
 };
+
+inline Vec2 DeferredPair::value() const {
+    if (dimension_ < 0) return u_;
+    const SobolSampler::Request r = SobolSampler::request(key_, reversedIndex_, dimension_);
+    // owenScramble(reverseBits32(i), seed) = reverseBits32(laineKarras(i, seed)), and
+    // owenScramble(C·i, seed) = reverseBits32(laineKarras(reversed C·i, seed)).
+    return {SobolSampler::toUnit(reverseBits32(laineKarras(r.index, r.seedX)), low_ >> 16),
+            SobolSampler::toUnit(
+                reverseBits32(laineKarras(sobolSecondDimensionReversed(r.index), r.seedY)),
+                low_ & 0xffffu)};
+}
+
+/// deferred2D for the independent stream: the pair is drawn at once.
+inline DeferredPair deferred2D(Rng& rng) {
+    return DeferredPair(rng.uniform2());
+}
+inline DeferredPair deferred2D(SobolSampler& sampler) {
+    return sampler.deferred2D();
+}
 
 }  // namespace shvol
