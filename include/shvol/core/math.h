@@ -26,6 +26,13 @@ template <typename T>
 inline T sqr(T x) {
     return x * x;
 }
+/// ⌊x⌋ for finite |x| < 2³¹: a truncation and a correction (std::floor is a libm call unless the
+/// target has SSE4.1).
+inline int floorToInt(double x) {
+    const int i = int(x);
+    return i - (double(i) > x);
+}
+
 /// √max(0, x): guards square roots of quantities that are ≥ 0 analytically but not in rounding.
 inline double safeSqrt(double x) {
     return std::sqrt(std::max(0.0, x));

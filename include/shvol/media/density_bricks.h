@@ -69,7 +69,7 @@ void DensityBricks::add(const Eigen::Vector3i& c, Voxel&& voxel) {
 }
 
 inline __attribute__((always_inline)) float DensityBricks::sample(const Vec3& p) const {
-    const int ix = int(std::floor(p.x())), iy = int(std::floor(p.y())), iz = int(std::floor(p.z()));
+    const int ix = floorToInt(p.x()), iy = floorToInt(p.y()), iz = floorToInt(p.z());
     // Brick coordinates by arithmetic shift (floor division by 8 for negative voxels too).
     const int bx = (ix >> 3) - lo_.x(), by = (iy >> 3) - lo_.y(), bz = (iz >> 3) - lo_.z();
     if (unsigned(bx) >= unsigned(res_.x()) || unsigned(by) >= unsigned(res_.y()) ||

@@ -90,7 +90,7 @@ void MajorantGrid::traverse(const Vec3& o, const Vec3& d, double tMin, double tM
     ptrdiff_t stride[3] = {1, res_.x(), ptrdiff_t(res_.x()) * res_.y()};
     const Vec3 p = o + t0 * d;
     for (int a = 0; a < 3; ++a) {
-        cell[a] = std::clamp(int(std::floor((p[a] - lo_[a]) * invCellSize_[a])), 0, res_[a] - 1);
+        cell[a] = std::clamp(floorToInt((p[a] - lo_[a]) * invCellSize_[a]), 0, res_[a] - 1);
         const bool pos = d[a] > 0;
         left[a] = pos ? res_[a] - 1 - cell[a] : cell[a];  // steps before leaving the grid
         if (!pos) stride[a] = -stride[a];
