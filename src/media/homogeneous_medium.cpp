@@ -45,7 +45,7 @@ double HomogeneousMedium::sampleCollision(const Ray& ray, double tMax, Rng& rng,
             segments, [&](double) { return sigmaT_; }, rng, c, first);
     }
     ++c.segments;
-    const double t = iv.t0 - std::log1p(-(first ? first->x() : rng.uniform())) / sigmaT_;
+    const double t = iv.t0 + exponentialVariate(first ? first->x() : rng.uniform()) / sigmaT_;
     return t < iv.t1 ? t : NoCollision;
 }
 

@@ -56,7 +56,7 @@ Vec3 sampleWardHalfVector(const Vec2& u, double ax, double ay) {
     const double q = TwoPi * u.y();
     const double phi = std::atan2(ay * std::sin(q), ax * std::cos(q));
     const double c = std::cos(phi), s = std::sin(phi);
-    const double tan2 = -std::log1p(-u.x()) / (sqr(c / ax) + sqr(s / ay));
+    const double tan2 = exponentialVariate(u.x()) / (sqr(c / ax) + sqr(s / ay));
     // cos θ = 1/√(1 + tan²θ), sin θ = tan θ · cos θ: no cancellation for small or large θ.
     const double cosT = 1.0 / std::sqrt(1.0 + tan2), sinT = std::sqrt(tan2) * cosT;
     return {sinT * c, sinT * s, cosT};

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "shvol/core/rng.h"
 
@@ -19,6 +20,19 @@ TEST(Math, FloorToIntMatchesFloor) {
     for (int i = 0; i < 100000; ++i) {
         const double x = (rng.uniform() - 0.5) * std::ldexp(1.0, int(rng.nextU32() % 32));
         ASSERT_EQ(floorToInt(x), int(std::floor(x))) << x;
+    }
+}
+
+// exponentialVariate(u) = −log1p(−u) to within 2 ulp for the numbers the samplers give
+// (multiples of 2⁻⁵³ in [0, 1)), tiny and close to 1 included.
+TEST(Math, ExponentialVariateMatchesLog1p) {
+    Rng rng(9, 9);
+    std::vector<double> us = {0.0, 0x1p-53, 0x1p-40, 0.5, 1 - 0x1p-53, 1 - 0x1p-30};
+    for (int i = 0; i < 100000; ++i)  // uniform, and small multiples of 2⁻⁵³
+        us.push_back(i % 2 ? rng.uniform() : double(rng.nextU32() >> (i % 32)) * 0x1p-53);
+    for (double u : us) {
+        const double want = -std::log1p(-u);
+        ASSERT_NEAR(exponentialVariate(u), want, 2 * 0x1p-52 * want) << u;
     }
 }
 

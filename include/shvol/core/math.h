@@ -33,6 +33,13 @@ inline int floorToInt(double x) {
     return i - (double(i) > x);
 }
 
+/// The Exp(1) variate −ln(1 − u) of u ∈ [0, 1). For u a multiple of 2⁻⁵³ (Rng::uniform and
+/// SobolSampler give such numbers) 1 − u is exact, so log is as accurate as log1p(−u) here, and
+/// glibc's log is about 1.8× faster than its log1p.
+inline double exponentialVariate(double u) {
+    return -std::log(1 - u);
+}
+
 /// √max(0, x): guards square roots of quantities that are ≥ 0 analytically but not in rounding.
 inline double safeSqrt(double x) {
     return std::sqrt(std::max(0.0, x));

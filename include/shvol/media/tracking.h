@@ -69,7 +69,7 @@ class OpticalDepthBudget {
     /// optical depth itself depends only on the segment).
     template <typename Uniform>
     bool next(double rate, double invRate, double tEnd, Uniform& rng, double* t) {
-        if (tau_ < 0) tau_ = -std::log1p(-rng.uniform());
+        if (tau_ < 0) tau_ = exponentialVariate(rng.uniform());
         const double depth = (tEnd - *t) * rate;
         if (tau_ >= depth) {
             tau_ -= depth;
