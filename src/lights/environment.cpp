@@ -67,8 +67,9 @@ LightSample Environment::sample(const Vec2& u) const {
     double pdfUv;
     const Vec2 uv = dist_->sampleContinuous(u, &pdfUv);
     const double theta = Pi * uv[1], phi = latLongPhi(mapping_, uv[0]) + rotation_;
-    const double sinTheta = std::sin(theta);
-    const Vec3 w(sinTheta * std::cos(phi), sinTheta * std::sin(phi), std::cos(theta));
+    const Vec2 csTheta = cosSin(theta), csPhi = cosSin(phi);
+    const double sinTheta = csTheta.y();
+    const Vec3 w(sinTheta * csPhi.x(), sinTheta * csPhi.y(), csTheta.x());
     if (!(sinTheta > 0) || !(pdfUv > 0)) return {w, Spectrum::Zero(), 0.0};
     return {w, Le(w), pdfUv / (2 * Pi * Pi * sinTheta)};
 }

@@ -12,7 +12,8 @@ Vec3 sampleUniformHemisphere(const Vec2& u) {
 
 Vec3 sampleCosineHemisphere(const Vec2& u) {
     const double r = std::sqrt(u.x()), phi = TwoPi * u.y();
-    return {r * std::cos(phi), r * std::sin(phi), std::sqrt(1.0 - u.x())};
+    const Vec2 cs = cosSin(phi);
+    return {r * cs.x(), r * cs.y(), std::sqrt(1.0 - u.x())};
 }
 
 }  // namespace shvol

@@ -79,7 +79,8 @@ AreaLightSample AreaLights::sample(const Vec3& x, double uSelect, const Vec2& u)
         case Surface::Kind::Disk: {
             const Frame f(s.normal);
             const double r = s.radius * std::sqrt(u.x()), phi = TwoPi * u.y();
-            ls.y = s.center + f.toWorld(Vec3(r * std::cos(phi), r * std::sin(phi), 0));
+            const Vec2 cs = cosSin(phi);
+            ls.y = s.center + f.toWorld(Vec3(r * cs.x(), r * cs.y(), 0));
             ls.ny = s.normal;
             break;
         }

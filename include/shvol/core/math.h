@@ -48,10 +48,19 @@ inline double safeAcos(double x) {
     return std::acos(std::clamp(x, -1.0, 1.0));
 }
 
+/// (cos φ, sin φ) from one call (glibc's sincos: the same values as std::cos and std::sin, for
+/// about the price of one of them).
+inline Vec2 cosSin(double phi) {
+    double s, c;
+    ::sincos(phi, &s, &c);
+    return {c, s};
+}
+
 /// ω(cos θ, φ) with sin θ = √(1 − cos²θ).
 inline Vec3 sphericalDirection(double cosTheta, double phi) {
     const double sinTheta = safeSqrt(1.0 - cosTheta * cosTheta);
-    return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
+    const Vec2 cs = cosSin(phi);
+    return {sinTheta * cs.x(), sinTheta * cs.y(), cosTheta};
 }
 /// φ ∈ [0, 2π) of a direction.
 inline double sphericalPhi(const Vec3& w) {
