@@ -36,4 +36,15 @@ TEST(Math, ExponentialVariateMatchesLog1p) {
     }
 }
 
+// cosSin gives what std::cos and std::sin give (its comment says: the same values).
+TEST(Math, CosSinMatchesCosAndSin) {
+    Rng rng(10, 10);
+    for (int i = 0; i < 100000; ++i) {
+        const double phi = (rng.uniform() - 0.5) * (i % 2 ? TwoPi : 1e4);
+        const Vec2 cs = cosSin(phi);
+        ASSERT_EQ(cs.x(), std::cos(phi)) << phi;
+        ASSERT_EQ(cs.y(), std::sin(phi)) << phi;
+    }
+}
+
 }  // namespace shvol
