@@ -22,8 +22,9 @@ BENCHMARK(IndependentPath);
 
 void SobolPath(benchmark::State& state) {
     uint32_t n = 0;
+    const SobolPixel pixel(1, 42);
     for (auto _ : state) {
-        SobolSampler s(1, 42, n++);
+        SobolSampler s(pixel, n++);
         for (int d = 0; d < kRequests; ++d) benchmark::DoNotOptimize(s.next2D());
     }
     state.SetItemsProcessed(state.iterations() * kRequests);

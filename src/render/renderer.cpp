@@ -167,11 +167,12 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
                             uint32_t& n = film.count[pixel];
                             double* sum = &film.sum[3 * pixel];
                             double* sq = film.sumSq.empty() ? nullptr : &film.sumSq[3 * pixel];
+                            const SobolPixel sobolPixel(s.seed, pixel);
                             for (; n < end; ++n) {
                                 if (shouldStop()) return;
                                 const Spectrum L =
                                     s.sampler == SampleStream::Sobol
-                                        ? pathSample(SobolSampler(s.seed, pixel, n), x, y, c)
+                                        ? pathSample(SobolSampler(sobolPixel, n), x, y, c)
                                         : pathSample(Rng::forSample(s.seed, pixel, n), x, y, c);
                                 if (L.allFinite()) {
                                     sum[0] += L[0], sum[1] += L[1], sum[2] += L[2];

@@ -155,8 +155,9 @@ TEST(Tracking, FirstNumbersComeFromThePair) {
 TEST(Tracking, SobolFedFreeFlightDistribution) {
     for (bool control : {false, true}) {
         TrackingCounters c;
+        const SobolPixel pixel(7, 3);
         const double chi2 = freeFlightChi2(1 << 16, [&](int i) {
-            SobolSampler sampler(7, 3, uint32_t(i));
+            SobolSampler sampler(pixel, uint32_t(i));
             const Vec2 first = sampler.next2D();
             return deltaTrack(segments(control), sigmaT, sampler.rng(), c, &first);
         });

@@ -25,11 +25,12 @@ inline Estimate estimate(const Scene& scene, int n, uint64_t seed = 1,
         const Ray ray{Vec3(r * std::cos(phi), -3, r * std::sin(phi)), Vec3(0, 1, 0)};
         return integrator.Li(ray, sampler, e.counters);
     };
+    const SobolPixel pixel(seed, 0);
     for (int i = 0; i < n; ++i) {
         // Sobol: the samples of one pixel (a stratified sequence; stdErr below is then an
         // overestimate). Independent: one stream per path.
         const Spectrum L = stream == SampleStream::Sobol
-                               ? path(SobolSampler(seed, 0, uint32_t(i)))
+                               ? path(SobolSampler(pixel, uint32_t(i)))
                                : path(Rng::forSample(seed, uint64_t(i), 0));
         EXPECT_TRUE(L.allFinite()) << L.transpose();
         s += L, s2 += L * L;

@@ -28,12 +28,13 @@ constexpr int kRequest = 2;     // a phase sample of the first bounce (camera ji
 class SobolPoints {
   public:
     Vec2 next() {
-        SobolSampler s(1, 4711, index_++);
+        SobolSampler s(pixel_, index_++);
         for (int d = 0; d < kRequest; ++d) s.next2D();
         return s.next2D();
     }
 
   private:
+    const SobolPixel pixel_{1, 4711};
     uint32_t index_ = 0;
 };
 

@@ -49,8 +49,9 @@ TEST(SobolSampler, FastRequestsMatchTheDefinition) {
 // leaves the numbers of every other request and of the independent stream unchanged, and read it
 // gives what next2D would have. Past kDimensions the pairs come from the independent stream.
 TEST(SobolSampler, DeferredRequestsKeepTheStream) {
+    const SobolPixel pixel(9, 4);
     for (uint32_t sample : {0u, 1u, 77u}) {
-        SobolSampler eager(9, 4, sample), deferred(9, 4, sample);
+        SobolSampler eager(pixel, sample), deferred(pixel, sample);
         for (int bounce = 0; bounce < SobolSampler::kDimensions / 3 + 2; ++bounce) {
             const Vec2 flight = eager.next2D(), phase = eager.next2D();
             const double roulette = eager.next1D(), tracking = eager.rng().uniform();
@@ -89,8 +90,9 @@ TEST(SobolSampler, EveryRequestIsAZeroTwoSequence) {
     for (uint64_t pixel : {0ULL, 12345ULL}) {
         for (int request : {0, 1, 7, SobolSampler::kDimensions - 1}) {
             std::vector<Vec2> pts;
+            const SobolPixel px(9, pixel);
             for (uint32_t n = 0; n < 1024; ++n) {
-                SobolSampler s(9, pixel, n);
+                SobolSampler s(px, n);
                 for (int d = 0; d < request; ++d) s.next2D();
                 pts.push_back(s.next2D());
             }
@@ -116,8 +118,9 @@ TEST(SobolSampler, RequestsAndPixelsAreIndependent) {
     const int n = 4096;
     double sxy = 0, sx = 0, sy = 0, sxx = 0, syy = 0;
     double pxy = 0;
+    const SobolPixel p77(3, 77), p78(3, 78);
     for (int i = 0; i < n; ++i) {
-        SobolSampler s(3, 77, uint32_t(i)), t(3, 78, uint32_t(i));
+        SobolSampler s(p77, uint32_t(i)), t(p78, uint32_t(i));
         const double x = s.next1D(), y = s.next1D(), z = t.next1D();
         sx += x, sy += y, sxx += x * x, syy += y * y, sxy += x * y, pxy += x * z;
     }
@@ -125,11 +128,29 @@ TEST(SobolSampler, RequestsAndPixelsAreIndependent) {
     const double corr = cov / std::sqrt((sxx / n - sx * sx / n / n) * (syy / n - sy * sy / n / n));
     EXPECT_LT(std::abs(corr), 0.05);             // 1/√4096 ≈ 0.016
     EXPECT_LT(std::abs(pxy / n - 0.25), 0.015);  // E[xz] = 1/4 for independent pixels (σ ≈ 0.0034)
-    SobolSampler a(3, 77, 5), b(3, 77, 5);
+    const SobolPixel fresh(3, 77);               // a pixel whose seeds no sample has asked for yet
+    SobolSampler a(p77, 5), b(fresh, 5);
     for (int d = 0; d < SobolSampler::kDimensions + 10; ++d) {
         const Vec2 u = a.next2D();
         ASSERT_EQ(u, b.next2D());
         ASSERT_TRUE(u.x() >= 0 && u.x() < 1 && u.y() >= 0 && u.y() < 1);
+    }
+}
+
+// A pixel's seeds are computed by whichever sample first asks for a request and reused by the
+// others: samples sharing one SobolPixel give the numbers of samples with a fresh one each.
+TEST(SobolSampler, PixelSeedsAreSharedExactly) {
+    const SobolPixel shared(5, 321);
+    for (uint32_t n = 0; n < 64; ++n) {
+        const SobolPixel own(5, 321);
+        SobolSampler a(shared, n), b(own, n);
+        const int requests = int(n * 37 % 140);  // some samples go deeper than the others
+        for (int d = 0; d < requests; ++d) ASSERT_EQ(a.next2D(), b.next2D()) << n << " " << d;
+    }
+    const SobolPixel other(5, 322);
+    for (int d = 0; d < SobolPixel::kDimensions; ++d) {
+        const SobolPixel::Seeds s = shared.seeds(d), t = other.seeds(d);
+        ASSERT_TRUE(s.index != t.index || s.x != t.x || s.y != t.y) << d;  // pixels differ
     }
 }
 

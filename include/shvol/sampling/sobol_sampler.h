@@ -104,6 +104,8 @@ inline uint32_t owenScramble(uint32_t x, uint32_t seed) {
     return reverseBits32(laineKarras(reverseBits32(x), seed));
 }
 
+class SobolPixel;
+
 /// A 2D request of a path's sample stream whose value is computed when first read: the request
 /// takes its place in the stream (its dimension, and the stream's random low bits) when it is
 /// made, so the requests after it are unchanged whether or not it is ever read. A free flight
@@ -117,24 +119,67 @@ class DeferredPair {
 
   private:
     friend class SobolSampler;
-    DeferredPair(uint64_t key, uint32_t reversedIndex, int dimension, uint32_t low)
-        : key_(key), reversedIndex_(reversedIndex), dimension_(dimension), low_(low) {}
+    DeferredPair(const SobolPixel* pixel, uint32_t reversedIndex, int dimension, uint32_t low)
+        : pixel_(pixel), reversedIndex_(reversedIndex), dimension_(dimension), low_(low) {}
     Vec2 u_{0, 0};
-    uint64_t key_ = 0;
+    const SobolPixel* pixel_ = nullptr;  ///< null: u_ is the pair
     uint32_t reversedIndex_ = 0;
-    int dimension_ = -1;  ///< < 0: u_ is the pair
+    int dimension_ = 0;
     uint32_t low_ = 0;
 };
 
-class SobolSampler {
+/// The part of a pixel's sample streams that does not depend on the sample: the scrambling
+/// seeds of each request d, hashed from (seed, pixel, d). They are computed when a sample of the
+/// pixel first asks for request d and reused by the pixel's other samples (a pixel's samples
+/// are rendered one after another), which takes two hashes off every request.
+class SobolPixel {
   public:
     /// Requests served from the (0,2)-sequence before the stream falls back to rng(): the camera
     /// jitter and the flight, light, phase and roulette numbers of the first 32 to 42 bounces.
     static constexpr int kDimensions = 128;
+    /// A request's seeds: of the scramble of the sample index, and of its two coordinates.
+    struct Seeds {
+        uint32_t index, x, y;
+    };
 
-    SobolSampler(uint64_t seed, uint64_t pixel, uint32_t sample)
-        : rng_(Rng::forSample(seed, pixel, sample)),
-          key_(mix64(mix64(seed) ^ (pixel * 0x9e3779b97f4a7c15ULL))),
+    SobolPixel(uint64_t seed, uint64_t pixel)
+        : seed_(seed), pixel_(pixel), key_(mix64(mix64(seed) ^ (pixel * 0x9e3779b97f4a7c15ULL))) {}
+    SobolPixel(const SobolPixel&) = delete;  // samplers and deferred pairs point to it
+    SobolPixel& operator=(const SobolPixel&) = delete;
+
+    uint64_t seed() const { return seed_; }
+    uint64_t pixel() const { return pixel_; }
+    /// The seeds of request d < kDimensions.
+    const Seeds& seeds(int d) const {
+        while (filled_ <= d) seeds_[filled_] = hashSeeds(key_, filled_), ++filled_;
+        return seeds_[d];
+    }
+    /// What seeds(d) holds, from the definition.
+    static Seeds hashSeeds(uint64_t key, int d) {
+        const uint64_t h = mix64(key + uint64_t(d));
+        // A third seed from h by a 32-bit finaliser (Wellons' lowbias32): enough for a scramble.
+        uint32_t g = uint32_t(h) ^ uint32_t(h >> 32);
+        g = (g ^ (g >> 16)) * 0x7feb352du;
+        g = (g ^ (g >> 15)) * 0x846ca68bu;
+        g ^= g >> 16;
+        return {g, uint32_t(h), uint32_t(h >> 32)};
+    }
+
+  private:
+    uint64_t seed_, pixel_, key_;
+    mutable int filled_ = 0;
+    mutable Seeds seeds_[kDimensions];
+};
+
+class SobolSampler {
+  public:
+    static constexpr int kDimensions = SobolPixel::kDimensions;
+
+    /// The stream of sample `sample` of `pixel` (which must outlive the sampler and the pairs
+    /// it defers).
+    SobolSampler(const SobolPixel& pixel, uint32_t sample)
+        : rng_(Rng::forSample(pixel.seed(), pixel.pixel(), sample)),
+          pixel_(&pixel),
           reversedIndex_(reverseBits32(sample)) {}
 
     /// The next pair of the path's numbers.
@@ -144,12 +189,12 @@ class SobolSampler {
         if (dimension_ >= kDimensions) return DeferredPair(rng_.uniform2());
         // 16 random bits below 2⁻³² for each coordinate, drawn now to keep the stream's order.
         const uint32_t low = rng_.nextU32();
-        return DeferredPair(key_, reversedIndex_, dimension_++, low);
+        return DeferredPair(pixel_, reversedIndex_, dimension_++, low);
     }
     /// The next single number of the path (its own request, from the first coordinate).
     double next1D() {
         if (dimension_ >= kDimensions) return rng_.uniform();
-        const Request r = request(key_, reversedIndex_, dimension_++);
+        const Request r = request(*pixel_, reversedIndex_, dimension_++);
         return toUnit(reverseBits32(laineKarras(r.index, r.seedX)), rng_.nextU32() >> 16);
     }
     /// Independent numbers for draws whose count varies (free-flight and transmittance tracking).
@@ -161,21 +206,16 @@ class SobolSampler {
     struct Request {
         uint32_t index, seedX, seedY;
     };
-    /// Request `dimension` of the stream with key `key` for the sample whose reversed index is
+    /// Request `dimension` of the pixel's stream for the sample whose reversed index is
     /// `reversedIndex`.
-    static Request request(uint64_t key, uint32_t reversedIndex, int dimension) {
-        const uint64_t h = mix64(key + uint64_t(dimension));
-        // A third seed from h by a 32-bit finaliser (Wellons' lowbias32): enough for a scramble.
-        uint32_t g = uint32_t(h) ^ uint32_t(h >> 32);
-        g = (g ^ (g >> 16)) * 0x7feb352du;
-        g = (g ^ (g >> 15)) * 0x846ca68bu;
-        g ^= g >> 16;
+    static Request request(const SobolPixel& pixel, uint32_t reversedIndex, int dimension) {
+        const SobolPixel::Seeds& s = pixel.seeds(dimension);
         // Each request visits the sequence in its own order (a nested scramble of the index
         // maps the first 2^k samples onto an aligned block of 2^k points, which is a (0,k,2)-net
         // too), or all requests of a sample would share the top bits of their points and be
         // correlated (Burley 2020, §4: shuffling).
         // owenScramble(index, g), with the index's reversal done once per sampler.
-        return {reverseBits32(laineKarras(reversedIndex, g)), uint32_t(h), uint32_t(h >> 32)};
+        return {reverseBits32(laineKarras(reversedIndex, s.index)), s.x, s.y};
     }
 
     /// x·2⁻³² with 16 random bits below (48 bits in all, exactly a double in [0, 1)).
@@ -184,14 +224,14 @@ class SobolSampler {
     }
 
     Rng rng_;
-    uint64_t key_;
+    const SobolPixel* pixel_;
     uint32_t reversedIndex_;  ///< the sample index, bits reversed
     int dimension_ = 0;
 };
 
 inline Vec2 DeferredPair::value() const {
-    if (dimension_ < 0) return u_;
-    const SobolSampler::Request r = SobolSampler::request(key_, reversedIndex_, dimension_);
+    if (!pixel_) return u_;
+    const SobolSampler::Request r = SobolSampler::request(*pixel_, reversedIndex_, dimension_);
     // owenScramble(reverseBits32(i), seed) = reverseBits32(laineKarras(i, seed)), and
     // owenScramble(C·i, seed) = reverseBits32(laineKarras(reversed C·i, seed)).
     return {SobolSampler::toUnit(reverseBits32(laineKarras(r.index, r.seedX)), low_ >> 16),
