@@ -65,6 +65,17 @@ class Cli : public testing::Test {
             EXPECT_TRUE(n.find("out") == std::string::npos) << "left behind: " << n;
         }
     }
+    /// `shvol bench s.json --accuracy` with the test directory as its cache, and `options`.
+    std::string benchAccuracy(const std::string& options) const {
+        return "bench " + path("s.json") + " --accuracy " + options + " --cache " + path("");
+    }
+    /// The bench references cached in the test directory.
+    int cachedReferences() const {
+        int n = 0;
+        for (const auto& e : fs::directory_iterator(dir_))
+            n += e.path().filename().string().rfind("shvol_bench_reference_", 0) == 0;
+        return n;
+    }
     static std::string scene(const std::string& media, const std::string& extra = "") {
         return R"({"camera": {"resolution": [8, 6], "position": [0, -3, 0]},
                    "render": {"spp": 2}, "environment": {"type": "constant", "radiance": 1})" +
@@ -161,19 +172,14 @@ TEST_F(Cli, BenchFindsTheDefaultScene) {
 // the time to an RMSE for the renderer before issue 11 and now; the second run uses the cache.
 TEST_F(Cli, BenchAccuracyCachesItsReference) {
     write("s.json", scene(Homogeneous));
-    const std::string args = "bench " + path("s.json") +
-                             " --spp 2 --accuracy --reference-spp 64 --epsilon 0.01 --cache " +
-                             path("");
+    const std::string args = benchAccuracy("--spp 2 --reference-spp 64 --epsilon 0.01");
     Result r = run(args);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("reference: rendering 64 spp"), std::string::npos) << r.err;
     EXPECT_NE(r.out.find("| now (defaults), 2 threads |"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("time to equal RMSE, before / now: "), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("ns per density lookup"), std::string::npos) << r.out;
-    int cached = 0;
-    for (const auto& e : fs::directory_iterator(dir_))
-        cached += e.path().filename().string().rfind("shvol_bench_reference_", 0) == 0;
-    EXPECT_EQ(cached, 1);
+    EXPECT_EQ(cachedReferences(), 1);
     r = run(args);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("(cached)"), std::string::npos) << r.err;
@@ -187,9 +193,7 @@ TEST_F(Cli, BenchAccuracyReferenceFollowsTheVdbContents) {
     s.density = [](const Vec3& p) { return p.norm() < 0.4 ? 1.f : 0.f; };
     writeVdb(path("m.vdb"), {s});
     write("s.json", scene(R"({"type": "vdb", "file": "m.vdb"})"));
-    const std::string args = "bench " + path("s.json") +
-                             " --spp 1 --accuracy --reference-spp 16 --epsilon 0.1 --cache " +
-                             path("");
+    const std::string args = benchAccuracy("--spp 1 --reference-spp 16 --epsilon 0.1");
     Result r = run(args);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("reference: rendering 16 spp"), std::string::npos) << r.err;
@@ -198,10 +202,7 @@ TEST_F(Cli, BenchAccuracyReferenceFollowsTheVdbContents) {
     r = run(args);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("reference: rendering 16 spp"), std::string::npos) << r.err;
-    int cached = 0;
-    for (const auto& e : fs::directory_iterator(dir_))
-        cached += e.path().filename().string().rfind("shvol_bench_reference_", 0) == 0;
-    EXPECT_EQ(cached, 2);
+    EXPECT_EQ(cachedReferences(), 2);
 }
 
 // --help shows the defaults.
