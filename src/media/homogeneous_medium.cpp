@@ -17,8 +17,12 @@ Bounds3 HomogeneousMedium::bounds() const {
     switch (shape_.type) {
         case MediumShape::Type::Box:
             return {shape_.lo, shape_.hi};
-        case MediumShape::Type::Sphere:
-            return {shape_.center.array() - shape_.radius, shape_.center.array() + shape_.radius};
+        case MediumShape::Type::Sphere: {
+            // Widened by a rounding margin, as center ± radius may round inwards.
+            const Vec3 r =
+                Vec3::Constant(shape_.radius * (1 + 1e-12)) + 1e-12 * shape_.center.cwiseAbs();
+            return {shape_.center - r, shape_.center + r};
+        }
         default:
             return {};
     }

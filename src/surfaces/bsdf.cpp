@@ -58,7 +58,8 @@ Vec3 sampleWardHalfVector(const Vec2& u, double ax, double ay) {
     const double phi = std::atan2(ay * csQ.y(), ax * csQ.x());
     const Vec2 cs = cosSin(phi);
     const double c = cs.x(), s = cs.y();
-    const double tan2 = exponentialVariate(u.x()) / (sqr(c / ax) + sqr(s / ay));
+    // log1p: u.x() is rescaled by the caller, not a multiple of 2⁻⁵³ (exponentialVariate).
+    const double tan2 = -std::log1p(-u.x()) / (sqr(c / ax) + sqr(s / ay));
     // cos θ = 1/√(1 + tan²θ), sin θ = tan θ · cos θ: no cancellation for small or large θ.
     const double cosT = 1.0 / std::sqrt(1.0 + tan2), sinT = std::sqrt(tan2) * cosT;
     return {sinT * c, sinT * s, cosT};

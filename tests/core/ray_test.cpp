@@ -20,6 +20,22 @@ TEST(IntersectBox, OriginInsideIsClippedToZero) {
     EXPECT_NEAR(iv.t1, std::sqrt(0.5), 1e-12);
 }
 
+// Bounds3: all of space by default (every ray meets it), an inverted box is empty (no ray meets
+// it, though the slab test alone would accept one), and a box is met only within [0, tMax].
+TEST(Bounds3, EverywhereEmptyAndBox) {
+    const Ray r{{0, 0, -5}, {0, 0, 1}};
+    EXPECT_TRUE(Bounds3{}.isEverywhere());
+    EXPECT_TRUE(Bounds3{}.hits(r, 1));
+    const Bounds3 none{Vec3::Constant(INFINITY), Vec3::Constant(-INFINITY)};
+    EXPECT_TRUE(none.empty());
+    EXPECT_FALSE(none.hits(r, INFINITY));
+    const Bounds3 box{Vec3(-1, -1, -1), Vec3(1, 1, 1)};
+    EXPECT_FALSE(box.empty() || box.isEverywhere());
+    EXPECT_TRUE(box.hits(r, 4.5));
+    EXPECT_FALSE(box.hits(r, 3.5));
+    EXPECT_FALSE(box.hits(Ray{{3, 0, -5}, {0, 0, 1}}, INFINITY));
+}
+
 TEST(IntersectSphere, ChordLength) {
     Ray r{{0, 0, -10}, {0, 0, 1}};
     Interval iv = intersectSphere(r, {0, 0, 0}, 2, 1e30);

@@ -144,9 +144,14 @@ TEST(HomogeneousMedium, BoundsHoldTheShape) {
                     << p.transpose();
         }
     }
-    EXPECT_EQ(
-        HomogeneousMedium(sphere, 1, Spectrum::Ones(), PhaseFunction(IsotropicPhase())).bounds().hi,
-        Vec3(1.5, 2.5, 3.5));
+    const Bounds3 sb =
+        HomogeneousMedium(sphere, 1, Spectrum::Ones(), PhaseFunction(IsotropicPhase())).bounds();
+    for (int a = 0; a < 3; ++a) {  // the sphere's extent, widened by no more than rounding
+        EXPECT_LE(sb.lo[a], sphere.center[a] - 0.5);
+        EXPECT_GE(sb.hi[a], sphere.center[a] + 0.5);
+        EXPECT_NEAR(sb.lo[a], sphere.center[a] - 0.5, 1e-11);
+        EXPECT_NEAR(sb.hi[a], sphere.center[a] + 0.5, 1e-11);
+    }
     EXPECT_EQ(
         HomogeneousMedium(slab(), 1, Spectrum::Ones(), PhaseFunction(IsotropicPhase())).bounds().lo,
         Vec3(-10, -10, 0));

@@ -150,6 +150,26 @@ TEST(Tracking, FirstNumbersComeFromThePair) {
     }
 }
 
+// An event that would round onto the segment's end is not reported as inside the segment: with
+// rate just above the budget E, E/rate rounds to 1 = tEnd for some E; next() then spends the
+// budget instead (the case occurs among the numbers below, checked).
+TEST(Tracking, BudgetEventsStayBeforeTheSegmentEnd) {
+    struct Fixed {
+        double u;
+        double uniform() const { return u; }
+    };
+    int roundedOntoEnd = 0;
+    for (int i = 1; i < 20000; ++i) {
+        const Fixed f{i / 20000.0};
+        const double E = exponentialVariate(f.u), rate = std::nextafter(E, INFINITY);
+        roundedOntoEnd += E * (1 / rate) >= 1.0;
+        OpticalDepthBudget budget;
+        double t = 0;
+        if (budget.next(rate, 1 / rate, 1.0, f, &t)) ASSERT_LT(t, 1.0) << f.u;
+    }
+    EXPECT_GT(roundedOntoEnd, 0);
+}
+
 // Fed by the Sobol' stream (a pixel's samples 0 … n−1), free flights keep their distribution:
 // the chi² of DecompositionFreeFlightDistribution, with and without the control part.
 TEST(Tracking, SobolFedFreeFlightDistribution) {

@@ -26,8 +26,9 @@ template <typename T>
 inline T sqr(T x) {
     return x * x;
 }
-/// ⌊x⌋ for finite |x| < 2³¹: a truncation and a correction (std::floor is a libm call unless the
-/// target has SSE4.1).
+/// ⌊x⌋ for finite |x| < 2³¹ (callers keep their arguments in that range: points inside a
+/// majorant grid or its bricks): a truncation and a correction (std::floor is a libm call unless
+/// the target has SSE4.1).
 inline int floorToInt(double x) {
     const int i = int(x);
     return i - (double(i) > x);

@@ -31,15 +31,16 @@ inline Interval intersectBox(const Ray& ray, const Vec3& lo, const Vec3& hi, dou
     return {t0, t1};
 }
 
-/// An axis-aligned box [lo, hi]; by default all of space.
+/// An axis-aligned box [lo, hi]; by default all of space, and empty when lo > hi on some axis.
 struct Bounds3 {
     Vec3 lo = Vec3::Constant(-INFINITY), hi = Vec3::Constant(INFINITY);
     bool isEverywhere() const {
         return (lo.array() == -INFINITY).all() && (hi.array() == INFINITY).all();
     }
-    /// Whether the ray meets the box within [0, tMax].
+    bool empty() const { return (lo.array() > hi.array()).any(); }
+    /// Whether the ray meets the box within [0, tMax] (never, if the box is empty).
     bool hits(const Ray& ray, double tMax) const {
-        return !intersectBox(ray, lo, hi, tMax).empty();
+        return !empty() && !intersectBox(ray, lo, hi, tMax).empty();
     }
 };
 /// Ray against a sphere (center c, radius r), clipped to [0, tMax].

@@ -70,12 +70,12 @@ class OpticalDepthBudget {
     template <typename Uniform>
     bool next(double rate, double invRate, double tEnd, Uniform& rng, double* t) {
         if (tau_ < 0) tau_ = exponentialVariate(rng.uniform());
-        const double depth = (tEnd - *t) * rate;
-        if (tau_ >= depth) {
-            tau_ -= depth;
+        const double depth = (tEnd - *t) * rate, tEvent = *t + tau_ * invRate;
+        if (tau_ >= depth || tEvent >= tEnd) {  // (the second: an event rounded onto tEnd)
+            tau_ = std::max(0.0, tau_ - depth);
             return false;
         }
-        *t = std::min(*t + tau_ * invRate, tEnd);
+        *t = tEvent;
         tau_ = -1;
         return true;
     }

@@ -131,7 +131,8 @@ class DeferredPair {
 /// The part of a pixel's sample streams that does not depend on the sample: the scrambling
 /// seeds of each request d, hashed from (seed, pixel, d). They are computed when a sample of the
 /// pixel first asks for request d and reused by the pixel's other samples (a pixel's samples
-/// are rendered one after another), which takes two hashes off every request.
+/// are rendered one after another), which takes two hashes off every request. It fills itself
+/// lazily, so one thread uses it (the renderer makes one per pixel inside its tile loop).
 class SobolPixel {
   public:
     /// Requests served from the (0,2)-sequence before the stream falls back to rng(): the camera
