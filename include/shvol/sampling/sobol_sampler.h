@@ -109,7 +109,7 @@ class SobolPixel;
 /// A 2D request of a path's sample stream whose value is computed when first read: the request
 /// takes its place in the stream (its dimension, and the stream's random low bits) when it is
 /// made, so the requests after it are unchanged whether or not it is ever read. A free flight
-/// that never reaches a non-empty majorant cell (most camera rays of a sparse scene) then costs no
+/// whose ray meets no medium's bounds (most camera rays of a sparse scene) then costs no
 /// scramble. Either a given pair or a request of a SobolSampler.
 class DeferredPair {
   public:
