@@ -36,10 +36,7 @@ VolumePathIntegrator::VolumePathIntegrator(const Scene& scene)
       mediumBit_(scene.media.size(), -1),
       cameraPosition_(scene.camera.position) {
     if (effects_.areaLights) areaLights_ = std::make_unique<const AreaLights>(*scene.surfaces);
-    for (const auto& m : scene.media) {
-        mediumBounds_.push_back(m->bounds());
-        mediumBounded_.push_back(!mediumBounds_.back().isEverywhere());
-    }
+    for (const auto& m : scene.media) mediumBounds_.push_back(m->bounds());
     if (effects_.boundedMedia) {
         const auto& surfaces = scene.surfaces->surfaces();
         for (size_t i = 0; i < surfaces.size(); ++i) {

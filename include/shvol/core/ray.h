@@ -38,8 +38,10 @@ struct Bounds3 {
         return (lo.array() == -INFINITY).all() && (hi.array() == INFINITY).all();
     }
     bool empty() const { return (lo.array() > hi.array()).any(); }
-    /// Whether the ray meets the box within [0, tMax] (never, if the box is empty).
+    /// Whether the ray meets the box within [0, tMax] (never, if the box is empty; always, with
+    /// no slab test, if it is all of space).
     bool hits(const Ray& ray, double tMax) const {
+        if (isEverywhere()) return true;
         return !empty() && !intersectBox(ray, lo, hi, tMax).empty();
     }
 };

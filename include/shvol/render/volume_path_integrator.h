@@ -176,7 +176,7 @@ class VolumePathIntegrator {
                            const DeferredPair& first, PathCounters& c, int* medium) const;
     /// Whether the ray meets the bounds of media[i] within [0, tMax] (else σ_t = 0 along it).
     bool meets(size_t i, const Ray& ray, double tMax) const {
-        return !mediumBounded_[i] || mediumBounds_[i].hits(ray, tMax);
+        return mediumBounds_[i].hits(ray, tMax);
     }
     /// Product of the active media's transmittance estimates along [0, tMax).
     double transmittance(const Ray& ray, double tMax, Inside inside, Rng& rng,
@@ -192,7 +192,6 @@ class VolumePathIntegrator {
     std::unique_ptr<const ProductSampler> product_;
     std::vector<Lobe> lobes_;                       ///< per medium (product sampling)
     std::vector<Bounds3> mediumBounds_;             ///< per medium (Medium::bounds)
-    std::vector<char> mediumBounded_;               ///< per medium: bounds smaller than space
     std::unique_ptr<const AreaLights> areaLights_;  ///< when some surface emits
     std::vector<int> mediumBit_;   ///< per medium: its bit in Inside, or −1 if unbounded
     std::vector<int> boundaryOf_;  ///< per bounded medium bit: its surface
