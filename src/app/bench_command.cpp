@@ -44,28 +44,43 @@ struct Row {
     Image image;
 };
 
-/// The best of `repeats` renders of the scene with `sets` at `spp` on `threads` threads.
-Row measure(const BenchArgs& a, const std::string& name, std::vector<std::string> sets, int threads,
-            int spp) {
-    sets.push_back("render.spp=" + std::to_string(spp));
-    const Scene scene = loadScene(a.scene, sets);
-    Row row;
-    row.name = name;
-    for (int r = 0; r < a.repeats; ++r) {
-        RenderOptions opt;
-        opt.threads = threads;
-        RenderResult res = render(scene, opt);
-        const PathCounters& c = res.stats.counters;
-        if (res.stats.pathsPerSecond() > row.pathsPerSecond) {
-            row.pathsPerSecond = res.stats.pathsPerSecond();
-            row.secondsPerSpp = res.stats.wallSeconds / spp;
-            row.image = std::move(res.image);
-        }
-        row.lookupsPerPath = double(c.tracking.densityLookups) / double(c.paths);
-        row.segmentsPerPath = double(c.tracking.segments) / double(c.paths);
+/// One configuration to measure: the scene with `sets` on `threads` threads.
+struct Config {
+    std::string name;
+    std::vector<std::string> sets;
+    int threads = 1;
+};
+
+/// Renders every configuration at `spp`, `repeats` rounds of one render each in turn, and keeps
+/// each one's best. The rounds interleave the configurations, so a drift of the machine's speed
+/// (a shared host) reaches every configuration alike and the same-run ratios keep their meaning.
+std::vector<Row> measure(const BenchArgs& a, const std::vector<Config>& configs, int spp) {
+    std::vector<Scene> scenes;
+    std::vector<Row> rows(configs.size());
+    for (size_t i = 0; i < configs.size(); ++i) {
+        std::vector<std::string> sets = configs[i].sets;
+        sets.push_back("render.spp=" + std::to_string(spp));
+        scenes.push_back(loadScene(a.scene, sets));
+        rows[i].name = configs[i].name;
     }
-    std::fprintf(stderr, "  %-34s %12.0f paths/s\n", name.c_str(), row.pathsPerSecond);
-    return row;
+    for (int r = 0; r < a.repeats; ++r)
+        for (size_t i = 0; i < configs.size(); ++i) {
+            RenderOptions opt;
+            opt.threads = configs[i].threads;
+            RenderResult res = render(scenes[i], opt);
+            const PathCounters& c = res.stats.counters;
+            Row& row = rows[i];
+            if (res.stats.pathsPerSecond() > row.pathsPerSecond) {
+                row.pathsPerSecond = res.stats.pathsPerSecond();
+                row.secondsPerSpp = res.stats.wallSeconds / spp;
+                row.image = std::move(res.image);
+            }
+            row.lookupsPerPath = double(c.tracking.densityLookups) / double(c.paths);
+            row.segmentsPerPath = double(c.tracking.segments) / double(c.paths);
+        }
+    for (const Row& row : rows)
+        std::fprintf(stderr, "  %-34s %12.0f paths/s\n", row.name.c_str(), row.pathsPerSecond);
+    return rows;
 }
 
 /// Nanoseconds per σ_t lookup of the first medium (Medium::sigmaT, with its transform and
@@ -133,20 +148,27 @@ std::string defaultBenchScene() {
 int runBench(BenchArgs& a) {
     std::fprintf(stderr, "shvol bench %s (%d spp)\n", a.scene.c_str(), a.spp);
     const Json doc = sceneDocument(a.scene, a.sets);
-    const Row now = measure(a, "defaults, 1 thread", a.sets, 1, a.spp);
-    const Row openvdb = measure(a, "OpenVDB lookups, 1 thread",
-                                withVdbKey(doc, a.sets, "lookup", "\"openvdb\""), 1, a.spp);
-    const Row plain = measure(a, "no decomposition, 1 thread",
-                              withVdbKey(doc, a.sets, "decomposition", "false"), 1, a.spp);
-    const Row global = measure(a, "global majorant, 1 thread",
-                               withVdbKey(doc, a.sets, "majorant_grid", "false"), 1, a.spp);
-    const Row two = measure(a, "defaults, 2 threads", a.sets, 2, a.spp);
+    std::vector<Config> configs = {
+        {"defaults, 1 thread", a.sets, 1},
+        {"OpenVDB lookups, 1 thread", withVdbKey(doc, a.sets, "lookup", "\"openvdb\""), 1},
+        {"no decomposition, 1 thread", withVdbKey(doc, a.sets, "decomposition", "false"), 1},
+        {"global majorant, 1 thread", withVdbKey(doc, a.sets, "majorant_grid", "false"), 1},
+        {"defaults, 2 threads", a.sets, 2}};
+    // The floor: what a path costs when no medium is there (camera, surfaces, lights, sky).
+    const bool media = doc.contains("media") && !doc["media"].empty();
+    if (media) {
+        configs.push_back({"without media, 1 thread", a.sets, 1});
+        configs.back().sets.push_back("media=[]");
+    }
+    const std::vector<Row> rows = measure(a, configs, a.spp);
+    const Row &now = rows[0], &openvdb = rows[1], &plain = rows[2], &global = rows[3],
+              &two = rows[4];
     std::printf(
-        "| configuration | paths/s | density lookups/path | majorant segments/path |\n"
-        "|---|---:|---:|---:|\n");
-    for (const Row* r : {&now, &openvdb, &plain, &global, &two})
-        std::printf("| %s | %.0f | %.2f | %.2f |\n", r->name.c_str(), r->pathsPerSecond,
-                    r->lookupsPerPath, r->segmentsPerPath);
+        "| configuration | paths/s | ns/path | density lookups/path | majorant segments/path |\n"
+        "|---|---:|---:|---:|---:|\n");
+    for (const Row& r : rows)
+        std::printf("| %s | %.0f | %.1f | %.2f | %.2f |\n", r.name.c_str(), r.pathsPerSecond,
+                    1e9 / r.pathsPerSecond, r.lookupsPerPath, r.segmentsPerPath);
     std::printf("\nns per density lookup (Medium::sigmaT): bricks %.1f, OpenVDB accessor %.1f\n",
                 nsPerLookup(a, a.sets),
                 nsPerLookup(a, withVdbKey(doc, a.sets, "lookup", "\"openvdb\"")));
@@ -156,6 +178,15 @@ int runBench(BenchArgs& a) {
                 now.pathsPerSecond / plain.pathsPerSecond);
     std::printf("majorant grid / global majorant (1 thread): %.2fx\n",
                 now.pathsPerSecond / global.pathsPerSecond);
+    if (media) {
+        // Time per path above the floor: what the media add to a path.
+        const double floor = 1 / rows[5].pathsPerSecond;
+        std::printf(
+            "majorant grid / global majorant, time above the floor (1 thread): %.2fx "
+            "(%.1f vs %.1f ns per path)\n",
+            (1 / global.pathsPerSecond - floor) / (1 / now.pathsPerSecond - floor),
+            1e9 * (1 / now.pathsPerSecond - floor), 1e9 * (1 / global.pathsPerSecond - floor));
+    }
     std::printf("2 threads / 1 thread: %.2fx\n", two.pathsPerSecond / now.pathsPerSecond);
     if (!a.accuracy) return 0;
 
@@ -166,9 +197,12 @@ int runBench(BenchArgs& a) {
         withVdbKey(doc, withVdbKey(doc, a.sets, "lookup", "\"openvdb\""), "decomposition", "false");
     before.push_back("render.nee=true");
     before.push_back("render.sampler=\"independent\"");
-    const Row b =
-        measure(a, "before (NEE, independent, OpenVDB, delta), 2 threads", before, 2, a.spp);
-    const Row n = measure(a, "now (defaults), 2 threads", a.sets, 2, a.spp);
+    const std::vector<Row> timed =
+        measure(a,
+                {{"before (NEE, independent, OpenVDB, delta), 2 threads", before, 2},
+                 {"now (defaults), 2 threads", a.sets, 2}},
+                a.spp);
+    const Row &b = timed[0], &n = timed[1];
     std::printf(
         "\n| renderer | ms per spp | RMSE | RMSE·√spp | time to RMSE %g |\n"
         "|---|---:|---:|---:|---:|\n",

@@ -166,6 +166,12 @@ TEST_F(Cli, BenchFindsTheDefaultScene) {
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("media/default.json (1 spp)"), std::string::npos) << r.err;
     EXPECT_NE(r.out.find("majorant grid / global majorant"), std::string::npos) << r.out;
+    // The floor: the scene without its media does no tracking.
+    const size_t floor = r.out.find("| without media, 1 thread | ");
+    ASSERT_NE(floor, std::string::npos) << r.out;
+    const std::string row = r.out.substr(floor, r.out.find('\n', floor) - floor);
+    EXPECT_NE(row.find(" | 0.00 | 0.00 |"), std::string::npos) << row;
+    EXPECT_NE(r.out.find("time above the floor (1 thread): "), std::string::npos) << r.out;
 }
 
 // bench --accuracy renders the reference once (cached under the cache directory) and reports
