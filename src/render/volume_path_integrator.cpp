@@ -138,12 +138,13 @@ double VolumePathIntegrator::visibility(const Vec3& x, const Vec3& ng, const Lig
     const SurfaceScene* surf = scene_.surfaces.get();
     if (!surf) return effects_.volumes ? transmittance(Ray{x, ls.wi}, NoHit, inside, rng, c) : 1;
     Ray ray = ng.squaredNorm() > 0 ? surf->spawn(x, ng, ls.wi) : Ray{x, ls.wi};
-    // An emitter's point moved off its surface towards x, so that it does not occlude itself.
     const bool toPoint = ls.dist < NoHit;
-    const Vec3 y = toPoint ? surf->offsetTowards(ls.y, ls.ny, x) : Vec3::Zero();
     double T = 1;
     for (int crossings = 0;; ++crossings) {
-        const double tMax = toPoint ? (y - ray.o).norm() : NoHit;
+        // Towards an emitter's point: aimed at the point moved off its surface, so that it does
+        // not occlude itself (SurfaceScene::rayTo).
+        double tMax = NoHit;
+        if (toPoint) ray = surf->rayTo(ray.o, ls.y, ls.ny, &tMax);
         ++c.shadowRays;
         SurfaceHit hit;
         if (!surf->hasNullSurfaces()) {

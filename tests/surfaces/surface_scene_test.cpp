@@ -138,6 +138,34 @@ void checkNoSelfIntersection(double scale) {
     EXPECT_EQ(farSideMisses, 0) << "scale " << scale;
 }
 
+// A shadow ray between two points on adjacent faces of a box, each moved off its face towards
+// the other, meets nothing: the segment runs inside the box. Near the shared edge the ray is
+// grazing; aimed at the moved end point (rayTo) it stays clear of float intersection error.
+// Along the direction between the unmoved points (the integrator's shadow ray until 2026-12-01)
+// 5 947, 38 094 and 38 377 of these rays were blocked at the three scales.
+TEST(SurfaceScene, RayToAnAdjacentFaceIsNotBlocked) {
+    for (double scale : {1e-3, 1.0, 1e3}) {
+        std::vector<Surface> v;
+        v.push_back(meshSurface(boxMesh(scale * Vec3(-1, -1, -1), scale * Vec3(1, 2, 1))));
+        const SurfaceScene scene(std::move(v));
+        Rng rng(5, 5);
+        int blocked = 0;
+        for (int i = 0; i < 200000; ++i) {
+            // x on the face z = −1 (outward normal −z), y on the face x = −1 (normal −x); half
+            // of them within 0.01 of the shared edge.
+            const double near = i % 2 ? 0.01 : 2.0;
+            const Vec3 x = scale * Vec3(-1 + near * rng.uniform(), -1 + 3 * rng.uniform(), -1);
+            const Vec3 y = scale * Vec3(-1, -1 + 3 * rng.uniform(), -1 + near * rng.uniform());
+            const Vec3 nx(0, 0, -1), ny(-1, 0, 0);
+            double tMax;
+            const Ray ray = scene.rayTo(scene.spawn(x, nx, (y - x).normalized()).o, y, ny, &tMax);
+            EXPECT_NEAR(tMax, (y - x).norm(), 4 * scene.epsilon());
+            blocked += scene.occluded(ray, tMax);
+        }
+        EXPECT_EQ(blocked, 0) << "scale " << scale;
+    }
+}
+
 TEST(SurfaceScene, NoSelfIntersectionAtScale1em4) {
     checkNoSelfIntersection(1e-4);
 }

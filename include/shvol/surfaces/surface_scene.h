@@ -53,6 +53,16 @@ class SurfaceScene {
     Vec3 offsetTowards(const Vec3& p, const Vec3& ng, const Vec3& towards) const {
         return p + (ng.dot(towards - p) >= 0 ? epsilon_ : -epsilon_) * ng;
     }
+    /// The shadow ray from `from` to the point y of a surface (normal ny), y moved by ε towards
+    /// `from` (offsetTowards); *tMax is set to its length. It is aimed at the moved point, so it
+    /// ends ε/|cos| before y's surface, a margin that grows with float intersection error at
+    /// grazing angles; aimed at y itself from a moved origin it would end only ε·|cos| before
+    /// it, and a box's adjacent faces would shadow each other near their shared edge.
+    Ray rayTo(const Vec3& from, const Vec3& y, const Vec3& ny, double* tMax) const {
+        const Vec3 v = offsetTowards(y, ny, from) - from;
+        *tMax = v.norm();
+        return Ray{from, *tMax > 0 ? Vec3(v / *tMax) : Vec3(0, 0, 1)};
+    }
     /// Whether p lies inside the closed surface s (a sphere, or a closed outward-facing mesh):
     /// decided by the side of the first hit of s along a fixed direction.
     bool inside(int s, const Vec3& p) const;
