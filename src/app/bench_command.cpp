@@ -191,15 +191,16 @@ int runBench(BenchArgs& a) {
     if (!a.accuracy) return 0;
 
     // Before issue 11: NEE toward every sky, independent numbers, OpenVDB lookups, plain delta
-    // and ratio tracking.
+    // and ratio tracking, Russian roulette on the throughput.
     const Image ref = reference(a, a.sets);
     std::vector<std::string> before =
         withVdbKey(doc, withVdbKey(doc, a.sets, "lookup", "\"openvdb\""), "decomposition", "false");
     before.push_back("render.nee=true");
     before.push_back("render.sampler=\"independent\"");
+    before.push_back("render.rr_threshold=1");
     const std::vector<Row> timed =
         measure(a,
-                {{"before (NEE, independent, OpenVDB, delta), 2 threads", before, 2},
+                {{"before (NEE, independent, OpenVDB, delta, RR θ = 1), 2 threads", before, 2},
                  {"now (defaults), 2 threads", a.sets, 2}},
                 a.spp);
     const Row &b = timed[0], &n = timed[1];

@@ -67,6 +67,7 @@ RenderSettings readSettings(JsonReader r) {
     s.seed = uint64_t(seed);
     s.maxDepth = r.integer("max_depth", s.maxDepth, 0, 1 << 20);
     s.rrDepth = r.integer("rr_depth", s.rrDepth, 0, 1 << 20);
+    s.rrThreshold = r.number("rr_threshold", s.rrThreshold, 1e-6, 1);
     if (!r.has("nee") || r.raw("nee").is_string()) {  // "auto", the default
         if (r.string("nee", "auto") != "auto") r.error("nee", "expected true, false or \"auto\"");
     } else {

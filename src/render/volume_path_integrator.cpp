@@ -7,6 +7,7 @@
 
 #include "shvol/core/error.h"
 #include "shvol/phase/zonal_fit.h"
+#include "shvol/sampling/russian_roulette.h"
 
 namespace shvol {
 
@@ -400,7 +401,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
         if (depth >= s.rrDepth) {
             // Drawn whether or not it is needed: each bounce takes a fixed set of numbers.
             const double u = sampler.next1D();
-            const double q = maxComponent(beta);
+            const double q = rouletteSurvival(maxComponent(beta), s.rrThreshold);
             if (q < 1) {
                 if (u >= q) break;
                 beta /= q;

@@ -45,6 +45,9 @@ struct RenderSettings {
     uint64_t seed = 1;
     int maxDepth = 64;  ///< maximum number of scattering events per path (1 = single scattering)
     int rrDepth = 3;    ///< Russian roulette starts after this many scattering events
+    /// Russian roulette's threshold θ: a path whose throughput's largest component is m < θ
+    /// survives with probability m/θ (rouletteSurvival); 1 is roulette on the throughput.
+    double rrThreshold = 0.25;
     /// Next-event estimation towards the environment, MIS with phase sampling; unset: decided
     /// from the scene (Effects::of).
     std::optional<bool> nee;
