@@ -5,8 +5,8 @@
 /// probability q = m/θ and continues with β/q, whose largest component is θ; with m ≥ θ it
 /// always continues (q = 1). E[β′] = q·β/q = β: unbiased for any θ > 0. This is the weight
 /// cutoff of Monte Carlo particle transport: roulette below a cutoff weight, survivors carry a
-/// survival weight. A surviving path's weight stays between θ·min(albedo) and θ, so it cannot
-/// compound over bounces. θ = 1 is roulette on the throughput itself (q = m, as pbrt-v4 plays
+/// survival weight. Each time the roulette plays, a survivor's largest component is set to θ,
+/// so the weight cannot compound over bounces. θ = 1 is roulette on the throughput itself (q = m, as pbrt-v4 plays
 /// it); Blender Cycles survives with q = min(1, √m) (integrator/path_state.h,
 /// path_state_continuation_probability).
 ///
