@@ -52,7 +52,7 @@ std::unique_ptr<const SurfaceScene> surfaces(std::vector<Surface> s) {
 
 /// Inside a closed Lambertian enclosure of reflectance ρ emitting L_e from every point, the
 /// radiance is L_e Σ ρ^k = L_e / (1 − ρ) in every direction, whatever its shape.
-void checkClosedEnclosure(Surface enclosure, bool nee) {
+void checkClosedEnclosure(Surface enclosure, bool nee, int n = 40000) {
     const double rho = 0.7, Le = 0.3;
     enclosure.bsdf = Bsdf::lambert(Spectrum::Constant(rho));
     enclosure.emission = Spectrum::Constant(Le);
@@ -63,7 +63,7 @@ void checkClosedEnclosure(Surface enclosure, bool nee) {
     std::vector<Surface> v;
     v.push_back(std::move(enclosure));
     scene.surfaces = surfaces(std::move(v));
-    const Estimate e = estimate(scene, 40000, raysFrom(Vec3(0.2, -0.3, 0.1)));
+    const Estimate e = estimate(scene, n, raysFrom(Vec3(0.2, -0.3, 0.1)));
     const double expected = Le / (1 - rho);
     EXPECT_NEAR(e.mean[0], expected, 5 * e.stdErr[0] + 1e-9);
     // Not a loose mean only: the spread must stay small (no weight blows up over bounces).
@@ -74,6 +74,16 @@ void checkClosedEnclosure(Surface enclosure, bool nee) {
 TEST(SurfacePath, InsideAClosedLambertianSphereIsLeOverOneMinusRho) {
     checkClosedEnclosure(Surface::sphere(Vec3(0, 0, 0), 1), true);
     checkClosedEnclosure(Surface::sphere(Vec3(0, 0, 0), 1), false);
+}
+
+// Inside a box, light from the faces adjacent to a vertex, near their shared edge, reaches it
+// along grazing shadow rays. Aimed along the direction between the unmoved points (before
+// SurfaceScene::rayTo) they were blocked by float error and this mean came out 0.46% low:
+// 9.8 standard errors at 200 000 paths.
+TEST(SurfacePath, NextEventSeesEveryEdgeOfABox) {
+    checkClosedEnclosure(meshSurface(testing::boxMesh(Vec3(-1, -1, -1), Vec3(1, 2, 1)),
+                                     Bsdf::lambert(Spectrum::Ones())),
+                         true, 200000);
 }
 
 TEST(SurfacePath, InsideAClosedLambertianMeshIsLeOverOneMinusRho) {
