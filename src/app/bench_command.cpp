@@ -54,20 +54,19 @@ struct Config {
 /// Renders every configuration at `spp`, `repeats` rounds of one render each in turn, and keeps
 /// each one's best. The rounds interleave the configurations, so a drift of the machine's speed
 /// (a shared host) reaches every configuration alike and the same-run ratios keep their meaning.
+/// A configuration's scene is loaded for each of its renders (loading is not timed), so one
+/// scene is in memory at a time.
 std::vector<Row> measure(const BenchArgs& a, const std::vector<Config>& configs, int spp) {
-    std::vector<Scene> scenes;
     std::vector<Row> rows(configs.size());
-    for (size_t i = 0; i < configs.size(); ++i) {
-        std::vector<std::string> sets = configs[i].sets;
-        sets.push_back("render.spp=" + std::to_string(spp));
-        scenes.push_back(loadScene(a.scene, sets));
-        rows[i].name = configs[i].name;
-    }
+    for (size_t i = 0; i < configs.size(); ++i) rows[i].name = configs[i].name;
     for (int r = 0; r < a.repeats; ++r)
         for (size_t i = 0; i < configs.size(); ++i) {
+            std::vector<std::string> sets = configs[i].sets;
+            sets.push_back("render.spp=" + std::to_string(spp));
+            const Scene scene = loadScene(a.scene, sets);
             RenderOptions opt;
             opt.threads = configs[i].threads;
-            RenderResult res = render(scenes[i], opt);
+            RenderResult res = render(scene, opt);
             const PathCounters& c = res.stats.counters;
             Row& row = rows[i];
             if (res.stats.pathsPerSecond() > row.pathsPerSecond) {
@@ -179,13 +178,15 @@ int runBench(BenchArgs& a) {
     std::printf("majorant grid / global majorant (1 thread): %.2fx\n",
                 now.pathsPerSecond / global.pathsPerSecond);
     if (media) {
-        // Time per path above the floor: what the media add to a path.
-        const double floor = 1 / rows[5].pathsPerSecond;
-        std::printf(
-            "majorant grid / global majorant, time above the floor (1 thread): %.2fx "
-            "(%.1f vs %.1f ns per path)\n",
-            (1 / global.pathsPerSecond - floor) / (1 / now.pathsPerSecond - floor),
-            1e9 * (1 / now.pathsPerSecond - floor), 1e9 * (1 / global.pathsPerSecond - floor));
+        // Time per path above the floor: what the media add to a path (none, within noise, when
+        // the media cost no more than the floor).
+        const double floor = 1 / rows[5].pathsPerSecond, grid = 1 / now.pathsPerSecond - floor,
+                     one = 1 / global.pathsPerSecond - floor;
+        std::printf("majorant grid / global majorant, time above the floor (1 thread): ");
+        if (grid > 0 && one > 0)
+            std::printf("%.2fx (%.1f vs %.1f ns per path)\n", one / grid, 1e9 * grid, 1e9 * one);
+        else
+            std::printf("n/a (the media add no measurable time to a path)\n");
     }
     std::printf("2 threads / 1 thread: %.2fx\n", two.pathsPerSecond / now.pathsPerSecond);
     if (!a.accuracy) return 0;
@@ -235,7 +236,9 @@ void addBenchCommand(CLI::App& app, std::function<int()>& run) {
                   "shvol program)");
     c->add_option("--spp", a->spp, "Samples per pixel per measurement")
         ->check(integerIn(1, 1 << 24));
-    c->add_option("--repeats", a->repeats, "Repeat each measurement, keep the best")
+    c->add_option("--repeats", a->repeats,
+                  "Rounds of the measurements, each configuration once per round in turn; the "
+                  "best of each is kept")
         ->check(integerIn(1, 1000));
     c->add_option("--set", a->sets, "Override a scene value: key.path=value (repeatable)")
         ->default_str("");

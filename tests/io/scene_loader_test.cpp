@@ -135,6 +135,22 @@ TEST(SceneLoader, SunlitCloudStrategiesAgree) {
     EXPECT_GT(baseMean, 0.0);
 }
 
+// render.rr_threshold: default 0.25, read in [1e-6, 1], and in the resolved scene.
+TEST(SceneLoader, RouletteThreshold) {
+    EXPECT_EQ(loadScene(kSunlitCloud).settings.rrThreshold, 0.25);
+    EXPECT_EQ(loadScene(kSunlitCloud, {"render.rr_threshold=1"}).settings.rrThreshold, 1.0);
+    using test::messageOf;
+    for (const char* bad : {"0", "1.5", "-0.25"})
+        EXPECT_NE(messageOf([&] {
+                      loadScene(kSunlitCloud, {std::string("render.rr_threshold=") + bad});
+                  }).find("render.rr_threshold: value " + std::string(bad) + " out of range"),
+                  std::string::npos)
+            << bad;
+    Json resolved;
+    sceneFromJson(Json::parse(R"({"render": {"spp": 3}})"), "scene.json", &resolved);
+    EXPECT_EQ(resolved["render"]["rr_threshold"], 0.25);
+}
+
 // The resolved scene holds every value the loader read, defaults filled in.
 TEST(SceneLoader, ResolvedSceneFillsInDefaults) {
     const Json doc = Json::parse(R"({"render": {"spp": 3},

@@ -100,7 +100,8 @@ double track(const Segments& segments, const SigmaT& sigmaT, Rng& rngRef,
     TrackingCounters c = counters;
     double hit = kDelta ? NoCollision : 0, T = kRatio ? 1 : 0;
     // Ratio tracking's roulette once T is below the threshold: survive with probability
-    // T/rrThreshold and continue with T = rrThreshold, else T = 0.
+    // T/rrThreshold and continue with T = rrThreshold, else T = 0 (the survival-weight rule of
+    // the path's roulette, sampling/russian_roulette.h, with its own threshold).
     auto roulette = [&] {
         if (T >= rrThreshold) return;
         T = T > 0 && rng.uniform() * rrThreshold < T ? rrThreshold : 0;
