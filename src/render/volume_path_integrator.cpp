@@ -401,7 +401,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
         if (depth >= s.rrDepth) {
             // Drawn whether or not it is needed: each bounce takes a fixed set of numbers.
             const double u = sampler.next1D();
-            const double q = rouletteSurvival(maxComponent(beta), s.rrThreshold);
+            const double q = rouletteSurvival(maxComponent(beta), effects_.rouletteThreshold);
             if (q < 1) {
                 if (u >= q) break;
                 beta /= q;

@@ -340,8 +340,8 @@ TEST_F(Cli, RenderWritesExrAndStats) {
                           "density_lookups_per_second", "effects"})
         EXPECT_TRUE(stats.contains(k)) << k;
     // Under a constant sky next-event estimation is off unless asked for (render.nee).
-    EXPECT_EQ(stats["effects"], nlohmann::json::parse(R"(["environment-constant",
-                                    "volume-tracking", "multiple-scattering"])"));
+    EXPECT_EQ(stats["effects"], nlohmann::json::parse(R"(["environment-constant", "volume-tracking",
+                                    "multiple-scattering", "roulette-survival-weight"])"));
     EXPECT_EQ(stats["sampler"], "sobol");
 }
 

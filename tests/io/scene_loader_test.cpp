@@ -135,10 +135,14 @@ TEST(SceneLoader, SunlitCloudStrategiesAgree) {
     EXPECT_GT(baseMean, 0.0);
 }
 
-// render.rr_threshold: default 0.25, read in [1e-6, 1], and in the resolved scene.
+// render.rr_threshold: a number in [1e-6, 1] or "auto" (the default: unset, decided from the
+// scene), and in the resolved scene as given.
 TEST(SceneLoader, RouletteThreshold) {
-    EXPECT_EQ(loadScene(kSunlitCloud).settings.rrThreshold, 0.25);
+    EXPECT_FALSE(loadScene(kSunlitCloud).settings.rrThreshold.has_value());
+    EXPECT_FALSE(
+        loadScene(kSunlitCloud, {"render.rr_threshold=\"auto\""}).settings.rrThreshold.has_value());
     EXPECT_EQ(loadScene(kSunlitCloud, {"render.rr_threshold=1"}).settings.rrThreshold, 1.0);
+    EXPECT_EQ(loadScene(kSunlitCloud, {"render.rr_threshold=0.25"}).settings.rrThreshold, 0.25);
     using test::messageOf;
     for (const char* bad : {"0", "1.5", "-0.25"})
         EXPECT_NE(messageOf([&] {
@@ -146,9 +150,13 @@ TEST(SceneLoader, RouletteThreshold) {
                   }).find("render.rr_threshold: value " + std::string(bad) + " out of range"),
                   std::string::npos)
             << bad;
+    EXPECT_NE(messageOf([] {
+                  loadScene(kSunlitCloud, {"render.rr_threshold=\"half\""});
+              }).find("render.rr_threshold: expected a number in [1e-06, 1] or \"auto\""),
+              std::string::npos);
     Json resolved;
     sceneFromJson(Json::parse(R"({"render": {"spp": 3}})"), "scene.json", &resolved);
-    EXPECT_EQ(resolved["render"]["rr_threshold"], 0.25);
+    EXPECT_EQ(resolved["render"]["rr_threshold"], "auto");
 }
 
 // The resolved scene holds every value the loader read, defaults filled in.

@@ -276,6 +276,29 @@ TEST(VolumePathIntegrator, RouletteThresholdKeepsTheMeanAndLowersTheSpread) {
     }
 }
 
+// Russian roulette's threshold unless the scene says: a survival weight (0.25) where light reaches
+// a path only where it ends, roulette on the throughput (1) with next-event estimation; an
+// explicit setting wins.
+TEST(VolumePathIntegrator, RouletteThresholdIsDecidedFromTheScene) {
+    Scene s = furnaceScene(2.0, Spectrum::Constant(0.9), PhaseFunction(IsotropicPhase()));
+    EXPECT_EQ(Effects::of(s).rouletteThreshold, 0.25);
+    auto names = Effects::of(s).names();
+    EXPECT_NE(std::find(names.begin(), names.end(), "roulette-survival-weight"), names.end());
+    s.settings.nee = true;
+    EXPECT_EQ(Effects::of(s).rouletteThreshold, 1.0);
+    names = Effects::of(s).names();
+    EXPECT_EQ(std::find(names.begin(), names.end(), "roulette-survival-weight"), names.end());
+    s.settings.rrThreshold = 0.5;
+    EXPECT_EQ(Effects::of(s).rouletteThreshold, 0.5);
+    s.settings.nee = false;
+    s.settings.rrThreshold = 1.0;
+    EXPECT_EQ(Effects::of(s).rouletteThreshold, 1.0);
+    s.settings.rrThreshold.reset();
+    s.media.clear();  // nothing bounces: no roulette to name
+    names = Effects::of(s).names();
+    EXPECT_EQ(std::find(names.begin(), names.end(), "roulette-survival-weight"), names.end());
+}
+
 // Next-event estimation unless the scene says: off under a constant sky (over the sphere or the
 // upper hemisphere), on under an image; an explicit setting wins.
 TEST(VolumePathIntegrator, NextEventEstimationIsDecidedFromTheScene) {

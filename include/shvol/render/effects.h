@@ -23,6 +23,10 @@ struct Effects {
     LightSampling lightSampling = LightSampling::Environment;  ///< strategy when nextEvent
     MisHeuristic mis = MisHeuristic::Balance;                  ///< when nextEvent
     bool skyCompressed = false;  ///< the sky hierarchy is top-K compressed (set by the integrator)
+    bool bounces = false;        ///< paths scatter in media or reflect off surfaces
+    /// Russian roulette's threshold θ (sampling/russian_roulette.h): render.rr_threshold, else
+    /// 0.25 without next-event estimation (light reaches a path only where it ends) and 1 with it.
+    double rouletteThreshold = 1;
 
     static Effects of(const Scene& scene);
     /// Names for the statistics, e.g. {"volume-transmittance", "single-scattering", ...}.

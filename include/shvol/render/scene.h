@@ -47,7 +47,8 @@ struct RenderSettings {
     int rrDepth = 3;    ///< Russian roulette starts after this many scattering events
     /// Russian roulette's threshold θ: a path whose throughput's largest component is m < θ
     /// survives with probability m/θ (rouletteSurvival); 1 is roulette on the throughput.
-    double rrThreshold = 0.25;
+    /// Unset: decided from the scene (Effects::of).
+    std::optional<double> rrThreshold;
     /// Next-event estimation towards the environment, MIS with phase sampling; unset: decided
     /// from the scene (Effects::of).
     std::optional<bool> nee;

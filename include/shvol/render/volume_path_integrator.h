@@ -15,8 +15,8 @@
 /// Weights: balance w_a = p_a/(p_a + p_b), power w_a = p_a²/(p_a² + p_b²), or none (w_light = 1,
 /// w_phase = 0). The phase function is always evaluated exactly; the product sampler's SH lobe
 /// only shapes its pdf, so every strategy has the same expected image.
-/// Russian roulette after rrDepth scattering events, once max(β) is below rrThreshold
-/// (sampling/russian_roulette.h). Without scattering (albedo 0 or max depth 0) a camera ray
+/// Russian roulette after rrDepth scattering events, once max(β) is below the threshold θ
+/// (sampling/russian_roulette.h; Effects::rouletteThreshold). Without scattering (albedo 0 or max depth 0) a camera ray
 /// returns T̂·L_env directly: no collision or phase sample is drawn.
 ///
 /// Surfaces (scene.surfaces, when the scene has any). Each flight runs to the nearest surface hit
