@@ -16,8 +16,8 @@
 /// w_phase = 0). The phase function is always evaluated exactly; the product sampler's SH lobe
 /// only shapes its pdf, so every strategy has the same expected image.
 /// Russian roulette after rrDepth scattering events, once max(β) is below the threshold θ
-/// (sampling/russian_roulette.h; Effects::rouletteThreshold). Without scattering (albedo 0 or max depth 0) a camera ray
-/// returns T̂·L_env directly: no collision or phase sample is drawn.
+/// (sampling/russian_roulette.h; Effects::rouletteThreshold). Without scattering (albedo 0 or
+/// max depth 0) a camera ray returns T̂·L_env directly: no collision or phase sample is drawn.
 ///
 /// Surfaces (scene.surfaces, when the scene has any). Each flight runs to the nearest surface hit
 /// t_s, and free flights are sampled in [0, t_s) over the media the path is in: unbounded media,
