@@ -186,6 +186,7 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
     }
     j["peak_memory_mib"] = peakMemoryMiB();
     j["effects"] = st.effects;
+    j["roulette_threshold"] = st.rouletteThreshold;
     j["sampler"] = sampleStreamName(scene.settings.sampler);
     if (const LightSamplingStats& ls = st.lightSampling; !ls.strategy.empty()) {
         nlohmann::json& l = j["light_sampling"];

@@ -46,6 +46,7 @@ std::vector<uint32_t> passEnds(uint32_t spp, uint32_t have, const std::vector<ui
 /// What the integrator decided and built: the effects and the light sampler.
 void describeIntegrator(const VolumePathIntegrator& integrator, RenderStats& st) {
     st.effects = integrator.effects().names();
+    st.rouletteThreshold = integrator.effects().rouletteThreshold;
     if (const RadianceCache* cache = integrator.radianceCache()) {
         const VolumePathIntegrator::CacheBuild& b = integrator.cacheBuild();
         st.radianceCache = {

@@ -342,6 +342,7 @@ TEST_F(Cli, RenderWritesExrAndStats) {
     // Under a constant sky next-event estimation is off unless asked for (render.nee).
     EXPECT_EQ(stats["effects"], nlohmann::json::parse(R"(["environment-constant", "volume-tracking",
                                     "multiple-scattering", "roulette-survival-weight"])"));
+    EXPECT_EQ(stats["roulette_threshold"], 0.25);  // render.rr_threshold "auto" without NEE
     EXPECT_EQ(stats["sampler"], "sobol");
 }
 

@@ -70,6 +70,7 @@ struct RenderStats {
     uint64_t seed = 0;
     PathCounters counters;
     std::vector<std::string> effects;
+    double rouletteThreshold = 1;  ///< Russian roulette's threshold θ as decided (Effects)
     LightSamplingStats lightSampling;
     RadianceCacheStats radianceCache;
     RenderStop stop = RenderStop::Completed;
