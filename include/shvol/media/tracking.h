@@ -15,6 +15,7 @@
 #include <limits>
 
 #include "shvol/core/rng.h"
+#include "shvol/sampling/russian_roulette.h"
 
 namespace shvol {
 
@@ -99,12 +100,12 @@ double track(const Segments& segments, const SigmaT& sigmaT, Rng& rngRef,
     FlightNumbers rng(rngRef, first);
     TrackingCounters c = counters;
     double hit = kDelta ? NoCollision : 0, T = kRatio ? 1 : 0;
-    // Ratio tracking's roulette once T is below the threshold: survive with probability
-    // T/rrThreshold and continue with T = rrThreshold, else T = 0 (the survival-weight rule of
-    // the path's roulette, sampling/russian_roulette.h, with its own threshold).
+    // Ratio tracking's roulette once T is below the threshold: the path's survival-weight rule
+    // (rouletteSurvival) with its own threshold: survive with probability T/rrThreshold and
+    // continue with T = rrThreshold, else T = 0.
     auto roulette = [&] {
         if (T >= rrThreshold) return;
-        T = T > 0 && rng.uniform() * rrThreshold < T ? rrThreshold : 0;
+        T = rng.uniform() < rouletteSurvival(T, rrThreshold) ? rrThreshold : 0;
     };
     auto tracking = [&] { return kDelta && hit == NoCollision; };
     auto ratio = [&] { return kRatio && T > 0; };

@@ -6,9 +6,10 @@
 /// always continues (q = 1). E[β′] = q·β/q = β: unbiased for any θ > 0. This is the weight
 /// cutoff of Monte Carlo particle transport: roulette below a cutoff weight, survivors carry a
 /// survival weight. Each time the roulette plays, a survivor's largest component is set to θ,
-/// so the weight cannot compound over bounces. θ = 1 is roulette on the throughput itself (q = m, as pbrt-v4 plays
-/// it); Blender Cycles survives with q = min(1, √m) (integrator/path_state.h,
-/// path_state_continuation_probability).
+/// so the weight cannot compound over bounces. θ = 1 is roulette on the throughput itself
+/// (q = m, as pbrt-v4 plays it); Blender Cycles survives with q = min(1, √m)
+/// (integrator/path_state.h, path_state_continuation_probability). Ratio tracking plays the
+/// same rule on its transmittance estimate (media/tracking.h).
 ///
 /// A smaller θ lets paths run longer before roulette: more time per path, less variance from
 /// killing them. Under a constant sky every path ends in light, so the roulette on throughput
