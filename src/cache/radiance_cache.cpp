@@ -27,7 +27,7 @@ std::vector<Vec3> RadianceCache::directions(int count, const std::vector<Vec2>& 
         const bool stratum = j < k * k;
         const double u1 = stratum ? (j % k + jitter[j].x()) / k : jitter[j].x();
         const double u2 = stratum ? (j / k + jitter[j].y()) / k : jitter[j].y();
-        w[j] = sphericalDirection(std::max(u1, 1e-9), TwoPi * u2);
+        w[j] = sphericalDirection2Pi(std::max(u1, 1e-9), u2);
     }
     return w;
 }

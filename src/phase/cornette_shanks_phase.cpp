@@ -69,7 +69,7 @@ double CornetteShanksPhase::pdf(const Vec3& wo, const Vec3& wi) const {
 PhaseSample CornetteShanksPhase::sample(const Vec3& wo, const Vec2& u) const {
     const double t = warped_->sample(u.x());
     const double cosTheta = sampleHenyeyGreensteinCosTheta(t, g_);
-    const Vec3 wi = Frame(wo).toWorld(sphericalDirection(cosTheta, TwoPi * u.y()));
+    const Vec3 wi = Frame(wo).toWorld(sphericalDirection2Pi(cosTheta, u.y()));
     return {wi, cornetteShanks(cosTheta, g_), warped_->pdf(t) * henyeyGreenstein(cosTheta, g_)};
 }
 

@@ -34,7 +34,7 @@ double TabulatedPhase::evalCos(double cosTheta) const {
 
 PhaseSample TabulatedPhase::sample(const Vec3& wo, const Vec2& u) const {
     const double cosTheta = data_->table.sample(u.x());
-    const Vec3 wi = Frame(wo).toWorld(sphericalDirection(cosTheta, TwoPi * u.y()));
+    const Vec3 wi = Frame(wo).toWorld(sphericalDirection2Pi(cosTheta, u.y()));
     const double p = evalCos(cosTheta);
     return {wi, p, p};
 }

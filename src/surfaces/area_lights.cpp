@@ -62,7 +62,7 @@ AreaLightSample AreaLights::sample(const Vec3& x, double uSelect, const Vec2& u)
         const double cosTheta = 1 - oneMinusCos;
         const double sin2Theta = oneMinusCos * (2 - oneMinusCos);
         const Frame f(toC / dc);
-        ls.wi = f.toWorld(sphericalDirection(cosTheta, TwoPi * u.y()));
+        ls.wi = f.toWorld(sphericalDirection2Pi(cosTheta, u.y()));
         // Nearest point of the sphere along wi (the root is clamped at the silhouette).
         ls.dist = dc * cosTheta - safeSqrt(sqr(s.radius) - dc * dc * sin2Theta);
         ls.ny = (x + ls.dist * ls.wi - s.center).normalized();
@@ -73,13 +73,13 @@ AreaLightSample AreaLights::sample(const Vec3& x, double uSelect, const Vec2& u)
     }
     switch (s.kind) {
         case Surface::Kind::Sphere:
-            ls.ny = sphericalDirection(1 - 2 * u.x(), TwoPi * u.y());
+            ls.ny = sphericalDirection2Pi(1 - 2 * u.x(), u.y());
             ls.y = s.center + s.radius * ls.ny;
             break;
         case Surface::Kind::Disk: {
             const Frame f(s.normal);
-            const double r = s.radius * std::sqrt(u.x()), phi = TwoPi * u.y();
-            const Vec2 cs = cosSin(phi);
+            const double r = s.radius * std::sqrt(u.x());
+            const Vec2 cs = cosSin2Pi(u.y());
             ls.y = s.center + f.toWorld(Vec3(r * cs.x(), r * cs.y(), 0));
             ls.ny = s.normal;
             break;

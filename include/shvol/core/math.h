@@ -57,10 +57,43 @@ inline Vec2 cosSin(double phi) {
     return {c, s};
 }
 
+/// (cos 2πu, sin 2πu), for the azimuth φ = 2πu of a sampler's u ∈ [0, 1] (any |u| < 2²⁸ works):
+/// u is reduced to the nearest quarter turn k/4 exactly (r = 4u − k ∈ [−½, ½] has no rounding
+/// error), and sin x, cos x at x = (π/2)·r, |x| ≤ π/4, are their Taylor polynomials through x¹⁵
+/// and x¹⁶ (the first term left out is below 10⁻¹⁶ of the result there), turned by k quarter
+/// turns by swapping and negating. Within 3·10⁻¹⁶ of the exact values (tested against long
+/// double; sincos(2π·u), whose argument is already rounded, is off by up to 7·10⁻¹⁶), and 2.8×
+/// as fast as it (build/bench_phase: CosSin2Pi / SincosOf2PiU, a uniform number included).
+inline Vec2 cosSin2Pi(double u) {
+    const double q = 4 * u;
+    const int k = floorToInt(q + 0.5);
+    const double x = (q - k) * (Pi / 2), x2 = x * x;
+    // ±1/n!: sin x = x (1 + Σ kSin[i] x^(2i+2)), cos x = 1 + Σ kCos[i] x^(2i+2).
+    constexpr double kSin[] = {-1.0 / 6,        1.0 / 120,        -1.0 / 5040,         1.0 / 362880,
+                               -1.0 / 39916800, 1.0 / 6227020800, -1.0 / 1307674368000};
+    constexpr double kCos[] = {
+        -1.0 / 2,       1.0 / 24,        -1.0 / 720,         1.0 / 40320,
+        -1.0 / 3628800, 1.0 / 479001600, -1.0 / 87178291200, 1.0 / 20922789888000};
+    double s = 0, c = 0;  // Horner from the highest power
+    for (int i = 6; i >= 0; --i) s = x2 * (kSin[i] + s);
+    for (int i = 7; i >= 0; --i) c = x2 * (kCos[i] + c);
+    const double cs[2] = {1 + c, x * (1 + s)};  // cos x, sin x
+    // cos and sin of x + kπ/2: (c, s), (−s, c), (−c, −s), (s, −c) for k mod 4 = 0 … 3, without a
+    // branch (k is random: a branch would be mispredicted half of the time).
+    const int odd = k & 1;
+    return {double(1 - ((k + 1) & 2)) * cs[odd], double(1 - (k & 2)) * cs[odd ^ 1]};
+}
+
 /// ω(cos θ, φ) with sin θ = √(1 − cos²θ).
 inline Vec3 sphericalDirection(double cosTheta, double phi) {
     const double sinTheta = safeSqrt(1.0 - cosTheta * cosTheta);
     const Vec2 cs = cosSin(phi);
+    return {sinTheta * cs.x(), sinTheta * cs.y(), cosTheta};
+}
+/// ω(cos θ, 2πu): sphericalDirection with the azimuth of a sampler's u (cosSin2Pi).
+inline Vec3 sphericalDirection2Pi(double cosTheta, double u) {
+    const double sinTheta = safeSqrt(1.0 - cosTheta * cosTheta);
+    const Vec2 cs = cosSin2Pi(u);
     return {sinTheta * cs.x(), sinTheta * cs.y(), cosTheta};
 }
 /// φ ∈ [0, 2π) of a direction.

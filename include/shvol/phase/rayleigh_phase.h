@@ -28,7 +28,7 @@ class RayleighPhase {
     /// cos θ = sampleRayleighCosTheta(u₁), φ = 2π u₂ around wo.
     PhaseSample sample(const Vec3& wo, const Vec2& u) const {
         const double cosTheta = sampleRayleighCosTheta(u.x());
-        const Vec3 wi = Frame(wo).toWorld(sphericalDirection(cosTheta, TwoPi * u.y()));
+        const Vec3 wi = Frame(wo).toWorld(sphericalDirection2Pi(cosTheta, u.y()));
         const double p = rayleigh(cosTheta);
         return {wi, p, p};
     }

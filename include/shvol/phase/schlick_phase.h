@@ -38,7 +38,7 @@ class SchlickPhase {
     /// cos θ = sampleSchlickCosTheta(u₁, k), φ = 2π u₂ around wo.
     PhaseSample sample(const Vec3& wo, const Vec2& u) const {
         const double cosTheta = sampleSchlickCosTheta(u.x(), k_);
-        const Vec3 wi = Frame(wo).toWorld(sphericalDirection(cosTheta, TwoPi * u.y()));
+        const Vec3 wi = Frame(wo).toWorld(sphericalDirection2Pi(cosTheta, u.y()));
         const double p = schlick(cosTheta, k_);
         return {wi, p, p};
     }

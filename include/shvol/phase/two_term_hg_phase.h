@@ -45,7 +45,7 @@ class TwoTermHenyeyGreensteinPhase {
     double pdf(const Vec3& wo, const Vec3& wi) const { return eval(wo, wi); }
     PhaseSample sample(const Vec3& wo, const Vec2& u) const {
         const double cosTheta = sampleTwoTermHenyeyGreensteinCosTheta(u.x(), g1_, g2_, w_);
-        const Vec3 wi = Frame(wo).toWorld(sphericalDirection(cosTheta, TwoPi * u.y()));
+        const Vec3 wi = Frame(wo).toWorld(sphericalDirection2Pi(cosTheta, u.y()));
         const double p = twoTermHenyeyGreenstein(cosTheta, g1_, g2_, w_);
         return {wi, p, p};
     }
