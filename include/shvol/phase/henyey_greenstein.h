@@ -3,6 +3,11 @@
 ///
 /// μ = cos θ is the cosine between the propagation directions before and after scattering, so
 /// g > 0 scatters forward (DESIGN.md). g must lie in the open interval (−1, 1).
+#include <algorithm>
+#include <cmath>
+
+#include "shvol/core/math.h"
+
 namespace shvol {
 
 /// p(μ) = (1 − g²) / (4π (1 + g² − 2gμ)^{3/2}),  ∫ p dω = 1.
@@ -19,6 +24,44 @@ double henyeyGreenstein(double cosTheta, double g);
 /// stays exact as g → 0 (no isotropic switch is needed) and as |g| → 1. Result clamped to
 /// [−1, 1]. \param u uniform in [0, 1).
 double sampleHenyeyGreensteinCosTheta(double u, double g);
+
+/// sampleHenyeyGreensteinCosTheta for one g, with its constants computed once and one division
+/// per sample, and the density at the sampled μ in closed form, without a square root:
+///   p(μ(u)) = d³ / (4π (1 − g²)²),  d = 1 − g + 2gu,
+/// because 1 + g² − 2gμ(u) = s² = ((1 − g²)/d)². It gives p(−1) = (1 − g)/(4π(1 + g)²) at u = 0
+/// and p(1) = (1 + g)/(4π(1 − g)²) at u = 1 as products, so it stays accurate as |g| → 1, where
+/// henyeyGreenstein(μ) of the rounded μ does not (their ratio is within 4·10⁻¹² of 1 for
+/// |g| ≤ 0.99, tested). With cosSin2Pi, HenyeyGreensteinPhase::sample is 2.1× as fast as with
+/// the two functions and sincos (build/bench_phase: HGAnalytic / HGFunctions).
+class HenyeyGreensteinSampler {
+  public:
+    explicit HenyeyGreensteinSampler(double g)
+        : oneMinusG_(1 - g),
+          onePlusG_(1 + g),
+          oneMinusG2_((1 - g) * (1 + g)),
+          pdfScale_(1 / (FourPi * oneMinusG2_ * oneMinusG2_)),
+          dBase_(g >= 0 ? 1 - g : 1 + g),
+          dSlope_(2 * std::abs(g)),
+          flip_(g < 0) {}
+    struct Sample {
+        double cosTheta, pdf;
+    };
+    /// μ (clamped to [−1, 1]) and p(μ) for u ∈ [0, 1].
+    Sample operator()(double u) const {
+        // d = (1 − g) + 2gu for g ≥ 0, (1 + g) + 2|g|(1 − u) for g < 0: sums of non-negative
+        // terms (1 − u is exact for the samplers' u), so d³ keeps its relative accuracy.
+        const double d = dBase_ + dSlope_ * (flip_ ? 1 - u : u), invD = 1 / d;
+        const double s = oneMinusG2_ * invD;
+        const double oneMinusMu = oneMinusG_ * (1 - u) * (s + oneMinusG_) * invD;
+        const double onePlusMu = onePlusG_ * u * (s + onePlusG_) * invD;
+        const double mu = oneMinusMu <= onePlusMu ? 1 - oneMinusMu : onePlusMu - 1;
+        return {std::clamp(mu, -1.0, 1.0), d * d * d * pdfScale_};
+    }
+
+  private:
+    double oneMinusG_, onePlusG_, oneMinusG2_, pdfScale_, dBase_, dSlope_;
+    bool flip_;
+};
 
 /// The CDF P(μ) = ∫_{−1}^{μ} 2π p(μ′) dμ′ = (1 − g²)/(2g) [b^{−1/2} − 1/(1 + g)], b = 1 + g² − 2gμ,
 /// evaluated without division by g or cancellation as

@@ -13,23 +13,23 @@ class HenyeyGreensteinPhase {
   public:
     static constexpr const char* kName = "hg";
     /// \param g asymmetry parameter in (−1, 1).
-    explicit HenyeyGreensteinPhase(double g) : g_(g) {}
+    explicit HenyeyGreensteinPhase(double g) : g_(g), sampler_(g) {}
     double g() const { return g_; }
     /// p(wo·wi) = henyeyGreenstein(wo·wi, g).
     double eval(const Vec3& wo, const Vec3& wi) const { return henyeyGreenstein(wo.dot(wi), g_); }
     /// Exact sampler, so pdf = eval.
     double pdf(const Vec3& wo, const Vec3& wi) const { return eval(wo, wi); }
-    /// cos θ = sampleHenyeyGreensteinCosTheta(u₁, g), φ = 2π u₂, wi = Frame(wo).toWorld(ω(cos θ,
-    /// φ)).
+    /// cos θ and its density from HenyeyGreensteinSampler(u₁), φ = 2π u₂,
+    /// wi = Frame(wo).toWorld(ω(cos θ, φ)).
     PhaseSample sample(const Vec3& wo, const Vec2& u) const {
-        const double cosTheta = sampleHenyeyGreensteinCosTheta(u.x(), g_);
-        const Vec3 wi = Frame(wo).toWorld(sphericalDirection(cosTheta, TwoPi * u.y()));
-        const double p = henyeyGreenstein(cosTheta, g_);
-        return {wi, p, p};
+        const HenyeyGreensteinSampler::Sample s = sampler_(u.x());
+        const Vec3 wi = Frame(wo).toWorld(sphericalDirection2Pi(s.cosTheta, u.y()));
+        return {wi, s.pdf, s.pdf};
     }
 
   private:
     double g_;
+    HenyeyGreensteinSampler sampler_;
 };
 
 }  // namespace shvol
