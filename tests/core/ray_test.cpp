@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <vector>
+
+#include "shvol/core/rng.h"
+
 namespace shvol {
 
 TEST(IntersectBox, HitAndMiss) {
@@ -34,6 +38,34 @@ TEST(Bounds3, EverywhereEmptyAndBox) {
     EXPECT_TRUE(box.hits(r, 4.5));
     EXPECT_FALSE(box.hits(r, 3.5));
     EXPECT_FALSE(box.hits(Ray{{3, 0, -5}, {0, 0, 1}}, INFINITY));
+}
+
+// hits() answers rays from inside the box without the slab test: the same answer as the slab
+// test (the slow reference) for origins inside, on the faces and corners, and outside, for axis
+// directions, random ones and NaN, and tMax of 0, negative, finite, infinite and NaN.
+TEST(Bounds3, HitsFromInsideAgreesWithTheSlabTest) {
+    const Bounds3 box{Vec3(-1, 0, 2), Vec3(1, 0.5, 3)};
+    Rng rng(6, 6);
+    std::vector<Vec3> origins = {box.lo, box.hi, Vec3(1, 0.25, 2.5), Vec3(0, 0.5, 3)};
+    std::vector<Vec3> dirs = {Vec3(1, 0, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3::Constant(NAN)};
+    for (int i = 0; i < 2000; ++i) {
+        origins.push_back(
+            box.lo + (box.hi - box.lo)
+                         .cwiseProduct(Vec3(rng.uniform(), rng.uniform(), rng.uniform()) * 1.4 -
+                                       Vec3::Constant(0.2)));
+        dirs.push_back(sphericalDirection2Pi(2 * rng.uniform() - 1, rng.uniform()));
+    }
+    int inside = 0;
+    for (size_t i = 0; i < origins.size(); ++i)
+        for (size_t j = i % 7; j < dirs.size(); j += 7)
+            for (double tMax : {0.0, -1.0, 0.3, 5.0, double(INFINITY), double(NAN)}) {
+                const Ray r{origins[i], dirs[j]};
+                ASSERT_EQ(box.hits(r, tMax), !intersectBox(r, box.lo, box.hi, tMax).empty())
+                    << i << " " << j << " " << tMax;
+                inside +=
+                    (r.o.array() >= box.lo.array()).all() && (r.o.array() <= box.hi.array()).all();
+            }
+    EXPECT_GT(inside, 1000);  // both branches were taken
 }
 
 TEST(IntersectSphere, ChordLength) {

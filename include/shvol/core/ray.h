@@ -39,9 +39,13 @@ struct Bounds3 {
     }
     bool empty() const { return (lo.array() > hi.array()).any(); }
     /// Whether the ray meets the box within [0, tMax] (never, if the box is empty; always, with
-    /// no slab test, if it is all of space).
+    /// no slab test, if it is all of space). A ray from a point of the (closed) box meets it iff
+    /// tMax ≥ 0, which is what the slab test gives there too; checked first, without the slab
+    /// test's three divisions, since most rays in a medium start inside its bounds.
     bool hits(const Ray& ray, double tMax) const {
         if (isEverywhere()) return true;
+        if ((ray.o.array() >= lo.array()).all() && (ray.o.array() <= hi.array()).all())
+            return tMax >= 0;
         return !empty() && !intersectBox(ray, lo, hi, tMax).empty();
     }
 };
