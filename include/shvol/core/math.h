@@ -62,8 +62,8 @@ inline Vec2 cosSin(double phi) {
 /// error), and sin x, cos x at x = (π/2)·r, |x| ≤ π/4, are their Taylor polynomials through x¹⁵
 /// and x¹⁶ (the first term left out is below 10⁻¹⁶ of the result there), turned by k quarter
 /// turns by swapping and negating. Within 3·10⁻¹⁶ of the exact values (tested against long
-/// double; sincos(2π·u), whose argument is already rounded, is off by up to 7·10⁻¹⁶), and 2.8×
-/// as fast as it (build/bench_phase: CosSin2Pi / SincosOf2PiU, a uniform number included).
+/// double; sincos(2π·u), whose argument is already rounded, is off by up to 7·10⁻¹⁶), and 2.7×
+/// as fast as it (build/bench_phase, Azimuth; a uniform number included).
 inline Vec2 cosSin2Pi(double u) {
     const double q = 4 * u;
     const int k = floorToInt(q + 0.5);
