@@ -10,6 +10,7 @@
 #include "shvol/lights/sky_hierarchy.h"
 #include "shvol/phase/cornette_shanks_phase.h"
 #include "shvol/phase/phase_function.h"
+#include "shvol/phase/phase_table_csv.h"
 #include "shvol/phase/rayleigh_phase.h"
 #include "shvol/phase/schlick_phase.h"
 #include "shvol/phase/sh_sampled_phase.h"
@@ -21,7 +22,7 @@
 namespace shvol {
 namespace {
 
-constexpr int kChi2Tests = 11;  // one family: Šidák correction over the tests in this file
+constexpr int kChi2Tests = 12;  // one family: Šidák correction over the tests in this file
 constexpr int kRequest = 2;     // a phase sample of the first bounce (camera jitter, light, phase)
 
 /// The kRequest-th 2D number of consecutive samples of pixel 4711.
@@ -67,13 +68,16 @@ TEST(SobolFedSamplers, IsotropicChi2) {
     EXPECT_TRUE(r.passed) << r.report;
 }
 
-// The other analytic phase functions, each with its own sampling routine.
+// The other phase functions, each with its own sampling routine: the analytic ones and a
+// tabulated one (media/phase/mie_like.csv, sampled by inverting its piecewise-quadratic CDF).
 TEST(SobolFedSamplers, OtherPhaseFunctionsChi2) {
     const std::vector<std::pair<const char*, PhaseFunction>> phases = {
         {"rayleigh", RayleighPhase{}},
         {"schlick 0.8", SchlickPhase(0.8)},
         {"cornette-shanks 0.9", CornetteShanksPhase(0.9)},
-        {"two-term hg", TwoTermHenyeyGreensteinPhase(0.8, -0.4, 0.7)}};
+        {"two-term hg", TwoTermHenyeyGreensteinPhase(0.8, -0.4, 0.7)},
+        {"tabulated mie_like",
+         readPhaseTableCsv(std::string(SHVOL_SOURCE_DIR) + "/media/phase/mie_like.csv")}};
     for (const auto& [name, p] : phases) {
         const Chi2Result r = phaseChi2(p);
         EXPECT_TRUE(r.passed) << name << "\n" << r.report;
