@@ -114,11 +114,7 @@ Image reference(const BenchArgs& a, std::vector<std::string> sets) {
     sets.push_back("render.spp=" + std::to_string(a.referenceSpp));
     sets.push_back("render.seed=1000000000");
     const Json doc = sceneDocument(a.scene, sets);
-    std::string text = dumpJson(doc);
-    for (const Json& f : inputFiles(doc, a.scene))  // the scene file itself is in `text`
-        if (f.at("key") != "(scene)")
-            text +=
-                "\n" + f.at("key").get<std::string>() + " " + f.at("fnv1a64").get<std::string>();
+    const std::string text = dumpJson(doc) + "\n" + namedFileContents(doc, a.scene);
     const std::string file =
         (std::filesystem::path(a.cache) /
          ("shvol_bench_reference_" + hexHash(fnv1a(text.data(), text.size())) + ".exr"))

@@ -8,6 +8,7 @@
 #include "shvol/core/error.h"
 #include "shvol/core/hash.h"
 #include "shvol/io/json_reader.h"
+#include "shvol/io/provenance.h"
 
 namespace shvol {
 
@@ -23,9 +24,10 @@ void put(std::string& out, const T& v) {
 
 }  // namespace
 
-uint64_t renderIdentity(Json doc) {
+uint64_t renderIdentity(Json doc, const std::string& scenePath, const std::string& build) {
+    const std::string files = namedFileContents(doc, scenePath);
     if (doc.contains("render") && doc["render"].is_object()) doc["render"].erase("spp");
-    const std::string text = dumpJson(doc);
+    const std::string text = dumpJson(doc) + "\n" + files + "build " + build;
     return fnv1a(text.data(), text.size());
 }
 
@@ -73,8 +75,8 @@ Film readCheckpoint(const std::string& path, uint64_t identity) {
         fail(path, "", "checksum mismatch (corrupt file)");
     if (id != identity)
         fail(path, "",
-             "written for a different render (scene, --set values, seed or resolution differ; "
-             "only the sample count may change)");
+             "written for a different render (scene, --set values, seed, resolution, input "
+             "files or shvol build differ; only the sample count may change)");
     Film film(w, h);
     std::memcpy(film.count.data(), bytes.data() + header, pixels * 4);
     std::memcpy(film.sum.data(), bytes.data() + header + pixels * 4, pixels * 3 * 8);

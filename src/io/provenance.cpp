@@ -61,6 +61,15 @@ Json inputFiles(const Json& doc, const std::string& scenePath) {
     return out;
 }
 
+std::string namedFileContents(const Json& doc, const std::string& scenePath) {
+    std::string text;
+    for (const Json& f : inputFiles(doc, scenePath))
+        if (f.at("key") != "(scene)")
+            text +=
+                f.at("key").get<std::string>() + " " + f.at("fnv1a64").get<std::string>() + "\n";
+    return text;
+}
+
 std::string commandLine() {
     std::ifstream f("/proc/self/cmdline", std::ios::binary);
     std::string all((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>()), line;

@@ -603,6 +603,30 @@ TEST_F(Cli, TimeLimitCheckpointAndResume) {
     EXPECT_FALSE(fs::exists(path("x.exr")));
 }
 
+// A checkpoint is refused when a file the scene names has changed since it was written (the
+// resumed image would mix two renders), and accepted again once the file is as it was.
+TEST_F(Cli, ResumeRefusesChangedInputFiles) {
+    write("t.csv", "angle_deg,value\n0,2\n180,1\n");
+    write("s.json", scene(R"({"type": "homogeneous", "sigma_t": 2, "albedo": 0.8,
+                              "shape": {"type": "sphere"},
+                              "phase": {"type": "tabulated", "file": "t.csv"}})"));
+    const std::string s = "render " + path("s.json") + " --spp 20000 --quiet --checkpoint " +
+                          path("ck.bin") + " -o " + path("r.exr");
+    Result r = run(s + " --time-limit 0.002 --threads 1");
+    ASSERT_EQ(r.code, 0) << r.err;
+    fs::remove(path("r.exr"));
+    write("t.csv", "angle_deg,value\n0,3\n180,1\n");
+    r = run(s + " --resume");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find(path("ck.bin") + ": written for a different render"), std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(path("r.exr")));
+    write("t.csv", "angle_deg,value\n0,2\n180,1\n");
+    r = run(s + " --resume");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(fs::exists(path("r.exr")));
+}
+
 // --spp 4,16 writes the 4-spp image on the way (identical to a separate 4-spp render) and
 // --variance the standard error of every pixel's mean beside each image.
 TEST_F(Cli, ProgressiveSppAndVariance) {

@@ -50,8 +50,8 @@ TEST(Checkpoint, DamagedOrForeignFilesAreRefused) {
     const std::string p = tempPath("bad.bin");
     writeCheckpoint(p, sampleFilm(), 42);
     EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, 43); }),
-              p + ": written for a different render (scene, --set values, seed or resolution "
-                  "differ; only the sample count may change)");
+              p + ": written for a different render (scene, --set values, seed, resolution, input "
+                  "files or shvol build differ; only the sample count may change)");
     {  // flip one byte of the sums
         std::fstream f(p, std::ios::in | std::ios::out | std::ios::binary);
         f.seekp(60);
@@ -69,13 +69,24 @@ TEST(Checkpoint, DamagedOrForeignFilesAreRefused) {
 }
 
 // The identity ignores render.spp (a render may be continued to more samples) and nothing else.
+// The identity follows the scene document without its sample count, the contents of the files it
+// names (not their names' spelling alone) and the program's build.
 TEST(Checkpoint, IdentityIgnoresOnlyTheSampleCount) {
-    const std::string scene = tempPath("scene.json");
-    std::ofstream(scene) << R"({"render": {"spp": 4, "seed": 1}, "camera": {"fov": 30}})";
-    const uint64_t id = renderIdentity(sceneDocument(scene));
-    EXPECT_EQ(renderIdentity(sceneDocument(scene, {"render.spp=100"})), id);
-    EXPECT_NE(renderIdentity(sceneDocument(scene, {"render.seed=2"})), id);
-    EXPECT_NE(renderIdentity(sceneDocument(scene, {"camera.fov=31"})), id);
+    const std::string scene = tempPath("scene.json"), table = tempPath("table.csv");
+    std::ofstream(scene) << R"({"render": {"spp": 4, "seed": 1}, "camera": {"fov": 30},
+        "media": [{"type": "homogeneous", "sigma_t": 1,
+                   "phase": {"type": "tabulated", "file": "ckpt_table.csv"}}]})";
+    std::ofstream(table) << "angle_deg,value\n0,2\n180,1\n";
+    auto id = [&](const std::vector<std::string>& sets, const std::string& build = "abc") {
+        return renderIdentity(sceneDocument(scene, sets), scene, build);
+    };
+    const uint64_t id0 = id({});
+    EXPECT_EQ(id({"render.spp=100"}), id0);
+    EXPECT_NE(id({"render.seed=2"}), id0);
+    EXPECT_NE(id({"camera.fov=31"}), id0);
+    EXPECT_NE(id({}, "abd"), id0);                            // another build of shvol
+    std::ofstream(table) << "angle_deg,value\n0,3\n180,1\n";  // same name, other contents
+    EXPECT_NE(id({}), id0);
 }
 
 }  // namespace shvol
