@@ -16,7 +16,10 @@
 #include "shvol/core/progress.h"
 #include "shvol/io/exr.h"
 #include "shvol/io/ledger.h"
+#include "shvol/io/provenance.h"
+#include "shvol/io/scene_loader.h"
 #include "shvol/io/sweep.h"
+#include "shvol_git_revision.h"
 
 namespace shvol::app {
 
@@ -37,12 +40,12 @@ std::string describe(const SweepRun& run) {
     return s;
 }
 
-/// What identifies a rendered reference: the scene, its settings and whether it has a
-/// standard-error image; kept beside it in REFERENCE.fingerprint.
+/// What identifies a rendered reference: the scene document after its settings, the contents of
+/// the files it names and whether it has a standard-error image; kept beside it in
+/// REFERENCE.fingerprint. (Not the build: a converged reference of the same scene serves any.)
 std::string referenceStamp(const Sweep& s, bool variance) {
-    std::string stamp = s.scene;
-    for (const std::string& x : s.reference->sets) stamp += "\n" + x;
-    return stamp + (variance ? "\nvariance" : "");
+    const Json doc = sceneDocument(s.scene, s.reference->sets);
+    return dumpJson(doc) + "\n" + namedFileContents(doc, s.scene) + (variance ? "variance" : "");
 }
 
 /// Whether the rendered reference is on disk with the stamp the sweep gives now.
@@ -114,6 +117,7 @@ Json runOne(const RunContext& c, const SweepRun& run, int& code) {
     row["paths_per_second"] = stats["paths_per_second"];
     row["image"] = run.id + ".exr";
     row["fingerprint"] = run.fingerprint;
+    row["git_revision"] = stats["git_revision"];
     if (!s.reference) return row;
     const Image img = readExr(r.output);
     const ImageMetrics m = imageMetrics(img, c.reference);
@@ -285,6 +289,13 @@ int runBatch(BatchArgs a) {
                          ? "finished, but the sweep no longer has it; use another output directory"
                          : "finished with other settings or another scene than the sweep now "
                            "gives; use another output directory");
+            // Another build may render the same scene differently (a changed default, a fix):
+            // its rows and this one's would mix in one experiment.
+            const std::string build = row.value("git_revision", "(none)");
+            if (build != SHVOL_GIT_REVISION)
+                fail(ledger->jsonlPath(), "run " + id,
+                     "finished by shvol " + build + ", this is " + SHVOL_GIT_REVISION +
+                         "; use another output directory");
         }
     });
     RunContext c(s);

@@ -722,6 +722,43 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
     EXPECT_EQ(run("batch " + path("sweep.json") + " --dry-run").out.substr(0, 10), "reference ");
 }
 
+// A batch belongs to one build: rows finished by another shvol build are refused (a changed
+// default or a fix would mix two experiments in one ledger). A rendered reference belongs to a
+// scene: once the scene file changes it is rendered again, not reused.
+TEST_F(Cli, BatchRefusesAnotherBuildAndRenewsAStaleReference) {
+    write("s.json", scene(Homogeneous));
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [4, 8]},
+        "reference": {"spp": 64}, "metrics": ["rmse"]})");
+    const std::string batch = "batch " + path("sweep.json") + " --output " + path("out");
+    Result r = run(batch);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("rendering the reference"), std::string::npos) << r.err;
+    const std::string jsonl = path("out/results.jsonl");
+    std::string rows;
+    {
+        std::ifstream f(jsonl);
+        for (std::string line; std::getline(f, line);) {
+            auto j = nlohmann::json::parse(line);
+            EXPECT_FALSE(j.value("git_revision", "").empty());
+            j["git_revision"] = "0000000";
+            rows += j.dump() + "\n";
+        }
+    }
+    std::ofstream(jsonl) << rows;
+    r = run(batch);
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find(jsonl + ": run r0000: finished by shvol 0000000, this is "),
+              std::string::npos)
+        << r.err;
+    fs::remove(jsonl);
+    fs::remove(path("out/results.csv"));
+    write("s.json", scene(R"({"type": "homogeneous", "sigma_t": 3, "albedo": 0.8,
+                              "shape": {"type": "sphere"}})"));
+    r = run(batch);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("rendering the reference"), std::string::npos) << r.err;
+}
+
 #ifdef SHVOL_MPIEXEC
 // mpirun -np 2 shvol render: the ranks share the pixels, and the image, the intermediate --spp
 // image and the standard errors equal a single process's bit for bit; the stats count every

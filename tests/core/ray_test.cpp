@@ -41,14 +41,18 @@ TEST(Bounds3, EverywhereEmptyAndBox) {
 }
 
 // hits() answers rays from inside the box without the slab test: the same answer as the slab
-// test (the slow reference) for origins inside, on the faces and corners, and outside, for axis
-// directions, random ones and NaN, and tMax of 0, negative, finite, infinite and NaN.
+// test (the slow reference) for every pairing of origins inside, on faces, edges and corners and
+// outside with directions along the axes (zero components of either sign), random ones and NaN,
+// for tMax of 0, negative, finite, infinite and NaN.
 TEST(Bounds3, HitsFromInsideAgreesWithTheSlabTest) {
     const Bounds3 box{Vec3(-1, 0, 2), Vec3(1, 0.5, 3)};
     Rng rng(6, 6);
-    std::vector<Vec3> origins = {box.lo, box.hi, Vec3(1, 0.25, 2.5), Vec3(0, 0.5, 3)};
-    std::vector<Vec3> dirs = {Vec3(1, 0, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3::Constant(NAN)};
-    for (int i = 0; i < 2000; ++i) {
+    std::vector<Vec3> origins = {box.lo,          box.hi,           Vec3(1, 0.25, 2.5),
+                                 Vec3(0, 0.5, 3), Vec3(-1, 0, 2.5), Vec3(2, 0.25, 2.5)};
+    std::vector<Vec3> dirs = {Vec3(1, 0, 0),       Vec3(-1, 0, 0),     Vec3(0, -1, 0),
+                              Vec3(0, 0, 1),       Vec3(-0.0, 0, 1),   Vec3(0, -0.0, -1),
+                              Vec3(-0.0, -0.0, 1), Vec3::Constant(NAN)};
+    for (int i = 0; i < 300; ++i) {
         origins.push_back(
             box.lo + (box.hi - box.lo)
                          .cwiseProduct(Vec3(rng.uniform(), rng.uniform(), rng.uniform()) * 1.4 -
@@ -56,16 +60,23 @@ TEST(Bounds3, HitsFromInsideAgreesWithTheSlabTest) {
         dirs.push_back(sphericalDirection2Pi(2 * rng.uniform() - 1, rng.uniform()));
     }
     int inside = 0;
-    for (size_t i = 0; i < origins.size(); ++i)
-        for (size_t j = i % 7; j < dirs.size(); j += 7)
+    for (const Vec3& o : origins)
+        for (const Vec3& d : dirs)
             for (double tMax : {0.0, -1.0, 0.3, 5.0, double(INFINITY), double(NAN)}) {
-                const Ray r{origins[i], dirs[j]};
+                const Ray r{o, d};
                 ASSERT_EQ(box.hits(r, tMax), !intersectBox(r, box.lo, box.hi, tMax).empty())
-                    << i << " " << j << " " << tMax;
+                    << o.transpose() << " | " << d.transpose() << " | " << tMax;
                 inside +=
-                    (r.o.array() >= box.lo.array()).all() && (r.o.array() <= box.hi.array()).all();
+                    (o.array() >= box.lo.array()).all() && (o.array() <= box.hi.array()).all();
             }
     EXPECT_GT(inside, 1000);  // both branches were taken
+    // Along a face, with either sign of zero across it: inside the closed box.
+    for (double zero : {0.0, -0.0}) {
+        EXPECT_FALSE(intersectBox(Ray{box.lo, Vec3(zero, 0, 1)}, box.lo, box.hi, 5).empty());
+        EXPECT_FALSE(intersectBox(Ray{box.hi, Vec3(zero, 0, -1)}, box.lo, box.hi, 5).empty());
+        EXPECT_TRUE(
+            intersectBox(Ray{Vec3(1.5, 0, 2), Vec3(zero, 0, 1)}, box.lo, box.hi, 5).empty());
+    }
 }
 
 TEST(IntersectSphere, ChordLength) {

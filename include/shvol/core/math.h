@@ -57,13 +57,14 @@ inline Vec2 cosSin(double phi) {
     return {c, s};
 }
 
-/// (cos 2πu, sin 2πu), for the azimuth φ = 2πu of a sampler's u ∈ [0, 1] (any |u| < 2²⁸ works):
-/// u is reduced to the nearest quarter turn k/4 exactly (r = 4u − k ∈ [−½, ½] has no rounding
-/// error), and sin x, cos x at x = (π/2)·r, |x| ≤ π/4, are their Taylor polynomials through x¹⁵
-/// and x¹⁶ (the first term left out is below 10⁻¹⁶ of the result there), turned by k quarter
-/// turns by swapping and negating. Within 3·10⁻¹⁶ of the exact values (tested against long
-/// double; sincos(2π·u), whose argument is already rounded, is off by up to 7·10⁻¹⁶), and 2.7×
-/// as fast as it (build/bench_phase, Azimuth; a uniform number included).
+/// (cos 2πu, sin 2πu), for the azimuth φ = 2πu of a sampler's u ∈ [0, 1] (any finite |u| < 2²⁸
+/// works): u is reduced to the nearest quarter turn k/4 (r = 4u − k ∈ [−½, ½] is exact for the
+/// samplers' multiples of 2⁻⁵³, and within an ulp for any u), and sin x, cos x at x = (π/2)·r,
+/// |x| ≤ π/4, are their Taylor polynomials through x¹⁵ and x¹⁶ (the first term left out is below
+/// 10⁻¹⁶ of the result there), turned by k quarter turns by swapping and negating. Within
+/// 3·10⁻¹⁶ of the exact values (tested against long double; sincos(2π·u), whose argument is
+/// already rounded, is off by up to 7·10⁻¹⁶), and 2.7× as fast as it (build/bench_phase,
+/// Azimuth; a uniform number included).
 inline Vec2 cosSin2Pi(double u) {
     const double q = 4 * u;
     const int k = floorToInt(q + 0.5);
@@ -84,17 +85,18 @@ inline Vec2 cosSin2Pi(double u) {
     return {double(1 - ((k + 1) & 2)) * cs[odd], double(1 - (k & 2)) * cs[odd ^ 1]};
 }
 
-/// ω(cos θ, φ) with sin θ = √(1 − cos²θ).
-inline Vec3 sphericalDirection(double cosTheta, double phi) {
+/// ω(θ, φ) from cos θ and (cos φ, sin φ), with sin θ = √(1 − cos²θ).
+inline Vec3 sphericalDirectionFromCosSin(double cosTheta, const Vec2& cosSinPhi) {
     const double sinTheta = safeSqrt(1.0 - cosTheta * cosTheta);
-    const Vec2 cs = cosSin(phi);
-    return {sinTheta * cs.x(), sinTheta * cs.y(), cosTheta};
+    return {sinTheta * cosSinPhi.x(), sinTheta * cosSinPhi.y(), cosTheta};
+}
+/// ω(cos θ, φ).
+inline Vec3 sphericalDirection(double cosTheta, double phi) {
+    return sphericalDirectionFromCosSin(cosTheta, cosSin(phi));
 }
 /// ω(cos θ, 2πu): sphericalDirection with the azimuth of a sampler's u (cosSin2Pi).
 inline Vec3 sphericalDirection2Pi(double cosTheta, double u) {
-    const double sinTheta = safeSqrt(1.0 - cosTheta * cosTheta);
-    const Vec2 cs = cosSin2Pi(u);
-    return {sinTheta * cs.x(), sinTheta * cs.y(), cosTheta};
+    return sphericalDirectionFromCosSin(cosTheta, cosSin2Pi(u));
 }
 /// φ ∈ [0, 2π) of a direction.
 inline double sphericalPhi(const Vec3& w) {

@@ -16,14 +16,21 @@ struct Interval {
     bool empty() const { return !(t0 <= t1); }
 };
 
-/// Slab test of a ray against an axis-aligned box, clipped to [0, tMax].
+/// Slab test of a ray against an axis-aligned (closed) box, clipped to [0, tMax].
 inline Interval intersectBox(const Ray& ray, const Vec3& lo, const Vec3& hi, double tMax) {
     double t0 = 0, t1 = tMax;
     for (int a = 0; a < 3; ++a) {
-        const double inv = 1.0 / ray.d[a];  // ±inf for axis-parallel rays is handled by IEEE
+        // A ray parallel to the slab stays in it or out of it: decided by the origin, not by
+        // 0·∞ (NaN) on a face, whose outcome would depend on the sign of the zero.
+        if (ray.d[a] == 0) {
+            if (ray.o[a] < lo[a] || ray.o[a] > hi[a]) return {};
+            continue;
+        }
+        const double inv = 1.0 / ray.d[a];
         double tn = (lo[a] - ray.o[a]) * inv, tf = (hi[a] - ray.o[a]) * inv;
         if (tn > tf) std::swap(tn, tf);
-        // NaN (0·inf when the origin lies on a slab plane) must not widen the interval.
+        // NaN (0·inf for a subnormal component with the origin on a slab plane, or a NaN
+        // direction) must not widen the interval.
         if (tn > t0) t0 = tn;
         if (tf < t1) t1 = tf;
         if (t0 > t1) return {};
@@ -39,9 +46,10 @@ struct Bounds3 {
     }
     bool empty() const { return (lo.array() > hi.array()).any(); }
     /// Whether the ray meets the box within [0, tMax] (never, if the box is empty; always, with
-    /// no slab test, if it is all of space). A ray from a point of the (closed) box meets it iff
-    /// tMax ≥ 0, which is what the slab test gives there too; checked first, without the slab
-    /// test's three divisions, since most rays in a medium start inside its bounds.
+    /// no slab test and whatever tMax, if it is all of space). A ray from a point of the (closed)
+    /// box meets it iff tMax ≥ 0, which is what the slab test gives there too; checked first,
+    /// without the slab test's three divisions, since most rays in a medium start inside its
+    /// bounds.
     bool hits(const Ray& ray, double tMax) const {
         if (isEverywhere()) return true;
         if ((ray.o.array() >= lo.array()).all() && (ray.o.array() <= hi.array()).all())
