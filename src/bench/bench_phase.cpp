@@ -62,7 +62,7 @@ void HGEvalAndSincos(benchmark::State& state) {
 }
 BENCHMARK(HGEvalAndSincos);
 
-/// The azimuth's cos and sin, as every sampler computes them (cosSin2Pi) and as they were.
+/// The azimuth's cos and sin, as the analytic samplers compute them (cosSin2Pi) and as they were.
 Vec2 sincosOf2PiU(double u) {
     return cosSin(TwoPi * u);
 }
