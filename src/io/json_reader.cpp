@@ -231,6 +231,22 @@ std::optional<int> JsonReader::integerOrAuto(const std::string& key, int lo, int
     return std::nullopt;
 }
 
+std::optional<double> JsonReader::numberOrAuto(const std::string& key, double lo, double hi) {
+    if (has(key) && !raw(key).is_string()) return number(key, lo, lo, hi);
+    if (string(key, "auto") != "auto") {
+        std::ostringstream m;
+        m << "expected a number in [" << lo << ", " << hi << "] or \"auto\"";
+        error(key, m.str());
+    }
+    return std::nullopt;
+}
+
+std::optional<bool> JsonReader::booleanOrAuto(const std::string& key) {
+    if (has(key) && !raw(key).is_string()) return boolean(key, true);
+    if (string(key, "auto") != "auto") error(key, "expected true, false or \"auto\"");
+    return std::nullopt;
+}
+
 bool JsonReader::boolean(const std::string& key, bool def) {
     used_.insert(key);
     bool b = def;

@@ -67,17 +67,8 @@ RenderSettings readSettings(JsonReader r) {
     s.seed = uint64_t(seed);
     s.maxDepth = r.integer("max_depth", s.maxDepth, 0, 1 << 20);
     s.rrDepth = r.integer("rr_depth", s.rrDepth, 0, 1 << 20);
-    if (!r.has("rr_threshold") || r.raw("rr_threshold").is_string()) {  // "auto", the default
-        if (r.string("rr_threshold", "auto") != "auto")
-            r.error("rr_threshold", "expected a number in [1e-06, 1] or \"auto\"");
-    } else {
-        s.rrThreshold = r.number("rr_threshold", 1, 1e-6, 1);
-    }
-    if (!r.has("nee") || r.raw("nee").is_string()) {  // "auto", the default
-        if (r.string("nee", "auto") != "auto") r.error("nee", "expected true, false or \"auto\"");
-    } else {
-        s.nee = r.boolean("nee", true);
-    }
+    s.rrThreshold = r.numberOrAuto("rr_threshold", 1e-6, 1);  // "auto", the default: unset
+    s.nee = r.booleanOrAuto("nee");
     s.sampler =
         r.choice("sampler", sampleStreamName(s.sampler), {"sobol", "independent"}) == "sobol"
             ? SampleStream::Sobol

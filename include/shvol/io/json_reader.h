@@ -43,7 +43,11 @@ class JsonReader {
     int integer(const std::string& key, int def, int lo, int hi);
     /// An integer in [lo, hi], or "auto" (also when the key is absent): nullopt.
     std::optional<int> integerOrAuto(const std::string& key, int lo, int hi);
+    /// A number in [lo, hi], or "auto" (also when the key is absent): nullopt.
+    std::optional<double> numberOrAuto(const std::string& key, double lo, double hi);
     bool boolean(const std::string& key, bool def);
+    /// true or false, or "auto" (also when the key is absent): nullopt.
+    std::optional<bool> booleanOrAuto(const std::string& key);
     std::string string(const std::string& key, std::optional<std::string> def = {});
     /// One of the listed strings.
     std::string choice(const std::string& key, const std::string& def,
