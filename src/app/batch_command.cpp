@@ -45,21 +45,22 @@ std::string describe(const SweepRun& run) {
 /// REFERENCE.fingerprint. (Not the build: a converged reference of the same scene serves any.)
 std::string referenceStamp(const Sweep& s, bool variance) {
     const Json doc = sceneDocument(s.scene, s.reference->sets);
-    return dumpJson(doc) + "\n" + namedFileContents(doc, s.scene) + (variance ? "variance" : "");
+    return dumpJson(doc) + "\n" + namedFileContents(inputFiles(doc, s.scene)) +
+           (variance ? "variance" : "");
 }
 
-/// Whether the rendered reference is on disk with the stamp the sweep gives now.
-bool referenceCached(const Sweep& s, bool variance) {
+/// Whether the rendered reference is on disk with `stamp`, the one the sweep gives now.
+bool referenceCached(const Sweep& s, const std::string& stamp) {
     const std::string file = s.reference->file + ".fingerprint";
     if (!fs::exists(s.reference->file) || !fs::exists(file)) return false;
     std::ifstream f(file);
     const std::string have((std::istreambuf_iterator<char>(f)), {});
-    return have == referenceStamp(s, variance);
+    return have == stamp;
 }
 
-/// Renders the reference (quietly; under mpirun every rank takes part) and stamps it. Returns
-/// the exit code of the render (130: interrupted).
-int renderReference(const Sweep& s, const BatchArgs& a, bool variance) {
+/// Renders the reference (quietly; under mpirun every rank takes part) and stamps it with
+/// `stamp` (rank 0's). Returns the exit code of the render (130: interrupted).
+int renderReference(const Sweep& s, const BatchArgs& a, bool variance, const std::string& stamp) {
     const SweepReference& ref = *s.reference;
     const MpiWorld& world = MpiWorld::get();
     if (!a.quiet && world.root())
@@ -73,8 +74,7 @@ int renderReference(const Sweep& s, const BatchArgs& a, bool variance) {
     r.variance = variance;
     const int code = runRender(r);
     world.barrier();  // the other ranks read it once rank 0 has written it
-    if (code == 0 && world.root())
-        std::ofstream(ref.file + ".fingerprint") << referenceStamp(s, variance);
+    if (code == 0 && world.root()) std::ofstream(ref.file + ".fingerprint") << stamp;
     return code;
 }
 
@@ -302,9 +302,12 @@ int runBatch(BatchArgs a) {
     c.ztest = std::find(s.metrics.begin(), s.metrics.end(), "ztest") != s.metrics.end();
     c.threads = a.threads > 0 ? a.threads : threadsPerRender(a.jobs);
     if (s.reference) {
-        // The ranks render the reference together (an MPI render), once.
-        if (s.reference->render && world.broadcast(world.root() && !referenceCached(s, c.ztest)))
-            if (const int code = renderReference(s, a, c.ztest)) return code;
+        // The ranks render the reference together (an MPI render), once. Its stamp reads the
+        // files the scene names: rank 0 makes it once, to compare and to write.
+        const std::string stamp =
+            s.reference->render && world.root() ? referenceStamp(s, c.ztest) : "";
+        if (s.reference->render && world.broadcast(world.root() && !referenceCached(s, stamp)))
+            if (const int code = renderReference(s, a, c.ztest, stamp)) return code;
         collectively([&] {
             c.reference = readExr(s.reference->file);
             if (c.ztest) {

@@ -114,7 +114,7 @@ Image reference(const BenchArgs& a, std::vector<std::string> sets) {
     sets.push_back("render.spp=" + std::to_string(a.referenceSpp));
     sets.push_back("render.seed=1000000000");
     const Json doc = sceneDocument(a.scene, sets);
-    const std::string text = dumpJson(doc) + "\n" + namedFileContents(doc, a.scene);
+    const std::string text = dumpJson(doc) + "\n" + namedFileContents(inputFiles(doc, a.scene));
     const std::string file =
         (std::filesystem::path(a.cache) /
          ("shvol_bench_reference_" + hexHash(fnv1a(text.data(), text.size())) + ".exr"))

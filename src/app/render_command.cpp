@@ -321,7 +321,10 @@ int runRender(const RenderArgs& a) {
                           {"machine", machineDescription()},
                           {"mpi_ranks", spread ? world.size() : 1}};
             if (a.resume && a.checkpoint.empty()) fail("", "--resume", "needs --checkpoint FILE");
-            identity = a.checkpoint.empty() ? 0 : renderIdentity(doc, a.scene, SHVOL_GIT_REVISION);
+            identity = a.checkpoint.empty()
+                           ? 0
+                           : renderIdentity(doc, namedFileContents(provenance.at("inputs")),
+                                            SHVOL_GIT_REVISION);
             if (a.resume) film = readCheckpoint(a.checkpoint, identity);
             if (sppList.size() > 1) stops.assign(sppList.begin(), sppList.end() - 1);
         },

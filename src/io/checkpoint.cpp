@@ -8,7 +8,6 @@
 #include "shvol/core/error.h"
 #include "shvol/core/hash.h"
 #include "shvol/io/json_reader.h"
-#include "shvol/io/provenance.h"
 
 namespace shvol {
 
@@ -24,8 +23,7 @@ void put(std::string& out, const T& v) {
 
 }  // namespace
 
-uint64_t renderIdentity(Json doc, const std::string& scenePath, const std::string& build) {
-    const std::string files = namedFileContents(doc, scenePath);
+uint64_t renderIdentity(Json doc, const std::string& files, const std::string& build) {
     if (doc.contains("render") && doc["render"].is_object()) doc["render"].erase("spp");
     const std::string text = dumpJson(doc) + "\n" + files + "build " + build;
     return fnv1a(text.data(), text.size());

@@ -61,9 +61,9 @@ Json inputFiles(const Json& doc, const std::string& scenePath) {
     return out;
 }
 
-std::string namedFileContents(const Json& doc, const std::string& scenePath) {
+std::string namedFileContents(const Json& inputs) {
     std::string text;
-    for (const Json& f : inputFiles(doc, scenePath))
+    for (const Json& f : inputs)
         if (f.at("key") != "(scene)")
             text +=
                 f.at("key").get<std::string>() + " " + f.at("fnv1a64").get<std::string>() + "\n";

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "shvol/io/provenance.h"
 #include "shvol/io/scene_loader.h"
 
 #include <filesystem>
@@ -78,7 +79,8 @@ TEST(Checkpoint, IdentityIgnoresOnlyTheSampleCount) {
                    "phase": {"type": "tabulated", "file": "ckpt_table.csv"}}]})";
     std::ofstream(table) << "angle_deg,value\n0,2\n180,1\n";
     auto id = [&](const std::vector<std::string>& sets, const std::string& build = "abc") {
-        return renderIdentity(sceneDocument(scene, sets), scene, build);
+        const Json doc = sceneDocument(scene, sets);
+        return renderIdentity(doc, namedFileContents(inputFiles(doc, scene)), build);
     };
     const uint64_t id0 = id({});
     EXPECT_EQ(id({"render.spp=100"}), id0);

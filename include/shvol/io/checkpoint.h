@@ -18,12 +18,12 @@
 namespace shvol {
 
 /// Identity of a render for checkpoints: FNV-1a of its scene document (sceneDocument, after the
-/// overrides) with render.spp removed (a checkpoint may be continued to more samples), of the
-/// contents of the files it names (namedFileContents: grids, skies, tables) and of `build`, the
-/// shvol that renders (its git revision). Everything else — camera, media, seed, render
-/// settings, input files, program — must match: a resumed render is then an uninterrupted one,
-/// bit for bit.
-uint64_t renderIdentity(Json sceneDoc, const std::string& scenePath, const std::string& build);
+/// overrides) with render.spp removed (a checkpoint may be continued to more samples), of
+/// `files`, the contents of the files it names (namedFileContents: grids, skies, tables), and of
+/// `build`, the shvol that renders (its git revision). Everything else — camera, media, seed,
+/// render settings, input files, program — must match: a resumed render is then an
+/// uninterrupted one, bit for bit.
+uint64_t renderIdentity(Json sceneDoc, const std::string& files, const std::string& build);
 
 void writeCheckpoint(const std::string& path, const Film& film, uint64_t identity);
 

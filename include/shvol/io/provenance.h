@@ -14,9 +14,9 @@ namespace shvol {
 /// Relative paths are resolved against the scene's directory as the loader does.
 Json inputFiles(const Json& sceneDoc, const std::string& scenePath);
 
-/// The contents of the files the scene names (inputFiles without the scene file itself), one line
-/// "key fnv1a64" each: for identities that must change when an input file does.
-std::string namedFileContents(const Json& sceneDoc, const std::string& scenePath);
+/// The contents of the files a scene names, from its inputFiles (the scene file itself left out),
+/// one line "key fnv1a64" each: for identities that must change when an input file does.
+std::string namedFileContents(const Json& inputFiles);
 
 /// Size and FNV-1a hash of a file's contents ({"bytes", "fnv1a64"}); shvol::Error if unreadable.
 Json fileFingerprint(const std::string& path);
