@@ -172,6 +172,23 @@ TEST_F(Cli, BenchFindsTheDefaultScene) {
     const std::string row = r.out.substr(floor, r.out.find('\n', floor) - floor);
     EXPECT_NE(row.find(" | 0.00 | 0.00 |"), std::string::npos) << row;
     EXPECT_NE(r.out.find("time above the floor (1 thread): "), std::string::npos) << r.out;
+    // Bricks and OpenVDB give the same densities, so a configuration tracks the same collisions
+    // and segments with either: the last two columns (lookups and segments per path) agree.
+    auto counts = [&](const std::string& name) {
+        const size_t at = r.out.find("| " + name + " | ");
+        if (at == std::string::npos) return std::string("missing: ") + name;
+        const std::string line = r.out.substr(at, r.out.find('\n', at) - at);
+        size_t cut = line.size() - 1;  // the closing '|'
+        for (int bars = 0; bars < 2; ++bars) cut = line.rfind('|', cut - 1);
+        return line.substr(cut);
+    };
+    EXPECT_EQ(counts("global majorant, OpenVDB lookups, 1 thread"),
+              counts("global majorant, 1 thread"));
+    EXPECT_EQ(counts("OpenVDB lookups, 1 thread"), counts("defaults, 1 thread"));
+    EXPECT_NE(counts("global majorant, 1 thread"), counts("defaults, 1 thread"));
+    EXPECT_NE(r.out.find("majorant grid / global majorant, both with OpenVDB lookups (1 thread): "),
+              std::string::npos)
+        << r.out;
 }
 
 // bench --accuracy renders the reference once (cached under the cache directory) and reports
