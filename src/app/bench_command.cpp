@@ -182,7 +182,7 @@ int runBench(BenchArgs& a) {
     if (media) {
         // Time per path above the floor: what the media add to a path (none, within noise, when
         // the media cost no more than the floor).
-        const double floor = 1 / rows[6].pathsPerSecond, grid = 1 / now.pathsPerSecond - floor,
+        const double floor = 1 / rows.back().pathsPerSecond, grid = 1 / now.pathsPerSecond - floor,
                      one = 1 / global.pathsPerSecond - floor;
         std::printf("majorant grid / global majorant, time above the floor (1 thread): ");
         if (grid > 0 && one > 0)
