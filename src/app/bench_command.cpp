@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <filesystem>
 
+#include <Eigen/QR>
+
 #include "commands.h"
 #include "shvol/core/error.h"
 #include "shvol/core/hash.h"
@@ -24,7 +26,7 @@ struct BenchArgs {
     std::string scene = "media/default.json", cache = ".";
     int spp = 4, repeats = 1, referenceSpp = 4096;
     double epsilon = 0.003;
-    bool accuracy = false;
+    bool accuracy = false, cellSweep = false;
     std::vector<std::string> sets;
 };
 
@@ -107,6 +109,56 @@ double nsPerLookup(const BenchArgs& a, const std::vector<std::string>& sets) {
     return best * 1e9 / double(1 << 20);
 }
 
+/// The table rows of `rows`: paths/s, ns per path, density lookups and majorant segments per path.
+void printRows(const std::vector<Row>& rows) {
+    std::printf(
+        "| configuration | paths/s | ns/path | density lookups/path | majorant segments/path |\n"
+        "|---|---:|---:|---:|---:|\n");
+    for (const Row& r : rows)
+        std::printf("| %s | %.0f | %.1f | %.2f | %.2f |\n", r.name.c_str(), r.pathsPerSecond,
+                    1e9 / r.pathsPerSecond, r.lookupsPerPath, r.segmentsPerPath);
+}
+
+/// --cell-sweep: the defaults with majorant cells of 2, 4, 8 and 16 voxels (1 thread), and a
+/// least-squares fit over them of ns per path = shared + a·(lookups per path) + b·(segments per
+/// path). The shared part is what no majorant structure changes, so (global majorant's ns per
+/// path) / shared bounds what any of them can buy over one global majorant on whole paths.
+void cellSweep(const BenchArgs& a, const Json& doc, const Row& global) {
+    std::vector<Config> configs;
+    for (int cell : {2, 4, 8, 16})
+        configs.push_back({"majorant cells of " + std::to_string(cell) + " voxels, 1 thread",
+                           withVdbKey(doc, a.sets, "majorant_cell", std::to_string(cell)), 1});
+    if (configs[0].sets.size() == a.sets.size()) {
+        std::printf("\nno VDB medium: no majorant cell sweep\n");
+        return;
+    }
+    const std::vector<Row> rows = measure(a, configs, a.spp);
+    std::printf("\n");
+    printRows(rows);
+    Eigen::MatrixXd A(rows.size(), 3);
+    Eigen::VectorXd ns(rows.size());
+    for (size_t i = 0; i < rows.size(); ++i) {
+        A.row(Eigen::Index(i)) << 1, rows[i].lookupsPerPath, rows[i].segmentsPerPath;
+        ns(Eigen::Index(i)) = 1e9 / rows[i].pathsPerSecond;
+    }
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
+    if (qr.rank() < 3) {
+        std::printf("the cell sizes do not separate lookups from segments: no fit\n");
+        return;
+    }
+    const Eigen::VectorXd x = qr.solve(ns);
+    std::printf(
+        "ns per path fitted over the cell sizes (1 thread): %.1f shared + %.1f per density "
+        "lookup + %.1f per majorant segment\n",
+        x(0), x(1), x(2));
+    std::printf("most any majorant structure can buy over the global majorant on whole paths: ");
+    if (x(0) > 0)
+        std::printf("%.2fx (%.1f / %.1f ns per path)\n", 1e9 / global.pathsPerSecond / x(0),
+                    1e9 / global.pathsPerSecond, x(0));
+    else
+        std::printf("n/a (the fitted shared part is not positive)\n");
+}
+
 /// The converged reference for the scene after `sets`: rendered once at referenceSpp with its
 /// own seed and cached in the cache directory under a hash of the scene document and of the
 /// contents of the files it names (a changed .vdb renders a new reference).
@@ -161,12 +213,7 @@ int runBench(BenchArgs& a) {
     const std::vector<Row> rows = measure(a, configs, a.spp);
     const Row &now = rows[0], &openvdb = rows[1], &plain = rows[2], &global = rows[3],
               &globalVdb = rows[4], &two = rows[5];
-    std::printf(
-        "| configuration | paths/s | ns/path | density lookups/path | majorant segments/path |\n"
-        "|---|---:|---:|---:|---:|\n");
-    for (const Row& r : rows)
-        std::printf("| %s | %.0f | %.1f | %.2f | %.2f |\n", r.name.c_str(), r.pathsPerSecond,
-                    1e9 / r.pathsPerSecond, r.lookupsPerPath, r.segmentsPerPath);
+    printRows(rows);
     std::printf("\nns per density lookup (Medium::sigmaT): bricks %.1f, OpenVDB accessor %.1f\n",
                 nsPerLookup(a, a.sets), nsPerLookup(a, vdbLookups));
     std::printf("bricks / OpenVDB lookups (1 thread): %.2fx\n",
@@ -191,6 +238,7 @@ int runBench(BenchArgs& a) {
             std::printf("n/a (the media add no measurable time to a path)\n");
     }
     std::printf("2 threads / 1 thread: %.2fx\n", two.pathsPerSecond / now.pathsPerSecond);
+    if (a.cellSweep) cellSweep(a, doc, global);
     if (!a.accuracy) return 0;
 
     // Before issue 11: NEE toward every sky, independent numbers, OpenVDB lookups, plain delta
@@ -245,6 +293,9 @@ void addBenchCommand(CLI::App& app, std::function<int()>& run) {
         ->default_str("");
     c->add_flag("--accuracy", a->accuracy,
                 "Also measure RMSE against a converged reference (rendered once, cached)");
+    c->add_flag("--cell-sweep", a->cellSweep,
+                "Also measure majorant cells of 2, 4, 8 and 16 voxels and split ns per path into a "
+                "shared part and costs per density lookup and per majorant segment");
     c->add_option("--reference-spp", a->referenceSpp, "Samples per pixel of the reference")
         ->check(integerIn(1, 1 << 24));
     c->add_option("--epsilon", a->epsilon, "The RMSE whose time is reported")

@@ -87,6 +87,20 @@ class Cli : public testing::Test {
 const std::string Homogeneous =
     R"({"type": "homogeneous", "sigma_t": 2, "albedo": 0.8, "shape": {"type": "sphere"}})";
 
+/// The density lookups and majorant segments per path (the last two columns) of the bench table
+/// row named `name` in `out`; empty if there is no such row.
+std::vector<double> benchCounts(const std::string& out, const std::string& name) {
+    const size_t at = out.find("| " + name + " | ");
+    if (at == std::string::npos) return {};
+    std::vector<double> cells;
+    const size_t from = at + name.size() + 4;  // past "| name | "
+    std::stringstream line(out.substr(from, out.find('\n', at) - from));
+    for (std::string cell; std::getline(line, cell, '|');)
+        if (cell.find_first_not_of(' ') != std::string::npos) cells.push_back(std::stod(cell));
+    if (cells.size() < 2) return {};
+    return {cells[cells.size() - 2], cells.back()};
+}
+
 }  // namespace
 
 TEST_F(Cli, HelpAndVersion) {
@@ -174,14 +188,8 @@ TEST_F(Cli, BenchFindsTheDefaultScene) {
     EXPECT_NE(r.out.find("time above the floor (1 thread): "), std::string::npos) << r.out;
     // Bricks and OpenVDB give the same densities, so a configuration tracks the same collisions
     // and segments with either: the last two columns (lookups and segments per path) agree.
-    auto counts = [&](const std::string& name) {
-        const size_t at = r.out.find("| " + name + " | ");
-        if (at == std::string::npos) return std::string("missing: ") + name;
-        const std::string line = r.out.substr(at, r.out.find('\n', at) - at);
-        size_t cut = line.size() - 1;  // the closing '|'
-        for (int bars = 0; bars < 2; ++bars) cut = line.rfind('|', cut - 1);
-        return line.substr(cut);
-    };
+    auto counts = [&](const std::string& name) { return benchCounts(r.out, name); };
+    ASSERT_EQ(counts("defaults, 1 thread").size(), 2u) << r.out;
     EXPECT_EQ(counts("global majorant, OpenVDB lookups, 1 thread"),
               counts("global majorant, 1 thread"));
     EXPECT_EQ(counts("OpenVDB lookups, 1 thread"), counts("defaults, 1 thread"));
@@ -189,6 +197,31 @@ TEST_F(Cli, BenchFindsTheDefaultScene) {
     EXPECT_NE(r.out.find("majorant grid / global majorant, both with OpenVDB lookups (1 thread): "),
               std::string::npos)
         << r.out;
+}
+
+// bench --cell-sweep renders the default scene with majorant cells of 2, 4, 8 and 16 voxels and
+// fits ns per path over them; without a VDB medium there is nothing to sweep.
+TEST_F(Cli, BenchCellSweepFitsTheCostPerPath) {
+    Result r = run("bench --spp 1 --cell-sweep --set camera.resolution=[8,6]");
+    ASSERT_EQ(r.code, 0) << r.err;
+    std::vector<std::vector<double>> rows;
+    for (int cell : {2, 4, 8, 16}) {
+        rows.push_back(
+            benchCounts(r.out, "majorant cells of " + std::to_string(cell) + " voxels, 1 thread"));
+        ASSERT_EQ(rows.back().size(), 2u) << cell << "\n" << r.out;
+    }
+    // Finer cells: more segments per path (several times as many from 16 to 2 voxels).
+    EXPECT_GT(rows[0][1], 2 * rows[3][1]) << r.out;
+    EXPECT_NE(r.out.find("ns per path fitted over the cell sizes (1 thread): "), std::string::npos)
+        << r.out;
+    EXPECT_NE(r.out.find("most any majorant structure can buy over the global majorant"),
+              std::string::npos)
+        << r.out;
+
+    write("s.json", scene(Homogeneous));
+    r = run("bench " + path("s.json") + " --spp 1 --cell-sweep");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("no VDB medium: no majorant cell sweep"), std::string::npos) << r.out;
 }
 
 // bench --accuracy renders the reference once (cached under the cache directory) and reports
