@@ -29,18 +29,20 @@ inline constexpr double NoCollision = std::numeric_limits<double>::infinity();
 
 /// Free-flight sampling and transmittance estimation in a medium described by segments.
 /// `Segments` is a callable taking a visitor visit(t0, t1, σ_maj, σ_min) → bool (false stops the
-/// walk) with σ_min ≤ σ_t(t) ≤ σ_maj on [t0, t1). σ_t splits into a control part σ_min, constant
-/// on the segment and handled in closed form without any density lookup, and a residual part
-/// σ_t − σ_min ∈ [0, σ_maj − σ_min], tracked with null collisions at rate σ_maj − σ_min. With
-/// σ_min = 0 both functions are plain delta and ratio tracking.
+/// walk) with σ_min ≤ σ_t(t) ≤ σ_maj on [t0, t1). σ_min, constant on the segment, is known without
+/// any density lookup, and both functions use it to look σ_t up less often: ratio tracking takes
+/// the control part σ_min in closed form and tracks the residual σ_t − σ_min ∈ [0, σ_maj − σ_min]
+/// with tentative collisions at rate σ_maj − σ_min; delta tracking decides the tentative
+/// collisions (rate σ_maj) whose acceptance number falls below σ_min/σ_maj without a lookup. With
+/// σ_min = 0 both are plain delta and ratio tracking.
 ///
-/// Both Poisson processes (control events at rate σ_min, tentative collisions at rate
-/// σ_maj − σ_min) have piecewise-constant rates, so each is sampled by inverting its cumulative
-/// rate Λ(t) = ∫ rate: the next event after s is where Λ grows by E ~ Exp(1). The unused part of
-/// E is carried into the next segment (the optical-depth budget below) instead of drawing a new
-/// exponential per segment, which the memorylessness of the exponential would also allow: a
-/// segment without an event costs a multiply and a compare, no logarithm and no random number,
-/// and splitting a segment in two does not change the numbers drawn.
+/// Tentative collisions come from a Poisson process with a piecewise-constant rate, sampled by
+/// inverting its cumulative rate Λ(t) = ∫ rate: the next event after s is where Λ grows by
+/// E ~ Exp(1). The unused part of E is carried into the next segment (the optical-depth budget
+/// below) instead of drawing a new exponential per segment, which the memorylessness of the
+/// exponential would also allow: a segment without an event costs a multiply and a compare, no
+/// logarithm and no random number, and splitting a segment in two does not change the numbers
+/// drawn.
 
 /// The uniform numbers of one free flight: the first two from a pair drawn from the path's
 /// sample stream (a Sobol' request, stratified over a pixel's samples), the rest from an Rng.
@@ -85,93 +87,79 @@ class OpticalDepthBudget {
     double tau_ = -1;  ///< the budget left, or < 0: not drawn
 };
 
-namespace detail {
-/// The walk along the segments of delta tracking (kDelta: the first real collision, returned,
-/// or NoCollision) or residual ratio tracking (kRatio: the transmittance estimate to the end of
-/// the segments, in *transmittance). Both at once would serve both from the same tentative
-/// collisions (next-flight estimation, Novák et al. 2014 §5); measured under a constant sky it
-/// raised the error (validation/cycles/README.md), so nothing asks for it.
-template <bool kDelta, bool kRatio, typename Segments, typename SigmaT>
-double track(const Segments& segments, const SigmaT& sigmaT, Rng& rngRef,
-             TrackingCounters& counters, const Vec2* first, double* transmittance,
-             double rrThreshold) {
-    // The walk works on local copies (kept in registers: the caller's objects could alias the
-    // lookups' memory as far as the compiler knows) and writes them back at the end.
+/// Delta tracking (Woodcock et al. 1965) against σ_maj per segment, with σ_min ≤ σ_t sparing
+/// lookups: the tentative collision at t (rate σ_maj) is real iff u·σ_maj < σ_t(t) for a uniform
+/// u, and where u·σ_maj < σ_min that is known without looking σ_t(t) up. The decisions, and so
+/// the distances, are plain delta tracking's for the same numbers; lookups come at rate
+/// σ_maj − σ_min, as in decomposition tracking (Kutz et al. 2017, "Spectral and Decomposition
+/// Tracking for Rendering Heterogeneous Volumes", §4), whose control part at rate σ_min would
+/// take one more exponential per flight. Returns the distance of the first real collision, or
+/// NoCollision. sigmaT(t) gives σ_t at ray parameter t. The first two numbers (the first
+/// exponential and its u) come from `first` when given (FlightNumbers), the others from rng.
+template <typename Segments, typename SigmaT>
+double deltaTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rngRef,
+                  TrackingCounters& counters, const Vec2* first = nullptr) {
+    // Local copies (in registers: the caller's objects could alias the lookups' memory as far as
+    // the compiler knows), written back at the end.
     FlightNumbers rng(rngRef, first);
     TrackingCounters c = counters;
-    double hit = kDelta ? NoCollision : 0, T = kRatio ? 1 : 0;
-    // Ratio tracking's roulette once T is below the threshold: the path's survival-weight rule
-    // (rouletteSurvival) with its own threshold: survive with probability T/rrThreshold and
-    // continue with T = rrThreshold, else T = 0.
-    auto roulette = [&] {
-        if (T >= rrThreshold) return;
-        T = rng.uniform() < rouletteSurvival(T, rrThreshold) ? rrThreshold : 0;
-    };
-    auto tracking = [&] { return kDelta && hit == NoCollision; };
-    auto ratio = [&] { return kRatio && T > 0; };
-    OpticalDepthBudget control, residual;
+    double hit = NoCollision;
+    OpticalDepthBudget budget;
     segments([&](double t0, double t1, double sigmaMaj, double sigmaMin) {
         ++c.segments;
         if (!(sigmaMaj > 0)) return true;
-        // The control part: delta tracking's exponential event at rate σ_min (a real collision),
-        // ratio tracking's factor e^{−σ_min (t1 − t0)}.
-        double tControl = t0;
-        if (!(tracking() && sigmaMin > 0 &&
-              control.next(sigmaMin, 1 / sigmaMin, t1, rng, &tControl)))
-            tControl = t1;
-        if (ratio() && sigmaMin > 0) {
-            T *= std::exp(-sigmaMin * (t1 - t0));
-            roulette();
-        }
-        // The residual part: tentative collisions at rate σ_maj − σ_min, up to where either
-        // estimator still needs them.
-        const double sigmaRes = sigmaMaj - sigmaMin, invRes = 1 / sigmaRes;
-        double tEnd = ratio() ? t1 : tracking() ? tControl : t0;
-        if (sigmaRes > 0)
-            for (double t = t0; t < tEnd && residual.next(sigmaRes, invRes, tEnd, rng, &t);) {
-                ++c.densityLookups;
-                const double s = sigmaT(t) - sigmaMin;
-                if (tracking() && rng.uniform() * sigmaRes < s) {  // a real collision
-                    hit = t;
-                    if (!ratio()) break;
-                }
-                if (ratio()) {
-                    T *= std::max(0.0, 1.0 - s * invRes);
-                    roulette();
-                    if (!ratio()) tEnd = tracking() ? tControl : t0;
-                }
+        const double invMaj = 1 / sigmaMaj;
+        for (double t = t0; budget.next(sigmaMaj, invMaj, t1, rng, &t);) {
+            const double u = rng.uniform() * sigmaMaj;
+            if (u < sigmaMin) {  // real, and known to be without a lookup
+                hit = t;
+                return false;
             }
-        if (tracking() && tControl < t1) hit = tControl;
-        return tracking() || ratio();
+            ++c.densityLookups;
+            if (u < sigmaT(t)) {
+                hit = t;
+                return false;
+            }
+        }
+        return true;
     });
     rngRef = rng.rng(), counters = c;
-    if (kRatio) *transmittance = T;
     return hit;
-}
-}  // namespace detail
-
-/// Delta tracking with decomposition (Kutz et al. 2017, "Spectral and Decomposition Tracking
-/// for Rendering Heterogeneous Volumes", §4): the first real collision is the earlier of the
-/// control part's (exponential with rate σ_min) and the residual part's (delta tracking with
-/// majorant σ_maj − σ_min); the two are independent Poisson processes whose sum has rate σ_t.
-/// Returns its distance, or NoCollision. sigmaT(t) gives σ_t at ray parameter t. The first two
-/// numbers come from `first` when given (FlightNumbers), the others from rng.
-template <typename Segments, typename SigmaT>
-double deltaTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng, TrackingCounters& c,
-                  const Vec2* first = nullptr) {
-    return detail::track<true, false>(segments, sigmaT, rng, c, first, nullptr, 0.0);
 }
 
 /// Residual ratio tracking (Novák, Selle & Jarosz 2014, "Residual Ratio Tracking for
 /// Estimating Attenuation in Participating Media", §4), with the control part per segment:
 /// T = Π_segments e^{−σ_min (t1 − t0)} Π_points (1 − (σ_t − σ_min)/(σ_maj − σ_min)), over
 /// tentative points at rate σ_maj − σ_min. Roulette below T = rrThreshold keeps it unbiased:
-/// survive with probability T/rrThreshold and continue with T = rrThreshold.
+/// survive with probability T/rrThreshold and continue with T = rrThreshold (the path's
+/// survival-weight rule, rouletteSurvival, with its own threshold), else T = 0.
 template <typename Segments, typename SigmaT>
-double ratioTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng, TrackingCounters& c,
-                  double rrThreshold = 0.1) {
-    double T;
-    detail::track<false, true>(segments, sigmaT, rng, c, nullptr, &T, rrThreshold);
+double ratioTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng,
+                  TrackingCounters& counters, double rrThreshold = 0.1) {
+    TrackingCounters c = counters;  // a local copy, as in deltaTrack
+    double T = 1;
+    auto roulette = [&] {
+        if (T >= rrThreshold) return;
+        T = rng.uniform() < rouletteSurvival(T, rrThreshold) ? rrThreshold : 0;
+    };
+    OpticalDepthBudget residual;
+    segments([&](double t0, double t1, double sigmaMaj, double sigmaMin) {
+        ++c.segments;
+        if (!(sigmaMaj > 0)) return true;
+        if (sigmaMin > 0) {
+            T *= std::exp(-sigmaMin * (t1 - t0));
+            roulette();
+        }
+        const double sigmaRes = sigmaMaj - sigmaMin, invRes = 1 / sigmaRes;
+        if (sigmaRes > 0)
+            for (double t = t0; T > 0 && residual.next(sigmaRes, invRes, t1, rng, &t);) {
+                ++c.densityLookups;
+                T *= std::max(0.0, 1.0 - (sigmaT(t) - sigmaMin) * invRes);
+                roulette();
+            }
+        return T > 0;
+    });
+    counters = c;
     return T;
 }
 
