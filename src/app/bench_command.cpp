@@ -121,9 +121,10 @@ void printRows(const std::vector<Row>& rows) {
 
 /// --cell-sweep: the defaults with majorant cells of 2, 4, 8 and 16 voxels (1 thread), and a
 /// least-squares fit over them of ns per path = shared + a·(lookups per path) + b·(segments per
-/// path). The shared part is what no majorant structure changes, so (global majorant's ns per
-/// path) / shared bounds what any of them can buy over one global majorant on whole paths.
-void cellSweep(const BenchArgs& a, const Json& doc, const Row& global) {
+/// path). The shared part is what no majorant structure changes at this lookup cost, so (global
+/// majorant's ns per path, measured in the same rounds) / shared bounds what any of them can buy
+/// over one global majorant on whole paths. The fit's RMS residual shows how far to trust it.
+void cellSweep(const BenchArgs& a, const Json& doc) {
     std::vector<Config> configs;
     for (int cell : {2, 4, 8, 16})
         configs.push_back({"majorant cells of " + std::to_string(cell) + " voxels, 1 thread",
@@ -132,7 +133,11 @@ void cellSweep(const BenchArgs& a, const Json& doc, const Row& global) {
         std::printf("\nno VDB medium: no majorant cell sweep\n");
         return;
     }
-    const std::vector<Row> rows = measure(a, configs, a.spp);
+    configs.push_back(
+        {"global majorant, 1 thread", withVdbKey(doc, a.sets, "majorant_grid", "false"), 1});
+    std::vector<Row> rows = measure(a, configs, a.spp);
+    const Row global = rows.back();
+    rows.pop_back();
     std::printf("\n");
     printRows(rows);
     Eigen::MatrixXd A(rows.size(), 3);
@@ -149,12 +154,14 @@ void cellSweep(const BenchArgs& a, const Json& doc, const Row& global) {
     const Eigen::VectorXd x = qr.solve(ns);
     std::printf(
         "ns per path fitted over the cell sizes (1 thread): %.1f shared + %.1f per density "
-        "lookup + %.1f per majorant segment\n",
-        x(0), x(1), x(2));
-    std::printf("most any majorant structure can buy over the global majorant on whole paths: ");
+        "lookup + %.1f per majorant segment (RMS residual %.1f ns)\n",
+        x(0), x(1), x(2), std::sqrt((A * x - ns).squaredNorm() / double(rows.size())));
+    const double globalNs = 1e9 / global.pathsPerSecond;
+    std::printf(
+        "most any majorant structure can buy over the global majorant on whole paths at "
+        "this lookup cost: ");
     if (x(0) > 0)
-        std::printf("%.2fx (%.1f / %.1f ns per path)\n", 1e9 / global.pathsPerSecond / x(0),
-                    1e9 / global.pathsPerSecond, x(0));
+        std::printf("%.2fx (%.1f / %.1f ns per path)\n", globalNs / x(0), globalNs, x(0));
     else
         std::printf("n/a (the fitted shared part is not positive)\n");
 }
@@ -238,7 +245,7 @@ int runBench(BenchArgs& a) {
             std::printf("n/a (the media add no measurable time to a path)\n");
     }
     std::printf("2 threads / 1 thread: %.2fx\n", two.pathsPerSecond / now.pathsPerSecond);
-    if (a.cellSweep) cellSweep(a, doc, global);
+    if (a.cellSweep) cellSweep(a, doc);
     if (!a.accuracy) return 0;
 
     // Before issue 11: NEE toward every sky, independent numbers, OpenVDB lookups, plain delta

@@ -93,7 +93,7 @@ std::vector<double> benchCounts(const std::string& out, const std::string& name)
     const size_t at = out.find("| " + name + " | ");
     if (at == std::string::npos) return {};
     std::vector<double> cells;
-    const size_t from = at + name.size() + 4;  // past "| name | "
+    const size_t from = at + name.size() + 4;  // past "| name |"
     std::stringstream line(out.substr(from, out.find('\n', at) - from));
     for (std::string cell; std::getline(line, cell, '|');)
         if (cell.find_first_not_of(' ') != std::string::npos) cells.push_back(std::stod(cell));

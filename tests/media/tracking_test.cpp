@@ -1,5 +1,6 @@
-// Delta and ratio tracking with and without the control part (decomposition tracking, residual
-// ratio tracking) against the closed form of a medium whose σ_t(t) is known on two segments.
+// Delta and ratio tracking with and without the control part (the lower bound σ_min: lookups
+// spared in free flights, residual ratio tracking) against the closed form of a medium whose
+// σ_t(t) is known on two segments.
 #include "shvol/media/tracking.h"
 
 #include <gtest/gtest.h>

@@ -107,16 +107,16 @@ double deltaTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rngRef,
     OpticalDepthBudget budget;
     segments([&](double t0, double t1, double sigmaMaj, double sigmaMin) {
         ++c.segments;
-        if (!(sigmaMaj > 0)) return true;
+        if (!(sigmaMaj > 0) || !(t1 > t0)) return true;
         const double invMaj = 1 / sigmaMaj;
         for (double t = t0; budget.next(sigmaMaj, invMaj, t1, rng, &t);) {
-            const double u = rng.uniform() * sigmaMaj;
-            if (u < sigmaMin) {  // real, and known to be without a lookup
+            const double uMaj = rng.uniform() * sigmaMaj;
+            if (uMaj < sigmaMin) {  // real, and known to be without a lookup
                 hit = t;
                 return false;
             }
             ++c.densityLookups;
-            if (u < sigmaT(t)) {
+            if (uMaj < sigmaT(t)) {
                 hit = t;
                 return false;
             }
@@ -134,9 +134,10 @@ double deltaTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rngRef,
 /// survive with probability T/rrThreshold and continue with T = rrThreshold (the path's
 /// survival-weight rule, rouletteSurvival, with its own threshold), else T = 0.
 template <typename Segments, typename SigmaT>
-double ratioTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng,
+double ratioTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rngRef,
                   TrackingCounters& counters, double rrThreshold = 0.1) {
-    TrackingCounters c = counters;  // a local copy, as in deltaTrack
+    Rng rng = rngRef;  // local copies, as in deltaTrack
+    TrackingCounters c = counters;
     double T = 1;
     auto roulette = [&] {
         if (T >= rrThreshold) return;
@@ -145,7 +146,7 @@ double ratioTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng,
     OpticalDepthBudget residual;
     segments([&](double t0, double t1, double sigmaMaj, double sigmaMin) {
         ++c.segments;
-        if (!(sigmaMaj > 0)) return true;
+        if (!(sigmaMaj > 0) || !(t1 > t0)) return true;
         if (sigmaMin > 0) {
             T *= std::exp(-sigmaMin * (t1 - t0));
             roulette();
@@ -159,7 +160,7 @@ double ratioTrack(const Segments& segments, const SigmaT& sigmaT, Rng& rng,
             }
         return T > 0;
     });
-    counters = c;
+    rngRef = rng, counters = c;
     return T;
 }
 
