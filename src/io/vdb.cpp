@@ -473,9 +473,10 @@ class VdbMedium final : public Medium {
         // Float rounding in the trilinear interpolation (three levels of lerps a + (b − a)·w,
         // each rounded three times, every value at most the cell's maximum m) errs by at most
         // 3·3·2⁻²⁴·m ≈ 5.4·10⁻⁷·m, also when the result is near the minimum: a lerp from 1 to
-        // 0.001 can land 10⁻⁵ of 0.001 below 0.001. So the majorant is inflated, and the minorant deflated, by
-        // 10⁻⁶·m: σ_min ≤ σ_t ≤ σ_maj holds for the computed σ_t, the residual σ_t − σ_min is
-        // never below 0, and a collision accepted below σ_min is one σ_t would accept.
+        // 0.001 can land 10⁻⁵ of 0.001 below 0.001. So the majorant is inflated, and the
+        // minorant deflated, by 10⁻⁶·m: σ_min ≤ σ_t ≤ σ_maj holds for the computed σ_t, the
+        // residual σ_t − σ_min is never below 0, and a collision accepted below σ_min is one σ_t
+        // would accept.
         const double k = scale_ * (1 + 1e-6);
         return [this, o, d, tMax, k](auto&& visit) {
             majorants_.traverse(o, d, 0, tMax, [&](double t0, double t1, double m, double mn) {
