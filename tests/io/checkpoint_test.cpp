@@ -69,9 +69,9 @@ TEST(Checkpoint, DamagedOrForeignFilesAreRefused) {
               tempPath("missing.bin") + ": cannot open checkpoint");
 }
 
-// The identity ignores render.spp (a render may be continued to more samples) and nothing else.
-// The identity follows the scene document without its sample count, the contents of the files it
-// names (not their names' spelling alone) and the program's build.
+// The identity ignores render.spp (a render may be continued to more samples) and follows the
+// rest of the scene document, the contents of the files it names (not their names' spelling
+// alone) and the program's build.
 TEST(Checkpoint, IdentityIgnoresOnlyTheSampleCount) {
     const std::string scene = tempPath("scene.json"), table = tempPath("table.csv");
     std::ofstream(scene) << R"({"render": {"spp": 4, "seed": 1}, "camera": {"fov": 30},
