@@ -16,24 +16,39 @@ namespace fs = std::filesystem;
 
 namespace {
 
-void collectFiles(const Json& j, const std::string& path, const fs::path& dir, Json& out) {
+/// fileFingerprint(path) with its "key" and absolute "path", read through `memo` when given.
+Json namedFingerprint(const fs::path& p, const std::string& key,
+                      std::map<std::string, Json>* memo) {
+    const std::string path = p.lexically_normal().string();
+    Json e;
+    if (!memo) {
+        e = fileFingerprint(path);
+    } else {
+        auto it = memo->find(path);
+        if (it == memo->end()) it = memo->emplace(path, fileFingerprint(path)).first;
+        e = it->second;
+    }
+    e["key"] = key;
+    e["path"] = fs::absolute(p).lexically_normal().string();
+    return e;
+}
+
+void collectFiles(const Json& j, const std::string& path, const fs::path& dir, Json& out,
+                  std::map<std::string, Json>* memo) {
     if (j.is_object()) {
         for (auto it = j.begin(); it != j.end(); ++it) {
             const std::string key = path.empty() ? it.key() : path + "." + it.key();
             if (it.key() == "file" && it.value().is_string()) {
                 fs::path p(it.value().get<std::string>());
                 if (p.is_relative()) p = dir / p;
-                Json e = fileFingerprint(p.lexically_normal().string());
-                e["key"] = key;
-                e["path"] = fs::absolute(p).lexically_normal().string();
-                out.push_back(e);
+                out.push_back(namedFingerprint(p, key, memo));
             } else {
-                collectFiles(it.value(), key, dir, out);
+                collectFiles(it.value(), key, dir, out, memo);
             }
         }
     } else if (j.is_array()) {
         for (size_t i = 0; i < j.size(); ++i)
-            collectFiles(j[i], path + "[" + std::to_string(i) + "]", dir, out);
+            collectFiles(j[i], path + "[" + std::to_string(i) + "]", dir, out, memo);
     }
 }
 
@@ -51,13 +66,10 @@ Json fileFingerprint(const std::string& path) {
     return {{"bytes", bytes}, {"fnv1a64", hexHash(h)}};
 }
 
-Json inputFiles(const Json& doc, const std::string& scenePath) {
+Json inputFiles(const Json& doc, const std::string& scenePath, std::map<std::string, Json>* memo) {
     Json out = Json::array();
-    Json scene = fileFingerprint(scenePath);
-    scene["key"] = "(scene)";
-    scene["path"] = fs::absolute(scenePath).lexically_normal().string();
-    out.push_back(scene);
-    collectFiles(doc, "", fs::path(scenePath).parent_path(), out);
+    out.push_back(namedFingerprint(scenePath, "(scene)", memo));
+    collectFiles(doc, "", fs::path(scenePath).parent_path(), out, memo);
     return out;
 }
 

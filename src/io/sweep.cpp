@@ -3,9 +3,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include "shvol/core/error.h"
 #include "shvol/core/hash.h"
+#include "shvol/io/provenance.h"
 #include "shvol/io/scene_loader.h"
 
 namespace shvol {
@@ -37,10 +39,13 @@ std::string assignment(const std::string& key, const Json& v) {
     return key + "=" + dumpJson(v);
 }
 
-/// FNV-1a of the scene document `base` after the run's assignments.
-std::string fingerprint(Json doc, const std::string& scene, const std::vector<std::string>& sets) {
+/// FNV-1a of the scene document `base` after the run's assignments and of the contents of the
+/// files it then names (read through `memo`: once per sweep each).
+std::string fingerprint(Json doc, const std::string& scene, const std::vector<std::string>& sets,
+                        std::map<std::string, Json>& memo) {
     for (const std::string& s : sets) applyOverride(doc, s, scene);
-    const std::string text = dumpJson(doc);
+    const std::string text =
+        dumpJson(doc) + "\n" + namedFileContents(inputFiles(doc, scene, &memo));
     return hexHash(fnv1a(text.data(), text.size()));
 }
 
@@ -90,6 +95,7 @@ Sweep readSweep(const std::string& path) {
     }
 
     const Json sceneDoc = sceneDocument(s.scene);  // read once, not once per run
+    std::map<std::string, Json> inputs;            // the files runs name, each read once
     // Points: grid (first axis slowest) or zip.
     std::vector<std::vector<size_t>> points;
     if (s.axes.empty()) {
@@ -126,7 +132,7 @@ Sweep readSweep(const std::string& path) {
             run.values["repeat"] = k;
             if (!seedAxis)
                 run.sets.push_back("render.seed=" + std::to_string((long long)seed0 + k));
-            run.fingerprint = fingerprint(sceneDoc, s.scene, run.sets);
+            run.fingerprint = fingerprint(sceneDoc, s.scene, run.sets, inputs);
             s.runs.push_back(run);
         }
 

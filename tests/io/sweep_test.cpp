@@ -59,6 +59,32 @@ TEST(Sweep, ZipAndReference) {
     EXPECT_EQ(s.metrics, (std::vector<std::string>{"rmse", "relmse", "mae", "bias"}));
 }
 
+// A run's fingerprint covers the files its scene names, not only their names: a grid rewritten in
+// place is another experiment. Two axis values name two files, so each run is checked against its
+// own file.
+TEST(Sweep, FingerprintFollowsTheContentsOfNamedFiles) {
+    // (A relative path assigned to a file key is relative to the current directory, as for --set.)
+    const fs::path dir = fs::path(testing::TempDir()) / "shvol_sweep_contents";
+    const std::string a = (dir / "a.exr").string(), b = (dir / "b.exr").string();
+    const std::string sweep = writeSweep("contents", R"({"scene": "scene.json",
+        "axes": {"environment.file": [")" + a + R"(", ")" +
+                                                         b + R"("]}})");
+    std::ofstream(dir / "scene.json") << R"({"environment": {"type": "image", "file": "a.exr"}})";
+    auto write = [](const std::string& path, const char* bytes) { std::ofstream(path) << bytes; };
+    write(a, "first");
+    write(b, "first");
+    const Sweep s0 = readSweep(sweep);
+    ASSERT_EQ(s0.runs.size(), 2u);
+    EXPECT_EQ(readSweep(sweep).runs[0].fingerprint, s0.runs[0].fingerprint);  // unchanged files
+    write(b, "second");
+    const Sweep s1 = readSweep(sweep);
+    EXPECT_EQ(s1.runs[0].fingerprint, s0.runs[0].fingerprint);  // a.exr: still the same
+    EXPECT_NE(s1.runs[1].fingerprint, s0.runs[1].fingerprint);  // b.exr: rewritten
+    fs::remove(a);
+    const std::string m = test::messageOf([&] { readSweep(sweep); });
+    EXPECT_NE(m.find("a.exr: cannot open file"), std::string::npos) << m;
+}
+
 TEST(Sweep, ErrorsNameFileAndKey) {
     auto err = [](const std::string& name, const std::string& body) {
         const std::string p = writeSweep(name, body);

@@ -22,8 +22,9 @@ struct SweepRun {
     std::string id;                 ///< "r0007"
     Json values;                    ///< {axis key: value, …, "repeat": k}
     std::vector<std::string> sets;  ///< --set assignments: base, axes, render.seed, render.spp
-    /// FNV-1a of the scene document after `sets` (spp included): a finished run whose
-    /// fingerprint changed would be a different render.
+    /// FNV-1a of the scene document after `sets` (spp included) and of the contents of the files
+    /// it names (grids, skies, tables): a finished run whose fingerprint changed would be a
+    /// different render.
     std::string fingerprint;
 };
 
