@@ -222,6 +222,24 @@ TEST_F(Cli, BenchCellSweepFitsTheCostPerPath) {
     r = run("bench " + path("s.json") + " --spp 1 --cell-sweep");
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("no VDB medium: no majorant cell sweep"), std::string::npos) << r.out;
+
+    // One tile over 4096³ voxels: every asked cell is doubled to 32 voxels (at most 2^22 cells),
+    // and the rows say so; with one cell size there is nothing to fit.
+    write("tile.json", R"({"camera": {"resolution": [4, 3]},
+        "media": [{"type": "vdb", "file": ")" SHVOL_SOURCE_DIR R"(/tests/fuzz/vdb/root_tile.vdb",
+                   "density_scale": 0.001}]})");
+    r = run("bench " + path("tile.json") + " --spp 1 --cell-sweep");
+    ASSERT_EQ(r.code, 0) << r.err;
+    for (int cell : {2, 4, 8, 16})
+        EXPECT_EQ(benchCounts(r.out, "majorant cells of 32 voxels (" + std::to_string(cell) +
+                                         " asked; at most 2^22 cells), 1 thread")
+                      .size(),
+                  2u)
+            << cell << "\n"
+            << r.out;
+    EXPECT_NE(r.out.find("the cell sizes do not separate lookups from segments: no fit"),
+              std::string::npos)
+        << r.out;
 }
 
 // bench --accuracy renders the reference once (cached under the cache directory) and reports
