@@ -682,10 +682,11 @@ std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc) {
         }
         cellVoxels = int(cell);
         if (automatic) {
-            // The cell edge (2 … 32 voxels) that minimises the expected cost of tracking along
-            // fixed random lines through the medium's box: a DDA step costs about 1/7 of a
-            // tentative collision (build/bench_io, PlumeSegments and PlumeFreeFlight: 10.6 ns
-            // per segment, 72 ns per tentative collision with its exponential and lookup).
+            // The cell edge (2 voxels, doubled up to one cell over the whole grid) that minimises
+            // the expected cost of tracking along fixed random lines through the medium's box: a
+            // DDA step costs about 1/7 of a tentative collision (build/bench_io, PlumeSegments and
+            // PlumeFreeFlight: 10.6 ns per segment, 72 ns per tentative collision with its
+            // exponential and lookup). (The index range, ±2^30, keeps the edge an int.)
             constexpr double kSegmentCost = 1.0 / 7;
             std::vector<std::pair<Vec3, Vec3>> lines;
             Rng rng(0x6d616a6f72616e74ULL, 0);
@@ -696,7 +697,7 @@ std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc) {
                 lines.emplace_back(p, worldToIndex.linear() * sampleUniformSphere(rng.uniform2()));
             }
             double best = majorants.trackingCost(lines, desc.densityScale, kSegmentCost);
-            for (MajorantGrid g = majorants; cell < 32 && g.resolution().maxCoeff() > 1;) {
+            for (MajorantGrid g = majorants; g.resolution().maxCoeff() > 1 && cell < (1 << 30);) {
                 g = g.coarsened();
                 cell *= 2;
                 const double cost = g.trackingCost(lines, desc.densityScale, kSegmentCost);

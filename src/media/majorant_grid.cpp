@@ -38,6 +38,7 @@ double MajorantGrid::at(const Vec3& p) const {
 MajorantGrid MajorantGrid::coarsened() const {
     const Eigen::Vector3i res = (res_ + Eigen::Vector3i::Ones()) / 2;
     MajorantGrid g(lo_, lo_ + 2 * cellSize_.cwiseProduct(res.cast<double>()), res);
+    g.hi_ = hi_;  // the same box: no walk or lookup reaches the last cells' part beyond it
     for (int z = 0; z < res_.z(); ++z)
         for (int y = 0; y < res_.y(); ++y)
             for (int x = 0; x < res_.x(); ++x) {

@@ -143,10 +143,11 @@ TEST(Vdb, MajorantGridSavesLookups) {
 }
 
 // The automatic cell size follows the cost model's limits: a nearly transparent medium costs
-// segments only (the coarsest candidate, 32 voxels), a small dense sphere costs tentative
-// collisions in its cells' empty corners (the finest, 2 voxels).
+// segments only (the coarsest candidate: one cell, of 64 voxels, over the whole grid), a small
+// dense sphere costs tentative collisions in its cells' empty corners (the finest, 2 voxels).
 TEST(Vdb, AutomaticMajorantCells) {
-    // The sphere with a speck in one corner, so that the grid spans 66 voxels.
+    // The sphere (radius 0.1 about the centre) and a block beyond 0.45 on every axis: the grid
+    // spans 0.4 to 1 of 64 voxels, 40 with the trilinear reach.
     VdbGridSpec s = sphereSpec(64, 0.1);
     s.density = [](const Vec3& p) {
         return p.minCoeff() > 0.45 ? 1.f : float(sphereDensity(p, 0.1, 1.0 / 64));
@@ -157,7 +158,7 @@ TEST(Vdb, AutomaticMajorantCells) {
         d.file = tmp("auto.vdb");
         d.densityScale = scale;
         const std::string want =
-            scale < 1 ? "cells of 32 voxels (auto)" : "cells of 2 voxels (auto)";
+            scale < 1 ? "cells of 64 voxels (auto)" : "cells of 2 voxels (auto)";
         const std::string got = loadVdbMedium(d)->describe();
         EXPECT_NE(got.find(want), std::string::npos) << got;
     }
@@ -381,7 +382,10 @@ TEST(Vdb, DamagedFilesAreRefusedBeforeOpenVdbReadsThem) {
 }
 
 // One root tile of a 586-byte file covers 4096³ voxels. Its majorant grid at the default 8-voxel
-// cells would have 512³ cells (1 GB); cells are doubled until there are at most 2^22.
+// cells would have 512³ cells (1 GB); cells are doubled until there are at most 2^22. Its density
+// is constant, so the automatic choice is one cell over the whole grid (4098 voxels with the
+// trilinear reach; 8192 the power of two): a finer grid only adds DDA steps (46 per path where
+// the choice stopped at 32 voxels, which made bench's paths 8.4x slower than one cell's).
 TEST(Vdb, OneTileOverAHugeRegionLoadsQuickly) {
     VdbMediumDesc d;
     d.file = std::string(SHVOL_SOURCE_DIR) + "/tests/fuzz/vdb/root_tile.vdb";
@@ -392,6 +396,8 @@ TEST(Vdb, OneTileOverAHugeRegionLoadsQuickly) {
     EXPECT_NEAR(m->sigmaT(Vec3(0.5, 0.25, 0.75)), 2, 1e-6);
     EXPECT_GE(m->sigmaMajorant(Vec3(0.5, 0.25, 0.75)), 2);
     EXPECT_EQ(m->sigmaT(Vec3(-0.5, 0.5, 0.5)), 0);
+    EXPECT_NE(m->describe().find("majorant cells of 8192 voxels (auto)"), std::string::npos)
+        << m->describe();
 }
 
 TEST(Vdb, SingularTransformAndFarLookups) {

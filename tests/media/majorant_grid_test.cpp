@@ -74,7 +74,8 @@ TEST(MajorantGrid, VisitorCanStopTheWalk) {
 }
 
 // A coarsened grid holds what expand() gives a grid built directly with cells twice as large
-// (aligned with the fine cells, an odd resolution rounding up).
+// (aligned with the fine cells, an odd resolution rounding up), over the fine grid's box: its
+// last cells reach beyond it, and no walk goes there.
 TEST(MajorantGrid, CoarsenedEqualsDirectBuild) {
     const Vec3 lo(-1, -2, 0);
     const Eigen::Vector3i res(5, 3, 7), half(3, 2, 4);
@@ -90,7 +91,12 @@ TEST(MajorantGrid, CoarsenedEqualsDirectBuild) {
     }
     const MajorantGrid coarse = fine.coarsened();
     ASSERT_EQ(coarse.resolution(), half);
-    EXPECT_EQ(coarse.upper(), direct.upper());
+    EXPECT_EQ(coarse.upper(), fine.upper());
+    EXPECT_NE(coarse.upper(), direct.upper());
+    double tEnd = 0;
+    coarse.traverse(lo - Vec3(1, 1, 1), Vec3(1, 1, 1), 0, INFINITY,
+                    [&](double, double t1, double, double) { return tEnd = t1, true; });
+    EXPECT_DOUBLE_EQ(tEnd, 4);  // out through y = lo.y + 3, not lo.y + 4 (the coarse cells' t = 5)
     for (int z = 0; z < half.z(); ++z)
         for (int y = 0; y < half.y(); ++y)
             for (int x = 0; x < half.x(); ++x)

@@ -38,9 +38,11 @@ class MajorantGrid {
     double at(const Vec3& p) const;
 
     /// The grid with cells twice as large on every axis, ⌈res/2⌉ of them from the same lower
-    /// corner (its box grows to lo + 2·cellSize·⌈res/2⌉): each cell holds the largest value of
-    /// the cells it covers, which is what expand() with the same boxes would have given it.
-    /// Lower bounds are not carried over.
+    /// corner, over the same box [lo, hi]: where the last cells reach beyond hi, traverse and at
+    /// treat that part as outside, as before (were it walked, a cell as large as the whole
+    /// medium would double its box on every axis, all of it at the medium's maximum). Each cell
+    /// holds the largest value of the cells it covers, which is what expand() with the same boxes
+    /// would have given it. Lower bounds are not carried over.
     MajorantGrid coarsened() const;
 
     /// The expected cost of tracking along lines through the grid, mean over `rays` (origin and
