@@ -215,6 +215,14 @@ std::string defaultBenchScene() {
 int runBench(BenchArgs& a) {
     std::fprintf(stderr, "shvol bench %s (%d spp)\n", a.scene.c_str(), a.spp);
     const Json doc = sceneDocument(a.scene, a.sets);
+    if (a.accuracy) {  // made now, not after minutes of rendering the reference
+        std::error_code ec;
+        std::filesystem::create_directories(a.cache, ec);
+        if (ec || !std::filesystem::is_directory(a.cache))
+            fail(a.cache, "",
+                 "cannot make the --cache directory" +
+                     (ec ? " (" + ec.message() + ")" : std::string()));
+    }
     const std::vector<std::string> vdbLookups = withVdbKey(doc, a.sets, "lookup", "\"openvdb\"");
     std::vector<Config> configs = {
         {"defaults, 1 thread", a.sets, 1},
@@ -320,7 +328,7 @@ void addBenchCommand(CLI::App& app, std::function<int()>& run) {
         ->check(integerIn(1, 1 << 24));
     c->add_option("--epsilon", a->epsilon, "The RMSE whose time is reported")
         ->check(numberIn(0, 1e30, true));
-    c->add_option("--cache", a->cache, "Directory of cached references");
+    c->add_option("--cache", a->cache, "Directory of cached references (made if missing)");
     c->callback([&run, a, c] {
         run = [a, c] {
             if (c->count("scene") == 0) a->scene = defaultBenchScene();

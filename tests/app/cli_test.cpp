@@ -257,6 +257,19 @@ TEST_F(Cli, BenchAccuracyCachesItsReference) {
     r = run(args);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("(cached)"), std::string::npos) << r.err;
+
+    // A missing cache directory is made; one that cannot be is refused before anything renders.
+    const std::string small = "bench " + path("s.json") + " --accuracy --spp 1 --reference-spp 4";
+    r = run(small + " --cache " + path("new/deeper"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(fs::is_directory(path("new/deeper")));
+    r = run(small + " --cache " + path("s.json/sub"));
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(
+        r.err.find("shvol: error: " + path("s.json/sub") + ": cannot make the --cache directory"),
+        std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.err.find("paths/s"), std::string::npos) << r.err;  // nothing measured
 }
 
 // The cached reference is keyed by the contents of the files the scene names too: a .vdb
