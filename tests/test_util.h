@@ -1,5 +1,7 @@
 #pragma once
 // Helpers shared by the test programs.
+#include <gtest/gtest.h>
+
 #include <functional>
 #include <string>
 
@@ -15,6 +17,17 @@ inline std::string messageOf(const std::function<void()>& f) {
         return e.what();
     }
     return "(no error)";
+}
+
+/// A path in the test temporary directory that only the running test uses ("shvol_", its suite
+/// and name, then `name`): ctest runs tests in parallel, each in its own process, and two tests
+/// writing the same file while the other reads it fail at random.
+inline std::string privateTempPath(const std::string& name) {
+    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string id = info ? std::string(info->test_suite_name()) + "." + info->name() : "none";
+    for (char& c : id)
+        if (c == '/') c = '_';  // parameterized tests: Cases/Suite.Name/3
+    return ::testing::TempDir() + "/shvol_" + id + "_" + name;
 }
 
 }  // namespace shvol::test

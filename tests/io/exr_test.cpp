@@ -21,7 +21,7 @@ namespace shvol {
 
 namespace {
 std::string tmp(const std::string& name) {
-    return testing::TempDir() + "/shvol_exr_" + name;
+    return test::privateTempPath(name);
 }
 using shvol::test::messageOf;
 }  // namespace

@@ -16,7 +16,7 @@ namespace {
 using shvol::test::messageOf;
 
 std::string tmp(const std::string& name) {
-    return testing::TempDir() + "shvol_mesh_" + name;  // TempDir() ends with '/'
+    return test::privateTempPath(name);
 }
 
 std::string write(const std::string& name, const std::string& bytes) {

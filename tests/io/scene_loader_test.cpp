@@ -196,7 +196,7 @@ namespace {
 
 /// A directory with a closed box mesh (box.obj), an open one (open.obj) and a scene file path.
 struct SurfaceFiles {
-    std::string dir = ::testing::TempDir() + "shvol_surface_loader";
+    std::string dir = test::privateTempPath("surface_loader");
     SurfaceFiles() {
         std::filesystem::create_directories(dir);
         std::ofstream(dir + "/box.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
