@@ -272,6 +272,8 @@ int runBatch(BatchArgs a) {
         std::printf("%zu runs into %s\n", s.runs.size(), s.output.c_str());
         return 0;
     }
+    // Every rank stamps the runs it may render (it reads their files to render them anyway).
+    collectively([&] { fingerprintInputs(s); });
     // Rank 0 keeps the ledger. A finished run must be the run the sweep describes now, or
     // resuming would mix experiments.
     std::optional<Ledger> ledger;

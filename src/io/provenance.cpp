@@ -21,12 +21,16 @@ Json namedFingerprint(const fs::path& p, const std::string& key,
                       std::map<std::string, Json>* memo) {
     const std::string path = p.lexically_normal().string();
     Json e;
-    if (!memo) {
-        e = fileFingerprint(path);
-    } else {
-        auto it = memo->find(path);
-        if (it == memo->end()) it = memo->emplace(path, fileFingerprint(path)).first;
-        e = it->second;
+    try {
+        if (!memo) {
+            e = fileFingerprint(path);
+        } else {
+            auto it = memo->find(path);
+            if (it == memo->end()) it = memo->emplace(path, fileFingerprint(path)).first;
+            e = it->second;
+        }
+    } catch (const Error& err) {  // the file's own line, and which key named it
+        throw Error(std::string(err.what()) + " (named by " + key + ")");
     }
     e["key"] = key;
     e["path"] = fs::absolute(p).lexically_normal().string();

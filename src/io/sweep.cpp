@@ -39,13 +39,13 @@ std::string assignment(const std::string& key, const Json& v) {
     return key + "=" + dumpJson(v);
 }
 
-/// FNV-1a of the scene document `base` after the run's assignments and of the contents of the
-/// files it then names (read through `memo`: once per sweep each).
-std::string fingerprint(Json doc, const std::string& scene, const std::vector<std::string>& sets,
-                        std::map<std::string, Json>& memo) {
+/// The scene document `base` after the run's assignments.
+Json runDocument(Json doc, const std::string& scene, const std::vector<std::string>& sets) {
     for (const std::string& s : sets) applyOverride(doc, s, scene);
-    const std::string text =
-        dumpJson(doc) + "\n" + namedFileContents(inputFiles(doc, scene, &memo));
+    return doc;
+}
+
+std::string hashText(const std::string& text) {
     return hexHash(fnv1a(text.data(), text.size()));
 }
 
@@ -95,7 +95,6 @@ Sweep readSweep(const std::string& path) {
     }
 
     const Json sceneDoc = sceneDocument(s.scene);  // read once, not once per run
-    std::map<std::string, Json> inputs;            // the files runs name, each read once
     // Points: grid (first axis slowest) or zip.
     std::vector<std::vector<size_t>> points;
     if (s.axes.empty()) {
@@ -132,7 +131,7 @@ Sweep readSweep(const std::string& path) {
             run.values["repeat"] = k;
             if (!seedAxis)
                 run.sets.push_back("render.seed=" + std::to_string((long long)seed0 + k));
-            run.fingerprint = fingerprint(sceneDoc, s.scene, run.sets, inputs);
+            run.fingerprint = hashText(dumpJson(runDocument(sceneDoc, s.scene, run.sets)));
             s.runs.push_back(run);
         }
 
@@ -171,6 +170,16 @@ Sweep readSweep(const std::string& path) {
     if (!s.metrics.empty() && !s.reference) r.error("metrics", "metrics need a \"reference\"");
     r.finish();
     return s;
+}
+
+void fingerprintInputs(Sweep& s) {
+    const Json sceneDoc = sceneDocument(s.scene);
+    std::map<std::string, Json> memo;  // the files the runs name, each read once
+    for (SweepRun& run : s.runs) {
+        const Json doc = runDocument(sceneDoc, s.scene, run.sets);
+        run.fingerprint =
+            hashText(run.fingerprint + "\n" + namedFileContents(inputFiles(doc, s.scene, &memo)));
+    }
 }
 
 }  // namespace shvol

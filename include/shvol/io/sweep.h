@@ -22,9 +22,9 @@ struct SweepRun {
     std::string id;                 ///< "r0007"
     Json values;                    ///< {axis key: value, …, "repeat": k}
     std::vector<std::string> sets;  ///< --set assignments: base, axes, render.seed, render.spp
-    /// FNV-1a of the scene document after `sets` (spp included) and of the contents of the files
-    /// it names (grids, skies, tables): a finished run whose fingerprint changed would be a
-    /// different render.
+    /// FNV-1a of the scene document after `sets` (spp included), and after fingerprintInputs
+    /// also of the contents of the files it names (grids, skies, tables): a finished run whose
+    /// fingerprint changed would be a different render.
     std::string fingerprint;
 };
 
@@ -45,5 +45,11 @@ struct Sweep {
 /// Reads and expands a sweep file; errors are one line naming the file and the key. Relative
 /// "scene", "output" and reference "file" paths are relative to the sweep file.
 Sweep readSweep(const std::string& path);
+
+/// Adds to each run's fingerprint the contents of the files its scene names (each file read
+/// once). Separate from readSweep so that listing the runs (batch --dry-run) reads no grid, and
+/// a sweep can be listed before its files exist. shvol::Error naming a file that cannot be read
+/// and the key that names it.
+void fingerprintInputs(Sweep& s);
 
 }  // namespace shvol
