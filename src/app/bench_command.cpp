@@ -43,7 +43,7 @@ std::vector<std::string> withVdbKey(const Json& doc, std::vector<std::string> se
 
 struct Row {
     std::string name;
-    std::string medium;  ///< the first medium's describe(): what was measured
+    std::string medium;  ///< the first VDB medium's describe(): what was measured
     double pathsPerSecond = 0, lookupsPerPath = 0, segmentsPerPath = 0, secondsPerSpp = 0;
     Image image;
 };
@@ -73,7 +73,9 @@ std::vector<Row> measure(const BenchArgs& a, const std::vector<Config>& configs,
             RenderResult res = render(scene, opt);
             const PathCounters& c = res.stats.counters;
             Row& row = rows[i];
-            if (!scene.media.empty()) row.medium = scene.media[0]->describe();
+            for (const auto& m : scene.media)  // the first VDB medium: what --cell-sweep sets
+                if (row.medium.empty() && m->describe().rfind("vdb ", 0) == 0)
+                    row.medium = m->describe();
             if (res.stats.pathsPerSecond() > row.pathsPerSecond) {
                 row.pathsPerSecond = res.stats.pathsPerSecond();
                 row.secondsPerSpp = res.stats.wallSeconds / spp;
@@ -146,7 +148,8 @@ void cellSweep(const BenchArgs& a, const Json& doc) {
     // A cell the loader doubled (at most 2^22 cells per grid) is named by the size it has.
     for (size_t i = 0; i < rows.size(); ++i) {
         const size_t at = rows[i].medium.find("majorant cells of ");
-        const int got = at == std::string::npos ? 0 : std::atoi(rows[i].medium.c_str() + at + 18);
+        if (at == std::string::npos) continue;  // (a global majorant set by --set)
+        const int got = std::atoi(rows[i].medium.c_str() + at + 18);
         if (got != cells[i])
             rows[i].name = label(got) + " (" + std::to_string(cells[i]) +
                            " asked; at most 2^22 cells), 1 thread";
@@ -215,6 +218,7 @@ std::string defaultBenchScene() {
 int runBench(BenchArgs& a) {
     std::fprintf(stderr, "shvol bench %s (%d spp)\n", a.scene.c_str(), a.spp);
     const Json doc = sceneDocument(a.scene, a.sets);
+    if (a.cache.empty()) a.cache = ".";
     if (a.accuracy) {  // made now, not after minutes of rendering the reference
         std::error_code ec;
         std::filesystem::create_directories(a.cache, ec);

@@ -19,7 +19,7 @@ namespace shvol {
 
 namespace {
 std::string tmp(const std::string& name) {
-    return testing::TempDir() + "/shvol_vdb_" + name;
+    return test::privateTempPath(name);
 }
 using shvol::test::messageOf;
 VdbGridSpec sphereSpec(int res, double radius) {
@@ -381,9 +381,9 @@ TEST(Vdb, DamagedFilesAreRefusedBeforeOpenVdbReadsThem) {
         << m;
 }
 
-// One root tile of a 586-byte file covers 4096³ voxels. Its majorant grid at the default 8-voxel
-// cells would have 512³ cells (1 GB); cells are doubled until there are at most 2^22. Its density
-// is constant, so the automatic choice is one cell over the whole grid (4098 voxels with the
+// One root tile of a 586-byte file covers 4096³ voxels. Its majorant grid at 8-voxel cells would
+// have 512³ cells (1 GB); cells are doubled until there are at most 2^22. Its density is
+// constant, so the automatic choice is one cell over the whole grid (4097 voxels wide with the
 // trilinear reach; 8192 the power of two): a finer grid only adds DDA steps (46 per path where
 // the choice stopped at 32 voxels, which made bench's paths 8.4x slower than one cell's).
 TEST(Vdb, OneTileOverAHugeRegionLoadsQuickly) {
