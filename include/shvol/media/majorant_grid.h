@@ -38,9 +38,9 @@ class MajorantGrid {
     double at(const Vec3& p) const;
 
     /// The grid with cells twice as large on every axis, ⌈res/2⌉ of them from the same lower
-    /// corner, over the same box [lo, hi]: where the last cells reach beyond hi, traverse and at
-    /// treat that part as outside, as before (were it walked, a cell as large as the whole
-    /// medium would double its box on every axis, all of it at the medium's maximum). Each cell
+    /// corner, over the same box [lo, hi]: traverse and at treat the part of the last cells
+    /// beyond hi as outside the grid (walked, it would cost tentative collisions where there is
+    /// no density: one cell over the whole medium would double its box on every axis). Each cell
     /// holds the largest value of the cells it covers, which is what expand() with the same boxes
     /// would have given it. Lower bounds are not carried over.
     MajorantGrid coarsened() const;
