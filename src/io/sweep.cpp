@@ -16,27 +16,46 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::vector<std::string> stringList(JsonReader& r, const std::string& key) {
-    std::vector<std::string> out;
-    if (!r.has(key)) return out;
-    const Json& j = r.raw(key);
-    if (!j.is_array()) r.error(key, "expected an array of \"key.path=value\" strings");
-    for (size_t i = 0; i < j.size(); ++i) {
-        if (!j[i].is_string() || j[i].get<std::string>().find('=') == std::string::npos)
-            r.error(key + "[" + std::to_string(i) + "]", "expected a \"key.path=value\" string");
-        out.push_back(j[i].get<std::string>());
-    }
-    return out;
-}
-
 std::string relativeTo(const std::string& sweepFile, const std::string& p) {
     if (p.empty() || fs::path(p).is_absolute()) return p;
     return (fs::path(sweepFile).parent_path() / p).lexically_normal().string();
 }
 
-/// "key=value" with the value as JSON text (strings quoted, so they stay strings).
-std::string assignment(const std::string& key, const Json& v) {
+/// "key=value" with the value as JSON text (strings quoted, so they stay strings). A relative
+/// path assigned to a key named "file" is made relative to the sweep file, as the sweep's other
+/// paths are (--set on the command line takes it relative to the current directory).
+bool namesFile(const std::string& key) {
+    const size_t at = key.find_last_of(".]");
+    return (at == std::string::npos ? key : key.substr(at + 1)) == "file";
+}
+
+std::string assignment(const std::string& sweepFile, const std::string& key, Json v) {
+    if (namesFile(key) && v.is_string()) v = relativeTo(sweepFile, v.get<std::string>());
     return key + "=" + dumpJson(v);
+}
+
+/// The "key=value" strings of `key`, file values made relative to the sweep file (assignment).
+std::vector<std::string> stringList(JsonReader& r, const std::string& key,
+                                    const std::string& sweepFile) {
+    std::vector<std::string> out;
+    if (!r.has(key)) return out;
+    const Json& j = r.raw(key);
+    if (!j.is_array()) r.error(key, "expected an array of \"key.path=value\" strings");
+    for (size_t i = 0; i < j.size(); ++i) {
+        const std::string a = j[i].is_string() ? j[i].get<std::string>() : "";
+        const size_t eq = a.find('=');
+        if (eq == std::string::npos)
+            r.error(key + "[" + std::to_string(i) + "]", "expected a \"key.path=value\" string");
+        if (!namesFile(a.substr(0, eq))) {
+            out.push_back(a);
+            continue;
+        }
+        // The value as --set reads it: JSON when it is valid JSON, else the text as a string.
+        Json v = Json::parse(a.substr(eq + 1), nullptr, false);
+        if (v.is_discarded()) v = a.substr(eq + 1);
+        out.push_back(assignment(sweepFile, a.substr(0, eq), v));
+    }
+    return out;
 }
 
 /// The scene document `base` after the run's assignments.
@@ -58,7 +77,7 @@ Sweep readSweep(const std::string& path) {
     s.path = path;
     s.scene = relativeTo(path, r.string("scene"));
     if (!fs::is_regular_file(s.scene)) r.error("scene", "no such file: " + s.scene);
-    const std::vector<std::string> base = stringList(r, "set");
+    const std::vector<std::string> base = stringList(r, "set", path);
     s.output = relativeTo(path, r.string("output", fs::path(path).stem().string() + "_results"));
     const bool zip = r.choice("combine", "grid", {"grid", "zip"}) == "zip";
     const int repeats = r.integer("repeats", 1, 1, 1000000);
@@ -125,7 +144,7 @@ Sweep readSweep(const std::string& path) {
                 const Json& v = values[a][p[a]];
                 run.values[key] = v;
                 run.sets.push_back(
-                    assignment(key == "spp" || key == "seed" ? "render." + key : key, v));
+                    assignment(path, key == "spp" || key == "seed" ? "render." + key : key, v));
                 seedAxis = seedAxis || key == "seed";
             }
             run.values["repeat"] = k;
@@ -143,7 +162,7 @@ Sweep readSweep(const std::string& path) {
         } else {
             sr.render = true;
             sr.sets = base;
-            for (const std::string& a : stringList(ref, "set")) sr.sets.push_back(a);
+            for (const std::string& a : stringList(ref, "set", path)) sr.sets.push_back(a);
             sr.sets.push_back("render.spp=" + std::to_string(ref.integer("spp", 4096, 1, 1 << 24)));
             // A seed no run uses by default, so the reference's noise is independent.
             sr.sets.push_back("render.seed=" + std::to_string((long long)ref.number(

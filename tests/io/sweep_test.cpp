@@ -63,12 +63,10 @@ TEST(Sweep, ZipAndReference) {
 // names: a grid rewritten in place is another experiment. Two axis values name two files, so each
 // run is checked against its own file. readSweep alone reads no file (batch --dry-run).
 TEST(Sweep, FingerprintFollowsTheContentsOfNamedFiles) {
-    // (A relative path assigned to a file key is relative to the current directory, as for --set.)
     const fs::path dir = fs::path(testing::TempDir()) / "shvol_sweep_contents";
     const std::string a = (dir / "a.exr").string(), b = (dir / "b.exr").string();
     const std::string sweep = writeSweep("contents", R"({"scene": "scene.json",
-        "axes": {"environment.file": [")" + a + R"(", ")" +
-                                                         b + R"("]}})");
+        "axes": {"environment.file": ["a.exr", "b.exr"]}})");
     std::ofstream(dir / "scene.json") << R"({"environment": {"type": "image", "file": "a.exr"}})";
     auto stamped = [&] {
         Sweep s = readSweep(sweep);
@@ -89,6 +87,26 @@ TEST(Sweep, FingerprintFollowsTheContentsOfNamedFiles) {
     EXPECT_EQ(readSweep(sweep).runs.size(), 2u);  // listing the runs needs no file
     const std::string m = test::messageOf([&] { stamped(); });
     EXPECT_EQ(m, a + ": cannot open file (named by environment.file)");
+}
+
+// A relative path assigned to a file key, in "set", "axes" or the reference's "set", is relative
+// to the sweep file, as the sweep's scene and output are (on the command line, --set takes it
+// relative to the current directory); paths inside an object value stay the scene's.
+TEST(Sweep, FilePathsAreRelativeToTheSweepFile) {
+    const std::string sweep = writeSweep("paths", R"({"scene": "scene.json",
+        "set": ["media[0].file=grids/a.vdb", "camera.fov=20", "environment.file=\"/abs/sky.exr\""],
+        "axes": {"media.0.phase.file": ["t.csv"], "media[0].phase": [{"file": "u.csv"}]},
+        "reference": {"spp": 4, "set": ["environment.file=sky.exr"]}})");
+    const std::string dir = fs::path(sweep).parent_path().string();
+    const Sweep s = readSweep(sweep);
+    ASSERT_EQ(s.runs.size(), 1u);
+    EXPECT_EQ(s.runs[0].sets,
+              (std::vector<std::string>{"media[0].file=\"" + dir + "/grids/a.vdb\"",
+                                        "camera.fov=20", "environment.file=\"/abs/sky.exr\"",
+                                        "media.0.phase.file=\"" + dir + "/t.csv\"",
+                                        R"(media[0].phase={"file":"u.csv"})", "render.seed=1"}));
+    ASSERT_TRUE(s.reference.has_value());
+    EXPECT_EQ(s.reference->sets[3], "environment.file=\"" + dir + "/sky.exr\"");
 }
 
 TEST(Sweep, ErrorsNameFileAndKey) {
