@@ -43,9 +43,10 @@ std::string describe(const SweepRun& run) {
 /// What identifies a rendered reference: the scene document after its settings, the contents of
 /// the files it names and whether it has a standard-error image; kept beside it in
 /// REFERENCE.fingerprint. (Not the build: a converged reference of the same scene serves any.)
-std::string referenceStamp(const Sweep& s, bool variance) {
+/// The files are read through `memo`, which the runs' fingerprints filled.
+std::string referenceStamp(const Sweep& s, bool variance, std::map<std::string, Json>& memo) {
     const Json doc = sceneDocument(s.scene, s.reference->sets);
-    return dumpJson(doc) + "\n" + namedFileContents(inputFiles(doc, s.scene)) +
+    return dumpJson(doc) + "\n" + namedFileContents(inputFiles(doc, s.scene, &memo)) +
            (variance ? "variance" : "");
 }
 
@@ -273,7 +274,8 @@ int runBatch(BatchArgs a) {
         return 0;
     }
     // Every rank stamps the runs it may render (it reads their files to render them anyway).
-    collectively([&] { fingerprintInputs(s); });
+    std::map<std::string, Json> inputs;  // each named file hashed once per batch
+    collectively([&] { fingerprintInputs(s, inputs); });
     // Rank 0 keeps the ledger. A finished run must be the run the sweep describes now, or
     // resuming would mix experiments.
     std::optional<Ledger> ledger;
@@ -307,7 +309,7 @@ int runBatch(BatchArgs a) {
         // The ranks render the reference together (an MPI render), once. Its stamp reads the
         // files the scene names: rank 0 makes it once, to compare and to write.
         const std::string stamp =
-            s.reference->render && world.root() ? referenceStamp(s, c.ztest) : "";
+            s.reference->render && world.root() ? referenceStamp(s, c.ztest, inputs) : "";
         if (s.reference->render && world.broadcast(world.root() && !referenceCached(s, stamp)))
             if (const int code = renderReference(s, a, c.ztest, stamp)) return code;
         collectively([&] {

@@ -113,7 +113,7 @@ Sweep readSweep(const std::string& path) {
                      std::to_string(values[0].size()) + ")");
     }
 
-    const Json sceneDoc = sceneDocument(s.scene);  // read once, not once per run
+    s.sceneDoc = sceneDocument(s.scene);  // read once, not once per run
     // Points: grid (first axis slowest) or zip.
     std::vector<std::vector<size_t>> points;
     if (s.axes.empty()) {
@@ -150,7 +150,7 @@ Sweep readSweep(const std::string& path) {
             run.values["repeat"] = k;
             if (!seedAxis)
                 run.sets.push_back("render.seed=" + std::to_string((long long)seed0 + k));
-            run.fingerprint = hashText(dumpJson(runDocument(sceneDoc, s.scene, run.sets)));
+            run.fingerprint = hashText(dumpJson(runDocument(s.sceneDoc, s.scene, run.sets)));
             s.runs.push_back(run);
         }
 
@@ -191,11 +191,9 @@ Sweep readSweep(const std::string& path) {
     return s;
 }
 
-void fingerprintInputs(Sweep& s) {
-    const Json sceneDoc = sceneDocument(s.scene);
-    std::map<std::string, Json> memo;  // the files the runs name, each read once
+void fingerprintInputs(Sweep& s, std::map<std::string, Json>& memo) {
     for (SweepRun& run : s.runs) {
-        const Json doc = runDocument(sceneDoc, s.scene, run.sets);
+        const Json doc = runDocument(s.sceneDoc, s.scene, run.sets);
         run.fingerprint =
             hashText(run.fingerprint + "\n" + namedFileContents(inputFiles(doc, s.scene, &memo)));
     }

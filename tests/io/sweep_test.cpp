@@ -70,7 +70,8 @@ TEST(Sweep, FingerprintFollowsTheContentsOfNamedFiles) {
     std::ofstream(dir / "scene.json") << R"({"environment": {"type": "image", "file": "a.exr"}})";
     auto stamped = [&] {
         Sweep s = readSweep(sweep);
-        fingerprintInputs(s);
+        std::map<std::string, Json> memo;
+        fingerprintInputs(s, memo);
         return s;
     };
     auto write = [](const std::string& path, const char* bytes) { std::ofstream(path) << bytes; };

@@ -9,6 +9,7 @@
 /// Axes combine as a grid (every combination, the first axis slowest) or zipped (equal lengths,
 /// taken together). An axis key is a scene key path as for --set, or "spp" or "seed". Each
 /// repeat has its own seed (seed + repeat index) unless "seed" is an axis.
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,6 +37,7 @@ struct SweepReference {
 
 struct Sweep {
     std::string path, scene, output;
+    Json sceneDoc;                  ///< the scene's document, read once (sceneDocument)
     std::vector<std::string> axes;  ///< axis keys in order (the ledger's columns)
     std::vector<SweepRun> runs;
     std::optional<SweepReference> reference;
@@ -46,10 +48,11 @@ struct Sweep {
 /// "scene", "output" and reference "file" paths are relative to the sweep file.
 Sweep readSweep(const std::string& path);
 
-/// Adds to each run's fingerprint the contents of the files its scene names (each file read
-/// once). Separate from readSweep so that listing the runs (batch --dry-run) reads no grid, and
-/// a sweep can be listed before its files exist. shvol::Error naming a file that cannot be read
-/// and the key that names it.
-void fingerprintInputs(Sweep& s);
+/// Adds to each run's fingerprint the contents of the files its scene names, read through
+/// `memo` (inputFiles): each file once, also for whatever else of the batch hashes inputs with
+/// the same memo. Separate from readSweep so that listing the runs (batch --dry-run) reads no
+/// grid, and a sweep can be listed before its files exist. shvol::Error naming a file that
+/// cannot be read and the key that names it.
+void fingerprintInputs(Sweep& s, std::map<std::string, Json>& memo);
 
 }  // namespace shvol
