@@ -414,11 +414,21 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
 template Spectrum VolumePathIntegrator::Li(Ray, Rng&, PathCounters&, PathKind) const;
 template Spectrum VolumePathIntegrator::Li(Ray, SobolSampler&, PathCounters&, PathKind) const;
 
+namespace {
+/// The normal of the radiance cache's frame at a hit seen from wo: the shading normal, on wo's
+/// side, the hemisphere the two-sided BSDF reflects into (its frame is the shading normal's in
+/// Li too). Records and BRDF tables share it, so smooth meshes shade indirect light smoothly.
+Vec3 cacheNormal(const SurfaceHit& hit, const Vec3& wo) {
+    return hit.ns.dot(wo) >= 0 ? hit.ns : Vec3(-hit.ns);
+}
+
+}  // namespace
+
 bool VolumePathIntegrator::cachedRadiance(const SurfaceHit& hit, const Vec3& wo, Spectrum* L,
                                           PathCounters& c) const {
     const auto start = std::chrono::steady_clock::now();
     ++c.cacheLookups;
-    const Vec3 n = hit.ng.dot(wo) >= 0 ? hit.ng : Vec3(-hit.ng);  // the side seen
+    const Vec3 n = cacheNormal(hit, wo);
     const int nn = cache_->order() * cache_->order();
     thread_local std::vector<double> lambda, coefficients;
     lambda.resize(3 * nn);
@@ -488,8 +498,9 @@ void VolumePathIntegrator::buildRadianceCache() {
                 const Ray ray = camera.generateRay(x + 0.5, y + 0.5);
                 SurfaceHit hit;
                 if (!firstNonNullHit(surf, ray, &hit) || !tables_[hit.surface]) continue;
-                const Vec3 n = hit.ng.dot(ray.d) <= 0 ? hit.ng : Vec3(-hit.ng);
-                if (cache_->covers(hit.p, n)) continue;
+                const double cosOg = -ray.d.dot(hit.ng);
+                const Vec3 n = cacheNormal(hit, -ray.d);
+                if (cosOg == 0 || cache_->covers(hit.p, n)) continue;
                 const uint64_t index = cache_->size();
                 Rng jitterRng = Rng::forSample(seed, (uint64_t(1) << 40) + index, 0);
                 std::vector<Vec2> jitter(N);
@@ -498,11 +509,18 @@ void VolumePathIntegrator::buildRadianceCache() {
                 const Frame frame(n);
                 tbb::parallel_for(0, N, [&](int k) {
                     const Vec3 w = frame.toWorld(dirs[k]);
-                    const Ray r = surf.spawn(hit.p, n, w);
-                    Rng rng = Rng::forSample(seed, (uint64_t(1) << 40) + index, uint32_t(k + 1));
                     counters[k] = PathCounters{};
                     IncomingSample& sample = samples[k];
+                    sample = IncomingSample{};
                     sample.w = dirs[k];
+                    // Where the shading hemisphere dips below the surface: no light, as the
+                    // path tracer's rule that reflection stays on the side it came from gives.
+                    if (!(w.dot(hit.ng) * cosOg > 0)) {
+                        sample.L = Spectrum::Zero();
+                        return;
+                    }
+                    const Ray r = surf.spawn(hit.p, hit.ng, w);
+                    Rng rng = Rng::forSample(seed, (uint64_t(1) << 40) + index, uint32_t(k + 1));
                     sample.L = Li(r, rng, counters[k], PathKind::CacheRecord);
                     if (!sample.L.allFinite()) sample.L = Spectrum::Zero();
                     // The first surface met that is not a null boundary (for R and gradients).
