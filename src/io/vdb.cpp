@@ -667,13 +667,12 @@ std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc) {
         constexpr double kMaxMajorantCells = 1 << 22;
         const bool automatic = desc.majorantGrid && desc.majorantCellVoxels == 0;
         double cell = desc.majorantGrid ? (automatic ? 2 : desc.majorantCellVoxels) : 0;
-        Eigen::Vector3i res(1, 1, 1);
         if (desc.majorantGrid) {
             while (((hi - lo) / cell).array().ceil().prod() > kMaxMajorantCells) cell *= 2;
-            res = ((hi - lo) / cell).array().ceil().cast<int>();
+            majorants = MajorantGrid::withCells(lo, hi, cell);
+        } else {
+            majorants = MajorantGrid(lo, hi, Eigen::Vector3i(1, 1, 1));
         }
-        majorants =
-            MajorantGrid(lo, desc.majorantGrid ? Vec3(lo + cell * res.cast<double>()) : hi, res);
         for (auto it = tree.cbeginValueAll(); it; ++it) {
             if (*it <= 0) continue;
             const openvdb::CoordBBox b = it.getBoundingBox();

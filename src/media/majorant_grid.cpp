@@ -12,6 +12,13 @@ MajorantGrid::MajorantGrid(const Vec3& lo, const Vec3& hi, const Eigen::Vector3i
     cells_.assign(size_t(res_.x()) * res_.y() * res_.z(), Bounds{});
 }
 
+MajorantGrid MajorantGrid::withCells(const Vec3& lo, const Vec3& hi, double cell) {
+    const Eigen::Vector3i res = ((hi - lo) / cell).array().ceil().cast<int>().max(1);
+    MajorantGrid g(lo, lo + cell * res.cast<double>(), res);
+    g.hi_ = hi;
+    return g;
+}
+
 void MajorantGrid::expand(const Vec3& bLo, const Vec3& bHi, double value) {
     int c0[3], c1[3];
     for (int a = 0; a < 3; ++a) {

@@ -212,6 +212,29 @@ TEST(Vdb, MajorantBoundsDensityEverywhere) {
     }
 }
 
+// The medium's box is its data's, one voxel wider (the reach of trilinear lookups), whatever
+// the majorant cells: cells that overhang the data end at the box rather than widen it, where
+// a walk would spend tentative collisions on nothing.
+TEST(Vdb, BoundsDoNotDependOnTheMajorantCells) {
+    VdbGridSpec s;
+    s.resolution = 37;  // 37 + 2 voxels: a multiple of none of the cell sizes below
+    s.density = [](const Vec3& x) { return x.norm() < 0.45 ? 1.0f : 0.0f; };
+    writeVdb(tmp("box.vdb"), {s});
+    VdbMediumDesc d;
+    d.file = tmp("box.vdb");
+    d.majorantGrid = false;
+    const Bounds3 global = loadVdbMedium(d)->bounds();
+    d.majorantGrid = true;
+    for (int cell : {0, 2, 4, 8, 16, 64}) {
+        d.majorantCellVoxels = cell;
+        const Bounds3 b = loadVdbMedium(d)->bounds();
+        for (int a = 0; a < 3; ++a) {
+            EXPECT_DOUBLE_EQ(b.lo[a], global.lo[a]) << "cell " << cell;
+            EXPECT_DOUBLE_EQ(b.hi[a], global.hi[a]) << "cell " << cell;
+        }
+    }
+}
+
 TEST(Vdb, BadInputGivesOneClearLine) {
     VdbMediumDesc d;
     d.file = tmp("missing.vdb");

@@ -19,6 +19,10 @@ class MajorantGrid {
     /// res cells covering the box [lo, hi] of the medium's own (index) space.
     MajorantGrid(const Vec3& lo, const Vec3& hi, const Eigen::Vector3i& res);
 
+    /// Cells of edge `cell` from lo, ⌈(hi − lo)/cell⌉ of them per axis, over the box [lo, hi]: the
+    /// part of the last cells beyond hi is outside the grid, as for coarsened().
+    static MajorantGrid withCells(const Vec3& lo, const Vec3& hi, double cell);
+
     /// max-accumulates value into every cell overlapping the closed box [bLo, bHi].
     void expand(const Vec3& bLo, const Vec3& bHi, double value);
     /// Lower bounds of the density per cell, in index order (x fastest); empty: 0 everywhere.
