@@ -379,7 +379,6 @@ std::optional<DensityBricks> makeBricks(const openvdb::FloatTree& tree) {
     };
     std::vector<Box> boxes;
     Eigen::Vector3i lo = Eigen::Vector3i::Constant(INT32_MAX), hi = -lo;
-    double bricks = 0;
     auto addBox = [&](const openvdb::CoordBBox& b, float tile) {
         // Voxel x lies in the window (brick and apron) of bricks (x − 1) >> 3 … x >> 3.
         const Eigen::Vector3i a((b.min().x() - 1) >> 3, (b.min().y() - 1) >> 3,
@@ -387,9 +386,6 @@ std::optional<DensityBricks> makeBricks(const openvdb::FloatTree& tree) {
             z(b.max().x() >> 3, b.max().y() >> 3, b.max().z() >> 3);
         boxes.push_back({a, z, tile});
         lo = lo.cwiseMin(a), hi = hi.cwiseMax(z);
-        const Eigen::Vector3d n = (z - a + Eigen::Vector3i::Ones()).cast<double>();
-        // A tile's interior positions are constants: only its shell needs bricks.
-        bricks += tile > 0 ? n.prod() - (n.array() - 2).max(0).prod() : n.prod();
     };
     for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf)
         for (auto v = leaf->cbeginValueAll(); v; ++v)
@@ -403,23 +399,41 @@ std::optional<DensityBricks> makeBricks(const openvdb::FloatTree& tree) {
         if (*tiles > 0) addBox(tiles.getBoundingBox(), *tiles);
     if (boxes.empty()) return DensityBricks();
     const Eigen::Vector3i res = hi - lo + Eigen::Vector3i::Ones();
-    if (res.cast<double>().prod() > kMaxTableCells || bricks > kMaxBricks) return std::nullopt;
+    if (res.cast<double>().prod() > kMaxTableCells) return std::nullopt;
+    // Calls visit(c, tile) for each brick position c of each box, with tile = the tile's value
+    // where c is inside a tile with its apron too (lo + 1 … hi − 1 on every axis: a constant
+    // rather than a brick), else 0.
+    auto forEachPosition = [&](auto&& visit) {
+        for (const Box& b : boxes)
+            for (int x = b.lo.x(); x <= b.hi.x(); ++x)
+                for (int y = b.lo.y(); y <= b.hi.y(); ++y)
+                    for (int z = b.lo.z(); z <= b.hi.z(); ++z) {
+                        const Eigen::Vector3i c(x, y, z);
+                        const bool interior =
+                            (c.array() > b.lo.array()).all() && (c.array() < b.hi.array()).all();
+                        visit(c, interior ? b.tile : 0.f);
+                    }
+    };
+    // The bricks to store, each counted once: a position lies in the windows of up to 8 boxes
+    // (its own and those one brick above it on each axis), so a sum over the boxes would count
+    // a dense region's bricks about 8 times. The same bounds each walk at 8 × the table.
+    std::vector<bool> needed(size_t(res.prod()), false);
+    size_t bricks = 0;
+    forEachPosition([&](const Eigen::Vector3i& c, float tile) {
+        const Eigen::Vector3i r = c - lo;
+        const size_t i = (size_t(r.x()) * res.y() + r.y()) * res.z() + r.z();
+        if (tile == 0 && !needed[i]) needed[i] = true, ++bricks;
+    });
+    if (double(bricks) > kMaxBricks) return std::nullopt;
     DensityBricks d(lo, res, 0.f);
     Accessor acc(tree);
     auto voxel = [&](int i, int j, int l) { return acc.getValue(openvdb::Coord(i, j, l)); };
-    for (const Box& b : boxes)
-        for (int x = b.lo.x(); x <= b.hi.x(); ++x)
-            for (int y = b.lo.y(); y <= b.hi.y(); ++y)
-                for (int z = b.lo.z(); z <= b.hi.z(); ++z) {
-                    const Eigen::Vector3i c(x, y, z);
-                    // Inside a tile with the apron too: lo + 1 … hi − 1 on every axis.
-                    const bool interior =
-                        (c.array() > b.lo.array()).all() && (c.array() < b.hi.array()).all();
-                    if (b.tile > 0 && interior)
-                        d.fill(c, b.tile);
-                    else
-                        d.add(c, voxel);
-                }
+    forEachPosition([&](const Eigen::Vector3i& c, float tile) {
+        if (tile > 0)
+            d.fill(c, tile);
+        else
+            d.add(c, voxel);
+    });
     return d;
 }
 

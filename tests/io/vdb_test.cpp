@@ -235,6 +235,29 @@ TEST(Vdb, BoundsDoNotDependOnTheMajorantCells) {
     }
 }
 
+// Neighbouring leaves share brick positions (a leaf's window reaches one brick below it on each
+// axis): the memory cap counts each position once. 21³ leaves, one voxel each, need the 22³
+// positions of their windows; counted per leaf (8 each, 74088) they would pass the cap of 2^16
+// and the grid would fall back to OpenVDB lookups.
+TEST(Vdb, BrickCapCountsEachPositionOnce) {
+    VdbGridSpec s;
+    s.resolution = 8 * 21;
+    const int n = s.resolution;
+    s.density = [n](const Vec3& x) {
+        // Voxel i has its centre at (i + 0.5)/n − 0.5.
+        for (int a = 0; a < 3; ++a)
+            if (int(std::lround((x[a] + 0.5) * n - 0.5)) % 8 != 0) return 0.0f;
+        return 1.0f;
+    };
+    writeVdb(tmp("leaves.vdb"), {s});
+    VdbMediumDesc d;
+    d.file = tmp("leaves.vdb");
+    d.majorantGrid = false;
+    d.decomposition = false;
+    const std::string described = loadVdbMedium(d)->describe();
+    EXPECT_NE(described.find("brick lookups (10648 bricks"), std::string::npos) << described;
+}
+
 TEST(Vdb, BadInputGivesOneClearLine) {
     VdbMediumDesc d;
     d.file = tmp("missing.vdb");
