@@ -421,7 +421,6 @@ namespace {
 Vec3 cacheNormal(const SurfaceHit& hit, const Vec3& wo) {
     return hit.ns.dot(wo) >= 0 ? hit.ns : Vec3(-hit.ns);
 }
-
 }  // namespace
 
 bool VolumePathIntegrator::cachedRadiance(const SurfaceHit& hit, const Vec3& wo, Spectrum* L,
