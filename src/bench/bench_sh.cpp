@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "ratio_reporter.h"
 #include "shvol/core/math.h"
 #include "shvol/sh/hsh.h"
 #include "shvol/sh/sh_basis.h"
@@ -98,6 +99,30 @@ void BM_RotationApply(benchmark::State& st) {
 }
 BENCHMARK(BM_RotationApply)->Arg(5)->Arg(10)->Arg(20);
 
+/// Three vectors of 16 bands (an RGB radiance cache record of order 8) rotated by a new R each
+/// time (items: rotations): /0 ShRotation's band matrices built and applied, /1
+/// ShVectorRotation. Each R is a small tilt with a twist, as between neighbouring records.
+void ShRotateVectors(benchmark::State& st) {
+    const int n = 16, count = 3;
+    const bool fast = st.range(0) == 1;
+    const ShVectorRotation rotation(n);
+    std::vector<double> in(size_t(n * n * count), 0.5), out(in.size());
+    double a = 0;
+    for (auto _ : st) {
+        a += 0.01;
+        const Eigen::Matrix3d R = rotationZYZ(a, 0.2, 1.0 - a);
+        if (fast) {
+            rotation.apply(R, in.data(), out.data(), count);
+        } else {
+            const ShRotation slow(n, R);
+            for (int j = 0; j < count; ++j) slow.apply(&in[j * n * n], &out[j * n * n]);
+        }
+        benchmark::DoNotOptimize(out.data());
+    }
+    st.SetItemsProcessed(int64_t(st.iterations()));
+}
+BENCHMARK(ShRotateVectors)->Arg(0)->Arg(1);
+
 void BM_RotateZonal(benchmark::State& st) {
     const int n = static_cast<int>(st.range(0));
     const auto dirs = directions(256);
@@ -142,4 +167,8 @@ BENCHMARK(BM_LegendreIntegralsZonal)->Arg(5)->Arg(20)->Arg(100);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+    return shvol::bench::runWithRatios(argc, argv, {{"ShRotateVectors/1", "ShRotateVectors/0"}},
+                                       "Same-run ratios (items/s; ShRotateVectors: /1 "
+                                       "ShVectorRotation, /0 ShRotation built and applied):");
+}

@@ -5,7 +5,8 @@
 namespace shvol {
 
 struct RadianceCache::Rotation {
-    sh::ShToHsh C;  ///< n HSH bands through 2n SH bands (Gautron §4)
+    sh::ShToHsh C;                ///< n HSH bands through 2n SH bands (Gautron §4)
+    sh::ShVectorRotation rotate;  ///< of the 2n SH bands
 };
 
 RadianceCache::RadianceCache(int order, double accuracy, const Vec3& lo, const Vec3& hi)
@@ -14,7 +15,8 @@ RadianceCache::RadianceCache(int order, double accuracy, const Vec3& lo, const V
       diag_(std::max((hi - lo).norm(), 1e-300)),
       cell_(diag_ / 64),
       lo_(lo),
-      rotation_(std::make_unique<Rotation>(Rotation{sh::ShToHsh(order, 2 * order)})) {}
+      rotation_(std::make_unique<Rotation>(
+          Rotation{sh::ShToHsh(order, 2 * order), sh::ShVectorRotation(2 * order)})) {}
 
 RadianceCache::~RadianceCache() = default;
 
@@ -158,10 +160,15 @@ bool RadianceCache::lookup(const Vec3& p, const Vec3& n, double* lambda) const {
                                   .dot(b == 0   ? frame.s
                                        : b == 1 ? frame.t
                                                 : frame.n);
-            const sh::ShRotation rot(2 * n_, R);
+            // hshRotate (C · D(R) · Cᵀ) with the three channels rotated together.
+            const sh::ShToHsh& C = rotation_->C;
+            thread_local Eigen::MatrixXd sh;
+            sh.resize(4 * nn, 3);
+            for (int c = 0; c < 3; ++c)
+                sh.col(c) = C.toSh(Eigen::Map<const Eigen::VectorXd>(&moved[c * nn], nn));
+            rotation_->rotate.apply(R, sh.data(), sh.data(), 3);
             for (int c = 0; c < 3; ++c) {
-                const Eigen::VectorXd v = sh::hshRotate(
-                    rotation_->C, rot, Eigen::Map<const Eigen::VectorXd>(&moved[c * nn], nn));
+                const Eigen::VectorXd v = C.toHsh(sh.col(c));
                 std::copy(v.data(), v.data() + nn, &moved[c * nn]);
             }
         }

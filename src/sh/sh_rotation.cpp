@@ -235,6 +235,62 @@ Eigen::VectorXd ShRotation::apply(const Eigen::VectorXd& in) const {
     return out;
 }
 
+ShVectorRotation::ShVectorRotation(int n)
+    : n_(n),
+      x_(ShRotation(n, Eigen::AngleAxisd(0.5 * Pi, Vec3::UnitX()).toRotationMatrix()).bands) {}
+
+void ShVectorRotation::apply(const Eigen::Matrix3d& R, const double* in, double* out,
+                             int count) const {
+    // α, β from the image of ẑ (any α will do when β = 0), then the twist γ from the rest.
+    const double dx = R(0, 2), dy = R(1, 2), dz = R(2, 2);
+    const double alpha = dx == 0 && dy == 0 ? 0.0 : std::atan2(dy, dx);
+    const double beta = std::atan2(std::hypot(dx, dy), dz);
+    const Eigen::Matrix3d tilt =
+        (Eigen::AngleAxisd(alpha, Vec3::UnitZ()) * Eigen::AngleAxisd(beta, Vec3::UnitY()) *
+         Eigen::AngleAxisd(-alpha, Vec3::UnitZ()))
+            .toRotationMatrix();
+    const Eigen::Matrix3d twist = tilt.transpose() * R;  // Rz(α + γ), to rounding
+    const double gamma = std::atan2(twist(1, 0), twist(0, 0)) - alpha;
+    // cos and sin of m·a for m < n, for the three angles.
+    const int n = n_;
+    thread_local std::vector<double> trig;
+    trig.resize(6 * size_t(std::max(n, 1)));
+    const double angles[3] = {alpha, beta, gamma};
+    for (int k = 0; k < 3; ++k) {
+        double* cs = &trig[2 * size_t(k) * n];
+        for (int m = 0; m < n; ++m)
+            cs[2 * m] = std::cos(m * angles[k]), cs[2 * m + 1] = std::sin(m * angles[k]);
+    }
+    // Z^l(a) on the band's coefficients: (v_m, v_−m) → (c v_m − s v_−m, s v_m + c v_−m).
+    auto z = [&](int k, int l, Eigen::Ref<Eigen::MatrixXd> v) {
+        const double* cs = &trig[2 * size_t(k) * n];
+        for (int m = 1; m <= l; ++m) {
+            const double c = cs[2 * m], s = cs[2 * m + 1];
+            for (Eigen::Index j = 0; j < v.cols(); ++j) {
+                const double p = v(l + m, j), q = v(l - m, j);
+                v(l + m, j) = c * p - s * q, v(l - m, j) = s * p + c * q;
+            }
+        }
+    };
+    thread_local Eigen::MatrixXd v, w;
+    const size_t nn = size_t(n) * n;
+    for (int l = 0; l < n; ++l) {
+        const int k = 2 * l + 1;
+        v.resize(k, count);
+        for (int j = 0; j < count; ++j)
+            v.col(j) = Eigen::Map<const Eigen::VectorXd>(in + j * nn + l * l, k);
+        z(2, l, v);
+        w.resize(k, count);
+        // Matrix–vector products: a matrix–matrix product would pack its operands first.
+        for (int j = 0; j < count; ++j) w.col(j).noalias() = x_[l] * v.col(j);
+        z(1, l, w);
+        for (int j = 0; j < count; ++j) v.col(j).noalias() = x_[l].transpose() * w.col(j);
+        z(0, l, v);
+        for (int j = 0; j < count; ++j)
+            Eigen::Map<Eigen::VectorXd>(out + j * nn + l * l, k) = v.col(j);
+    }
+}
+
 Eigen::MatrixXd ShRotation::matrix() const {
     Eigen::MatrixXd M = Eigen::MatrixXd::Zero(n * n, n * n);
     for (int l = 0; l < n; ++l) M.block(l * l, l * l, 2 * l + 1, 2 * l + 1) = bands[l];

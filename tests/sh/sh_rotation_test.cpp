@@ -125,6 +125,36 @@ TEST(ShRotation, HighOrderStaysAccurate) {
     EXPECT_LT((full - fast).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+// The fast path for vectors against the band matrices, on random rotations and on those where
+// Euler angles are ill-conditioned: identity, a pure twist, tiny tilts with a twist (what
+// neighbouring radiance cache frames differ by), β = π, and β near π.
+TEST(ShVectorRotation, AgreesWithShRotation) {
+    const int n = 16, count = 3;
+    const ShVectorRotation fast(n);
+    Rng rng(31, 1);
+    std::vector<Eigen::Matrix3d> rs = {
+        Eigen::Matrix3d::Identity(),       rotationZYZ(0.7, 0.0, 0.2),
+        rotationZYZ(0.7, 1e-9, 0.2),       rotationZYZ(2.5, 1e-14, -1.1),
+        rotationZYZ(-2.0, 3e-4, 2.9),      rotationZYZ(0.1, Pi, 0.0),
+        rotationZYZ(-2.0, Pi - 1e-7, 1.3), rotationZYZ(0.0, 0.5 * Pi, 0.0)};
+    for (int t = 0; t < 20; ++t) rs.push_back(uniformRandomRotation(rng));
+    Eigen::MatrixXd in(n * n, count);
+    for (Eigen::Index i = 0; i < in.size(); ++i) in.data()[i] = 2 * rng.uniform() - 1;
+    for (size_t r = 0; r < rs.size(); ++r) {
+        const ShRotation slow(n, rs[r]);
+        Eigen::MatrixXd out(n * n, count);
+        fast.apply(rs[r], in.data(), out.data(), count);
+        for (int j = 0; j < count; ++j)
+            EXPECT_LT((out.col(j) - slow.apply(Eigen::VectorXd(in.col(j)))).cwiseAbs().maxCoeff(),
+                      1e-12)
+                << "rotation " << r << ", vector " << j;
+        // In place, as the radiance cache uses it.
+        Eigen::MatrixXd same = in;
+        fast.apply(rs[r], same.data(), same.data(), count);
+        EXPECT_EQ(same, out) << "rotation " << r;
+    }
+}
+
 TEST(ShRotation, EulerZYZ) {
     const Eigen::Matrix3d R = rotationZYZ(0.0, 0.5 * Pi, 0.0);
     EXPECT_LT((R * Vec3(0, 0, 1) - Vec3(1, 0, 0)).norm(), 1e-15);
