@@ -56,13 +56,15 @@ struct ShRotation {
 /// loops that rotate each vector once (the radiance cache's lookups). R is written as the ZYZ
 /// product Rz(α) Ry(β) Rz(γ) and Ry(β) = Rx(−90°) Rz(β) Rx(90°), so that per band
 ///   D^l(R) = Z^l(α) X^lᵀ Z^l(β) X^l Z^l(γ),   X^l = D^l(Rx(90°)),
-/// with X^l built once and Z^l the 2×2 (m, −m) rotations by mα (Kautz, Sloan & Snyder 2002,
-/// "Fast, Arbitrary BRDF Shading", §3.2's zxzxz rotation). Two matrix–vector products per band
-/// instead of the O(l²)-term recursion of a band matrix: 4.2–4.3× as fast for 16 bands and three
-/// vectors (build/bench_sh, ShRotateVectors, two runs). The angles are found without the
+/// with X^l built once and Z^l the 2×2 (m, −m) rotations by mα: the zxzxz rotation of Kautz,
+/// Sloan & Snyder 2002, "Fast, Arbitrary BRDF Shading for Low-Frequency Lighting Using
+/// Spherical Harmonics". Two matrix–vector products per band instead of the O(l²)-term
+/// recursion of a band matrix: 4.2–4.3× as fast for 16 bands and three vectors
+/// (build/bench_sh, ShRotateVectors, two runs). The angles are found without the
 /// ill-conditioning of Euler angles near β = 0 (a small tilt and any twist, what neighbouring
-/// frames differ by): α and β from R·ẑ, then γ from what is left once the tilt Rz(α) Ry(β) Rz(−α)
-/// is taken out. Agrees with ShRotation's matrices to ~1e-13 (tests/sh/sh_rotation_test.cpp).
+/// frames differ by): α and β from R·ẑ, then γ from what is left once the tilt
+/// Rz(α) Ry(β) Rz(−α) is taken out. Agrees with ShRotation's matrices within 1e-12 for 16
+/// bands (tests/sh/sh_rotation_test.cpp).
 class ShVectorRotation {
   public:
     explicit ShVectorRotation(int n);
