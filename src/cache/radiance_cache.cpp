@@ -40,6 +40,7 @@ RadianceCache::Record RadianceCache::build(const Vec3& p, const Vec3& n,
     const Frame frame(n);
     Record r{p,
              frame,
+             n,
              0,
              std::vector<double>(3 * nn, 0.0),
              std::vector<double>(3 * nn, 0.0),
@@ -99,8 +100,10 @@ uint64_t RadianceCache::cellKey(const Eigen::Vector3i& c, int level) const {
     return b(c.x()) | (b(c.y()) << 19) | (b(c.z()) << 38) | (uint64_t(level) << 57);
 }
 
-void RadianceCache::add(const Vec3& p, const Vec3& n, const std::vector<IncomingSample>& samples) {
+void RadianceCache::add(const Vec3& p, const Vec3& n, const Vec3& ng,
+                        const std::vector<IncomingSample>& samples) {
     records_.push_back(build(p, n, samples));
+    records_.back().ng = ng;
     const Record& r = records_.back();
     // The level whose cells are at least as wide as the record's reach a·R: it touches at most
     // 3 × 3 × 3 of them, whatever a and R.
@@ -121,6 +124,13 @@ double RadianceCache::weight(const Record& r, const Vec3& p, const Vec3& n) cons
     return d > 0 ? 1 / d : std::numeric_limits<double>::infinity();
 }
 
+double RadianceCache::servingWeight(const Record& r, const Vec3& p, const Vec3& n,
+                                    const Vec3& ng) const {
+    if (!(ng.dot(r.ng) >= kMinGeometricCos)) return 0;
+    const double w = weight(r, p, n);
+    return w > 1 / a_ ? w : 0;
+}
+
 template <typename Visit>
 void RadianceCache::candidates(const Vec3& p, Visit visit) const {
     for (int level = 0; level < levels_; ++level) {
@@ -130,13 +140,13 @@ void RadianceCache::candidates(const Vec3& p, Visit visit) const {
     }
 }
 
-bool RadianceCache::covers(const Vec3& p, const Vec3& n) const {
+bool RadianceCache::covers(const Vec3& p, const Vec3& n, const Vec3& ng) const {
     bool covered = false;
-    candidates(p, [&](const Record& r) { covered = covered || weight(r, p, n) > 1 / a_; });
+    candidates(p, [&](const Record& r) { covered = covered || servingWeight(r, p, n, ng) > 0; });
     return covered;
 }
 
-bool RadianceCache::lookup(const Vec3& p, const Vec3& n, double* lambda) const {
+bool RadianceCache::lookup(const Vec3& p, const Vec3& n, const Vec3& ng, double* lambda) const {
     const int nn = n_ * n_;
     std::fill(lambda, lambda + 3 * nn, 0.0);
     thread_local std::vector<double> moved;  // scratch: lookups run once per pixel sample
@@ -144,8 +154,8 @@ bool RadianceCache::lookup(const Vec3& p, const Vec3& n, double* lambda) const {
     double wSum = 0;
     const Frame query(n);
     candidates(p, [&](const Record& r) {
-        double w = weight(r, p, n);
-        if (!(w > 1 / a_)) return;
+        double w = servingWeight(r, p, n, ng);
+        if (!(w > 0)) return;
         w = std::min(w, 1e12);  // a query exactly at a record
         const Frame& frame = r.frame;
         const double dx = (p - r.p).dot(frame.s), dy = (p - r.p).dot(frame.t);

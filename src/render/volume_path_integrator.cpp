@@ -415,11 +415,16 @@ template Spectrum VolumePathIntegrator::Li(Ray, Rng&, PathCounters&, PathKind) c
 template Spectrum VolumePathIntegrator::Li(Ray, SobolSampler&, PathCounters&, PathKind) const;
 
 namespace {
-/// The normal of the radiance cache's frame at a hit seen from wo: the shading normal, on wo's
-/// side, the hemisphere the two-sided BSDF reflects into (its frame is the shading normal's in
-/// Li too). Records and BRDF tables share it, so smooth meshes shade indirect light smoothly.
-Vec3 cacheNormal(const SurfaceHit& hit, const Vec3& wo) {
-    return hit.ns.dot(wo) >= 0 ? hit.ns : Vec3(-hit.ns);
+/// The radiance cache's normals at a hit seen from wo. n, the frame of records and BRDF tables:
+/// the shading normal on wo's side, the hemisphere the two-sided BSDF reflects into (its frame
+/// is the shading normal's in Li too), so smooth meshes shade indirect light smoothly. ng: the
+/// geometric normal on wo's side, below whose plane light is refused.
+struct CacheNormals {
+    Vec3 n, ng;
+};
+CacheNormals cacheNormals(const SurfaceHit& hit, const Vec3& wo) {
+    return {hit.ns.dot(wo) >= 0 ? hit.ns : Vec3(-hit.ns),
+            hit.ng.dot(wo) >= 0 ? hit.ng : Vec3(-hit.ng)};
 }
 }  // namespace
 
@@ -427,12 +432,12 @@ bool VolumePathIntegrator::cachedRadiance(const SurfaceHit& hit, const Vec3& wo,
                                           PathCounters& c) const {
     const auto start = std::chrono::steady_clock::now();
     ++c.cacheLookups;
-    const Vec3 n = cacheNormal(hit, wo);
+    const auto [n, ng] = cacheNormals(hit, wo);
     const int nn = cache_->order() * cache_->order();
     thread_local std::vector<double> lambda, coefficients;
     lambda.resize(3 * nn);
     coefficients.resize(3 * nn);
-    const bool found = cache_->lookup(hit.p, n, lambda.data());
+    const bool found = cache_->lookup(hit.p, n, ng, lambda.data());
     if (found) {
         ++c.cacheHits;
         tables_[hit.surface]->coefficients(Frame(n).toLocal(wo), coefficients.data());
@@ -498,8 +503,8 @@ void VolumePathIntegrator::buildRadianceCache() {
                 SurfaceHit hit;
                 if (!firstNonNullHit(surf, ray, &hit) || !tables_[hit.surface]) continue;
                 const double cosOg = -ray.d.dot(hit.ng);
-                const Vec3 n = cacheNormal(hit, -ray.d);
-                if (cosOg == 0 || cache_->covers(hit.p, n)) continue;
+                const auto [n, ng] = cacheNormals(hit, -ray.d);
+                if (cosOg == 0 || cache_->covers(hit.p, n, ng)) continue;
                 const uint64_t index = cache_->size();
                 Rng jitterRng = Rng::forSample(seed, (uint64_t(1) << 40) + index, 0);
                 std::vector<Vec2> jitter(N);
@@ -528,7 +533,7 @@ void VolumePathIntegrator::buildRadianceCache() {
                     if (sample.hit) sample.W = h.p, sample.nW = h.ng;
                 });
                 for (const PathCounters& pc : counters) cacheBuild_.counters.add(pc);
-                cache_->add(hit.p, n, samples);
+                cache_->add(hit.p, n, ng, samples);
             }
     cacheBuild_.fillSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -33,12 +33,12 @@ TEST(RadianceCache, ConstantRadianceGivesTheIrradiance) {
     const int n = 4;
     RadianceCache cache(n, 0.3, kLo, kHi);
     const Vec3 normal = Vec3(0.2, 0.3, 0.9).normalized();
-    cache.add(Vec3(0, 0, 0), normal,
+    cache.add(Vec3(0, 0, 0), normal, normal,
               distantSamples(normal, 1024, [](const Vec3&) { return Spectrum(0.5, 1, 2); }));
     const Eigen::VectorXd cosine = sh::projectHSH(
         n, [](const Vec3& w) { return w.z(); }, sh::hemisphereQuadrature(8, 16));
     std::vector<double> lambda(cache.coefficientCount());
-    ASSERT_TRUE(cache.lookup(Vec3(0, 0, 0), normal, lambda.data()));
+    ASSERT_TRUE(cache.lookup(Vec3(0, 0, 0), normal, normal, lambda.data()));
     for (int c = 0; c < 3; ++c) {
         const double E = Eigen::Map<const Eigen::VectorXd>(&lambda[c * n * n], n * n).dot(cosine);
         EXPECT_NEAR(E, Pi * Spectrum(0.5, 1, 2)[c], 1e-3 * Pi * 2) << "channel " << c;
@@ -67,12 +67,12 @@ TEST(RadianceCache, RotatedLookupAgreesWithQuadrature) {
     auto field = [&](const Vec3& w) { return std::exp(w.dot(d)); };
     RadianceCache cache(n, 0.5, kLo, kHi);
     const Vec3 n1(0, 0, 1);
-    cache.add(Vec3(0, 0, 0), n1, distantSamples(n1, 4096, [&](const Vec3& w) {
+    cache.add(Vec3(0, 0, 0), n1, n1, distantSamples(n1, 4096, [&](const Vec3& w) {
                   return Spectrum::Constant(field(w));
               }));
     const Vec3 n2 = Vec3(0.25, 0.1, 1).normalized();  // 15° away: weight 1/√(1 − cos) > 1/a
     std::vector<double> lambda(cache.coefficientCount());
-    ASSERT_TRUE(cache.lookup(Vec3(0, 0, 0), n2, lambda.data()));
+    ASSERT_TRUE(cache.lookup(Vec3(0, 0, 0), n2, n2, lambda.data()));
     const std::vector<double>& rec = cache.record(0).lambda;
     const Frame f1(n1), f2(n2);
     const Eigen::VectorXd expected = sh::projectHSH(
@@ -145,23 +145,35 @@ TEST(RadianceCache, DirectionsAreUniformForAnyCount) {
 TEST(RadianceCache, LargeReachStaysCheap) {
     RadianceCache cache(2, 1.0, Vec3(-100, -100, -100), Vec3(100, 100, 100));
     for (int i = 0; i < 50; ++i)
-        cache.add(Vec3(i, 0, 0), Vec3(0, 0, 1),
+        cache.add(Vec3(i, 0, 0), Vec3(0, 0, 1), Vec3(0, 0, 1),
                   distantSamples(Vec3(0, 0, 1), 16, [](const Vec3&) { return Spectrum::Ones(); }));
     EXPECT_LT(cache.memoryBytes(), size_t(1) << 20);
-    EXPECT_TRUE(cache.covers(Vec3(80, 0, 0), Vec3(0, 0, 1)));  // R = 0.25·346: reach 86
+    EXPECT_TRUE(
+        cache.covers(Vec3(80, 0, 0), Vec3(0, 0, 1), Vec3(0, 0, 1)));  // R = 0.25·346: reach 86
 }
 
 TEST(RadianceCache, WeightDecidesWhichRecordsCount) {
     RadianceCache cache(2, 0.3, kLo, kHi);
-    cache.add(Vec3(0, 0, 0), Vec3(0, 0, 1),
+    const Vec3 z(0, 0, 1);
+    cache.add(Vec3(0, 0, 0), z, z,
               distantSamples(Vec3(0, 0, 1), 64, [](const Vec3&) { return Spectrum::Ones(); }));
     const double R = cache.record(0).R;
     EXPECT_NEAR(R, 0.25 * std::sqrt(12.0), 1e-12);  // no hit: the largest radius
-    EXPECT_TRUE(cache.covers(Vec3(0.29 * R, 0, 0), Vec3(0, 0, 1)));
-    EXPECT_FALSE(cache.covers(Vec3(0.31 * R, 0, 0), Vec3(0, 0, 1)));
-    EXPECT_FALSE(cache.covers(Vec3(0, 0, 0), Vec3(1, 0, 0)));  // √(1 − 0) = 1 > a
+    EXPECT_TRUE(cache.covers(Vec3(0.29 * R, 0, 0), z, z));
+    EXPECT_FALSE(cache.covers(Vec3(0.31 * R, 0, 0), z, z));
+    EXPECT_FALSE(cache.covers(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 0)));  // √(1 − 0) = 1 > a
     std::vector<double> lambda(cache.coefficientCount());
-    EXPECT_FALSE(cache.lookup(Vec3(0.5, 0, 0), Vec3(0, 0, 1), lambda.data()));
+    EXPECT_FALSE(cache.lookup(Vec3(0.5, 0, 0), z, z, lambda.data()));
+    // The same shading normal on a surface turned by more than 30° (across a crease whose
+    // vertex normals are shared): not served; by less: served.
+    const auto turned = [](double degrees) {
+        const double a = degrees * Pi / 180;
+        return Vec3(std::sin(a), 0, std::cos(a));
+    };
+    EXPECT_FALSE(cache.covers(Vec3(0, 0, 0), z, turned(45)));
+    EXPECT_FALSE(cache.lookup(Vec3(0, 0, 0), z, turned(31), lambda.data()));
+    EXPECT_TRUE(cache.covers(Vec3(0, 0, 0), z, turned(29)));
+    EXPECT_TRUE(cache.lookup(Vec3(0, 0, 0), z, turned(29), lambda.data()));
     EXPECT_GT(cache.memoryBytes(), 0u);
 }
 

@@ -53,13 +53,22 @@ class RadianceCache {
     /// 2 numbers.
     static std::vector<Vec3> directions(int count, const std::vector<Vec2>& jitter);
 
-    /// Builds the record at (p, n) from its samples and stores it.
-    void add(const Vec3& p, const Vec3& n, const std::vector<IncomingSample>& samples);
-    /// λ (3n², channel-major) of the interpolated incoming radiance at (p, n) in the frame
-    /// Frame(n); false if no record has weight > 1/a there.
-    bool lookup(const Vec3& p, const Vec3& n, double* lambda) const;
-    /// Whether some record has weight > 1/a at (p, n).
-    bool covers(const Vec3& p, const Vec3& n) const;
+    /// A record serves a query only where the two geometric normals are within 30°: a record's
+    /// directions below its own surface are dark (the path tracer refuses reflection through a
+    /// surface), so one reused across a crease whose vertex normals are shared would be dark
+    /// where the query's surface is not, and lit where it is dark. Below 30° the difference is
+    /// a thin wedge near the horizon (the facets of a smooth-shaded low-poly sphere).
+    static constexpr double kMinGeometricCos = 0.8660254037844386;  // cos 30°
+
+    /// Builds the record at p, with shading normal n (its frame) and geometric normal ng on the
+    /// same side, from its samples and stores it.
+    void add(const Vec3& p, const Vec3& n, const Vec3& ng,
+             const std::vector<IncomingSample>& samples);
+    /// λ (3n², channel-major) of the interpolated incoming radiance at (p, n, ng) in the frame
+    /// Frame(n); false if no record serves it (weight > 1/a, kMinGeometricCos).
+    bool lookup(const Vec3& p, const Vec3& n, const Vec3& ng, double* lambda) const;
+    /// Whether some record serves (p, n, ng).
+    bool covers(const Vec3& p, const Vec3& n, const Vec3& ng) const;
 
     size_t size() const { return records_.size(); }
     size_t memoryBytes() const;
@@ -68,6 +77,7 @@ class RadianceCache {
     struct Record {
         Vec3 p;
         Frame frame;  ///< Frame(n) (frame.n is the normal): the frame of λ and of the gradients
+        Vec3 ng;      ///< the geometric normal, on frame.n's side
         double R;
         std::vector<double> lambda, dx, dy;  ///< 3n² each
     };
@@ -77,6 +87,8 @@ class RadianceCache {
 
   private:
     double weight(const Record& r, const Vec3& p, const Vec3& n) const;
+    /// weight(r, p, n) where r serves (p, n, ng), else 0.
+    double servingWeight(const Record& r, const Vec3& p, const Vec3& n, const Vec3& ng) const;
     uint64_t cellKey(const Eigen::Vector3i& c, int level) const;
     Eigen::Vector3i cellOf(const Vec3& p, int level) const;
     /// visit(record) for every record listed in the cells containing p, level by level.
