@@ -400,40 +400,48 @@ std::optional<DensityBricks> makeBricks(const openvdb::FloatTree& tree) {
     if (boxes.empty()) return DensityBricks();
     const Eigen::Vector3i res = hi - lo + Eigen::Vector3i::Ones();
     if (res.cast<double>().prod() > kMaxTableCells) return std::nullopt;
-    // Calls visit(c, tile) for each brick position c of each box, with tile = the tile's value
+    // Calls visit(c, tile) for each brick position c of the box b, with tile = the tile's value
     // where c is inside a tile with its apron too (lo + 1 … hi − 1 on every axis: a constant
-    // rather than a brick), else 0.
-    auto forEachPosition = [&](auto&& visit) {
-        for (const Box& b : boxes)
-            for (int x = b.lo.x(); x <= b.hi.x(); ++x)
-                for (int y = b.lo.y(); y <= b.hi.y(); ++y)
-                    for (int z = b.lo.z(); z <= b.hi.z(); ++z) {
-                        const Eigen::Vector3i c(x, y, z);
-                        const bool interior =
-                            (c.array() > b.lo.array()).all() && (c.array() < b.hi.array()).all();
-                        visit(c, interior ? b.tile : 0.f);
-                    }
+    // rather than a brick), else 0; with shellOnly, a tile's inner positions are skipped. Stops
+    // when visit returns false.
+    auto forEachPosition = [&](const Box& b, bool shellOnly, auto&& visit) {
+        for (int x = b.lo.x(); x <= b.hi.x(); ++x)
+            for (int y = b.lo.y(); y <= b.hi.y(); ++y) {
+                const bool edge = x == b.lo.x() || x == b.hi.x() || y == b.lo.y() || y == b.hi.y();
+                // Inner rows of a tile: only their two ends are on the shell.
+                const int step = shellOnly && b.tile > 0 && !edge ? b.hi.z() - b.lo.z() : 1;
+                for (int z = b.lo.z(); z <= b.hi.z(); z += std::max(step, 1)) {
+                    const bool interior = !edge && z > b.lo.z() && z < b.hi.z();
+                    if (!visit(Eigen::Vector3i(x, y, z), interior ? b.tile : 0.f)) return false;
+                }
+            }
+        return true;
     };
     // The bricks to store, each counted once: a position lies in the windows of up to 8 boxes
     // (its own and those one brick above it on each axis), so a sum over the boxes would count
-    // a dense region's bricks about 8 times. The same bounds each walk at 8 × the table.
+    // a dense region's bricks about 8 times. Tiles' inner positions are not walked, and the
+    // count stops at the cap, so a small hostile file is refused quickly.
     std::vector<bool> needed(size_t(res.prod()), false);
     size_t bricks = 0;
-    forEachPosition([&](const Eigen::Vector3i& c, float tile) {
-        const Eigen::Vector3i r = c - lo;
-        const size_t i = (size_t(r.x()) * res.y() + r.y()) * res.z() + r.z();
-        if (tile == 0 && !needed[i]) needed[i] = true, ++bricks;
-    });
-    if (double(bricks) > kMaxBricks) return std::nullopt;
+    for (const Box& b : boxes)
+        if (!forEachPosition(b, true, [&](const Eigen::Vector3i& c, float tile) {
+                const Eigen::Vector3i r = c - lo;
+                const size_t i = (size_t(r.x()) * res.y() + r.y()) * res.z() + r.z();
+                if (tile == 0 && !needed[i]) needed[i] = true, ++bricks;
+                return double(bricks) <= kMaxBricks;
+            }))
+            return std::nullopt;
     DensityBricks d(lo, res, 0.f);
     Accessor acc(tree);
     auto voxel = [&](int i, int j, int l) { return acc.getValue(openvdb::Coord(i, j, l)); };
-    forEachPosition([&](const Eigen::Vector3i& c, float tile) {
-        if (tile > 0)
-            d.fill(c, tile);
-        else
-            d.add(c, voxel);
-    });
+    for (const Box& b : boxes)
+        forEachPosition(b, false, [&](const Eigen::Vector3i& c, float tile) {
+            if (tile > 0)
+                d.fill(c, tile);
+            else
+                d.add(c, voxel);
+            return true;
+        });
     return d;
 }
 
