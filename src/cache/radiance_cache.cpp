@@ -172,16 +172,13 @@ bool RadianceCache::lookup(const Vec3& p, const Vec3& n, const Vec3& ng, double*
                                                 : frame.n);
             // hshRotate (C · D(R) · Cᵀ) with the three channels rotated together.
             const sh::ShToHsh& C = rotation_->C;
-            thread_local Eigen::MatrixXd sh;
-            sh.resize(4 * nn, 3);
-            for (int c = 0; c < 3; ++c)
-                sh.col(c) = C.toSh(Eigen::Map<const Eigen::VectorXd>(&moved[c * nn], nn));
-            rotation_->rotate.apply(R, sh.data(), sh.data(), 3);
-            for (int c = 0; c < 3; ++c) {
-                const Eigen::VectorXd v = C.toHsh(sh.col(c));
-                std::copy(v.data(), v.data() + nn, &moved[c * nn]);
-            }
+            thread_local std::vector<double> shCoeffs;
+            shCoeffs.resize(3 * 4 * size_t(nn));
+            for (int c = 0; c < 3; ++c) C.toSh(&moved[c * nn], &shCoeffs[c * 4 * nn]);
+            rotation_->rotate.apply(R, shCoeffs.data(), shCoeffs.data(), 3);
+            for (int c = 0; c < 3; ++c) C.toHsh(&shCoeffs[c * 4 * nn], &moved[c * nn]);
         }
+
         for (int k = 0; k < 3 * nn; ++k) lambda[k] += w * moved[k];
         wSum += w;
     });

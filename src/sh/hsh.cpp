@@ -75,8 +75,8 @@ ShToHsh::ShToHsh(int nH, int nS) : nHsh(nH), nSh(nS) {
     }
 }
 
-Eigen::VectorXd ShToHsh::toHsh(const Eigen::VectorXd& sh) const {
-    Eigen::VectorXd h = Eigen::VectorXd::Zero(nHsh * nHsh);
+void ShToHsh::toHsh(const double* sh, double* h) const {
+    std::fill(h, h + nHsh * nHsh, 0.0);
     for (int am = 0; am < static_cast<int>(blocks.size()); ++am)
         for (int sgn : {1, -1}) {
             if (am == 0 && sgn < 0) continue;
@@ -88,11 +88,16 @@ Eigen::VectorXd ShToHsh::toHsh(const Eigen::VectorXd& sh) const {
                 h[l * (l + 1) + m] = s;
             }
         }
+}
+
+Eigen::VectorXd ShToHsh::toHsh(const Eigen::VectorXd& sh) const {
+    Eigen::VectorXd h(nHsh * nHsh);
+    toHsh(sh.data(), h.data());
     return h;
 }
 
-Eigen::VectorXd ShToHsh::toSh(const Eigen::VectorXd& h) const {
-    Eigen::VectorXd sh = Eigen::VectorXd::Zero(nSh * nSh);
+void ShToHsh::toSh(const double* h, double* sh) const {
+    std::fill(sh, sh + nSh * nSh, 0.0);
     for (int am = 0; am < static_cast<int>(blocks.size()); ++am)
         for (int sgn : {1, -1}) {
             if (am == 0 && sgn < 0) continue;
@@ -104,6 +109,11 @@ Eigen::VectorXd ShToHsh::toSh(const Eigen::VectorXd& h) const {
                 sh[lp * (lp + 1) + m] = s;
             }
         }
+}
+
+Eigen::VectorXd ShToHsh::toSh(const Eigen::VectorXd& h) const {
+    Eigen::VectorXd sh(nSh * nSh);
+    toSh(h.data(), sh.data());
     return sh;
 }
 

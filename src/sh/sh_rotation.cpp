@@ -272,15 +272,19 @@ void ShVectorRotation::apply(const Eigen::Matrix3d& R, const double* in, double*
             }
         }
     };
-    thread_local Eigen::MatrixXd v, w;
+    // Scratch for one band of every vector, sized once for the widest band (no allocation per
+    // band or call).
+    thread_local std::vector<double> scratch;
+    const size_t widest = size_t(std::max(2 * n - 1, 1)) * std::max(count, 1);
+    if (scratch.size() < 2 * widest) scratch.resize(2 * widest);
     const size_t nn = size_t(n) * n;
     for (int l = 0; l < n; ++l) {
         const int k = 2 * l + 1;
-        v.resize(k, count);
+        Eigen::Map<Eigen::MatrixXd> v(scratch.data(), k, count),
+            w(scratch.data() + widest, k, count);
         for (int j = 0; j < count; ++j)
             v.col(j) = Eigen::Map<const Eigen::VectorXd>(in + j * nn + l * l, k);
         z(2, l, v);
-        w.resize(k, count);
         // Matrix–vector products: a matrix–matrix product would pack its operands first.
         for (int j = 0; j < count; ++j) w.col(j).noalias() = x_[l] * v.col(j);
         z(1, l, w);

@@ -144,44 +144,57 @@ TEST(RadianceCachePath, GlossyRoomStaysNearThePathTracedImage) {
 namespace shvol {
 namespace {
 
-/// A Lambertian square in the plane z = 0 whose vertex normals all lean by α from its geometric
-/// normal, under a constant sky, seen from above without next-event estimation. Reflection stays
-/// above the plane and the BSDF's cosine is the shading normal's, so the irradiance is that of a
-/// plane tilted by α under the sky's upper half, π L_e (1 + cos α)/2, and the radiance leaving
-/// it ρ L_e (1 + cos α)/2. A cache framed by the geometric normal would give ρ L_e.
+/// A Lambertian square in the plane z = 0 whose vertex normals all lean by α = 60° from its
+/// geometric normal, under a constant sky, without next-event estimation. Reflection stays on
+/// the viewer's side of the plane and the BSDF's cosine is the shading normal's (flipped to the
+/// viewer's side), so the irradiance is that of a plane tilted by the angle β between the
+/// flipped shading normal and the geometric normal on the viewer's side, under the sky's half on
+/// that side: π L_e (1 + cos β)/2, and the radiance leaving it ρ L_e (1 + cos β)/2. Seen from
+/// above or below, β = α; seen grazing from the side the normals lean away from, the shading
+/// normal faces away and is flipped: β = 180° − α. A cache framed by the geometric normal would
+/// give ρ L_e.
 TEST(RadianceCachePath, UsesTheShadingNormalsOfSmoothMeshes) {
     const double rho = 0.8, Le = 1, alpha = Pi / 3;
-    const double expected = rho * Le * (1 + std::cos(alpha)) / 2;
-    auto tilted = [&](bool cache) {
-        Scene scene;
-        scene.camera.position = Vec3(0, 0, 3);
-        scene.camera.target = Vec3(0, 0, 0);
-        scene.camera.up = Vec3(0, 1, 0);
-        scene.camera.width = scene.camera.height = 16;
-        scene.camera.fovDegrees = 30;  // every pixel sees the square
-        scene.settings.spp = cache ? 4 : 256;
-        scene.settings.nee = false;  // the sky's light then reaches the pixels through the cache
-        scene.settings.radianceCache.enabled = cache;
-        scene.settings.radianceCache.hshOrder = 4;
-        scene.settings.radianceCache.raysPerRecord = 1024;
-        scene.environment = Environment::constant(Spectrum::Constant(Le), false);
-        Surface square;
-        square.kind = Surface::Kind::Mesh;
-        square.mesh.p = {Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(-1, 1, 0)};
-        square.mesh.n.assign(4, Vec3(0, -std::sin(alpha), std::cos(alpha)));
-        square.mesh.indices = {0, 1, 2, 0, 2, 3};
-        square.bsdf = Bsdf::lambert(Spectrum::Constant(rho));
-        std::vector<Surface> v;
-        v.push_back(std::move(square));
-        scene.surfaces = std::make_unique<const SurfaceScene>(std::move(v));
-        return render(scene, RenderOptions{});
+    struct View {
+        Vec3 position;
+        double fov, cosBeta;
     };
-    for (const bool cache : {false, true}) {
-        const RenderResult r = tilted(cache);
-        double sum = 0;
-        for (float v : r.image.rgb) sum += v;
-        EXPECT_NEAR(sum / r.image.rgb.size(), expected, 0.03 * expected) << "cache " << cache;
-        if (cache) EXPECT_GT(r.stats.counters.cacheHits, r.stats.counters.cacheLookups * 9 / 10);
+    // Each camera's every pixel sees the square (the grazing one at 7.5°–11.5° of elevation).
+    const View views[] = {{Vec3(0, 0, 3), 30, std::cos(alpha)},
+                          {Vec3(0, 0, -3), 30, std::cos(alpha)},
+                          {Vec3(0, 3, 0.5), 4, -std::cos(alpha)}};
+    for (const View& view : views) {
+        const double expected = rho * Le * (1 + view.cosBeta) / 2;
+        for (const bool cache : {false, true}) {
+            Scene scene;
+            scene.camera.position = view.position;
+            scene.camera.target = Vec3(0, 0, 0);
+            scene.camera.up = Vec3(0, 1, 1).normalized();
+            scene.camera.width = scene.camera.height = 16;
+            scene.camera.fovDegrees = view.fov;
+            scene.settings.spp = cache ? 4 : 256;
+            scene.settings.nee = false;  // the sky's light then reaches the pixels by the cache
+            scene.settings.radianceCache.enabled = cache;
+            scene.settings.radianceCache.hshOrder = 4;
+            scene.settings.radianceCache.raysPerRecord = 1024;
+            scene.environment = Environment::constant(Spectrum::Constant(Le), false);
+            Surface square;
+            square.kind = Surface::Kind::Mesh;
+            square.mesh.p = {Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(-1, 1, 0)};
+            square.mesh.n.assign(4, Vec3(0, -std::sin(alpha), std::cos(alpha)));
+            square.mesh.indices = {0, 1, 2, 0, 2, 3};
+            square.bsdf = Bsdf::lambert(Spectrum::Constant(rho));
+            std::vector<Surface> v;
+            v.push_back(std::move(square));
+            scene.surfaces = std::make_unique<const SurfaceScene>(std::move(v));
+            const RenderResult r = render(scene, RenderOptions{});
+            double sum = 0;
+            for (float x : r.image.rgb) sum += x;
+            EXPECT_NEAR(sum / r.image.rgb.size(), expected, 0.03 * expected)
+                << "camera at " << view.position.transpose() << ", cache " << cache;
+            if (cache)
+                EXPECT_GT(r.stats.counters.cacheHits, r.stats.counters.cacheLookups * 9 / 10);
+        }
     }
 }
 

@@ -56,9 +56,11 @@ struct ShToHsh {
     ShToHsh(int nHsh, int nSh);
     /// HSH coefficients (nHsh²) of the restriction to the hemisphere of the SH function sh (nSh²).
     Eigen::VectorXd toHsh(const Eigen::VectorXd& sh) const;
+    void toHsh(const double* sh, double* h) const;  ///< the same, without allocating
     /// SH coefficients (nSh²) of the HSH function h (nHsh²) extended by zero below the horizon:
     /// Cᵀ h (the projection, so it is exact; the truncation to nSh bands is the only loss).
     Eigen::VectorXd toSh(const Eigen::VectorXd& h) const;
+    void toSh(const double* h, double* sh) const;  ///< the same, without allocating
     /// The dense nHsh² × nSh² matrix C.
     Eigen::MatrixXd dense() const;
 };
