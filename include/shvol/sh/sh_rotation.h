@@ -58,9 +58,10 @@ struct ShRotation {
 ///   D^l(R) = Z^l(α) X^lᵀ Z^l(β) X^l Z^l(γ),   X^l = D^l(Rx(90°)),
 /// with X^l built once and Z^l the 2×2 (m, −m) rotations by mα: the zxzxz rotation of Kautz,
 /// Sloan & Snyder 2002, "Fast, Arbitrary BRDF Shading for Low-Frequency Lighting Using
-/// Spherical Harmonics". Two matrix–vector products per band instead of the O(l²)-term
-/// recursion of a band matrix: 4.2–4.3× as fast for 16 bands and three vectors
-/// (build/bench_sh, ShRotateVectors, two runs). The angles are found without the
+/// Spherical Harmonics". Per band two products of fixed matrices with the vectors instead of
+/// building R's band matrix by the Ivanic–Ruedenberg recursion (both O(l²) per band, a constant
+/// factor apart): 4.8–5.0× as fast for 16 bands and three vectors (build/bench_sh,
+/// ShRotateVectors, two runs). The angles are found without the
 /// ill-conditioning of Euler angles near β = 0 (a small tilt and any twist, what neighbouring
 /// frames differ by): α and β from R·ẑ, then γ from what is left once the tilt
 /// Rz(α) Ry(β) Rz(−α) is taken out. Agrees with ShRotation's matrices within 1e-12 for 16
