@@ -1,5 +1,7 @@
 #include "shvol/cache/radiance_cache.h"
 
+#include <tbb/parallel_for.h>
+
 #include "shvol/sh/hsh.h"
 
 namespace shvol {
@@ -60,31 +62,54 @@ RadianceCache::Record RadianceCache::build(const Vec3& p, const Vec3& n,
                      0.25 * diag_);
     const double scale = TwoPi / samples.size();
     const double delta = 1e-3 * r.R;  // Δx of the finite differences
-    std::vector<double> h(nn);
-    // Σ_k weight·L_k·H(ω) into out.
-    auto accumulate = [&](std::vector<double>& out, const Vec3& w, double weight,
-                          const Spectrum& L) {
-        if (!(w.z() > 0) || !(weight > 0)) return;
-        sh::hshEval(n_, w, h.data());
-        for (int c = 0; c < 3; ++c)
-            for (int i = 0; i < nn; ++i) out[c * nn + i] += scale * weight * L[c] * h[i];
-    };
-    for (const IncomingSample& s : samples) accumulate(r.lambda, s.w, 1, s.L);
-    for (int axis = 0; axis < 2; ++axis) {
-        std::vector<double>& g = axis == 0 ? r.dx : r.dy;
-        const Vec3 moved = p + delta * (axis == 0 ? frame.s : frame.t);
-        for (const IncomingSample& s : samples) {
-            if (!usable(s)) {
-                accumulate(g, s.w, 1, s.L);
+    const Vec3 moved[2] = {p + delta * frame.s, p + delta * frame.t};
+    // The sums of eq. 22 and of the displaced estimates, over blocks of kBlock samples in
+    // parallel, the blocks' sums then added in order: the same numbers for any thread count.
+    constexpr size_t kBlock = 64;
+    const size_t blocks = (samples.size() + kBlock - 1) / kBlock, stride = 9 * size_t(nn);
+    std::vector<double> partial(blocks * stride, 0.0);  // per block: λ, dx sums, dy sums
+    tbb::parallel_for(size_t(0), blocks, [&](size_t block) {
+        double* sums[3] = {&partial[block * stride], &partial[block * stride + 3 * nn],
+                           &partial[block * stride + 6 * nn]};
+        std::vector<double> h(nn);
+        // out += weight·L·H(ω), H(ω) as last evaluated into h.
+        auto accumulate = [&](double* out, double weight, const Spectrum& L) {
+            for (int c = 0; c < 3; ++c)
+                for (int i = 0; i < nn; ++i) out[c * nn + i] += scale * weight * L[c] * h[i];
+        };
+        for (size_t k = block * kBlock; k < std::min(samples.size(), (block + 1) * kBlock); ++k) {
+            const IncomingSample& s = samples[k];
+            const bool up = s.w.z() > 0;
+            if (up) {
+                sh::hshEval(n_, s.w, h.data());
+                accumulate(sums[0], 1, s.L);
+            }
+            if (!usable(s)) {  // not displaced: the same term in both gradient sums
+                if (up) accumulate(sums[1], 1, s.L), accumulate(sums[2], 1, s.L);
                 continue;
             }
-            const Vec3 d = s.W - p, d2 = s.W - moved;
+            const Vec3 d = s.W - p;
             const double cosXi = std::abs(s.nW.dot(d)) / d.norm();
-            const double cosXi2 = std::abs(s.nW.dot(d2)) / d2.norm();
-            accumulate(g, frame.toLocal(d2.normalized()),
-                       d.squaredNorm() * cosXi2 / (d2.squaredNorm() * cosXi), s.L);
+            for (int axis = 0; axis < 2; ++axis) {
+                const Vec3 d2 = s.W - moved[axis];
+                const Vec3 w2 = frame.toLocal(d2.normalized());
+                const double cosXi2 = std::abs(s.nW.dot(d2)) / d2.norm();
+                const double weight = d.squaredNorm() * cosXi2 / (d2.squaredNorm() * cosXi);
+                if (!(w2.z() > 0) || !(weight > 0)) continue;
+                sh::hshEval(n_, w2, h.data());
+                accumulate(sums[1 + axis], weight, s.L);
+            }
         }
-        for (int i = 0; i < 3 * nn; ++i) g[i] = (g[i] - r.lambda[i]) / delta;
+    });
+    for (size_t block = 0; block < blocks; ++block)
+        for (int i = 0; i < 3 * nn; ++i) {
+            r.lambda[i] += partial[block * stride + i];
+            r.dx[i] += partial[block * stride + 3 * nn + i];
+            r.dy[i] += partial[block * stride + 6 * nn + i];
+        }
+    for (int i = 0; i < 3 * nn; ++i) {
+        r.dx[i] = (r.dx[i] - r.lambda[i]) / delta;
+        r.dy[i] = (r.dy[i] - r.lambda[i]) / delta;
     }
     return r;
 }
