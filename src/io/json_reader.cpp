@@ -72,6 +72,14 @@ Json parseJsonFile(const std::string& path) {
     }
 }
 
+Json overrideValue(const std::string& text) {
+    try {
+        return Json::parse(text);
+    } catch (const Json::exception&) {  // not JSON (or a number out of range): a string
+        return text;
+    }
+}
+
 void applyOverride(Json& doc, const std::string& assignment, const std::string& file) {
     const auto eq = assignment.find('=');
     if (eq == std::string::npos || eq == 0)
@@ -84,13 +92,7 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
         else if (ch != ']')
             keyPath += ch;
     }
-    const std::string text = assignment.substr(eq + 1);
-    Json value;
-    try {
-        value = Json::parse(text);
-    } catch (const Json::exception&) {  // not JSON (or a number out of range): a string
-        value = text;
-    }
+    Json value = overrideValue(assignment.substr(eq + 1));
     std::vector<std::string> parts;
     {
         std::stringstream ss(keyPath);

@@ -21,14 +21,15 @@ std::string relativeTo(const std::string& sweepFile, const std::string& p) {
     return (fs::path(sweepFile).parent_path() / p).lexically_normal().string();
 }
 
-/// "key=value" with the value as JSON text (strings quoted, so they stay strings). A relative
-/// path assigned to a key named "file" is made relative to the sweep file, as the sweep's other
-/// paths are (--set on the command line takes it relative to the current directory).
+/// Whether an override's key path ends in a key named "file" (media[0].file, ….phase.file).
 bool namesFile(const std::string& key) {
     const size_t at = key.find_last_of(".]");
     return (at == std::string::npos ? key : key.substr(at + 1)) == "file";
 }
 
+/// "key=value" with the value as JSON text (strings quoted, so they stay strings). A relative
+/// path assigned to a key named "file" is made relative to the sweep file, as the sweep's other
+/// paths are (--set on the command line takes it relative to the current directory).
 std::string assignment(const std::string& sweepFile, const std::string& key, Json v) {
     if (namesFile(key) && v.is_string()) v = relativeTo(sweepFile, v.get<std::string>());
     return key + "=" + dumpJson(v);
@@ -50,10 +51,7 @@ std::vector<std::string> stringList(JsonReader& r, const std::string& key,
             out.push_back(a);
             continue;
         }
-        // The value as --set reads it: JSON when it is valid JSON, else the text as a string.
-        Json v = Json::parse(a.substr(eq + 1), nullptr, false);
-        if (v.is_discarded()) v = a.substr(eq + 1);
-        out.push_back(assignment(sweepFile, a.substr(0, eq), v));
+        out.push_back(assignment(sweepFile, a.substr(0, eq), overrideValue(a.substr(eq + 1))));
     }
     return out;
 }

@@ -144,14 +144,28 @@ const LyEigen& lyEigen(int l) {
     return *cache[l];
 }
 
+// cs[2m], cs[2m + 1] = cos(m·a), sin(m·a) for m < count.
+void cosSinMultiples(double a, int count, double* cs) {
+    for (int m = 0; m < count; ++m) cs[2 * m] = std::cos(m * a), cs[2 * m + 1] = std::sin(m * a);
+}
+
+// D^l(Rz(a)) applied from the left to the band-l rows of M, in place, with cs from
+// cosSinMultiples(a, ≥ l + 1): rows (m, −m) → (c·row_m − s·row_−m, s·row_m + c·row_−m).
+void zRows(Eigen::Ref<Eigen::MatrixXd> M, int l, const double* cs) {
+    for (int m = 1; m <= l; ++m) {
+        const double c = cs[2 * m], s = cs[2 * m + 1];
+        for (Eigen::Index j = 0; j < M.cols(); ++j) {
+            const double p = M(l + m, j), q = M(l - m, j);
+            M(l + m, j) = c * p - s * q, M(l - m, j) = s * p + c * q;
+        }
+    }
+}
+
 // D^l(Rz(a)) applied from the left (rows) or right (columns) of M, in place.
 void zLeft(Eigen::MatrixXd& M, int l, double a) {
-    for (int m = 1; m <= l; ++m) {
-        const double c = std::cos(m * a), s = std::sin(m * a);
-        const Eigen::RowVectorXd rp = M.row(m + l), rm = M.row(-m + l);
-        M.row(m + l) = c * rp - s * rm;
-        M.row(-m + l) = s * rp + c * rm;
-    }
+    std::vector<double> cs(2 * size_t(l + 1));
+    cosSinMultiples(a, l + 1, cs.data());
+    zRows(M, l, cs.data());
 }
 void zRight(Eigen::MatrixXd& M, int l, double a) {
     for (int m = 1; m <= l; ++m) {
@@ -256,21 +270,10 @@ void ShVectorRotation::apply(const Eigen::Matrix3d& R, const double* in, double*
     thread_local std::vector<double> trig;
     trig.resize(6 * size_t(std::max(n, 1)));
     const double angles[3] = {alpha, beta, gamma};
-    for (int k = 0; k < 3; ++k) {
-        double* cs = &trig[2 * size_t(k) * n];
-        for (int m = 0; m < n; ++m)
-            cs[2 * m] = std::cos(m * angles[k]), cs[2 * m + 1] = std::sin(m * angles[k]);
-    }
-    // Z^l(a) on the band's coefficients: (v_m, v_−m) → (c v_m − s v_−m, s v_m + c v_−m).
+    for (int k = 0; k < 3; ++k) cosSinMultiples(angles[k], n, &trig[2 * size_t(k) * n]);
+    // Z^l of angle k on the band's coefficients of every vector.
     auto z = [&](int k, int l, Eigen::Ref<Eigen::MatrixXd> v) {
-        const double* cs = &trig[2 * size_t(k) * n];
-        for (int m = 1; m <= l; ++m) {
-            const double c = cs[2 * m], s = cs[2 * m + 1];
-            for (Eigen::Index j = 0; j < v.cols(); ++j) {
-                const double p = v(l + m, j), q = v(l - m, j);
-                v(l + m, j) = c * p - s * q, v(l - m, j) = s * p + c * q;
-            }
-        }
+        zRows(v, l, &trig[2 * size_t(k) * n]);
     };
     // Scratch for one band of every vector, sized once for the widest band (no allocation per
     // band or call).
