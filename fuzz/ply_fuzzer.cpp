@@ -22,6 +22,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             if (i >= m.p.size()) shvol::fuzz::bug("parsePly accepted an index out of range");
         for (const shvol::Vec3& p : m.p)
             if (!p.allFinite()) shvol::fuzz::bug("parsePly accepted a non-finite position");
+        for (const shvol::Vec3& n : m.n)
+            if (!n.allFinite() || n.squaredNorm() == 0)
+                shvol::fuzz::bug("parsePly accepted a non-finite or zero normal");
+        for (const auto& uv : m.uv)
+            if (!uv.allFinite())
+                shvol::fuzz::bug("parsePly accepted non-finite texture coordinates");
         for (size_t f = 0; f < m.triangleCount(); ++f) {
             const shvol::Vec3& p0 = m.p[m.indices[3 * f]];
             const shvol::Vec3 n =
