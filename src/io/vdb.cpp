@@ -718,8 +718,12 @@ std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc) {
                 lines.emplace_back(p, worldToIndex.linear() * sampleUniformSphere(rng.uniform2()));
             }
             double best = majorants.trackingCost(lines, desc.densityScale, kSegmentCost);
-            for (MajorantGrid g = majorants; g.resolution().maxCoeff() > 1 && cell < (1 << 30);) {
-                g = g.coarsened();
+            // Coarsened from the finest grid, then from the last coarsening (not from a copy
+            // of the finest grid, which would be the largest allocation of the choice).
+            MajorantGrid g;
+            for (const MajorantGrid* from = &majorants;
+                 from->resolution().maxCoeff() > 1 && cell < (1 << 30); from = &g) {
+                g = from->coarsened();
                 cell *= 2;
                 const double cost = g.trackingCost(lines, desc.densityScale, kSegmentCost);
                 if (cost <= best) best = cost, majorants = g, cellVoxels = int(cell);
