@@ -173,40 +173,53 @@ bool RadianceCache::covers(const Vec3& p, const Vec3& n, const Vec3& ng) const {
 
 bool RadianceCache::lookup(const Vec3& p, const Vec3& n, const Vec3& ng, double* lambda) const {
     const int nn = n_ * n_;
+    const sh::ShToHsh& C = rotation_->C;
+    const int shCount = C.nSh * C.nSh;
     std::fill(lambda, lambda + 3 * nn, 0.0);
-    thread_local std::vector<double> moved;  // scratch: lookups run once per pixel sample
+    // Scratch (lookups run once per pixel sample): a record's coefficients moved to p, and for
+    // records in other frames their SH form rotated onto the query's frame and the weighted sum
+    // of those. C is linear, so Σ w C D Cᵀ λ = C Σ w D Cᵀ λ: one SH→HSH projection per lookup
+    // rather than one per rotated record.
+    thread_local std::vector<double> moved, shCoeffs, shSum;
     moved.resize(3 * nn);
+    shCoeffs.resize(3 * size_t(shCount));
+    shSum.assign(3 * size_t(shCount), 0.0);
+    bool rotated = false;
     double wSum = 0;
     const Frame query(n);
     candidates(p, [&](const Record& r) {
         double w = servingWeight(r, p, n, ng);
         if (!(w > 0)) return;
         w = std::min(w, 1e12);  // a query exactly at a record
+        wSum += w;
         const Frame& frame = r.frame;
         const double dx = (p - r.p).dot(frame.s), dy = (p - r.p).dot(frame.t);
         for (int k = 0; k < 3 * nn; ++k) moved[k] = r.lambda[k] + dx * r.dx[k] + dy * r.dy[k];
-        if ((r.frame.n - n).squaredNorm() > 1e-24) {  // rotate the record's frame onto the query's
-            Eigen::Matrix3d R;
-            for (int a = 0; a < 3; ++a)
-                for (int b = 0; b < 3; ++b)
-                    R(a, b) = (a == 0   ? query.s
-                               : a == 1 ? query.t
-                                        : query.n)
-                                  .dot(b == 0   ? frame.s
-                                       : b == 1 ? frame.t
-                                                : frame.n);
-            // hshRotate (C · D(R) · Cᵀ) with the three channels rotated together.
-            const sh::ShToHsh& C = rotation_->C;
-            thread_local std::vector<double> shCoeffs;
-            shCoeffs.resize(3 * 4 * size_t(nn));
-            for (int c = 0; c < 3; ++c) C.toSh(&moved[c * nn], &shCoeffs[c * 4 * nn]);
-            rotation_->rotate.apply(R, shCoeffs.data(), shCoeffs.data(), 3);
-            for (int c = 0; c < 3; ++c) C.toHsh(&shCoeffs[c * 4 * nn], &moved[c * nn]);
+        if (!((r.frame.n - n).squaredNorm() > 1e-24)) {  // the query's frame
+            for (int k = 0; k < 3 * nn; ++k) lambda[k] += w * moved[k];
+            return;
         }
-
-        for (int k = 0; k < 3 * nn; ++k) lambda[k] += w * moved[k];
-        wSum += w;
+        // Rotate the record's frame onto the query's (hshRotate's C · D(R) · Cᵀ without the
+        // final C), the three channels together.
+        Eigen::Matrix3d R;
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b)
+                R(a, b) = (a == 0   ? query.s
+                           : a == 1 ? query.t
+                                    : query.n)
+                              .dot(b == 0   ? frame.s
+                                   : b == 1 ? frame.t
+                                            : frame.n);
+        for (int c = 0; c < 3; ++c) C.toSh(&moved[c * nn], &shCoeffs[c * shCount]);
+        rotation_->rotate.apply(R, shCoeffs.data(), shCoeffs.data(), 3);
+        for (size_t k = 0; k < shSum.size(); ++k) shSum[k] += w * shCoeffs[k];
+        rotated = true;
     });
+    if (rotated)
+        for (int c = 0; c < 3; ++c) {
+            C.toHsh(&shSum[c * shCount], moved.data());
+            for (int k = 0; k < nn; ++k) lambda[c * nn + k] += moved[k];
+        }
     if (!(wSum > 0)) return false;
     for (int k = 0; k < 3 * nn; ++k) lambda[k] /= wSum;
     return true;
