@@ -249,9 +249,24 @@ Eigen::VectorXd ShRotation::apply(const Eigen::VectorXd& in) const {
     return out;
 }
 
-ShVectorRotation::ShVectorRotation(int n)
-    : n_(n),
-      x_(ShRotation(n, Eigen::AngleAxisd(0.5 * Pi, Vec3::UnitX()).toRotationMatrix()).bands) {}
+ShVectorRotation::SparseBand ShVectorRotation::sparse(const Eigen::MatrixXd& m) {
+    SparseBand b;
+    for (Eigen::Index i = 0; i < m.rows(); ++i) {
+        b.start.push_back(int(b.col.size()));
+        for (Eigen::Index j = 0; j < m.cols(); ++j)
+            if (std::fabs(m(i, j)) > 1e-13) b.col.push_back(int(j)), b.val.push_back(m(i, j));
+    }
+    b.start.push_back(int(b.col.size()));
+    return b;
+}
+
+ShVectorRotation::ShVectorRotation(int n) : n_(n) {
+    const ShRotation x(n, Eigen::AngleAxisd(0.5 * Pi, Vec3::UnitX()).toRotationMatrix());
+    for (const Eigen::MatrixXd& band : x.bands) {
+        x_.push_back(sparse(band));
+        xt_.push_back(sparse(band.transpose()));
+    }
+}
 
 void ShVectorRotation::apply(const Eigen::Matrix3d& R, const double* in, double* out,
                              int count) const {
@@ -281,6 +296,24 @@ void ShVectorRotation::apply(const Eigen::Matrix3d& R, const double* in, double*
     const size_t widest = size_t(std::max(2 * n - 1, 1)) * std::max(count, 1);
     if (scratch.size() < 2 * widest) scratch.resize(2 * widest);
     const size_t nn = size_t(n) * n;
+    // out = M in for every column, over M's nonzero entries: each entry is read once for all
+    // columns, and the columns' sums are independent chains (three for an RGB record).
+    auto multiply = [count](const SparseBand& M, const auto& in, auto& out) {
+        constexpr int kChains = 3;
+        for (size_t i = 0; i + 1 < M.start.size(); ++i)
+            for (int j0 = 0; j0 < count; j0 += kChains) {
+                const int m = std::min(kChains, count - j0);
+                double s[kChains] = {0, 0, 0};
+                for (int p = M.start[i]; p < M.start[i + 1]; ++p) {
+                    const double a = M.val[p];
+                    const double* x = &in(M.col[p], j0);
+                    const Eigen::Index stride = in.outerStride();
+                    for (int j = 0; j < kChains; ++j)
+                        if (j < m) s[j] += a * x[j * stride];
+                }
+                for (int j = 0; j < m; ++j) out(Eigen::Index(i), j0 + j) = s[j];
+            }
+    };
     for (int l = 0; l < n; ++l) {
         const int k = 2 * l + 1;
         Eigen::Map<Eigen::MatrixXd> v(scratch.data(), k, count),
@@ -288,10 +321,9 @@ void ShVectorRotation::apply(const Eigen::Matrix3d& R, const double* in, double*
         for (int j = 0; j < count; ++j)
             v.col(j) = Eigen::Map<const Eigen::VectorXd>(in + j * nn + l * l, k);
         z(2, l, v);
-        // Matrix–vector products: a matrix–matrix product would pack its operands first.
-        for (int j = 0; j < count; ++j) w.col(j).noalias() = x_[l] * v.col(j);
+        multiply(x_[l], v, w);
         z(1, l, w);
-        for (int j = 0; j < count; ++j) v.col(j).noalias() = x_[l].transpose() * w.col(j);
+        multiply(xt_[l], w, v);
         z(0, l, v);
         for (int j = 0; j < count; ++j)
             Eigen::Map<Eigen::VectorXd>(out + j * nn + l * l, k) = v.col(j);

@@ -58,10 +58,11 @@ struct ShRotation {
 ///   D^l(R) = Z^l(α) X^lᵀ Z^l(β) X^l Z^l(γ),   X^l = D^l(Rx(90°)),
 /// with X^l built once and Z^l the 2×2 (m, −m) rotations by mα: the zxzxz rotation of Kautz,
 /// Sloan & Snyder 2002, "Fast, Arbitrary BRDF Shading for Low-Frequency Lighting Using
-/// Spherical Harmonics". Per band two products of fixed matrices with the vectors instead of
-/// building R's band matrix by the Ivanic–Ruedenberg recursion (both O(l²) per band, a constant
-/// factor apart): 4.8–5.0× as fast for 16 bands and three vectors (build/bench_sh,
-/// ShRotateVectors, two runs). The angles are found without the
+/// Spherical Harmonics". Per band two products of fixed sparse matrices (about 1/4 of X^l's
+/// entries are nonzero) with the vectors instead of building R's band matrix by the
+/// Ivanic–Ruedenberg recursion (both O(l²) per band, a constant factor apart): 6.5–6.7× as fast
+/// for 16 bands and three vectors (build/bench_sh, ShRotateVectors, two runs; 4.7–5.7× with X^l
+/// dense). The angles are found without the
 /// ill-conditioning of Euler angles near β = 0 (a small tilt and any twist, what neighbouring
 /// frames differ by): α and β from R·ẑ, then γ from what is left once the tilt
 /// Rz(α) Ry(β) Rz(−α) is taken out. Agrees with ShRotation's matrices within 1e-12 for 16
@@ -75,8 +76,17 @@ class ShVectorRotation {
     void apply(const Eigen::Matrix3d& R, const double* in, double* out, int count) const;
 
   private:
+    /// A band matrix by rows, its nonzero entries only: row i is col/val[start[i] … start[i+1]).
+    struct SparseBand {
+        std::vector<int> start, col;
+        std::vector<double> val;
+    };
+    static SparseBand sparse(const Eigen::MatrixXd& m);
     int n_;
-    std::vector<Eigen::MatrixXd> x_;  ///< D^l(Rx(90°)), l < n
+    /// D^l(Rx(90°)) and its transpose, l < n. About 3/4 of their entries vanish (those coupling
+    /// coefficients of different parity classes); entries below 1e-13 are such zeros up to the
+    /// rounding of their construction and are dropped.
+    std::vector<SparseBand> x_, xt_;
 };
 
 /// Zonal fast path: coefficients of p(μ) = Σ p_l y_l^0(μ), rotated so that its axis +z goes to
