@@ -127,9 +127,10 @@ TEST(ShRotation, HighOrderStaysAccurate) {
 
 // The fast path for vectors against the band matrices, on random rotations and on those where
 // Euler angles are ill-conditioned: identity, a pure twist, tiny tilts with a twist (what
-// neighbouring radiance cache frames differ by), β = π, and β near π.
-TEST(ShVectorRotation, AgreesWithShRotation) {
-    const int n = 16, count = 3;
+// neighbouring radiance cache frames differ by), β = π, and β near π; for one vector, three
+// (an RGB record, its sums done side by side) and five (more than are summed side by side).
+void agreesWithShRotation(int count) {
+    const int n = 16;
     const ShVectorRotation fast(n);
     Rng rng(31, 1);
     std::vector<Eigen::Matrix3d> rs = {
@@ -147,12 +148,16 @@ TEST(ShVectorRotation, AgreesWithShRotation) {
         for (int j = 0; j < count; ++j)
             EXPECT_LT((out.col(j) - slow.apply(Eigen::VectorXd(in.col(j)))).cwiseAbs().maxCoeff(),
                       1e-12)
-                << "rotation " << r << ", vector " << j;
+                << "rotation " << r << ", vector " << j << " of " << count;
         // In place, as the radiance cache uses it.
         Eigen::MatrixXd same = in;
         fast.apply(rs[r], same.data(), same.data(), count);
         EXPECT_EQ(same, out) << "rotation " << r;
     }
+}
+
+TEST(ShVectorRotation, AgreesWithShRotation) {
+    for (int count : {1, 3, 5}) agreesWithShRotation(count);
 }
 
 TEST(ShRotation, EulerZYZ) {
