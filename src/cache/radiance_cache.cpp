@@ -183,8 +183,8 @@ bool RadianceCache::lookup(const Vec3& p, const Vec3& n, const Vec3& ng, double*
     thread_local std::vector<double> moved, shCoeffs, shSum;
     moved.resize(3 * nn);
     shCoeffs.resize(3 * size_t(shCount));
-    shSum.assign(3 * size_t(shCount), 0.0);
-    bool rotated = false;
+    shSum.resize(3 * size_t(shCount));
+    bool rotated = false;  // (shSum is zeroed by the first rotated record)
     double wSum = 0;
     const Frame query(n);
     candidates(p, [&](const Record& r) {
@@ -212,6 +212,7 @@ bool RadianceCache::lookup(const Vec3& p, const Vec3& n, const Vec3& ng, double*
                                             : frame.n);
         for (int c = 0; c < 3; ++c) C.toSh(&moved[c * nn], &shCoeffs[c * shCount]);
         rotation_->rotate.apply(R, shCoeffs.data(), shCoeffs.data(), 3);
+        if (!rotated) std::fill(shSum.begin(), shSum.end(), 0.0);
         for (size_t k = 0; k < shSum.size(); ++k) shSum[k] += w * shCoeffs[k];
         rotated = true;
     });
