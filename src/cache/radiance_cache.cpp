@@ -136,6 +136,7 @@ void RadianceCache::add(const Vec3& p, const Vec3& n, const Vec3& ng,
     int level = 0;
     while (level + 1 < kLevels && std::ldexp(cell_, level) < reach) ++level;
     levels_ = std::max(levels_, level + 1);
+    usedLevels_ |= 1u << level;
     const Eigen::Vector3i c0 = cellOf(p - Vec3::Constant(reach), level);
     const Eigen::Vector3i c1 = cellOf(p + Vec3::Constant(reach), level);
     for (int z = c0.z(); z <= c1.z(); ++z)
@@ -159,6 +160,7 @@ double RadianceCache::servingWeight(const Record& r, const Vec3& p, const Vec3& 
 template <typename Visit>
 void RadianceCache::candidates(const Vec3& p, Visit visit) const {
     for (int level = 0; level < levels_; ++level) {
+        if (!(usedLevels_ >> level & 1)) continue;  // no hash lookup where no record is listed
         const auto it = grid_.find(cellKey(cellOf(p, level), level));
         if (it != grid_.end())
             for (uint32_t i : it->second) visit(records_[i]);
@@ -194,11 +196,12 @@ bool RadianceCache::lookup(const Vec3& p, const Vec3& n, const Vec3& ng, double*
         wSum += w;
         const Frame& frame = r.frame;
         const double dx = (p - r.p).dot(frame.s), dy = (p - r.p).dot(frame.t);
-        for (int k = 0; k < 3 * nn; ++k) moved[k] = r.lambda[k] + dx * r.dx[k] + dy * r.dy[k];
         if (!((r.frame.n - n).squaredNorm() > 1e-24)) {  // the query's frame
-            for (int k = 0; k < 3 * nn; ++k) lambda[k] += w * moved[k];
+            for (int k = 0; k < 3 * nn; ++k)
+                lambda[k] += w * (r.lambda[k] + dx * r.dx[k] + dy * r.dy[k]);
             return;
         }
+        for (int k = 0; k < 3 * nn; ++k) moved[k] = r.lambda[k] + dx * r.dx[k] + dy * r.dy[k];
         // Rotate the record's frame onto the query's (hshRotate's C · D(R) · Cᵀ without the
         // final C), the three channels together.
         Eigen::Matrix3d R;
@@ -222,7 +225,8 @@ bool RadianceCache::lookup(const Vec3& p, const Vec3& n, const Vec3& ng, double*
             for (int k = 0; k < nn; ++k) lambda[c * nn + k] += moved[k];
         }
     if (!(wSum > 0)) return false;
-    for (int k = 0; k < 3 * nn; ++k) lambda[k] /= wSum;
+    const double invSum = 1 / wSum;
+    for (int k = 0; k < 3 * nn; ++k) lambda[k] *= invSum;
     return true;
 }
 
