@@ -196,12 +196,13 @@ bool RadianceCache::lookup(const Vec3& p, const Vec3& n, const Vec3& ng, double*
         wSum += w;
         const Frame& frame = r.frame;
         const double dx = (p - r.p).dot(frame.s), dy = (p - r.p).dot(frame.t);
+        // Coefficient k of the record moved to p by its gradients.
+        auto at = [&](int k) { return r.lambda[k] + dx * r.dx[k] + dy * r.dy[k]; };
         if (!((r.frame.n - n).squaredNorm() > 1e-24)) {  // the query's frame
-            for (int k = 0; k < 3 * nn; ++k)
-                lambda[k] += w * (r.lambda[k] + dx * r.dx[k] + dy * r.dy[k]);
+            for (int k = 0; k < 3 * nn; ++k) lambda[k] += w * at(k);
             return;
         }
-        for (int k = 0; k < 3 * nn; ++k) moved[k] = r.lambda[k] + dx * r.dx[k] + dy * r.dy[k];
+        for (int k = 0; k < 3 * nn; ++k) moved[k] = at(k);
         // Rotate the record's frame onto the query's (hshRotate's C · D(R) · Cᵀ without the
         // final C), the three channels together.
         Eigen::Matrix3d R;
