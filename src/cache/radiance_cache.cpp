@@ -135,7 +135,6 @@ void RadianceCache::add(const Vec3& p, const Vec3& n, const Vec3& ng,
     const double reach = a_ * r.R;
     int level = 0;
     while (level + 1 < kLevels && std::ldexp(cell_, level) < reach) ++level;
-    levels_ = std::max(levels_, level + 1);
     usedLevels_ |= 1u << level;
     const Eigen::Vector3i c0 = cellOf(p - Vec3::Constant(reach), level);
     const Eigen::Vector3i c1 = cellOf(p + Vec3::Constant(reach), level);
@@ -159,8 +158,9 @@ double RadianceCache::servingWeight(const Record& r, const Vec3& p, const Vec3& 
 
 template <typename Visit>
 void RadianceCache::candidates(const Vec3& p, Visit visit) const {
-    for (int level = 0; level < levels_; ++level) {
-        if (!(usedLevels_ >> level & 1)) continue;  // no hash lookup where no record is listed
+    // The levels some record is listed on, lowest first: no hash lookup where none is.
+    for (uint32_t left = usedLevels_; left; left &= left - 1) {
+        const int level = __builtin_ctz(left);
         const auto it = grid_.find(cellKey(cellOf(p, level), level));
         if (it != grid_.end())
             for (uint32_t i : it->second) visit(records_[i]);

@@ -300,6 +300,7 @@ void ShVectorRotation::apply(const Eigen::Matrix3d& R, const double* in, double*
     // columns, and the columns' sums are independent chains (three for an RGB record).
     auto multiply = [count](const SparseBand& M, const auto& in, auto& out) {
         constexpr int kChains = 3;
+        const Eigen::Index stride = in.outerStride();
         for (size_t i = 0; i + 1 < M.start.size(); ++i)
             for (int j0 = 0; j0 < count; j0 += kChains) {
                 const int m = std::min(kChains, count - j0);
@@ -307,7 +308,6 @@ void ShVectorRotation::apply(const Eigen::Matrix3d& R, const double* in, double*
                 for (int p = M.start[i]; p < M.start[i + 1]; ++p) {
                     const double a = M.val[p];
                     const double* x = &in(M.col[p], j0);
-                    const Eigen::Index stride = in.outerStride();
                     for (int j = 0; j < kChains; ++j)
                         if (j < m) s[j] += a * x[j * stride];
                 }

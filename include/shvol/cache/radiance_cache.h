@@ -96,7 +96,6 @@ class RadianceCache {
     void candidates(const Vec3& p, Visit visit) const;
 
     static constexpr int kLevels = 16;  ///< grid levels, cell widths diagonal/64 · 2^l
-    int levels_ = 0;                    ///< levels up to the highest one in use
     uint32_t usedLevels_ = 0;           ///< bit l: some record is listed on level l
     int n_;
     double a_, diag_, cell_;
