@@ -9,6 +9,9 @@ cd "$(dirname "$0")"
 shvol=../../build/shvol
 for s in cornell_pt cornell_cache cornell_cache_light cornell_cache_rays cornell_fog_pt \
          cornell_fog_cache; do
+  # A fresh run of the sweep: the runs of the last one go (batch refuses to mix versions); the
+  # cached reference stays, and batch re-renders it if its fingerprint no longer matches.
+  rm -f "$s"/results.jsonl "$s"/results.csv "$s"/r[0-9]*.exr "$s"/r[0-9]*.stats.json
   $shvol batch ../../media/sweeps/cache/$s.json --output $s --quiet
 done
 /usr/bin/python3 analyze.py
