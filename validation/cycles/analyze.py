@@ -13,6 +13,7 @@ SCENES = {
     "cloud": "the cloud of issue 11: media/cloud.vdb ×60, albedo 0.9, HG g = 0.6, constant sky 1, 128²",
     "dense_cloud": "the same cloud ×180, albedo 0.98, HG g = 0.8 (long paths), constant sky 1, 128²",
     "plume": "media/plume.json: the sparse plume ×80, albedo 0.9, HG g = 0.6, constant sky 1, 160×240",
+    "thick_forward": "the same cloud ×300, albedo 0.95, HG g = 0.9 (thick, strongly forward), constant sky 1, 128²",
 }
 
 
