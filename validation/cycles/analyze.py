@@ -14,6 +14,7 @@ SCENES = {
     "dense_cloud": "the same cloud ×180, albedo 0.98, HG g = 0.8 (long paths), constant sky 1, 128²",
     "plume": "media/plume.json: the sparse plume ×80, albedo 0.9, HG g = 0.6, constant sky 1, 160×240",
     "thick_forward": "the same cloud ×300, albedo 0.95, HG g = 0.9 (thick, strongly forward), constant sky 1, 128²",
+    "thin_backward": "the same cloud ×20, albedo 0.99, HG g = −0.3 (thin, backward), constant sky 1, 128²",
 }
 
 
