@@ -30,8 +30,9 @@ cmake --build build -j "$(nproc)"
 
 # After the release tests: the test suite again under AddressSanitizer and
 # UndefinedBehaviorSanitizer (build-asan/), then each libFuzzer target over a copy of its seed
-# corpus for SHVOL_FUZZ_SECONDS (default 20) seconds (build-fuzz/). A fuzzer's crash input is kept
-# in build-fuzz/artifacts/. README, "Fuzzing and sanitizers".
+# corpus for SHVOL_FUZZ_SECONDS (default 20) seconds (build-fuzz/), one per core at a time; all
+# run even when one fails. A fuzzer's crash input is kept in build-fuzz/artifacts/. README,
+# "Fuzzing and sanitizers".
 sanitizers() {
   local configure=(-G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++
                    -DSHVOL_BUILD_BENCH=OFF -DSHVOL_MPI=OFF)
@@ -47,20 +48,36 @@ sanitizers() {
   local work artifacts="$PWD/build-fuzz/artifacts" supp="$PWD/tests/sanitizers/lsan.supp"
   work=$(mktemp -d)
   mkdir -p "$artifacts"
-  for name in scene phase_spec phase_csv exr vdb ply; do
-    mkdir "$work/$name"
-    cp tests/fuzz/"$name"/* "$work/$name/"
-    if ! LSAN_OPTIONS="suppressions=$supp" build-fuzz/"${name}_fuzzer" "$work/$name" \
-         -max_total_time="${SHVOL_FUZZ_SECONDS:-20}" -timeout=10 -rss_limit_mb=2048 \
-         -artifact_prefix="$artifacts/${name}-" >"$work/$name.log" 2>&1; then
-      tail -n 60 "$work/$name.log" >&2
-      echo "setup: ${name}_fuzzer failed; its input is in $artifacts" >&2
-      rm -rf "$work"
-      return 1
-    fi
-    echo "setup: ${name}_fuzzer: $(grep -Eo '#[0-9]+[[:space:]]+DONE.*' "$work/$name.log" | tail -n 1)" >&2
+  # Each fuzzer is one process on one core, so nproc of them run side by side, each for the full
+  # time.
+  local names=(scene phase_spec phase_csv exr vdb ply) jobs i name failed=()
+  jobs=$(nproc)
+  for ((i = 0; i < ${#names[@]}; i += jobs)); do
+    local pids=()
+    for name in "${names[@]:i:jobs}"; do
+      mkdir "$work/$name"
+      cp tests/fuzz/"$name"/* "$work/$name/"
+      LSAN_OPTIONS="suppressions=$supp" build-fuzz/"${name}_fuzzer" "$work/$name" \
+        -max_total_time="${SHVOL_FUZZ_SECONDS:-20}" -timeout=10 -rss_limit_mb=2048 \
+        -artifact_prefix="$artifacts/${name}-" >"$work/$name.log" 2>&1 &
+      pids+=($!)
+    done
+    local k=0
+    for name in "${names[@]:i:jobs}"; do
+      if wait "${pids[k]}"; then
+        echo "setup: ${name}_fuzzer: $(grep -Eo '#[0-9]+[[:space:]]+DONE.*' "$work/$name.log" | tail -n 1)" >&2
+      else
+        tail -n 60 "$work/$name.log" >&2
+        failed+=("$name")
+      fi
+      k=$((k + 1))
+    done
   done
   rm -rf "$work"
+  if ((${#failed[@]})); then
+    echo "setup: failed: ${failed[*]/%/_fuzzer}; the inputs are in $artifacts" >&2
+    return 1
+  fi
   echo "setup: fuzz build and runs took $((SECONDS - t0)) s" >&2
 }
 
