@@ -126,6 +126,11 @@ struct ProductChi2Case {
     int sky, order, axis;
     double g;
 };
+// The case in test names (gtest would print the struct's bytes, padding included, so the names
+// would change from build to build).
+void PrintTo(const ProductChi2Case& c, std::ostream* os) {
+    *os << "sky" << c.sky << "_order" << c.order << "_axis" << c.axis << "_g" << c.g;
+}
 class ProductSamplerChi2 : public testing::TestWithParam<ProductChi2Case> {};
 
 TEST_P(ProductSamplerChi2, SamplesFollowPdf) {

@@ -57,6 +57,10 @@ TEST(TwoTermHg, MeanCosine) {
 struct Params {
     double g1, g2, w;
 };
+// The parameters in test names, instead of gtest's dump of the struct's bytes.
+void PrintTo(const Params& p, std::ostream* os) {
+    *os << "g1_" << p.g1 << "_g2_" << p.g2 << "_w_" << p.w;
+}
 class TwoTermHgChi2 : public ::testing::TestWithParam<Params> {};
 
 TEST_P(TwoTermHgChi2, SamplerMatchesPdf) {
