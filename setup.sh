@@ -58,11 +58,11 @@ sanitizers() {
   mkdir -p "$artifacts"
   # Each fuzzer is one process on one core, so nproc of them run side by side, each for the full
   # time.
-  local names=(scene phase_spec phase_csv exr vdb ply) jobs i name failed=()
+  local names=(scene phase_spec phase_csv exr vdb ply) jobs i k name failed=()
   jobs=$(nproc)
   for ((i = 0; i < ${#names[@]}; i += jobs)); do
-    local pids=()
-    for name in "${names[@]:i:jobs}"; do
+    local batch=("${names[@]:i:jobs}") pids=()
+    for name in "${batch[@]}"; do
       mkdir "$work/$name"
       cp tests/fuzz/"$name"/* "$work/$name/"
       LSAN_OPTIONS="suppressions=$supp" build-fuzz/"${name}_fuzzer" "$work/$name" \
@@ -70,15 +70,14 @@ sanitizers() {
         -artifact_prefix="$artifacts/${name}-" >"$work/$name.log" 2>&1 &
       pids+=($!)
     done
-    local k=0
-    for name in "${names[@]:i:jobs}"; do
+    for k in "${!batch[@]}"; do
+      name=${batch[k]}
       if wait "${pids[k]}"; then
         echo "setup: ${name}_fuzzer: $(grep -Eo '#[0-9]+[[:space:]]+DONE.*' "$work/$name.log" | tail -n 1)" >&2
       else
         tail -n 60 "$work/$name.log" >&2
         failed+=("$name")
       fi
-      k=$((k + 1))
     done
   done
   rm -rf "$work"
