@@ -27,8 +27,8 @@ except ImportError:
              "(./setup.sh installs it)")
 
 META = {"run", "seed", "spp", "repeat", "wall_time_s", "paths_per_second", "image", "fingerprint",
-        "git_revision", "rmse", "relmse", "mae", "bias", "bias_ci95", "ztest_min_p",
-        "ztest_threshold", "ztest_passed"}
+        "git_revision", "reference_fingerprint", "rmse", "relmse", "mae", "bias", "bias_ci95",
+        "ztest_min_p", "ztest_threshold", "ztest_passed"}
 ERRORS = ["rmse", "relmse", "mae"]
 
 

@@ -12,6 +12,7 @@
 #include "commands.h"
 #include "mpi_world.h"
 #include "shvol/core/error.h"
+#include "shvol/core/hash.h"
 #include "shvol/core/image_metrics.h"
 #include "shvol/core/progress.h"
 #include "shvol/io/exr.h"
@@ -57,6 +58,19 @@ bool referenceCached(const Sweep& s, const std::string& stamp) {
     std::ifstream f(file);
     const std::string have((std::istreambuf_iterator<char>(f)), {});
     return have == stamp;
+}
+
+/// What a ledger row keeps of the reference its metrics were measured against: the hash of a
+/// rendered reference's stamp, or of a given reference file's contents (and its standard errors',
+/// for the z-test, when there are any). A row whose reference is not the sweep's now cannot be
+/// resumed into the same ledger.
+std::string referenceFingerprint(const Sweep& s, const std::string& stamp, bool ztest) {
+    if (s.reference->render) return hexHash(fnv1a(stamp.data(), stamp.size()));
+    const std::string& file = s.reference->file;
+    std::string id = fileFingerprint(file)["fnv1a64"].get<std::string>();
+    const std::string se = fs::path(file).replace_extension("").string() + ".stderr.exr";
+    if (ztest && fs::exists(se)) id += "+" + fileFingerprint(se)["fnv1a64"].get<std::string>();
+    return id;
 }
 
 /// Renders the reference (quietly; under mpirun every rank takes part) and stamps it with
@@ -142,10 +156,13 @@ Json runOne(const RunContext& c, const SweepRun& run, int& code) {
 /// (an error, or a render's non-zero exit code) stops the handing out.
 class WorkQueue {
   public:
-    WorkQueue(const Sweep& s, Ledger& ledger, std::vector<const SweepRun*> todo, bool quiet)
+    /// `reference`: the reference's fingerprint, written into every row (empty: none).
+    WorkQueue(const Sweep& s, Ledger& ledger, std::vector<const SweepRun*> todo,
+              std::string reference, bool quiet)
         : sweep_(s),
           ledger_(ledger),
           todo_(std::move(todo)),
+          reference_(std::move(reference)),
           quiet_(quiet),
           progress_("batch", (long long)todo_.size(), !quiet && Progress::stderrIsTerminal()) {}
 
@@ -154,8 +171,9 @@ class WorkQueue {
         const std::lock_guard<std::mutex> lock(mutex_);
         return stopped_ || next_ == todo_.size() ? nullptr : todo_[next_++];
     }
-    void finished(const Json& row) {
+    void finished(Json row) {
         const std::lock_guard<std::mutex> lock(mutex_);
+        if (!reference_.empty()) row["reference_fingerprint"] = reference_;
         ledger_.append(row);
         progress_.advance();
         if (quiet_ || Progress::stderrIsTerminal()) return;
@@ -240,6 +258,7 @@ class WorkQueue {
     const Sweep& sweep_;
     Ledger& ledger_;
     std::vector<const SweepRun*> todo_;
+    std::string reference_;
     bool quiet_;
     Progress progress_;
     std::mutex mutex_;
@@ -276,11 +295,18 @@ int runBatch(BatchArgs a) {
     // Every rank stamps the runs it may render (it reads their files to render them anyway).
     std::map<std::string, Json> inputs;  // each named file hashed once per batch
     collectively([&] { fingerprintInputs(s, inputs); });
-    // Rank 0 keeps the ledger. A finished run must be the run the sweep describes now, or
-    // resuming would mix experiments.
+    const bool ztest = std::find(s.metrics.begin(), s.metrics.end(), "ztest") != s.metrics.end();
+    // Rank 0 stamps the reference (reading the files its scene names) and keeps the ledger. A
+    // finished run must be the run the sweep describes now, measured against the reference it
+    // gives now, or resuming would mix experiments.
+    std::string stamp, reference;
     std::optional<Ledger> ledger;
     collectively([&] {
         if (!world.root()) return;
+        if (s.reference) {
+            if (s.reference->render) stamp = referenceStamp(s, ztest, inputs);
+            reference = referenceFingerprint(s, stamp, ztest);
+        }
         fs::create_directories(s.output);
         ledger.emplace(s.output);
         for (const Json& row : ledger->rows()) {
@@ -300,16 +326,17 @@ int runBatch(BatchArgs a) {
                 fail(ledger->jsonlPath(), "run " + id,
                      "finished by shvol " + build + ", this is " + SHVOL_GIT_REVISION +
                          "; use another output directory");
+            if (row.value("reference_fingerprint", "") != reference)
+                fail(ledger->jsonlPath(), "run " + id,
+                     "measured against another reference than the sweep now gives (its "
+                     "settings, scene or file changed); use another output directory");
         }
     });
     RunContext c(s);
-    c.ztest = std::find(s.metrics.begin(), s.metrics.end(), "ztest") != s.metrics.end();
+    c.ztest = ztest;
     c.threads = a.threads > 0 ? a.threads : threadsPerRender(a.jobs);
     if (s.reference) {
-        // The ranks render the reference together (an MPI render), once. Its stamp reads the
-        // files the scene names: rank 0 makes it once, to compare and to write.
-        const std::string stamp =
-            s.reference->render && world.root() ? referenceStamp(s, c.ztest, inputs) : "";
+        // The ranks render the reference together (an MPI render), once.
         if (s.reference->render && world.broadcast(world.root() && !referenceCached(s, stamp)))
             if (const int code = renderReference(s, a, c.ztest, stamp)) return code;
         collectively([&] {
@@ -333,7 +360,7 @@ int runBatch(BatchArgs a) {
     if (!a.quiet && todo.size() < s.runs.size())
         std::fprintf(stderr, "batch: %zu of %zu runs already finished in %s\n",
                      s.runs.size() - todo.size(), s.runs.size(), ledger->jsonlPath().c_str());
-    WorkQueue queue(s, *ledger, std::move(todo), a.quiet);
+    WorkQueue queue(s, *ledger, std::move(todo), reference, a.quiet);
     std::thread server;
     if (world.parallel()) server = std::thread([&] { queue.serve(world); });
     queue.work(c, a.jobs);

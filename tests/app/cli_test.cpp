@@ -840,6 +840,40 @@ TEST_F(Cli, BatchRefusesAnotherBuildAndRenewsAStaleReference) {
     EXPECT_NE(r.err.find("rendering the reference"), std::string::npos) << r.err;
 }
 
+// Rows measured against one reference are not continued against another: a rendered reference
+// whose settings changed, or a reference file whose contents changed, is refused by name (the
+// runs themselves, and so their fingerprints, are unchanged).
+TEST_F(Cli, BatchRefusesRowsOfAnotherReference) {
+    write("s.json", scene(Homogeneous));
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [4, 8]},
+        "reference": {"spp": 64}, "metrics": ["rmse"]})");
+    const std::string batch = "batch " + path("sweep.json") + " --quiet --output ";
+    ASSERT_EQ(run(batch + path("out")).code, 0);
+    for (const auto& [id, row] : ledgerRows(path("out")))
+        EXPECT_FALSE(row.value("reference_fingerprint", "").empty()) << id;
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [4, 8, 16]},
+        "reference": {"spp": 128}, "metrics": ["rmse"]})");
+    Result r = run(batch + path("out"));
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(
+        r.err.find(path("out/results.jsonl") + ": run r0000: measured against another reference"),
+        std::string::npos)
+        << r.err;
+    EXPECT_EQ(ledgerRows(path("out")).size(), 2u);  // nothing was added
+
+    // A reference file: the same contents continue, other contents are refused.
+    ASSERT_EQ(run("render " + path("s.json") + " --spp 32 --quiet -o " + path("ref.exr")).code, 0);
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [4, 8]},
+        "reference": {"file": "ref.exr"}, "metrics": ["rmse"]})");
+    ASSERT_EQ(run(batch + path("file")).code, 0);
+    ASSERT_EQ(run(batch + path("file")).code, 0) << "the same reference continues";
+    ASSERT_EQ(run("render " + path("s.json") + " --spp 33 --quiet -o " + path("ref.exr")).code, 0);
+    r = run(batch + path("file"));
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find(": run r0000: measured against another reference"), std::string::npos)
+        << r.err;
+}
+
 #ifdef SHVOL_MPIEXEC
 // mpirun -np 2 shvol render: the ranks share the pixels, and the image, the intermediate --spp
 // image and the standard errors equal a single process's bit for bit; the stats count every
