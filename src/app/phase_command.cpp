@@ -171,12 +171,16 @@ int runSample(const PhaseArgs& a) {
         if (!csv) fail(a.out, "", "cannot write file");
     });
     std::fprintf(stderr,
-                 "wrote %lld samples to %s\n"
-                 "weight p/pdf: mean %.6g, variance %.6g, max %.6g (E[(p/pdf)^2] by quadrature "
-                 "%.6g); clamped bins %.4g%%, defensive share %.4g\n",
-                 a.count, a.out.c_str(), ws.mean(), ws.variance(), ws.max,
-                 general ? NAN : sh.weightSecondMoment(), 100 * sh.sampler().clampedFraction(),
-                 sh.defensiveFraction());
+                 "wrote %lld samples to %s\nweight p/pdf: mean %.6g, variance %.6g, max %.6g",
+                 a.count, a.out.c_str(), ws.mean(), ws.variance(), ws.max);
+    // The quadrature, the clamped bins and the defensive share are the zonal sampler's.
+    if (!general)
+        std::fprintf(stderr,
+                     " (E[(p/pdf)^2] by quadrature %.6g); clamped bins %.4g%%, defensive share "
+                     "%.4g",
+                     sh.weightSecondMoment(), 100 * sh.sampler().clampedFraction(),
+                     sh.defensiveFraction());
+    std::fprintf(stderr, "\n");
     return 0;
 }
 

@@ -348,11 +348,19 @@ TEST_F(Cli, PhaseFitAndSample) {
         ++rows;
     }
     EXPECT_EQ(rows, 100);
-    r = run("phase sample hg:g=0.6 --order 200 --sampler general --count 10 --out " +
+    // The general sampler reports its weights, and none of the zonal sampler's figures.
+    r = run("phase sample hg:g=0.5 --order 16 --sampler general --count 100 --out " +
             path("g.csv"));
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("weight p/pdf: mean "), std::string::npos) << r.err;
+    for (const char* absent : {"nan", "quadrature", "defensive"})
+        EXPECT_EQ(r.err.find(absent), std::string::npos) << r.err;
+    r = run("phase sample hg:g=0.6 --order 200 --sampler general --count 10 --out " +
+            path("g200.csv"));
     EXPECT_EQ(r.code, 1);
-    EXPECT_FALSE(fs::exists(path("g.csv")));
-    r = run("phase sample hg:g=0.6 --order 8 --sampler general --depth 22 --out " + path("g.csv"));
+    EXPECT_FALSE(fs::exists(path("g200.csv")));
+    r = run("phase sample hg:g=0.6 --order 8 --sampler general --depth 22 --out " +
+            path("g200.csv"));
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("--depth: the general sampler supports depths up to 10"),
               std::string::npos)
