@@ -112,11 +112,16 @@ std::vector<std::string> phaseWarnings(const Scene& scene) {
         }
         if (sh->evaluate() == SHSampledPhase::Evaluate::Reconstruction &&
             sh->fit().relativeL2Error > kLooseFit) {
+            // Below the highest order a higher one helps; at it, only rendering the function
+            // itself does.
             std::snprintf(msg, sizeof msg,
                           "media[%zu].phase: the phase function rendered is its order-%d SH fit, "
-                          "with relative L2 error %.3g; raise \"order\" or use \"order\": "
-                          "\"auto\"",
-                          i, order, sh->fit().relativeL2Error);
+                          "with relative L2 error %.3g; %s",
+                          i, order, sh->fit().relativeL2Error,
+                          order < ZonalFitRequest::kMaxAutoOrder
+                              ? "raise \"order\" or use \"order\": \"auto\""
+                              : "that is the highest order: use \"sampling\": \"analytic\", or "
+                                "\"evaluate\": \"exact\"");
             w.push_back(msg);
         }
     }

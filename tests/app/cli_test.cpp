@@ -437,6 +437,36 @@ TEST_F(Cli, RenderWritesExrAndStats) {
 
 // Product light sampling names itself in the stats with what it built and drew; a wrong
 // strategy name is one line naming the key.
+// A render whose SH-sampled phase function is unreliable says so on stderr and in its stats, with
+// advice that can be followed: a higher order below the highest, analytic sampling at it.
+TEST_F(Cli, RenderWarnsOfUnreliablePhaseFits) {
+    write("s.json", scene(R"({"type": "homogeneous", "sigma_t": 2, "albedo": 0.8,
+        "shape": {"type": "sphere"}, "phase": {"type": "hg", "g": 0.99, "sampling": "sh"}})"));
+    const std::string render = "render " + path("s.json") + " --quiet -o " + path("out.exr");
+    Result r = run(render);  // order auto reaches 256
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("shvol: warning: " + path("s.json") +
+                         ": media[0].phase: the phase function rendered is its order-256 SH fit"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("that is the highest order: use \"sampling\": \"analytic\""),
+              std::string::npos)
+        << r.err;
+    const auto stats = nlohmann::json::parse(std::ifstream(path("out.stats.json")));
+    ASSERT_EQ(stats["warnings"].size(), 1u);
+    EXPECT_NE(r.err.find(stats["warnings"][0].get<std::string>()), std::string::npos);
+    r = run(render + " --set media[0].phase.order=100");
+    EXPECT_NE(r.err.find("order-100 SH fit"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("raise \"order\""), std::string::npos) << r.err;
+    r = run(render + " --set media[0].phase.g=0.9 --set media[0].phase.order=8" +
+            " --set media[0].phase.evaluate=\\\"exact\\\"");
+    EXPECT_NE(r.err.find("the SH-sampled weight p/pdf has second moment"), std::string::npos)
+        << r.err;
+    r = run(render + " --set media[0].phase.g=0.5");  // auto meets the tolerance
+    EXPECT_EQ(r.code, 0);
+    EXPECT_EQ(r.err, "");
+}
+
 TEST_F(Cli, ProductLightSamplingStats) {
     write("s.json", scene(Homogeneous));
     Result r = run("render " + path("s.json") + " -o " + path("p.exr") +
