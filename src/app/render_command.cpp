@@ -255,6 +255,13 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
         writeExr(o.image, image);
         if (variance) writeExr(o.stderrImage, film.standardError());
     });
+    const size_t unknown = size_t(
+        std::count_if(film.count.begin(), film.count.end(), [](uint32_t n) { return n < 2; }));
+    if (variance && unknown > 0)
+        std::fprintf(stderr,
+                     "shvol: warning: %s: %zu of %zu pixels have fewer than 2 samples (the render "
+                     "stopped early); their standard error is written as +inf (unknown)\n",
+                     o.stderrImage.c_str(), unknown, film.pixels());
 }
 
 /// --spp: "N" or increasing "N1,N2,…,N" (each Ni an image of its own).
@@ -332,6 +339,11 @@ int runRender(const RenderArgs& a) {
                                             SHVOL_GIT_REVISION);
             if (a.resume) film = readCheckpoint(a.checkpoint, identity);
             if (sppList.size() > 1) stops.assign(sppList.begin(), sppList.end() - 1);
+            if (a.variance &&
+                std::min(stops.empty() ? 2 : stops.front(), uint32_t(scene.settings.spp)) < 2)
+                fail("", "--variance",
+                     "a standard error needs at least 2 samples per pixel, and the render would "
+                     "write an image of 1");
         },
         spread);
     if (speaks)

@@ -17,7 +17,11 @@ Image Film::standardError() const {
     Image img(width, height);
     for (size_t i = 0; i < pixels(); ++i) {
         const double n = count[i];
-        if (n < 2 || sumSq.empty()) continue;
+        if (sumSq.empty()) continue;
+        if (n < 2) {
+            for (int c = 0; c < 3; ++c) img.rgb[3 * i + c] = INFINITY;
+            continue;
+        }
         for (int c = 0; c < 3; ++c) {
             const double mean = sum[3 * i + c] / n;
             const double var = std::max(0.0, sumSq[3 * i + c] / n - mean * mean) * n / (n - 1);

@@ -771,6 +771,16 @@ TEST_F(Cli, ProgressiveSppAndVariance) {
     r = run(s + "-o " + path("x.exr") + " --spp 0");
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("--spp: "), std::string::npos) << r.err;
+    // The standard error of one sample is unknown: an image of 1 spp with --variance is refused,
+    // whether it is the last image or one on the way.
+    for (const std::string spp : {"1", "1,4"}) {
+        r = run(s + "-o " + path("x.exr") + " --variance --spp " + spp);
+        EXPECT_EQ(r.code, 1) << spp;
+        EXPECT_NE(r.err.find("--variance: a standard error needs at least 2 samples per pixel"),
+                  std::string::npos)
+            << r.err;
+        EXPECT_FALSE(fs::exists(path("x.exr")));
+    }
 }
 
 // shvol batch: killed with SIGKILL in the middle and started again, it finishes the remaining

@@ -176,6 +176,26 @@ TEST(Renderer, StandardErrorMatchesTheSpreadOfIndependentRenders) {
     }
 }
 
+// One sample gives no estimate of the spread: such a pixel's standard error is +∞ (unknown), not
+// 0 (which would claim an exact mean); from 2 samples it is the formula's.
+TEST(Renderer, StandardErrorOfFewerThanTwoSamplesIsUnknown) {
+    Film film(3, 1);
+    film.sumSq.assign(film.sum.size(), 0.0);
+    film.count = {0, 1, 2};
+    for (int c = 0; c < 3; ++c) {
+        film.sum[3 + c] = 0.5, film.sumSq[3 + c] = 0.25;         // one sample of 0.5
+        film.sum[6 + c] = 1.0, film.sumSq[6 + c] = 0.25 + 0.25;  // 0.5 and 0.5: no spread
+    }
+    film.sum[6] = 1.5, film.sumSq[6] = 0.25 + 1.0;  // red: 0.5 and 1.0
+    const Image se = film.standardError();
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(se.rgb[c], INFINITY);
+        EXPECT_EQ(se.rgb[3 + c], INFINITY);
+    }
+    EXPECT_FLOAT_EQ(se.rgb[6], 0.25f);  // √((0.625 − 0.5625)·2/1/2) = 0.25
+    EXPECT_EQ(se.rgb[7], 0.f);
+}
+
 TEST(Renderer, RefusesAFilmThatDoesNotFit) {
     const RenderResult r = render(smallScene(4), RenderOptions{});
     EXPECT_THROW(render(smallScene(3), RenderOptions{}, r.film), Error);  // more samples than spp

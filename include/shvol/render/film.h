@@ -23,8 +23,8 @@ struct Film {
     size_t pixels() const { return count.size(); }
     /// sum / count per pixel (0 where no sample was taken yet).
     Image image() const;
-    /// Standard error of each pixel's mean, √((Σx²/n − x̄²)/(n − 1)) per channel, from the
-    /// sample moments (0 for n < 2); needs sumSq.
+    /// Standard error of each pixel's mean, √((Σx²/n − x̄²)/(n − 1)/n) per channel, from the
+    /// sample moments; +∞ (unknown) where fewer than 2 samples were taken. Needs sumSq.
     Image standardError() const;
     uint32_t minCount() const;
     uint32_t maxCount() const;
