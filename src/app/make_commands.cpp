@@ -12,6 +12,24 @@
 namespace shvol::app {
 
 namespace {
+/// Whether `path` ends in `ext` (".vdb"), in any case.
+bool hasExtension(const std::string& path, const std::string& ext) {
+    if (path.size() < ext.size()) return false;
+    std::string tail = path.substr(path.size() - ext.size());
+    for (char& ch : tail) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    return tail == ext;
+}
+
+/// -o FILE of a make command, refused unless FILE ends in `ext` (e.g. "make-sky writes OpenEXR;
+/// name the file .exr").
+CLI::Validator outputNamed(const std::string& ext, const std::string& what) {
+    return CLI::Validator(
+        [ext, what](std::string& path) -> std::string {
+            return hasExtension(path, ext) ? "" : what + "; name the file " + ext;
+        },
+        "FILE" + ext);
+}
+
 struct MediumArgs {
     std::string kind = "cloud", output, grid = "density";
     int resolution = 96;
@@ -28,11 +46,13 @@ void addMakeMediumCommand(CLI::App& app, std::function<int()>& run) {
                   "cloud (fBm noise), plume (a sparse rising smoke column) or sphere")
         ->check(CLI::IsMember({"cloud", "plume", "sphere"}))
         ->required();
-    c->add_option("-o,--output", a->output, "Output .vdb file")->required();
+    c->add_option("-o,--output", a->output, "Output .vdb file")
+        ->required()
+        ->check(outputNamed(".vdb", "make-medium writes OpenVDB"));
     c->add_option("--resolution", a->resolution, "Voxels per axis over the unit cube")
         ->check(integerIn(4, 1024));
     c->add_option("--grid", a->grid, "Grid name");
-    c->add_option("--seed", a->seed, "Noise seed (cloud, plume)");
+    c->add_option("--seed", a->seed, "Noise seed (cloud, plume)")->check(integerIn(0, kMaxSeed));
     c->add_option("--octaves", a->octaves, "fBm octaves (cloud)")->check(integerIn(1, 12));
     c->add_option("--frequency", a->frequency, "Base noise frequency (cloud)")
         ->check(numberIn(0, 1000, true));
@@ -88,13 +108,6 @@ void addMakeMediumCommand(CLI::App& app, std::function<int()>& run) {
 }
 
 namespace {
-bool endsWithExr(const std::string& path) {
-    if (path.size() < 4) return false;
-    std::string ext = path.substr(path.size() - 4);
-    for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-    return ext == ".exr";
-}
-
 struct SkyArgs {
     SkyParams params;
     std::string output, model = "simple", mapping = "blender";
@@ -108,11 +121,7 @@ void addMakeSkyCommand(CLI::App& app, std::function<int()>& run) {
     CLI::App* c = app.add_subcommand("make-sky", "Write a procedural lat-long sky (.exr)");
     c->add_option("-o,--output", a->output, "Output .exr file")
         ->required()
-        ->check(CLI::Validator(
-            [](std::string& path) -> std::string {
-                return endsWithExr(path) ? "" : "make-sky writes OpenEXR; name the file .exr";
-            },
-            "FILE.exr"));
+        ->check(outputNamed(".exr", "make-sky writes OpenEXR"));
     c->add_option("--model", a->model,
                   "simple (gradient sky, arbitrary units) or preetham (Preetham et al. 1999 "
                   "clear sky and a physical sun, kcd/m^2)")

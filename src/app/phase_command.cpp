@@ -230,7 +230,7 @@ void addPhaseCommand(CLI::App& app, std::function<int()>& run) {
         "sample", "Sample directions around +z as a render would (CSV) and report the weights");
     commonOptions(sample, *a);
     sample->add_option("--count", a->count, "Number of samples")->check(integerIn(1, 1LL << 32));
-    sample->add_option("--seed", a->seed, "Random seed");
+    sample->add_option("--seed", a->seed, "Random seed")->check(integerIn(0, kMaxSeed));
     sample->add_option("--out", a->out, "Output CSV (x,y,z,pdf,weight)")->required();
     sample
         ->add_option("--sampler", a->sampler,

@@ -428,7 +428,7 @@ void addRenderCommand(CLI::App& app, std::function<int()>& run) {
     c->add_flag("--variance", args->variance,
                 "Also write the standard error of each pixel's mean to <output>.stderr.exr");
     c->add_option("--seed", args->seed, "Random seed (overrides render.seed)")
-        ->check(integerIn(0, 9007199254740992LL))
+        ->check(integerIn(0, kMaxSeed))
         ->default_str("the scene's render.seed");
     c->add_option("--threads", args->threads, "Worker threads (0: all cores)")
         ->check(integerIn(0, 4096));

@@ -161,6 +161,14 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
         {"make-medium cloud -o " + path("m.vdb") + " --resolution 16 --coverage -1",
          "the grid would be empty"},
         {"frobnicate --help", "unknown subcommand \"frobnicate\""},
+        // Seeds are range-checked everywhere, not wrapped modulo 2^64.
+        {"make-medium cloud -o " + path("m.vdb") + " --seed -1",
+         "--seed: must be an integer in [0, 9007199254740992], got -1"},
+        {"make-medium plume -o " + path("m.vdb") + " --seed 18446744073709551616", "--seed: "},
+        {"phase sample hg:g=0.5 --out " + path("m.csv") + " --seed -1",
+         "--seed: must be an integer in [0, 9007199254740992], got -1"},
+        {"make-medium cloud -o " + path("m.txt"), "make-medium writes OpenVDB; name the file .vdb"},
+        {"make-sky -o " + path("m.png"), "make-sky writes OpenEXR; name the file .exr"},
     };
     for (const Case& c : cases) {
         const Result r = run(c.args);
@@ -169,8 +177,8 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
         EXPECT_LT(r.err.size(), 200u) << r.err;
     }
-    EXPECT_FALSE(fs::exists(path("m.vdb")));
-    EXPECT_FALSE(fs::exists(path("m.png")));
+    for (const char* file : {"m.vdb", "m.png", "m.csv", "m.txt"})
+        EXPECT_FALSE(fs::exists(path(file))) << file;
 }
 
 // bench without a scene finds the default scene also when run outside the repository (ctest runs
