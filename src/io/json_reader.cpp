@@ -46,29 +46,35 @@ Json parseJsonFile(const std::string& path) {
     std::stringstream ss;
     ss << f.rdbuf();
     const std::string text = ss.str();
-    try {
-        return Json::parse(text);
-    } catch (const Json::out_of_range& e) {  // e.g. a number such as 1e999
-        std::string msg = e.what();
-        msg = msg.substr(msg.find("] ") == std::string::npos ? 0 : msg.find("] ") + 2);
-        fail(path, "", "malformed JSON: " + msg);
-    } catch (const Json::parse_error& e) {
-        // Translate the byte offset into line:column.
+    // "line L, column C" of the byte at offset `byte` (0-based).
+    auto lineColumn = [&](size_t byte) {
         size_t line = 1, col = 1;
-        for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+        for (size_t i = 0; i < byte && i < text.size(); ++i) {
             if (text[i] == '\n')
                 ++line, col = 1;
             else
                 ++col;
         }
+        return "line " + std::to_string(line) + ", column " + std::to_string(col);
+    };
+    try {
+        return Json::parse(text);
+    } catch (const Json::out_of_range& e) {  // e.g. a number such as 1e999
+        // e.what() is "[json.exception…] number overflow parsing '1e999'", without a position:
+        // the place is where the quoted token first occurs.
+        std::string msg = e.what();
+        msg = msg.substr(msg.find("] ") == std::string::npos ? 0 : msg.find("] ") + 2);
+        const size_t q0 = msg.find('\''), q1 = msg.rfind('\'');
+        const size_t at = q0 < q1 ? text.find(msg.substr(q0 + 1, q1 - q0 - 1)) : std::string::npos;
+        fail(path, at == std::string::npos ? "" : lineColumn(at), "malformed JSON: " + msg);
+    } catch (const Json::parse_error& e) {
         // e.what() is "[json.exception…] parse error at line L, column C: <reason>"; keep the
-        // reason.
+        // reason. e.byte is 1-based.
         std::string msg = e.what();
         const auto at = msg.find("column ");
         const auto colon = at == std::string::npos ? at : msg.find(": ", at);
         if (colon != std::string::npos) msg = msg.substr(colon + 2);
-        fail(path, "line " + std::to_string(line) + ", column " + std::to_string(col),
-             "malformed JSON: " + msg);
+        fail(path, lineColumn(e.byte > 0 ? e.byte - 1 : 0), "malformed JSON: " + msg);
     }
 }
 
@@ -334,6 +340,20 @@ const Json& JsonReader::raw(const std::string& key) {
     const Json& v = get(key, "value");
     note(key, v);
     return v;
+}
+
+std::string JsonReader::inputFile(const std::string& key, const std::string& dir) {
+    namespace fs = std::filesystem;
+    const std::string name = string(key);
+    if (name.empty()) error(key, "expected a file name, got an empty string");
+    const std::string path = fs::path(name).is_absolute() || dir.empty()
+                                 ? name
+                                 : (fs::path(dir) / name).lexically_normal().string();
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (st.type() == fs::file_type::not_found) error(key, "no such file: " + path);
+    if (!fs::is_regular_file(st)) error(key, "not a regular file: " + path);
+    return path;
 }
 
 void JsonReader::finish() const {

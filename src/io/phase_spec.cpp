@@ -25,12 +25,6 @@ double requiredNumber(JsonReader& r, const std::string& key, double lo, double h
     return x;
 }
 
-std::string resolveIn(const std::string& dir, const std::string& name) {
-    const fs::path p(name);
-    if (p.is_absolute() || dir.empty()) return name;
-    return (fs::path(dir) / p).lexically_normal().string();
-}
-
 /// The analytic or tabulated phase function named by "type".
 PhaseFunction readBasePhase(JsonReader& r, const std::string& baseDir) {
     const std::string type = r.choice(
@@ -53,10 +47,9 @@ PhaseFunction readBasePhase(JsonReader& r, const std::string& baseDir) {
     } else if (type == "cornette_shanks") {
         phase = CornetteShanksPhase(requiredNumber(r, "g", -kMaxG, kMaxG));
     } else {  // tabulated
-        const std::string file = r.string("file");
-        if (file.empty()) r.error("file", "must not be empty");
+        r.string("file");
         r.finish();  // report unknown keys before touching the file system
-        return readPhaseTableCsv(resolveIn(baseDir, file));
+        return readPhaseTableCsv(r.inputFile("file", baseDir));
     }
     r.finish();
     return phase;

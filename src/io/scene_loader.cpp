@@ -16,10 +16,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string resolve(const std::string& sceneFile, const std::string& name) {
-    const fs::path p(name);
-    if (p.is_absolute()) return name;
-    return (fs::path(sceneFile).parent_path() / p).lexically_normal().string();
+/// The directory relative file names in the scene are resolved against.
+std::string sceneDir(const JsonReader& r) {
+    return fs::path(r.file()).parent_path().string();
 }
 
 Spectrum spectrum(JsonReader& r, const std::string& key, double def, double lo, double hi) {
@@ -113,7 +112,7 @@ Environment readEnvironment(JsonReader r, RenderSettings& settings) {
         r.finish();
         return Environment::constant(L, lowerBlack);
     }
-    const std::string file = resolve(r.file(), r.string("file"));
+    const std::string file = r.inputFile("file", sceneDir(r));
     const double scale = r.number("scale", 1, 0, 1e30);
     const double rotation = r.number("rotation", 0, -1e6, 1e6);
     const LatLongMapping mapping =
@@ -174,7 +173,7 @@ Surface readSurface(JsonReader r, size_t index) {
         r.has("transform") ? readTransform(r.object("transform")) : Eigen::Affine3d::Identity();
     Surface s;
     if (type == "mesh") {
-        const std::string file = resolve(r.file(), r.string("file"));
+        const std::string file = r.inputFile("file", sceneDir(r));
         s.kind = Surface::Kind::Mesh;
         s.mesh = readMesh(file);
         for (Vec3& p : s.mesh.p) p = toWorld * p;
@@ -275,7 +274,7 @@ std::unique_ptr<Medium> readMedium(JsonReader r, std::vector<Surface>& surfaces,
         return std::make_unique<HomogeneousMedium>(shape, sigmaT, albedo, phase, tracking);
     }
     VdbMediumDesc d;
-    d.file = resolve(r.file(), r.string("file"));
+    d.file = r.inputFile("file", sceneDir(r));
     d.grid = r.string("grid", d.grid);
     d.densityScale = r.number("density_scale", 1, 0, 1e12);
     d.albedo = albedo;

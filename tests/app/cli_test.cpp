@@ -313,8 +313,9 @@ TEST_F(Cli, HelpShowsDefaults) {
 
 // Numbers beyond double range are malformed input, not internal errors.
 TEST_F(Cli, NumberOverflowIsAnInputError) {
-    write("big.json", "{\"camera\": {\"fov\": 1e999}}");
-    expectOneLineError("big.json", path("big.json") + ": malformed JSON");
+    write("big.json", "{\"camera\":\n  {\"fov\": 1e999}}");
+    expectOneLineError("big.json", path("big.json") + ": line 2, column 11: malformed JSON: " +
+                                       "number overflow parsing '1e999'");
     write("s.json", scene(Homogeneous));
     const Result r = run("render " + path("s.json") + " -o " + path("out.exr") +
                          " --set camera.fov=1e999 --quiet");
@@ -530,7 +531,16 @@ TEST_F(Cli, UnknownKeyAndWrongType) {
 
 TEST_F(Cli, BadVdbFiles) {
     write("missing.json", scene(R"({"type": "vdb", "file": "nothere.vdb"})"));
-    expectOneLineError("missing.json", path("nothere.vdb") + ": file not found");
+    expectOneLineError("missing.json", path("missing.json") +
+                                           ": media[0].file: no such file: " + path("nothere.vdb"));
+    write("empty.json", scene(R"({"type": "vdb", "file": ""})"));
+    expectOneLineError("empty.json", path("empty.json") +
+                                         ": media[0].file: expected a file name, got an empty "
+                                         "string");
+    fs::create_directories(path("dir.vdb"));
+    write("dir.json", scene(R"({"type": "vdb", "file": "dir.vdb"})"));
+    expectOneLineError(
+        "dir.json", path("dir.json") + ": media[0].file: not a regular file: " + path("dir.vdb"));
 
     write("corrupt.vdb", "garbage, not a vdb");
     write("corrupt.json", scene(R"({"type": "vdb", "file": "corrupt.vdb"})"));
@@ -628,7 +638,8 @@ TEST_F(Cli, BadExrFiles) {
                sky + "\"}}";
     };
     write("missing.json", sceneWithSky("nosky.exr"));
-    expectOneLineError("missing.json", path("nosky.exr") + ": file not found");
+    expectOneLineError("missing.json", path("missing.json") + ": environment.file: no such file: " +
+                                           path("nosky.exr"));
     write("bad.exr", "not an exr");
     write("corrupt.json", sceneWithSky("bad.exr"));
     expectOneLineError("corrupt.json", path("bad.exr") + ": not a readable OpenEXR file");
@@ -724,6 +735,14 @@ TEST_F(Cli, TimeLimitCheckpointAndResume) {
     r = run(s + "-o " + path("x.exr") + " --seed 9 --checkpoint " + path("ck.bin") + " --resume");
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("written for a different render"), std::string::npos) << r.err;
+    // Fewer samples than the checkpoint holds: refused, naming the checkpoint.
+    r = run("render " + path("s.json") + " --spp 100 --quiet -o " + path("x.exr") +
+            " --checkpoint " + path("ck.bin") + " --resume");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(
+        r.err.find(path("ck.bin") + ": has 20000 samples per pixel, more than the 100 asked for"),
+        std::string::npos)
+        << r.err;
     r = run(s + "-o " + path("x.exr") + " --resume");
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("--resume: needs --checkpoint FILE"), std::string::npos) << r.err;

@@ -78,7 +78,7 @@ TEST(PhaseSpec, TableFileIsRelativeToTheJsonFile) {
     const PhaseFunction q = parsePhaseSpec("tabulated:file=" + kPhaseDir + "/mie_like.csv", "/x");
     EXPECT_EQ(std::get<TabulatedPhase>(q.variant()).source(), kPhaseDir + "/mie_like.csv");
     EXPECT_EQ(messageOf([] { parsePhaseSpec("tabulated:file=nope.csv", "/tmp/dir"); }),
-              "/tmp/dir/nope.csv: cannot open phase table");
+              "phase spec \"tabulated:file=nope.csv\": file: no such file: /tmp/dir/nope.csv");
 }
 
 // "sampling": "sh" wraps any phase function in an SHSampledPhase with the given settings; the

@@ -52,6 +52,10 @@ class JsonReader {
     /// true or false, or "auto" (also when the key is absent): nullopt.
     std::optional<bool> booleanOrAuto(const std::string& key);
     std::string string(const std::string& key, std::optional<std::string> def = {});
+    /// The input file string `key` names: not empty, resolved against directory `dir` when
+    /// relative (dir empty: as given), and an existing regular file; otherwise an error naming
+    /// the key and the resolved path ("s.json: media[0].file: no such file: /data/c.vdb").
+    std::string inputFile(const std::string& key, const std::string& dir);
     /// One of the listed strings.
     std::string choice(const std::string& key, const std::string& def,
                        std::initializer_list<const char*> choices);
