@@ -338,6 +338,11 @@ int runRender(const RenderArgs& a) {
                            : renderIdentity(doc, namedFileContents(provenance.at("inputs")),
                                             SHVOL_GIT_REVISION);
             if (a.resume) film = readCheckpoint(a.checkpoint, identity);
+            if (film.maxCount() > uint32_t(scene.settings.spp))
+                fail(a.checkpoint, "",
+                     "has " + std::to_string(film.maxCount()) +
+                         " samples per pixel, more than the " + std::to_string(scene.settings.spp) +
+                         " asked for; resume with at least that many (--spp)");
             if (sppList.size() > 1) stops.assign(sppList.begin(), sppList.end() - 1);
             if (a.variance &&
                 std::min(stops.empty() ? 2 : stops.front(), uint32_t(scene.settings.spp)) < 2)
