@@ -1,5 +1,6 @@
 #include "shvol/io/json_reader.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -178,6 +179,19 @@ void JsonReader::error(const std::string& key, const std::string& msg) const {
     fail(file_, key.empty() ? path_ : keyPath(key), msg);
 }
 
+void JsonReader::rangeError(const std::string& key, const std::string& what, double x, double lo,
+                            double hi) const {
+    auto text = [](double v) {
+        if (std::abs(v) < 1e18 && v == std::floor(v)) return std::to_string((long long)v);
+        std::ostringstream m;
+        m << v;
+        return m.str();
+    };
+    error(key, what + " " + text(x) + " out of range " +
+                   (hi >= kUnbounded ? "(expected ≥ " + text(lo) + ")"
+                                     : "[" + text(lo) + ", " + text(hi) + "]"));
+}
+
 bool JsonReader::has(const std::string& key) const {
     return j_.contains(key);
 }
@@ -190,24 +204,22 @@ const Json& JsonReader::get(const std::string& key, const char* type) const {
 double JsonReader::number(const std::string& key, std::optional<double> def) {
     used_.insert(key);
     if (!j_.contains(key) && def) {
-        note(key, *def);
+        // An integral default is recorded as an integer, as a reader would write it.
+        const bool integral = std::abs(*def) < 0x1p53 && *def == std::floor(*def);
+        note(key, integral ? Json((long long)*def) : Json(*def));
         return *def;
     }
     const Json& v = get(key, "number");
     if (!v.is_number()) error(key, "expected a number, got " + typeName(v) + " " + brief(v));
     const double x = v.get<double>();
     if (!std::isfinite(x)) error(key, "expected a finite number");
-    note(key, x);
+    note(key, v);  // as written (an integer stays one)
     return x;
 }
 
 double JsonReader::number(const std::string& key, double def, double lo, double hi) {
     const double x = number(key, std::optional<double>(def));
-    if (x < lo || x > hi) {
-        std::ostringstream m;
-        m << "value " << x << " out of range [" << lo << ", " << hi << "]";
-        error(key, m.str());
-    }
+    if (x < lo || x > hi) rangeError(key, "value", x, lo, hi);
     return x;
 }
 
@@ -221,12 +233,9 @@ int JsonReader::integer(const std::string& key, int def, int lo, int hi) {
     if (!v.is_number_integer())
         error(key, "expected an integer, got " + typeName(v) + " " + brief(v));
     if (v.is_number_unsigned() && v.get<unsigned long long>() > (unsigned long long)hi)
-        error(key, "value " + std::to_string(v.get<unsigned long long>()) + " out of range [" +
-                       std::to_string(lo) + ", " + std::to_string(hi) + "]");
+        rangeError(key, "value", double(v.get<unsigned long long>()), lo, hi);
     const long long x = v.get<long long>();
-    if (x < lo || x > hi)
-        error(key, "value " + std::to_string(x) + " out of range [" + std::to_string(lo) + ", " +
-                       std::to_string(hi) + "]");
+    if (x < lo || x > hi) rangeError(key, "value", double(x), lo, hi);
     note(key, x);
     return int(x);
 }

@@ -17,11 +17,7 @@ constexpr double kMaxG = 0.999999;  // |g| and |k| bound: the lobes stay represe
 /// A required number in [lo, hi] (JsonReader::number(key, def, lo, hi) has a default).
 double requiredNumber(JsonReader& r, const std::string& key, double lo, double hi) {
     const double x = r.number(key);
-    if (x < lo || x > hi) {
-        std::ostringstream m;
-        m << "value " << x << " out of range [" << lo << ", " << hi << "]";
-        r.error(key, m.str());
-    }
+    if (x < lo || x > hi) r.rangeError(key, "value", x, lo, hi);
     return x;
 }
 

@@ -24,9 +24,7 @@ std::string sceneDir(const JsonReader& r) {
 Spectrum spectrum(JsonReader& r, const std::string& key, double def, double lo, double hi) {
     const Vec3 v = r.vec3OrScalar(key, Vec3::Constant(def));
     for (int i = 0; i < 3; ++i)
-        if (v[i] < lo || v[i] > hi)
-            r.error(key, "component " + std::to_string(v[i]) + " out of range [" +
-                             std::to_string(lo) + ", " + std::to_string(hi) + "]");
+        if (v[i] < lo || v[i] > hi) r.rangeError(key, "component", v[i], lo, hi);
     return v.array();
 }
 
@@ -38,6 +36,7 @@ Camera readCamera(JsonReader r) {
     c.target = r.vec3("target", c.target);
     c.up = r.vec3("up", c.up);
     if ((c.target - c.position).norm() == 0) r.error("target", "equals the camera position");
+    if (!(c.up.norm() > 0)) r.error("up", "is the zero vector");
     if ((c.target - c.position).normalized().cross(c.up).norm() < 1e-9)
         r.error("up", "is parallel to the viewing direction");
     c.fovDegrees = r.number("fov", c.fovDegrees, 1e-3, 179);
@@ -85,7 +84,10 @@ RenderSettings readSettings(JsonReader r) {
             : mis == "none" ? MisHeuristic::None
                             : MisHeuristic::Balance;
     s.productOrder = r.integer("product_order", s.productOrder, 1, ProductSampler::kMaxOrder);
-    if (r.has("product_depth")) s.productDepth = r.integer("product_depth", 0, 0, 12);
+    if (r.has("product_depth"))
+        s.productDepth = r.integer("product_depth", 0, 0, 12);
+    else
+        r.note("product_depth", "auto");  // ⌈log₂ order⌉ + 2 in [3, 9], chosen by the sampler
     JsonReader rc = r.objectOrEmpty("radiance_cache");
     RadianceCacheSettings& c = s.radianceCache;
     c.enabled = rc.boolean("enabled", c.enabled);
@@ -100,6 +102,18 @@ RenderSettings readSettings(JsonReader r) {
     return s;
 }
 
+/// Keys that belong to another type of the object: each present one is an error saying which type
+/// takes it (clearer than "unknown key" for a documented key).
+void refuseKeysOfType(const JsonReader& r, const char* type,
+                      std::initializer_list<const char*> keys) {
+    for (const char* k : keys)
+        if (r.has(k)) r.error(k, std::string("only with \"type\": \"") + type + "\"");
+}
+
+constexpr std::initializer_list<const char*> kVdbKeys = {
+    "file",          "grid",          "density_scale", "transform",
+    "majorant_grid", "majorant_cell", "lookup",        "decomposition"};
+
 Environment readEnvironment(JsonReader r, RenderSettings& settings) {
     const std::string type = r.choice("type", "constant", {"constant", "image"});
     const bool lowerBlack = r.boolean("lower_hemisphere_black", false);
@@ -108,15 +122,17 @@ Environment readEnvironment(JsonReader r, RenderSettings& settings) {
     if (K != std::floor(K)) r.error("wavelet_coefficients", "expected a non-negative integer");
     settings.waveletCoefficients = size_t(K);
     if (type == "constant") {
-        const Spectrum L = spectrum(r, "radiance", 1, 0, 1e30);
+        const Spectrum L = spectrum(r, "radiance", 1, 0, JsonReader::kUnbounded);
+        refuseKeysOfType(r, "image", {"file", "scale", "rotation", "mapping"});
         r.finish();
         return Environment::constant(L, lowerBlack);
     }
     const std::string file = r.inputFile("file", sceneDir(r));
-    const double scale = r.number("scale", 1, 0, 1e30);
+    const double scale = r.number("scale", 1, 0, JsonReader::kUnbounded);
     const double rotation = r.number("rotation", 0, -1e6, 1e6);
     const LatLongMapping mapping =
         latLongMappingFromName(r.choice("mapping", "blender", {"blender", "shvol"}));
+    refuseKeysOfType(r, "constant", {"radiance"});
     r.finish();
     return Environment::image(readExr(file), scale, rotation, lowerBlack, mapping);
 }
@@ -202,7 +218,7 @@ Surface readSurface(JsonReader r, size_t index) {
     if (s.kind == Surface::Kind::Mesh && s.bsdf.type == BsdfType::Dielectric &&
         signedVolume(s.mesh) < 0 && closedMeshDefect(s.mesh).empty())
         flipWinding(s.mesh);
-    s.emission = spectrum(r, "emission", 0, 0, 1e30);
+    s.emission = spectrum(r, "emission", 0, 0, JsonReader::kUnbounded);
     s.twoSidedEmission = r.boolean("emission_two_sided", false);
     s.name = r.string("name", "surfaces[" + std::to_string(index) + "]");
     r.finish();
@@ -213,6 +229,7 @@ Surface readSurface(JsonReader r, size_t index) {
 int readBoundary(JsonReader& r, const std::vector<Surface>& surfaces) {
     const Json& b = r.raw("boundary");
     int s = -1;
+    if (surfaces.empty()) r.error("boundary", "the scene has no surfaces");
     if (b.is_number_integer()) {
         s = r.integer("boundary", 0, 0, int(surfaces.size()) - 1);
     } else {
@@ -254,6 +271,7 @@ std::unique_ptr<Medium> readMedium(JsonReader r, std::vector<Surface>& surfaces,
         MediumShape shape;
         if (r.has("boundary") && !r.has("shape")) {
             shape.type = MediumShape::Type::Everywhere;
+            refuseKeysOfType(r, "vdb", kVdbKeys);
             r.finish();
             return std::make_unique<HomogeneousMedium>(shape, sigmaT, albedo, phase, tracking);
         }
@@ -270,6 +288,7 @@ std::unique_ptr<Medium> readMedium(JsonReader r, std::vector<Surface>& surfaces,
             shape.radius = sh.number("radius", 1, 1e-12, 1e12);
         }
         sh.finish();
+        refuseKeysOfType(r, "vdb", kVdbKeys);
         r.finish();
         return std::make_unique<HomogeneousMedium>(shape, sigmaT, albedo, phase, tracking);
     }
@@ -284,6 +303,7 @@ std::unique_ptr<Medium> readMedium(JsonReader r, std::vector<Surface>& surfaces,
     d.majorantCellVoxels = r.integerOrAuto("majorant_cell", 1, 4096).value_or(0);  // 0: "auto"
     d.bricks = r.choice("lookup", "bricks", {"bricks", "openvdb"}) == "bricks";
     d.decomposition = r.boolean("decomposition", true);
+    refuseKeysOfType(r, "homogeneous", {"sigma_t", "estimator", "shape"});
     r.finish();
     return loadVdbMedium(d);
 }

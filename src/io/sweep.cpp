@@ -104,7 +104,8 @@ Sweep readSweep(const std::string& path) {
         for (const Json& v : values[a])
             if ((k == "spp" || k == "seed") &&
                 !(v.is_number_integer() && v.get<long long>() >= (k == "spp" ? 1 : 0)))
-                fail(path, "axes." + k, "expected non-negative integers (spp ≥ 1)");
+                fail(path, "axes." + k,
+                     k == "spp" ? "expected integers ≥ 1" : "expected non-negative integers");
         if (zip && values[a].size() != values[0].size())
             fail(path, "axes." + k,
                  "zipped axes need equal lengths (" + std::to_string(values[a].size()) + " vs " +

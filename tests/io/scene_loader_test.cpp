@@ -348,7 +348,42 @@ TEST(SceneLoader, BadSurfacesGiveOneLineNamingThePlace) {
                                                                    "reflectance": 1.5}}]})"),
              "surfaces[0].bsdf.reflectance");
     expectIn(message(R"({"surfaces": [{"type": "sphere", "emission": -1}]})"),
-             "surfaces[0].emission");
+             "surfaces[0].emission: component -1 out of range (expected ≥ 0)");
+    expectIn(message(R"({"media": [{"type": "homogeneous", "boundary": 0}]})"),
+             "media[0].boundary: the scene has no surfaces");
+}
+
+// Range errors print their bounds as a reader would write them (2^53 in full, no 1e30 sentinel),
+// and a key of another type of the same object says which type takes it.
+TEST(SceneLoader, ErrorsNameBoundsAndTheTypeAKeyBelongsTo) {
+    const SurfaceFiles f;
+    auto expectMessage = [&](const std::string& json, const std::string& part) {
+        const std::string msg = test::messageOf([&] { f.load(json); });
+        EXPECT_NE(msg.find(part), std::string::npos) << msg;
+    };
+    expectMessage(R"({"render": {"seed": -1}})",
+                  "render.seed: value -1 out of range [0, 9007199254740992]");
+    expectMessage(R"({"render": {"max_depth": 2000000}})",
+                  "render.max_depth: value 2000000 out of range [0, 1048576]");
+    expectMessage(R"({"environment": {"type": "constant", "radiance": [1, -0.5, 1]}})",
+                  "environment.radiance: component -0.5 out of range (expected ≥ 0)");
+    expectMessage(R"({"media": [{"type": "homogeneous", "albedo": 1.5}]})",
+                  "media[0].albedo: component 1.5 out of range [0, 1]");
+    expectMessage(R"({"camera": {"up": [0, 0, 0]}})", "camera.up: is the zero vector");
+    expectMessage(R"({"environment": {"type": "constant", "scale": 2}})",
+                  "environment.scale: only with \"type\": \"image\"");
+    expectMessage(
+        R"({"media": [{"type": "homogeneous", "shape": {"type": "sphere"}, "majorant_cell": 4}]})",
+        "media[0].majorant_cell: only with \"type\": \"vdb\"");
+    expectMessage(
+        R"({"media": [{"type": "homogeneous", "shape": {"type": "sphere"}, "transform": {"scale": 2}}]})",
+        "media[0].transform: only with \"type\": \"vdb\"");
+    expectMessage(R"({"media": [{"type": "vdb", "file": ")" + std::string(SHVOL_SOURCE_DIR) +
+                      R"(/media/cloud.vdb", "sigma_t": 2}]})",
+                  "media[0].sigma_t: only with \"type\": \"homogeneous\"");
+    expectMessage(
+        R"({"media": [{"type": "homogeneous", "shape": {"type": "sphere"}, "nonsense": 2}]})",
+        "media[0].nonsense: unknown key");
 }
 
 }  // namespace shvol

@@ -122,7 +122,9 @@ TEST(Sweep, ErrorsNameFileAndKey) {
             R"({"scene": "scene.json", "combine": "zip", "axes": {"spp": [1], "seed": [1, 2]}})"),
         ": axes.seed: zipped axes need equal lengths (2 vs 1)");
     EXPECT_EQ(err("e3", R"({"scene": "scene.json", "axes": {"spp": [0]}})"),
-              ": axes.spp: expected non-negative integers (spp ≥ 1)");
+              ": axes.spp: expected integers ≥ 1");
+    EXPECT_EQ(err("e3s", R"({"scene": "scene.json", "axes": {"seed": [-1]}})"),
+              ": axes.seed: expected non-negative integers");
     EXPECT_EQ(err("e4", R"({"scene": "scene.json", "metrics": ["rmse"]})"),
               ": metrics: metrics need a \"reference\"");
     EXPECT_EQ(err("e5", R"({"scene": "scene.json", "axes": {"seed": [1]}, "repeats": 2})"),

@@ -70,6 +70,12 @@ class JsonReader {
     void finish() const;
 
     [[noreturn]] void error(const std::string& key, const std::string& msg) const;
+    /// The error of a value x outside [lo, hi]: "<what> x out of range [lo, hi]", or "… expected
+    /// ≥ lo" when hi ≥ kUnbounded; integral numbers are written in full (2^53, not 9.0072e+15).
+    [[noreturn]] void rangeError(const std::string& key, const std::string& what, double x,
+                                 double lo, double hi) const;
+    /// An upper bound that only keeps a value finite (e.g. a radiance's 1e30): not shown.
+    static constexpr double kUnbounded = 1e30;
 
     /// Records every value read from now on — defaults included — into *node, as the resolved
     /// document (objects read through object() record into node[key]). node must outlive the
