@@ -183,9 +183,11 @@ class WorkQueue {
         const double elapsed =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
         const size_t done = ++finished_;
+        char rmse[32] = "";
+        if (row.contains("rmse"))
+            std::snprintf(rmse, sizeof rmse, " rmse %.4g", row["rmse"].get<double>());
         std::fprintf(stderr, "batch: %zu/%zu %s%s, ETA %.0fs\n", ledger_.rows().size(),
-                     sweep_.runs.size(), describe(*run).c_str(),
-                     row.contains("rmse") ? (" rmse " + dumpJson(row["rmse"])).c_str() : "",
+                     sweep_.runs.size(), describe(*run).c_str(), rmse,
                      elapsed / double(done) * double(todo_.size() - done));
     }
     void fail(int code, const std::string& error) {

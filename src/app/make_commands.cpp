@@ -31,7 +31,7 @@ CLI::Validator outputNamed(const std::string& ext, const std::string& what) {
 }
 
 struct MediumArgs {
-    std::string kind = "cloud", output, grid = "density";
+    std::string kind, output, grid = "density";  // (kind: required, so no default)
     int resolution = 96;
     unsigned long long seed = 1;
     int octaves = 5;
@@ -148,10 +148,12 @@ void addMakeSkyCommand(CLI::App& app, std::function<int()>& run) {
                     return "expected a number, got \"" + text + "\"";
                 return v > 0 ? "" : "must be positive, got " + text;
             },
-            "> 0"));
+            "> 0"))
+        ->default_str("the model's");
     c->add_option("--sun-radius", a->sunRadius,
                   "Sun angular radius in radians (default: 0.02 simple, 0.004625 preetham)")
-        ->check(numberIn(0, 0.5, true, " rad"));
+        ->check(numberIn(0, 0.5, true, " rad"))
+        ->default_str("the model's");
     c->callback([&run, a, c] {
         const bool radianceGiven = c->count("--sun-radiance") > 0;
         const bool radiusGiven = c->count("--sun-radius") > 0;

@@ -196,7 +196,7 @@ void commonOptions(CLI::App* c, PhaseArgs& a) {
                 return integerIn(1, 256)(v);
             },
             "integer in [1, 256] or auto", "order"))
-        ->default_str("the spec's order, else 16");
+        ->default_str("the spec's order, else auto");
     c->add_option("--tolerance", a.tolerance, "Relative L2 error that --order auto must reach")
         ->check(numberIn(1e-9, 1))
         ->default_str("the spec's tolerance, else 0.01");
