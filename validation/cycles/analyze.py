@@ -15,6 +15,7 @@ SCENES = {
     "plume": "media/plume.json: the sparse plume ×80, albedo 0.9, HG g = 0.6, constant sky 1, 160×240",
     "thick_forward": "the same cloud ×300, albedo 0.95, HG g = 0.9 (thick, strongly forward), constant sky 1, 128²",
     "thin_backward": "the same cloud ×20, albedo 0.99, HG g = −0.3 (thin, backward), constant sky 1, 128²",
+    "sunlit": "the same cloud ×60, albedo 0.98, HG g = 0.8 under media/sunsky.exr ×0.05 (sun and sky, next-event estimation), 128²",
 }
 
 
@@ -52,7 +53,7 @@ for scene, what in SCENES.items():
           % (c["spp"], m["image_mean"], m["reference_mean"], m["mean_difference"],
              m["mean_difference_se"], m["rmse"], scene))
     f = {n: v["compare"]["image_mean"] for (n, _), v in r.items() if n.endswith("-furnace")}
-    print("White furnace (albedo 1, 1024 bounces, 256 spp): image mean shvol %.5f, Cycles %.5f.\n"
+    print("White furnace (albedo 1, a constant white sky, 1024 bounces, 256 spp): image mean shvol %.5f, Cycles %.5f.\n"
           % (f["shvol-furnace"], f["cycles-furnace"]))
 print("## Summary\n")
 print("| scene | shvol speed-up over Cycles 3.4 at equal RMSE |")

@@ -2,9 +2,10 @@
 #   blender -b --factory-startup --python cycles_render.py -- SCENE.json OUT.exr SPP SEED THREADS
 # ). SCENE.json is a resolved shvol scene (the "scene_resolved" of a render's stats, with the
 # scene's directory in "scene_dir"), restricted to what both renderers share: a perspective
-# camera, a constant environment and VDB media with albedo, Henyey-Greenstein phase, density scale
-# and a translate/scale transform. It prints one line "CYCLES_TIME <seconds>" with the wall time
-# of the render call (scene synchronisation included).
+# camera, a constant environment or a lat-long image in Blender's mapping, and VDB media with
+# albedo, Henyey-Greenstein phase, density scale and a translate/scale transform. It prints one
+# line "CYCLES_TIME <seconds>" with the wall time of the render call (scene synchronisation
+# included).
 #
 # How the scene maps onto Cycles:
 # - Principled Volume: scattering = density * color and absorption = density * (1 - color) (with
@@ -57,15 +58,33 @@ scene.render.resolution_percentage = 100
 scene.render.pixel_aspect_x = scene.render.pixel_aspect_y = 1
 
 env = doc["environment"]
-if env["type"] != "constant":
-    sys.exit("only constant environments")
 world = bpy.data.worlds.new("world")
 world.use_nodes = True
-radiance = env["radiance"]
-rgb = radiance if isinstance(radiance, list) else [radiance] * 3
 bg = world.node_tree.nodes["Background"]
-bg.inputs["Color"].default_value = (*rgb, 1.0)
-bg.inputs["Strength"].default_value = 1.0
+if env.get("lower_hemisphere_black", False):
+    sys.exit("only environments without a black lower hemisphere")
+if env["type"] == "constant":
+    radiance = env["radiance"]
+    rgb = radiance if isinstance(radiance, list) else [radiance] * 3
+    bg.inputs["Color"].default_value = (*rgb, 1.0)
+    bg.inputs["Strength"].default_value = 1.0
+elif env["type"] == "image":
+    # shvol's "blender" mapping is Cycles' equirectangular layout (README, "Lat-long mapping"),
+    # and shvol reads the texel a direction falls in, without filtering: "Closest".
+    if env.get("mapping", "blender") != "blender" or env.get("rotation", 0) != 0:
+        sys.exit("only lat-long images in the blender mapping, not rotated")
+    scale = env.get("scale", 1.0)
+    if isinstance(scale, list):
+        sys.exit("only a scalar environment scale")
+    tex = world.node_tree.nodes.new("ShaderNodeTexEnvironment")
+    tex.image = bpy.data.images.load(os.path.join(base, env["file"]))
+    tex.image.colorspace_settings.name = "Linear"
+    tex.interpolation = "Closest"
+    tex.projection = "EQUIRECTANGULAR"
+    world.node_tree.links.new(tex.outputs["Color"], bg.inputs["Color"])
+    bg.inputs["Strength"].default_value = scale
+else:
+    sys.exit("only constant and lat-long image environments")
 scene.world = world
 
 for i, m in enumerate(doc["media"]):

@@ -3,7 +3,8 @@
 # scenes/: a shvol reference (REF_SPP, its own seed), shvol and Cycles at 16, 64 and 256 spp on
 # 2 threads (time per spp from the 16 → 256 spp difference, so that loading and Cycles' scene
 # synchronisation are left out; RMSE against the reference), Cycles converged (CYCLES_SPP) against
-# the reference with a difference image, and a white furnace (albedo 1, 1024 bounces) in both.
+# the reference with a difference image, and a white furnace (albedo 1, a constant white sky,
+# 1024 bounces) in both.
 # Writes results/*.jsonl, results/*.png and results.md. Run it on an idle machine (about 15
 # minutes on two cores). Needs Debian's blender package (installed here if missing) and a built
 # build/shvol.
@@ -47,6 +48,7 @@ json.dump(d, open('$tmp/$scene.json', 'w'))"
 import json
 d = json.load(open('$tmp/$scene.json'))
 for m in d['media']: m['albedo'] = 1.0
+d['environment'] = {'type': 'constant', 'radiance': 1.0}
 d['render']['max_depth'] = 1024
 json.dump(d, open('$furnace', 'w'))"
 
@@ -73,7 +75,7 @@ json.dump(d, open('$furnace', 'w'))"
   echo "{\"renderer\": \"cycles-converged\", \"scene\": \"$scene\", \"spp\": $CYCLES_SPP, \"seconds\": $t, \"compare\": $m}" >> "$log"
   echo "$scene: white furnace"
   $shvol render "$s" --spp 256 --quiet -o "$tmp/f_shvol.exr" \
-    --set "render.max_depth=1024" $(for i in $(/usr/bin/python3 -c "import json; print(' '.join(str(i) for i in range(len(json.load(open('$s'))['media']))))"); do echo "--set media[$i].albedo=1"; done)
+    --set "render.max_depth=1024" --set 'environment={"type": "constant", "radiance": 1}' $(for i in $(/usr/bin/python3 -c "import json; print(' '.join(str(i) for i in range(len(json.load(open('$s'))['media']))))"); do echo "--set media[$i].albedo=1"; done)
   blender_run "$here/cycles_render.py" -- "$furnace" "$tmp/f_cycles.exr" 256 1 2 > /dev/null
   for r in shvol cycles; do
     m=$(blender_run "$here/compare.py" -- "$tmp/f_$r.exr" "$tmp/f_shvol.exr" "$tmp/diff.png" |
