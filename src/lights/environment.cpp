@@ -65,13 +65,19 @@ LightSample Environment::sample(const Vec2& u) const {
     }
     if (!(dist_->integral() > 0)) return {Vec3(0, 0, 1), Spectrum::Zero(), 0.0};
     double pdfUv;
-    const Vec2 uv = dist_->sampleContinuous(u, &pdfUv);
+    Eigen::Vector2i texel;
+    const Vec2 uv = dist_->sampleContinuous(u, &pdfUv, &texel);
     const double theta = Pi * uv[1], phi = latLongPhi(mapping_, uv[0]) + rotation_;
     const Vec2 csTheta = cosSin(theta), csPhi = cosSin(phi);
     const double sinTheta = csTheta.y();
     const Vec3 w(sinTheta * csPhi.x(), sinTheta * csPhi.y(), csTheta.x());
     if (!(sinTheta > 0) || !(pdfUv > 0)) return {w, Spectrum::Zero(), 0.0};
-    return {w, Le(w), pdfUv / (2 * Pi * Pi * sinTheta)};
+    // The radiance of the texel drawn (the one Le(w) finds, without the round trip through
+    // w's angles).
+    const Spectrum L = lowerBlack_ && w.z() < 0
+                           ? Spectrum::Zero()
+                           : Spectrum(scale_ * image_->at(texel.x(), texel.y()));
+    return {w, L, pdfUv / (2 * Pi * Pi * sinTheta)};
 }
 
 double Environment::pdf(const Vec3& dir) const {

@@ -23,18 +23,37 @@ Distribution1D::Distribution1D(const double* f, int n) {
         for (int i = 1; i < n; ++i) cdf_[i] /= sum;
     }
     cdf_[n] = 1.0;
+    guide_.resize(n + 1);
+    for (int k = 0; k <= n; ++k)
+        guide_[k] =
+            int(std::upper_bound(cdf_.begin(), cdf_.end(), double(k) / n) - cdf_.begin()) - 1;
 }
 
-int Distribution1D::findBin(double u) const {
+int Distribution1D::validBin(int i) const {
     const int n = count();
-    // Last i in [0, n-1] with cdf[i] ≤ u. Because cdf is non-decreasing, cdf[i+1] > u for that i
-    // whenever u < 1, so the bin has positive width (i.e. non-zero weight).
-    int i = int(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin()) - 1;
+    // Because cdf is non-decreasing, cdf[i+1] > u for the last i with cdf[i] ≤ u whenever u < 1,
+    // so that bin has positive width (non-zero weight).
     i = std::clamp(i, 0, n - 1);
     // Only reachable through rounding (u ≥ cdf[n]): step back to a bin with weight.
     while (i > 0 && cdf_[i + 1] <= cdf_[i]) --i;
     while (i < n - 1 && cdf_[i + 1] <= cdf_[i]) ++i;
     return i;
+}
+
+int Distribution1D::findBin(double u) const {
+    const int n = count();
+    // The guide cell k with k/n ≤ u < (k+1)/n, the quotients computed as the table's were (the
+    // product u·n may round across a cell boundary).
+    int k = std::clamp(int(u * n), 0, n - 1);
+    while (k > 0 && double(k) / n > u) --k;
+    while (k + 1 < n && double(k + 1) / n <= u) ++k;
+    // The last i with cdf[i] ≤ u lies in [g_k, g_{k+1}]: search cdf[g_k + 1 … g_{k+1}].
+    const auto first = cdf_.begin() + guide_[k] + 1, last = cdf_.begin() + guide_[k + 1] + 1;
+    return validBin(int(std::upper_bound(first, last, u) - cdf_.begin()) - 1);
+}
+
+int Distribution1D::findBinBySearch(double u) const {
+    return validBin(int(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin()) - 1);
 }
 
 double Distribution1D::sampleContinuous(double u, double* pdf, int* offset) const {

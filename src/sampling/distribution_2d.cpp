@@ -27,12 +27,13 @@ Distribution2D::Distribution2D(const double* f, int nu, int nv)
       conditional_(makeRows(f, nu, nv)),
       marginal_(rowIntegrals(conditional_).data(), nv) {}
 
-Vec2 Distribution2D::sampleContinuous(const Vec2& u, double* pdf) const {
+Vec2 Distribution2D::sampleContinuous(const Vec2& u, double* pdf, Eigen::Vector2i* cell) const {
     double pdfV = 0, pdfU = 0;
-    int v = 0;
+    int v = 0, iu = 0;
     const double y = marginal_.sampleContinuous(u[1], &pdfV, &v);
-    const double x = conditional_[v].sampleContinuous(u[0], &pdfU);
+    const double x = conditional_[v].sampleContinuous(u[0], &pdfU, &iu);
     if (pdf) *pdf = pdfU * pdfV;
+    if (cell) *cell = {iu, v};
     return {x, y};
 }
 

@@ -52,6 +52,41 @@ TEST(Distribution1D, ContinuousSampleInvertsTheCdf) {
     }
 }
 
+// The guide-table search (findBin) finds the bin the binary search of the whole CDF finds, for
+// random u and for the values where it could err: the guide cells' edges k/n and the CDF's own
+// values, each with its neighbours one ulp away; on spiky, sparse, all-zero and tiny tables.
+TEST(Distribution1D, GuideTableFindsTheBinTheFullSearchFinds) {
+    Rng rng(7, 3);
+    std::vector<std::vector<double>> tables = {{1}, {0}, {1, 2, 0, 5}, {0, 0, 0, 3, 0}};
+    std::vector<double> spike(1024, 1e-6);  // a sun among faint sky texels
+    spike[700] = 1e6, spike[701] = 5e5;
+    tables.push_back(spike);
+    std::vector<double> sparse(777, 0.0);  // not a power of two, mostly empty
+    for (int i = 0; i < 777; i += 37) sparse[i] = rng.uniform();
+    tables.push_back(sparse);
+    std::vector<double> random(333);
+    for (double& v : random) v = rng.uniform() < 0.2 ? 0.0 : -std::log(1 - rng.uniform());
+    tables.push_back(random);
+    for (const std::vector<double>& f : tables) {
+        const Distribution1D d(f.data(), int(f.size()));
+        const int n = d.count();
+        std::vector<double> us;
+        for (int i = 0; i < 20000; ++i) us.push_back(rng.uniform());
+        double c = 0;
+        for (int i = 0; i <= n; ++i) {
+            us.push_back(double(i) / n);
+            if (i < n) us.push_back(c / (d.integral() * n)), c += d.func(i);
+        }
+        for (size_t i = 0, m = us.size(); i < m; ++i)
+            for (double u : {std::nextafter(us[i], 0.0), std::nextafter(us[i], 1.0)})
+                us.push_back(u);
+        for (double u : us) {
+            if (!(u >= 0 && u < 1)) continue;
+            ASSERT_EQ(d.findBin(u), d.findBinBySearch(u)) << "n " << n << ", u " << u;
+        }
+    }
+}
+
 TEST(Distribution1D, ZeroWeightBinsAreNeverSampled) {
     const std::vector<double> f = {0, 0, 1, 0, 0, 2, 0, 0};
     Distribution1D d(f.data(), 8);

@@ -7,6 +7,10 @@
 ///   pdf       p(x) = f_⌊xn⌋ / I,
 ///   CDF       Cᵢ = (1/(nI)) Σ_{j<i} f_j, C₀ = 0, Cₙ = 1,
 ///   inversion x = (i + (u − Cᵢ)/(Cᵢ₊₁ − Cᵢ)) / n with i the last index such that Cᵢ ≤ u.
+/// That i is found through a guide table (the cutpoint method, Chen & Asau 1974; Devroye 1986,
+/// §III.2.4): gₖ = the last i with Cᵢ ≤ k/n for k = 0 … n, so for k/n ≤ u < (k+1)/n the bin lies
+/// in [gₖ, gₖ₊₁] and a search of that range (about two entries on average) replaces the binary
+/// search of the whole CDF, whose ~log₂ n reads miss the cache on large tables (a sky's rows).
 /// If every fᵢ is zero the distribution behaves as the uniform one (p = 1) but integral() = 0,
 /// so callers can detect that there is nothing to sample.
 #include <vector>
@@ -34,11 +38,18 @@ class Distribution1D {
     int count() const { return int(func_.size()); }
     double func(int i) const { return func_[i]; }
 
-  private:
-    /// Index of the bin for u: the last i with cdf[i] ≤ u, moved to a non-zero bin if needed.
+    /// The bin of u ∈ [0, 1): the last i with Cᵢ ≤ u (moved to a bin of non-zero weight if
+    /// rounding lands on an empty one), found through the guide table.
     int findBin(double u) const;
+    /// The same by a binary search of the whole CDF: the slow reference of findBin, for tests.
+    int findBinBySearch(double u) const;
+
+  private:
+    /// Moves i, the last index with Cᵢ ≤ u, into [0, n − 1] and onto a bin of non-zero weight.
+    int validBin(int i) const;
 
     std::vector<double> func_, cdf_;
+    std::vector<int> guide_;  ///< gₖ for k = 0 … n
     double integral_ = 0;
     bool allZero_ = true;
 };

@@ -20,8 +20,9 @@ class Distribution2D {
     Distribution2D(const double* f, int nu, int nv);
 
     /// Sample a point (u, v) ∈ [0, 1)²: v from the marginal with u[1], then u from the
-    /// conditional of that row with u[0]. \param pdf receives p(u, v) (area measure).
-    Vec2 sampleContinuous(const Vec2& u, double* pdf) const;
+    /// conditional of that row with u[0]. \param pdf receives p(u, v) (area measure);
+    /// \param cell, if given, the bin (column, row) the point lies in.
+    Vec2 sampleContinuous(const Vec2& u, double* pdf, Eigen::Vector2i* cell = nullptr) const;
     /// p(u, v) = f(⌊u·nu⌋, ⌊v·nv⌋) / I.
     double pdf(const Vec2& p) const;
     /// I = mean of f.
