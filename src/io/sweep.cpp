@@ -157,7 +157,8 @@ Sweep readSweep(const std::string& path) {
         JsonReader ref = r.object("reference");
         SweepReference sr;
         if (ref.has("file") && !(ref.has("spp") || ref.has("set") || ref.has("seed"))) {
-            sr.file = relativeTo(path, ref.string("file"));
+            // Checked here, so that --dry-run finds a missing reference too.
+            sr.file = ref.inputFile("file", fs::path(path).parent_path().string());
         } else {
             sr.render = true;
             sr.sets = base;

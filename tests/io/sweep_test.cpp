@@ -130,6 +130,9 @@ TEST(Sweep, ErrorsNameFileAndKey) {
     EXPECT_EQ(err("e5", R"({"scene": "scene.json", "axes": {"seed": [1]}, "repeats": 2})"),
               ": axes.seed: give either a seed axis or repeats, not both");
     EXPECT_EQ(err("e6", R"({"scene": "scene.json", "axis": {}})"), ": axis: unknown key");
+    // A reference file is looked for when the sweep is read (so --dry-run finds it missing too).
+    const std::string e7 = err("e7", R"({"scene": "scene.json", "reference": {"file": "r.exr"}})");
+    EXPECT_EQ(e7.rfind(": reference.file: no such file: ", 0), 0u) << e7;
 }
 
 }  // namespace shvol
