@@ -1,6 +1,8 @@
 #include "shvol/io/json_reader.h"
 
+#include <cctype>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -41,6 +43,33 @@ std::string brief(const Json& j) {
 }
 }  // namespace
 
+namespace {
+/// The offset of the first JSON number in `text` spelled `token`: outside strings, and not part
+/// of a longer number; npos if there is none.
+size_t findNumberToken(const std::string& text, const std::string& token) {
+    auto inNumber = [](char c) {
+        return std::isdigit((unsigned char)c) || std::strchr("+-.eE", c);
+    };
+    bool inString = false;
+    for (size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (inString) {
+            if (c == '\\')
+                ++i;  // an escaped character
+            else if (c == '"')
+                inString = false;
+        } else if (c == '"') {
+            inString = true;
+        } else if (text.compare(i, token.size(), token) == 0 &&
+                   (i == 0 || !inNumber(text[i - 1])) &&
+                   (i + token.size() == text.size() || !inNumber(text[i + token.size()]))) {
+            return i;
+        }
+    }
+    return std::string::npos;
+}
+}  // namespace
+
 Json parseJsonFile(const std::string& path) {
     std::ifstream f(path);
     if (!f) fail(path, "", "cannot open file");
@@ -62,11 +91,12 @@ Json parseJsonFile(const std::string& path) {
         return Json::parse(text);
     } catch (const Json::out_of_range& e) {  // e.g. a number such as 1e999
         // e.what() is "[json.exception…] number overflow parsing '1e999'", without a position:
-        // the place is where the quoted token first occurs.
+        // the place is where that number first occurs.
         std::string msg = e.what();
         msg = msg.substr(msg.find("] ") == std::string::npos ? 0 : msg.find("] ") + 2);
         const size_t q0 = msg.find('\''), q1 = msg.rfind('\'');
-        const size_t at = q0 < q1 ? text.find(msg.substr(q0 + 1, q1 - q0 - 1)) : std::string::npos;
+        const size_t at =
+            q0 < q1 ? findNumberToken(text, msg.substr(q0 + 1, q1 - q0 - 1)) : std::string::npos;
         fail(path, at == std::string::npos ? "" : lineColumn(at), "malformed JSON: " + msg);
     } catch (const Json::parse_error& e) {
         // e.what() is "[json.exception…] parse error at line L, column C: <reason>"; keep the
@@ -179,17 +209,26 @@ void JsonReader::error(const std::string& key, const std::string& msg) const {
     fail(file_, key.empty() ? path_ : keyPath(key), msg);
 }
 
+namespace {
+/// A bound or value as a reader would write it: integral numbers in full (2^53, not 9.0072e+15).
+std::string numberText(double v) {
+    if (std::abs(v) < 1e18 && v == std::floor(v)) return std::to_string((long long)v);
+    std::ostringstream m;
+    m << v;
+    return m.str();
+}
+}  // namespace
+
 void JsonReader::rangeError(const std::string& key, const std::string& what, double x, double lo,
                             double hi) const {
-    auto text = [](double v) {
-        if (std::abs(v) < 1e18 && v == std::floor(v)) return std::to_string((long long)v);
-        std::ostringstream m;
-        m << v;
-        return m.str();
-    };
-    error(key, what + " " + text(x) + " out of range " +
-                   (hi >= kUnbounded ? "(expected ≥ " + text(lo) + ")"
-                                     : "[" + text(lo) + ", " + text(hi) + "]"));
+    rangeError(key, what, numberText(x), lo, hi);
+}
+
+void JsonReader::rangeError(const std::string& key, const std::string& what, const std::string& x,
+                            double lo, double hi) const {
+    error(key, what + " " + x + " out of range " +
+                   (hi >= kUnbounded ? "(expected ≥ " + numberText(lo) + ")"
+                                     : "[" + numberText(lo) + ", " + numberText(hi) + "]"));
 }
 
 bool JsonReader::has(const std::string& key) const {
@@ -219,6 +258,13 @@ double JsonReader::number(const std::string& key, std::optional<double> def) {
 
 double JsonReader::number(const std::string& key, double def, double lo, double hi) {
     const double x = number(key, std::optional<double>(def));
+    // An integer is compared exactly: 2^53 + 1 rounds to 2^53 as a double, and would pass.
+    if (has(key) && j_.at(key).is_number_integer()) {
+        const Json& v = j_.at(key);
+        const long double e = v.is_number_unsigned() ? (long double)v.get<unsigned long long>()
+                                                     : (long double)v.get<long long>();
+        if (e < lo || e > hi) rangeError(key, "value", dumpJson(v), lo, hi);
+    }
     if (x < lo || x > hi) rangeError(key, "value", x, lo, hi);
     return x;
 }
@@ -233,9 +279,9 @@ int JsonReader::integer(const std::string& key, int def, int lo, int hi) {
     if (!v.is_number_integer())
         error(key, "expected an integer, got " + typeName(v) + " " + brief(v));
     if (v.is_number_unsigned() && v.get<unsigned long long>() > (unsigned long long)hi)
-        rangeError(key, "value", double(v.get<unsigned long long>()), lo, hi);
+        rangeError(key, "value", dumpJson(v), lo, hi);
     const long long x = v.get<long long>();
-    if (x < lo || x > hi) rangeError(key, "value", double(x), lo, hi);
+    if (x < lo || x > hi) rangeError(key, "value", dumpJson(v), lo, hi);
     note(key, x);
     return int(x);
 }
@@ -361,6 +407,7 @@ std::string JsonReader::inputFile(const std::string& key, const std::string& dir
     std::error_code ec;
     const fs::file_status st = fs::status(path, ec);
     if (st.type() == fs::file_type::not_found) error(key, "no such file: " + path);
+    if (ec) error(key, "cannot read " + path + " (" + ec.message() + ")");
     if (!fs::is_regular_file(st)) error(key, "not a regular file: " + path);
     return path;
 }

@@ -365,6 +365,12 @@ TEST(SceneLoader, ErrorsNameBoundsAndTheTypeAKeyBelongsTo) {
                   "render.seed: value -1 out of range [0, 9007199254740992]");
     expectMessage(R"({"render": {"max_depth": 2000000}})",
                   "render.max_depth: value 2000000 out of range [0, 1048576]");
+    // Integers beyond 2^53 are compared and written exactly (as doubles they would round: 2^53 + 1
+    // to 2^53, which is in range).
+    expectMessage(R"({"render": {"seed": 9007199254740993}})",
+                  "render.seed: value 9007199254740993 out of range [0, 9007199254740992]");
+    expectMessage(R"({"render": {"max_depth": 100000000000000001}})",
+                  "render.max_depth: value 100000000000000001 out of range [0, 1048576]");
     expectMessage(R"({"environment": {"type": "constant", "radiance": [1, -0.5, 1]}})",
                   "environment.radiance: component -0.5 out of range (expected ≥ 0)");
     expectMessage(R"({"media": [{"type": "homogeneous", "albedo": 1.5}]})",

@@ -74,6 +74,9 @@ class JsonReader {
     /// ≥ lo" when hi ≥ kUnbounded; integral numbers are written in full (2^53, not 9.0072e+15).
     [[noreturn]] void rangeError(const std::string& key, const std::string& what, double x,
                                  double lo, double hi) const;
+    /// The same with the value as written (an integer beyond 2^53 exactly).
+    [[noreturn]] void rangeError(const std::string& key, const std::string& what,
+                                 const std::string& x, double lo, double hi) const;
     /// An upper bound that only keeps a value finite (e.g. a radiance's 1e30): not shown.
     static constexpr double kUnbounded = 1e30;
 
