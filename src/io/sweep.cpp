@@ -1,5 +1,6 @@
 #include "shvol/io/sweep.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -9,6 +10,7 @@
 #include "shvol/core/hash.h"
 #include "shvol/io/provenance.h"
 #include "shvol/io/scene_loader.h"
+#include "shvol/render/scene.h"
 
 namespace shvol {
 
@@ -60,6 +62,15 @@ std::vector<std::string> stringList(JsonReader& r, const std::string& key,
 Json runDocument(Json doc, const std::string& scene, const std::vector<std::string>& sets) {
     for (const std::string& s : sets) applyOverride(doc, s, scene);
     return doc;
+}
+
+/// The samples per pixel a run's scene document asks for (render.spp, or its default).
+double sppOf(const Json& doc) {
+    const Json* spp =
+        doc.contains("render") && doc["render"].is_object() && doc["render"].contains("spp")
+            ? &doc["render"]["spp"]
+            : nullptr;
+    return spp && spp->is_number() ? spp->get<double>() : RenderSettings().spp;
 }
 
 std::string hashText(const std::string& text) {
@@ -187,6 +198,19 @@ Sweep readSweep(const std::string& path) {
         s.metrics = {"rmse", "relmse", "mae", "bias"};
     }
     if (!s.metrics.empty() && !s.reference) r.error("metrics", "metrics need a \"reference\"");
+    // The z-test needs standard errors, and so 2 samples per pixel in every run and in a rendered
+    // reference: found here, not when the batch reaches that run.
+    if (std::find(s.metrics.begin(), s.metrics.end(), "ztest") != s.metrics.end()) {
+        std::vector<std::pair<std::string, std::vector<std::string>>> renders;
+        for (const SweepRun& run : s.runs) renders.push_back({"run " + run.id, run.sets});
+        if (s.reference->render) renders.push_back({"the reference", s.reference->sets});
+        for (const auto& [what, sets] : renders)
+            if (sppOf(runDocument(s.sceneDoc, s.scene, sets)) < 2)
+                r.error("metrics",
+                        "ztest needs standard errors, which need at least 2 samples "
+                        "per pixel; " +
+                            what + " has 1");
+    }
     r.finish();
     return s;
 }

@@ -130,6 +130,15 @@ TEST(Sweep, ErrorsNameFileAndKey) {
     EXPECT_EQ(err("e5", R"({"scene": "scene.json", "axes": {"seed": [1]}, "repeats": 2})"),
               ": axes.seed: give either a seed axis or repeats, not both");
     EXPECT_EQ(err("e6", R"({"scene": "scene.json", "axis": {}})"), ": axis: unknown key");
+    // The z-test's standard errors need 2 samples per pixel, in every run and in the reference.
+    EXPECT_EQ(err("e8", R"({"scene": "scene.json", "axes": {"spp": [1, 4]},
+                            "reference": {"spp": 64}, "metrics": ["ztest"]})"),
+              ": metrics: ztest needs standard errors, which need at least 2 samples per pixel; "
+              "run r0000 has 1");
+    EXPECT_EQ(
+        err("e9", R"({"scene": "scene.json", "reference": {"spp": 1}, "metrics": ["ztest"]})"),
+        ": metrics: ztest needs standard errors, which need at least 2 samples per pixel; "
+        "the reference has 1");
     // A reference file is looked for when the sweep is read (so --dry-run finds it missing too).
     const std::string e7 = err("e7", R"({"scene": "scene.json", "reference": {"file": "r.exr"}})");
     EXPECT_EQ(e7.rfind(": reference.file: no such file: ", 0), 0u) << e7;
