@@ -94,9 +94,11 @@ int renderReference(const Sweep& s, const BatchArgs& a, bool variance, const std
 }
 
 /// The message of an error for the one line main prints: shvol::Error's as it is, any other
-/// exception's marked as internal.
-std::string errorText(const std::exception& e) {
-    return dynamic_cast<const Error*>(&e) ? e.what() : std::string("internal error: ") + e.what();
+/// exception's marked as internal; with `run`, the run it stopped (whose scene the error names).
+std::string errorText(const std::exception& e, const SweepRun* run = nullptr) {
+    std::string text =
+        dynamic_cast<const Error*>(&e) ? e.what() : std::string("internal error: ") + e.what();
+    return run ? text + " (in run " + describe(*run) + ")" : text;
 }
 
 /// What every worker needs to turn a run into its ledger row.
@@ -183,9 +185,12 @@ class WorkQueue {
         const double elapsed =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
         const size_t done = ++finished_;
+        // (A non-finite RMSE, e.g. against a reference with an infinite pixel, is null in JSON.)
         char rmse[32] = "";
-        if (row.contains("rmse"))
-            std::snprintf(rmse, sizeof rmse, " rmse %.4g", row["rmse"].get<double>());
+        if (const auto it = row.find("rmse"); it != row.end() && it->is_number())
+            std::snprintf(rmse, sizeof rmse, " rmse %.4g", it->get<double>());
+        else if (it != row.end())
+            std::snprintf(rmse, sizeof rmse, " rmse %s", dumpJson(*it).c_str());
         std::fprintf(stderr, "batch: %zu/%zu %s%s, ETA %.0fs\n", ledger_.rows().size(),
                      sweep_.runs.size(), describe(*run).c_str(), rmse,
                      elapsed / double(done) * double(todo_.size() - done));
@@ -207,7 +212,7 @@ class WorkQueue {
                     if (code) return fail(code, "");
                     finished(row);
                 } catch (const std::exception& e) {  // not past the thread: the batch ends
-                    return fail(1, errorText(e));
+                    return fail(1, errorText(e, run));
                 }
             }
         };
@@ -242,12 +247,13 @@ class WorkQueue {
             int from = 0;
             const std::string reply = world.recv(kReply, from);
             if (reply == "stop") return;
+            const SweepRun& run = c.sweep.runs.at(size_t(std::stoi(reply)));
             try {
                 int code = 0;
-                const Json row = runOne(c, c.sweep.runs.at(size_t(std::stoi(reply))), code);
+                const Json row = runOne(c, run, code);
                 report = code ? "code " + std::to_string(code) : "row " + dumpJson(row);
             } catch (const std::exception& e) {
-                report = "error " + errorText(e);
+                report = "error " + errorText(e, &run);
             }
         }
     }

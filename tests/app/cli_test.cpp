@@ -313,8 +313,9 @@ TEST_F(Cli, HelpShowsDefaults) {
 
 // Numbers beyond double range are malformed input, not internal errors.
 TEST_F(Cli, NumberOverflowIsAnInputError) {
-    write("big.json", "{\"camera\":\n  {\"fov\": 1e999}}");
-    expectOneLineError("big.json", path("big.json") + ": line 2, column 11: malformed JSON: " +
+    // The place is the number's, not that of an earlier string with the same text.
+    write("big.json", "{\"note\": \"fov 1e999\", \"1e999\": 0,\n \"camera\":\n  {\"fov\": 1e999}}");
+    expectOneLineError("big.json", path("big.json") + ": line 3, column 11: malformed JSON: " +
                                        "number overflow parsing '1e999'");
     write("s.json", scene(Homogeneous));
     const Result r = run("render " + path("s.json") + " -o " + path("out.exr") +
@@ -444,8 +445,6 @@ TEST_F(Cli, RenderWritesExrAndStats) {
     EXPECT_EQ(stats["sampler"], "sobol");
 }
 
-// Product light sampling names itself in the stats with what it built and drew; a wrong
-// strategy name is one line naming the key.
 // A render whose SH-sampled phase function is unreliable says so on stderr and in its stats, with
 // advice that can be followed: a higher order below the highest, analytic sampling at it.
 TEST_F(Cli, RenderWarnsOfUnreliablePhaseFits) {
@@ -476,6 +475,8 @@ TEST_F(Cli, RenderWarnsOfUnreliablePhaseFits) {
     EXPECT_EQ(r.err, "");
 }
 
+// Product light sampling names itself in the stats with what it built and drew; a wrong
+// strategy name is one line naming the key.
 TEST_F(Cli, ProductLightSamplingStats) {
     write("s.json", scene(Homogeneous));
     Result r = run("render " + path("s.json") + " -o " + path("p.exr") +
@@ -913,6 +914,20 @@ TEST_F(Cli, BatchRefusesAnotherBuildAndRenewsAStaleReference) {
     r = run(batch);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("rendering the reference"), std::string::npos) << r.err;
+}
+
+// An error in a run's scene names the scene and the key, and the run of the sweep that set it.
+TEST_F(Cli, BatchErrorsNameTheRun) {
+    write("s.json", scene(Homogeneous));
+    write("sweep.json", R"({"scene": "s.json", "axes": {"media[0].nosuch": [1]}})");
+    const Result r = run("batch " + path("sweep.json") + " --quiet --output " + path("out"));
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(
+        r.err.find(path("s.json") +
+                   ": media[0].nosuch: unknown key (in run r0000 media[0].nosuch=1 repeat=0)"),
+        std::string::npos)
+        << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }
 
 // Rows measured against one reference are not continued against another: a rendered reference
