@@ -42,6 +42,8 @@ int Distribution1D::validBin(int i) const {
 
 int Distribution1D::findBin(double u) const {
     const int n = count();
+    if (!(u >= 0)) u = 0;  // (NaN too: int(u·n) below must stay defined)
+    u = std::min(u, std::nextafter(1.0, 0.0));
     // The guide cell k with k/n ≤ u < (k+1)/n, the quotients computed as the table's were (the
     // product u·n may round across a cell boundary).
     int k = std::clamp(int(u * n), 0, n - 1);

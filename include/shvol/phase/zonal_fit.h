@@ -48,9 +48,9 @@ ZonalFit fitZonal(const std::function<double(double mu)>& p, int order,
 ///    function's peak (so a function the order represents exactly, such as Rayleigh from order
 ///    3, stays exact, and shallow ringing is left to the samplers' clamping), else Hann.
 ///    With both automatic, the order is the lowest that meets the tolerance unwindowed if that
-///    fit does not dip so, else the lowest that meets it with Hann; when no order meets it with
-///    Hann, or none meets it at all (the fit at kMaxAutoOrder), the unwindowed fit is kept, the
-///    one of least error, and the samplers clamp its dips.
+///    fit does not dip so, else the lowest that meets it with Hann. When no order meets it with
+///    Hann, the unwindowed fit is kept (the lowest order meeting the tolerance; when none does,
+///    the fit at kMaxAutoOrder, the one of least error), and the samplers clamp its dips.
 struct ZonalFitRequest {
     static constexpr int kMaxAutoOrder = 256;
     int order = 0;  ///< 0: auto (the default)
