@@ -41,9 +41,7 @@ std::string brief(const Json& j) {
     briefInto(j, s, 40);
     return s.size() > 40 ? s.substr(0, 37) + "..." : s;
 }
-}  // namespace
 
-namespace {
 /// The offset of the first JSON number in `text` spelled `token`: outside strings, and not part
 /// of a longer number; npos if there is none.
 size_t findNumberToken(const std::string& text, const std::string& token) {
