@@ -53,6 +53,8 @@ CLI::Validator numberIn(double lo, double hi, bool loOpen = false, const std::st
 /// A CLI11 check that the text is a decimal integer in [lo, hi], e.g. "--spp: must be an integer
 /// in [1, 16777216], got 0" (CLI11's own number checks print a 310-digit bound).
 CLI::Validator integerIn(long long lo, long long hi);
+/// Whether `path` ends in `ext` (".exr"), in any case.
+bool hasExtension(const std::string& path, const std::string& ext);
 /// The largest --seed (2^53, as render.seed: every seed is exact in a JSON number).
 inline constexpr long long kMaxSeed = 9007199254740992LL;
 

@@ -12,14 +12,6 @@
 namespace shvol::app {
 
 namespace {
-/// Whether `path` ends in `ext` (".vdb"), in any case.
-bool hasExtension(const std::string& path, const std::string& ext) {
-    if (path.size() < ext.size()) return false;
-    std::string tail = path.substr(path.size() - ext.size());
-    for (char& ch : tail) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-    return tail == ext;
-}
-
 /// -o FILE of a make command, refused unless FILE ends in `ext` (e.g. "make-sky writes OpenEXR;
 /// name the file .exr").
 CLI::Validator outputNamed(const std::string& ext, const std::string& what) {

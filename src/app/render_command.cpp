@@ -312,9 +312,7 @@ int runRender(const RenderArgs& a) {
             scene = sceneFromJson(doc, a.scene, &resolved);
             out = a.output;
             if (out.empty()) out = std::filesystem::path(a.scene).stem().string() + ".exr";
-            std::string ext = std::filesystem::path(out).extension().string();
-            for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-            if (ext != ".exr")
+            if (!hasExtension(out, ".exr"))
                 fail(out, "",
                      "render writes OpenEXR; name the output .exr (shvol tonemap makes a PNG)");
             final = outputsFor(out, "");

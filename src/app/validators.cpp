@@ -1,4 +1,5 @@
-// Number checks for command-line options: one line that names the real range.
+// Checks for command-line options: numbers in one line that names the real range, file extensions.
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 
@@ -19,6 +20,13 @@ CLI::Validator numberIn(double lo, double hi, bool loOpen, const std::string& un
             return {};
         },
         "in " + range);
+}
+
+bool hasExtension(const std::string& path, const std::string& ext) {
+    if (path.size() < ext.size()) return false;
+    std::string tail = path.substr(path.size() - ext.size());
+    for (char& ch : tail) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    return tail == ext;
 }
 
 CLI::Validator integerIn(long long lo, long long hi) {

@@ -140,6 +140,7 @@ Sweep readSweep(const std::string& path) {
             if (a < 0) break;
         }
     }
+    std::vector<double> runSpp;  // each run's samples per pixel, for the z-test's check below
     for (const auto& p : points)
         for (int k = 0; k < repeats; ++k) {
             SweepRun run;
@@ -160,7 +161,9 @@ Sweep readSweep(const std::string& path) {
             run.values["repeat"] = k;
             if (!seedAxis)
                 run.sets.push_back("render.seed=" + std::to_string((long long)seed0 + k));
-            run.fingerprint = hashText(dumpJson(runDocument(s.sceneDoc, s.scene, run.sets)));
+            const Json doc = runDocument(s.sceneDoc, s.scene, run.sets);
+            run.fingerprint = hashText(dumpJson(doc));
+            runSpp.push_back(sppOf(doc));
             s.runs.push_back(run);
         }
 
@@ -201,11 +204,14 @@ Sweep readSweep(const std::string& path) {
     // The z-test needs standard errors, and so 2 samples per pixel in every run and in a rendered
     // reference: found here, not when the batch reaches that run.
     if (std::find(s.metrics.begin(), s.metrics.end(), "ztest") != s.metrics.end()) {
-        std::vector<std::pair<std::string, std::vector<std::string>>> renders;
-        for (const SweepRun& run : s.runs) renders.push_back({"run " + run.id, run.sets});
-        if (s.reference->render) renders.push_back({"the reference", s.reference->sets});
-        for (const auto& [what, sets] : renders)
-            if (sppOf(runDocument(s.sceneDoc, s.scene, sets)) < 2)
+        std::vector<std::pair<std::string, double>> renders;
+        for (size_t i = 0; i < s.runs.size(); ++i)
+            renders.push_back({"run " + s.runs[i].id, runSpp[i]});
+        if (s.reference->render)
+            renders.push_back(
+                {"the reference", sppOf(runDocument(s.sceneDoc, s.scene, s.reference->sets))});
+        for (const auto& [what, spp] : renders)
+            if (spp < 2)
                 r.error("metrics",
                         "ztest needs standard errors, which need at least 2 samples "
                         "per pixel; " +
