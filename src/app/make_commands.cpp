@@ -1,5 +1,4 @@
 // shvol make-medium and shvol make-sky: procedural inputs written through OpenVDB and OpenEXR.
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 
