@@ -114,7 +114,11 @@ constexpr std::initializer_list<const char*> kVdbKeys = {
     "file",          "grid",          "density_scale", "transform",
     "majorant_grid", "majorant_cell", "lookup",        "decomposition"};
 
-Environment readEnvironment(JsonReader r, RenderSettings& settings) {
+/// What the loader reads: everything, or (Check) every key of the document but not the contents
+/// of the grids and skies it names, which must exist (checkScene).
+enum class Contents { Load, Check };
+
+Environment readEnvironment(JsonReader r, RenderSettings& settings, Contents contents) {
     const std::string type = r.choice("type", "constant", {"constant", "image"});
     const bool lowerBlack = r.boolean("lower_hemisphere_black", false);
     // Top-K compression of the sky wavelet used by the wavelet and product light samplers.
@@ -134,6 +138,7 @@ Environment readEnvironment(JsonReader r, RenderSettings& settings) {
         latLongMappingFromName(r.choice("mapping", "blender", {"blender", "shvol"}));
     refuseKeysOfType(r, "constant", {"radiance"});
     r.finish();
+    if (contents == Contents::Check) return Environment::constant(Spectrum::Zero(), lowerBlack);
     return Environment::image(readExr(file), scale, rotation, lowerBlack, mapping);
 }
 
@@ -252,7 +257,9 @@ int readBoundary(JsonReader& r, const std::vector<Surface>& surfaces) {
     return s;
 }
 
-std::unique_ptr<Medium> readMedium(JsonReader r, std::vector<Surface>& surfaces, int index) {
+/// The medium media[index] (null for a grid under Contents::Check).
+std::unique_ptr<Medium> readMedium(JsonReader r, std::vector<Surface>& surfaces, int index,
+                                   Contents contents) {
     const std::string type = r.choice("type", "vdb", {"vdb", "homogeneous"});
     if (r.has("boundary")) {
         const int b = readBoundary(r, surfaces);
@@ -305,7 +312,7 @@ std::unique_ptr<Medium> readMedium(JsonReader r, std::vector<Surface>& surfaces,
     d.decomposition = r.boolean("decomposition", true);
     refuseKeysOfType(r, "homogeneous", {"sigma_t", "estimator", "shape"});
     r.finish();
-    return loadVdbMedium(d);
+    return contents == Contents::Check ? nullptr : loadVdbMedium(d);
 }
 
 /// Reads r[key], an array of objects, element by element with read(reader, index); each element's
@@ -327,9 +334,7 @@ void readArray(JsonReader& r, const std::string& key, Json* resolved, Read read)
     }
 }
 
-}  // namespace
-
-Scene sceneFromJson(const Json& doc, const std::string& path, Json* resolved) {
+Scene readScene(const Json& doc, const std::string& path, Json* resolved, Contents contents) {
     Scene scene;
     scene.path = path;
     JsonReader r(doc, path, "");
@@ -337,7 +342,7 @@ Scene sceneFromJson(const Json& doc, const std::string& path, Json* resolved) {
     scene.camera = readCamera(r.objectOrEmpty("camera"));
     scene.settings = readSettings(r.objectOrEmpty("render"));
     if (r.has("environment"))
-        scene.environment = readEnvironment(r.object("environment"), scene.settings);
+        scene.environment = readEnvironment(r.object("environment"), scene.settings, contents);
     else
         r.note("environment", {{"type", "constant"}, {"radiance", 0}});  // none: black
     std::vector<Surface> surfaces;
@@ -349,12 +354,22 @@ Scene sceneFromJson(const Json& doc, const std::string& path, Json* resolved) {
                                  std::to_string(names[surfaces.back().name]) + "]");
     });
     readArray(r, "media", resolved, [&](JsonReader& m, size_t i) {
-        scene.media.push_back(readMedium(m, surfaces, int(i)));
+        scene.media.push_back(readMedium(m, surfaces, int(i), contents));
     });
-    if (!surfaces.empty())
+    if (!surfaces.empty() && contents == Contents::Load)
         scene.surfaces = std::make_unique<const SurfaceScene>(std::move(surfaces));
     r.finish();
     return scene;
+}
+
+}  // namespace
+
+Scene sceneFromJson(const Json& doc, const std::string& path, Json* resolved) {
+    return readScene(doc, path, resolved, Contents::Load);
+}
+
+void checkScene(const Json& doc, const std::string& path) {
+    readScene(doc, path, nullptr, Contents::Check);
 }
 
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides,

@@ -1,6 +1,7 @@
 #include "shvol/io/sweep.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -58,12 +59,6 @@ std::vector<std::string> stringList(JsonReader& r, const std::string& key,
     return out;
 }
 
-/// The scene document `base` after the run's assignments.
-Json runDocument(Json doc, const std::string& scene, const std::vector<std::string>& sets) {
-    for (const std::string& s : sets) applyOverride(doc, s, scene);
-    return doc;
-}
-
 /// The samples per pixel a run's scene document asks for (render.spp, or its default).
 double sppOf(const Json& doc) {
     const Json* spp =
@@ -79,6 +74,11 @@ std::string hashText(const std::string& text) {
 
 }  // namespace
 
+Json runDocument(Json doc, const std::string& scene, const std::vector<std::string>& sets) {
+    for (const std::string& s : sets) applyOverride(doc, s, scene);
+    return doc;
+}
+
 Sweep readSweep(const std::string& path) {
     const Json doc = parseJsonFile(path);
     JsonReader r(doc, path, "");
@@ -90,7 +90,9 @@ Sweep readSweep(const std::string& path) {
     s.output = relativeTo(path, r.string("output", fs::path(path).stem().string() + "_results"));
     const bool zip = r.choice("combine", "grid", {"grid", "zip"}) == "zip";
     const int repeats = r.integer("repeats", 1, 1, 1000000);
-    const double seed0 = r.number("seed", 1, 0, 9007199254740992.0);
+    // The repeats' seeds seed, seed + 1, … must all be seeds a scene takes (≤ 2^53).
+    const double seed0 = r.number("seed", 1, 0, 9007199254740992.0 - (repeats - 1));
+    if (seed0 != std::floor(seed0)) r.error("seed", "expected a non-negative integer");
 
     // Axes, in the order the file gives them (Json sorts keys; ordered_json keeps them).
     std::vector<Json> values;

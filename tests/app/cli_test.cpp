@@ -930,6 +930,37 @@ TEST_F(Cli, BatchErrorsNameTheRun) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }
 
+// Every run's scene, and a rendered reference's, is checked before the first render, and by
+// --dry-run: a bad value in the last run of an axis stops the batch before anything is written.
+TEST_F(Cli, BatchChecksEveryRunsSceneFirst) {
+    write("s.json", scene(Homogeneous));
+    write("sweep.json", R"({"scene": "s.json", "axes": {"media[0].albedo": [0.5, 2]}})");
+    const std::string expected =
+        path("s.json") +
+        ": media[0].albedo: component 2 out of range [0, 1] (in run r0001 media[0].albedo=2 "
+        "repeat=0)";
+    for (const std::string flags : {" --dry-run", ""}) {
+        const Result r =
+            run("batch " + path("sweep.json") + flags + " --quiet --output " + path("out"));
+        EXPECT_EQ(r.code, 1) << flags;
+        EXPECT_NE(r.err.find(expected), std::string::npos) << flags << ": " << r.err;
+        EXPECT_EQ(r.out, "") << flags;
+        EXPECT_FALSE(fs::exists(path("out/r0000.exr"))) << flags;
+    }
+    // A grid or a sky named by a run must exist, though neither is read before its render.
+    write("sweep.json", R"({"scene": "s.json", "set": ["media[0].type=\"vdb\""],
+        "axes": {"media[0].file": ["nosuch.vdb"]}})");
+    Result r = run("batch " + path("sweep.json") + " --dry-run");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("media[0].file: no such file"), std::string::npos) << r.err;
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [4]},
+        "reference": {"spp": 64, "set": ["render.max_depth=-1"]}})");
+    r = run("batch " + path("sweep.json") + " --dry-run");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("render.max_depth"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("(in the reference)"), std::string::npos) << r.err;
+}
+
 // Rows measured against one reference are not continued against another: a rendered reference
 // whose settings changed, or a reference file whose contents changed, is refused by name (the
 // runs themselves, and so their fingerprints, are unchanged).

@@ -392,4 +392,31 @@ TEST(SceneLoader, ErrorsNameBoundsAndTheTypeAKeyBelongsTo) {
         "media[0].nonsense: unknown key");
 }
 
+// checkScene reads every key as sceneFromJson does, with its errors, but not the grid or the sky
+// image: files that exist but are not a .vdb or an .exr pass the check and fail the load.
+TEST(SceneLoader, CheckSceneReadsKeysNotGridsOrSkies) {
+    using test::messageOf;
+    const std::string dir = test::privateTempPath("");
+    std::filesystem::create_directories(dir);
+    for (const char* f : {"cloud.vdb", "sunsky.exr"}) std::ofstream(dir + "/" + f) << "not a file";
+    const std::string path = dir + "/s.json";
+    Json doc = sceneDocument(kSunlitCloud);
+    EXPECT_EQ(messageOf([&] { checkScene(doc, path); }), "(no error)");
+    EXPECT_NE(messageOf([&] { sceneFromJson(doc, path); }).find("sunsky.exr: not a readable"),
+              std::string::npos);
+    doc["environment"] = Json{{"type", "constant"}};
+    EXPECT_EQ(messageOf([&] { checkScene(doc, path); }), "(no error)");
+    EXPECT_NE(messageOf([&] { sceneFromJson(doc, path); }).find("cloud.vdb: not a readable"),
+              std::string::npos);
+
+    // The same message as the load's, for a key, a range and a missing file.
+    for (const std::string set : {"media[0].nosuch=1", "media[0].albedo=2",
+                                  "environment.file=\"none.exr\"", "render.spp=0"}) {
+        const Json bad = sceneDocument(kSunlitCloud, {set});
+        const std::string message = messageOf([&] { checkScene(bad, kSunlitCloud); });
+        EXPECT_NE(message, "(no error)") << set;
+        EXPECT_EQ(message, messageOf([&] { sceneFromJson(bad, kSunlitCloud); })) << set;
+    }
+}
+
 }  // namespace shvol

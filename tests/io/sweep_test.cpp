@@ -129,6 +129,11 @@ TEST(Sweep, ErrorsNameFileAndKey) {
               ": metrics: metrics need a \"reference\"");
     EXPECT_EQ(err("e5", R"({"scene": "scene.json", "axes": {"seed": [1]}, "repeats": 2})"),
               ": axes.seed: give either a seed axis or repeats, not both");
+    // The repeats' seeds are integers a scene takes: the last of them at most 2^53.
+    EXPECT_EQ(err("e5s", R"({"scene": "scene.json", "seed": 1.5})"),
+              ": seed: expected a non-negative integer");
+    EXPECT_EQ(err("e5r", R"({"scene": "scene.json", "seed": 9007199254740992, "repeats": 2})"),
+              ": seed: value 9007199254740992 out of range [0, 9007199254740991]");
     EXPECT_EQ(err("e6", R"({"scene": "scene.json", "axis": {}})"), ": axis: unknown key");
     // The z-test's standard errors need 2 samples per pixel, in every run and in the reference.
     EXPECT_EQ(err("e8", R"({"scene": "scene.json", "axes": {"spp": [1, 4]},

@@ -48,10 +48,14 @@ struct Sweep {
 /// "scene", "output" and reference "file" paths are relative to the sweep file.
 Sweep readSweep(const std::string& path);
 
+/// The scene document `doc` (Sweep::sceneDoc) after a run's or the reference's assignments, as
+/// --set applies them; `scene` names the scene file in errors.
+Json runDocument(Json doc, const std::string& scene, const std::vector<std::string>& sets);
+
 /// Adds to each run's fingerprint the contents of the files its scene names, read through
 /// `memo` (inputFiles): each file once, also for whatever else of the batch hashes inputs with
-/// the same memo. Separate from readSweep so that listing the runs (batch --dry-run) reads no
-/// grid, and a sweep can be listed before its files exist. shvol::Error naming a file that
+/// the same memo. Separate from readSweep so that listing and checking the runs (batch --dry-run)
+/// reads no grid. shvol::Error naming a file that
 /// cannot be read and the key that names it.
 void fingerprintInputs(Sweep& s, std::map<std::string, Json>& memo);
 
