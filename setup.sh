@@ -35,7 +35,7 @@ cmake --build build -j "$(nproc)"
 # "Fuzzing and sanitizers".
 sanitizers() {
   local configure=(-G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++
-                   -DSHVOL_BUILD_BENCH=OFF -DSHVOL_MPI=OFF)
+                   -DSHVOL_BUILD_BENCH=OFF -DSHVOL_BUILD_VALIDATION=OFF -DSHVOL_MPI=OFF)
   local t0=$SECONDS
   cmake -S . -B build-asan "${configure[@]}" -DSHVOL_SANITIZE=ON >/dev/null
   cmake --build build-asan -j "$(nproc)"
