@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "shvol/core/error.h"
+#include "shvol/core/input_file.h"
 
 namespace shvol {
 
@@ -402,11 +403,8 @@ std::string JsonReader::inputFile(const std::string& key, const std::string& dir
     const std::string path = fs::path(name).is_absolute() || dir.empty()
                                  ? name
                                  : (fs::path(dir) / name).lexically_normal().string();
-    std::error_code ec;
-    const fs::file_status st = fs::status(path, ec);
-    if (st.type() == fs::file_type::not_found) error(key, "no such file: " + path);
-    if (ec) error(key, "cannot read " + path + " (" + ec.message() + ")");
-    if (!fs::is_regular_file(st)) error(key, "not a regular file: " + path);
+    const std::string problem = inputFileProblem(path);
+    if (!problem.empty()) error(key, problem + ": " + path);
     return path;
 }
 

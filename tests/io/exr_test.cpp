@@ -56,7 +56,7 @@ TEST(Exr, LuminanceOnlyFileIsGrey) {
 
 TEST(Exr, BadFilesGiveOneClearLine) {
     EXPECT_EQ(messageOf([] { readExr(tmp("missing.exr")); }),
-              tmp("missing.exr") + ": file not found");
+              tmp("missing.exr") + ": no such file");
     std::ofstream(tmp("corrupt.exr")) << "this is not an EXR file";
     EXPECT_EQ(messageOf([] {
                   readExr(tmp("corrupt.exr"));

@@ -423,9 +423,9 @@ TEST(MeshFile, PlyValidationErrors) {
 
 TEST(MeshFile, MissingFiles) {
     EXPECT_EQ(messageOf([] { readMesh(tmp("missing.ply")); }),
-              tmp("missing.ply") + ": file not found");
+              tmp("missing.ply") + ": no such file");
     EXPECT_EQ(messageOf([] { readMesh(tmp("missing.OBJ")); }),
-              tmp("missing.OBJ") + ": file not found");
+              tmp("missing.OBJ") + ": no such file");
     EXPECT_EQ(messageOf([] { readPly(testing::TempDir()); }),
               testing::TempDir() + ": not a regular file");
     EXPECT_EQ(messageOf([] { readMesh("mesh.stl"); }),

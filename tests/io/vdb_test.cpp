@@ -263,7 +263,7 @@ TEST(Vdb, BrickCapCountsEachPositionOnce) {
 TEST(Vdb, BadInputGivesOneClearLine) {
     VdbMediumDesc d;
     d.file = tmp("missing.vdb");
-    EXPECT_EQ(messageOf([&] { loadVdbMedium(d); }), d.file + ": file not found");
+    EXPECT_EQ(messageOf([&] { loadVdbMedium(d); }), d.file + ": no such file");
 
     d.file = tmp("corrupt.vdb");
     std::ofstream(d.file) << "definitely not a VDB";
