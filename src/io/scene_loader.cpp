@@ -353,7 +353,11 @@ Scene readScene(const Json& doc, const std::string& path, Json* resolved, Conten
             sr.error("name", "\"" + surfaces.back().name + "\" is also the name of surfaces[" +
                                  std::to_string(names[surfaces.back().name]) + "]");
     });
+    int bounded = 0;
     readArray(r, "media", resolved, [&](JsonReader& m, size_t i) {
+        // The integrator keeps which bounded media a point is inside in 64 bits.
+        if (m.has("boundary") && ++bounded > 64)
+            m.error("boundary", "more than 64 media have a boundary");
         scene.media.push_back(readMedium(m, surfaces, int(i), contents));
     });
     if (!surfaces.empty() && contents == Contents::Load)

@@ -46,6 +46,7 @@ VolumePathIntegrator::VolumePathIntegrator(const Scene& scene)
             mediumBit_[m] = int(boundaryOf_.size());
             boundaryOf_.push_back(int(i));
         }
+        // (The loader refuses more: Inside is a 64-bit set.)
         if (boundaryOf_.size() > 64) throw Error(scene.path + ": more than 64 bounded media");
         cameraInside_ = insideOf(scene.camera.position);
     }

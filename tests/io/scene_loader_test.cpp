@@ -336,6 +336,17 @@ TEST(SceneLoader, BadSurfacesGiveOneLineNamingThePlace) {
     expectIn(message(R"({"surfaces": [{"type": "sphere", "name": "a"},
                                       {"type": "sphere", "name": "a"}]})"),
              "surfaces[1].name: \"a\" is also the name of surfaces[0]");
+    {  // 64 bounded media at most (the integrator's inside set has 64 bits)
+        Json doc = Json::parse(R"({"surfaces": [], "media": []})");
+        for (int i = 0; i < 65; ++i) {
+            doc["surfaces"].push_back(
+                {{"type", "sphere"}, {"center", {3 * i, 0, 0}}, {"bsdf", {{"type", "null"}}}});
+            doc["media"].push_back({{"type", "homogeneous"}, {"boundary", i}});
+        }
+        expectIn(message(doc.dump()), "media[64].boundary: more than 64 media have a boundary");
+        doc["media"].erase(64);
+        EXPECT_EQ(message(doc.dump()), "(no error)");
+    }
     expectIn(message(R"({"surfaces": [{"bsdf": {"type": "phong", "diffuse": 0.6,
                                                  "specular": 0.6}, "file": "box.obj"}]})"),
              "surfaces[0].bsdf.specular: diffuse + specular exceeds 1");
