@@ -158,7 +158,7 @@ TEST(Vdb, AutomaticMajorantCells) {
         d.file = tmp("auto.vdb");
         d.densityScale = scale;
         const std::string want =
-            scale < 1 ? "cells of 64 voxels (auto)" : "cells of 2 voxels (auto)";
+            scale < 1 ? "cells of 64 voxels (auto)" : "cells of 1 voxel (auto)";
         const std::string got = loadVdbMedium(d)->describe();
         EXPECT_NE(got.find(want), std::string::npos) << got;
     }

@@ -18,8 +18,8 @@ struct VdbMediumDesc {
     PhaseFunction phase = PhaseFunction(IsotropicPhase());
     Eigen::Affine3d toWorld = Eigen::Affine3d::Identity();  ///< the grid's world space → scene
     bool majorantGrid = true;    ///< false: one global majorant for the whole grid (for benchmarks)
-    /// Majorant cell edge in voxels; 0: chosen at load among 2, 4, …, 32 voxels by the expected
-    /// tracking cost (MajorantGrid::trackingCost).
+    /// Majorant cell edge in voxels; 0: chosen at load among 1, 2, 4, … voxels (up to one cell
+    /// over the grid) by the expected tracking cost (MajorantGrid::trackingCost).
     int majorantCellVoxels = 0;
     /// Density lookups from a brick copy of the grid (media/density_bricks.h); false: through an
     /// OpenVDB value accessor (the reference, for benchmarks). Both give the same values.
