@@ -448,12 +448,16 @@ std::optional<DensityBricks> makeBricks(const openvdb::FloatTree& tree) {
 
 /// A lower bound of the trilinear density in every cell of the majorant grid: the smallest voxel
 /// value a lookup inside the cell can reach (the voxels from ⌊lo⌋ to ⌊hi⌋ + 1, background
-/// zeros included). Empty (no control part) when the cells' windows hold more than 2^24 voxels:
-/// loading stays fast for a small file whose tiles cover a large region.
+/// zeros included). Empty (no control part) when the windows of the cells with density hold
+/// more than 2^24 voxels: loading stays fast for a small file whose tiles cover a large region.
 std::vector<double> minorants(const openvdb::FloatTree& tree, const MajorantGrid& g) {
     const Eigen::Vector3i res = g.resolution();
     const Vec3 cell = g.cellUpper(0, 0, 0) - g.cellLower(0, 0, 0);
-    if ((cell.array() + 2).prod() * res.cast<double>().prod() > double(1 << 24)) return {};
+    double withDensity = 0;
+    for (int z = 0; z < res.z(); ++z)
+        for (int y = 0; y < res.y(); ++y)
+            for (int x = 0; x < res.x(); ++x) withDensity += g.cell(x, y, z) > 0;
+    if ((cell.array() + 2).prod() * withDensity > double(1 << 24)) return {};
     std::vector<double> minimum(size_t(res.prod()), 0.0);
     Accessor acc(tree);
     size_t i = 0;
