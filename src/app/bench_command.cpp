@@ -124,14 +124,16 @@ void printRows(const std::vector<Row>& rows) {
                     1e9 / r.pathsPerSecond, r.lookupsPerPath, r.segmentsPerPath);
 }
 
-/// --cell-sweep: the defaults with majorant cells of 2, 4, 8 and 16 voxels (1 thread), and a
+/// --cell-sweep: the defaults with majorant cells of 1, 2, 4, 8 and 16 voxels (1 thread), and a
 /// least-squares fit over them of ns per path = shared + a·(lookups per path) + b·(segments per
 /// path). The shared part is what no majorant structure changes at this lookup cost, so (global
 /// majorant's ns per path, measured in the same rounds) / shared bounds what any of them can buy
 /// over one global majorant on whole paths. The fit's RMS residual shows how far to trust it.
 void cellSweep(const BenchArgs& a, const Json& doc) {
-    const std::vector<int> cells = {2, 4, 8, 16};
-    auto label = [](int cell) { return "majorant cells of " + std::to_string(cell) + " voxels"; };
+    const std::vector<int> cells = {1, 2, 4, 8, 16};
+    auto label = [](int cell) {
+        return "majorant cells of " + std::to_string(cell) + (cell == 1 ? " voxel" : " voxels");
+    };
     std::vector<Config> configs;
     for (int cell : cells)
         configs.push_back({label(cell) + ", 1 thread",
@@ -325,9 +327,10 @@ void addBenchCommand(CLI::App& app, std::function<int()>& run) {
         ->default_str("");
     c->add_flag("--accuracy", a->accuracy,
                 "Also measure RMSE against a converged reference (rendered once, cached)");
-    c->add_flag("--cell-sweep", a->cellSweep,
-                "Also measure majorant cells of 2, 4, 8 and 16 voxels and split ns per path into a "
-                "shared part and costs per density lookup and per majorant segment");
+    c->add_flag(
+        "--cell-sweep", a->cellSweep,
+        "Also measure majorant cells of 1, 2, 4, 8 and 16 voxels and split ns per path into a "
+        "shared part and costs per density lookup and per majorant segment");
     c->add_option("--reference-spp", a->referenceSpp, "Samples per pixel of the reference")
         ->check(integerIn(1, 1 << 24));
     c->add_option("--epsilon", a->epsilon, "The RMSE whose time is reported")
