@@ -268,6 +268,12 @@ double JsonReader::number(const std::string& key, double def, double lo, double 
     return x;
 }
 
+double JsonReader::wholeNumber(const std::string& key, double def, double lo, double hi) {
+    const double x = number(key, def, lo, hi);
+    if (x != std::floor(x)) error(key, "expected a non-negative integer");
+    return x;
+}
+
 int JsonReader::integer(const std::string& key, int def, int lo, int hi) {
     used_.insert(key);
     if (!j_.contains(key)) {

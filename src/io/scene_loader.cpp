@@ -60,9 +60,7 @@ Camera readCamera(JsonReader r) {
 RenderSettings readSettings(JsonReader r) {
     RenderSettings s;
     s.spp = r.integer("spp", s.spp, 1, 1 << 24);
-    const double seed = r.number("seed", 1.0, 0, 9007199254740992.0);
-    if (seed != std::floor(seed)) r.error("seed", "expected a non-negative integer");
-    s.seed = uint64_t(seed);
+    s.seed = uint64_t(r.wholeNumber("seed", 1, 0, 9007199254740992.0));
     s.maxDepth = r.integer("max_depth", s.maxDepth, 0, 1 << 20);
     s.rrDepth = r.integer("rr_depth", s.rrDepth, 0, 1 << 20);
     s.rrThreshold = r.numberOrAuto("rr_threshold", 1e-6, 1);  // "auto", the default: unset
@@ -122,9 +120,8 @@ Environment readEnvironment(JsonReader r, RenderSettings& settings, Contents con
     const std::string type = r.choice("type", "constant", {"constant", "image"});
     const bool lowerBlack = r.boolean("lower_hemisphere_black", false);
     // Top-K compression of the sky wavelet used by the wavelet and product light samplers.
-    const double K = r.number("wavelet_coefficients", 0, 0, 9007199254740992.0);
-    if (K != std::floor(K)) r.error("wavelet_coefficients", "expected a non-negative integer");
-    settings.waveletCoefficients = size_t(K);
+    settings.waveletCoefficients =
+        size_t(r.wholeNumber("wavelet_coefficients", 0, 0, 9007199254740992.0));
     if (type == "constant") {
         const Spectrum L = spectrum(r, "radiance", 1, 0, JsonReader::kUnbounded);
         refuseKeysOfType(r, "image", {"file", "scale", "rotation", "mapping"});

@@ -1,7 +1,6 @@
 #include "shvol/io/sweep.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -39,6 +38,9 @@ std::string assignment(const std::string& sweepFile, const std::string& key, Jso
 }
 
 /// The "key=value" strings of `key`, file values made relative to the sweep file (assignment).
+constexpr const char* kSeedIsTheSweeps =
+    "the sweep sets render.seed: use its \"seed\" key (or a \"seed\" axis)";
+
 std::vector<std::string> stringList(JsonReader& r, const std::string& key,
                                     const std::string& sweepFile) {
     std::vector<std::string> out;
@@ -50,6 +52,9 @@ std::vector<std::string> stringList(JsonReader& r, const std::string& key,
         const size_t eq = a.find('=');
         if (eq == std::string::npos)
             r.error(key + "[" + std::to_string(i) + "]", "expected a \"key.path=value\" string");
+        // The sweep's seeds come last and would silently replace it.
+        if (a.substr(0, eq) == "render.seed")
+            r.error(key + "[" + std::to_string(i) + "]", kSeedIsTheSweeps);
         if (!namesFile(a.substr(0, eq))) {
             out.push_back(a);
             continue;
@@ -84,15 +89,14 @@ Sweep readSweep(const std::string& path) {
     JsonReader r(doc, path, "");
     Sweep s;
     s.path = path;
-    s.scene = relativeTo(path, r.string("scene"));
-    if (!fs::is_regular_file(s.scene)) r.error("scene", "no such file: " + s.scene);
+    s.scene = r.inputFile("scene", fs::path(path).parent_path().string());
     const std::vector<std::string> base = stringList(r, "set", path);
     s.output = relativeTo(path, r.string("output", fs::path(path).stem().string() + "_results"));
     const bool zip = r.choice("combine", "grid", {"grid", "zip"}) == "zip";
     const int repeats = r.integer("repeats", 1, 1, 1000000);
-    // The repeats' seeds seed, seed + 1, … must all be seeds a scene takes (≤ 2^53).
-    const double seed0 = r.number("seed", 1, 0, 9007199254740992.0 - (repeats - 1));
-    if (seed0 != std::floor(seed0)) r.error("seed", "expected a non-negative integer");
+    const double seed0 = r.wholeNumber("seed", 1, 0, 9007199254740992.0);
+    if (seed0 > 9007199254740992.0 - (repeats - 1))  // (seed + repeats − 1 would round)
+        r.error("seed", "the last repeat's seed, seed + repeats - 1, exceeds 2^53");
 
     // Axes, in the order the file gives them (Json sorts keys; ordered_json keeps them).
     std::vector<Json> values;
@@ -112,6 +116,7 @@ Sweep readSweep(const std::string& path) {
     }
     for (size_t a = 0; a < s.axes.size(); ++a) {
         const std::string& k = s.axes[a];
+        if (k == "render.seed") fail(path, "axes." + k, kSeedIsTheSweeps);
         if (k == "seed" && repeats > 1)
             fail(path, "axes.seed", "give either a seed axis or repeats, not both");
         for (const Json& v : values[a])
@@ -181,7 +186,7 @@ Sweep readSweep(const std::string& path) {
             for (const std::string& a : stringList(ref, "set", path)) sr.sets.push_back(a);
             sr.sets.push_back("render.spp=" + std::to_string(ref.integer("spp", 4096, 1, 1 << 24)));
             // A seed no run uses by default, so the reference's noise is independent.
-            sr.sets.push_back("render.seed=" + std::to_string((long long)ref.number(
+            sr.sets.push_back("render.seed=" + std::to_string((long long)ref.wholeNumber(
                                                    "seed", 1e9, 0, 9007199254740992.0)));
             sr.file = (fs::path(s.output) / "reference.exr").string();
         }

@@ -133,7 +133,23 @@ TEST(Sweep, ErrorsNameFileAndKey) {
     EXPECT_EQ(err("e5s", R"({"scene": "scene.json", "seed": 1.5})"),
               ": seed: expected a non-negative integer");
     EXPECT_EQ(err("e5r", R"({"scene": "scene.json", "seed": 9007199254740992, "repeats": 2})"),
-              ": seed: value 9007199254740992 out of range [0, 9007199254740991]");
+              ": seed: the last repeat's seed, seed + repeats - 1, exceeds 2^53");
+    EXPECT_EQ(test::messageOf([] {
+                  readSweep(writeSweep(
+                      "e5e", R"({"scene": "scene.json", "seed": 9007199254740991, "repeats": 2})"));
+              }),
+              "(no error)");
+    EXPECT_EQ(err("e5f", R"({"scene": "scene.json", "reference": {"spp": 8, "seed": 0.5}})"),
+              ": reference.seed: expected a non-negative integer");
+    // render.seed is the sweep's: in "set" or as an axis it would be replaced without a word.
+    const std::string seedIsTheSweeps =
+        "the sweep sets render.seed: use its \"seed\" key (or a \"seed\" axis)";
+    EXPECT_EQ(err("e5g", R"({"scene": "scene.json", "set": ["render.seed=5"]})"),
+              ": set[0]: " + seedIsTheSweeps);
+    EXPECT_EQ(err("e5h", R"({"scene": "scene.json", "axes": {"render.seed": [1, 2]}})"),
+              ": axes.render.seed: " + seedIsTheSweeps);
+    EXPECT_EQ(err("e5i", R"({"scene": "scene.json", "reference": {"set": ["render.seed=5"]}})"),
+              ": reference.set[0]: " + seedIsTheSweeps);
     EXPECT_EQ(err("e6", R"({"scene": "scene.json", "axis": {}})"), ": axis: unknown key");
     // The z-test's standard errors need 2 samples per pixel, in every run and in the reference.
     EXPECT_EQ(err("e8", R"({"scene": "scene.json", "axes": {"spp": [1, 4]},

@@ -44,6 +44,9 @@ class JsonReader {
     /// number in [lo, hi]
     double number(const std::string& key, double def, double lo, double hi);
     int integer(const std::string& key, int def, int lo, int hi);
+    /// A whole number in [lo, hi] for 0 ≤ lo ≤ hi ≤ 2^53 (seeds, counts beyond an int):
+    /// "expected a non-negative integer" for a fraction.
+    double wholeNumber(const std::string& key, double def, double lo, double hi);
     /// An integer in [lo, hi], or "auto" (also when the key is absent): nullopt.
     std::optional<int> integerOrAuto(const std::string& key, int lo, int hi);
     /// A number in [lo, hi], or "auto" (also when the key is absent): nullopt.
