@@ -179,6 +179,8 @@ void collectively(const std::function<void()>& setup, bool together) {
         setup();
     } catch (const Error& e) {
         error = e.what();
+    } catch (const std::exception& e) {  // reported too: the other ranks must not wait forever
+        error = std::string("internal error: ") + e.what();
     }
     error = MpiWorld::get().firstError(error);
     if (error.empty()) return;

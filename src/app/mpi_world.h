@@ -54,8 +54,9 @@ class MpiWorld {
 };
 
 /// Runs `setup` on every rank (the part of a command before the ranks split the work): when it
-/// throws shvol::Error on any rank, rank 0 throws the first rank's error and the others throw
-/// ReportedOnRoot. With together = false it only runs `setup` (work of this rank alone).
+/// throws shvol::Error (or another std::exception, an internal error) on any rank, rank 0 throws
+/// the first rank's error as shvol::Error and the others throw ReportedOnRoot. With together =
+/// false it only runs `setup` (work of this rank alone).
 void collectively(const std::function<void()>& setup, bool together = true);
 
 /// Worker threads for each of `jobs` renders side by side: the machine's cores shared between
