@@ -4,13 +4,13 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
 
 #include "shvol/core/error.h"
+#include "shvol/core/input_file.h"
 
 namespace shvol {
 
@@ -41,10 +41,8 @@ std::string str(double x) {
 
 TabulatedPhase readPhaseTableCsv(const std::string& path) {
     // Only a regular file: /dev/zero or a terminal (tabulated:file=/dev/stdin) would never end.
-    std::error_code ec;
-    const std::filesystem::file_status st = std::filesystem::status(path, ec);
-    if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
-        fail(path, "", "not a regular file");
+    const std::string problem = inputFileProblem(path);
+    if (!problem.empty()) fail(path, "", problem);
     std::ifstream in(path);
     if (!in) fail(path, "", "cannot open phase table");
     std::vector<double> angles, values;

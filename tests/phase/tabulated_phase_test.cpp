@@ -129,7 +129,7 @@ TEST(TabulatedCsv, OneLineErrors) {
         return m.substr(p.size() + 2);
     };
     EXPECT_EQ(messageOf([] { readPhaseTableCsv("/nonexistent/dir/mie.csv"); }),
-              "/nonexistent/dir/mie.csv: cannot open phase table");
+              "/nonexistent/dir/mie.csv: no such file");
     EXPECT_EQ(err("nonnum.csv", "angle,value\n0,1\n10,abc\n"),
               "line 3: value \"abc\" is not a number");
     EXPECT_EQ(err("nonnum_angle.csv", "0,1\nten,1\n"), "line 2: angle \"ten\" is not a number");
