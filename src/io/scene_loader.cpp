@@ -141,8 +141,11 @@ Environment readEnvironment(JsonReader r, RenderSettings& settings, Contents con
 
 Eigen::Affine3d readTransform(JsonReader r) {
     const Vec3 t = r.vec3("translate", Vec3::Zero());
+    // Bounded, so that the transform stays invertible with any grid's voxel size (a scale of
+    // 1e-300 would pass a positivity check and make the medium's transform singular at load).
     const Vec3 s = r.vec3OrScalar("scale", Vec3::Ones());
-    if ((s.array() <= 0).any()) r.error("scale", "must be positive");
+    for (int i = 0; i < 3; ++i)
+        if (!(s[i] >= 1e-12 && s[i] <= 1e12)) r.rangeError("scale", "component", s[i], 1e-12, 1e12);
     Eigen::Affine3d m = Eigen::Affine3d::Identity();
     m.translate(t);
     if (r.has("rotate")) {

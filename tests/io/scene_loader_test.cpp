@@ -421,8 +421,10 @@ TEST(SceneLoader, CheckSceneReadsKeysNotGridsOrSkies) {
               std::string::npos);
 
     // The same message as the load's, for a key, a range and a missing file.
-    for (const std::string set : {"media[0].nosuch=1", "media[0].albedo=2",
-                                  "environment.file=\"none.exr\"", "render.spp=0"}) {
+    // (A scale of 1e-300 once passed the check and made the grid's transform singular at load.)
+    for (const std::string set :
+         {"media[0].nosuch=1", "media[0].albedo=2", "environment.file=\"none.exr\"", "render.spp=0",
+          "media[0].transform.scale=1e-300"}) {
         const Json bad = sceneDocument(kSunlitCloud, {set});
         const std::string message = messageOf([&] { checkScene(bad, kSunlitCloud); });
         EXPECT_NE(message, "(no error)") << set;
