@@ -948,10 +948,16 @@ TEST_F(Cli, BatchChecksEveryRunsSceneFirst) {
         EXPECT_EQ(r.out, "") << flags;
         EXPECT_FALSE(fs::exists(path("out/r0000.exr"))) << flags;
     }
+    // Repeats differ only in their seeds, and are checked once: the first bad run is named.
+    write("sweep.json",
+          R"({"scene": "s.json", "axes": {"media[0].albedo": [0.5, 2]}, "repeats": 2})");
+    Result r = run("batch " + path("sweep.json") + " --dry-run");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("(in run r0002 media[0].albedo=2 repeat=0)"), std::string::npos) << r.err;
     // A grid or a sky named by a run must exist, though neither is read before its render.
     write("sweep.json", R"({"scene": "s.json", "set": ["media[0].type=\"vdb\""],
         "axes": {"media[0].file": ["nosuch.vdb"]}})");
-    Result r = run("batch " + path("sweep.json") + " --dry-run");
+    r = run("batch " + path("sweep.json") + " --dry-run");
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("media[0].file: no such file"), std::string::npos) << r.err;
     write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [4]},
