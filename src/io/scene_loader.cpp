@@ -188,7 +188,8 @@ Bsdf readBsdf(JsonReader r) {
     return b;
 }
 
-Surface readSurface(JsonReader r, size_t index) {
+/// surfaces[index]; under Contents::Check a mesh's file is not read (its mesh stays empty).
+Surface readSurface(JsonReader r, size_t index, Contents contents) {
     const std::string type = r.choice("type", "mesh", {"mesh", "rectangle", "disk", "sphere"});
     const Eigen::Affine3d toWorld =
         r.has("transform") ? readTransform(r.object("transform")) : Eigen::Affine3d::Identity();
@@ -196,12 +197,14 @@ Surface readSurface(JsonReader r, size_t index) {
     if (type == "mesh") {
         const std::string file = r.inputFile("file", sceneDir(r));
         s.kind = Surface::Kind::Mesh;
-        s.mesh = readMesh(file);
-        for (Vec3& p : s.mesh.p) p = toWorld * p;
-        // Normals transform by the inverse transpose (and stay unit length).
-        const Eigen::Matrix3d nm = toWorld.linear().inverse().transpose();
-        for (Vec3& n : s.mesh.n) n = (nm * n).normalized();
-        validateMesh(s.mesh, file);
+        if (contents == Contents::Load) {
+            s.mesh = readMesh(file);
+            for (Vec3& p : s.mesh.p) p = toWorld * p;
+            // Normals transform by the inverse transpose (and stay unit length).
+            const Eigen::Matrix3d nm = toWorld.linear().inverse().transpose();
+            for (Vec3& n : s.mesh.n) n = (nm * n).normalized();
+            validateMesh(s.mesh, file);
+        }
     } else if (type == "rectangle") {
         s = Surface::rectangle(toWorld);
     } else if (type == "disk") {
@@ -231,7 +234,7 @@ Surface readSurface(JsonReader r, size_t index) {
 }
 
 /// The surface named by media[i].boundary: a surface's "name" or its index.
-int readBoundary(JsonReader& r, const std::vector<Surface>& surfaces) {
+int readBoundary(JsonReader& r, const std::vector<Surface>& surfaces, Contents contents) {
     const Json& b = r.raw("boundary");
     int s = -1;
     if (surfaces.empty()) r.error("boundary", "the scene has no surfaces");
@@ -246,7 +249,7 @@ int readBoundary(JsonReader& r, const std::vector<Surface>& surfaces) {
     const Surface& sf = surfaces[s];
     if (!sf.closed()) r.error("boundary", sf.name + " is not a closed shape (a mesh or a sphere)");
     if (sf.interiorMedium >= 0) r.error("boundary", sf.name + " already bounds another medium");
-    if (sf.kind == Surface::Kind::Mesh) {
+    if (sf.kind == Surface::Kind::Mesh && contents == Contents::Load) {  // (the file's contents)
         const std::string defect = closedMeshDefect(sf.mesh);
         if (!defect.empty()) r.error("boundary", sf.name + " is not closed: " + defect);
     }
@@ -262,7 +265,7 @@ std::unique_ptr<Medium> readMedium(JsonReader r, std::vector<Surface>& surfaces,
                                    Contents contents) {
     const std::string type = r.choice("type", "vdb", {"vdb", "homogeneous"});
     if (r.has("boundary")) {
-        const int b = readBoundary(r, surfaces);
+        const int b = readBoundary(r, surfaces, contents);
         surfaces[b].interiorMedium = index;
         // Outwards, so that crossing against the normal enters the medium.
         if (surfaces[b].kind == Surface::Kind::Mesh && signedVolume(surfaces[b].mesh) < 0)
@@ -348,7 +351,7 @@ Scene readScene(const Json& doc, const std::string& path, Json* resolved, Conten
     std::vector<Surface> surfaces;
     std::map<std::string, size_t> names;
     readArray(r, "surfaces", resolved, [&](JsonReader& sr, size_t i) {
-        surfaces.push_back(readSurface(sr, i));
+        surfaces.push_back(readSurface(sr, i, contents));
         if (!names.emplace(surfaces.back().name, i).second)
             sr.error("name", "\"" + surfaces.back().name + "\" is also the name of surfaces[" +
                                  std::to_string(names[surfaces.back().name]) + "]");

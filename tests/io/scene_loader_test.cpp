@@ -403,13 +403,15 @@ TEST(SceneLoader, ErrorsNameBoundsAndTheTypeAKeyBelongsTo) {
         "media[0].nonsense: unknown key");
 }
 
-// checkScene reads every key as sceneFromJson does, with its errors, but not the grid or the sky
-// image: files that exist but are not a .vdb or an .exr pass the check and fail the load.
-TEST(SceneLoader, CheckSceneReadsKeysNotGridsOrSkies) {
+// checkScene reads every key as sceneFromJson does, with its errors, but not the grid, the sky
+// image or a mesh: files that exist but are not a .vdb, an .exr or a .ply pass the check and fail
+// the load.
+TEST(SceneLoader, CheckSceneReadsKeysNotGridsSkiesOrMeshes) {
     using test::messageOf;
     const std::string dir = test::privateTempPath("");
     std::filesystem::create_directories(dir);
-    for (const char* f : {"cloud.vdb", "sunsky.exr"}) std::ofstream(dir + "/" + f) << "not a file";
+    for (const char* f : {"cloud.vdb", "sunsky.exr", "bad.ply"})
+        std::ofstream(dir + "/" + f) << "not a file";
     const std::string path = dir + "/s.json";
     Json doc = sceneDocument(kSunlitCloud);
     EXPECT_EQ(messageOf([&] { checkScene(doc, path); }), "(no error)");
@@ -419,6 +421,12 @@ TEST(SceneLoader, CheckSceneReadsKeysNotGridsOrSkies) {
     EXPECT_EQ(messageOf([&] { checkScene(doc, path); }), "(no error)");
     EXPECT_NE(messageOf([&] { sceneFromJson(doc, path); }).find("cloud.vdb: not a readable"),
               std::string::npos);
+    // Nor a mesh: not even to see whether one bounding a medium is closed.
+    const Json meshes = Json::parse(R"({"surfaces": [{"type": "mesh", "file": "bad.ply",
+                                                      "bsdf": {"type": "null"}}],
+                                        "media": [{"type": "homogeneous", "boundary": 0}]})");
+    EXPECT_EQ(messageOf([&] { checkScene(meshes, path); }), "(no error)");
+    EXPECT_NE(messageOf([&] { sceneFromJson(meshes, path); }).find("bad.ply"), std::string::npos);
 
     // The same message as the load's, for a key, a range and a missing file.
     // (A scale of 1e-300 once passed the check and made the grid's transform singular at load.)

@@ -26,10 +26,11 @@ Scene loadScene(const std::string& path, const std::vector<std::string>& overrid
 Scene sceneFromJson(const Json& doc, const std::string& path, Json* resolved = nullptr);
 
 /// Checks a scene document as sceneFromJson reads it, with the same errors, without reading the
-/// grids and the sky image it names (each must be an existing regular file) or building the
-/// surfaces' BVH: cheap enough to check every run of a batch before the first one renders.
-/// Meshes and phase tables are read, since checks of the document need them (a boundary must be
-/// a closed mesh). What only a file's contents can show (a corrupt .vdb) is found when loading.
+/// grids, the sky image and the meshes it names (each must be an existing regular file) or
+/// building the surfaces' BVH: cheap enough to check every run of a batch before the first one
+/// renders. Phase functions are built (their tables read, their SH fits made). What only a
+/// file's contents can show (a corrupt .vdb, a mesh bounding a medium that is not closed) is
+/// found when loading.
 void checkScene(const Json& doc, const std::string& path);
 
 }  // namespace shvol
