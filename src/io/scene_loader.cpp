@@ -113,7 +113,7 @@ constexpr std::initializer_list<const char*> kVdbKeys = {
     "majorant_grid", "majorant_cell", "lookup",        "decomposition"};
 
 /// What the loader reads: everything, or (Check) every key of the document but not the contents
-/// of the grids and skies it names, which must exist (checkScene).
+/// of the grids, skies and meshes it names, which must exist (checkScene).
 enum class Contents { Load, Check };
 
 Environment readEnvironment(JsonReader r, RenderSettings& settings, Contents contents) {

@@ -37,10 +37,10 @@ std::string assignment(const std::string& sweepFile, const std::string& key, Jso
     return key + "=" + dumpJson(v);
 }
 
-/// The "key=value" strings of `key`, file values made relative to the sweep file (assignment).
 constexpr const char* kSeedIsTheSweeps =
     "the sweep sets render.seed: use its \"seed\" key (or a \"seed\" axis)";
 
+/// The "key=value" strings of `key`, file values made relative to the sweep file (assignment).
 std::vector<std::string> stringList(JsonReader& r, const std::string& key,
                                     const std::string& sweepFile) {
     std::vector<std::string> out;

@@ -55,8 +55,7 @@ Json runDocument(Json doc, const std::string& scene, const std::vector<std::stri
 /// Adds to each run's fingerprint the contents of the files its scene names, read through
 /// `memo` (inputFiles): each file once, also for whatever else of the batch hashes inputs with
 /// the same memo. Separate from readSweep so that listing and checking the runs (batch --dry-run)
-/// reads no grid. shvol::Error naming a file that
-/// cannot be read and the key that names it.
+/// reads no grid. shvol::Error naming a file that cannot be read and the key that names it.
 void fingerprintInputs(Sweep& s, std::map<std::string, Json>& memo);
 
 }  // namespace shvol
