@@ -47,15 +47,18 @@ Vec2 Environment::toUv(const Vec3& w, double* sinTheta) const {
     return {latLongU(mapping_, sphericalPhi(w) - rotation_), std::acos(cosTheta) * InvPi};
 }
 
+Spectrum Environment::texelRadiance(int x, int y, const Vec3& w) const {
+    if (lowerBlack_ && w.z() < 0) return Spectrum::Zero();
+    return scale_ * image_->at(x, y);
+}
+
 Spectrum Environment::Le(const Vec3& dir) const {
-    if (lowerBlack_ && dir.z() < 0) return Spectrum::Zero();
-    if (!image_) return L_;
+    if (!image_) return lowerBlack_ && dir.z() < 0 ? Spectrum::Zero() : L_;
     const Vec3 w = dir.normalized();
     double sinTheta;
     const Vec2 uv = toUv(w, &sinTheta);
-    const int x = std::clamp(int(uv[0] * image_->width), 0, image_->width - 1);
-    const int y = std::clamp(int(uv[1] * image_->height), 0, image_->height - 1);
-    return scale_ * image_->at(x, y);
+    return texelRadiance(std::clamp(int(uv[0] * image_->width), 0, image_->width - 1),
+                         std::clamp(int(uv[1] * image_->height), 0, image_->height - 1), w);
 }
 
 LightSample Environment::sample(const Vec2& u) const {
@@ -74,10 +77,7 @@ LightSample Environment::sample(const Vec2& u) const {
     if (!(sinTheta > 0) || !(pdfUv > 0)) return {w, Spectrum::Zero(), 0.0};
     // The radiance of the texel drawn (the one Le(w) finds, without the round trip through
     // w's angles).
-    const Spectrum L = lowerBlack_ && w.z() < 0
-                           ? Spectrum::Zero()
-                           : Spectrum(scale_ * image_->at(texel.x(), texel.y()));
-    return {w, L, pdfUv / (2 * Pi * Pi * sinTheta)};
+    return {w, texelRadiance(texel.x(), texel.y(), w), pdfUv / (2 * Pi * Pi * sinTheta)};
 }
 
 double Environment::pdf(const Vec3& dir) const {

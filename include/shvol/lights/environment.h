@@ -71,6 +71,9 @@ class Environment {
     Environment() = default;
     /// (u, v) = (x/W, θ/π) of a unit direction, and sin θ.
     Vec2 toUv(const Vec3& w, double* sinTheta) const;
+    /// Le of the image's texel (x, y) seen along w (0 below the horizon with
+    /// lowerHemisphereBlack).
+    Spectrum texelRadiance(int x, int y, const Vec3& w) const;
 
     Spectrum L_ = Spectrum::Zero();
     bool lowerBlack_ = false;
