@@ -24,9 +24,11 @@ Distribution1D::Distribution1D(const double* f, int n) {
     }
     cdf_[n] = 1.0;
     guide_.resize(n + 1);
-    for (int k = 0; k <= n; ++k)
-        guide_[k] =
-            int(std::upper_bound(cdf_.begin(), cdf_.end(), double(k) / n) - cdf_.begin()) - 1;
+    for (int k = 0; k <= n; ++k) guide_[k] = lastAtMost(0, n + 1, double(k) / n);
+}
+
+int Distribution1D::lastAtMost(int first, int last, double u) const {
+    return int(std::upper_bound(cdf_.begin() + first, cdf_.begin() + last, u) - cdf_.begin()) - 1;
 }
 
 int Distribution1D::validBin(int i) const {
@@ -50,12 +52,11 @@ int Distribution1D::findBin(double u) const {
     while (k > 0 && double(k) / n > u) --k;
     while (k + 1 < n && double(k + 1) / n <= u) ++k;
     // The last i with cdf[i] ≤ u lies in [g_k, g_{k+1}]: search cdf[g_k + 1 … g_{k+1}].
-    const auto first = cdf_.begin() + guide_[k] + 1, last = cdf_.begin() + guide_[k + 1] + 1;
-    return validBin(int(std::upper_bound(first, last, u) - cdf_.begin()) - 1);
+    return validBin(lastAtMost(guide_[k] + 1, guide_[k + 1] + 1, u));
 }
 
 int Distribution1D::findBinBySearch(double u) const {
-    return validBin(int(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin()) - 1);
+    return validBin(lastAtMost(0, count() + 1, u));
 }
 
 double Distribution1D::sampleContinuous(double u, double* pdf, int* offset) const {

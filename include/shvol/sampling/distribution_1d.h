@@ -47,6 +47,8 @@ class Distribution1D {
   private:
     /// Moves i, the last index with Cᵢ ≤ u, into [0, n − 1] and onto a bin of non-zero weight.
     int validBin(int i) const;
+    /// The last i in [first, last) with Cᵢ ≤ u, or first − 1 if none is (C is non-decreasing).
+    int lastAtMost(int first, int last, double u) const;
 
     std::vector<double> func_, cdf_;
     std::vector<int> guide_;  ///< gₖ for k = 0 … n
