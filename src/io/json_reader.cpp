@@ -2,6 +2,8 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -209,12 +211,22 @@ void JsonReader::error(const std::string& key, const std::string& msg) const {
 }
 
 namespace {
-/// A bound or value as a reader would write it: integral numbers in full (2^53, not 9.0072e+15).
+/// A bound or value as a reader would write it: the shortest decimal that reads back as v, with a
+/// plain exponent: 2^53 in full (9007199254740992, not 9.0072e+15), 10^12 as 1e12, 0.1 as 0.1.
 std::string numberText(double v) {
-    if (std::abs(v) < 1e18 && v == std::floor(v)) return std::to_string((long long)v);
-    std::ostringstream m;
-    m << v;
-    return m.str();
+    char b[32];
+    for (int digits = 1; digits <= 17; ++digits) {
+        std::snprintf(b, sizeof b, "%.*g", digits, v);
+        if (std::strtod(b, nullptr) == v) break;
+    }
+    std::string s = b;
+    const size_t e = s.find('e');  // e+12 → e12, e-05 → e-5
+    if (e == std::string::npos) return s;
+    std::string mantissa = s.substr(0, e), exponent = s.substr(e + 1);
+    const bool negative = exponent[0] == '-';
+    exponent = exponent.substr(exponent[0] == '+' || negative ? 1 : 0);
+    exponent.erase(0, std::min(exponent.find_first_not_of('0'), exponent.size() - 1));
+    return mantissa + "e" + (negative ? "-" : "") + exponent;
 }
 }  // namespace
 

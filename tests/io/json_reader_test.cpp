@@ -64,6 +64,25 @@ TEST(JsonReader, RangeAndChoice) {
               "s.json: p.t: unknown value \"hgg\"; expected one of \"hg\", \"isotropic\"");
 }
 
+TEST(JsonReader, RangeMessagesWriteNumbersAsAReaderWould) {
+    const Json j = Json::parse(R"({"big": 2e12, "tiny": 1e-300, "seed": 9007199254740993.0,
+                                   "third": 0.1, "neg": -2.5e-7})");
+    JsonReader r(j, "s.json", "");
+    // Powers of ten with a plain exponent, not 1000000000000 or 1e+12.
+    EXPECT_EQ(messageOf([&] { r.number("big", 0, 1e-12, 1e12); }),
+              "s.json: big: value 2e12 out of range [1e-12, 1e12]");
+    EXPECT_EQ(messageOf([&] { r.number("tiny", 1, 1e-12, 1e12); }),
+              "s.json: tiny: value 1e-300 out of range [1e-12, 1e12]");
+    // Integers in full where that is the shortest exact text (2^53 + 1 reads as 2^53).
+    EXPECT_EQ(messageOf([&] { r.number("seed", 0, 0, 1048576); }),
+              "s.json: seed: value 9007199254740992 out of range [0, 1048576]");
+    // The shortest decimal that reads back: 0.1, not 0.10000000000000001.
+    EXPECT_EQ(messageOf([&] { r.number("third", 0, 0.25, 0.75); }),
+              "s.json: third: value 0.1 out of range [0.25, 0.75]");
+    EXPECT_EQ(messageOf([&] { r.number("neg", 0, 0, JsonReader::kUnbounded); }),
+              "s.json: neg: value -2.5e-7 out of range (expected ≥ 0)");
+}
+
 TEST(JsonReader, MalformedFileNamesLineAndColumn) {
     const std::string path = testing::TempDir() + "/malformed.json";
     std::ofstream(path) << "{\n  \"a\": 1,\n  \"b\": ,\n}\n";
