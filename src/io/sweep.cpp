@@ -130,6 +130,21 @@ Sweep readSweep(const std::string& path) {
                      std::to_string(values[0].size()) + ")");
     }
 
+    // Counted before anything is expanded: a file of a few kB can name 1000³ grid points.
+    double pointCount = 1;
+    std::string shape;
+    for (size_t a = 0; a < values.size() && !(zip && a > 0); ++a) {
+        pointCount *= double(values[a].size());
+        shape += (shape.empty() ? "" : " × ") + std::to_string(values[a].size());
+    }
+    const double runs = pointCount * repeats;
+    if (!(runs <= kMaxSweepRuns))
+        fail(path, s.axes.empty() ? "repeats" : "axes",
+             (runs < 1e18 ? std::to_string((long long)runs) : std::string("more than 10^18")) +
+                 " runs (" + (shape.empty() ? "1" : shape) + (zip ? " zipped" : "") + " points, " +
+                 std::to_string(repeats) + (repeats == 1 ? " repeat" : " repeats") +
+                 " each); a sweep has at most " + std::to_string((long long)kMaxSweepRuns));
+
     s.sceneDoc = sceneDocument(s.scene);  // read once, not once per run
     // Points: grid (first axis slowest) or zip.
     std::vector<std::vector<size_t>> points;

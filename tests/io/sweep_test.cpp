@@ -150,6 +150,22 @@ TEST(Sweep, ErrorsNameFileAndKey) {
               ": axes.render.seed: " + seedIsTheSweeps);
     EXPECT_EQ(err("e5i", R"({"scene": "scene.json", "reference": {"set": ["render.seed=5"]}})"),
               ": reference.set[0]: " + seedIsTheSweeps);
+    // The number of runs is checked before they are expanded (1000³ would exhaust memory).
+    std::string thousand = "[0";
+    for (int i = 1; i < 1000; ++i) thousand += "," + std::to_string(i);
+    thousand += "]";
+    EXPECT_EQ(err("e5j", R"({"scene": "scene.json", "axes": {"render.max_depth": )" + thousand +
+                             R"(, "render.rr_depth": )" + thousand + R"(, "camera.fov": )" +
+                             thousand + "}}"),
+              ": axes: 1000000000 runs (1000 × 1000 × 1000 points, 1 repeat each); a sweep has at "
+              "most 1000000");
+    EXPECT_EQ(err("e5k", R"({"scene": "scene.json", "combine": "zip", "repeats": 1001,
+                             "axes": {"render.max_depth": )" +
+                             thousand + R"(, "render.rr_depth": )" + thousand + "}}"),
+              ": axes: 1001000 runs (1000 zipped points, 1001 repeats each); a sweep has at most "
+              "1000000");
+    EXPECT_EQ(err("e5l", R"({"scene": "scene.json", "repeats": 1000000, "axes": {"spp": [1, 2]}})"),
+              ": axes: 2000000 runs (2 points, 1000000 repeats each); a sweep has at most 1000000");
     EXPECT_EQ(err("e6", R"({"scene": "scene.json", "axis": {}})"), ": axis: unknown key");
     // The z-test's standard errors need 2 samples per pixel, in every run and in the reference.
     EXPECT_EQ(err("e8", R"({"scene": "scene.json", "axes": {"spp": [1, 4]},

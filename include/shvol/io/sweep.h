@@ -18,6 +18,10 @@
 
 namespace shvol {
 
+/// The most runs a sweep may expand to (grid points or zipped points, times repeats): more is
+/// refused before anything is expanded, as a few kB of axes can name 1000³ points.
+inline constexpr double kMaxSweepRuns = 1e6;
+
 struct SweepRun {
     int index = 0;
     std::string id;                 ///< "r0007"
