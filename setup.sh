@@ -58,7 +58,7 @@ sanitizers() {
   mkdir -p "$artifacts"
   # Each fuzzer is one process on one core, so nproc of them run side by side, each for the full
   # time.
-  local names=(scene phase_spec phase_csv exr vdb ply) jobs i k name failed=()
+  local names=(scene phase_spec phase_csv exr vdb ply obj) jobs i k name failed=()
   jobs=$(nproc)
   for ((i = 0; i < ${#names[@]}; i += jobs)); do
     local batch=("${names[@]:i:jobs}") pids=()
