@@ -1,0 +1,69 @@
+#include "shvol/sampling/texel_sampler.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "shvol/core/error.h"
+#include "shvol/sampling/alias_table.h"
+
+namespace shvol {
+
+namespace {
+std::vector<double> rowSums(const double* w, int width, int height) {
+    if (width <= 0 || height <= 0) fail("", "texel sampler", "needs at least one texel");
+    std::vector<double> sums(size_t(height), 0.0);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const double v = w[size_t(y) * width + x];
+            if (v > 0 && std::isfinite(v)) sums[size_t(y)] += v;
+        }
+    return sums;
+}
+
+/// The position (i + du)/n kept inside bin i, as the pdf's ⌊u n⌋ will find it.
+double insideBin(int i, double du, int n) {
+    double u = (i + du) / n;
+    while (u > 0 && std::min(int(u * n), n - 1) > i) u = std::nextafter(u, 0.0);
+    while (std::min(int(u * n), n - 1) < i) u = std::nextafter(u, 1.0);
+    return std::min(u, std::nextafter(1.0, 0.0));
+}
+}  // namespace
+
+TexelSampler::TexelSampler(const double* weights, const float* rgb, int width, int height)
+    : width_(width), height_(height), marginal_(rowSums(weights, width, height).data(), height) {
+    records_.resize(size_t(width) * height);
+    for (int y = 0; y < height; ++y) {
+        const size_t row = size_t(y) * width;
+        const std::vector<AliasColumn> table = buildAliasTable(weights + row, width);
+        for (int x = 0; x < width; ++x) {
+            const double w = weights[row + x];
+            Record& r = records_[row + x];
+            r.q = table[size_t(x)].q;
+            r.alias = table[size_t(x)].alias;
+            r.weight = w > 0 && std::isfinite(w) ? w : 0.0;
+            r.rgb = {rgb[3 * (row + x)], rgb[3 * (row + x) + 1], rgb[3 * (row + x) + 2]};
+        }
+    }
+    if (integral() > 0) invIntegral_ = 1 / integral();
+}
+
+TexelSampler::Draw TexelSampler::sample(const Vec2& u) const {
+    if (!(invIntegral_ > 0)) return {Vec2(0.5, 0.5), 0, 0, 0.0, Spectrum::Zero()};
+    int y = 0;
+    const double v = marginal_.sampleContinuous(u[1], nullptr, &y);
+    const Record* row = records_.data() + size_t(y) * width_;
+    const AliasDraw d = aliasDraw(u[0], width_, [row](int j) {
+        return AliasColumn{row[j].q, row[j].alias};
+    });
+    const Record& r = row[d.bin];
+    return {Vec2(insideBin(d.bin, d.du, width_), v), d.bin, y, r.weight * invIntegral_,
+            Spectrum(r.rgb[0], r.rgb[1], r.rgb[2])};
+}
+
+double TexelSampler::pdf(const Vec2& uv) const {
+    const int x = std::clamp(int(uv[0] * width_), 0, width_ - 1);
+    const int y = std::clamp(int(uv[1] * height_), 0, height_ - 1);
+    return records_[size_t(y) * width_ + x].weight * invIntegral_;
+}
+
+}  // namespace shvol
