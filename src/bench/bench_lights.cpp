@@ -1,6 +1,7 @@
 // Light-sampling throughput: the environment's lat-long sampler, the sky hierarchy (wavelet) and
 // the product sampler (rotated zonal lobe × sky) at orders 4–32 on 512² and 2048² skies, one
-// core. Prints Google Benchmark's table, then same-run ratios to an environment sample.
+// core, and the environment's texel draw against inverting each row's CDF. Prints Google
+// Benchmark's table, then same-run ratios to an environment sample.
 #include <benchmark/benchmark.h>
 
 #include <memory>
@@ -9,6 +10,8 @@
 #include "shvol/core/rng.h"
 #include "shvol/lights/environment.h"
 #include "shvol/lights/product_sampler.h"
+#include "shvol/sampling/distribution_2d.h"
+#include "shvol/sampling/texel_sampler.h"
 
 using namespace shvol;
 
@@ -72,6 +75,55 @@ void EnvironmentSample(benchmark::State& state) {
     state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(EnvironmentSample);
+
+/// The 2048×1024 sky's weights as Environment::image sets them: luminance · sin θ.
+const std::vector<double>& skyWeights() {
+    static const std::vector<double> w = [] {
+        const Image& im = skyImage();
+        std::vector<double> v(size_t(im.width) * im.height);
+        for (int y = 0; y < im.height; ++y)
+            for (int x = 0; x < im.width; ++x)
+                v[size_t(y) * im.width + x] =
+                    luminance(im.at(x, y)) * std::sin(Pi * (y + 0.5) / im.height);
+        return v;
+    }();
+    return w;
+}
+
+/// A texel and its RGB for each u, each draw waiting for the last (as a path's do: u is moved by
+/// 0·pdf): the texel sampler (row by inversion, texel by alias, one record)...
+void TexelDraw(benchmark::State& state) {
+    const Image& im = skyImage();
+    const TexelSampler s(skyWeights().data(), im.rgb.data(), im.width, im.height);
+    Rng rng(1, 1);
+    double last = 0, sink = 0;
+    for (auto _ : state) {
+        const TexelSampler::Draw d = s.sample(rng.uniform2() + Vec2::Constant(0 * last));
+        last = d.pdf;
+        sink += d.rgb[0];
+    }
+    benchmark::DoNotOptimize(sink);
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(TexelDraw);
+
+/// ... and inverting the row's CDF too (Distribution2D), then reading the image.
+void RowInversionDraw(benchmark::State& state) {
+    const Image& im = skyImage();
+    const Distribution2D d2(skyWeights().data(), im.width, im.height);
+    Rng rng(1, 1);
+    double last = 0, sink = 0;
+    for (auto _ : state) {
+        double pdf;
+        Eigen::Vector2i texel;
+        d2.sampleContinuous(rng.uniform2() + Vec2::Constant(0 * last), &pdf, &texel);
+        last = pdf;
+        sink += im.at(texel.x(), texel.y())[0];
+    }
+    benchmark::DoNotOptimize(sink);
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(RowInversionDraw);
 
 void WaveletSample(benchmark::State& state) {
     const SkyHierarchy& h = sky(int(state.range(0)), size_t(state.range(1)));
@@ -177,6 +229,7 @@ int main(int argc, char** argv) {
     for (const char* n : {"4", "8", "16", "32"})
         pairs.push_back({std::string("ProductEvent/") + n + "/11", "EnvironmentSample"});
     pairs.push_back({"WaveletSample/11/10000", "WaveletSample/11/0"});
+    pairs.push_back({"TexelDraw", "RowInversionDraw"});
     return bench::runWithRatios(
         argc, argv, pairs,
         "Same-run ratios (items/s; below 1: slower than an environment sample):");

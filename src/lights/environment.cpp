@@ -36,7 +36,7 @@ Environment Environment::image(Image img, double scale, double rotationDegrees,
         for (int x = 0; x < W; ++x)
             weights[size_t(y) * W + x] = luminance(img.at(x, y)) * sinTheta * above;
     }
-    e.dist_ = std::make_shared<const Distribution2D>(weights.data(), W, H);
+    e.texels_ = std::make_shared<const TexelSampler>(weights.data(), img.rgb.data(), W, H);
     e.image_ = std::make_shared<const Image>(std::move(img));
     return e;
 }
@@ -47,9 +47,9 @@ Vec2 Environment::toUv(const Vec3& w, double* sinTheta) const {
     return {latLongU(mapping_, sphericalPhi(w) - rotation_), std::acos(cosTheta) * InvPi};
 }
 
-Spectrum Environment::texelRadiance(int x, int y, const Vec3& w) const {
+Spectrum Environment::texelRadiance(const Spectrum& rgb, const Vec3& w) const {
     if (lowerBlack_ && w.z() < 0) return Spectrum::Zero();
-    return scale_ * image_->at(x, y);
+    return scale_ * rgb;
 }
 
 Spectrum Environment::Le(const Vec3& dir) const {
@@ -57,8 +57,9 @@ Spectrum Environment::Le(const Vec3& dir) const {
     const Vec3 w = dir.normalized();
     double sinTheta;
     const Vec2 uv = toUv(w, &sinTheta);
-    return texelRadiance(std::clamp(int(uv[0] * image_->width), 0, image_->width - 1),
-                         std::clamp(int(uv[1] * image_->height), 0, image_->height - 1), w);
+    return texelRadiance(image_->at(std::clamp(int(uv[0] * image_->width), 0, image_->width - 1),
+                                    std::clamp(int(uv[1] * image_->height), 0, image_->height - 1)),
+                         w);
 }
 
 LightSample Environment::sample(const Vec2& u) const {
@@ -66,18 +67,16 @@ LightSample Environment::sample(const Vec2& u) const {
         const Vec3 w = lowerBlack_ ? sampleUniformHemisphere(u) : sampleUniformSphere(u);
         return {w, L_, lowerBlack_ ? uniformHemispherePdf() : uniformSpherePdf()};
     }
-    if (!(dist_->integral() > 0)) return {Vec3(0, 0, 1), Spectrum::Zero(), 0.0};
-    double pdfUv;
-    Eigen::Vector2i texel;
-    const Vec2 uv = dist_->sampleContinuous(u, &pdfUv, &texel);
-    const double theta = Pi * uv[1], phi = latLongPhi(mapping_, uv[0]) + rotation_;
+    if (!(texels_->integral() > 0)) return {Vec3(0, 0, 1), Spectrum::Zero(), 0.0};
+    const TexelSampler::Draw d = texels_->sample(u);
+    const double theta = Pi * d.uv[1], phi = latLongPhi(mapping_, d.uv[0]) + rotation_;
     const Vec2 csTheta = cosSin(theta), csPhi = cosSin(phi);
     const double sinTheta = csTheta.y();
     const Vec3 w(sinTheta * csPhi.x(), sinTheta * csPhi.y(), csTheta.x());
-    if (!(sinTheta > 0) || !(pdfUv > 0)) return {w, Spectrum::Zero(), 0.0};
-    // The radiance of the texel drawn (the one Le(w) finds, without the round trip through
-    // w's angles).
-    return {w, texelRadiance(texel.x(), texel.y(), w), pdfUv / (2 * Pi * Pi * sinTheta)};
+    if (!(sinTheta > 0) || !(d.pdf > 0)) return {w, Spectrum::Zero(), 0.0};
+    // The radiance of the texel drawn, from its sampling record (the one Le(w) finds, without the
+    // round trip through w's angles or another read of the image).
+    return {w, texelRadiance(d.rgb, w), d.pdf / (2 * Pi * Pi * sinTheta)};
 }
 
 double Environment::pdf(const Vec3& dir) const {
@@ -85,11 +84,11 @@ double Environment::pdf(const Vec3& dir) const {
         if (lowerBlack_) return dir.z() >= 0 ? uniformHemispherePdf() : 0.0;
         return uniformSpherePdf();
     }
-    if (!(dist_->integral() > 0)) return 0.0;
+    if (!(texels_->integral() > 0)) return 0.0;
     double sinTheta;
     const Vec2 uv = toUv(dir.normalized(), &sinTheta);
     if (!(sinTheta > 0)) return 0.0;
-    return dist_->pdf(uv) / (2 * Pi * Pi * sinTheta);
+    return texels_->pdf(uv) / (2 * Pi * Pi * sinTheta);
 }
 
 SkyHierarchy Environment::skyHierarchy(size_t waveletCoefficients) const {

@@ -11,7 +11,8 @@
 ///   The map is rotated about +z by rotationDegrees: world φ = φ_img + rotation.
 /// Lookup is nearest pixel (piecewise constant) times scale.
 ///
-/// Sampling an image: a Distribution2D over (u, v) = (x/W, θ/π) with weights
+/// Sampling an image: a TexelSampler (sampling/texel_sampler.h) over (u, v) = (x/W, θ/π) with
+/// weights
 ///   w(x, y) = Y(x, y) · sin θ_y · a_y,
 /// Y the Rec. 709 luminance (0.2126 R + 0.7152 G + 0.0722 B, clamped at 0), θ_y the row centre,
 /// and a_y = 1 except with lowerHemisphereBlack, where a_y is the fraction of the row above the
@@ -28,7 +29,7 @@
 #include "shvol/core/math.h"
 #include "shvol/lights/latlong.h"
 #include "shvol/lights/sky_hierarchy.h"
-#include "shvol/sampling/distribution_2d.h"
+#include "shvol/sampling/texel_sampler.h"
 
 namespace shvol {
 
@@ -71,16 +72,16 @@ class Environment {
     Environment() = default;
     /// (u, v) = (x/W, θ/π) of a unit direction, and sin θ.
     Vec2 toUv(const Vec3& w, double* sinTheta) const;
-    /// Le of the image's texel (x, y) seen along w (0 below the horizon with
+    /// Le of a texel whose RGB is rgb, seen along w (0 below the horizon with
     /// lowerHemisphereBlack).
-    Spectrum texelRadiance(int x, int y, const Vec3& w) const;
+    Spectrum texelRadiance(const Spectrum& rgb, const Vec3& w) const;
 
     Spectrum L_ = Spectrum::Zero();
     bool lowerBlack_ = false;
     double scale_ = 1, rotation_ = 0;
     LatLongMapping mapping_ = LatLongMapping::Blender;
     std::shared_ptr<const Image> image_;          // null for a constant environment
-    std::shared_ptr<const Distribution2D> dist_;  // null for a constant environment
+    std::shared_ptr<const TexelSampler> texels_;  // null for a constant environment
 };
 
 }  // namespace shvol
