@@ -211,9 +211,11 @@ void JsonReader::error(const std::string& key, const std::string& msg) const {
 }
 
 namespace {
-/// A bound or value as a reader would write it: the shortest decimal that reads back as v, with a
-/// plain exponent: 2^53 in full (9007199254740992, not 9.0072e+15), 10^12 as 1e12, 0.1 as 0.1.
+/// A bound or value as a reader would write it: whole numbers below 10^6 in full (20, not 2e1),
+/// else the shortest decimal that reads back as v, with a plain exponent: 2^53 in full
+/// (9007199254740992, not 9.0072e+15), 10^12 as 1e12, 0.1 as 0.1.
 std::string numberText(double v) {
+    if (std::abs(v) < 1e6 && v == std::floor(v)) return std::to_string((long long)v);
     char b[32];
     for (int digits = 1; digits <= 17; ++digits) {
         std::snprintf(b, sizeof b, "%.*g", digits, v);

@@ -8,37 +8,38 @@ namespace shvol {
 
 std::vector<AliasColumn> buildAliasTable(const double* weights, int n) {
     if (n <= 0) fail("", "alias table", "needs at least one bin");
-    std::vector<double> p(n);
-    double sum = 0;
-    for (int i = 0; i < n; ++i) {
-        p[i] = weights[i] > 0 && std::isfinite(weights[i]) ? weights[i] : 0.0;
-        sum += p[i];
-    }
-    std::vector<AliasColumn> table(n);
-    for (int i = 0; i < n; ++i) table[i].alias = i;
-    if (!(sum > 0)) return table;  // uniform
-    // Scaled so that the mean is 1; columns below it are filled from columns above it.
+    std::vector<double> w(size_t(n), 0.0);
     int heaviest = 0;
     for (int i = 0; i < n; ++i) {
-        p[i] *= n / sum;
-        if (p[i] > p[heaviest]) heaviest = i;
+        if (weights[i] > 0 && std::isfinite(weights[i])) w[size_t(i)] = weights[i];
+        if (w[size_t(i)] > w[size_t(heaviest)]) heaviest = i;
     }
+    std::vector<AliasColumn> table(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) table[size_t(i)].alias = i;
+    const double wMax = w[size_t(heaviest)];
+    if (!(wMax > 0)) return table;  // uniform
+    // p = n w / Σw, the mean 1, through w / wMax so that neither the sum overflows nor n/Σw does
+    // for subnormal weights. Columns below the mean are filled from columns above it.
+    double sum = 0;
+    for (double& x : w) sum += (x /= wMax);
+    std::vector<double> p(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) p[size_t(i)] = w[size_t(i)] / sum * n;
     std::vector<int> small, large;
-    for (int i = 0; i < n; ++i) (p[i] < 1 ? small : large).push_back(i);
+    for (int i = 0; i < n; ++i) (p[size_t(i)] < 1 ? small : large).push_back(i);
     while (!small.empty() && !large.empty()) {
         const int s = small.back(), l = large.back();
         small.pop_back();
-        table[s] = {p[s], l};
-        p[l] = (p[l] + p[s]) - 1;  // (Vose's order of operations, which loses the least)
-        if (p[l] < 1) {
+        table[size_t(s)] = {p[size_t(s)], l};
+        p[size_t(l)] = (p[size_t(l)] + p[size_t(s)]) - 1;  // (Vose's order: loses the least)
+        if (p[size_t(l)] < 1) {
             large.pop_back();
             small.push_back(l);
         }
     }
     // What is left has p ≈ 1 up to rounding: it keeps its own bin, unless it has no weight.
-    for (int i : large) table[i] = {1.0, i};
+    for (int i : large) table[size_t(i)] = {1.0, i};
     for (int i : small)
-        table[i] = weights[i] > 0 ? AliasColumn{1.0, i} : AliasColumn{0.0, heaviest};
+        table[size_t(i)] = w[size_t(i)] > 0 ? AliasColumn{1.0, i} : AliasColumn{0.0, heaviest};
     return table;
 }
 

@@ -61,7 +61,8 @@ int Distribution1D::findBinBySearch(double u) const {
 
 double Distribution1D::sampleContinuous(double u, double* pdf, int* offset) const {
     const int n = count();
-    u = std::clamp(u, 0.0, std::nextafter(1.0, 0.0));
+    if (!(u >= 0)) u = 0;  // NaN too: it would make x NaN and the loops below endless
+    u = std::min(u, std::nextafter(1.0, 0.0));
     const int i = findBin(u);
     if (offset) *offset = i;
     if (pdf) *pdf = allZero_ ? 1.0 : func_[i] / integral_;

@@ -79,6 +79,9 @@ TEST(JsonReader, RangeMessagesWriteNumbersAsAReaderWould) {
     // The shortest decimal that reads back: 0.1, not 0.10000000000000001.
     EXPECT_EQ(messageOf([&] { r.number("third", 0, 0.25, 0.75); }),
               "s.json: third: value 0.1 out of range [0.25, 0.75]");
+    // Small whole numbers as written (not 2e1, 1e2).
+    EXPECT_EQ(messageOf([&] { r.number("big", 0, 20, 100); }),
+              "s.json: big: value 2e12 out of range [20, 100]");
     EXPECT_EQ(messageOf([&] { r.number("neg", 0, 0, JsonReader::kUnbounded); }),
               "s.json: neg: value -2.5e-7 out of range (expected ≥ 0)");
 }

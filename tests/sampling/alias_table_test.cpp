@@ -13,10 +13,13 @@ namespace shvol {
 namespace {
 
 std::vector<double> normalised(const std::vector<double>& w) {
+    // Through w / max w, so that the sum of weights near 1e308 stays finite.
+    double top = 0;
+    for (double x : w) top = x > top && std::isfinite(x) ? x : top;
     double sum = 0;
-    for (double x : w) sum += x > 0 && std::isfinite(x) ? x : 0;
+    for (double x : w) sum += x > 0 && std::isfinite(x) ? x / top : 0;
     std::vector<double> p;
-    for (double x : w) p.push_back(x > 0 && std::isfinite(x) ? x / sum : 0);
+    for (double x : w) p.push_back(x > 0 && std::isfinite(x) ? x / top / sum : 0);
     return p;
 }
 
@@ -85,12 +88,26 @@ TEST(AliasTable, DrawMapsTheUnitIntervalOntoTheBins) {
         EXPECT_NEAR(count[i] / m, want[i], 4.0 / m) << "bin " << i;
         if (count[i] > 0) EXPECT_NEAR(duSum[i] / count[i], 0.5, 1e-3) << "bin " << i;
     }
-    // u at the ends of [0, 1) and beyond stays in range.
-    for (double u : {0.0, std::nextafter(1.0, 0.0), 1.0, -0.5, 2.0}) {
+    // u at the ends of [0, 1), beyond them and NaN: a bin of weight, du in [0, 1); also where the
+    // last column keeps its own bin (q = 1), which u = 1 unclamped would turn into 0/0.
+    const std::vector<double> even = {1, 1, 1, 1};
+    const std::vector<AliasColumn> te = buildAliasTable(even.data(), 4);
+    ASSERT_EQ(te[3].q, 1.0);
+    for (double u : {0.0, std::nextafter(1.0, 0.0), 1.0, -0.5, 2.0, std::nan("")}) {
         const AliasDraw d = aliasDraw(u, n, [&](int j) { return t[size_t(j)]; });
         EXPECT_GT(want[size_t(d.bin)], 0.0) << u;
-        EXPECT_LE(d.du, 1.0) << u;
+        EXPECT_GE(d.du, 0.0) << u;
+        EXPECT_LT(d.du, 1.0) << u;
+        const AliasDraw de = aliasDraw(u, 4, [&](int j) { return te[size_t(j)]; });
+        EXPECT_GE(de.du, 0.0) << u;
+        EXPECT_LT(de.du, 1.0) << u;
     }
+}
+
+// Weights at the ends of the double range: a sum that would overflow, subnormal weights.
+TEST(AliasTable, ExtremeWeights) {
+    expectDrawsTheWeights({1e308, 0, 1e308, 5e307}, 1e-14);
+    expectDrawsTheWeights({4.9e-324, 0, 1e-320, 0}, 1e-14);
 }
 
 }  // namespace

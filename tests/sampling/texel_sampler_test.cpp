@@ -80,6 +80,23 @@ TEST(TexelSampler, PdfIsDistribution2DsPdf) {
     }
 }
 
+// u on or beyond the square's edges (and NaN) still draws a texel of weight, inside it.
+TEST(TexelSampler, EdgesOfTheSquare) {
+    const std::vector<double> even(12, 1.0);
+    for (const std::vector<double>* w : {&kW, &even}) {
+        const TexelSampler s(w->data(), rgbOf(12).data(), 4, 3);
+        for (const Vec2& u :
+             {Vec2(1, 1), Vec2(0, 0), Vec2(2, -1), Vec2(std::nan(""), 0.5), Vec2(0.5, std::nan("")),
+              Vec2(std::nextafter(1.0, 0.0), std::nextafter(1.0, 0.0))}) {
+            const TexelSampler::Draw d = s.sample(u);
+            EXPECT_GT(d.pdf, 0.0) << u.transpose();
+            EXPECT_EQ(d.pdf, s.pdf(d.uv)) << u.transpose();
+            EXPECT_LT(d.uv.x(), 1.0) << u.transpose();
+            EXPECT_LT(d.uv.y(), 1.0) << u.transpose();
+        }
+    }
+}
+
 TEST(TexelSampler, AllZeroDrawsNothing) {
     const std::vector<double> w(6, 0.0);
     const TexelSampler s(w.data(), rgbOf(6).data(), 3, 2);

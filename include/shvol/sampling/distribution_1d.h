@@ -23,7 +23,7 @@ class Distribution1D {
     Distribution1D(const double* f, int n);
 
     /// Continuous sample x ∈ [0, 1) by inverting the CDF (binary search).
-    /// \param u uniform in [0, 1); values ≥ 1 are clamped below 1.
+    /// \param u uniform in [0, 1); values ≥ 1 are clamped below 1, negative ones and NaN to 0.
     /// \param pdf receives p(x) = f_i / I (> 0 unless all weights are 0, then 1).
     /// \param offset receives the bin index i; the bin never has zero weight.
     double sampleContinuous(double u, double* pdf, int* offset = nullptr) const;
