@@ -139,7 +139,7 @@ Sweep readSweep(const std::string& path) {
     }
     const double runs = pointCount * repeats;
     if (!(runs <= kMaxSweepRuns))
-        fail(path, s.axes.empty() ? "repeats" : "axes",
+        fail(path, "axes",  // (without axes the runs are the repeats, at most 10^6)
              (runs < 1e18 ? std::to_string((long long)runs) : std::string("more than 10^18")) +
                  " runs (" + (shape.empty() ? "1" : shape) + (zip ? " zipped" : "") + " points, " +
                  std::to_string(repeats) + (repeats == 1 ? " repeat" : " repeats") +

@@ -68,9 +68,11 @@ double Distribution1D::sampleContinuous(double u, double* pdf, int* offset) cons
     if (pdf) *pdf = allZero_ ? 1.0 : func_[i] / integral_;
     const double width = cdf_[i + 1] - cdf_[i];
     double du = width > 0 ? (u - cdf_[i]) / width : 0.0;
-    du = std::clamp(du, 0.0, 1.0);
+    return pointInBin(i, std::clamp(du, 0.0, 1.0), n);
+}
+
+double pointInBin(int i, double du, int n) {
     double x = (i + du) / n;
-    // Keep x inside bin i so that pdf(x) agrees with the returned pdf.
     while (x > 0 && std::min(int(x * n), n - 1) > i) x = std::nextafter(x, 0.0);
     while (std::min(int(x * n), n - 1) < i) x = std::nextafter(x, 1.0);
     return std::min(x, std::nextafter(1.0, 0.0));

@@ -19,14 +19,6 @@ std::vector<double> rowSums(const double* w, int width, int height) {
         }
     return sums;
 }
-
-/// The position (i + du)/n kept inside bin i, as the pdf's ⌊u n⌋ will find it.
-double insideBin(int i, double du, int n) {
-    double u = (i + du) / n;
-    while (u > 0 && std::min(int(u * n), n - 1) > i) u = std::nextafter(u, 0.0);
-    while (std::min(int(u * n), n - 1) < i) u = std::nextafter(u, 1.0);
-    return std::min(u, std::nextafter(1.0, 0.0));
-}
 }  // namespace
 
 TexelSampler::TexelSampler(const double* weights, const float* rgb, int width, int height)
@@ -56,7 +48,7 @@ TexelSampler::Draw TexelSampler::sample(const Vec2& u) const {
         return AliasColumn{row[j].q, row[j].alias};
     });
     const Record& r = row[d.bin];
-    return {Vec2(insideBin(d.bin, d.du, width_), v), d.bin, y, r.weight * invIntegral_,
+    return {Vec2(pointInBin(d.bin, d.du, width_), v), d.bin, y, r.weight * invIntegral_,
             Spectrum(r.rgb[0], r.rgb[1], r.rgb[2])};
 }
 

@@ -56,4 +56,9 @@ class Distribution1D {
     bool allZero_ = true;
 };
 
+/// The point (i + du)/n of bin i ∈ [0, n) at du ∈ [0, 1], moved by the last bits it needs to lie
+/// in bin i as ⌊x n⌋ (clamped to n − 1) finds it, and below 1: so that a pdf looked up at the
+/// point is the bin's.
+double pointInBin(int i, double du, int n);
+
 }  // namespace shvol
