@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "shvol/core/error.h"
+#include "shvol/core/math.h"
 
 namespace shvol {
 
@@ -44,8 +45,7 @@ int Distribution1D::validBin(int i) const {
 
 int Distribution1D::findBin(double u) const {
     const int n = count();
-    if (!(u >= 0)) u = 0;  // (NaN too: int(u·n) below must stay defined)
-    u = std::min(u, std::nextafter(1.0, 0.0));
+    u = clampToUnit(u);  // (NaN too: int(u·n) below must stay defined)
     // The guide cell k with k/n ≤ u < (k+1)/n, the quotients computed as the table's were (the
     // product u·n may round across a cell boundary).
     int k = std::clamp(int(u * n), 0, n - 1);
@@ -61,8 +61,7 @@ int Distribution1D::findBinBySearch(double u) const {
 
 double Distribution1D::sampleContinuous(double u, double* pdf, int* offset) const {
     const int n = count();
-    if (!(u >= 0)) u = 0;  // NaN too: it would make x NaN and the loops below endless
-    u = std::min(u, std::nextafter(1.0, 0.0));
+    u = clampToUnit(u);  // (NaN too: it would make x NaN and the loops below endless)
     const int i = findBin(u);
     if (offset) *offset = i;
     if (pdf) *pdf = allZero_ ? 1.0 : func_[i] / integral_;
@@ -79,7 +78,7 @@ double pointInBin(int i, double du, int n) {
 }
 
 int Distribution1D::sampleDiscrete(double u, double* pmf) const {
-    u = std::clamp(u, 0.0, std::nextafter(1.0, 0.0));
+    u = clampToUnit(u);
     const int i = findBin(u);
     if (pmf) *pmf = cdf_[i + 1] - cdf_[i];
     return i;

@@ -9,31 +9,37 @@
 namespace shvol {
 
 namespace {
-std::vector<double> rowSums(const double* w, int width, int height) {
+/// The weights as the sampler counts them: ≤ 0, NaN and infinite ones are 0.
+std::vector<double> cleaned(const double* w, int width, int height) {
     if (width <= 0 || height <= 0) fail("", "texel sampler", "needs at least one texel");
+    std::vector<double> c(size_t(width) * height);
+    for (size_t i = 0; i < c.size(); ++i) c[i] = w[i] > 0 && std::isfinite(w[i]) ? w[i] : 0.0;
+    return c;
+}
+
+std::vector<double> rowSums(const std::vector<double>& w, int width, int height) {
     std::vector<double> sums(size_t(height), 0.0);
     for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            const double v = w[size_t(y) * width + x];
-            if (v > 0 && std::isfinite(v)) sums[size_t(y)] += v;
-        }
+        for (int x = 0; x < width; ++x) sums[size_t(y)] += w[size_t(y) * width + x];
     return sums;
 }
 }  // namespace
 
 TexelSampler::TexelSampler(const double* weights, const float* rgb, int width, int height)
-    : width_(width), height_(height), marginal_(rowSums(weights, width, height).data(), height) {
-    records_.resize(size_t(width) * height);
+    : TexelSampler(cleaned(weights, width, height), rgb, width, height) {}
+
+TexelSampler::TexelSampler(const std::vector<double>& w, const float* rgb, int width, int height)
+    : width_(width), height_(height), marginal_(rowSums(w, width, height).data(), height) {
+    records_.resize(w.size());
     for (int y = 0; y < height; ++y) {
         const size_t row = size_t(y) * width;
-        const std::vector<AliasColumn> table = buildAliasTable(weights + row, width);
+        const std::vector<AliasColumn> table = buildAliasTable(w.data() + row, width);
         for (int x = 0; x < width; ++x) {
-            const double w = weights[row + x];
-            Record& r = records_[row + x];
-            r.q = table[size_t(x)].q;
-            r.alias = table[size_t(x)].alias;
-            r.weight = w > 0 && std::isfinite(w) ? w : 0.0;
-            r.rgb = {rgb[3 * (row + x)], rgb[3 * (row + x) + 1], rgb[3 * (row + x) + 2]};
+            const size_t t = row + size_t(x);
+            records_[t] = {table[size_t(x)].q,
+                           w[t],
+                           table[size_t(x)].alias,
+                           {rgb[3 * t], rgb[3 * t + 1], rgb[3 * t + 2]}};
         }
     }
     if (integral() > 0) invIntegral_ = 1 / integral();

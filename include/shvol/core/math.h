@@ -41,6 +41,12 @@ inline double exponentialVariate(double u) {
     return -std::log(1 - u);
 }
 
+/// u clamped into [0, 1) for a sampler: NaN and negative values to 0, values ≥ 1 to the largest
+/// double below 1 (so that ⌊u n⌋ < n and no NaN reaches an index).
+inline double clampToUnit(double u) {
+    return u >= 0 ? std::min(u, 0x1.fffffffffffffp-1) : 0.0;
+}
+
 /// √max(0, x): guards square roots of quantities that are ≥ 0 analytically but not in rounding.
 inline double safeSqrt(double x) {
     return std::sqrt(std::max(0.0, x));

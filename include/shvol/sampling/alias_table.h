@@ -11,8 +11,9 @@
 /// the position within the bin, du = r/q_j or (r − q_j)/(1 − q_j), is again uniform. It reads
 /// one column's (qᵢ, aᵢ), where inverting a CDF searches it.
 #include <algorithm>
-#include <cmath>
 #include <vector>
+
+#include "shvol/core/math.h"
 
 namespace shvol {
 
@@ -42,9 +43,7 @@ struct AliasDraw {
 /// to 0, so that r < 1 and a column with q = 1 always keeps its bin).
 template <typename Column>
 AliasDraw aliasDraw(double u, int n, const Column& column) {
-    if (!(u >= 0)) u = 0;
-    u = std::min(u, std::nextafter(1.0, 0.0));
-    const double x = u * n;
+    const double x = clampToUnit(u) * n;
     const int j = std::min(std::max(int(x), 0), n - 1);
     const double r = std::min(std::max(x - j, 0.0), 1.0);
     const AliasColumn c = column(j);

@@ -45,6 +45,8 @@ class TexelSampler {
     int height() const { return height_; }
 
   private:
+    /// The same from weights already cleaned (≥ 0, finite), W·H of them.
+    TexelSampler(const std::vector<double>& weights, const float* rgb, int width, int height);
     /// A texel's record: its alias column, its weight and its RGB, 32 bytes.
     struct Record {
         double q;  ///< the alias column's threshold
