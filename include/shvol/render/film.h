@@ -23,8 +23,9 @@ struct Film {
     size_t pixels() const { return count.size(); }
     /// sum / count per pixel (0 where no sample was taken yet).
     Image image() const;
-    /// Standard error of each pixel's mean, √((Σx²/n − x̄²)/(n − 1)/n) per channel, from the
-    /// sample moments; +∞ (unknown) where fewer than 2 samples were taken. Needs sumSq.
+    /// Standard error of each pixel's mean per channel, √(s²/n) with s² = (Σx²/n − x̄²)·n/(n − 1)
+    /// the unbiased sample variance, i.e. √((Σx²/n − x̄²)/(n − 1)), from the sample moments; +∞
+    /// (unknown) where fewer than 2 samples were taken. Needs sumSq.
     Image standardError() const;
     uint32_t minCount() const;
     uint32_t maxCount() const;
