@@ -220,6 +220,9 @@ Surface readSurface(JsonReader r, size_t index, Contents contents) {
             r.error("transform", "a sphere needs a uniform scale");
         s = Surface::sphere(toWorld * r.vec3("center", Vec3::Zero()), radius * scale[0]);
     }
+    // (A mesh that Check mode did not read has no vertices: reach 0.)
+    if (!(s.reach() <= kMaxSurfaceCoordinate))
+        r.error(type == "mesh" ? "file" : "", surfaceReachMessage(s.reach()));
     s.bsdf = readBsdf(r.objectOrEmpty("bsdf"));
     // A closed glass mesh faces outwards whatever its winding or transform: a dielectric's
     // outside is the side its normal points to.

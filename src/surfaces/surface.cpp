@@ -1,6 +1,26 @@
 #include "shvol/surfaces/surface.h"
 
+#include <cmath>
+#include <cstdio>
+
 namespace shvol {
+
+std::string surfaceReachMessage(double r) {
+    static_assert(kMaxSurfaceCoordinate == 1e15, "the message names the bound");
+    char b[160];
+    std::snprintf(b, sizeof b,
+                  "coordinates reach %.3g, beyond ±1e15 (the ray tracer's range; scale the scene "
+                  "down)",
+                  r);
+    return b;
+}
+
+double Surface::reach() const {
+    const Bounds3 b = bounds();
+    if (b.empty()) return 0;
+    const double r = std::max(b.lo.cwiseAbs().maxCoeff(), b.hi.cwiseAbs().maxCoeff());
+    return b.lo.hasNaN() || b.hi.hasNaN() ? NAN : r;
+}
 
 double Surface::area() const {
     switch (kind) {
@@ -11,6 +31,14 @@ double Surface::area() const {
         default:
             return surfaceArea(mesh);
     }
+}
+
+Bounds3 Surface::bounds() const {
+    if (kind == Kind::Disk || kind == Kind::Sphere)
+        return {center - Vec3::Constant(radius), center + Vec3::Constant(radius)};
+    Bounds3 b{Vec3::Constant(INFINITY), Vec3::Constant(-INFINITY)};  // empty
+    for (const Vec3& p : mesh.p) b.lo = b.lo.cwiseMin(p), b.hi = b.hi.cwiseMax(p);
+    return b;
 }
 
 Surface Surface::rectangle(const Eigen::Affine3d& toWorld) {

@@ -129,6 +129,11 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
     for (size_t i = 0; i < surfaces_.size(); ++i) {
         Surface& s = surfaces_[i];
         hasNull_ = hasNull_ || s.bsdf.type == BsdfType::Null;
+        if (!(s.reach() <= kMaxSurfaceCoordinate))
+            throw Error(s.name + ": " + surfaceReachMessage(s.reach()));
+        // (A disk's box is its sphere's: a bound, enough for ε and the cache's grid.)
+        const Bounds3 b = s.bounds();
+        lo_ = lo_.cwiseMin(b.lo), hi_ = hi_.cwiseMax(b.hi);
         RTCGeometry g;
         if (s.kind == Surface::Kind::Mesh || s.kind == Surface::Kind::Rectangle) {
             g = rtcNewGeometry(rtc_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -139,10 +144,8 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
                 rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                         3 * sizeof(unsigned), m.triangleCount()));
             if (!v || !idx) rtc_->fail("could not allocate a mesh buffer");
-            for (size_t k = 0; k < m.p.size(); ++k) {
+            for (size_t k = 0; k < m.p.size(); ++k)
                 for (int j = 0; j < 3; ++j) v[3 * k + j] = float(m.p[k][j]);
-                lo_ = lo_.cwiseMin(m.p[k]), hi_ = hi_.cwiseMax(m.p[k]);
-            }
             std::copy(m.indices.begin(), m.indices.end(), idx);
             triangles_ += m.triangleCount();
         } else {
@@ -152,9 +155,6 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
             rtcSetGeometryBoundsFunction(g, analyticBounds, nullptr);
             rtcSetGeometryIntersectFunction(g, analyticIntersect);
             rtcSetGeometryOccludedFunction(g, analyticOccluded);
-            // The box of a disk's sphere: a bound, enough for ε and the cache's grid.
-            lo_ = lo_.cwiseMin(s.center - Vec3::Constant(s.radius));
-            hi_ = hi_.cwiseMax(s.center + Vec3::Constant(s.radius));
         }
         rtcCommitGeometry(g);
         rtcAttachGeometryByID(rtc_->scene, g, unsigned(i));
@@ -165,12 +165,50 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
     const double scale =
         surfaces_.empty() ? 0 : std::max(lo_.cwiseAbs().maxCoeff(), hi_.cwiseAbs().maxCoeff());
     epsilon_ = std::ldexp(scale > 0 ? scale : 1.0, -16);
+    farOrigin_ = std::min(1e18, std::ldexp(scale > 0 ? scale : 1.0, 8));
     buildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 SurfaceScene::~SurfaceScene() = default;
 
+/// Embree intersects triangles in float, relative to the ray's origin: from a distance D its
+/// error is about 2⁻²⁴·D, which exceeds ε = 2⁻¹⁶·R (R the surfaces' largest coordinate
+/// magnitude) beyond D ≈ 2⁸·R, and beyond ±FLT_LARGE = 1.844·10¹⁸ it refuses the ray (an
+/// assertion). A ray from farther than farOrigin_ = min(2⁸·R, 10¹⁸) (a distant camera, a point
+/// of a medium placed far off) can meet the surfaces only inside their box: it is traced from
+/// where it enters the box, widened so that the new origin lies off every surface (*tEntry ≥ 0
+/// the distance to it), or not at all (false) if it misses the box or is NaN. The entry point's
+/// coordinate across the face it enters by is set to that face: o + t·d there would lose all
+/// digits below the origin's magnitude (2⁸ at 2·10¹⁸), enough to start inside a small surface.
+bool SurfaceScene::startNear(const Ray& ray, double tMax, Ray* moved, double* tEntry) const {
+    *moved = ray, *tEntry = 0;
+    if (ray.o.cwiseAbs().maxCoeff() <= farOrigin_) return true;
+    const Vec3 pad = Vec3::Constant(std::max(16 * epsilon_, 1e-3 * (hi_ - lo_).maxCoeff()));
+    const Vec3 lo = lo_ - pad, hi = hi_ + pad;
+    const Interval i = intersectBox(ray, lo, hi, tMax);
+    if (i.empty()) return false;
+    *moved = Ray{ray(i.t0), ray.d}, *tEntry = i.t0;
+    int face = -1;  // the axis whose slab the ray enters last
+    double tFace = -INFINITY;
+    for (int a = 0; a < 3; ++a)
+        if (ray.d[a] != 0) {
+            const double t = ((ray.d[a] > 0 ? lo[a] : hi[a]) - ray.o[a]) / ray.d[a];
+            if (t > tFace) tFace = t, face = a;
+        }
+    if (face >= 0 && tFace == i.t0) moved->o[face] = ray.d[face] > 0 ? lo[face] : hi[face];
+    return moved->o.cwiseAbs().maxCoeff() <= farOrigin_;
+}
+
 bool SurfaceScene::intersect(const Ray& ray, double tMax, SurfaceHit* hit) const {
+    Ray moved;
+    double tEntry;
+    if (!startNear(ray, tMax, &moved, &tEntry) || !intersectInRange(moved, tMax - tEntry, hit))
+        return false;
+    hit->t += tEntry;
+    return true;
+}
+
+bool SurfaceScene::intersectInRange(const Ray& ray, double tMax, SurfaceHit* hit) const {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
@@ -233,9 +271,12 @@ bool SurfaceScene::intersect(const Ray& ray, double tMax, SurfaceHit* hit) const
 }
 
 bool SurfaceScene::occluded(const Ray& ray, double tMax) const {
+    Ray moved;
+    double tEntry;
+    if (!startNear(ray, tMax, &moved, &tEntry)) return false;
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
-    RTCRay r = toRtc(ray, tMax);
+    RTCRay r = toRtc(moved, tMax - tEntry);
     rtcOccluded1(rtc_->scene, &ctx, &r);
     return r.tfar < 0;
 }

@@ -362,6 +362,17 @@ TEST(SceneLoader, BadSurfacesGiveOneLineNamingThePlace) {
              "surfaces[0].emission: component -1 out of range (expected ≥ 0)");
     expectIn(message(R"({"media": [{"type": "homogeneous", "boundary": 0}]})"),
              "media[0].boundary: the scene has no surfaces");
+    // Beyond the ray tracer's range (±1e15, after the transform).
+    expectIn(message(R"({"surfaces": [{"file": "box.obj", "transform": {"scale": 1e12,
+                                                                   "translate": [5e15, 0, 0]}}]})"),
+             "scene.json: surfaces[0].file: coordinates reach 5e+15, beyond ±1e15");
+    expectIn(message(R"({"surfaces": [{"type": "rectangle",
+                                       "transform": {"translate": [0, -3e15, 0]}}]})"),
+             "scene.json: surfaces[0]: coordinates reach 3e+15, beyond ±1e15");
+    expectIn(message(R"({"surfaces": [{"type": "sphere", "center": [0, 0, 2e15]}]})"),
+             "scene.json: surfaces[0]: coordinates reach 2e+15, beyond ±1e15");
+    EXPECT_EQ(message(R"({"surfaces": [{"type": "sphere", "center": [0, 0, 9e14]}]})"),
+              "(no error)");
 }
 
 // Range errors print their bounds as a reader would write them (2^53 in full, no 1e30 sentinel),

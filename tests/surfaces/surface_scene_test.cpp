@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 
+#include "shvol/core/error.h"
 #include "shvol/core/rng.h"
 #include "shvol/sampling/warp.h"
 #include "surfaces/surface_test_util.h"
@@ -181,6 +182,59 @@ TEST(SurfaceScene, EpsilonFollowsTheSceneScale) {
     const SurfaceScene b(one(Surface::sphere(Vec3(1e4, 0, 0), 1)));
     EXPECT_NEAR(a.epsilon(), 1e-4 * std::ldexp(1.0, -16), 1e-20);
     EXPECT_NEAR(b.epsilon(), (1e4 + 1) * std::ldexp(1.0, -16), 1e-9);
+}
+
+// Embree aborts on a ray whose origin lies beyond ±1.8·10¹⁸ (a camera far away, a point of a
+// distant medium), and its float intersection loses the near side of a small box from 10⁹:
+// rays from far away are traced from where they enter the surfaces' box, with t still counted
+// from their own origin.
+TEST(SurfaceScene, RaysFromBeyondEmbreesRangeAreTracedFromTheSurfacesBox) {
+    std::vector<Surface> v;
+    v.push_back(Surface::sphere(Vec3(0, 0, 0), 1));
+    v.push_back(meshSurface(boxMesh(Vec3(5, -1, -1), Vec3(7, 1, 1))));
+    const SurfaceScene scene(std::move(v));
+    for (const double far : {1e4, 1e9, 1e17, 2e18, 1e19, 1e30, 1e300}) {
+        SCOPED_TRACE(far);
+        SurfaceHit hit;
+        ASSERT_TRUE(scene.intersect(Ray{Vec3(0, -far, 0), Vec3(0, 1, 0)}, NoHit, &hit));
+        EXPECT_EQ(hit.surface, 0);
+        EXPECT_NEAR((hit.p - Vec3(0, -1, 0)).norm(), 0, 1e-9);  // the near side, from outside
+        EXPECT_NEAR(hit.ng.y(), -1, 1e-9);
+        EXPECT_NEAR(hit.t, far - 1, 1e-15 * far);
+        ASSERT_TRUE(scene.intersect(Ray{Vec3(6, 0, far), Vec3(0, 0, -1)}, NoHit, &hit));
+        EXPECT_EQ(hit.surface, 1);
+        EXPECT_NEAR(hit.p.z(), 1, 1e-9);
+        EXPECT_TRUE(scene.occluded(Ray{Vec3(0, -far, 0), Vec3(0, 1, 0)}, NoHit));
+        // Short of the scene, or past it, or beside it: nothing.
+        EXPECT_FALSE(scene.intersect(Ray{Vec3(0, -far, 0), Vec3(0, 1, 0)}, 0.5 * far, &hit));
+        EXPECT_FALSE(scene.occluded(Ray{Vec3(0, -far, 0), Vec3(0, 1, 0)}, 0.5 * far));
+        EXPECT_FALSE(scene.intersect(Ray{Vec3(0, -far, 0), Vec3(0, -1, 0)}, NoHit, &hit));
+        EXPECT_FALSE(scene.intersect(Ray{Vec3(0, -far, 3), Vec3(0, 1, 0)}, NoHit, &hit));
+    }
+    SurfaceHit hit;
+    EXPECT_FALSE(scene.intersect(Ray{Vec3(NAN, 0, 0), Vec3(0, 1, 0)}, NoHit, &hit));
+    EXPECT_FALSE(scene.occluded(Ray{Vec3(0, INFINITY, 0), Vec3(0, 1, 0)}, NoHit));
+}
+
+// Surfaces themselves must lie within ±10¹⁵ (Embree's float vertices and range); a scene beyond
+// is refused when it is built, naming the surface.
+TEST(SurfaceScene, RefusesSurfacesBeyondTheRayTracersRange) {
+    EXPECT_NO_THROW(SurfaceScene(one(Surface::sphere(Vec3(0, 0, 1e15 - 1), 1))));
+    for (const Vec3& c : {Vec3(0, 0, 1e15), Vec3(-2e15, 0, 0), Vec3(0, 1e300, 0)}) {
+        Surface s = Surface::sphere(c, 1);
+        s.name = "far sphere";
+        try {
+            SurfaceScene scene(one(std::move(s)));
+            ADD_FAILURE() << "accepted " << c.transpose();
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("far sphere: coordinates reach"),
+                      std::string::npos)
+                << e.what();
+        }
+    }
+    Surface mesh = meshSurface(boxMesh(Vec3(0, 0, 0), Vec3(1, 1, 1)));
+    mesh.mesh.p[3].z() = 1e24;
+    EXPECT_THROW(SurfaceScene(one(std::move(mesh))), Error);
 }
 
 // Building the BVH must not cap the parallelism of the process: Embree enforces a "threads=N"

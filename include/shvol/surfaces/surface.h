@@ -8,10 +8,19 @@
 /// medium face outwards (the loader flips a mesh whose signed volume is negative).
 #include <string>
 
+#include "shvol/core/ray.h"
 #include "shvol/surfaces/bsdf.h"
 #include "shvol/surfaces/triangle_mesh.h"
 
 namespace shvol {
+
+/// The largest coordinate magnitude a surface may reach (its reach()). Embree keeps vertices in
+/// float and refuses rays whose origin lies beyond ±1.844·10¹⁸ (FLT_LARGE, kernels/common/
+/// ray.h); 10¹⁵ leaves room for the ε offsets of rays leaving surfaces (surface_scene.h).
+inline constexpr double kMaxSurfaceCoordinate = 1e15;
+
+/// Why a surface of reach r cannot be traced ("reaches 1e+24, beyond ±1e15 …").
+std::string surfaceReachMessage(double r);
 
 struct Surface {
     enum class Kind { Mesh, Rectangle, Disk, Sphere };
@@ -30,6 +39,12 @@ struct Surface {
     bool closed() const { return kind == Kind::Sphere || kind == Kind::Mesh; }
     /// Area of the shape.
     double area() const;
+    /// A box containing the shape: its vertices', or (disk, sphere) the centre ± the radius on
+    /// each axis.
+    Bounds3 bounds() const;
+    /// The largest coordinate magnitude of bounds() (0 for a mesh without vertices, NaN if a
+    /// coordinate is).
+    double reach() const;
     /// Radiance leaving the surface towards w (unit, pointing away from it) at a point with
     /// geometric normal ng: L_e if w is on the front side (or twoSidedEmission), else 0.
     Spectrum Le(const Vec3& ng, const Vec3& w) const {

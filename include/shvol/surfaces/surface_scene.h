@@ -1,13 +1,16 @@
 #pragma once
 /// \file The surfaces of a scene in one Embree 3 BVH: closest hit and occlusion along rays.
 ///
-/// Triangles (meshes, rectangles) are Embree triangle geometry, disks RTC_GEOMETRY_TYPE_ORIENTED_
-/// DISC_POINT and spheres RTC_GEOMETRY_TYPE_SPHERE_POINT. Embree intersects in single precision;
+/// Triangles (meshes, rectangles) are Embree triangle geometry; disks and spheres are Embree user
+/// geometry intersected in double precision. Embree intersects triangles in single precision;
 /// the hit point is then recomputed in double from the shape (barycentric combination of the
 /// triangle's vertices, projection onto the sphere, the disk's plane), so it lies on the surface
 /// to double rounding, and rays leaving a surface start at p ± ε n_g on the side they leave by.
 /// ε = 2⁻¹⁶ · (largest coordinate magnitude of the scene's surfaces), which exceeds the error of
 /// Embree's float vertices (2⁻²⁴ relative) by 2⁸, at every scene scale (tests at 1e−4 and 1e4).
+/// Surfaces must lie within ±kMaxSurfaceCoordinate (surface.h); rays may start anywhere (a ray
+/// from far away, beyond 2⁸ times that magnitude, is traced from where it enters the surfaces'
+/// box, where Embree's float intersection keeps its precision).
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -77,10 +80,13 @@ class SurfaceScene {
     double buildSeconds() const { return buildSeconds_; }
 
   private:
+    bool startNear(const Ray& ray, double tMax, Ray* moved, double* tEntry) const;
+    bool intersectInRange(const Ray& ray, double tMax, SurfaceHit* hit) const;
     struct Embree;  ///< the RTCDevice and RTCScene (Embree headers stay in the .cpp)
     std::unique_ptr<Embree> rtc_;
     std::vector<Surface> surfaces_;
     double epsilon_ = 0;
+    double farOrigin_ = 0;  ///< rays from farther start where they enter the box (startNear)
     Vec3 lo_, hi_;
     size_t triangles_ = 0;
     bool hasNull_ = false;
