@@ -230,12 +230,14 @@ struct Outputs {
     std::string image, stats, stderrImage;
 };
 
-/// "x.exr" → x.exr, x.stats.json, x.stderr.exr; `tag` (e.g. "spp16") goes before the extension.
+/// "x.exr" → x.exr, x.stats.json, x.stderr.exr; `tag` (e.g. "spp16") goes before the extension,
+/// which keeps its case (x.EXR → x.spp16.EXR, x.stats.json).
 Outputs outputsFor(const std::string& out, const std::string& tag) {
-    std::string stem = out;
-    if (std::filesystem::path(out).extension() == ".exr") stem.resize(out.size() - 4);
+    const bool exr = hasExtension(out, ".exr");
+    std::string stem = exr ? out.substr(0, out.size() - 4) : out;
+    const std::string ext = exr ? out.substr(out.size() - 4) : ".exr";
     if (!tag.empty()) stem += "." + tag;
-    return {stem + ".exr", stem + ".stats.json", stem + ".stderr.exr"};
+    return {stem + ext, stem + ".stats.json", stem + ".stderr" + ext};
 }
 
 /// Writes an image with its statistics (and standard errors). The statistics appear only once
@@ -245,9 +247,20 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
                   const std::vector<std::string>& warnings, const nlohmann::json& provenance,
                   bool variance) {
     const Image image = film.image();
+    // A mean beyond the largest float (3.4·10³⁸) becomes ±inf in the float32 EXR: said, not
+    // clamped (the value is not known to be the largest float either).
+    std::vector<std::string> all = warnings;
+    const size_t overflows = size_t(std::count_if(image.rgb.begin(), image.rgb.end(),
+                                                  [](float v) { return !std::isfinite(v); }));
+    if (overflows > 0) {
+        all.push_back(std::to_string(overflows) +
+                      " pixel values exceed the float32 range of OpenEXR (3.4e38) and are written "
+                      "as inf");
+        std::fprintf(stderr, "shvol: warning: %s: %s\n", o.image.c_str(), all.back().c_str());
+    }
     writeAtomically(o.stats, [&](const std::string& tmp) {
         std::ofstream f(tmp);
-        nlohmann::json j = statsJson(scene, image, st, o.image, warnings, provenance);
+        nlohmann::json j = statsJson(scene, image, st, o.image, all, provenance);
         if (variance) j["standard_error"] = o.stderrImage;
         f << dumpJson(j, 2) << "\n";
         f.close();
@@ -315,6 +328,8 @@ int runRender(const RenderArgs& a) {
             if (!hasExtension(out, ".exr"))
                 fail(out, "",
                      "render writes OpenEXR; name the output .exr (shvol tonemap makes a PNG)");
+            if (std::filesystem::path(out.substr(0, out.size() - 4)).filename().empty())
+                fail(out, "", "the output needs a name before .exr");
             final = outputsFor(out, "");
             // Fail before rendering, not after, if the outputs cannot be written.
             for (const std::string& f : {final.image, final.stats}) {

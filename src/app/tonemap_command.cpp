@@ -23,7 +23,7 @@ void addTonemapCommand(CLI::App& app, std::function<int()>& run) {
         ->check(numberIn(-64.0, 64.0, false, " stops"));
     c->callback([&run, a] {
         run = [a] {
-            if (std::filesystem::path(a->output).extension() != ".png")
+            if (!hasExtension(a->output, ".png"))
                 fail(a->output, "", "tonemap writes PNG; name the file .png");
             const Image img = readExr(a->input);
             writePng(a->output, img, a->exposure);

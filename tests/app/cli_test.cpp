@@ -665,6 +665,43 @@ TEST_F(Cli, BadOverridesAndOutputs) {
     EXPECT_NE(r.err.find("no/such/dir/out.exr: cannot write: directory"), std::string::npos)
         << r.err;
     EXPECT_TRUE(r.out.empty());
+    // The extension in any case, as the name check takes it; a name is needed before it.
+    r = run("render " + path("s.json") + " -o " + path("UP.EXR") + " --spp 1,2 --quiet");
+    EXPECT_EQ(r.code, 0) << r.err;
+    for (const char* f : {"UP.EXR", "UP.stats.json", "UP.spp1.EXR", "UP.spp1.stats.json"})
+        EXPECT_TRUE(fs::exists(path(f))) << f;
+    EXPECT_FALSE(fs::exists(path("UP.EXR.exr")));
+    r = run("render " + path("s.json") + " -o " + path(".exr") + " --quiet");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find(".exr: the output needs a name before .exr"), std::string::npos) << r.err;
+}
+
+// A pixel whose mean exceeds the float32 range is written as inf, and said so (on stderr and in
+// the stats' warnings), not passed silently.
+TEST_F(Cli, RenderSaysWhenAPixelOverflowsFloat) {
+    Image sky(4, 2);
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 4; ++x) sky.set(x, y, Spectrum::Constant(3e38));
+    writeExr(path("huge.exr"), sky);
+    write("s.json", R"({"camera": {"resolution": [4, 3]}, "render": {"spp": 2},
+                        "environment": {"type": "image", "file": "huge.exr", "scale": 10}})");
+    Result r = run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("shvol: warning: " + path("out.exr") +
+                         ": 36 pixel values exceed the float32 range of OpenEXR"),
+              std::string::npos)
+        << r.err;
+    const auto stats = nlohmann::json::parse(std::ifstream(path("out.stats.json")));
+    ASSERT_EQ(stats["warnings"].size(), 1u) << stats["warnings"];
+    EXPECT_NE(stats["warnings"][0].get<std::string>().find("are written as inf"),
+              std::string::npos);
+    EXPECT_EQ(stats["image"]["non_finite"], 36);
+    // In range: no warning.
+    write("s.json", R"({"camera": {"resolution": [4, 3]}, "render": {"spp": 2},
+                        "environment": {"type": "image", "file": "huge.exr", "scale": 1}})");
+    r = run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
 }
 
 TEST_F(Cli, MakeMediumAndSkyRoundTrip) {
