@@ -118,18 +118,22 @@ Json overrideValue(const std::string& text) {
     }
 }
 
+std::string canonicalKeyPath(const std::string& key) {
+    std::string path;
+    for (char ch : key) {
+        if (ch == '[')
+            path += '.';
+        else if (ch != ']')
+            path += ch;
+    }
+    return path;
+}
+
 void applyOverride(Json& doc, const std::string& assignment, const std::string& file) {
     const auto eq = assignment.find('=');
     if (eq == std::string::npos || eq == 0)
         fail(file, "--set " + assignment, "expected key.path=value");
-    // media[0].albedo (the notation of error messages) is media.0.albedo.
-    std::string keyPath;
-    for (char ch : assignment.substr(0, eq)) {
-        if (ch == '[')
-            keyPath += '.';
-        else if (ch != ']')
-            keyPath += ch;
-    }
+    const std::string keyPath = canonicalKeyPath(assignment.substr(0, eq));
     Json value = overrideValue(assignment.substr(eq + 1));
     std::vector<std::string> parts;
     {
@@ -159,7 +163,9 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
             node = &(*node)[part];
             walked += (walked.empty() ? "" : ".") + part;
         } else {
-            fail(file, walked, "--set: cannot descend into a " + typeName(*node));
+            fail(file, walked,
+                 "--set: cannot descend into " + std::string(node->is_array() ? "an " : "a ") +
+                     typeName(*node));
         }
     }
     const std::string& last = parts.back();
@@ -175,7 +181,9 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
         return;
     }
     if (!node->is_object() && !node->is_null())
-        fail(file, walked, "--set: cannot descend into a " + typeName(*node));
+        fail(file, walked,
+             "--set: cannot descend into " + std::string(node->is_array() ? "an " : "a ") +
+                 typeName(*node));
     if (value.is_null()) {  // key=null deletes the key (its default applies again)
         if (node->is_object()) node->erase(last);
         return;

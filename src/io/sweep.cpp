@@ -114,6 +114,14 @@ Sweep readSweep(const std::string& path) {
             values.push_back(v);
         }
     }
+    // Two axes for one key (media.0.albedo and media[0].albedo, spp and render.spp): the later
+    // would overwrite the earlier, whose values the ledger would still record.
+    std::map<std::string, std::string> axisOfKey;
+    for (const std::string& k : s.axes) {
+        const std::string c = canonicalKeyPath(k == "spp" || k == "seed" ? "render." + k : k);
+        const auto [at, fresh] = axisOfKey.emplace(c, k);
+        if (!fresh) fail(path, "axes." + k, "sets the same key as axes." + at->second);
+    }
     for (size_t a = 0; a < s.axes.size(); ++a) {
         const std::string& k = s.axes[a];
         if (k == "render.seed") fail(path, "axes." + k, kSeedIsTheSweeps);

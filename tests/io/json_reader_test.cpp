@@ -109,6 +109,9 @@ TEST(JsonReader, Overrides) {
               "s.json: media: --set: index 3 out of range (1 elements)");
     EXPECT_EQ(messageOf([&] { applyOverride(j, "render.spp.x=1", "s.json"); }),
               "s.json: render.spp: --set: cannot descend into a number");
+    Json list = Json::array();
+    EXPECT_EQ(messageOf([&] { applyOverride(list, "render.spp=1", "s.json"); }),
+              "s.json: --set: cannot descend into an array");
     EXPECT_EQ(messageOf([&] { applyOverride(j, "nonsense", "s.json"); }),
               "s.json: --set nonsense: expected key.path=value");
 }

@@ -150,6 +150,19 @@ TEST(Sweep, ErrorsNameFileAndKey) {
               ": axes.render.seed: " + seedIsTheSweeps);
     EXPECT_EQ(err("e5i", R"({"scene": "scene.json", "reference": {"set": ["render.seed=5"]}})"),
               ": reference.set[0]: " + seedIsTheSweeps);
+    // Two axes for one key: the later would overwrite the earlier, whose values the ledger
+    // would record although they were never rendered.
+    EXPECT_EQ(err("e5j", R"({"scene": "scene.json",
+                            "axes": {"media.0.albedo": [0.1, 0.5], "media[0].albedo": [0.9]}})"),
+              ": axes.media[0].albedo: sets the same key as axes.media.0.albedo");
+    EXPECT_EQ(err("e5k", R"({"scene": "scene.json", "axes": {"spp": [2, 4], "render.spp": [8]}})"),
+              ": axes.render.spp: sets the same key as axes.spp");
+    EXPECT_EQ(test::messageOf([] {
+                  readSweep(writeSweep("e5l", R"({"scene": "scene.json",
+                      "axes": {"media[0].phase": [{"type": "hg", "g": 0.5}],
+                               "media[0].phase.g": [0.1, 0.2]}})"));
+              }),
+              "(no error)");  // a key inside another axis's value is a key of its own
     // The number of runs is checked before they are expanded (1000³ would exhaust memory).
     std::string thousand = "[0";
     for (int i = 1; i < 1000; ++i) thousand += "," + std::to_string(i);

@@ -28,6 +28,9 @@ Json parseJsonFile(const std::string& path);
 /// add the new type's keys. A relative path assigned to a key named `file` is made absolute
 /// against the current directory.
 void applyOverride(Json& doc, const std::string& assignment, const std::string& file);
+/// A key path as applyOverride walks it: media[0].albedo (the notation of error messages) is
+/// media.0.albedo.
+std::string canonicalKeyPath(const std::string& key);
 /// The value of an override "key=text" as applyOverride reads it: the JSON text parsed, or the
 /// text itself as a string when it is not valid JSON.
 Json overrideValue(const std::string& text);
