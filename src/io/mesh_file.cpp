@@ -619,9 +619,34 @@ bool isObjNumber(std::string_view t) {
     return i == t.size();
 }
 
-/// Checks the numbers of the v, vn and vt lines, which tinyobjloader does not, and returns the
-/// number of every f line (the k-th face tinyobjloader reports is on line fLines[k]). Lines end
-/// at "\n", "\r\n" or "\r", as in tinyobjloader.
+/// Why a face corner of an f line is not one tinyobjloader reads faithfully ("" if it is): v,
+/// v/vt, v//vn or v/vt/vn, each index a non-zero integer of at most 2³¹ − 1 in magnitude (beyond,
+/// tinyobjloader's integer parser wraps: 4294967299 would be vertex 3).
+std::string objCornerDefect(std::string_view w) {
+    const std::string form = " is not a face corner (v, v/vt, v//vn or v/vt/vn with integers)";
+    int parts = 0;
+    for (size_t i = 0;; ++parts) {
+        const size_t slash = std::min(w.find('/', i), w.size());
+        std::string_view n = w.substr(i, slash - i);
+        if (n.empty() && parts != 1) return quote(w) + form;  // only vt may be left out
+        if (!n.empty()) {
+            if (n[0] == '+' || n[0] == '-') n.remove_prefix(1);
+            if (n.empty() || n.find_first_not_of("0123456789") != std::string_view::npos)
+                return quote(w) + form;
+            const size_t first = std::min(n.find_first_not_of('0'), n.size());
+            if (n.size() - first > 10 ||
+                (n.size() - first == 10 && n.substr(first) > std::string_view("2147483647")))
+                return "index " + quote(w.substr(i, slash - i)) + " is beyond ±2147483647";
+        }
+        if (slash == w.size()) break;
+        i = slash + 1;
+    }
+    return parts > 2 ? quote(w) + form : "";
+}
+
+/// Checks the numbers of the v, vn and vt lines and the corners of the f lines, which
+/// tinyobjloader does not, and returns the number of every f line (the k-th face tinyobjloader
+/// reports is on line fLines[k]). Lines end at "\n", "\r\n" or "\r", as in tinyobjloader.
 std::vector<size_t> scanObj(std::string_view text, const std::string& path) {
     std::vector<size_t> fLines;
     size_t pos = 0, lineNo = 0;
@@ -639,7 +664,15 @@ std::vector<size_t> scanObj(std::string_view text, const std::string& path) {
             return line.size() > k.size() && line.substr(0, k.size()) == k &&
                    (line[k.size()] == ' ' || line[k.size()] == '\t');
         };
-        if (keyword("f")) fLines.push_back(lineNo);
+        if (keyword("f")) {
+            fLines.push_back(lineNo);
+            for (std::string_view w : splitWords(line.substr(1))) {
+                if (w[0] == '#') break;  // a trailing comment
+                const std::string defect = objCornerDefect(w);
+                if (!defect.empty()) fail(path, "line " + std::to_string(lineNo), defect);
+            }
+            continue;
+        }
         size_t least, most;
         const char* what;
         if (keyword("v")) {

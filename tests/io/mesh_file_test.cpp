@@ -522,6 +522,26 @@ TEST(MeshFile, ObjErrors) {
               tmp("range.obj") + ": line 8: v index 5 out of range (4 v lines)");
     EXPECT_EQ(errorOf("relative.obj", tet + "f -1 -2 -5\n"),
               tmp("relative.obj") + ": line 5: relative v index points before the first v line");
+    // Face corners tinyobjloader would misread: its integer parser wraps (4294967299 would be
+    // vertex 3) and stops at the first character that is not a digit.
+    EXPECT_EQ(errorOf("wrap.obj", tet + "f 1 2 4294967299\n"),
+              tmp("wrap.obj") + ": line 5: index \"4294967299\" is beyond ±2147483647");
+    EXPECT_EQ(errorOf("huge.obj", tet + "f 1 2 99999999999999999999\n"),
+              tmp("huge.obj") + ": line 5: index \"99999999999999999999\" is beyond ±2147483647");
+    EXPECT_EQ(errorOf("int.obj", tet + "f 1 2 -2147483648\n"),
+              tmp("int.obj") + ": line 5: index \"-2147483648\" is beyond ±2147483647");
+    const std::string notACorner =
+        " is not a face corner (v, v/vt, v//vn or v/vt/vn with integers)";
+    EXPECT_EQ(errorOf("x.obj", tet + "f 1 2 3x\n"), tmp("x.obj") + ": line 5: \"3x\"" + notACorner);
+    EXPECT_EQ(errorOf("four.obj", tet + "vt 0 0\nvn 0 0 1\nf 1/1/1/1 2/1/1 3/1/1\n"),
+              tmp("four.obj") + ": line 7: \"1/1/1/1\"" + notACorner);
+    EXPECT_EQ(errorOf("nov.obj", tet + "vt 0 0\nf /1 2/1 3/1\n"),
+              tmp("nov.obj") + ": line 6: \"/1\"" + notACorner);
+    // Leading zeros are no overflow.
+    const std::string zeros = write("zeros.obj", tet +
+                                                     "f 0000000000001 3 2\n"
+                                                     "f 1 2 4\nf 1 4 3\nf 2 3 4\n");
+    EXPECT_EQ(messageOf([&] { readMesh(zeros); }), "(no error)");
     EXPECT_EQ(errorOf("vt.obj", tet + "vt 0 0\nf 1/1 3/1 2/2\n"),
               tmp("vt.obj") + ": line 6: vt index 2 out of range (1 vt lines)");
     EXPECT_EQ(errorOf("zero.obj", tet + "f 1 3 2\nf 0 1 2\n"),
