@@ -357,6 +357,22 @@ int runRender(const RenderArgs& a) {
                          " samples per pixel, more than the " + std::to_string(scene.settings.spp) +
                          " asked for; resume with at least that many (--spp)");
             if (sppList.size() > 1) stops.assign(sppList.begin(), sppList.end() - 1);
+            // No output may replace a file the render reads (a sky written over by its render).
+            std::vector<std::string> writes = {final.image, final.stats, a.checkpoint};
+            for (const uint32_t n : stops) {
+                const Outputs o = outputsFor(out, "spp" + std::to_string(n));
+                writes.insert(writes.end(), {o.image, o.stats, a.variance ? o.stderrImage : ""});
+            }
+            if (a.variance) writes.push_back(final.stderrImage);
+            for (const Json& in : provenance.at("inputs"))
+                for (const std::string& w : writes) {
+                    std::error_code ec;
+                    if (!w.empty() &&
+                        std::filesystem::equivalent(w, in.at("path").get<std::string>(), ec))
+                        fail(w, "",
+                             "is an input of the scene (" + in.at("key").get<std::string>() +
+                                 "); write the output elsewhere");
+                }
             if (a.variance &&
                 std::min(stops.empty() ? 2 : stops.front(), uint32_t(scene.settings.spp)) < 2)
                 fail("", "--variance",

@@ -676,6 +676,46 @@ TEST_F(Cli, BadOverridesAndOutputs) {
     EXPECT_NE(r.err.find(".exr: the output needs a name before .exr"), std::string::npos) << r.err;
 }
 
+// No output may replace a file the scene reads: a sky written over by its own render, also as an
+// intermediate image of --spp or a checkpoint.
+TEST_F(Cli, RenderRefusesToOverwriteItsInputs) {
+    Image sky(4, 2);
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 4; ++x) sky.set(x, y, Spectrum::Constant(0.5));
+    for (const char* f : {"sky.exr", "x.spp1.exr", "ck.exr"}) writeExr(path(f), sky);
+    auto bytes = [&](const std::string& f) {
+        std::ifstream in(path(f), std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    const std::string before = bytes("sky.exr");
+    write("s.json", R"({"camera": {"resolution": [4, 3]}, "render": {"spp": 2},
+                        "environment": {"type": "image", "file": "sky.exr"}})");
+    Result r = run("render " + path("s.json") + " -o " + path("sky.exr") + " --quiet");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "shvol: error: " + path("sky.exr") +
+                         ": is an input of the scene (environment.file); write the output "
+                         "elsewhere\n");
+    EXPECT_EQ(bytes("sky.exr"), before);
+    write("t.json", R"({"camera": {"resolution": [4, 3]}, "render": {"spp": 2},
+                        "environment": {"type": "image", "file": "x.spp1.exr"}})");
+    r = run("render " + path("t.json") + " -o " + path("x.exr") + " --spp 1,2 --quiet");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find(path("x.spp1.exr") + ": is an input of the scene"), std::string::npos)
+        << r.err;
+    write("u.json", R"({"camera": {"resolution": [4, 3]}, "render": {"spp": 2},
+                        "environment": {"type": "image", "file": "ck.exr"}})");
+    r = run("render " + path("u.json") + " -o " + path("y.exr") + " --checkpoint " +
+            path("ck.exr") + " --quiet");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find(path("ck.exr") + ": is an input of the scene"), std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(path("x.exr")));
+    EXPECT_FALSE(fs::exists(path("y.exr")));
+    // Another name: fine.
+    r = run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet");
+    EXPECT_EQ(r.code, 0) << r.err;
+}
+
 // A pixel whose mean exceeds the float32 range is written as inf, and said so (on stderr and in
 // the stats' warnings), not passed silently.
 TEST_F(Cli, RenderSaysWhenAPixelOverflowsFloat) {
