@@ -107,20 +107,35 @@ std::string errorText(const std::exception& e, const SweepRun* run = nullptr) {
 /// the batch, or its --dry-run, at once instead of when the batch reaches that run. The error
 /// names the run, as one from its render does. Runs that differ only in the seed the sweep gave
 /// them (repeats; readSweep has checked those seeds) are checked once: a phase function's SH fit
-/// at order 256 takes about half a second.
+/// at order 256 takes about half a second. Each run's image must have the reference's size (a
+/// reference file's, read here, or the rendered reference's camera).
 void checkRunScenes(const Sweep& s) {
-    if (s.reference && s.reference->render) try {
-            checkScene(runDocument(s.sceneDoc, s.scene, s.reference->sets), s.scene);
+    std::optional<std::pair<int, int>> refSize;
+    std::string refName;
+    if (s.reference && s.reference->render) {
+        try {
+            const Camera c =
+                checkScene(runDocument(s.sceneDoc, s.scene, s.reference->sets), s.scene);
+            refSize = {c.width, c.height}, refName = "the rendered reference";
         } catch (const Error& e) {
             throw Error(std::string(e.what()) + " (in the reference)");
         }
+    } else if (s.reference) {
+        const Image ref = readExr(s.reference->file);
+        refSize = {ref.width, ref.height}, refName = s.reference->file;
+    }
     std::set<std::string> checked;
     for (const SweepRun& run : s.runs) {
         Json doc = runDocument(s.sceneDoc, s.scene, run.sets);
         if (!run.values.contains("seed")) doc["render"]["seed"] = 1;
         if (!checked.insert(dumpJson(doc)).second) continue;
         try {
-            checkScene(doc, s.scene);
+            const Camera c = checkScene(doc, s.scene);
+            if (refSize && std::pair(c.width, c.height) != *refSize)
+                fail(s.path, "reference",
+                     refName + " is " + std::to_string(refSize->first) + "x" +
+                         std::to_string(refSize->second) + ", the run's image " +
+                         std::to_string(c.width) + "x" + std::to_string(c.height));
         } catch (const Error& e) {
             throw Error(errorText(e, &run));
         }

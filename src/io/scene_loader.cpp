@@ -378,8 +378,8 @@ Scene sceneFromJson(const Json& doc, const std::string& path, Json* resolved) {
     return readScene(doc, path, resolved, Contents::Load);
 }
 
-void checkScene(const Json& doc, const std::string& path) {
-    readScene(doc, path, nullptr, Contents::Check);
+Camera checkScene(const Json& doc, const std::string& path) {
+    return readScene(doc, path, nullptr, Contents::Check).camera;
 }
 
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides,

@@ -1043,6 +1043,27 @@ TEST_F(Cli, BatchChecksEveryRunsSceneFirst) {
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("render.max_depth"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("(in the reference)"), std::string::npos) << r.err;
+    // A reference of another size than a run's image (the scene's camera is 8x6), a file or
+    // rendered: said before anything renders, with the sweep's key.
+    writeExr(path("ref.exr"), Image(16, 16));
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [4]},
+        "reference": {"file": "ref.exr"}})");
+    for (const std::string flags : {" --dry-run", ""}) {
+        r = run("batch " + path("sweep.json") + flags + " --quiet --output " + path("out"));
+        EXPECT_EQ(r.code, 1) << flags;
+        EXPECT_NE(r.err.find(path("sweep.json") + ": reference: " + path("ref.exr") +
+                             " is 16x16, the run's image 8x6 (in run r0000 repeat=0 spp=4)"),
+                  std::string::npos)
+            << flags << ": " << r.err;
+        EXPECT_FALSE(fs::exists(path("out/r0000.exr"))) << flags;
+    }
+    write("sweep.json", R"({"scene": "s.json", "axes": {"camera.resolution": [[8, 6], [4, 4]]},
+        "reference": {"spp": 64}})");
+    r = run("batch " + path("sweep.json") + " --dry-run");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("the rendered reference is 8x6, the run's image 4x4 (in run r0001"),
+              std::string::npos)
+        << r.err;
 }
 
 // Rows measured against one reference are not continued against another: a rendered reference
