@@ -23,8 +23,8 @@ try:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 except ImportError:
-    sys.exit("report.py: needs matplotlib for /usr/bin/python3: apt-get install python3-matplotlib "
-             "(./setup.sh installs it)")
+    sys.exit("shvol: error: report.py: needs matplotlib for /usr/bin/python3: apt-get install "
+             "python3-matplotlib (./setup.sh installs it)")
 
 META = {"run", "seed", "spp", "repeat", "wall_time_s", "paths_per_second", "image", "fingerprint",
         "git_revision", "reference_fingerprint", "rmse", "relmse", "mae", "bias", "bias_ci95",
@@ -32,18 +32,43 @@ META = {"run", "seed", "spp", "repeat", "wall_time_s", "paths_per_second", "imag
 ERRORS = ["rmse", "relmse", "mae"]
 
 
+def fail(message):
+    """One line, as shvol's own errors, and exit code 1."""
+    sys.exit(f"shvol: error: {message}")
+
+
+def is_number(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+
+
 def load(directory):
     path = os.path.join(directory, "results.jsonl")
     rows = []
-    with open(path) as f:
+    try:
+        f = open(path, encoding="utf-8", errors="replace")
+    except OSError as e:
+        fail(f"{path}: cannot open file ({e.strerror})")
+    with f:
         for n, line in enumerate(f, 1):
-            if line.strip():
-                try:
-                    rows.append(json.loads(line))
-                except json.JSONDecodeError:
-                    sys.exit(f"{path}: line {n}: malformed JSON row")
+            if not line.strip():
+                continue
+            try:
+                row = json.loads(line)
+            except json.JSONDecodeError:
+                fail(f"{path}: line {n}: malformed JSON row")
+            if not isinstance(row, dict):
+                fail(f"{path}: line {n}: a row must be a JSON object")
+            # What the report reads of every row: a ledger written by shvol batch has them.
+            for key in ("wall_time_s", "spp"):
+                if key not in row:
+                    fail(f"{path}: line {n}: no \"{key}\" (not a row of shvol batch)")
+            for key in ["wall_time_s", "spp"] + [k for k in ERRORS + ["bias"] if k in row]:
+                if not is_number(row[key]) or row[key] < 0 and key != "bias":
+                    fail(f"{path}: line {n}: {key}: expected a finite number"
+                         f"{'' if key == 'bias' else ' >= 0'}, got {json.dumps(row[key])}")
+            rows.append(row)
     if not rows:
-        sys.exit(f"{path}: no finished runs to report")
+        fail(f"{path}: no finished runs to report")
     return rows
 
 
@@ -74,7 +99,7 @@ def pareto(points):
 
 def main():
     if len(sys.argv) != 2:
-        sys.exit("usage: report.py DIR")
+        fail("usage: report.py DIR")
     directory = sys.argv[1]
     rows = load(directory)
     axes = [k for k in rows[0] if k not in META]
@@ -115,7 +140,7 @@ def main():
         ax.set_title(f"{error} vs time (mean over repeats)")
         ax.legend(fontsize=7), ax.grid(True, which="both", alpha=0.3)
         fig.tight_layout()
-        fig.savefig(os.path.join(directory, "error_vs_time.png"), dpi=110)
+        save(fig, os.path.join(directory, "error_vs_time.png"))
         figures.append(("error_vs_time.png", f"{error} vs time; circled: the Pareto front"))
 
         fig, ax = plt.subplots(figsize=(7, 5))
@@ -131,7 +156,7 @@ def main():
         ax.set_xlabel("samples per pixel"), ax.set_ylabel(error)
         ax.legend(fontsize=7), ax.grid(True, which="both", alpha=0.3)
         fig.tight_layout()
-        fig.savefig(os.path.join(directory, "error_vs_spp.png"), dpi=110)
+        save(fig, os.path.join(directory, "error_vs_spp.png"))
         figures.append(("error_vs_spp.png", f"{error} vs spp (bars: standard deviation over "
                                             "repeats)"))
 
@@ -150,7 +175,7 @@ def main():
         ax.set_ylabel("wall time (s)"), ax.set_title(f"time vs {a}")
         fig.tight_layout()
         name = "time_vs_" + "".join(ch if ch.isalnum() else "_" for ch in a) + ".png"
-        fig.savefig(os.path.join(directory, name), dpi=110)
+        save(fig, os.path.join(directory, name))
         figures.append((name, f"mean wall time for each value of {a} (all other axes pooled)"))
     plt.close("all")
 
@@ -189,6 +214,13 @@ def write(path, text):
     tmp = path + ".tmp"
     with open(tmp, "w") as f:
         f.write(text)
+    os.replace(tmp, path)
+
+
+def save(fig, path):
+    """A figure as a PNG, through a temporary and a rename (no half-written image)."""
+    tmp = path + ".tmp"
+    fig.savefig(tmp, dpi=110, format="png")
     os.replace(tmp, path)
 
 

@@ -36,8 +36,9 @@ struct RenderArgs {
 /// call it: they render a share of the pixels each and rank 0 writes the outputs.
 int runRender(const RenderArgs& a);
 
-/// `relative` in the source tree this program was built from (the program is build/shvol in a
-/// checkout, so ../relative from its directory), or "" if it is not there.
+/// `relative` in the tree this program is in (build/shvol in a checkout: ../relative from its
+/// directory), else in the source tree it was built from (a copy of the program elsewhere), or ""
+/// if it is in neither.
 std::string sourceTreePath(const std::string& relative);
 
 /// Writes DIR/report.md and DIR/report.html with plots from DIR/results.jsonl (tools/report.py

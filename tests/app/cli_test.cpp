@@ -1195,6 +1195,32 @@ TEST_F(Cli, BatchReport) {
         rows += line.rfind("| media[0].albedo=", 0) == 0;
     EXPECT_EQ(rows, 4);
     EXPECT_EQ(run("report " + path("nothing")).code, 1);
+    // A copy of the program outside its build tree finds tools/report.py in the source tree it
+    // was built from.
+    fs::copy_file(SHVOL_BINARY, path("shvol_copy"));
+    Result c = runCommand(path("shvol_copy") + " report " + path("o"));
+    EXPECT_EQ(c.code, 0) << c.err;
+    // Rows the report cannot read: one line naming the file and the line, no traceback.
+    const std::string ledger = path("o/results.jsonl");
+    std::ofstream(ledger, std::ios::app) << R"({"run": "r0099", "spp": 8, "rmse": "abc"})"
+                                         << "\n";
+    c = run("report " + path("o"));
+    EXPECT_EQ(c.code, 1);
+    EXPECT_EQ(c.err, "shvol: error: " + ledger +
+                         ": line 9: no \"wall_time_s\" (not a row of shvol batch)\n");
+    std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "wall_time_s": 1, "rmse": "abc"})"
+                          << "\n[1, 2]\n";
+    c = run("report " + path("o"));
+    EXPECT_EQ(c.err, "shvol: error: " + ledger +
+                         ": line 1: rmse: expected a finite number >= 0, got \"abc\"\n");
+    std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "wall_time_s": 1})"
+                          << "\n[1, 2]\n";
+    c = run("report " + path("o"));
+    EXPECT_EQ(c.err, "shvol: error: " + ledger + ": line 2: a row must be a JSON object\n");
+    std::ofstream(ledger) << "{\"run\": \n";
+    c = run("report " + path("o"));
+    EXPECT_EQ(c.code, 1);
+    EXPECT_EQ(c.err, "shvol: error: " + ledger + ": line 1: malformed JSON row\n");
 }
 
 // A scene whose file name is not valid UTF-8 renders, and its stats are valid JSON (the name is
