@@ -247,9 +247,12 @@ void JsonReader::rangeError(const std::string& key, const std::string& what, dou
 
 void JsonReader::rangeError(const std::string& key, const std::string& what, const std::string& x,
                             double lo, double hi) const {
-    error(key, what + " " + x + " out of range " +
-                   (hi >= kUnbounded ? "(expected ≥ " + numberText(lo) + ")"
-                                     : "[" + numberText(lo) + ", " + numberText(hi) + "]"));
+    // An unbounded range keeps its number finite: the cap is said only to a value beyond it.
+    const std::string range = hi < kUnbounded ? "[" + numberText(lo) + ", " + numberText(hi) + "]"
+                              : std::strtod(x.c_str(), nullptr) > hi
+                                  ? "(expected at most " + numberText(hi) + ")"
+                                  : "(expected ≥ " + numberText(lo) + ")";
+    error(key, what + " " + x + " out of range " + range);
 }
 
 bool JsonReader::has(const std::string& key) const {

@@ -23,8 +23,10 @@ std::string sceneDir(const JsonReader& r) {
 
 Spectrum spectrum(JsonReader& r, const std::string& key, double def, double lo, double hi) {
     const Vec3 v = r.vec3OrScalar(key, Vec3::Constant(def));
+    // "value 2" for a number, "component 2" for an element of [r, g, b].
+    const char* what = r.has(key) && r.raw(key).is_array() ? "component" : "value";
     for (int i = 0; i < 3; ++i)
-        if (v[i] < lo || v[i] > hi) r.rangeError(key, "component", v[i], lo, hi);
+        if (v[i] < lo || v[i] > hi) r.rangeError(key, what, v[i], lo, hi);
     return v.array();
 }
 
@@ -35,9 +37,12 @@ Camera readCamera(JsonReader r) {
     c.position = r.vec3("position", c.position);
     c.target = r.vec3("target", c.target);
     c.up = r.vec3("up", c.up);
-    if ((c.target - c.position).norm() == 0) r.error("target", "equals the camera position");
-    if (!(c.up.norm() > 0)) r.error("up", "is the zero vector");
-    if ((c.target - c.position).normalized().cross(c.up).norm() < 1e-9)
+    const Vec3 view = c.target - c.position;
+    if (!view.allFinite())
+        r.error("target", "is too far from the camera position (their distance overflows)");
+    if (view.isZero(0)) r.error("target", "equals the camera position");
+    if (c.up.isZero(0)) r.error("up", "is the zero vector");
+    if (view.stableNormalized().cross(c.up.stableNormalized()).norm() < 1e-9)
         r.error("up", "is parallel to the viewing direction");
     c.fovDegrees = r.number("fov", c.fovDegrees, 1e-3, 179);
     c.extent = r.number("extent", c.extent, 1e-9, 1e9);

@@ -6,8 +6,9 @@ namespace shvol {
 // perspective direction is forward + s_x·tan(fov/2)·aspect·right + s_y·tan(fov/2)·up, the
 // orthographic origin position + s_x·extent/2·right + s_y·extent/(2·aspect)·up.
 Camera::Frame Camera::frame() const {
-    const Vec3 forward = (target - position).normalized();
-    const Vec3 right = forward.cross(up).normalized();
+    // (Stable: a camera 1e300 from its target, or an up of 1e300, must not overflow the norm.)
+    const Vec3 forward = (target - position).stableNormalized();
+    const Vec3 right = forward.cross(up.stableNormalized()).normalized();
     const Vec3 upward = right.cross(forward);
     const double aspect = double(width) / height;
     const bool ortho = type == Type::Orthographic;

@@ -1015,7 +1015,7 @@ TEST_F(Cli, BatchChecksEveryRunsSceneFirst) {
     write("sweep.json", R"({"scene": "s.json", "axes": {"media[0].albedo": [0.5, 2]}})");
     const std::string expected =
         path("s.json") +
-        ": media[0].albedo: component 2 out of range [0, 1] (in run r0001 media[0].albedo=2 "
+        ": media[0].albedo: value 2 out of range [0, 1] (in run r0001 media[0].albedo=2 "
         "repeat=0)";
     for (const std::string flags : {" --dry-run", ""}) {
         const Result r =
@@ -1173,7 +1173,7 @@ TEST_F(Cli, MpiBatchEqualsOneProcess) {
     write("bad.json", R"({"scene": "s.json", "axes": {"media[0].albedo": [0.5, 0.6, 3, 0.7]}})");
     r = runCommand(mpi + "batch " + path("bad.json") + " --quiet --output " + path("bad"));
     EXPECT_EQ(r.code, 1);
-    const std::string line = "shvol: error: " + path("s.json") + ": media[0].albedo: component 3";
+    const std::string line = "shvol: error: " + path("s.json") + ": media[0].albedo: value 3";
     EXPECT_NE(r.err.find(line), std::string::npos) << r.err;
     EXPECT_EQ(r.err.find(line), r.err.rfind(line)) << r.err;
 }

@@ -359,7 +359,7 @@ TEST(SceneLoader, BadSurfacesGiveOneLineNamingThePlace) {
                                                                    "reflectance": 1.5}}]})"),
              "surfaces[0].bsdf.reflectance");
     expectIn(message(R"({"surfaces": [{"type": "sphere", "emission": -1}]})"),
-             "surfaces[0].emission: component -1 out of range (expected ≥ 0)");
+             "surfaces[0].emission: value -1 out of range (expected ≥ 0)");
     expectIn(message(R"({"media": [{"type": "homogeneous", "boundary": 0}]})"),
              "media[0].boundary: the scene has no surfaces");
     // Beyond the ray tracer's range (±1e15, after the transform).
@@ -396,8 +396,16 @@ TEST(SceneLoader, ErrorsNameBoundsAndTheTypeAKeyBelongsTo) {
     expectMessage(R"({"environment": {"type": "constant", "radiance": [1, -0.5, 1]}})",
                   "environment.radiance: component -0.5 out of range (expected ≥ 0)");
     expectMessage(R"({"media": [{"type": "homogeneous", "albedo": 1.5}]})",
-                  "media[0].albedo: component 1.5 out of range [0, 1]");
+                  "media[0].albedo: value 1.5 out of range [0, 1]");
+    // The cap of an unbounded range (1e30) is said only to a value beyond it.
+    expectMessage(R"({"environment": {"type": "constant", "radiance": [1, 2e30, 1]}})",
+                  "environment.radiance: component 2e30 out of range (expected at most 1e30)");
     expectMessage(R"({"camera": {"up": [0, 0, 0]}})", "camera.up: is the zero vector");
+    // Far cameras: the view direction is taken without overflowing its norm.
+    expectMessage(R"({"camera": {"position": [0, -1.7e308, 0], "target": [0, 1.7e308, 0]}})",
+                  "camera.target: is too far from the camera position (their distance overflows)");
+    expectMessage(R"({"camera": {"position": [0, -1e300, 0], "up": [0, 1e300, 0]}})",
+                  "camera.up: is parallel to the viewing direction");
     expectMessage(R"({"environment": {"type": "constant", "scale": 2}})",
                   "environment.scale: only with \"type\": \"image\"");
     expectMessage(

@@ -60,4 +60,16 @@ TEST(Camera, VerticalFieldOfView) {
     EXPECT_NEAR(std::acos(top.dot(bottom)) * 180 / Pi, 36.0, 1e-10);
 }
 
+// A camera 10^300 from its target, with an up of 10^300: its frame must not overflow (a plain
+// norm squares the components) and gives the camera the nearby one has.
+TEST(Camera, FarCameraHasAFiniteFrame) {
+    Camera near = camera(Camera::Type::Perspective), far = near;
+    near.position = Vec3(0, -3, 0), near.target = Vec3(0, 0, 0), near.up = Vec3(0, 0, 1);
+    far.position = Vec3(0, -1e300, 0), far.target = Vec3(0, 0, 0), far.up = Vec3(0, 0, 1e300);
+    const Ray a = near.frame().generateRay(37.25, 120), b = far.frame().generateRay(37.25, 120);
+    ASSERT_TRUE(b.d.allFinite());
+    EXPECT_LT((a.d - b.d).norm(), 1e-12);
+    EXPECT_EQ(b.o, far.position);
+}
+
 }  // namespace shvol
