@@ -280,8 +280,8 @@ std::unique_ptr<Medium> readMedium(JsonReader r, std::vector<Surface>& surfaces,
             flipWinding(surfaces[b].mesh);
     }
     const Spectrum albedo = spectrum(r, "albedo", 1, 0, 1);
-    const PhaseFunction phase =
-        r.has("phase") ? readPhaseFunction(r.object("phase")) : PhaseFunction(IsotropicPhase());
+    // Absent: isotropic, the phase type's default (and so recorded in scene_resolved).
+    const PhaseFunction phase = readPhaseFunction(r.objectOrEmpty("phase"));
     if (type == "homogeneous") {
         const double sigmaT = r.number("sigma_t", 1, 0, 1e12);
         const bool tracking =

@@ -187,6 +187,12 @@ TEST(SceneLoader, ResolvedSceneFillsInDefaults) {
             R"({"media": [{"type": "homogeneous", "shape": {}, "phase": {"type": "hg"}}]})"),
         "s.json", &r2);
     EXPECT_FALSE(r2["media"][0]["phase"].contains("order"));
+    // No phase: the isotropic one, recorded as such.
+    Json r3;
+    const Scene s3 = sceneFromJson(
+        Json::parse(R"({"media": [{"type": "homogeneous", "shape": {}}]})"), "s.json", &r3);
+    EXPECT_EQ(r3["media"][0]["phase"], Json({{"type", "isotropic"}, {"sampling", "analytic"}}));
+    EXPECT_TRUE(std::holds_alternative<IsotropicPhase>(s3.media[0]->phase().variant()));
 }
 
 }  // namespace shvol
