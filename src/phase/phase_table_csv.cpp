@@ -1,7 +1,6 @@
 #include "shvol/phase/phase_table_csv.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -22,13 +21,13 @@ std::string trim(const std::string& s) {
     return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
 }
 
-/// The whole cell as a number (strtod also accepts "nan" and "inf"; the caller rejects them).
+/// The whole cell as a number (strtod also accepts "nan" and "inf", and turns 1e999 into inf:
+/// the caller rejects them; 1e-320 is the subnormal it is, though strtod sets ERANGE for it).
 bool parseNumber(const std::string& cell, double* x) {
     if (cell.empty()) return false;
     char* end = nullptr;
-    errno = 0;
     *x = std::strtod(cell.c_str(), &end);
-    return end == cell.c_str() + cell.size() && errno != ERANGE;
+    return end == cell.c_str() + cell.size();
 }
 
 std::string str(double x) {
@@ -96,8 +95,7 @@ TabulatedPhase readPhaseTableCsv(const std::string& path) {
              "expected at least 2 (angle, value) rows, got " + std::to_string(angles.size()));
     // A table running from about 0 to about π is almost surely in radians: read as degrees, it
     // would be a 3° forward peak held constant out to 180°.
-    if (angles.size() >= 3 && angles.front() < 0.1 && angles.back() > 3.0 &&
-        angles.back() < Pi + 1e-3)
+    if (angles.front() < 0.1 && angles.back() > 3.0 && angles.back() < Pi + 1e-3)
         fail(path, end,
              "angles run from " + str(angles.front()) + " to " + str(angles.back()) +
                  ", which looks like radians (π = 3.14159); give the angles in degrees, 0 to 180");

@@ -154,6 +154,10 @@ TEST(TabulatedCsv, OneLineErrors) {
     EXPECT_EQ(err("radians.csv", "0,5\n1.5708,1\n3.14159,2\n"),
               "line 3: angles run from 0 to 3.14159, which looks like radians (π = 3.14159); give "
               "the angles in degrees, 0 to 180");
+    EXPECT_EQ(err("radians2.csv", "0,1\n3.14159,1\n"),
+              "line 2: angles run from 0 to 3.14159, which looks like radians (π = 3.14159); give "
+              "the angles in degrees, 0 to 180");
+    EXPECT_EQ(err("huge.csv", "0,1\n90,1e999\n180,1\n"), "line 2: value is not finite");
     // A short table in degrees that ends before π is still fine.
     EXPECT_EQ(messageOf([&] { readPhaseTableCsv(writeCsv("peak.csv", "0,5\n1,2\n2.5,1\n")); }),
               "(no error)");
@@ -184,6 +188,11 @@ TEST(TabulatedCsv, ExtremeValuesAreNormalised) {
     EXPECT_TRUE(std::isfinite(tiny.evalCos(1.0)));
     EXPECT_GT(tiny.evalCos(1.0), 0);
     EXPECT_EQ(tiny.evalCos(0.0), 0);
+    // Subnormal values (strtod flags them with ERANGE) are numbers too.
+    const TabulatedPhase sub =
+        readPhaseTableCsv(writeCsv("sub.csv", "0,1e-320\n90,5e-321\n180,1e-320\n"));
+    EXPECT_NEAR(sub.evalCos(1.0) / sub.evalCos(-1.0), 1.0, 1e-12);
+    EXPECT_GT(sub.evalCos(0.0), 0);
 }
 
 // Only regular files: /dev/zero (tabulated:file=/dev/zero) was read forever.
