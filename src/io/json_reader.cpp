@@ -148,6 +148,11 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
     }
     Json* node = &doc;
     std::string walked;
+    const auto cannotDescend = [&] {
+        fail(file, walked,
+             "--set: cannot descend into " + std::string(node->is_array() ? "an " : "a ") +
+                 typeName(*node));
+    };
     for (size_t k = 0; k + 1 < parts.size(); ++k) {
         const std::string& part = parts[k];
         const bool isIndex = part.find_first_not_of("0123456789") == std::string::npos;
@@ -163,9 +168,7 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
             node = &(*node)[part];
             walked += (walked.empty() ? "" : ".") + part;
         } else {
-            fail(file, walked,
-                 "--set: cannot descend into " + std::string(node->is_array() ? "an " : "a ") +
-                     typeName(*node));
+            cannotDescend();
         }
     }
     const std::string& last = parts.back();
@@ -180,10 +183,7 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
         (*node)[i] = std::move(value);
         return;
     }
-    if (!node->is_object() && !node->is_null())
-        fail(file, walked,
-             "--set: cannot descend into " + std::string(node->is_array() ? "an " : "a ") +
-                 typeName(*node));
+    if (!node->is_object() && !node->is_null()) cannotDescend();
     if (value.is_null()) {  // key=null deletes the key (its default applies again)
         if (node->is_object()) node->erase(last);
         return;

@@ -620,8 +620,9 @@ bool isObjNumber(std::string_view t) {
 }
 
 /// Why a face corner of an f line is not one tinyobjloader reads faithfully ("" if it is): v,
-/// v/vt, v//vn or v/vt/vn, each index a non-zero integer of at most 2³¹ − 1 in magnitude (beyond,
-/// tinyobjloader's integer parser wraps: 4294967299 would be vertex 3).
+/// v/vt, v//vn or v/vt/vn, each index an integer of at most 2³¹ − 1 in magnitude (beyond,
+/// tinyobjloader's integer parser wraps: 4294967299 would be vertex 3). An index of 0 it
+/// refuses itself.
 std::string objCornerDefect(std::string_view w) {
     const std::string form = " is not a face corner (v, v/vt, v//vn or v/vt/vn with integers)";
     int parts = 0;
@@ -667,7 +668,10 @@ std::vector<size_t> scanObj(std::string_view text, const std::string& path) {
         if (keyword("f")) {
             fLines.push_back(lineNo);
             for (std::string_view w : splitWords(line.substr(1))) {
-                if (w[0] == '#') break;  // a trailing comment
+                if (w[0] == '#')
+                    fail(path, "line " + std::to_string(lineNo),
+                         "a comment after a face's corners (tinyobjloader cannot read it); put "
+                         "it on a line of its own");
                 const std::string defect = objCornerDefect(w);
                 if (!defect.empty()) fail(path, "line " + std::to_string(lineNo), defect);
             }

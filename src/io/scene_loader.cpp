@@ -21,13 +21,18 @@ std::string sceneDir(const JsonReader& r) {
     return fs::path(r.file()).parent_path().string();
 }
 
-Spectrum spectrum(JsonReader& r, const std::string& key, double def, double lo, double hi) {
-    const Vec3 v = r.vec3OrScalar(key, Vec3::Constant(def));
-    // "value 2" for a number, "component 2" for an element of [r, g, b].
+/// r[key] as a number or three, each in [lo, hi]: "value 2 out of range" for a number,
+/// "component 2 out of range" for an element of [x, y, z].
+Vec3 vec3OrScalarIn(JsonReader& r, const std::string& key, const Vec3& def, double lo, double hi) {
+    const Vec3 v = r.vec3OrScalar(key, def);
     const char* what = r.has(key) && r.raw(key).is_array() ? "component" : "value";
     for (int i = 0; i < 3; ++i)
-        if (v[i] < lo || v[i] > hi) r.rangeError(key, what, v[i], lo, hi);
-    return v.array();
+        if (!(v[i] >= lo && v[i] <= hi)) r.rangeError(key, what, v[i], lo, hi);
+    return v;
+}
+
+Spectrum spectrum(JsonReader& r, const std::string& key, double def, double lo, double hi) {
+    return vec3OrScalarIn(r, key, Vec3::Constant(def), lo, hi).array();
 }
 
 Camera readCamera(JsonReader r) {
@@ -148,9 +153,7 @@ Eigen::Affine3d readTransform(JsonReader r) {
     const Vec3 t = r.vec3("translate", Vec3::Zero());
     // Bounded, so that the transform stays invertible with any grid's voxel size (a scale of
     // 1e-300 would pass a positivity check and make the medium's transform singular at load).
-    const Vec3 s = r.vec3OrScalar("scale", Vec3::Ones());
-    for (int i = 0; i < 3; ++i)
-        if (!(s[i] >= 1e-12 && s[i] <= 1e12)) r.rangeError("scale", "component", s[i], 1e-12, 1e12);
+    const Vec3 s = vec3OrScalarIn(r, "scale", Vec3::Ones(), 1e-12, 1e12);
     Eigen::Affine3d m = Eigen::Affine3d::Identity();
     m.translate(t);
     if (r.has("rotate")) {

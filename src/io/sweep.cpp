@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <map>
 
 #include "shvol/core/error.h"
 #include "shvol/core/hash.h"
@@ -114,13 +113,22 @@ Sweep readSweep(const std::string& path) {
             values.push_back(v);
         }
     }
-    // Two axes for one key (media.0.albedo and media[0].albedo, spp and render.spp): the later
-    // would overwrite the earlier, whose values the ledger would still record.
-    std::map<std::string, std::string> axisOfKey;
-    for (const std::string& k : s.axes) {
-        const std::string c = canonicalKeyPath(k == "spp" || k == "seed" ? "render." + k : k);
-        const auto [at, fresh] = axisOfKey.emplace(c, k);
-        if (!fresh) fail(path, "axes." + k, "sets the same key as axes." + at->second);
+    // Two axes for one key (media.0.albedo and media[0].albedo, spp and render.spp), or one for a
+    // key inside another's (media[0].phase.g and media[0].phase): the later would overwrite the
+    // earlier, or a part of it, whose values the ledger would still record.
+    std::vector<std::string> canonical;
+    for (size_t a = 0; a < s.axes.size(); ++a) {
+        const std::string& k = s.axes[a];
+        canonical.push_back(canonicalKeyPath(k == "spp" || k == "seed" ? "render." + k : k) + ".");
+        for (size_t b = 0; b < a; ++b) {
+            const std::string &x = canonical[a], &y = canonical[b];
+            if (x == y) fail(path, "axes." + k, "sets the same key as axes." + s.axes[b]);
+            if (x.rfind(y, 0) == 0 || y.rfind(x, 0) == 0)
+                fail(
+                    path, "axes." + k,
+                    std::string(x.size() > y.size() ? "sets a key inside" : "contains the key of") +
+                        " axes." + s.axes[b] + "; vary one of them");
+        }
     }
     for (size_t a = 0; a < s.axes.size(); ++a) {
         const std::string& k = s.axes[a];

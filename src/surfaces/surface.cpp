@@ -16,10 +16,17 @@ std::string surfaceReachMessage(double r) {
 }
 
 double Surface::reach() const {
-    const Bounds3 b = bounds();
-    if (b.empty()) return 0;
-    const double r = std::max(b.lo.cwiseAbs().maxCoeff(), b.hi.cwiseAbs().maxCoeff());
-    return b.lo.hasNaN() || b.hi.hasNaN() ? NAN : r;
+    // (Not from bounds(): cwiseMin and cwiseMax would drop a NaN coordinate.)
+    double r = 0;
+    const auto take = [&](const Vec3& p, double extra) {
+        for (int a = 0; a < 3; ++a)
+            r = std::isnan(p[a]) || std::isnan(r) ? NAN : std::max(r, std::abs(p[a]) + extra);
+    };
+    if (kind == Kind::Disk || kind == Kind::Sphere)
+        take(center, radius);
+    else
+        for (const Vec3& p : mesh.p) take(p, 0);
+    return r;
 }
 
 double Surface::area() const {

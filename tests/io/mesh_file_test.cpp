@@ -537,6 +537,10 @@ TEST(MeshFile, ObjErrors) {
               tmp("four.obj") + ": line 7: \"1/1/1/1\"" + notACorner);
     EXPECT_EQ(errorOf("nov.obj", tet + "vt 0 0\nf /1 2/1 3/1\n"),
               tmp("nov.obj") + ": line 6: \"/1\"" + notACorner);
+    EXPECT_EQ(errorOf("comment.obj", tet + "f 1 3 2 # the base\n"),
+              tmp("comment.obj") +
+                  ": line 5: a comment after a face's corners (tinyobjloader cannot read it); put "
+                  "it on a line of its own");
     // Leading zeros are no overflow.
     const std::string zeros = write("zeros.obj", tet +
                                                      "f 0000000000001 3 2\n"

@@ -403,6 +403,10 @@ TEST(SceneLoader, ErrorsNameBoundsAndTheTypeAKeyBelongsTo) {
                   "environment.radiance: component -0.5 out of range (expected ≥ 0)");
     expectMessage(R"({"media": [{"type": "homogeneous", "albedo": 1.5}]})",
                   "media[0].albedo: value 1.5 out of range [0, 1]");
+    expectMessage(R"({"surfaces": [{"type": "rectangle", "transform": {"scale": 1e300}}]})",
+                  "surfaces[0].transform.scale: value 1e300 out of range [1e-12, 1e12]");
+    expectMessage(R"({"surfaces": [{"type": "rectangle", "transform": {"scale": [1, 0, 1]}}]})",
+                  "surfaces[0].transform.scale: component 0 out of range [1e-12, 1e12]");
     // The cap of an unbounded range (1e30) is said only to a value beyond it.
     expectMessage(R"({"environment": {"type": "constant", "radiance": [1, 2e30, 1]}})",
                   "environment.radiance: component 2e30 out of range (expected at most 1e30)");

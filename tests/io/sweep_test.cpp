@@ -96,7 +96,7 @@ TEST(Sweep, FingerprintFollowsTheContentsOfNamedFiles) {
 TEST(Sweep, FilePathsAreRelativeToTheSweepFile) {
     const std::string sweep = writeSweep("paths", R"({"scene": "scene.json",
         "set": ["media[0].file=grids/a.vdb", "camera.fov=20", "environment.file=\"/abs/sky.exr\""],
-        "axes": {"media.0.phase.file": ["t.csv"], "media[0].phase": [{"file": "u.csv"}]},
+        "axes": {"media.0.phase.file": ["t.csv"], "media[1].phase": [{"file": "u.csv"}]},
         "reference": {"spp": 4, "set": ["environment.file=sky.exr"]}})");
     const std::string dir = fs::path(sweep).parent_path().string();
     const Sweep s = readSweep(sweep);
@@ -105,7 +105,7 @@ TEST(Sweep, FilePathsAreRelativeToTheSweepFile) {
               (std::vector<std::string>{"media[0].file=\"" + dir + "/grids/a.vdb\"",
                                         "camera.fov=20", "environment.file=\"/abs/sky.exr\"",
                                         "media.0.phase.file=\"" + dir + "/t.csv\"",
-                                        R"(media[0].phase={"file":"u.csv"})", "render.seed=1"}));
+                                        R"(media[1].phase={"file":"u.csv"})", "render.seed=1"}));
     ASSERT_TRUE(s.reference.has_value());
     EXPECT_EQ(s.reference->sets[3], "environment.file=\"" + dir + "/sky.exr\"");
 }
@@ -157,12 +157,19 @@ TEST(Sweep, ErrorsNameFileAndKey) {
               ": axes.media[0].albedo: sets the same key as axes.media.0.albedo");
     EXPECT_EQ(err("e5k", R"({"scene": "scene.json", "axes": {"spp": [2, 4], "render.spp": [8]}})"),
               ": axes.render.spp: sets the same key as axes.spp");
+    EXPECT_EQ(err("e5l", R"({"scene": "scene.json",
+                            "axes": {"media[0].phase": [{"type": "hg", "g": 0.5}],
+                                     "media[0].phase.g": [0.1, 0.2]}})"),
+              ": axes.media[0].phase.g: sets a key inside axes.media[0].phase; vary one of them");
+    EXPECT_EQ(err("e5m", R"({"scene": "scene.json",
+                            "axes": {"media.0.albedo": [0.2, 0.9], "media.0": [{"albedo": 0.5}]}})"),
+              ": axes.media.0: contains the key of axes.media.0.albedo; vary one of them");
+    // Keys that share only the start of a name are different keys.
     EXPECT_EQ(test::messageOf([] {
-                  readSweep(writeSweep("e5l", R"({"scene": "scene.json",
-                      "axes": {"media[0].phase": [{"type": "hg", "g": 0.5}],
-                               "media[0].phase.g": [0.1, 0.2]}})"));
+                  readSweep(writeSweep("e5n", R"({"scene": "scene.json",
+                      "axes": {"media[0].albedo": [0.5], "media[0].albedo_x": [1]}})"));
               }),
-              "(no error)");  // a key inside another axis's value is a key of its own
+              "(no error)");
     // The number of runs is checked before they are expanded (1000³ would exhaust memory).
     std::string thousand = "[0";
     for (int i = 1; i < 1000; ++i) thousand += "," + std::to_string(i);

@@ -211,9 +211,35 @@ TEST(SurfaceScene, RaysFromBeyondEmbreesRangeAreTracedFromTheSurfacesBox) {
         EXPECT_FALSE(scene.intersect(Ray{Vec3(0, -far, 0), Vec3(0, -1, 0)}, NoHit, &hit));
         EXPECT_FALSE(scene.intersect(Ray{Vec3(0, -far, 3), Vec3(0, 1, 0)}, NoHit, &hit));
     }
+    // Oblique rays from far away, aimed at the sphere: each meets its near side from outside (the
+    // new origin must not land inside the sphere, whatever the rounding of o + t·d).
+    Rng rng(7, 0);
+    for (const double far : {1e4, 1e14, 1e15, 1e16, 1e19}) {
+        int backSide = 0, misses = 0;
+        for (int k = 0; k < 2000; ++k) {
+            const Vec3 o = far * Vec3(0.5 + 0.5 * rng.uniform(), -1, 0.6 * rng.uniform() - 0.3);
+            const Vec3 aim(0.4 * rng.uniform() - 0.2, 0, 0.4 * rng.uniform() - 0.2);
+            const Vec3 d = (aim - o).normalized();
+            SurfaceHit hit;
+            if (!scene.intersect(Ray{o, d}, NoHit, &hit) || hit.surface != 0)
+                ++misses;
+            else if (!(hit.ng.dot(d) < 0))
+                ++backSide;
+        }
+        EXPECT_EQ(backSide, 0) << far;
+        // (From 10¹⁶ on, aim − o no longer holds the aim: ulp(10¹⁶) = 2 moves the line by about
+        // as much as the sphere's radius, so some rays miss it.)
+        if (far <= 1e15) EXPECT_EQ(misses, 0) << far;
+    }
+    // NaN or infinite origins, in any coordinate: no hit (Embree would abort).
     SurfaceHit hit;
-    EXPECT_FALSE(scene.intersect(Ray{Vec3(NAN, 0, 0), Vec3(0, 1, 0)}, NoHit, &hit));
-    EXPECT_FALSE(scene.occluded(Ray{Vec3(0, INFINITY, 0), Vec3(0, 1, 0)}, NoHit));
+    for (int a = 0; a < 3; ++a)
+        for (const double bad : {double(NAN), double(INFINITY)}) {
+            Vec3 o(0, -5, 0);
+            o[a] = bad;
+            EXPECT_FALSE(scene.intersect(Ray{o, Vec3(0, 1, 0)}, NoHit, &hit)) << a << bad;
+            EXPECT_FALSE(scene.occluded(Ray{o, Vec3(0, 1, 0)}, NoHit)) << a << bad;
+        }
 }
 
 // Surfaces themselves must lie within ±10¹⁵ (Embree's float vertices and range); a scene beyond
@@ -235,6 +261,13 @@ TEST(SurfaceScene, RefusesSurfacesBeyondTheRayTracersRange) {
     Surface mesh = meshSurface(boxMesh(Vec3(0, 0, 0), Vec3(1, 1, 1)));
     mesh.mesh.p[3].z() = 1e24;
     EXPECT_THROW(SurfaceScene(one(std::move(mesh))), Error);
+    // A NaN coordinate anywhere (min and max would pass it over).
+    for (int a = 0; a < 3; ++a) {
+        Surface m = meshSurface(boxMesh(Vec3(0, 0, 0), Vec3(1, 1, 1)));
+        m.mesh.p[5][a] = NAN;
+        EXPECT_TRUE(std::isnan(m.reach())) << a;
+        EXPECT_THROW(SurfaceScene(one(std::move(m))), Error) << a;
+    }
 }
 
 // Building the BVH must not cap the parallelism of the process: Embree enforces a "threads=N"

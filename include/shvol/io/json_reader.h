@@ -77,16 +77,16 @@ class JsonReader {
 
     [[noreturn]] void error(const std::string& key, const std::string& msg) const;
     /// The error of a value x outside [lo, hi]: "<what> x out of range [lo, hi]", or "… (expected
-    /// ≥ lo)" when hi ≥ kUnbounded ("… (expected at most 1e30)" for an x above it); whole numbers below 10^6 in full, others as the shortest
-    /// decimal that reads back, with a plain exponent (2^53 in full, not 9.0072e+15; 10^12 as
-    /// 1e12; 0.1 as 0.1).
+    /// ≥ lo)" when hi ≥ kUnbounded ("… (expected at most 1e30)" for an x above it); whole
+    /// numbers below 10^6 in full, others as the shortest decimal that reads back, with a plain
+    /// exponent (2^53 in full, not 9.0072e+15; 10^12 as 1e12; 0.1 as 0.1).
     [[noreturn]] void rangeError(const std::string& key, const std::string& what, double x,
                                  double lo, double hi) const;
     /// The same with the value as written (an integer beyond 2^53 exactly).
     [[noreturn]] void rangeError(const std::string& key, const std::string& what,
                                  const std::string& x, double lo, double hi) const;
-    /// An upper bound that only keeps a value finite (e.g. a radiance's 1e30): shown only to a value
-    /// beyond it.
+    /// An upper bound that only keeps a value finite (e.g. a radiance's 1e30): shown only to a
+    /// value beyond it.
     static constexpr double kUnbounded = 1e30;
 
     /// Records every value read from now on — defaults included — into *node, as the resolved

@@ -42,8 +42,8 @@ struct Surface {
     /// A box containing the shape: its vertices', or (disk, sphere) the centre ± the radius on
     /// each axis.
     Bounds3 bounds() const;
-    /// The largest coordinate magnitude of bounds() (0 for a mesh without vertices, NaN if a
-    /// coordinate is).
+    /// The largest coordinate magnitude the shape reaches (|centre| + radius per axis for disks
+    /// and spheres; 0 for a mesh without vertices), NaN if a coordinate is NaN.
     double reach() const;
     /// Radiance leaving the surface towards w (unit, pointing away from it) at a point with
     /// geometric normal ng: L_e if w is on the front side (or twoSidedEmission), else 0.
