@@ -13,9 +13,11 @@ double oneMinusCosMax(double r, double dc) {
 
 /// Whether points of the sphere are drawn in the cone it subtends at x: from outside, and only
 /// when its far side cannot emit towards x (a two-sided emitter behind a null or glass surface
-/// could), else by area.
+/// could), else by area. A point of the sphere itself (a shading point on it, lit from inside or
+/// out) is not outside: its distance from the centre is r only to rounding, and the cone's near
+/// root would be the point itself, lit by the front of the surface it lies on.
 bool byCone(const Surface& s, const Vec3& x) {
-    return !s.twoSidedEmission && (x - s.center).norm() > s.radius;
+    return !s.twoSidedEmission && (x - s.center).norm() > s.radius * (1 + 1e-9);
 }
 
 }  // namespace

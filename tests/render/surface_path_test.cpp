@@ -80,6 +80,26 @@ TEST(SurfacePath, InsideAClosedLambertianSphereIsLeOverOneMinusRho) {
     checkClosedEnclosure(Surface::sphere(Vec3(0, 0, 0), 1), false);
 }
 
+// A sphere that emits outwards only leaves its inside dark, with next-event estimation too. The
+// shading points on its inner wall are at distance r from its centre only to rounding: taken for
+// points outside, they drew light from the cone the sphere subtends, whose near root was the
+// point itself, facing outwards (mean 1.19 of an exact 0 in a 16² render).
+TEST(SurfacePath, InsideAnOutwardEmittingSphereIsDark) {
+    for (const bool nee : {true, false}) {
+        Surface bulb = Surface::sphere(Vec3(0, 0, 0), 3);
+        bulb.bsdf = Bsdf::lambert(Spectrum::Constant(0.5));
+        bulb.emission = Spectrum::Constant(10);
+        Scene scene;
+        scene.settings.nee = nee;
+        std::vector<Surface> v;
+        v.push_back(std::move(bulb));
+        scene.surfaces = surfaces(std::move(v));
+        const Estimate e = estimate(scene, 20000, raysFrom(Vec3(0, 0, 0.1)));
+        EXPECT_EQ(e.mean[0], 0) << "nee " << nee;
+        EXPECT_EQ(e.counters.areaLightSamples > 0, nee);
+    }
+}
+
 // Inside a box, light from the faces adjacent to a vertex, near their shared edge, reaches it
 // along grazing shadow rays. Aimed along the direction between the unmoved points (before
 // SurfaceScene::rayTo) they were blocked by float error and this mean came out 0.46% low:
