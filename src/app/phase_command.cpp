@@ -141,6 +141,14 @@ int runSample(const PhaseArgs& a) {
     const int order = int(sh.fit().p.size());
     if (general && order > 128)
         fail("", "--order", "the general sampler supports orders up to 128");
+    // The samples must not replace the table they are drawn from.
+    const Json spec = phaseSpecToJson(a.spec);
+    std::error_code ec;
+    if (spec.contains("file") && spec["file"].is_string() &&
+        std::filesystem::equivalent(spec["file"].get<std::string>(), a.out, ec))
+        fail(a.out, "",
+             "is the phase table being sampled (the spec's file); write the samples "
+             "elsewhere");
     const Vec3 z(0, 0, 1);
     WeightStats ws;
     writeAtomically(a.out, [&](const std::string& tmp) {

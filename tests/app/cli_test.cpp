@@ -396,6 +396,22 @@ TEST_F(Cli, PhaseToolsUseTheSpecsKeys) {
 
 // phase sample reports the renderer's pdf: with evaluate exact and a fit that rings (HG 0.99,
 // order 4) the pdf includes the defensive uniform share, and the weights are p/pdf.
+// phase sample's output must not replace the table it samples.
+TEST_F(Cli, PhaseSampleRefusesToOverwriteItsTable) {
+    write("mie.csv", "angle,value\n0,10\n90,1\n180,2\n");
+    const std::string before = "angle,value\n0,10\n90,1\n180,2\n";
+    Result r = run("phase sample tabulated:file=" + path("mie.csv") + " --count 5 --out " +
+                   path("mie.csv"));
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "shvol: error: " + path("mie.csv") +
+                         ": is the phase table being sampled (the spec's file); write the samples "
+                         "elsewhere\n");
+    std::ifstream in(path("mie.csv"));
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), before);
+    r = run("phase sample tabulated:file=" + path("mie.csv") + " --count 5 --out " + path("s.csv"));
+    EXPECT_EQ(r.code, 0) << r.err;
+}
+
 TEST_F(Cli, PhaseSampleUsesTheRenderersPdf) {
     const Result r =
         run("phase sample hg:g=0.99 --order 4 --window none --evaluate exact --count 2000 --out " +
