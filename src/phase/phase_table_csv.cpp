@@ -50,6 +50,8 @@ TabulatedPhase readPhaseTableCsv(const std::string& path) {
     bool first = true;
     while (std::getline(in, text)) {
         ++lineNo;
+        // A UTF-8 byte-order mark (spreadsheets write one) is not part of the first cell.
+        if (lineNo == 1 && text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
         const std::string line = trim(text);
         if (line.empty() || line[0] == '#') continue;
         const std::string place = "line " + std::to_string(lineNo);
@@ -59,7 +61,9 @@ TabulatedPhase readPhaseTableCsv(const std::string& path) {
         if (line.back() == ',') cells.push_back("");
         double angle = 0, value = 0;
         const bool numeric = !cells.empty() && parseNumber(cells[0], &angle);
-        if (first && !numeric) {  // header line
+        // A header line: the first line whose first cell does not even start like a number (a
+        // row "0 100" or "0;100" is a malformed row, not a header to drop).
+        if (first && !numeric && cells[0].find_first_of("0123456789+-.") != 0) {
             first = false;
             continue;
         }

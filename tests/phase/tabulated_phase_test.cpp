@@ -154,6 +154,11 @@ TEST(TabulatedCsv, OneLineErrors) {
     EXPECT_EQ(err("radians.csv", "0,5\n1.5708,1\n3.14159,2\n"),
               "line 3: angles run from 0 to 3.14159, which looks like radians (π = 3.14159); give "
               "the angles in degrees, 0 to 180");
+    // A first row with another separator is a malformed row, not a header to drop.
+    EXPECT_EQ(err("space.csv", "0 100\n10,1\n180,1\n"),
+              "line 1: expected 2 columns (angle in degrees, value), got 1");
+    EXPECT_EQ(err("semicolon.csv", "0;100\n10;1\n"),
+              "line 1: expected 2 columns (angle in degrees, value), got 1");
     EXPECT_EQ(err("radians2.csv", "0,1\n3.14159,1\n"),
               "line 2: angles run from 0 to 3.14159, which looks like radians (π = 3.14159); give "
               "the angles in degrees, 0 to 180");
@@ -161,6 +166,21 @@ TEST(TabulatedCsv, OneLineErrors) {
     // A short table in degrees that ends before π is still fine.
     EXPECT_EQ(messageOf([&] { readPhaseTableCsv(writeCsv("peak.csv", "0,5\n1,2\n2.5,1\n")); }),
               "(no error)");
+}
+
+// A UTF-8 byte-order mark before the first row (spreadsheets write one) is not part of it: the
+// row was taken for a header and dropped, and the forward peak with it.
+TEST(TabulatedCsv, ByteOrderMark) {
+    const TabulatedPhase plain = readPhaseTableCsv(writeCsv("plain.csv", "0,100\n10,1\n180,1\n"));
+    const TabulatedPhase bom = readPhaseTableCsv(writeCsv("bom.csv",
+                                                          "\xEF\xBB\xBF"
+                                                          "0,100\n10,1\n180,1\n"));
+    EXPECT_EQ(bom.table().nodes().size(), plain.table().nodes().size());
+    EXPECT_DOUBLE_EQ(bom.evalCos(1.0), plain.evalCos(1.0));
+    const TabulatedPhase header = readPhaseTableCsv(writeCsv("bomheader.csv",
+                                                             "\xEF\xBB\xBF"
+                                                             "angle,value\n0,100\n10,1\n180,1\n"));
+    EXPECT_DOUBLE_EQ(header.evalCos(1.0), plain.evalCos(1.0));
 }
 
 // Found by fuzz/phase_csv_fuzzer: a table starting at 1e-7° (or ending at 179.9999999°) was held
