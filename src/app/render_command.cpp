@@ -128,6 +128,22 @@ std::vector<std::string> phaseWarnings(const Scene& scene) {
     return w;
 }
 
+/// Warnings only the render can give: a radiance cache whose BRDF tables hold the BRDF poorly (a
+/// sharp lobe at a low HSH order: the cached light is then too dark or blurred).
+std::vector<std::string> renderWarnings(const Scene& scene, const RenderStats& st) {
+    std::vector<std::string> w;
+    if (st.radianceCache.used && st.radianceCache.tableProjectionError > kLooseFit) {
+        char msg[300];
+        std::snprintf(msg, sizeof msg,
+                      "render.radiance_cache: a BRDF table holds its BRDF with relative projection "
+                      "error %.3g at HSH order %d: cached light on that surface is biased; raise "
+                      "hsh_order, or leave such sharp lobes uncached",
+                      st.radianceCache.tableProjectionError, scene.settings.radianceCache.hshOrder);
+        w.push_back(msg);
+    }
+    return w;
+}
+
 /// Everything the stats file says about one image; `provenance` (inputs, overrides, command line,
 /// machine) is merged in as it is.
 nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderStats& st,
@@ -250,6 +266,7 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
     // A mean beyond the largest float (3.4·10³⁸) becomes ±inf in the float32 EXR: said, not
     // clamped (the value is not known to be the largest float either).
     std::vector<std::string> all = warnings;
+    for (const std::string& w : renderWarnings(scene, st)) all.push_back(w);
     const size_t overflows = size_t(std::count_if(image.rgb.begin(), image.rgb.end(),
                                                   [](float v) { return !std::isfinite(v); }));
     if (overflows > 0) {
@@ -339,6 +356,10 @@ int runRender(const RenderArgs& a) {
                 if (std::filesystem::is_directory(f)) fail(f, "", "cannot write: is a directory");
             }
             warnings = phaseWarnings(scene);
+            if (scene.settings.radianceCache.enabled && !Effects::of(scene).radianceCache)
+                warnings.push_back(
+                    "render.radiance_cache: enabled, but no surface has a BSDF the cache holds "
+                    "(lambert, phong, ward), or max_depth is 0: the render runs without it");
             provenance = {{"scene_resolved", resolved},
                           {"inputs", inputFiles(doc, a.scene)},
                           {"overrides", a.sets},
@@ -438,6 +459,8 @@ int runRender(const RenderArgs& a) {
                      interrupted ? "interrupted" : "time limit reached", r.stats.minSamples,
                      r.stats.maxSamples, scene.settings.spp,
                      a.checkpoint.empty() ? "" : "; continue with --resume");
+    for (const std::string& w : renderWarnings(scene, r.stats))
+        std::fprintf(stderr, "shvol: warning: %s: %s\n", a.scene.c_str(), w.c_str());
     if (r.stats.counters.nonFiniteSamples > 0)
         std::fprintf(stderr, "shvol: warning: %llu samples were NaN or infinite and were dropped\n",
                      (unsigned long long)r.stats.counters.nonFiniteSamples);

@@ -692,6 +692,44 @@ TEST_F(Cli, BadOverridesAndOutputs) {
     EXPECT_NE(r.err.find(".exr: the output needs a name before .exr"), std::string::npos) << r.err;
 }
 
+// A radiance cache that cannot be used, or whose BRDF table holds a sharp lobe poorly (the cached
+// light then comes out too dark), is said, on stderr and in the stats.
+TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
+    auto sceneWith = [](const std::string& bsdf) {
+        return R"({"camera": {"resolution": [4, 4], "position": [0, -3, 1], "target": [0, 0, 0]},
+                   "render": {"spp": 2, "radiance_cache": {"enabled": true, "max_records": 4,
+                                                           "rays_per_record": 16}},
+                   "environment": {"type": "constant", "radiance": 1},
+                   "surfaces": [{"type": "rectangle", "bsdf": )" +
+               bsdf + "}]}";
+    };
+    write("sharp.json", sceneWith(R"({"type": "phong", "diffuse": 0, "specular": 1,
+                                      "exponent": 1e6})"));
+    Result r = run("render " + path("sharp.json") + " -o " + path("a.exr") + " --quiet");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("shvol: warning: " + path("sharp.json") +
+                         ": render.radiance_cache: a BRDF table holds its BRDF with relative "
+                         "projection error 0.99"),
+              std::string::npos)
+        << r.err;
+    auto stats = nlohmann::json::parse(std::ifstream(path("a.stats.json")));
+    ASSERT_EQ(stats["warnings"].size(), 1u) << stats["warnings"];
+    EXPECT_GT(stats["radiance_cache"]["brdf_table_projection_error"].get<double>(), 0.9);
+    write("lambert.json", sceneWith(R"({"type": "lambert"})"));
+    r = run("render " + path("lambert.json") + " -o " + path("b.exr") + " --quiet");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    write("mirror.json", sceneWith(R"({"type": "mirror"})"));
+    r = run("render " + path("mirror.json") + " -o " + path("c.exr") + " --quiet");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("render.radiance_cache: enabled, but no surface has a BSDF the cache "
+                         "holds"),
+              std::string::npos)
+        << r.err;
+    stats = nlohmann::json::parse(std::ifstream(path("c.stats.json")));
+    EXPECT_EQ(stats["warnings"].size(), 1u) << stats["warnings"];
+}
+
 // No output may replace a file the scene reads: a sky written over by its own render, also as an
 // intermediate image of --spp or a checkpoint.
 TEST_F(Cli, RenderRefusesToOverwriteItsInputs) {
