@@ -25,7 +25,7 @@ void addTonemapCommand(CLI::App& app, std::function<int()>& run) {
         run = [a] {
             if (!hasExtension(a->output, ".png"))
                 fail(a->output, "", "tonemap writes PNG; name the file .png");
-            const Image img = readExr(a->input);
+            const Image img = readExr(a->input, /*allowInfinity=*/true);
             writePng(a->output, img, a->exposure);
             return 0;
         };

@@ -30,7 +30,7 @@ constexpr double kMinExrPixelLimit = 1 << 20;  // small files may still hold a 1
 
 }  // namespace
 
-Image readExr(const std::string& path) {
+Image readExr(const std::string& path, bool allowInfinity) {
     const uintmax_t bytes = regularFileSize(path);
     static std::once_flag limits;
     std::call_once(limits, [] {
@@ -79,7 +79,8 @@ Image readExr(const std::string& path) {
             const Spectrum v = img.at(x, y);
             const std::string where =
                 "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")";
-            if (!v.allFinite()) fail(path, where, "NaN or infinite value");
+            if (!v.allFinite() && !(allowInfinity && !v.hasNaN() && (v > 0).all()))
+                fail(path, where, "NaN or infinite value");
             if ((v < 0).any()) fail(path, where, "negative value");
         }
     return img;

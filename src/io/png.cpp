@@ -11,7 +11,7 @@
 namespace shvol {
 
 uint8_t srgbByte(double v) {
-    v = std::clamp(std::isfinite(v) ? v : 0.0, 0.0, 1.0);
+    v = std::isnan(v) ? 0.0 : std::clamp(v, 0.0, 1.0);  // +inf is white
     const double s = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055;
     return uint8_t(std::lround(255 * s));
 }

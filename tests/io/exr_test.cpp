@@ -73,6 +73,25 @@ TEST(Exr, BadFilesGiveOneClearLine) {
               tmp("neg.exr") + ": pixel (2, 1): negative value");
 }
 
+// +inf (what a render writes for a mean beyond the float range) is accepted only when asked for
+// (tonemap's previews); NaN and −inf never.
+TEST(Exr, InfinityOnlyWhenAllowed) {
+    Image img(3, 2);
+    img.set(1, 0, Spectrum(INFINITY, 1, 1));
+    writeExr(tmp("inf.exr"), img);
+    EXPECT_EQ(messageOf([] { readExr(tmp("inf.exr")); }),
+              tmp("inf.exr") + ": pixel (1, 0): NaN or infinite value");
+    EXPECT_EQ(readExr(tmp("inf.exr"), true).at(1, 0)[0], INFINITY);
+    img.set(1, 0, Spectrum(NAN, 1, 1));
+    writeExr(tmp("nan2.exr"), img);
+    EXPECT_EQ(messageOf([] { readExr(tmp("nan2.exr"), true); }),
+              tmp("nan2.exr") + ": pixel (1, 0): NaN or infinite value");
+    img.set(1, 0, Spectrum(1, -INFINITY, 1));
+    writeExr(tmp("minf.exr"), img);
+    EXPECT_EQ(messageOf([] { readExr(tmp("minf.exr"), true); }),
+              tmp("minf.exr") + ": pixel (1, 0): NaN or infinite value");
+}
+
 TEST(Exr, FailedWriteLeavesNoFile) {
     const std::string path = tmp("nodir/out.exr");
     EXPECT_THROW(writeExr(path, Image(2, 2)), Error);

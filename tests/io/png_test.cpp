@@ -21,6 +21,8 @@ TEST(Png, SrgbCodes) {
     EXPECT_EQ(srgbByte(0.001), 3);
     EXPECT_EQ(srgbByte(0.18), 118);
     EXPECT_EQ(srgbByte(std::nan("")), 0);
+    EXPECT_EQ(srgbByte(INFINITY), 255);  // a mean beyond the float range, as render writes it
+    EXPECT_EQ(srgbByte(-INFINITY), 0);
 }
 
 // The file decodes as a PNG: signature, IHDR, CRCs, and the pixels after inflating IDAT.

@@ -8,8 +8,9 @@ namespace shvol {
 
 /// Reads the R, G, B channels (or a single Y channel, replicated) of an EXR file as floats.
 /// Errors (missing or corrupt file, no colour channels, NaN/Inf or negative pixels) name the file
-/// and the pixel.
-Image readExr(const std::string& path);
+/// and the pixel. \param allowInfinity accept +inf (a render writes it for a mean beyond the
+/// float range, and --variance for an unknown standard error): for previews.
+Image readExr(const std::string& path, bool allowInfinity = false);
 
 /// Writes float32 R, G, B atomically (temporary file, then rename).
 void writeExr(const std::string& path, const Image& image);
