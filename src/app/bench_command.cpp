@@ -220,6 +220,7 @@ std::string defaultBenchScene() {
 int runBench(BenchArgs& a) {
     std::fprintf(stderr, "shvol bench %s (%d spp)\n", a.scene.c_str(), a.spp);
     const Json doc = sceneDocument(a.scene, a.sets);
+    checkScene(doc, a.scene);  // a bad value fails now, not after the table is printed
     if (a.cache.empty()) a.cache = ".";
     if (a.accuracy) {  // made now, not after minutes of rendering the reference
         std::error_code ec;

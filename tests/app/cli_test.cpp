@@ -205,6 +205,11 @@ TEST_F(Cli, BenchFindsTheDefaultScene) {
     EXPECT_NE(r.out.find("majorant grid / global majorant, both with OpenVDB lookups (1 thread): "),
               std::string::npos)
         << r.out;
+    // A bad value fails before anything is measured or printed.
+    const Result bad = run("bench --spp 1 --set camera.resolution=[8,6] --set render.spp=0");
+    EXPECT_EQ(bad.code, 1);
+    EXPECT_EQ(bad.out, "");
+    EXPECT_NE(bad.err.find("render.spp: value 0 out of range"), std::string::npos) << bad.err;
 }
 
 // bench --cell-sweep renders the default scene with majorant cells of 1, 2, 4, 8 and 16 voxels
