@@ -43,7 +43,9 @@ ZonalFit fitZonal(const std::function<double(double mu)>& p, int order,
 ///  - order 0 ("auto"): the lowest order ≤ kMaxAutoOrder whose relative L2 error is at most
 ///    `tolerance`, else kMaxAutoOrder (the fit reports the error it reaches). The error of every
 ///    order comes from one unwindowed fit at kMaxAutoOrder by Parseval: ε_n² ∫p² = ∫p² − Σ_{l<n}
-///    p_l² + Σ_{l<n} (1 − w_l)² p_l².
+///    p_l² + Σ_{l<n} (1 − w_l)² p_l², summed as (∫p² − Σ_{l<L} p_l²) + Σ_{n≤l<L} p_l² + Σ_{l<n}
+///    (1 − w_l)² p_l² (L = kMaxAutoOrder), the first term 0 within its rounding noise, so that
+///    tolerances down to 10⁻⁹ can be met.
 ///  - window nullopt ("auto"): no window if the unwindowed fit nowhere dips below −10⁻³ of the
 ///    function's peak (so a function the order represents exactly, such as Rayleigh from order
 ///    3, stays exact, and shallow ringing is left to the samplers' clamping), else Hann.
