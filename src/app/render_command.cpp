@@ -263,10 +263,10 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
                   const std::vector<std::string>& warnings, const nlohmann::json& provenance,
                   bool variance) {
     const Image image = film.image();
-    // A mean beyond the largest float (3.4·10³⁸) becomes ±inf in the float32 EXR: said, not
-    // clamped (the value is not known to be the largest float either).
     std::vector<std::string> all = warnings;
     for (const std::string& w : renderWarnings(scene, st)) all.push_back(w);
+    // A mean beyond the largest float (3.4·10³⁸) becomes ±inf in the float32 EXR: said, not
+    // clamped (the value is not known to be the largest float either).
     const size_t overflows = size_t(std::count_if(image.rgb.begin(), image.rgb.end(),
                                                   [](float v) { return !std::isfinite(v); }));
     if (overflows > 0) {
