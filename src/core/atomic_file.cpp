@@ -2,16 +2,85 @@
 
 #include <unistd.h>
 
+#include <atomic>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <mutex>
 
 #include "shvol/core/error.h"
 
 namespace shvol {
 
+namespace {
+
+/// The temporaries being written, for the signal handler: a slot is claimed, its path copied,
+/// then armed; the handler reads only armed slots (lock-free flags, unlink is async-signal-safe).
+struct TemporarySlot {
+    std::atomic<bool> claimed{false}, armed{false};
+    char path[4096];
+};
+constexpr int kSlots = 64;
+TemporarySlot gSlots[kSlots];
+static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler reads the flags");
+
+/// SIGTERM, SIGHUP or SIGINT ends the process as it would have, without the temporaries.
+extern "C" void removeTemporariesAndDie(int sig) {
+    for (TemporarySlot& s : gSlots)
+        if (s.armed.load()) ::unlink(s.path);
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+}
+
+/// Installed once, and only for signals whose action is still the default (not ones the shell
+/// ignores, as nohup does SIGHUP). A handler installed later (render's, which stops a render
+/// cleanly) takes precedence while it is in place.
+void installHandlers() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        for (const int sig : {SIGTERM, SIGHUP, SIGINT}) {
+            struct sigaction old {};
+            if (::sigaction(sig, nullptr, &old) == 0 && old.sa_handler == SIG_DFL)
+                std::signal(sig, removeTemporariesAndDie);
+        }
+    });
+}
+
+/// Registers tmp for removal on a signal while it lives (not at all if the slots are taken or the
+/// path is too long: the temporary is then only left behind, as before).
+class TemporaryGuard {
+  public:
+    explicit TemporaryGuard(const std::string& tmp) {
+        installHandlers();
+        if (tmp.size() >= sizeof(TemporarySlot::path)) return;
+        for (TemporarySlot& s : gSlots) {
+            bool expected = false;
+            if (!s.claimed.compare_exchange_strong(expected, true)) continue;
+            std::memcpy(s.path, tmp.c_str(), tmp.size() + 1);
+            s.armed.store(true);
+            slot_ = &s;
+            return;
+        }
+    }
+    ~TemporaryGuard() {
+        if (!slot_) return;
+        slot_->armed.store(false);
+        slot_->claimed.store(false);
+    }
+    TemporaryGuard(const TemporaryGuard&) = delete;
+    TemporaryGuard& operator=(const TemporaryGuard&) = delete;
+
+  private:
+    TemporarySlot* slot_ = nullptr;
+};
+
+}  // namespace
+
 void writeAtomically(const std::string& path,
                      const std::function<void(const std::string&)>& write) {
     const std::string tmp = path + ".tmp" + std::to_string(::getpid());
+    const TemporaryGuard guard(tmp);
     try {
         write(tmp);
     } catch (...) {

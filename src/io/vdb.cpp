@@ -21,6 +21,7 @@
 
 #include "shvol/core/atomic_file.h"
 #include "shvol/core/error.h"
+#include "shvol/core/hash.h"
 #include "shvol/core/input_file.h"
 #include "shvol/media/density_bricks.h"
 #include "shvol/media/majorant_grid.h"
@@ -743,6 +744,41 @@ std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc) {
                                        std::move(bricks));
 }
 
+namespace {
+/// OpenVDB stamps every file with a random UUID (36 characters after the 21-byte header of
+/// magic, versions and the offsets flag), so two writes of the same grids differ, and a grid
+/// made again would change the fingerprints of checkpoints and batch ledgers that name it. The
+/// UUID is replaced by one hashed from the rest of the file (RFC 9562 version 8, "custom"): the
+/// same grids give the same bytes. A file whose header is not laid out so is left as written.
+void makeUuidFromContents(const std::string& file, const std::string& name) {
+    constexpr size_t kAt = 21, kLength = 36;
+    std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    if (bytes.size() < kAt + kLength) return;
+    std::string uuid = bytes.substr(kAt, kLength);
+    for (size_t i = 0; i < kLength; ++i) {
+        const bool dash = i == 8 || i == 13 || i == 18 || i == 23;
+        if (dash != (uuid[i] == '-') || (!dash && !std::isxdigit((unsigned char)uuid[i]))) return;
+    }
+    std::fill(bytes.begin() + kAt, bytes.begin() + kAt + kLength, '0');
+    const uint64_t h[2] = {fnv1a(bytes.data(), bytes.size()),
+                           fnv1a(bytes.data(), bytes.size(), 0x9e3779b97f4a7c15ULL)};
+    char hex[33];
+    std::snprintf(hex, sizeof hex, "%016llx%016llx", (unsigned long long)h[0],
+                  (unsigned long long)h[1]);
+    hex[12] = '8';  // version 8
+    const char c = hex[16];
+    hex[16] = "89ab"[(std::isdigit((unsigned char)c) ? c - '0' : c - 'a' + 10) & 3];  // 10xx
+    for (size_t i = 0, k = 0; i < kLength; ++i)
+        if (uuid[i] != '-') uuid[i] = hex[k++];
+    f.clear();
+    f.seekp(std::streamoff(kAt));
+    f.write(uuid.data(), std::streamsize(kLength));
+    f.close();
+    if (!f) fail(name, "", "cannot write VDB (its UUID)");
+}
+}  // namespace
+
 size_t writeVdb(const std::string& path, const std::vector<VdbGridSpec>& specs) {
     initOpenVdb();
     openvdb::GridPtrVec grids;
@@ -782,6 +818,7 @@ size_t writeVdb(const std::string& path, const std::vector<VdbGridSpec>& specs) 
         } catch (const std::exception& e) {
             fail(path, "", std::string("cannot write VDB (") + e.what() + ")");
         }
+        makeUuidFromContents(tmp, path);
     });
     return active;
 }

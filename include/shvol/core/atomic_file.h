@@ -7,7 +7,9 @@
 namespace shvol {
 
 /// Calls write(tmpPath), then renames tmpPath to path. If write throws, the temporary is removed
-/// and the exception propagates; the target is never left half-written.
+/// and the exception propagates; the target is never left half-written. A SIGTERM, SIGHUP or
+/// SIGINT that ends the process meanwhile (one whose action was the default when the first write
+/// began) removes the temporary too before the process ends as the signal would have ended it.
 void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write);
 
 /// Writes text to path atomically.
