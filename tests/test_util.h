@@ -2,7 +2,9 @@
 // Helpers shared by the test programs.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <functional>
+#include <iterator>
 #include <string>
 
 #include "shvol/core/error.h"
@@ -17,6 +19,12 @@ inline std::string messageOf(const std::function<void()>& f) {
         return e.what();
     }
     return "(no error)";
+}
+
+/// The bytes of a file ("" if it cannot be read).
+inline std::string fileBytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 /// A path in the test temporary directory that only the running test uses ("shvol_", its suite

@@ -210,18 +210,23 @@ def main():
     print(os.path.join(directory, "report.md"))
 
 
-def write(path, text):
+def replace_atomically(path, write_to):
+    """write_to(tmp), then rename tmp to path: no half-written file."""
     tmp = path + ".tmp"
-    with open(tmp, "w") as f:
-        f.write(text)
+    write_to(tmp)
     os.replace(tmp, path)
+
+
+def write(path, text):
+    def to(tmp):
+        with open(tmp, "w") as f:
+            f.write(text)
+    replace_atomically(path, to)
 
 
 def save(fig, path):
-    """A figure as a PNG, through a temporary and a rename (no half-written image)."""
-    tmp = path + ".tmp"
-    fig.savefig(tmp, dpi=110, format="png")
-    os.replace(tmp, path)
+    """A figure as a PNG."""
+    replace_atomically(path, lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
 
 
 if __name__ == "__main__":

@@ -143,9 +143,8 @@ int runSample(const PhaseArgs& a) {
         fail("", "--order", "the general sampler supports orders up to 128");
     // The samples must not replace the table they are drawn from.
     const Json spec = phaseSpecToJson(a.spec);
-    std::error_code ec;
     if (spec.contains("file") && spec["file"].is_string() &&
-        std::filesystem::equivalent(spec["file"].get<std::string>(), a.out, ec))
+        replacesInput(a.out, spec["file"].get<std::string>()))
         fail(a.out, "",
              "is the phase table being sampled (the spec's file); write the samples "
              "elsewhere");

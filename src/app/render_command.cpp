@@ -386,14 +386,11 @@ int runRender(const RenderArgs& a) {
             }
             if (a.variance) writes.push_back(final.stderrImage);
             for (const Json& in : provenance.at("inputs"))
-                for (const std::string& w : writes) {
-                    std::error_code ec;
-                    if (!w.empty() &&
-                        std::filesystem::equivalent(w, in.at("path").get<std::string>(), ec))
+                for (const std::string& w : writes)
+                    if (replacesInput(w, in.at("path").get<std::string>()))
                         fail(w, "",
                              "is an input of the scene (" + in.at("key").get<std::string>() +
                                  "); write the output elsewhere");
-                }
             if (a.variance &&
                 std::min(stops.empty() ? 2 : stops.front(), uint32_t(scene.settings.spp)) < 2)
                 fail("", "--variance",

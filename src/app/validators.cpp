@@ -1,7 +1,9 @@
-// Checks for command-line options: numbers in one line that names the real range, file extensions.
+// Checks for command-line options: numbers in one line that names the real range, file extensions,
+// outputs that would replace an input.
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 
 #include "commands.h"
 
@@ -27,6 +29,11 @@ bool hasExtension(const std::string& path, const std::string& ext) {
     std::string tail = path.substr(path.size() - ext.size());
     for (char& ch : tail) ch = char(std::tolower(static_cast<unsigned char>(ch)));
     return tail == ext;
+}
+
+bool replacesInput(const std::string& output, const std::string& input) {
+    std::error_code ec;
+    return !output.empty() && std::filesystem::equivalent(output, input, ec);
 }
 
 CLI::Validator integerIn(long long lo, long long hi) {

@@ -165,7 +165,6 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
     const double scale =
         surfaces_.empty() ? 0 : std::max(lo_.cwiseAbs().maxCoeff(), hi_.cwiseAbs().maxCoeff());
     epsilon_ = std::ldexp(scale > 0 ? scale : 1.0, -16);
-    farOrigin_ = std::ldexp(scale > 0 ? scale : 1.0, 8);
     static_assert(256 * kMaxSurfaceCoordinate < 1.8e18, "far origins stay within Embree's range");
     buildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -175,7 +174,7 @@ SurfaceScene::~SurfaceScene() = default;
 /// Embree intersects triangles in float, relative to the ray's origin: from a distance D its
 /// error is about 2⁻²⁴·D, which exceeds ε = 2⁻¹⁶·R (R the surfaces' largest coordinate
 /// magnitude) beyond D ≈ 2⁸·R, and beyond ±FLT_LARGE = 1.844·10¹⁸ it refuses the ray (an
-/// assertion). A ray from farther than farOrigin_ = 2⁸·R (≤ 2.56·10¹⁷; a distant camera, a point
+/// assertion). A ray from farther than 2⁸·R = 2²⁴·ε (≤ 2.56·10¹⁷; a distant camera, a point
 /// of a medium placed far off) can meet the surfaces only inside their box: it is traced from
 /// where it enters the box, widened so that the new origin lies off every surface (*tEntry ≥ 0
 /// the distance to it), or not at all (false) if it misses the box or is NaN. The entry point's
@@ -183,23 +182,16 @@ SurfaceScene::~SurfaceScene() = default;
 /// digits below the origin's magnitude (2⁸ at 2·10¹⁸), enough to start inside a small surface.
 bool SurfaceScene::startNear(const Ray& ray, double tMax, Ray* moved, double* tEntry) const {
     *moved = ray, *tEntry = 0;
-    if ((ray.o.array().abs() <= farOrigin_).all()) return true;  // (false for NaN too)
+    const double farOrigin = std::ldexp(epsilon_, 24);          // 2⁸·R
+    if ((ray.o.array().abs() <= farOrigin).all()) return true;  // (false for NaN too)
     const Vec3 pad = Vec3::Constant(std::max(16 * epsilon_, 1e-3 * (hi_ - lo_).maxCoeff()));
     const Vec3 lo = lo_ - pad, hi = hi_ + pad;
-    const Interval i = intersectBox(ray, lo, hi, tMax);
+    int face;  // the origin is outside the box (farther than 2⁸·R): the ray enters by a face
+    const Interval i = intersectBox(ray, lo, hi, tMax, &face);
     if (i.empty()) return false;
     *moved = Ray{ray(i.t0), ray.d}, *tEntry = i.t0;
-    // The origin is outside the box (farther than 2⁸·R), so the ray enters it through the face
-    // of the slab it enters last: that coordinate is the face's.
-    int face = -1;
-    double tFace = -INFINITY;
-    for (int a = 0; a < 3; ++a)
-        if (ray.d[a] != 0) {
-            const double t = ((ray.d[a] > 0 ? lo[a] : hi[a]) - ray.o[a]) * (1.0 / ray.d[a]);
-            if (t > tFace) tFace = t, face = a;
-        }
     if (face >= 0) moved->o[face] = ray.d[face] > 0 ? lo[face] : hi[face];
-    return (moved->o.array().abs() <= farOrigin_).all();
+    return (moved->o.array().abs() <= farOrigin).all();
 }
 
 bool SurfaceScene::intersect(const Ray& ray, double tMax, SurfaceHit* hit) const {

@@ -11,6 +11,7 @@
 #include "shvol/io/exr.h"
 #include "shvol/io/phase_spec.h"
 #include "shvol/io/vdb.h"
+#include "test_util.h"
 
 namespace shvol {
 
@@ -44,13 +45,7 @@ class Cli : public testing::Test {
         const std::string out = path("so.txt"), err = path("se.txt");
         const int status =
             std::system((command + " >" + out + " 2>" + err + " </dev/null").c_str());
-        auto slurp = [](const std::string& p) {
-            std::ifstream f(p);
-            std::stringstream s;
-            s << f.rdbuf();
-            return s.str();
-        };
-        return {WEXITSTATUS(status), slurp(out), slurp(err)};
+        return {WEXITSTATUS(status), test::fileBytes(out), test::fileBytes(err)};
     }
     // A bad scene must fail with exit code 1, exactly one line on stderr containing `expected`, and
     // leave no output (nor temporaries) behind.
@@ -427,8 +422,7 @@ TEST_F(Cli, PhaseSampleRefusesToOverwriteItsTable) {
     EXPECT_EQ(r.err, "shvol: error: " + path("mie.csv") +
                          ": is the phase table being sampled (the spec's file); write the samples "
                          "elsewhere\n");
-    std::ifstream in(path("mie.csv"));
-    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), before);
+    EXPECT_EQ(test::fileBytes(path("mie.csv")), before);
     r = run("phase sample tabulated:file=" + path("mie.csv") + " --count 5 --out " + path("s.csv"));
     EXPECT_EQ(r.code, 0) << r.err;
 }
@@ -758,11 +752,7 @@ TEST_F(Cli, RenderRefusesToOverwriteItsInputs) {
     for (int y = 0; y < 2; ++y)
         for (int x = 0; x < 4; ++x) sky.set(x, y, Spectrum::Constant(0.5));
     for (const char* f : {"sky.exr", "x.spp1.exr", "ck.exr"}) writeExr(path(f), sky);
-    auto bytes = [&](const std::string& f) {
-        std::ifstream in(path(f), std::ios::binary);
-        return std::string(std::istreambuf_iterator<char>(in), {});
-    };
-    const std::string before = bytes("sky.exr");
+    const std::string before = test::fileBytes(path("sky.exr"));
     write("s.json", R"({"camera": {"resolution": [4, 3]}, "render": {"spp": 2},
                         "environment": {"type": "image", "file": "sky.exr"}})");
     Result r = run("render " + path("s.json") + " -o " + path("sky.exr") + " --quiet");
@@ -770,7 +760,7 @@ TEST_F(Cli, RenderRefusesToOverwriteItsInputs) {
     EXPECT_EQ(r.err, "shvol: error: " + path("sky.exr") +
                          ": is an input of the scene (environment.file); write the output "
                          "elsewhere\n");
-    EXPECT_EQ(bytes("sky.exr"), before);
+    EXPECT_EQ(test::fileBytes(path("sky.exr")), before);
     write("t.json", R"({"camera": {"resolution": [4, 3]}, "render": {"spp": 2},
                         "environment": {"type": "image", "file": "x.spp1.exr"}})");
     r = run("render " + path("t.json") + " -o " + path("x.exr") + " --spp 1,2 --quiet");

@@ -56,17 +56,14 @@ TEST(Vdb, WriteThenLoadSphere) {
 // the contents (a medium made again kept changing the fingerprints of ledgers and checkpoints),
 // and the file still loads.
 TEST(Vdb, WritesAreReproducible) {
-    auto bytes = [](const std::string& f) {
-        std::ifstream in(f, std::ios::binary);
-        return std::string(std::istreambuf_iterator<char>(in), {});
-    };
     writeVdb(tmp("same1.vdb"), {sphereSpec(16, 0.4)});
     writeVdb(tmp("same2.vdb"), {sphereSpec(16, 0.4)});
     writeVdb(tmp("other.vdb"), {sphereSpec(16, 0.3)});
-    const std::string a = bytes(tmp("same1.vdb")), b = bytes(tmp("same2.vdb"));
+    const std::string a = test::fileBytes(tmp("same1.vdb")), b = test::fileBytes(tmp("same2.vdb"));
     ASSERT_GT(a.size(), 57u);
     EXPECT_EQ(a, b);
-    const std::string uuid = a.substr(21, 36), other = bytes(tmp("other.vdb")).substr(21, 36);
+    const std::string uuid = a.substr(21, 36),
+                      other = test::fileBytes(tmp("other.vdb")).substr(21, 36);
     EXPECT_NE(uuid, other);
     EXPECT_EQ(uuid[8], '-');
     EXPECT_EQ(uuid[14], '8');                                          // version 8
@@ -376,8 +373,7 @@ TEST(Vdb, WhiteFurnace) {
 
 namespace {
 std::string seedBytes(const std::string& name) {
-    std::ifstream in(std::string(SHVOL_SOURCE_DIR) + "/tests/fuzz/vdb/" + name, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(in)), {});
+    return test::fileBytes(std::string(SHVOL_SOURCE_DIR) + "/tests/fuzz/vdb/" + name);
 }
 template <typename T>
 void put(std::string& bytes, size_t at, T value) {

@@ -16,8 +16,11 @@ struct Interval {
     bool empty() const { return !(t0 <= t1); }
 };
 
-/// Slab test of a ray against an axis-aligned (closed) box, clipped to [0, tMax].
-inline Interval intersectBox(const Ray& ray, const Vec3& lo, const Vec3& hi, double tMax) {
+/// Slab test of a ray against an axis-aligned (closed) box, clipped to [0, tMax]. *entryAxis (if
+/// given) is set to the axis whose slab sets t0, the face the ray enters by (−1: t0 = 0).
+inline Interval intersectBox(const Ray& ray, const Vec3& lo, const Vec3& hi, double tMax,
+                             int* entryAxis = nullptr) {
+    if (entryAxis) *entryAxis = -1;
     double t0 = 0, t1 = tMax;
     for (int a = 0; a < 3; ++a) {
         // A ray parallel to the slab stays in it or out of it: decided by the origin, not by
@@ -31,7 +34,10 @@ inline Interval intersectBox(const Ray& ray, const Vec3& lo, const Vec3& hi, dou
         if (tn > tf) std::swap(tn, tf);
         // NaN (0·inf for a subnormal component with the origin on a slab plane, or a NaN
         // direction) must not widen the interval.
-        if (tn > t0) t0 = tn;
+        if (tn > t0) {
+            t0 = tn;
+            if (entryAxis) *entryAxis = a;
+        }
         if (tf < t1) t1 = tf;
         if (t0 > t1) return {};
     }

@@ -86,7 +86,6 @@ class SurfaceScene {
     std::unique_ptr<Embree> rtc_;
     std::vector<Surface> surfaces_;
     double epsilon_ = 0;
-    double farOrigin_ = 0;  ///< rays from farther start where they enter the box (startNear)
     Vec3 lo_, hi_;
     size_t triangles_ = 0;
     bool hasNull_ = false;
