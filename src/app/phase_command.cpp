@@ -45,7 +45,16 @@ SHSampledPhase shPhase(const PhaseArgs& a) {
         else
             j["order"] = std::stoi(a.order);  // validated by the option's check
     }
-    if (a.tolerance > 0) j["tolerance"] = a.tolerance;
+    if (a.tolerance > 0) {
+        if (j.contains("order") && j["order"].is_number())
+            throw Error("--tolerance: only valid with --order auto (" +
+                        (a.order.empty() ? "the spec's order is " + j["order"].dump()
+                                         : "got --order " + a.order) +
+                        ")");
+        j["tolerance"] = a.tolerance;
+    } else if (!a.order.empty() && a.order != "auto") {
+        j.erase("tolerance");  // the spec's, for its "order": "auto", which --order replaced
+    }
     if (!a.window.empty()) j["window"] = a.window;
     if (!a.evaluate.empty()) j["evaluate"] = a.evaluate;
     if (a.depth > 0) j["sh_depth"] = a.depth;

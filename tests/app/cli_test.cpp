@@ -392,6 +392,23 @@ TEST_F(Cli, PhaseToolsUseTheSpecsKeys) {
     EXPECT_EQ(fit["order"], 7);
     EXPECT_EQ(fit["window"], "none");
     EXPECT_EQ(fit["sh_depth"], 8);
+    // --tolerance with a fixed order is the options' error, not the spec's; --order N replaces
+    // the spec's "order": "auto" together with its tolerance.
+    Result r = run("phase fit " + spec + " --tolerance 1e-3");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("--tolerance: only valid with --order auto (the spec's order is 5)"),
+              std::string::npos)
+        << r.err;
+    r = run("phase fit hg:g=0.5 --order 4 --tolerance 1e-3");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("--tolerance: only valid with --order auto (got --order 4)"),
+              std::string::npos)
+        << r.err;
+    const std::string autoSpec =
+        R"('{"type": "hg", "g": 0.5, "sampling": "sh", "order": "auto", "tolerance": 1e-4}')";
+    r = run("phase fit " + autoSpec + " --order 5 --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["order"], 5);
 }
 
 // phase sample reports the renderer's pdf: with evaluate exact and a fit that rings (HG 0.99,
