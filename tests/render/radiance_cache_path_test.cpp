@@ -111,8 +111,12 @@ TEST(RadianceCachePath, ImageDoesNotDependOnTheThreadCount) {
 namespace shvol {
 namespace {
 
-/// A closed room with a glossy Phong-22 back wall and a light: the cached image stays within a
-/// loose bound of the path-traced one (the experiment in validation/cache measures the bias).
+/// A closed room with a glossy Phong-22 back wall and a light: the cached image stays near the
+/// path-traced one (the experiment in validation/cache measures the bias), on the whole and on
+/// the glossy wall, whose radiance depends on the view direction. The ratios of cached to
+/// path-traced means, measured over seeds 1-8: 0.981-1.003 on the wall, 0.974-1.019 on its
+/// outer column groups (the most oblique views). A cache that reads the BRDF table for the normal
+/// direction instead of the view gave 1.049-1.068 and 1.073-1.158 (seeds 1-7).
 TEST(RadianceCachePath, GlossyRoomStaysNearThePathTracedImage) {
     auto room = [](bool cache) {
         Scene scene;
@@ -120,7 +124,7 @@ TEST(RadianceCachePath, GlossyRoomStaysNearThePathTracedImage) {
         scene.camera.target = Vec3(0, 1, 0);
         scene.camera.width = scene.camera.height = 24;
         scene.camera.fovDegrees = 80;
-        scene.settings.spp = cache ? 16 : 512;
+        scene.settings.spp = cache ? 64 : 512;
         scene.settings.radianceCache.enabled = cache;
         scene.settings.radianceCache.hshOrder = 6;
         scene.settings.radianceCache.raysPerRecord = 256;
@@ -134,8 +138,24 @@ TEST(RadianceCachePath, GlossyRoomStaysNearThePathTracedImage) {
         ASSERT_GE(rc.image.rgb[i], 0);
         a += pt.image.rgb[i], b += rc.image.rgb[i];
     }
-    EXPECT_NEAR(b / a, 1, 0.1);
+    EXPECT_NEAR(b / a, 1, 0.03);
     EXPECT_GT(rc.stats.radianceCache.records, 10u);
+    // Pixels 6-17 of both axes see the glossy wall (it subtends ±27° of the ±40° field); the
+    // outer column groups are pixels 6-8 and 15-17.
+    double wall[2] = {0, 0}, outer[2] = {0, 0};
+    for (int y = 6; y < 18; ++y)
+        for (int x = 6; x < 18; ++x)
+            for (int k = 0; k < 3; ++k) {
+                const size_t i = 3 * (size_t(y) * 24 + x) + k;
+                const bool isOuter = x < 9 || x >= 15;
+                for (int j = 0; j < 2; ++j) {
+                    const float v = (j == 0 ? pt : rc).image.rgb[i];
+                    wall[j] += v;
+                    if (isOuter) outer[j] += v;
+                }
+            }
+    EXPECT_NEAR(wall[1] / wall[0], 1, 0.03);
+    EXPECT_NEAR(outer[1] / outer[0], 1, 0.045);
 }
 
 }  // namespace
@@ -176,7 +196,7 @@ TEST(RadianceCachePath, UsesTheShadingNormalsOfSmoothMeshes) {
             scene.settings.nee = false;  // the sky's light then reaches the pixels by the cache
             scene.settings.radianceCache.enabled = cache;
             scene.settings.radianceCache.hshOrder = 4;
-            scene.settings.radianceCache.raysPerRecord = 1024;
+            scene.settings.radianceCache.raysPerRecord = 256;
             scene.environment = Environment::constant(Spectrum::Constant(Le), false);
             Surface square;
             square.kind = Surface::Kind::Mesh;
