@@ -33,15 +33,45 @@ TEST(SobolSampler, SecondDimensionDirectionNumbers) {
     }
 }
 
-// The two identities the sampler's requests are computed by (the index reversed once per
-// sampler, C·index from the reversed table): each equals the Owen scramble it replaces.
-TEST(SobolSampler, FastRequestsMatchTheDefinition) {
-    Rng rng(3, 3);
-    for (int i = 0; i < 100000; ++i) {
-        const uint32_t n = rng.nextU32(), g = rng.nextU32();
-        ASSERT_EQ(reverseBits32(laineKarras(reverseBits32(n), g)), owenScramble(n, g));
-        ASSERT_EQ(reverseBits32(laineKarras(sobolSecondDimensionReversed(n), g)),
-                  owenScramble(sobolSecondDimension(n), g));
+// Each request is its definition, computed the slow way: request d of sample i is the point
+// n = owenScramble(i, seeds(d).index) of the (0,2)-sequence, (R(n), C·n), each coordinate
+// Owen-scrambled with its own seed, with 16 low bits from the sample's PCG stream (one number per
+// request, drawn when it is made; a 1D request keeps the first coordinate and the number's top
+// half). Past kDimensions the numbers are the PCG stream's. Requests of all three kinds, mixed.
+TEST(SobolSampler, RequestsFollowTheirDefinition) {
+    const uint64_t seed = 11, pixelIndex = 4242;
+    const SobolPixel pixel(seed, pixelIndex);
+    // SobolPixel's key, as its constructor defines it.
+    const uint64_t key = mix64(mix64(seed) ^ (pixelIndex * 0x9e3779b97f4a7c15ULL));
+    auto unit = [](uint32_t top, uint32_t low16) {
+        return std::ldexp(double(top), -32) + std::ldexp(double(low16), -48);
+    };
+    for (uint32_t i : {0u, 1u, 2u, 1000u, 0xfffffffeu}) {
+        SobolSampler sampler(pixel, i);
+        Rng rng = Rng::forSample(seed, pixelIndex, i);
+        for (int d = 0; d < SobolSampler::kDimensions + 6; ++d) {
+            SCOPED_TRACE("sample " + std::to_string(i) + ", request " + std::to_string(d));
+            if (d >= SobolSampler::kDimensions) {
+                if (d % 3 == 2)
+                    ASSERT_EQ(sampler.next1D(), rng.uniform());
+                else
+                    ASSERT_EQ(d % 3 ? sampler.deferred2D().value() : sampler.next2D(),
+                              rng.uniform2());
+                continue;
+            }
+            const SobolPixel::Seeds s = SobolPixel::hashSeeds(key, d);
+            const uint32_t n = owenScramble(i, s.index);
+            const uint32_t x = owenScramble(reverseBits32(n), s.x),
+                           y = owenScramble(sobolSecondDimensionBitwise(n), s.y);
+            const uint32_t low = rng.nextU32();
+            const Vec2 expected(unit(x, low >> 16), unit(y, low & 0xffffu));
+            if (d % 3 == 0)
+                ASSERT_EQ(sampler.next2D(), expected);
+            else if (d % 3 == 1)
+                ASSERT_EQ(sampler.deferred2D().value(), expected);
+            else
+                ASSERT_EQ(sampler.next1D(), expected.x());
+        }
     }
 }
 
