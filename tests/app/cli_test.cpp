@@ -1009,12 +1009,14 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
     write("sweep.json", sweep);
     Result r = run("batch " + path("sweep.json") + " --quiet --output " + path("clean"));
     ASSERT_EQ(r.code, 0) << r.err;
-    // Killed in the middle (about 1.3 s uninterrupted), with one render at a time and with two
-    // side by side (--jobs 2), then started again with the other job count.
+    // Killed in the middle (once the first row is in; about 1.3 s uninterrupted), with one
+    // render at a time and with two side by side (--jobs 2), then started again with the other
+    // job count.
     for (const std::string jobs : {"1", "2"}) {
         const std::string out = path("killed" + jobs), again = jobs == "1" ? "2" : "1";
         r = run("batch " + path("sweep.json") + " --quiet --jobs " + jobs + " --output " + out +
-                " & p=$!; sleep 0.6; kill -9 $p; wait $p");
+                " & p=$!; i=0; while [ ! -s " + out + "/results.jsonl ] && [ $i -lt 3000 ]; " +
+                "do sleep 0.01; i=$((i+1)); done; kill -9 $p; wait $p");
         EXPECT_EQ(r.code, 137);  // killed: 128 + 9
         EXPECT_LT(ledgerRows(out).size(), 9u) << "some runs are left to do";
         r = run("batch " + path("sweep.json") + " --quiet --jobs " + again + " --output " + out);

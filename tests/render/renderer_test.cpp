@@ -50,21 +50,24 @@ TEST(Renderer, ContinuingAFilmReproducesTheUninterruptedImage) {
     expectSameImage(cont.image, full.image);
 }
 
-// Stopped at an arbitrary moment (a cancel flag set from another thread while the render runs),
-// each pixel holds the mean of its own samples, and continuing gives the uninterrupted image.
+// Stopped at an arbitrary moment (a cancel flag set from another thread while the render runs:
+// once its first pass is done, without a clock), each pixel holds the mean of its own samples,
+// and continuing gives the uninterrupted image.
 TEST(Renderer, CancelledRenderKeepsEachPixelsSamples) {
     const Scene s = smallScene(4000);
     RenderOptions opt;
     opt.threads = 2;
     const RenderResult full = render(s, opt);
-    std::atomic<bool> cancel{false};
+    std::atomic<bool> cancel{false}, started{false};
     opt.cancel = &cancel;
+    opt.afterPass = [&](const Film&, const RenderStats&) { started = true; };
     std::thread stopper([&] {
-        std::this_thread::sleep_for(std::chrono::milliseconds(30));
+        while (!started) std::this_thread::yield();
         cancel = true;
     });
     const RenderResult part = render(s, opt);
     stopper.join();
+    opt.afterPass = nullptr;
     ASSERT_EQ(part.stats.stop, RenderStop::Cancelled);
     ASSERT_LT(part.stats.minSamples, 4000u);
     for (size_t i = 0; i < part.film.pixels(); ++i)

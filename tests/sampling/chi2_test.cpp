@@ -32,6 +32,33 @@ TEST(Chi2, CorrectCosineSamplerPasses) {
     EXPECT_NEAR(r.pdfIntegral, 1.0, 1e-7);
 }
 
+// The Šidák correction: a family of numTests tests passes a test iff its p-value exceeds
+// 1 − (1 − α)^(1/numTests). Pinned on both sides of one run's p-value (the same seed gives the
+// same p): α chosen so that the corrected threshold is 1% below p passes, 1% above fails. An
+// uncorrected threshold (α itself, which exceeds p in both cases) would fail both.
+TEST(Chi2, SidakCorrectionSetsTheThreshold) {
+    auto run = [](double alpha, int numTests) {
+        Chi2Options opt;
+        opt.sampleCount = 100000;
+        opt.alpha = alpha;
+        opt.numTests = numTests;
+        return chi2TestSphere(
+            [](Rng& rng) { return std::optional<Vec3>(sampleCosine(rng.uniform2())); },
+            [](const Vec3& w) { return std::max(0.0, w.z()) * InvPi; }, opt);
+    };
+    const double p = run(0.01, 1).pValue;
+    ASSERT_GT(p, 0.01);
+    ASSERT_LT(p, 0.99);
+    for (int k : {2, 10}) {
+        // 1 − (1 − α)^(1/k) = t  ⇔  α = 1 − (1 − t)^k.
+        auto alphaFor = [k](double t) { return 1 - std::pow(1 - t, k); };
+        const Chi2Result below = run(alphaFor(0.99 * p), k), above = run(alphaFor(1.01 * p), k);
+        EXPECT_EQ(below.pValue, p);
+        EXPECT_TRUE(below.passed) << k << "\n" << below.report;
+        EXPECT_FALSE(above.passed) << k << "\n" << above.report;
+    }
+}
+
 TEST(Chi2, UniformPdfForCosineSamplesFails) {
     const auto r =
         chi2TestSphere([](Rng& rng) { return std::optional<Vec3>(sampleCosine(rng.uniform2())); },

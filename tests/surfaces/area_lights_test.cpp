@@ -51,7 +51,7 @@ void expectChi2(Surface emitter, const Vec3& x) {
     const SurfaceScene scene(std::move(s));
     const Chi2Result r = lightChi2(scene, x, kFamily);
     EXPECT_TRUE(r.passed) << r.report;
-    EXPECT_NEAR(r.pdfIntegral, 1, 1e-3);
+    EXPECT_NEAR(r.pdfIntegral, 1, 1e-5);
 }
 
 TEST(AreaLights, RectangleChi2) {
@@ -61,7 +61,7 @@ TEST(AreaLights, RectangleChi2) {
     const SurfaceScene scene(std::move(s));
     const Chi2Result r = lightChi2(scene, Vec3(0.3, -0.2, 0), kFamily);
     EXPECT_TRUE(r.passed) << r.report;
-    EXPECT_NEAR(r.pdfIntegral, 1, 1e-3);
+    EXPECT_NEAR(r.pdfIntegral, 1, 1e-5);
 }
 
 TEST(AreaLights, DiskChi2) {
@@ -107,7 +107,7 @@ TEST(AreaLights, EmittersAreChosenByPower) {
     EXPECT_NEAR(double(disk) / n, p, 4 * sd);
     const Chi2Result r = lightChi2(scene, Vec3(0, 0, 0), kFamily);
     EXPECT_TRUE(r.passed) << r.report;
-    EXPECT_NEAR(r.pdfIntegral, 1, 1e-3);
+    EXPECT_NEAR(r.pdfIntegral, 1, 1e-5);
 }
 
 TEST(AreaLights, OneSidedEmission) {
