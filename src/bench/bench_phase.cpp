@@ -53,7 +53,7 @@ void HGEvalAndSincos(benchmark::State& state) {
     double sink = 0;
     for (auto _ : state) {
         const Vec2 u = rng.uniform2();
-        const double mu = sampler(u.x()).cosTheta;
+        const double mu = sampler(u.x()).angle.mu;
         sink += Frame(kAxis).toWorld(sphericalDirection(mu, TwoPi * u.y())).z() +
                 henyeyGreenstein(mu, g);
     }

@@ -9,9 +9,8 @@
 
 namespace shvol {
 
-double cornetteShanks(double cosTheta, double g) {
-    const double mu = std::clamp(cosTheta, -1.0, 1.0);
-    return henyeyGreenstein(mu, g) * 1.5 * (1 + mu * mu) / (2 + g * g);
+double cornetteShanks(const AngleCosine& c, double g) {
+    return henyeyGreenstein(c, g) * 1.5 * (1 + c.mu * c.mu) / (2 + g * g);
 }
 
 namespace {
@@ -33,7 +32,7 @@ void refine(double t0, double r0, double t1, double r1, double g, int depth,
 
 }  // namespace
 
-CornetteShanksPhase::CornetteShanksPhase(double g) : g_(g) {
+CornetteShanksPhase::CornetteShanksPhase(double g) : g_(g), hg_(g) {
     // Seed nodes uniform in t and uniform in μ (mapped to t), merged: the first resolve r where
     // the HG lobe is concentrated, the second where μ(t) moves fast (the tail, for |g| → 1).
     std::vector<std::pair<double, double>> seed;  // (t, r)
@@ -62,15 +61,15 @@ CornetteShanksPhase::CornetteShanksPhase(double g) : g_(g) {
 }
 
 double CornetteShanksPhase::pdf(const Vec3& wo, const Vec3& wi) const {
-    const double mu = std::clamp(wo.dot(wi), -1.0, 1.0);
-    return warped_->pdf(henyeyGreensteinCdf(mu, g_)) * henyeyGreenstein(mu, g_);
+    const AngleCosine c = AngleCosine::between(wo, wi);
+    return warped_->pdf(henyeyGreensteinCdf(c, g_)) * henyeyGreenstein(c, g_);
 }
 
 PhaseSample CornetteShanksPhase::sample(const Vec3& wo, const Vec2& u) const {
     const double t = warped_->sample(u.x());
-    const double cosTheta = sampleHenyeyGreensteinCosTheta(t, g_);
-    const Vec3 wi = Frame(wo).toWorld(sphericalDirection2Pi(cosTheta, u.y()));
-    return {wi, cornetteShanks(cosTheta, g_), warped_->pdf(t) * henyeyGreenstein(cosTheta, g_)};
+    const HenyeyGreensteinSampler::Sample s = hg_(t);
+    const Vec3 wi = Frame(wo).toWorld(sphericalDirection2Pi(s.angle, u.y()));
+    return {wi, cornetteShanks(s.angle, g_), warped_->pdf(t) * s.pdf};
 }
 
 }  // namespace shvol

@@ -7,22 +7,30 @@
 
 namespace shvol {
 
-double henyeyGreenstein(double cosTheta, double g) {
-    const double mu = std::clamp(cosTheta, -1.0, 1.0);
-    const double base = g >= 0 ? sqr(1 - g) + 2 * g * (1 - mu) : sqr(1 + g) - 2 * g * (1 + mu);
-    return (1 - g * g) / (FourPi * base * std::sqrt(base));
+namespace {
+/// 1 + g² − 2gμ as a sum of non-negative terms.
+double base(const AngleCosine& c, double g) {
+    return g >= 0 ? sqr(1 - g) + 2 * g * c.oneMinusMu : sqr(1 + g) - 2 * g * c.onePlusMu;
+}
+}  // namespace
+
+double henyeyGreenstein(const AngleCosine& c, double g) {
+    const double b = base(c, g);
+    return (1 - g * g) / (FourPi * b * std::sqrt(b));
 }
 
-double henyeyGreensteinCdf(double cosTheta, double g) {
-    const double mu = std::clamp(cosTheta, -1.0, 1.0);
-    const double b = g >= 0 ? sqr(1 - g) + 2 * g * (1 - mu) : sqr(1 + g) - 2 * g * (1 + mu);
-    const double s = std::sqrt(b);
-    if (mu <= g) return std::clamp((1 - g) * (1 + mu) / (s * (1 + g + s)), 0.0, 1.0);
-    return std::clamp(1 - (1 + g) * (1 - mu) / (s * (1 - g + s)), 0.0, 1.0);
+double henyeyGreensteinCdf(const AngleCosine& c, double g) {
+    const double s = std::sqrt(base(c, g));
+    if (c.mu <= g) return std::clamp((1 - g) * c.onePlusMu / (s * (1 + g + s)), 0.0, 1.0);
+    return std::clamp(1 - (1 + g) * c.oneMinusMu / (s * (1 - g + s)), 0.0, 1.0);
+}
+
+AngleCosine sampleHenyeyGreensteinAngle(double u, double g) {
+    return HenyeyGreensteinSampler(g)(u).angle;
 }
 
 double sampleHenyeyGreensteinCosTheta(double u, double g) {
-    return HenyeyGreensteinSampler(g)(u).cosTheta;
+    return sampleHenyeyGreensteinAngle(u, g).mu;
 }
 
 }  // namespace shvol

@@ -91,10 +91,34 @@ inline Vec2 cosSin2Pi(double u) {
     return {double(1 - ((k + 1) & 2)) * cs[odd], double(1 - (k & 2)) * cs[odd ^ 1]};
 }
 
+/// The cosine μ of an angle with 1 − μ and 1 + μ, each to the relative accuracy of its own size.
+/// Near μ = ±1, where μ itself rounds the angle away (1 − μ of an angle of 10⁻⁶ rad is 5·10⁻¹³,
+/// while μ is resolved to 1.1·10⁻¹⁶), a lobe of width (1 − g)² as in Henyey–Greenstein with
+/// g → ±1 must be evaluated from the complements. For unit vectors a, b: 1 − μ = ½|a − b|² and
+/// 1 + μ = ½|a + b|².
+struct AngleCosine {
+    double mu, oneMinusMu, onePlusMu;
+    /// From μ alone, clamped to [−1, 1] (the complements as accurate as μ).
+    static AngleCosine of(double mu) {
+        mu = std::clamp(mu, -1.0, 1.0);
+        return {mu, 1 - mu, 1 + mu};
+    }
+    /// Of the unit vectors a and b.
+    static AngleCosine between(const Vec3& a, const Vec3& b) {
+        return {std::clamp(a.dot(b), -1.0, 1.0), std::min(2.0, 0.5 * (a - b).squaredNorm()),
+                std::min(2.0, 0.5 * (a + b).squaredNorm())};
+    }
+    /// sin θ = √((1 − μ)(1 + μ)).
+    double sinTheta() const { return safeSqrt(oneMinusMu * onePlusMu); }
+};
+
+/// ω(θ, φ) from cos θ, sin θ and (cos φ, sin φ).
+inline Vec3 sphericalDirectionFromCosSin(double cosTheta, double sinTheta, const Vec2& cosSinPhi) {
+    return {sinTheta * cosSinPhi.x(), sinTheta * cosSinPhi.y(), cosTheta};
+}
 /// ω(θ, φ) from cos θ and (cos φ, sin φ), with sin θ = √(1 − cos²θ).
 inline Vec3 sphericalDirectionFromCosSin(double cosTheta, const Vec2& cosSinPhi) {
-    const double sinTheta = safeSqrt(1.0 - cosTheta * cosTheta);
-    return {sinTheta * cosSinPhi.x(), sinTheta * cosSinPhi.y(), cosTheta};
+    return sphericalDirectionFromCosSin(cosTheta, safeSqrt(1.0 - cosTheta * cosTheta), cosSinPhi);
 }
 /// ω(cos θ, φ).
 inline Vec3 sphericalDirection(double cosTheta, double phi) {
@@ -103,6 +127,10 @@ inline Vec3 sphericalDirection(double cosTheta, double phi) {
 /// ω(cos θ, 2πu): sphericalDirection with the azimuth of a sampler's u (cosSin2Pi).
 inline Vec3 sphericalDirection2Pi(double cosTheta, double u) {
     return sphericalDirectionFromCosSin(cosTheta, cosSin2Pi(u));
+}
+/// ω(θ, 2πu) with sin θ from the complements of cos θ (AngleCosine): accurate near the poles.
+inline Vec3 sphericalDirection2Pi(const AngleCosine& c, double u) {
+    return sphericalDirectionFromCosSin(c.mu, c.sinTheta(), cosSin2Pi(u));
 }
 /// φ ∈ [0, 2π) of a direction.
 inline double sphericalPhi(const Vec3& w) {

@@ -25,14 +25,18 @@
 #include <memory>
 
 #include "shvol/core/math.h"
+#include "shvol/phase/henyey_greenstein.h"
 #include "shvol/phase/phase_sample.h"
 #include "shvol/phase/piecewise_linear_1d.h"
 
 namespace shvol {
 
 /// p(μ) = HG(μ; g) · 3(1 + μ²)/(2(2 + g²)), the closed form above (accurate as |g| → 1 through
-/// henyeyGreenstein's cancellation-free base).
-double cornetteShanks(double cosTheta, double g);
+/// henyeyGreenstein's cancellation-free base and the angle's complements).
+double cornetteShanks(const AngleCosine& c, double g);
+inline double cornetteShanks(double cosTheta, double g) {
+    return cornetteShanks(AngleCosine::of(cosTheta), g);
+}
 
 class CornetteShanksPhase {
   public:
@@ -41,7 +45,9 @@ class CornetteShanksPhase {
     /// \param g in (−1, 1); g > 0 forward.
     explicit CornetteShanksPhase(double g);
     double g() const { return g_; }
-    double eval(const Vec3& wo, const Vec3& wi) const { return cornetteShanks(wo.dot(wi), g_); }
+    double eval(const Vec3& wo, const Vec3& wi) const {
+        return cornetteShanks(AngleCosine::between(wo, wi), g_);
+    }
     /// r̃(P_HG(μ)) HG(μ; g): the density of sample(), close to but not equal to eval.
     double pdf(const Vec3& wo, const Vec3& wi) const;
     /// t = r̃⁻¹(u₁), cos θ = sampleHenyeyGreensteinCosTheta(t, g), φ = 2π u₂ around wo.
@@ -51,6 +57,7 @@ class CornetteShanksPhase {
 
   private:
     double g_;
+    HenyeyGreensteinSampler hg_;
     std::shared_ptr<const PiecewiseLinear1D> warped_;  // r̃ over t ∈ [0, 1]; shared by copies
 };
 

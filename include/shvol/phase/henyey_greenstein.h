@@ -12,8 +12,14 @@ namespace shvol {
 
 /// p(μ) = (1 − g²) / (4π (1 + g² − 2gμ)^{3/2}),  ∫ p dω = 1.
 /// The base is evaluated as (1 − g)² + 2g(1 − μ) for g ≥ 0 and (1 + g)² − 2g(1 + μ) for g < 0,
-/// sums of non-negative terms, so it never cancels to zero or below for |g| → 1.
-double henyeyGreenstein(double cosTheta, double g);
+/// sums of non-negative terms, so it never cancels to zero or below for |g| → 1. Given the angle's
+/// complements (AngleCosine::between(wo, wi)) it keeps its relative accuracy where the lobe is
+/// narrower than the rounding of μ (g = 0.999999: the density at the rounded wo·wi was off by
+/// 1.3·10⁻³).
+double henyeyGreenstein(const AngleCosine& c, double g);
+inline double henyeyGreenstein(double cosTheta, double g) {
+    return henyeyGreenstein(AngleCosine::of(cosTheta), g);
+}
 
 /// Exact inverse of the CDF P(μ) = ∫_{−1}^{μ} 2π p(μ′) dμ′:
 ///   μ = (1 + g² − s²) / (2g),  s = (1 − g²) / (1 − g + 2gu)            (pbrt-v3 §15.2.3).
@@ -24,6 +30,8 @@ double henyeyGreenstein(double cosTheta, double g);
 /// stays exact as g → 0 (no isotropic switch is needed) and as |g| → 1. Result clamped to
 /// [−1, 1]. \param u uniform in [0, 1]. (HenyeyGreensteinSampler's μ.)
 double sampleHenyeyGreensteinCosTheta(double u, double g);
+/// The same μ with its complements 1 ∓ μ as the two forms give them (HenyeyGreensteinSampler).
+AngleCosine sampleHenyeyGreensteinAngle(double u, double g);
 
 /// The sampler of sampleHenyeyGreensteinCosTheta for one g, with its constants computed once and
 /// one division per sample, and the density at the sampled μ in closed form, without a square
@@ -47,18 +55,19 @@ class HenyeyGreensteinSampler {
           dSlope_(2 * std::abs(g)),
           flip_(g < 0) {}
     struct Sample {
-        double cosTheta, pdf;
+        AngleCosine angle;  ///< μ, clamped to [−1, 1], with 1 ∓ μ from their own forms
+        double pdf;
     };
-    /// μ (clamped to [−1, 1]) and p(μ) for u ∈ [0, 1].
+    /// μ and p(μ) for u ∈ [0, 1].
     Sample operator()(double u) const {
         // d = (1 − g) + 2gu for g ≥ 0, (1 + g) + 2|g|(1 − u) for g < 0: sums of non-negative
         // terms (1 − u is exact for the samplers' u), so d³ keeps its relative accuracy.
         const double d = dBase_ + dSlope_ * (flip_ ? 1 - u : u), invD = 1 / d;
         const double s = oneMinusG2_ * invD;
-        const double oneMinusMu = oneMinusG_ * (1 - u) * (s + oneMinusG_) * invD;
-        const double onePlusMu = onePlusG_ * u * (s + onePlusG_) * invD;
+        const double oneMinusMu = std::min(2.0, oneMinusG_ * (1 - u) * (s + oneMinusG_) * invD);
+        const double onePlusMu = std::min(2.0, onePlusG_ * u * (s + onePlusG_) * invD);
         const double mu = oneMinusMu <= onePlusMu ? 1 - oneMinusMu : onePlusMu - 1;
-        return {std::clamp(mu, -1.0, 1.0), d * d * d * pdfScale_};
+        return {{std::clamp(mu, -1.0, 1.0), oneMinusMu, onePlusMu}, d * d * d * pdfScale_};
     }
 
   private:
@@ -71,6 +80,9 @@ class HenyeyGreensteinSampler {
 ///   P = (1 − g)(1 + μ) / (√b (1 + g + √b))   or   1 − P = (1 + g)(1 − μ) / (√b (1 − g + √b)),
 /// the first for μ ≤ g, the second above (b in the non-negative form above). Inverse of
 /// sampleHenyeyGreensteinCosTheta. Result in [0, 1].
-double henyeyGreensteinCdf(double cosTheta, double g);
+double henyeyGreensteinCdf(const AngleCosine& c, double g);
+inline double henyeyGreensteinCdf(double cosTheta, double g) {
+    return henyeyGreensteinCdf(AngleCosine::of(cosTheta), g);
+}
 
 }  // namespace shvol

@@ -17,16 +17,23 @@
 
 namespace shvol {
 
-/// w HG(μ; g₁) + (1 − w) HG(μ; g₂).
+/// w HG(μ; g₁) + (1 − w) HG(μ; g₂) (from the angle's complements: henyeyGreenstein).
+inline double twoTermHenyeyGreenstein(const AngleCosine& c, double g1, double g2, double w) {
+    return w * henyeyGreenstein(c, g1) + (1 - w) * henyeyGreenstein(c, g2);
+}
 inline double twoTermHenyeyGreenstein(double cosTheta, double g1, double g2, double w) {
-    return w * henyeyGreenstein(cosTheta, g1) + (1 - w) * henyeyGreenstein(cosTheta, g2);
+    return twoTermHenyeyGreenstein(AngleCosine::of(cosTheta), g1, g2, w);
 }
 
-/// Samples μ from the mixture with one uniform number (lobe choice, then the rescaled number).
-inline double sampleTwoTermHenyeyGreensteinCosTheta(double u, double g1, double g2, double w) {
+/// Samples μ, with its complements, from the mixture with one uniform number (lobe choice, then
+/// the rescaled number).
+inline AngleCosine sampleTwoTermHenyeyGreensteinAngle(double u, double g1, double g2, double w) {
     // w = 1 always takes lobe 1 (also for u = 1, where (u − w)/(1 − w) would be 0/0).
-    if (u < w || w >= 1) return sampleHenyeyGreensteinCosTheta(std::min(u / w, 1.0), g1);
-    return sampleHenyeyGreensteinCosTheta(std::clamp((u - w) / (1 - w), 0.0, 1.0), g2);
+    if (u < w || w >= 1) return sampleHenyeyGreensteinAngle(std::min(u / w, 1.0), g1);
+    return sampleHenyeyGreensteinAngle(std::clamp((u - w) / (1 - w), 0.0, 1.0), g2);
+}
+inline double sampleTwoTermHenyeyGreensteinCosTheta(double u, double g1, double g2, double w) {
+    return sampleTwoTermHenyeyGreensteinAngle(u, g1, g2, w).mu;
 }
 
 class TwoTermHenyeyGreensteinPhase {
@@ -39,14 +46,14 @@ class TwoTermHenyeyGreensteinPhase {
     double g2() const { return g2_; }
     double w() const { return w_; }
     double eval(const Vec3& wo, const Vec3& wi) const {
-        return twoTermHenyeyGreenstein(wo.dot(wi), g1_, g2_, w_);
+        return twoTermHenyeyGreenstein(AngleCosine::between(wo, wi), g1_, g2_, w_);
     }
     /// The sampler's density is the mixture: pdf = eval.
     double pdf(const Vec3& wo, const Vec3& wi) const { return eval(wo, wi); }
     PhaseSample sample(const Vec3& wo, const Vec2& u) const {
-        const double cosTheta = sampleTwoTermHenyeyGreensteinCosTheta(u.x(), g1_, g2_, w_);
-        const Vec3 wi = Frame(wo).toWorld(sphericalDirection2Pi(cosTheta, u.y()));
-        const double p = twoTermHenyeyGreenstein(cosTheta, g1_, g2_, w_);
+        const AngleCosine c = sampleTwoTermHenyeyGreensteinAngle(u.x(), g1_, g2_, w_);
+        const Vec3 wi = Frame(wo).toWorld(sphericalDirection2Pi(c, u.y()));
+        const double p = twoTermHenyeyGreenstein(c, g1_, g2_, w_);
         return {wi, p, p};
     }
 
