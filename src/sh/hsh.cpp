@@ -13,9 +13,11 @@ void hshEval(int n, const Vec3& w, double* out) {
     const double s = std::sqrt(x * x + y * y);
     const double c1 = s > 0.0 ? x / s : 1.0;
     const double s1 = s > 0.0 ? y / s : 0.0;
-    const double zs = 2.0 * z - 1.0;                   // shifted argument (Gautron eq. 6)
-    const double ss = 2.0 * std::sqrt(z * (1.0 - z));  // √(1 − (2z−1)²)
-    const double r2 = 1.4142135623730951, two = 2.0;   // √2 (K̃ = √2 K) and √2·√2
+    const double zs = 2.0 * z - 1.0;  // shifted argument (Gautron eq. 6)
+    // √(1 − (2z−1)²) = 2√(z(1 − z)), with 1 − z = (x² + y²)/(1 + z) for a unit w: near the
+    // normal z rounds the polar angle away (z = 1 exactly at θ = 10⁻⁹), x and y keep it.
+    const double ss = 2.0 * s * std::sqrt(z / (1.0 + z));
+    const double r2 = 1.4142135623730951, two = 2.0;  // √2 (K̃ = √2 K) and √2·√2
     double cm = 1.0, sm = 0.0;
     int mCur = 0;
     forEachLegendre(n, zs, ss, [&](int l, int m, double v) {

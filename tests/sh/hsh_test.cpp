@@ -58,6 +58,25 @@ TEST(Hsh, MatchesEquation8) {
         }
 }
 
+// Near the normal the terms with m ≠ 0 scale with s = √(1 − (2z − 1)²) = 2√(z(1 − z)), and z
+// rounds the polar angle away (at θ = 10⁻⁹, z = 1 exactly): s must come from the direction's
+// x and y, 1 − z = (x² + y²)/(1 + z). Reference: s = 2√(cos θ)·√2·sin(θ/2) from θ itself. From
+// the rounded z, H_1^{±1} was 0 at θ = 10⁻⁹ and 0.76% off at 10⁻⁷.
+TEST(Hsh, AccurateNearTheNormal) {
+    for (double theta : {1e-9, 1e-7, 1e-5, 1e-3})
+        for (double phi : {0.3, 4.0}) {
+            const Vec3 w(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
+                         std::cos(theta));
+            const double s = 2 * std::sqrt(std::cos(theta)) * std::sqrt(2.0) * std::sin(theta / 2);
+            const double K11 = std::sqrt(3 / (4 * M_PI)), r2 = std::sqrt(2.0);
+            double h[4];
+            hshEval(2, w, h);
+            // H_1^{−1} and H_1^1: √2 K_1^1 (−s) sin φ and cos φ (MatchesEquation8).
+            EXPECT_NEAR(h[1], -r2 * K11 * s * std::sin(phi), 1e-12 * r2 * K11 * s) << theta;
+            EXPECT_NEAR(h[3], -r2 * K11 * s * std::cos(phi), 1e-12 * r2 * K11 * s) << theta;
+        }
+}
+
 // C from its definition by an independent integrator (tanh–sinh on z ∈ [0, 1], which copes with
 // the √z branch point of odd m at the horizon), φ integral analytic (2π for equal m).
 TEST(Hsh, ConversionMatrixMatchesIndependentQuadrature) {
