@@ -190,7 +190,7 @@ void SkyHierarchy::compressedChildren(int level, uint64_t morton, double a, doub
 }
 
 double SkyHierarchy::samplingAverage(int level, uint32_t iz, uint32_t iphi) const {
-    if (!compressed_) return average(level, iz, iphi);
+    if (!compressed_) return mip_[level][mortonIndex(iz, iphi)];  // sampler units, as the others
     double avg = mip_[0][0], c[4];
     uint64_t node = 0;
     for (int d = 0; d < level; ++d) {

@@ -124,7 +124,7 @@ TEST(SkyHierarchy, WaveletCompressionErrorMatchesReconstruction) {
     for (size_t K : {10, 100, 1000, 4000}) {
         const SkyHierarchy h = fromImage(img, LatLongMapping::Blender, 0, false, 6, K);
         ASSERT_TRUE(h.compressed());
-        EXPECT_LE(h.keptDetails(), K);  // zero details are not kept
+        EXPECT_LE(h.keptDetails(), K);                // zero details are not kept
         if (K <= 100) EXPECT_EQ(h.keptDetails(), K);  // this sky has more non-zero details
         double err2 = 0, norm2 = 0;
         for (uint32_t iz = 0; iz < 64; ++iz)
@@ -140,6 +140,22 @@ TEST(SkyHierarchy, WaveletCompressionErrorMatchesReconstruction) {
         EXPECT_LE(h.relativeL2Error(), previous);
         previous = h.relativeL2Error();
         EXPECT_LT(h.memoryBytes(), full.memoryBytes());
+    }
+}
+
+// samplingAverage is in sampler units, compressed or not: times unit() it is average().
+TEST(SkyHierarchy, SamplingAveragesAreInSamplerUnits) {
+    const Image img = test::testSky(64, sphericalDirection(0.5, 1.0), 0.05, 200.0);
+    for (size_t K : {size_t(0), size_t(100)}) {
+        const SkyHierarchy h = fromImage(img, LatLongMapping::Blender, 0, false, 5, K);
+        ASSERT_EQ(h.compressed(), K > 0);
+        ASSERT_NE(h.unit(), 1.0);  // or the units could not be told apart
+        for (int level = 0; level <= 5; ++level)
+            for (uint32_t iz = 0; iz < (1u << level); iz += 3)
+                for (uint32_t ip = 0; ip < (1u << level); ip += 5)
+                    EXPECT_NEAR(h.unit() * h.samplingAverage(level, iz, ip),
+                                h.average(level, iz, ip), 1e-12 * h.unit())
+                        << "K " << K << " level " << level;
     }
 }
 
