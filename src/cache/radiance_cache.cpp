@@ -6,19 +6,13 @@
 
 namespace shvol {
 
-struct RadianceCache::Rotation {
-    sh::ShToHsh C;                ///< n HSH bands through 2n SH bands (Gautron §4)
-    sh::ShVectorRotation rotate;  ///< of the 2n SH bands
-};
-
 RadianceCache::RadianceCache(int order, double accuracy, const Vec3& lo, const Vec3& hi)
     : n_(order),
       a_(accuracy),
       diag_(std::max((hi - lo).norm(), 1e-300)),
       cell_(diag_ / 64),
       lo_(lo),
-      rotation_(std::make_unique<Rotation>(
-          Rotation{sh::ShToHsh(order, 2 * order), sh::ShVectorRotation(2 * order)})) {}
+      rotation_(std::make_unique<const sh::HshRotation>(order)) {}
 
 RadianceCache::~RadianceCache() = default;
 
@@ -175,18 +169,12 @@ bool RadianceCache::covers(const Vec3& p, const Vec3& n, const Vec3& ng) const {
 
 bool RadianceCache::lookup(const Vec3& p, const Vec3& n, const Vec3& ng, double* lambda) const {
     const int nn = n_ * n_;
-    const sh::ShToHsh& C = rotation_->C;
-    const int shCount = C.nSh * C.nSh;
     std::fill(lambda, lambda + 3 * nn, 0.0);
-    // Scratch (lookups run once per pixel sample): a record's coefficients moved to p, and for
-    // records in other frames their SH form rotated onto the query's frame and the weighted sum
-    // of those. C is linear, so Σ w C D Cᵀ λ = C Σ w D Cᵀ λ: one SH→HSH projection per lookup
-    // rather than one per rotated record.
-    thread_local std::vector<double> moved, shCoeffs, shSum;
+    // Scratch (lookups run once per pixel sample): a record's coefficients moved to p, and
+    // rotated onto the query's frame.
+    thread_local std::vector<double> moved, rotated;
     moved.resize(3 * nn);
-    shCoeffs.resize(3 * size_t(shCount));
-    shSum.resize(3 * size_t(shCount));
-    bool rotated = false;  // (shSum is zeroed by the first rotated record)
+    rotated.resize(3 * nn);
     double wSum = 0;
     const Frame query(n);
     candidates(p, [&](const Record& r) {
@@ -203,8 +191,8 @@ bool RadianceCache::lookup(const Vec3& p, const Vec3& n, const Vec3& ng, double*
             return;
         }
         for (int k = 0; k < 3 * nn; ++k) moved[k] = at(k);
-        // Rotate the record's frame onto the query's (hshRotate's C · D(R) · Cᵀ without the
-        // final C), the three channels together.
+        // Rotate the record's frame onto the query's (sh::HshRotation, continuous at the
+        // identity branch above), the three channels together.
         Eigen::Matrix3d R;
         for (int a = 0; a < 3; ++a)
             for (int b = 0; b < 3; ++b)
@@ -214,17 +202,9 @@ bool RadianceCache::lookup(const Vec3& p, const Vec3& n, const Vec3& ng, double*
                               .dot(b == 0   ? frame.s
                                    : b == 1 ? frame.t
                                             : frame.n);
-        for (int c = 0; c < 3; ++c) C.toSh(&moved[c * nn], &shCoeffs[c * shCount]);
-        rotation_->rotate.apply(R, shCoeffs.data(), shCoeffs.data(), 3);
-        if (!rotated) std::fill(shSum.begin(), shSum.end(), 0.0);
-        for (size_t k = 0; k < shSum.size(); ++k) shSum[k] += w * shCoeffs[k];
-        rotated = true;
+        rotation_->apply(R, moved.data(), rotated.data(), 3);
+        for (int k = 0; k < 3 * nn; ++k) lambda[k] += w * rotated[k];
     });
-    if (rotated)
-        for (int c = 0; c < 3; ++c) {
-            C.toHsh(&shSum[c * shCount], moved.data());
-            for (int k = 0; k < nn; ++k) lambda[c * nn + k] += moved[k];
-        }
     if (!(wSum > 0)) return false;
     const double invSum = 1 / wSum;
     for (int k = 0; k < 3 * nn; ++k) lambda[k] *= invSum;

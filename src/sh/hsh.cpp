@@ -53,6 +53,43 @@ SphereQuadrature hemisphereQuadrature(int nz, int nphi) {
     return sphereQuadrature(nz, nphi, 0.0, 1.0);
 }
 
+HshRotation::HshRotation(int n) : n_(n) {
+    const SphereQuadrature q = hemisphereQuadrature(n, 2 * n);
+    const int nn = n * n;
+    basis_.resize(size_t(q.size()) * nn);
+    for (size_t i = 0; i < q.z.size(); ++i)
+        for (int j = 0; j < q.nphi; ++j) {
+            hshEval(n, q.direction(int(i), j), &basis_[nodes_.size() * nn]);
+            nodes_.push_back(q.direction(int(i), j));
+            weights_.push_back(q.weight(int(i)));
+        }
+}
+
+void HshRotation::apply(const Eigen::Matrix3d& R, const double* h, double* out,
+                        int channels) const {
+    const int nn = n_ * n_;
+    std::fill(out, out + size_t(channels) * nn, 0.0);
+    thread_local std::vector<double> y;
+    y.resize(nn);
+    for (size_t q = 0; q < nodes_.size(); ++q) {
+        Vec3 v = R.transpose() * nodes_[q];  // the node in the function's frame
+        if (v.z() < 0) {                     // below its horizon: the horizon point above
+            const double s = std::hypot(v.x(), v.y());
+            v = s > 0 ? Vec3(v.x() / s, v.y() / s, 0) : Vec3(1, 0, 0);
+        }
+        hshEval(n_, v, y.data());
+        const double* b = &basis_[q * nn];
+        for (int c = 0; c < channels; ++c) {
+            const double* hc = h + size_t(c) * nn;
+            double f = 0;
+            for (int i = 0; i < nn; ++i) f += hc[i] * y[i];
+            f *= weights_[q];
+            double* oc = out + size_t(c) * nn;
+            for (int j = 0; j < nn; ++j) oc[j] += f * b[j];
+        }
+    }
+}
+
 ShToHsh::ShToHsh(int nH, int nS) : nHsh(nH), nSh(nS) {
     const int mMax = std::min(nH, nS);
     blocks.resize(mMax);

@@ -17,7 +17,8 @@
 /// A query at (P, N) averages the records with weight (Gautron eq. 23)
 ///   w_i = 1 / (|P − P_i| / R_i + √(1 − N·N_i))  >  1/a,
 /// each extrapolated by its gradients and rotated from its frame to the query's (eq. 24; HSH
-/// rotation through SH, sh/hsh.h, skipped when the two frames are the same).
+/// rotation by quadrature, sh::HshRotation, continuous at the identity; skipped when the two
+/// frames are the same).
 /// Records are found through uniform grids of cell widths (diagonal/64)·2^l: each record is listed
 /// in the cells of the first level at least as wide as its reach a R_i (at most 3 × 3 × 3 cells),
 /// and a query visits the one cell containing it on every level. Adding is not thread-safe;
@@ -28,6 +29,7 @@
 #include <vector>
 
 #include "shvol/core/math.h"
+#include "shvol/sh/hsh.h"
 
 namespace shvol {
 
@@ -102,8 +104,7 @@ class RadianceCache {
     Vec3 lo_;
     std::vector<Record> records_;
     std::unordered_map<uint64_t, std::vector<uint32_t>> grid_;
-    struct Rotation;  ///< the SH→HSH matrix for rotating records
-    std::unique_ptr<Rotation> rotation_;
+    std::unique_ptr<const sh::HshRotation> rotation_;  ///< of records into a query's frame
 };
 
 }  // namespace shvol
