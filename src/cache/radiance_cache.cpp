@@ -170,11 +170,13 @@ bool RadianceCache::covers(const Vec3& p, const Vec3& n, const Vec3& ng) const {
 bool RadianceCache::lookup(const Vec3& p, const Vec3& n, const Vec3& ng, double* lambda) const {
     const int nn = n_ * n_;
     std::fill(lambda, lambda + 3 * nn, 0.0);
-    // Scratch (lookups run once per pixel sample): a record's coefficients moved to p, and
-    // rotated onto the query's frame.
-    thread_local std::vector<double> moved, rotated;
+    // Scratch (lookups run once per pixel sample): a record's coefficients moved to p, and the
+    // weighted sum of the rotated records' SH corrections (sh::HshRotation: h′ = h + C (D − I) E h;
+    // C is linear, so one SH→HSH projection per lookup rather than one per rotated record).
+    thread_local std::vector<double> moved, shSum;
     moved.resize(3 * nn);
-    rotated.resize(3 * nn);
+    shSum.resize(3 * size_t(rotation_->shCount()));
+    bool rotated = false;  // (shSum is zeroed by the first rotated record)
     double wSum = 0;
     const Frame query(n);
     candidates(p, [&](const Record& r) {
@@ -186,13 +188,11 @@ bool RadianceCache::lookup(const Vec3& p, const Vec3& n, const Vec3& ng, double*
         const double dx = (p - r.p).dot(frame.s), dy = (p - r.p).dot(frame.t);
         // Coefficient k of the record moved to p by its gradients.
         auto at = [&](int k) { return r.lambda[k] + dx * r.dx[k] + dy * r.dy[k]; };
-        if (!((r.frame.n - n).squaredNorm() > 1e-24)) {  // the query's frame
-            for (int k = 0; k < 3 * nn; ++k) lambda[k] += w * at(k);
-            return;
-        }
         for (int k = 0; k < 3 * nn; ++k) moved[k] = at(k);
-        // Rotate the record's frame onto the query's (sh::HshRotation, continuous at the
-        // identity branch above), the three channels together.
+        for (int k = 0; k < 3 * nn; ++k) lambda[k] += w * moved[k];
+        if (!((r.frame.n - n).squaredNorm() > 1e-24)) return;  // the query's frame
+        // Rotated from the record's frame onto the query's: the correction, the three channels
+        // together (it vanishes as the frames meet, so the two branches join continuously).
         Eigen::Matrix3d R;
         for (int a = 0; a < 3; ++a)
             for (int b = 0; b < 3; ++b)
@@ -202,9 +202,11 @@ bool RadianceCache::lookup(const Vec3& p, const Vec3& n, const Vec3& ng, double*
                               .dot(b == 0   ? frame.s
                                    : b == 1 ? frame.t
                                             : frame.n);
-        rotation_->apply(R, moved.data(), rotated.data(), 3);
-        for (int k = 0; k < 3 * nn; ++k) lambda[k] += w * rotated[k];
+        if (!rotated) std::fill(shSum.begin(), shSum.end(), 0.0);
+        rotated = true;
+        rotation_->addCorrection(R, moved.data(), w, shSum.data(), 3);
     });
+    if (rotated) rotation_->finish(shSum.data(), lambda, 3);
     if (!(wSum > 0)) return false;
     const double invSum = 1 / wSum;
     for (int k = 0; k < 3 * nn; ++k) lambda[k] *= invSum;

@@ -53,41 +53,54 @@ SphereQuadrature hemisphereQuadrature(int nz, int nphi) {
     return sphereQuadrature(nz, nphi, 0.0, 1.0);
 }
 
-HshRotation::HshRotation(int n) : n_(n) {
-    const SphereQuadrature q = hemisphereQuadrature(n, 2 * n);
-    const int nn = n * n;
-    basis_.resize(size_t(q.size()) * nn);
-    for (size_t i = 0; i < q.z.size(); ++i)
-        for (int j = 0; j < q.nphi; ++j) {
-            hshEval(n, q.direction(int(i), j), &basis_[nodes_.size() * nn]);
-            nodes_.push_back(q.direction(int(i), j));
-            weights_.push_back(q.weight(int(i)));
+HshRotation::HshRotation(int n)
+    : n_(n), C_(n, 2 * n), rotate_(2 * n), horizon_(size_t(n) * n), lowerSh_(size_t(4) * n * n) {
+    hshEval(n, Vec3(1, 0, 0), horizon_.data());  // (m ≠ 0 terms vanish at the horizon)
+    // ∫ Y_j over z ∈ [−1, 0]: Y_j is a polynomial of degree < 2n in z times its azimuth factor,
+    // which integrates to 0 unless m = 0; 2n Gauss points in z and 4n in φ are exact.
+    const SphereQuadrature lower = sphereQuadrature(2 * n, 4 * n, -1.0, 0.0);
+    std::vector<double> y(lowerSh_.size());
+    for (size_t i = 0; i < lower.z.size(); ++i)
+        for (int j = 0; j < lower.nphi; ++j) {
+            shEval(2 * n, lower.direction(int(i), j), y.data());
+            for (size_t k = 0; k < y.size(); ++k) lowerSh_[k] += lower.weight(int(i)) * y[k];
         }
+}
+
+void HshRotation::addCorrection(const Eigen::Matrix3d& R, const double* h, double weight,
+                                double* sh, int channels) const {
+    const int nn = n_ * n_, ns = shCount();
+    thread_local std::vector<double> held, rotated;
+    held.resize(size_t(channels) * ns);
+    rotated.resize(held.size());
+    for (int c = 0; c < channels; ++c) {
+        const double* hc = h + size_t(c) * nn;
+        double* e = &held[size_t(c) * ns];
+        C_.toSh(hc, e);
+        double atHorizon = 0;
+        for (int i = 0; i < nn; ++i) atHorizon += horizon_[i] * hc[i];
+        for (int k = 0; k < ns; ++k) e[k] += atHorizon * lowerSh_[k];
+    }
+    rotate_.apply(R, held.data(), rotated.data(), channels);
+    for (size_t k = 0; k < held.size(); ++k) sh[k] += weight * (rotated[k] - held[k]);
+}
+
+void HshRotation::finish(const double* sh, double* out, int channels) const {
+    const int nn = n_ * n_, ns = shCount();
+    thread_local std::vector<double> h;
+    h.resize(nn);
+    for (int c = 0; c < channels; ++c) {
+        C_.toHsh(sh + size_t(c) * ns, h.data());
+        for (int i = 0; i < nn; ++i) out[size_t(c) * nn + i] += h[i];
+    }
 }
 
 void HshRotation::apply(const Eigen::Matrix3d& R, const double* h, double* out,
                         int channels) const {
-    const int nn = n_ * n_;
-    std::fill(out, out + size_t(channels) * nn, 0.0);
-    thread_local std::vector<double> y;
-    y.resize(nn);
-    for (size_t q = 0; q < nodes_.size(); ++q) {
-        Vec3 v = R.transpose() * nodes_[q];  // the node in the function's frame
-        if (v.z() < 0) {                     // below its horizon: the horizon point above
-            const double s = std::hypot(v.x(), v.y());
-            v = s > 0 ? Vec3(v.x() / s, v.y() / s, 0) : Vec3(1, 0, 0);
-        }
-        hshEval(n_, v, y.data());
-        const double* b = &basis_[q * nn];
-        for (int c = 0; c < channels; ++c) {
-            const double* hc = h + size_t(c) * nn;
-            double f = 0;
-            for (int i = 0; i < nn; ++i) f += hc[i] * y[i];
-            f *= weights_[q];
-            double* oc = out + size_t(c) * nn;
-            for (int j = 0; j < nn; ++j) oc[j] += f * b[j];
-        }
-    }
+    std::copy(h, h + size_t(channels) * n_ * n_, out);
+    std::vector<double> sh(size_t(channels) * shCount(), 0.0);
+    addCorrection(R, h, 1, sh.data(), channels);
+    finish(sh.data(), out, channels);
 }
 
 ShToHsh::ShToHsh(int nH, int nS) : nHsh(nH), nSh(nS) {

@@ -73,36 +73,47 @@ Eigen::VectorXd hshRotate(const ShToHsh& C, const ShRotation& R, const Eigen::Ve
 /// The same as one nHsh² × nHsh² matrix C R Cᵀ (for rotating many vectors).
 Eigen::MatrixXd hshRotationMatrix(const ShToHsh& C, const ShRotation& R);
 
-/// HSH rotation by quadrature, continuous at the identity (what the radiance cache uses):
-///   h′_j = Σ_q w_q f̃(R⁻¹ω_q) H_j(ω_q)
-/// over the hemisphere rule of n × 2n points (hemisphereQuadrature), with f̃ = Σ h_i H_i extended
-/// below the horizon by its value at the horizon point of the same azimuth. The rule integrates
-/// f̃ H_j exactly where f̃ is not extended, so R = I returns h to rounding, and h′ moves
-/// continuously with R. Through SH (hshRotate), the zero extension's step at the horizon is
-/// truncated to 2n bands even at R = I: a record of constant radiance changed by 11% (n = 6) under
-/// any rotation, however small, and the radiance cache switched between that and the unrotated
-/// record at a normal difference of 10⁻¹². Against the projection of the exactly rotated
-/// function (n = 6; tests/sh/hsh_test.cpp), relative L2 error by tilt 10⁻⁶ rad, 2°, 15°, 30°:
-///   constant:                          10⁻¹⁵ throughout        (through SH: 0.11, 0.11, 0.26,
-///   0.38) e^{3(ω·d − 1)}, d 26° from n:      1.2·10⁻⁹, 0.004, 0.022, 0.032  (0.018, 0.020, 0.037,
-///   0.046) the same, d 77° from n:            1.3·10⁻⁸, 0.030, 0.17, 0.24    (0.11, 0.11, 0.17,
-///   0.26)
-/// (the rest is what the record does not know: the radiance below its horizon).
+/// HSH rotation for the radiance cache, exact at the identity and continuous in R:
+///   h′ = h + C (D(R) − I) E h,
+/// with D the SH rotation of 2n bands (ShVectorRotation) and E h the SH projection of f̃ = Σ h_i H_i
+/// extended below the horizon by its value there (only the m = 0 terms are non-zero at the
+/// horizon, so the extension is one constant: E h = Cᵀh + s (v·h), v_i = H_i at the horizon and
+/// s_j = ∫ Y_j over the lower hemisphere). It is C D E h (Gautron §4's rotation through SH, of the
+/// held rather than the zero extension) plus the residual h − C E h that the truncation to 2n SH
+/// bands loses, which the rotation leaves where it is. Through hshRotate (zero extension, no
+/// residual) the step at the horizon is truncated even at R = I: a record of constant radiance
+/// changed by 11% (n = 6) under any rotation however small, and the radiance cache switched
+/// between that and the unrotated record at a normal difference of 10⁻¹². Against the projection
+/// of the exactly rotated function (n = 6, tests/sh/hsh_test.cpp), relative L2 error at tilts of
+/// 10⁻⁶ rad, 2°, 15°, 30° (through hshRotate in brackets):
+///   constant radiance:               < 10⁻¹³ at every tilt  (0.11, 0.11, 0.26, 0.38)
+///   e^{3(ω·d − 1)}, d 26° from n:    6.7·10⁻⁸, 0.0023, 0.016, 0.031  (0.018, 0.020, 0.037, 0.046)
+///   the same, d 77° from n:          4.4·10⁻⁷, 0.015, 0.12, 0.21     (0.11, 0.11, 0.17, 0.26)
+/// (first order in the tilt near the identity; beyond, mostly what the record does not know: the
+/// radiance below its horizon). The cost is
+/// hshRotate's; the corrections of several records share one C (addCorrection, then finish).
 class HshRotation {
   public:
     HshRotation() = default;
     explicit HshRotation(int n);
     int order() const { return n_; }
+    /// SH coefficients per channel of the sums addCorrection builds ((2n)² of them).
+    int shCount() const { return 4 * n_ * n_; }
     /// out[c·n² + j] = h′_j of channel c for h at h[c·n²], c < channels; R maps the function's
-    /// frame to the new one (a direction v of the old frame is R·v in the new). out must not
-    /// overlap h.
+    /// frame to the new one (a direction v of the old frame is R·v in the new).
     void apply(const Eigen::Matrix3d& R, const double* h, double* out, int channels) const;
+    /// sh[c·shCount() + k] += weight · ((D(R) − I) E h_c)_k for each channel.
+    void addCorrection(const Eigen::Matrix3d& R, const double* h, double weight, double* sh,
+                       int channels) const;
+    /// out[c·n² + j] += (C sh_c)_j for each channel.
+    void finish(const double* sh, double* out, int channels) const;
 
   private:
     int n_ = 0;
-    std::vector<Vec3> nodes_;
-    std::vector<double> weights_;
-    std::vector<double> basis_;  ///< H_j(ω_q) at q·n² + j
+    ShToHsh C_;
+    ShVectorRotation rotate_;
+    std::vector<double> horizon_;  ///< v: H_i at the horizon (n²)
+    std::vector<double> lowerSh_;  ///< s: ∫ Y_j over the lower hemisphere ((2n)²)
 };
 
 }  // namespace shvol::sh
