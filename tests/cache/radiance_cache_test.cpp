@@ -59,9 +59,10 @@ TEST(RadianceCache, ProjectionAgreesWithQuadrature) {
     for (int i = 0; i < n * n; ++i) EXPECT_NEAR(r.lambda[i], exact[i], 2e-3 * exact.norm()) << i;
 }
 
-// A query with another normal gets the record's function rotated into its own frame: compared
-// with the fine quadrature projection of the record's function seen from that frame, extended
-// below the record's horizon by its value at the horizon (sh::HshRotation).
+// A query with another normal gets the record's function rotated into its own frame
+// (sh::HshRotation): compared with the projection of the field itself seen from the query's
+// frame, it is closer than the record rotated through SH with the zero extension (hshRotate, what
+// the cache did before), and within the measured error.
 TEST(RadianceCache, RotatedLookupAgreesWithQuadrature) {
     const int n = 4;
     const Vec3 d = Vec3(0.3, 0.1, 0.9).normalized();
@@ -76,18 +77,19 @@ TEST(RadianceCache, RotatedLookupAgreesWithQuadrature) {
     ASSERT_TRUE(cache.lookup(Vec3(0, 0, 0), n2, n2, lambda.data()));
     const std::vector<double>& rec = cache.record(0).lambda;
     const Frame f1(n1), f2(n2);
-    const Eigen::VectorXd expected = sh::projectHSH(
-        n,
-        [&](const Vec3& w) {
-            Vec3 v = f1.toLocal(f2.toWorld(w));
-            if (v.z() < 0) v = Vec3(v.x(), v.y(), 0).normalized();
-            return sh::hshReconstruct(n, rec.data(), v);
-        },
-        sh::hemisphereQuadrature(64, 128));
+    const Eigen::VectorXd truth = sh::projectHSH(
+        n, [&](const Vec3& w) { return field(f2.toWorld(w)); }, sh::hemisphereQuadrature(64, 128));
+    Eigen::Matrix3d R;  // record frame → query frame
+    for (int i = 0; i < 3; ++i) R.row(i) = f1.toLocal(i == 0 ? f2.s : i == 1 ? f2.t : f2.n);
+    const Eigen::VectorXd throughSh =
+        sh::hshRotate(sh::ShToHsh(n, 2 * n), sh::ShRotation(2 * n, R),
+                      Eigen::Map<const Eigen::VectorXd>(rec.data(), n * n));
     const Eigen::Map<const Eigen::VectorXd> got(lambda.data(), n * n);
-    // Measured 1.2%: the n × 2n rule does not integrate the kink at the record's horizon exactly.
-    EXPECT_LT((got - expected).norm(), 0.02 * expected.norm())
-        << "got " << got.transpose() << "\nexpected " << expected.transpose();
+    const double err = (got - truth).norm() / truth.norm();
+    // Measured 1.8% (the record's own Monte Carlo error, and the radiance below its horizon that
+    // it does not know); through SH 15%.
+    EXPECT_LT(err, (throughSh - truth).norm() / truth.norm());
+    EXPECT_LT(err, 0.03) << "got " << got.transpose() << "\ntruth " << truth.transpose();
     // Continuous at the identity: a normal 10⁻⁶ rad away gets the record itself, to about the
     // tilt times the record's variation (through SH and its zero extension it changed by 7%).
     const Vec3 n3 = Frame(n1).toWorld(sphericalDirection(std::cos(1e-6), 0.7));
