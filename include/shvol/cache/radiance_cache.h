@@ -16,9 +16,10 @@
 /// corners do not shrink to nothing nor open spaces reach across the scene).
 /// A query at (P, N) averages the records with weight (Gautron eq. 23)
 ///   w_i = 1 / (|P − P_i| / R_i + √(1 − N·N_i))  >  1/a,
-/// each extrapolated by its gradients and rotated from its frame to the query's (eq. 24; HSH
-/// rotation by quadrature, sh::HshRotation, continuous at the identity; skipped when the two
-/// frames are the same).
+/// each extrapolated by its gradients and rotated from its frame to the query's (eq. 24;
+/// sh::HshRotation, through SH with the record held at its horizon and the truncation's residual
+/// kept, so that it is exact and continuous at the identity; skipped when the two frames are the
+/// same).
 /// Records are found through uniform grids of cell widths (diagonal/64)·2^l: each record is listed
 /// in the cells of the first level at least as wide as its reach a R_i (at most 3 × 3 × 3 cells),
 /// and a query visits the one cell containing it on every level. Adding is not thread-safe;

@@ -90,11 +90,10 @@ Eigen::MatrixXd hshRotationMatrix(const ShToHsh& C, const ShRotation& R);
 ///   e^{3(ω·d − 1)}, d 26° from n:    6.7·10⁻⁸, 0.0023, 0.016, 0.031  (0.018, 0.020, 0.037, 0.046)
 ///   the same, d 77° from n:          4.4·10⁻⁷, 0.015, 0.12, 0.21     (0.11, 0.11, 0.17, 0.26)
 /// (first order in the tilt near the identity; beyond, mostly what the record does not know: the
-/// radiance below its horizon). The cost is
-/// hshRotate's; the corrections of several records share one C (addCorrection, then finish).
+/// radiance below its horizon). The cost is hshRotate's; the corrections of several records share
+/// one C (addCorrection, then finish).
 class HshRotation {
   public:
-    HshRotation() = default;
     explicit HshRotation(int n);
     int order() const { return n_; }
     /// SH coefficients per channel of the sums addCorrection builds ((2n)² of them).
