@@ -17,17 +17,17 @@ namespace {
 
 /// Appends the nodes strictly inside (t0, t1) that make the linear interpolant of r(t) = 1 + μ(t)²
 /// match r at every segment midpoint to kRefineTol (relative), bisecting recursively.
-void refine(double t0, double r0, double t1, double r1, double g, int depth,
-            std::vector<std::pair<double, double>>* out) {
+void refine(double t0, double r0, double t1, double r1, const HenyeyGreensteinSampler& hg,
+            int depth, std::vector<std::pair<double, double>>* out) {
     constexpr double kRefineTol = 1e-5;
     const double tm = 0.5 * (t0 + t1);
     if (depth == 0 || !(tm > t0 && tm < t1)) return;
-    const double mu = sampleHenyeyGreensteinCosTheta(tm, g);
+    const double mu = hg(tm).angle.mu;
     const double rm = 1 + mu * mu;
     if (std::abs(rm - 0.5 * (r0 + r1)) <= kRefineTol * rm) return;
-    refine(t0, r0, tm, rm, g, depth - 1, out);
+    refine(t0, r0, tm, rm, hg, depth - 1, out);
     out->emplace_back(tm, rm);
-    refine(tm, rm, t1, r1, g, depth - 1, out);
+    refine(tm, rm, t1, r1, hg, depth - 1, out);
 }
 
 }  // namespace
@@ -39,7 +39,7 @@ CornetteShanksPhase::CornetteShanksPhase(double g) : g_(g), hg_(g) {
     seed.reserve(2 * kTableSize + 2);
     for (int j = 0; j <= kTableSize; ++j) {
         const double t = double(j) / kTableSize;
-        seed.emplace_back(t, 1 + sqr(sampleHenyeyGreensteinCosTheta(t, g)));
+        seed.emplace_back(t, 1 + sqr(hg_(t).angle.mu));
         const double mu = -1 + 2.0 * j / kTableSize;
         seed.emplace_back(henyeyGreensteinCdf(mu, g), 1 + mu * mu);
     }
@@ -51,7 +51,7 @@ CornetteShanksPhase::CornetteShanksPhase(double g) : g_(g), hg_(g) {
     for (const auto& n : seed) {
         if (!nodes.empty() && !(n.first > nodes.back().first)) continue;  // duplicates
         if (!nodes.empty())
-            refine(nodes.back().first, nodes.back().second, n.first, n.second, g, 12, &nodes);
+            refine(nodes.back().first, nodes.back().second, n.first, n.second, hg_, 12, &nodes);
         nodes.push_back(n);
     }
     std::vector<double> t, r;
