@@ -8,6 +8,7 @@
 /// weights and order of interpolation, z then y then x, in float with double weights), so
 /// images do not change. Positions are in the grid's index space, voxel centres at integers.
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -38,6 +39,9 @@ class DensityBricks {
 
     /// The trilinear interpolation of the voxels around p (BoxSampler's result).
     float sample(const Vec3& p) const;
+    /// The voxels (x + a, y + b, z + k), a, b, k ∈ {0, 1}, as v[4a + 2b + k]: the corners of the
+    /// unit cell whose trilinear interpolation sample() takes at points of [x, x + 1)³.
+    void corners(int x, int y, int z, float v[8]) const;
 
     size_t brickCount() const { return values_.size() / kVoxels; }
     size_t constantCount() const { return constants_.size(); }
@@ -48,6 +52,10 @@ class DensityBricks {
 
   private:
     int32_t* slot(const Eigen::Vector3i& c);
+    /// The table entry of the brick holding voxel (ix, iy, iz): as table_, −1 outside the table.
+    int32_t brick(int ix, int iy, int iz) const;
+    /// The voxel (ix, iy, iz) in its stored brick b, whose apron holds the +1 neighbours.
+    const float* voxel(int32_t b, int ix, int iy, int iz) const;
     Eigen::Vector3i lo_{0, 0, 0}, res_{0, 0, 0};
     float background_ = 0;
     /// Per table cell: a brick index (≥ 0), −1 for the background, or −2 − k for constants_[k].
@@ -68,17 +76,35 @@ void DensityBricks::add(const Eigen::Vector3i& c, Voxel&& voxel) {
                 values_.push_back(float(voxel(v0.x() + i, v0.y() + j, v0.z() + k)));
 }
 
-inline __attribute__((always_inline)) float DensityBricks::sample(const Vec3& p) const {
-    const int ix = floorToInt(p.x()), iy = floorToInt(p.y()), iz = floorToInt(p.z());
+inline __attribute__((always_inline)) int32_t DensityBricks::brick(int ix, int iy, int iz) const {
     // Brick coordinates by arithmetic shift (floor division by 8 for negative voxels too).
     const int bx = (ix >> 3) - lo_.x(), by = (iy >> 3) - lo_.y(), bz = (iz >> 3) - lo_.z();
     if (unsigned(bx) >= unsigned(res_.x()) || unsigned(by) >= unsigned(res_.y()) ||
         unsigned(bz) >= unsigned(res_.z()))
-        return background_;
-    const int32_t b = table_[(size_t(bx) * res_.y() + by) * res_.z() + bz];
+        return -1;
+    return table_[(size_t(bx) * res_.y() + by) * res_.z() + bz];
+}
+
+inline const float* DensityBricks::voxel(int32_t b, int ix, int iy, int iz) const {
+    return values_.data() + size_t(b) * kVoxels + ((ix & 7) * kSide + (iy & 7)) * kSide + (iz & 7);
+}
+
+inline void DensityBricks::corners(int x, int y, int z, float v[8]) const {
+    const int32_t b = brick(x, y, z);
+    if (b < 0) {
+        std::fill(v, v + 8, b == -1 ? background_ : constants_[size_t(-2 - b)]);
+        return;
+    }
+    const float* p = voxel(b, x, y, z);
+    constexpr int X = kSide * kSide, Y = kSide;
+    for (int i = 0; i < 8; ++i) v[i] = p[(i >> 2) * X + ((i >> 1) & 1) * Y + (i & 1)];
+}
+
+inline __attribute__((always_inline)) float DensityBricks::sample(const Vec3& p) const {
+    const int ix = floorToInt(p.x()), iy = floorToInt(p.y()), iz = floorToInt(p.z());
+    const int32_t b = brick(ix, iy, iz);
     if (b < 0) return b == -1 ? background_ : constants_[size_t(-2 - b)];
-    const float* v =
-        values_.data() + size_t(b) * kVoxels + ((ix & 7) * kSide + (iy & 7)) * kSide + (iz & 7);
+    const float* v = voxel(b, ix, iy, iz);
     const double u = p.x() - ix, w = p.y() - iy, t = p.z() - iz;
     // BoxSampler::trilinearInterpolation: a + float((b − a)·weight), innermost along z.
     auto lerp = [](float a, float b, double weight) { return a + float((b - a) * weight); };
