@@ -177,6 +177,7 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
     j["density_lookups"] = c.tracking.densityLookups;
     j["density_lookups_per_second"] = c.tracking.densityLookups / std::max(1e-9, st.wallSeconds);
     j["majorant_segments"] = c.tracking.segments;
+    j["exact_cells"] = c.tracking.exactCells;
     j["non_finite_samples"] = c.nonFiniteSamples;
     if (const SurfaceScene* surf = scene.surfaces.get()) {
         nlohmann::json& sj = j["surfaces"];

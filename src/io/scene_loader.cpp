@@ -119,8 +119,8 @@ void refuseKeysOfType(const JsonReader& r, const char* type,
 }
 
 constexpr std::initializer_list<const char*> kVdbKeys = {
-    "file",          "grid",          "density_scale", "transform",
-    "majorant_grid", "majorant_cell", "lookup",        "decomposition"};
+    "file",          "grid",   "density_scale", "transform",       "majorant_grid",
+    "majorant_cell", "lookup", "decomposition", "regular_tracking"};
 
 /// What the loader reads: everything, or (Check) every key of the document but not the contents
 /// of the grids, skies and meshes it names, which must exist (checkScene).
@@ -324,6 +324,7 @@ std::unique_ptr<Medium> readMedium(JsonReader r, std::vector<Surface>& surfaces,
     d.majorantCellVoxels = r.integerOrAuto("majorant_cell", 1, 4096).value_or(0);  // 0: "auto"
     d.bricks = r.choice("lookup", "bricks", {"bricks", "openvdb"}) == "bricks";
     d.decomposition = r.boolean("decomposition", true);
+    d.regularTracking = r.boolean("regular_tracking", true);
     refuseKeysOfType(r, "homogeneous", {"sigma_t", "estimator", "shape"});
     r.finish();
     return contents == Contents::Check ? nullptr : loadVdbMedium(d);

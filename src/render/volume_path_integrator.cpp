@@ -29,6 +29,7 @@ void PathCounters::add(const PathCounters& o) {
     shadowRays += o.shadowRays;
     tracking.densityLookups += o.tracking.densityLookups;
     tracking.segments += o.tracking.segments;
+    tracking.exactCells += o.tracking.exactCells;
 }
 
 VolumePathIntegrator::VolumePathIntegrator(const Scene& scene)

@@ -95,6 +95,20 @@ TEST(SceneLoader, MajorantCellKey) {
               std::string::npos);
 }
 
+// media[i].regular_tracking (default true) is a bool; off, the medium's description says so.
+TEST(SceneLoader, RegularTrackingKey) {
+    EXPECT_EQ(loadScene(kSunlitCloud, {}).media[0]->describe().find("regular"), std::string::npos);
+    EXPECT_NE(loadScene(kSunlitCloud, {"media[0].regular_tracking=false"})
+                  .media[0]
+                  ->describe()
+                  .find(", no regular tracking"),
+              std::string::npos);
+    EXPECT_NE(test::messageOf([] {
+                  loadScene(kSunlitCloud, {"media[0].regular_tracking=1"});
+              }).find("media[0].regular_tracking: expected true or false"),
+              std::string::npos);
+}
+
 // The sunlit cloud of media/ (VDB cloud, Preetham sky, 0.53° sun) renders the same expected
 // image with every light-sampling strategy: image means over 6 seeds agree with the
 // MIS(environment, phase) baseline within 5 combined standard errors.
@@ -421,6 +435,9 @@ TEST(SceneLoader, ErrorsNameBoundsAndTheTypeAKeyBelongsTo) {
     expectMessage(
         R"({"media": [{"type": "homogeneous", "shape": {"type": "sphere"}, "majorant_cell": 4}]})",
         "media[0].majorant_cell: only with \"type\": \"vdb\"");
+    expectMessage(
+        R"({"media": [{"type": "homogeneous", "shape": {"type": "sphere"}, "regular_tracking": false}]})",
+        "media[0].regular_tracking: only with \"type\": \"vdb\"");
     expectMessage(
         R"({"media": [{"type": "homogeneous", "shape": {"type": "sphere"}, "transform": {"scale": 2}}]})",
         "media[0].transform: only with \"type\": \"vdb\"");

@@ -150,6 +150,76 @@ TEST(Vdb, DecompositionSparesLookupsNotFlights) {
     }
 }
 
+// Regular tracking (media/trilinear_depth.h) where a cell's majorant is high against its
+// density: a single voxel of density 1 in a 16³ grid at density scale 1000 (cells of 1 voxel,
+// majorant 1000 over the 2³ cells its interpolation reaches) and rays passing 0.8–0.95 voxels
+// from its centre on two axes, where the interpolation stays below 0.03 (T ≈ 0.3–0.5).
+// Transmittance (ratio and delta) and the escapes of free flights match quadrature with regular
+// tracking and without it; with it, the same rays take no density lookups. At density scale 10¹² a
+// free flight into the voxel costs a few cells and ends inside the voxel's reach.
+TEST(Vdb, RegularTrackingWhereTheMajorantIsHigh) {
+    const Vec3 centre = Vec3::Constant(0.5 / 16);  // the centre of voxel (8, 8, 8)
+    VdbGridSpec s;
+    s.resolution = 16;
+    s.density = [centre](const Vec3& p) {
+        return (p - centre).cwiseAbs().maxCoeff() < 0.25 / 16 ? 1.f : 0.f;
+    };
+    writeVdb(tmp("voxel.vdb"), {s});
+    const double v = 1.0 / 16;  // a voxel in world units
+    const std::vector<Ray> rays = {
+        Ray{centre + Vec3(-1, 0.9 * v, 0.9 * v), {1, 0, 0}},
+        Ray{centre + Vec3(0.8 * v, -1, -0.9 * v), {0, 1, 0}},
+        Ray{centre + Vec3(-0.5, 0.9 * v - 0.5, 0.95 * v), Vec3(1, 1, 0).normalized()}};
+    for (bool regular : {true, false}) {
+        VdbMediumDesc d;
+        d.file = tmp("voxel.vdb");
+        d.densityScale = 1000;
+        d.majorantCellVoxels = 1;
+        d.regularTracking = regular;
+        const auto m = loadVdbMedium(d);
+        for (const Ray& r : rays) {
+            const double T = std::exp(-opticalDepth(*m, r, 2.0, 200000));
+            ASSERT_GT(T, 0.2);
+            ASSERT_LT(T, 0.7);
+            TrackingCounters c;
+            for (auto est : {TransmittanceEstimator::Ratio, TransmittanceEstimator::Delta}) {
+                Rng rng(2, 3);
+                const int n = 20000;
+                double sum = 0, sum2 = 0;
+                for (int i = 0; i < n; ++i) {
+                    const double t = m->transmittance(r, NoCollision, est, rng, c);
+                    sum += t, sum2 += t * t;
+                }
+                const double mean = sum / n;
+                const double se = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
+                EXPECT_NEAR(mean, T, 5 * se + 1e-6) << regular << " " << int(est);
+            }
+            Rng rng(4, 5);
+            int escaped = 0;
+            const int n = 20000;
+            for (int i = 0; i < n; ++i)
+                escaped += m->sampleCollision(r, NoCollision, rng, c) == NoCollision;
+            EXPECT_NEAR(double(escaped) / n, T, 5 * std::sqrt(T * (1 - T) / n)) << regular;
+            EXPECT_EQ(c.exactCells > 0, regular);
+            EXPECT_EQ(c.densityLookups == 0, regular);
+        }
+    }
+    VdbMediumDesc d;
+    d.file = tmp("voxel.vdb");
+    d.densityScale = 1e12;
+    const auto m = loadVdbMedium(d);  // cells chosen automatically
+    Rng rng(6, 7);
+    TrackingCounters c;
+    const int n = 1000;
+    for (int i = 0; i < n; ++i) {
+        const Ray& r = rays[size_t(i) % rays.size()];
+        const double t = m->sampleCollision(r, NoCollision, rng, c);
+        ASSERT_NE(t, NoCollision);  // τ ≈ 10⁹
+        EXPECT_LT((r(t) - centre).cwiseAbs().maxCoeff(), v) << i;
+    }
+    EXPECT_LT(double(c.exactCells + c.densityLookups), 10.0 * n);
+}
+
 // The majorant grid skips empty space: far fewer density lookups for a small dense sphere.
 TEST(Vdb, MajorantGridSavesLookups) {
     // A small dense sphere plus a speck in one corner, so the grid's bounds span the whole cube.

@@ -17,7 +17,7 @@ struct VdbMediumDesc {
     Spectrum albedo = Spectrum::Ones();
     PhaseFunction phase = PhaseFunction(IsotropicPhase());
     Eigen::Affine3d toWorld = Eigen::Affine3d::Identity();  ///< the grid's world space → scene
-    bool majorantGrid = true;    ///< false: one global majorant for the whole grid (for benchmarks)
+    bool majorantGrid = true;  ///< false: one global majorant for the whole grid (for benchmarks)
     /// Majorant cell edge in voxels; 0: chosen at load among 1, 2, 4, … voxels (up to one cell
     /// over the grid) by the expected tracking cost (MajorantGrid::trackingCost).
     int majorantCellVoxels = 0;
@@ -27,6 +27,9 @@ struct VdbMediumDesc {
     /// Decomposition and residual ratio tracking with a per-cell lower bound of the density
     /// (media/tracking.h); false: plain delta and ratio tracking (for benchmarks).
     bool decomposition = true;
+    /// Regular tracking (media/trilinear_depth.h) across the majorant segments where it is the
+    /// cheaper way; false: tentative collisions everywhere (for benchmarks and tests).
+    bool regularTracking = true;
 };
 
 /// Loads a FloatGrid and builds its majorant grid (trilinear density lookups). Errors name the
