@@ -44,7 +44,8 @@ std::vector<std::string> withVdbKey(const Json& doc, std::vector<std::string> se
 struct Row {
     std::string name;
     std::string medium;  ///< the first VDB medium's describe(): what was measured
-    double pathsPerSecond = 0, lookupsPerPath = 0, segmentsPerPath = 0, secondsPerSpp = 0;
+    double pathsPerSecond = 0, lookupsPerPath = 0, segmentsPerPath = 0, cellsPerPath = 0,
+           secondsPerSpp = 0;
     Image image;
 };
 
@@ -86,6 +87,7 @@ std::vector<Row> measure(const BenchArgs& a, const std::vector<Config>& configs,
             }
             row.lookupsPerPath = double(c.tracking.densityLookups) / double(c.paths);
             row.segmentsPerPath = double(c.tracking.segments) / double(c.paths);
+            row.cellsPerPath = double(c.tracking.exactCells) / double(c.paths);
         }
     for (const Row& row : rows)
         std::fprintf(stderr, "  %-34s %12.0f paths/s\n", row.name.c_str(), row.pathsPerSecond);
@@ -117,14 +119,16 @@ double nsPerLookup(const BenchArgs& a, const std::vector<std::string>& sets) {
     return best * 1e9 / double(1 << 20);
 }
 
-/// The table rows of `rows`: paths/s, ns per path, density lookups and majorant segments per path.
+/// The table rows of `rows`: paths/s, ns per path, density lookups, majorant segments and cells
+/// crossed by regular tracking per path.
 void printRows(const std::vector<Row>& rows) {
     std::printf(
-        "| configuration | paths/s | ns/path | density lookups/path | majorant segments/path |\n"
-        "|---|---:|---:|---:|---:|\n");
+        "| configuration | paths/s | ns/path | density lookups/path | majorant segments/path | "
+        "regular-tracking cells/path |\n"
+        "|---|---:|---:|---:|---:|---:|\n");
     for (const Row& r : rows)
-        std::printf("| %s | %.0f | %.1f | %.2f | %.2f |\n", r.name.c_str(), r.pathsPerSecond,
-                    1e9 / r.pathsPerSecond, r.lookupsPerPath, r.segmentsPerPath);
+        std::printf("| %s | %.0f | %.1f | %.2f | %.2f | %.2f |\n", r.name.c_str(), r.pathsPerSecond,
+                    1e9 / r.pathsPerSecond, r.lookupsPerPath, r.segmentsPerPath, r.cellsPerPath);
 }
 
 /// --cell-sweep: the defaults with majorant cells of 1, 2, 4, 8 and 16 voxels (1 thread), and a
@@ -238,6 +242,7 @@ int runBench(BenchArgs& a) {
         {"defaults, 1 thread", a.sets, 1},
         {"OpenVDB lookups, 1 thread", vdbLookups, 1},
         {"no decomposition, 1 thread", withVdbKey(doc, a.sets, "decomposition", "false"), 1},
+        {"no regular tracking, 1 thread", withVdbKey(doc, a.sets, "regular_tracking", "false"), 1},
         {"global majorant, 1 thread", withVdbKey(doc, a.sets, "majorant_grid", "false"), 1},
         {"global majorant, OpenVDB lookups, 1 thread",
          withVdbKey(doc, vdbLookups, "majorant_grid", "false"), 1},
@@ -249,8 +254,8 @@ int runBench(BenchArgs& a) {
         configs.back().sets.push_back("media=[]");
     }
     const std::vector<Row> rows = measure(a, configs, a.spp);
-    const Row &now = rows[0], &openvdb = rows[1], &plain = rows[2], &global = rows[3],
-              &globalVdb = rows[4], &two = rows[5];
+    const Row &now = rows[0], &openvdb = rows[1], &plain = rows[2], &tentative = rows[3],
+              &global = rows[4], &globalVdb = rows[5], &two = rows[6];
     printRows(rows);
     std::printf("\nns per density lookup (Medium::sigmaT): bricks %.1f, OpenVDB accessor %.1f\n",
                 nsPerLookup(a, a.sets), nsPerLookup(a, vdbLookups));
@@ -258,6 +263,8 @@ int runBench(BenchArgs& a) {
                 now.pathsPerSecond / openvdb.pathsPerSecond);
     std::printf("decomposition / plain delta and ratio tracking (1 thread): %.2fx\n",
                 now.pathsPerSecond / plain.pathsPerSecond);
+    std::printf("regular tracking where preferred / tentative collisions only (1 thread): %.2fx\n",
+                now.pathsPerSecond / tentative.pathsPerSecond);
     std::printf("majorant grid / global majorant (1 thread): %.2fx\n",
                 now.pathsPerSecond / global.pathsPerSecond);
     // What the grid saves grows with the cost of a lookup: OpenVDB is what a grid too large for

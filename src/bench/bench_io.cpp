@@ -2,9 +2,11 @@
 // and through an OpenVDB accessor, per point (Medium::sigmaT) and inside ratio tracking along
 // rays through the cloud (items: density lookups); free flights through the sparse plume with
 // the majorant grid and with one global majorant, and what a segment and a tentative collision
-// cost there; with same-run ratios.
+// cost there; free flights and transmittance through the cloud made optically very thick, with
+// and without regular tracking; with same-run ratios.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <vector>
 
 #include "ratio_reporter.h"
@@ -105,6 +107,34 @@ void PlumeSegments(benchmark::State& state) {
 }
 BENCHMARK(PlumeSegments)->Arg(2)->Arg(8);
 
+/// Free flights (/…/0) and ratio-tracked transmittance (/…/1) through the cloud of media/ at
+/// density scale 10^range(0), with regular tracking where preferred (range(2) = 1) or tentative
+/// collisions only (0): rays from a sphere around the cloud towards random points of its cube.
+void ThickCloud(benchmark::State& state) {
+    VdbMediumDesc d;
+    d.file = std::string(SHVOL_SOURCE_DIR) + "/media/cloud.vdb";
+    d.densityScale = std::pow(10.0, double(state.range(0)));
+    d.regularTracking = state.range(2) != 0;
+    const auto m = loadVdbMedium(d);
+    const bool flights = state.range(1) == 0;
+    Rng rng(4, 4);
+    TrackingCounters c;
+    size_t i = 0;
+    const std::vector<Vec3>& pts = points();
+    for (auto _ : state) {
+        const Vec3 o = pts[i & 4095].normalized() * 2.0, target = pts[(i * 7 + 1) & 4095];
+        ++i;
+        const Ray ray{o, (target - o).normalized()};
+        benchmark::DoNotOptimize(
+            flights ? m->sampleCollision(ray, NoCollision, rng, c)
+                    : m->transmittance(ray, NoCollision, TransmittanceEstimator::Ratio, rng, c));
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()));
+    state.counters["lookups/ray"] = double(c.densityLookups) / double(state.iterations());
+    state.counters["cells/ray"] = double(c.exactCells) / double(state.iterations());
+}
+BENCHMARK(ThickCloud)->ArgsProduct({{2, 3, 4, 5, 7}, {0, 1}, {0, 1}});
+
 }  // namespace
 }  // namespace shvol
 
@@ -113,7 +143,11 @@ int main(int argc, char** argv) {
         argc, argv,
         {{"Lookup/1", "Lookup/0"},
          {"RatioTracking/1", "RatioTracking/0"},
-         {"PlumeFreeFlight/1", "PlumeFreeFlight/0"}},
+         {"PlumeFreeFlight/1", "PlumeFreeFlight/0"},
+         {"ThickCloud/5/0/1", "ThickCloud/5/0/0"},
+         {"ThickCloud/7/0/1", "ThickCloud/7/0/0"},
+         {"ThickCloud/7/1/1", "ThickCloud/7/1/0"}},
         "Same-run ratios (items/s; Lookup and RatioTracking: /1 bricks, /0 OpenVDB accessor; "
-        "PlumeFreeFlight: /1 automatic majorant grid, /0 one global majorant):");
+        "PlumeFreeFlight: /1 automatic majorant grid, /0 one global majorant; ThickCloud/s/k: "
+        "/1 regular tracking where preferred, /0 tentative collisions only):");
 }

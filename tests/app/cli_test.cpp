@@ -82,8 +82,8 @@ class Cli : public testing::Test {
 const std::string Homogeneous =
     R"({"type": "homogeneous", "sigma_t": 2, "albedo": 0.8, "shape": {"type": "sphere"}})";
 
-/// The density lookups and majorant segments per path (the last two columns) of the bench table
-/// row named `name` in `out`; empty if there is no such row.
+/// The density lookups, majorant segments and regular-tracking cells per path (the last three
+/// columns) of the bench table row named `name` in `out`; empty if there is no such row.
 std::vector<double> benchCounts(const std::string& out, const std::string& name) {
     const size_t at = out.find("| " + name + " | ");
     if (at == std::string::npos) return {};
@@ -92,8 +92,8 @@ std::vector<double> benchCounts(const std::string& out, const std::string& name)
     std::stringstream line(out.substr(from, out.find('\n', at) - from));
     for (std::string cell; std::getline(line, cell, '|');)
         if (cell.find_first_not_of(' ') != std::string::npos) cells.push_back(std::stod(cell));
-    if (cells.size() < 2) return {};
-    return {cells[cells.size() - 2], cells.back()};
+    if (cells.size() < 3) return {};
+    return {cells[cells.size() - 3], cells[cells.size() - 2], cells.back()};
 }
 
 }  // namespace
@@ -190,9 +190,10 @@ TEST_F(Cli, BenchFindsTheDefaultScene) {
     EXPECT_NE(row.find(" | 0.00 | 0.00 |"), std::string::npos) << row;
     EXPECT_NE(r.out.find("time above the floor (1 thread): "), std::string::npos) << r.out;
     // Bricks and OpenVDB give the same densities, so a configuration tracks the same collisions
-    // and segments with either: the last two columns (lookups and segments per path) agree.
+    // and segments with either: the last three columns (lookups, segments and cells per path)
+    // agree.
     auto counts = [&](const std::string& name) { return benchCounts(r.out, name); };
-    ASSERT_EQ(counts("defaults, 1 thread").size(), 2u) << r.out;
+    ASSERT_EQ(counts("defaults, 1 thread").size(), 3u) << r.out;
     EXPECT_EQ(counts("global majorant, OpenVDB lookups, 1 thread"),
               counts("global majorant, 1 thread"));
     EXPECT_EQ(counts("OpenVDB lookups, 1 thread"), counts("defaults, 1 thread"));
@@ -216,7 +217,7 @@ TEST_F(Cli, BenchCellSweepFitsTheCostPerPath) {
     for (const char* cells : {"1 voxel", "2 voxels", "4 voxels", "8 voxels", "16 voxels"}) {
         rows.push_back(
             benchCounts(r.out, std::string("majorant cells of ") + cells + ", 1 thread"));
-        ASSERT_EQ(rows.back().size(), 2u) << cells << "\n" << r.out;
+        ASSERT_EQ(rows.back().size(), 3u) << cells << "\n" << r.out;
     }
     // Finer cells: more segments per path (several times as many from 16 to 2 voxels).
     EXPECT_GT(rows[1][1], 2 * rows[4][1]) << r.out;
@@ -243,7 +244,7 @@ TEST_F(Cli, BenchCellSweepFitsTheCostPerPath) {
         EXPECT_EQ(benchCounts(r.out, "majorant cells of 32 voxels (" + std::to_string(cell) +
                                          " asked; at most 2^22 cells), 1 thread")
                       .size(),
-                  2u)
+                  3u)
             << cell << "\n"
             << r.out;
     EXPECT_NE(r.out.find("the cell sizes do not separate lookups from segments: no fit"),
