@@ -64,6 +64,23 @@ void RatioTracking(benchmark::State& state) {
 }
 BENCHMARK(RatioTracking)->Arg(0)->Arg(1);
 
+/// The i-th of a fixed set of rays from a sphere of radius 2 around the unit cube towards points
+/// of the cube.
+Ray rayInto(size_t i) {
+    const std::vector<Vec3>& pts = points();
+    const Vec3 o = pts[i & 4095].normalized() * 2.0, target = pts[(i * 7 + 1) & 4095];
+    return Ray{o, (target - o).normalized()};
+}
+
+/// Items: rays; counters: density lookups, majorant segments and regular-tracking cells per ray.
+void countPerRay(benchmark::State& state, const TrackingCounters& c) {
+    const double n = double(state.iterations());
+    state.SetItemsProcessed(int64_t(state.iterations()));
+    state.counters["lookups/ray"] = double(c.densityLookups) / n;
+    state.counters["segments/ray"] = double(c.segments) / n;
+    state.counters["cells/ray"] = double(c.exactCells) / n;
+}
+
 /// Free flights through the sparse plume of media/plume.json (a column filling < 15% of its
 /// box): rays from a sphere around the box towards random points of it (items: rays), with
 /// density scale `scale` and majorant cells of `cell` voxels (0: automatic, −1: one global
@@ -78,16 +95,9 @@ void plumeFlights(benchmark::State& state, double scale, int cell) {
     Rng rng(3, 3);
     TrackingCounters c;
     size_t i = 0;
-    const std::vector<Vec3>& pts = points();
-    for (auto _ : state) {
-        const Vec3 o = pts[i & 4095].normalized() * 2.0, target = pts[(i * 7 + 1) & 4095];
-        ++i;
-        benchmark::DoNotOptimize(
-            m->sampleCollision(Ray{o, (target - o).normalized()}, NoCollision, rng, c));
-    }
-    state.SetItemsProcessed(int64_t(state.iterations()));
-    state.counters["lookups/ray"] = double(c.densityLookups) / double(state.iterations());
-    state.counters["segments/ray"] = double(c.segments) / double(state.iterations());
+    for (auto _ : state)
+        benchmark::DoNotOptimize(m->sampleCollision(rayInto(i++), NoCollision, rng, c));
+    countPerRay(state, c);
 }
 
 /// The plume as media/plume.json has it (density scale 80): /0 one global majorant, /1 the
@@ -120,18 +130,13 @@ void ThickCloud(benchmark::State& state) {
     Rng rng(4, 4);
     TrackingCounters c;
     size_t i = 0;
-    const std::vector<Vec3>& pts = points();
     for (auto _ : state) {
-        const Vec3 o = pts[i & 4095].normalized() * 2.0, target = pts[(i * 7 + 1) & 4095];
-        ++i;
-        const Ray ray{o, (target - o).normalized()};
+        const Ray ray = rayInto(i++);
         benchmark::DoNotOptimize(
             flights ? m->sampleCollision(ray, NoCollision, rng, c)
                     : m->transmittance(ray, NoCollision, TransmittanceEstimator::Ratio, rng, c));
     }
-    state.SetItemsProcessed(int64_t(state.iterations()));
-    state.counters["lookups/ray"] = double(c.densityLookups) / double(state.iterations());
-    state.counters["cells/ray"] = double(c.exactCells) / double(state.iterations());
+    countPerRay(state, c);
 }
 BENCHMARK(ThickCloud)->ArgsProduct({{2, 3, 4, 5, 7}, {0, 1}, {0, 1}});
 
