@@ -289,7 +289,8 @@ int runBench(BenchArgs& a) {
     // Before issue 11: NEE toward every sky, independent numbers, OpenVDB lookups, plain delta
     // and ratio tracking, Russian roulette on the throughput.
     const Image ref = reference(a, a.sets);
-    std::vector<std::string> before = withVdbKey(doc, vdbLookups, "decomposition", "false");
+    std::vector<std::string> before = withVdbKey(
+        doc, withVdbKey(doc, vdbLookups, "decomposition", "false"), "regular_tracking", "false");
     before.push_back("render.nee=true");
     before.push_back("render.sampler=\"independent\"");
     before.push_back("render.rr_threshold=1");

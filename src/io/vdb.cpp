@@ -20,11 +20,11 @@
 #include <sstream>
 
 #include <Eigen/SVD>
+
 #include "shvol/core/atomic_file.h"
 #include "shvol/core/error.h"
 #include "shvol/core/hash.h"
 #include "shvol/core/input_file.h"
-
 #include "shvol/media/density_bricks.h"
 #include "shvol/media/majorant_grid.h"
 #include "shvol/media/trilinear_depth.h"
@@ -493,8 +493,9 @@ class VdbMedium final : public Medium {
           worldToIndex_(worldToIndex),
           scale_(d.densityScale),
           sigmaMax_(d.densityScale * (1 + 1e-6) * majorants.maxValue()),
-          // ‖A d‖₁ ≥ ‖A d‖₂ ≥ s_min(A) for a unit d: no ray of unit direction can prefer regular
-          // tracking unless σ_maj exceeds kRegularTrackingLookupsPerCell·s_min somewhere.
+          // ‖A d‖₁ ≥ ‖A d‖₂ ≥ s_min(A) for a unit d: no ray of unit direction (as the integrator's
+          // are) can prefer regular tracking unless σ_maj exceeds kRegularTrackingLookupsPerCell ·
+          // s_min somewhere. (A shorter d could; missing it costs speed, never correctness.)
           regular_(d.regularTracking &&
                    sigmaMax_ > kRegularTrackingLookupsPerCell *
                                    Eigen::JacobiSVD<Eigen::Matrix3d>(worldToIndex.linear())

@@ -171,11 +171,11 @@ int main(int argc, char** argv) {
             cases.push_back({"optical depth", std::string(est) + " slab, tau " + number(tau), s,
                              std::exp(-tau)});
         }
-    // The same through a VDB block (delta/ratio tracking over the majorant grid); the slab is the
-    // grid's unit cube, seen through its middle half. Rays enter through the ramp of the trilinear
-    // interpolation from the background 0 to 1 over the outer half voxel: at τ = 10¹², the top of
-    // density_scale's range, tentative collisions there would number ~10¹¹ per ray (regular
-    // tracking crosses it in one voxel cell).
+    // The same through a VDB block (delta/ratio tracking over the majorant grid, regular tracking
+    // where dense); the slab is the grid's unit cube, seen through its middle half. Rays enter
+    // through the ramp of the trilinear interpolation from the background 0 to 1 over the outer
+    // half voxel: at τ = 10¹², the top of density_scale's range, tentative collisions there would
+    // number ~10¹¹ per ray (regular tracking crosses it in one voxel cell).
     for (double tau : {1e-6, 1.0, 100.0, 1e4, 1e6, 1e12}) {
         Json s = orthoDown(0.5, 6, spp);
         s["media"] = Json::array(

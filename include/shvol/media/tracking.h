@@ -86,7 +86,7 @@ class OpticalDepthBudget {
     template <typename Uniform>
     __attribute__((always_inline)) bool next(double rate, double invRate, double tEnd, Uniform& rng,
                                              double* t) {
-        if (tau_ < 0) tau_ = exponentialVariate(rng.uniform());
+        left(rng);
         const double depth = (tEnd - *t) * rate, tEvent = *t + tau_ * invRate;
         if (tau_ >= depth || tEvent >= tEnd) {  // (the second: an event rounded onto tEnd)
             tau_ = std::max(0.0, tau_ - depth);

@@ -19,6 +19,7 @@
 ///
 /// `Voxels` provides corners(x, y, z, v): v[4a + 2b + k] = the voxel at (x + a, y + b, z + k).
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 
 #include "shvol/core/math.h"
@@ -64,8 +65,10 @@ struct TrilinearCubic {
     /// plain Newton steps after (a logarithm and an exponential cost more than a plain step). Every
     /// step stays inside the bracket [lo, hi] of the root, a bisection (geometric once lo > 0)
     /// replacing any that leaves it. It stops at a relative residual of 10⁻¹³ (the distance is then
-    /// exact far beyond what any estimate resolves) or a bracket of 10⁻¹⁵ of its upper end (where
-    /// rounding in the polynomial hides the residual).
+    /// exact far beyond what any estimate resolves), a bracket of 10⁻¹⁵ of its upper end (where
+    /// rounding in the polynomial hides the residual), or after 100 steps (3.0 on average and at
+    /// most 8 in a throwaway count over 10⁵ random cells and budgets down to 10⁻¹⁵ of a cell's
+    /// depth, 3 Dec; not kept).
     double invertIntegral(double y) const {
         const double total = integral(1);
         if (!(y > 0)) return 0;
@@ -80,7 +83,7 @@ struct TrilinearCubic {
                 next = F > 0 && (F > 4 * y || 4 * F < y)
                            ? s * std::exp(std::log(y / F) * F / (s * slope))
                            : s - (F - y) / slope;
-            if (!(next > lo && next < hi)) next = lo > 0 ? std::sqrt(lo * hi) : 0.5 * hi;
+            if (!(next > lo && next < hi)) next = lo > 0 ? std::sqrt(lo) * std::sqrt(hi) : 0.5 * hi;
             if (hi - lo <= 1e-15 * hi) return next;
             s = next;
         }
@@ -107,12 +110,14 @@ inline bool regularTrackingPossible(double rateBound, const Vec3& d) {
 template <typename Voxels>
 class TrilinearDepth {
   public:
+    /// (Components of d below the smallest normal double count as 0: their inverse would be
+    /// infinite and the walk's boundary distances NaN.)
     TrilinearDepth(const Vec3& o, const Vec3& d, double scale, const Voxels& voxels)
         : o_(o),
-          d_(d),
-          invD_(d.cwiseInverse()),
+          d_(d.unaryExpr([](double x) { return std::abs(x) < DBL_MIN ? 0.0 : x; })),
+          invD_(d_.cwiseInverse()),
           scale_(scale),
-          cellsPerT_(d.cwiseAbs().sum()),
+          cellsPerT_(d_.cwiseAbs().sum()),
           rateFloor_(kRegularTrackingLookupsPerCell * cellsPerT_),
           voxels_(voxels) {}
 
@@ -133,7 +138,9 @@ class TrilinearDepth {
         bool hit = false;
         walk(t0, t1, c, [&](double ta, double tb, const TrilinearCubic& rho) {
             const double k = scale_ * (tb - ta), depth = k * rho.integral(1);
-            if (depth < *e) {
+            // (A budget of exactly 0, which rounding can leave, passes over cells of depth 0:
+            // no collision where σ_t is 0 along the whole piece.)
+            if (!(depth > 0) || depth < *e) {
                 *e -= depth;
                 return true;
             }
