@@ -8,6 +8,7 @@
 #include <cmath>
 #include <vector>
 
+#include "media/free_flight_chi2.h"
 #include "shvol/core/rng.h"
 #include "shvol/sampling/sobol_sampler.h"
 
@@ -33,30 +34,11 @@ auto segments(bool control) {
     };
 }
 
-/// χ² over 20 equal-probability bins of P(t < x) = 1 − e^{−τ(x)} (x < 2.5) plus the escapes, for
-/// n distances drawn by flight(i); each must lie in [0, 2.5) or be NoCollision.
+/// The χ² of n distances drawn by flight(i) against this medium's P(t < x) = 1 − e^{−τ(x)}
+/// on [0, 2.5) and its escapes (20 degrees of freedom).
 template <typename Flight>
 double freeFlightChi2(int n, Flight&& flight) {
-    const int bins = 20;
-    const double escape = std::exp(-opticalDepth(2.5));
-    std::vector<int> hist(bins + 1, 0);
-    for (int i = 0; i < n; ++i) {
-        const double t = flight(i);
-        if (t == NoCollision) {
-            ++hist[bins];
-            continue;
-        }
-        EXPECT_GE(t, 0);
-        EXPECT_LT(t, 2.5);
-        const double u = (1 - std::exp(-opticalDepth(t))) / (1 - escape);  // ∈ [0, 1)
-        ++hist[std::min(bins - 1, int(u * bins))];
-    }
-    double chi2 = 0;
-    for (int b = 0; b <= bins; ++b) {
-        const double expected = n * (b < bins ? (1 - escape) / bins : escape);
-        chi2 += (hist[b] - expected) * (hist[b] - expected) / expected;
-    }
-    return chi2;
+    return test::freeFlightChi2(n, 2.5, opticalDepth, flight);
 }
 
 }  // namespace

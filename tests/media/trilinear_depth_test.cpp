@@ -9,6 +9,7 @@
 #include <cmath>
 #include <vector>
 
+#include "media/free_flight_chi2.h"
 #include "shvol/core/rng.h"
 
 namespace shvol {
@@ -170,36 +171,17 @@ struct Always {
     }
 };
 
-/// χ² over 20 equal-probability bins of u = (1 − e^{−τ(t)}) / (1 − e^{−τ(tEnd)}) for the
-/// collisions, plus the escapes (probability e^{−τ(tEnd)}); τ(t) interpolated in a table of
-/// quadratures at 20 001 points.
-template <typename Flight>
-double chi2(const Grid& g, const Vec3& o, const Vec3& d, double scale, double tEnd, int n,
-            Flight&& flight) {
-    const int bins = 20, m = 20000;
+/// τ(t) along o + t d on [0, tEnd], interpolated in a table of quadratures at 20 001 points.
+auto tauTable(const Grid& g, const Vec3& o, const Vec3& d, double scale, double tEnd) {
+    constexpr int m = 20000;
     std::vector<double> tau(m + 1, 0.0);
     for (int i = 0; i < m; ++i)
         tau[i + 1] = tau[i] + quadrature(g, o, d, tEnd * i / m, tEnd * (i + 1) / m, scale, 1);
-    const double escape = std::exp(-tau[m]);
-    std::vector<int> hist(bins + 1, 0);
-    for (int i = 0; i < n; ++i) {
-        const double t = flight();
-        if (t == NoCollision) {
-            ++hist[bins];
-            continue;
-        }
+    return [tau, tEnd](double t) {
         const double x = std::clamp(t / tEnd * m, 0.0, double(m) - 1e-9);
         const int j = int(x);
-        const double tauT = tau[j] + (x - j) * (tau[j + 1] - tau[j]);
-        const double u = (1 - std::exp(-tauT)) / (1 - escape);
-        ++hist[std::clamp(int(u * bins), 0, bins - 1)];
-    }
-    double x2 = 0;
-    for (int b = 0; b <= bins; ++b) {
-        const double expected = n * (b < bins ? (1 - escape) / bins : escape);
-        x2 += (hist[b] - expected) * (hist[b] - expected) / expected;
-    }
-    return x2;
+        return tau[j] + (x - j) * (tau[j + 1] - tau[j]);
+    };
 }
 }  // namespace
 
@@ -218,12 +200,13 @@ TEST(TrilinearDepth, FreeFlightsAndTransmittanceMixedWithTracking) {
     ASSERT_GT(T, 0.02);
     ASSERT_LT(T, 0.5);
     auto sigmaT = [&](double t) { return scale * g.rho(o + t * d); };
+    const auto tau = tauTable(g, o, d, scale, tEnd);
     for (int mode = 0; mode < 3; ++mode) {  // regular tracking where preferred, nowhere, always
         const TrilinearDepth exact(o, d, scale, g);
         Rng rng(11, uint64_t(mode));
         TrackingCounters c;
         const Always always{exact};
-        const double x2 = chi2(g, o, d, scale, tEnd, 40000, [&] {
+        const double x2 = test::freeFlightChi2(40000, tEnd, tau, [&](int) {
             return mode == 2   ? deltaTrack(pieces, sigmaT, rng, c, nullptr, always)
                    : mode == 1 ? deltaTrack(pieces, sigmaT, rng, c, nullptr, NoRegularTracking{})
                                : deltaTrack(pieces, sigmaT, rng, c, nullptr, exact);
@@ -259,17 +242,18 @@ TEST(TrilinearDepth, ThickRampCostsAFewCells) {
     const TrilinearDepth exact(o, d, k, g);
     Rng rng(13, 14);
     TrackingCounters c;
-    const int n = 20000, bins = 20;
-    std::vector<int> hist(bins, 0);
-    for (int i = 0; i < n; ++i) {
+    const int n = 20000;
+    // τ on [0, 3], where every flight ends; past it only e^{−τ(8)} = 0 (no escapes) matters.
+    auto tau = [&](double t) {
+        const double x = std::clamp(t - 2, 0.0, 1.0);
+        return k * v * x * x / 2;
+    };
+    const double x2 = test::freeFlightChi2(n, 8.0, tau, [&](int) {
         const double t = deltaTrack(pieces, sigmaT, rng, c, nullptr, exact);
-        ASSERT_GT(t, 2);
-        ASSERT_LT(t, 3);
-        const double u = 1 - std::exp(-k * v * (t - 2) * (t - 2) / 2);
-        ++hist[std::clamp(int(u * bins), 0, bins - 1)];
-    }
-    double x2 = 0;
-    for (int h : hist) x2 += (h - double(n) / bins) * (h - double(n) / bins) / (double(n) / bins);
+        EXPECT_GT(t, 2);
+        EXPECT_LT(t, 3);
+        return t;
+    });
     EXPECT_LT(x2, 43.8);  // χ²(19) at p = 0.001
     EXPECT_EQ(c.densityLookups, 0u);
     EXPECT_LE(c.exactCells, uint64_t(3 * n));  // cells [0,1], [1,2], [2,3] along x
