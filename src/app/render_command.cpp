@@ -1,13 +1,10 @@
 #include <sys/resource.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <filesystem>
 #include <fstream>
-#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
@@ -16,6 +13,7 @@
 #include "mpi_world.h"
 #include "shvol/core/atomic_file.h"
 #include "shvol/core/error.h"
+#include "shvol/core/interrupt.h"
 #include "shvol/core/progress.h"
 #include "shvol/io/checkpoint.h"
 #include "shvol/io/exr.h"
@@ -37,41 +35,6 @@ namespace {
 
 /// A rendered SH fit looser than this (relative L2 error) is worth a warning.
 constexpr double kLooseFit = 0.1;
-
-/// Set by SIGINT/SIGTERM; the render polls it. A second signal ends the process at once.
-std::atomic<bool> gInterrupted{false};
-static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler needs a lock-free flag");
-
-extern "C" void onInterrupt(int sig) {
-    gInterrupted.store(true);
-    std::signal(sig, SIG_DFL);
-}
-
-/// Catches SIGINT and SIGTERM while at least one object lives (renders of `batch --jobs` run
-/// side by side), then restores the old handlers.
-class InterruptGuard {
-  public:
-    InterruptGuard() {
-        const std::lock_guard<std::mutex> lock(mutex_);
-        if (depth_++ > 0) return;
-        int_ = std::signal(SIGINT, onInterrupt);
-        term_ = std::signal(SIGTERM, onInterrupt);
-    }
-    ~InterruptGuard() {
-        const std::lock_guard<std::mutex> lock(mutex_);
-        if (--depth_ > 0) return;
-        std::signal(SIGINT, int_);
-        std::signal(SIGTERM, term_);
-    }
-    InterruptGuard(const InterruptGuard&) = delete;
-    InterruptGuard& operator=(const InterruptGuard&) = delete;
-
-  private:
-    static inline std::mutex mutex_;
-    static inline int depth_ = 0;
-    static inline void (*int_)(int) = nullptr;
-    static inline void (*term_)(int) = nullptr;
-};
 
 /// The phase function of each medium as rendered; for SH-sampled ones the resolved fit (automatic
 /// order and window filled in), its error and the per-bounce weight moment m₂.
@@ -408,7 +371,7 @@ int runRender(const RenderArgs& a) {
     opt.threads = a.threads > 0 ? a.threads : spread ? threadsPerRender(1) : 0;
     opt.progress = !a.quiet && speaks && Progress::stderrIsTerminal();
     // Under mpirun a signal ends the ranks at once (nothing is half-written: outputs are atomic).
-    opt.cancel = spread ? nullptr : &gInterrupted;
+    opt.cancel = spread ? nullptr : &InterruptGuard::interrupted();
     opt.timeLimitSeconds = a.timeLimit;
     opt.variance = a.variance;
     opt.stops = stops;

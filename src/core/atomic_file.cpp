@@ -33,10 +33,9 @@ extern "C" void removeTemporariesAndDie(int sig) {
     std::raise(sig);
 }
 
-/// Installed once, and only for signals whose action is still the default (not ones the shell
-/// ignores, as nohup does SIGHUP). A handler installed later (render's, which stops a render
-/// cleanly) takes precedence while it is in place.
-void installHandlers() {
+}  // namespace
+
+void removeTemporariesOnSignals() {
     static std::once_flag once;
     std::call_once(once, [] {
         for (const int sig : {SIGTERM, SIGHUP, SIGINT}) {
@@ -47,12 +46,14 @@ void installHandlers() {
     });
 }
 
+namespace {
+
 /// Registers tmp for removal on a signal while it lives (not at all if the slots are taken or the
 /// path is too long: the temporary is then only left behind, as before).
 class TemporaryGuard {
   public:
     explicit TemporaryGuard(const std::string& tmp) {
-        installHandlers();
+        removeTemporariesOnSignals();
         if (tmp.size() >= sizeof(TemporarySlot::path)) return;
         for (TemporarySlot& s : gSlots) {
             bool expected = false;

@@ -12,6 +12,13 @@ namespace shvol {
 /// began) removes the temporary too before the process ends as the signal would have ended it.
 void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write);
 
+/// Installs, once, the handlers behind that promise: for SIGTERM, SIGHUP and SIGINT whose action
+/// is still the default (not one the shell ignores, as nohup does SIGHUP), a handler that
+/// unlinks the temporaries being written and then ends the process as the signal would have.
+/// writeAtomically calls it; a program installing handlers of its own (InterruptGuard) calls it
+/// first and hands signals back to what it replaced.
+void removeTemporariesOnSignals();
+
 /// Writes text to path atomically.
 void writeTextAtomically(const std::string& path, const std::string& text);
 

@@ -1,0 +1,26 @@
+#pragma once
+/// \file A clean stop on SIGINT or SIGTERM: the first signal sets a flag that a long job polls
+/// (the renderer's RenderOptions::cancel); a second one ends the process as the signal would,
+/// and still removes the temporaries of writeAtomically, also when it comes while the stopped
+/// job writes what it has.
+#include <atomic>
+
+namespace shvol {
+
+/// Catches SIGINT and SIGTERM while at least one guard lives (the renders of `batch --jobs` run
+/// side by side), then restores the handlers it replaced. The first signal sets interrupted()
+/// and hands the signal back to the handler that was there before: the one that removes
+/// writeAtomically's temporaries (installed first, for a signal whose action was the default) or
+/// whatever the program had.
+class InterruptGuard {
+  public:
+    InterruptGuard();
+    ~InterruptGuard();
+    InterruptGuard(const InterruptGuard&) = delete;
+    InterruptGuard& operator=(const InterruptGuard&) = delete;
+
+    /// Set by the first SIGINT or SIGTERM under a guard; never cleared.
+    static const std::atomic<bool>& interrupted();
+};
+
+}  // namespace shvol
