@@ -3,11 +3,13 @@
 // lookups, threads), the cost of one density lookup, and, with --accuracy, RMSE·√spp and the time
 // to reach an RMSE ε against a cached converged reference, for the renderer before issue 11's
 // changes and now.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <string>
 
 #include <Eigen/QR>
 
@@ -46,8 +48,27 @@ struct Row {
     std::string medium;  ///< the first VDB medium's describe(): what was measured
     double pathsPerSecond = 0, lookupsPerPath = 0, segmentsPerPath = 0, cellsPerPath = 0,
            secondsPerSpp = 0;
+    std::vector<double> rounds;  ///< paths/s of each round (pathsPerSecond is the best)
     Image image;
 };
+
+/// "a / b" in paths/s as "1.97x", the ratio of the two rows' best rounds, followed with more than
+/// one round by the range of the ratios round by round ("1.97x (rounds 1.85-2.05x)"): the rounds
+/// interleave the configurations, so a round's ratio is a same-run ratio too, and their spread
+/// shows the machine's noise (a ratio of identical work that reads 0.9x beside rounds of
+/// 0.85-1.05x is noise). The best-of ratio always lies within that range: the round of a's best
+/// gives a ratio at least as large, the round of b's best one at least as small.
+std::string ratioText(const Row& a, const Row& b) {
+    char text[96];
+    std::snprintf(text, sizeof text, "%.2fx", a.pathsPerSecond / b.pathsPerSecond);
+    if (a.rounds.size() < 2 || a.rounds.size() != b.rounds.size()) return text;
+    double lo = INFINITY, hi = -INFINITY;
+    for (size_t r = 0; r < a.rounds.size(); ++r)
+        lo = std::min(lo, a.rounds[r] / b.rounds[r]), hi = std::max(hi, a.rounds[r] / b.rounds[r]);
+    char range[64];
+    std::snprintf(range, sizeof range, " (rounds %.2f-%.2fx)", lo, hi);
+    return text + std::string(range);
+}
 
 /// One configuration to measure: the scene with `sets` on `threads` threads.
 struct Config {
@@ -77,6 +98,7 @@ std::vector<Row> measure(const BenchArgs& a, const std::vector<Config>& configs,
             if (r < 0) continue;  // the warm-up
             const PathCounters& c = res.stats.counters;
             Row& row = rows[i];
+            row.rounds.push_back(res.stats.pathsPerSecond());
             for (const auto& m : scene.media)  // the first VDB medium: what --cell-sweep sets
                 if (row.medium.empty() && m->describe().rfind("vdb ", 0) == 0)
                     row.medium = m->describe();
@@ -259,18 +281,18 @@ int runBench(BenchArgs& a) {
     printRows(rows);
     std::printf("\nns per density lookup (Medium::sigmaT): bricks %.1f, OpenVDB accessor %.1f\n",
                 nsPerLookup(a, a.sets), nsPerLookup(a, vdbLookups));
-    std::printf("bricks / OpenVDB lookups (1 thread): %.2fx\n",
-                now.pathsPerSecond / openvdb.pathsPerSecond);
-    std::printf("decomposition / plain delta and ratio tracking (1 thread): %.2fx\n",
-                now.pathsPerSecond / plain.pathsPerSecond);
-    std::printf("regular tracking where preferred / tentative collisions only (1 thread): %.2fx\n",
-                now.pathsPerSecond / tentative.pathsPerSecond);
-    std::printf("majorant grid / global majorant (1 thread): %.2fx\n",
-                now.pathsPerSecond / global.pathsPerSecond);
+    auto ratio = [](const char* what, const Row& a, const Row& b) {
+        std::printf("%s: %s\n", what, ratioText(a, b).c_str());
+    };
+    ratio("bricks / OpenVDB lookups (1 thread)", now, openvdb);
+    ratio("decomposition / plain delta and ratio tracking (1 thread)", now, plain);
+    ratio("regular tracking where preferred / tentative collisions only (1 thread)", now,
+          tentative);
+    ratio("majorant grid / global majorant (1 thread)", now, global);
     // What the grid saves grows with the cost of a lookup: OpenVDB is what a grid too large for
     // bricks uses, and what every grid used before issue 11.
-    std::printf("majorant grid / global majorant, both with OpenVDB lookups (1 thread): %.2fx\n",
-                openvdb.pathsPerSecond / globalVdb.pathsPerSecond);
+    ratio("majorant grid / global majorant, both with OpenVDB lookups (1 thread)", openvdb,
+          globalVdb);
     if (media) {
         // Time per path above the floor: what the media add to a path (none, within noise, when
         // the media cost no more than the floor).
@@ -282,7 +304,7 @@ int runBench(BenchArgs& a) {
         else
             std::printf("n/a (the media add no measurable time to a path)\n");
     }
-    std::printf("2 threads / 1 thread: %.2fx\n", two.pathsPerSecond / now.pathsPerSecond);
+    ratio("2 threads / 1 thread", two, now);
     if (a.cellSweep) cellSweep(a, doc);
     if (!a.accuracy) return 0;
 

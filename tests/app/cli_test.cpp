@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -206,6 +208,30 @@ TEST_F(Cli, BenchFindsTheDefaultScene) {
     EXPECT_EQ(bad.code, 1);
     EXPECT_EQ(bad.out, "");
     EXPECT_NE(bad.err.find("render.spp: value 0 out of range"), std::string::npos) << bad.err;
+}
+
+// With more than one round, each same-run ratio shows the range of its round-by-round ratios,
+// which holds the best-of ratio printed before it; one round prints the ratio alone.
+TEST_F(Cli, BenchRatiosShowTheirRounds) {
+    const Result r = run("bench --spp 1 --repeats 3 --set camera.resolution=[8,6]");
+    ASSERT_EQ(r.code, 0) << r.err;
+    for (const char* what :
+         {"bricks / OpenVDB lookups (1 thread): ", "majorant grid / global majorant (1 thread): ",
+          "2 threads / 1 thread: "}) {
+        const size_t at = r.out.find(what);
+        ASSERT_NE(at, std::string::npos) << what << "\n" << r.out;
+        double best = 0, lo = 0, hi = 0;
+        ASSERT_EQ(std::sscanf(r.out.c_str() + at + std::strlen(what), "%lfx (rounds %lf-%lfx)",
+                              &best, &lo, &hi),
+                  3)
+            << r.out.substr(at, 120);
+        EXPECT_GT(lo, 0) << what;
+        EXPECT_LE(lo, best) << what;
+        EXPECT_LE(best, hi) << what;
+    }
+    const Result one = run("bench --spp 1 --set camera.resolution=[8,6]");
+    ASSERT_EQ(one.code, 0) << one.err;
+    EXPECT_EQ(one.out.find("(rounds "), std::string::npos) << one.out;
 }
 
 // bench --cell-sweep renders the default scene with majorant cells of 1, 2, 4, 8 and 16 voxels
