@@ -30,8 +30,8 @@ SHSampledPhase::SHSampledPhase(const PhaseFunction& base, const ZonalFitRequest&
     : base_(std::make_shared<const PhaseFunction>(base)), evaluate_(evaluate) {
     if (std::holds_alternative<SHSampledPhase>(base.variant()))
         throw Error("an SH-sampled phase function cannot wrap another one");
-    fit_ =
-        std::make_shared<const ZonalFit>(fitZonal([&](double mu) { return baseCos(mu); }, request));
+    fit_ = std::make_shared<const ZonalFit>(
+        fitZonal([&](const AngleCosine& c) { return base_->evalAngle(c); }, request));
     sampler_ = std::make_shared<const ZonalSHSampler>(fit_->p, depth);
     if (!(sampler_->positiveMass() > 0)) throw Error("the SH fit has no positive mass");
     if (evaluate_ == Evaluate::Exact) {
@@ -41,7 +41,7 @@ SHSampledPhase::SHSampledPhase(const PhaseFunction& base, const ZonalFitRequest&
 }
 
 double SHSampledPhase::baseCos(double mu) const {
-    return base_->eval(Vec3(0, 0, 1), sphericalDirection(mu, 0));
+    return base_->evalAngle(AngleCosine::of(mu));
 }
 
 double SHSampledPhase::exactSecondMoment() const {
@@ -60,7 +60,7 @@ double SHSampledPhase::exactSecondMoment() const {
         const double pdf = pdfCos(std::cos(a + 0.5 * h));
         double pp = 0;
         for (size_t j = 0; j < x.size(); ++j) {
-            const double t = a + h * x[j], p = baseCos(std::cos(t));
+            const double t = a + h * x[j], p = base_->evalAngle(AngleCosine::ofAngle(t));
             pp += h * w[j] * std::sin(t) * p * p;
         }
         if (pp > 0 && !(pdf > 0)) return INFINITY;

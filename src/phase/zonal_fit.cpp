@@ -31,7 +31,8 @@ const char* shWindowName(SHWindow w) {
 namespace {
 
 struct Node {
-    double mu, weight;  ///< ∫ g(μ) dμ ≈ Σ weight · g(mu)
+    AngleCosine angle;  ///< the node's angle θ (its cosine and their complements)
+    double weight;      ///< ∫ g(μ) dμ ≈ Σ weight · g(angle.mu)
 };
 
 /// Gauss–Legendre panels on gradedThetaEdges(), no wider than 8/(order+1) rad: the integrand
@@ -50,7 +51,7 @@ std::vector<Node> thetaNodes(int order) {
             const double b = edges[i] + (edges[i + 1] - edges[i]) * (k + 1) / pieces;
             sh::gaussLegendre(16, a, b, x, w);
             for (size_t j = 0; j < x.size(); ++j)
-                out.push_back({std::cos(x[j]), w[j] * std::sin(x[j])});
+                out.push_back({AngleCosine::ofAngle(x[j]), w[j] * std::sin(x[j])});
         }
     }
     return out;
@@ -80,7 +81,7 @@ std::vector<double> gradedThetaEdges() {
     return edges;
 }
 
-ZonalFit fitZonal(const std::function<double(double mu)>& p, int order, SHWindow window) {
+ZonalFit fitZonal(const std::function<double(const AngleCosine&)>& p, int order, SHWindow window) {
     if (order < 1 || order > 1024) throw Error("SH order must be in [1, 1024]");
     const std::vector<Node> nodes = thetaNodes(order);
     std::vector<double> value(nodes.size()), y(order);
@@ -89,8 +90,8 @@ ZonalFit fitZonal(const std::function<double(double mu)>& p, int order, SHWindow
     fit.p.assign(order, 0.0);
     double energy = 0;
     for (size_t i = 0; i < nodes.size(); ++i) {
-        value[i] = p(nodes[i].mu);
-        sh::shEvalZonal(order, nodes[i].mu, y.data());
+        value[i] = p(nodes[i].angle);
+        sh::shEvalZonal(order, nodes[i].angle.mu, y.data());
         for (int l = 0; l < order; ++l) fit.p[l] += TwoPi * nodes[i].weight * value[i] * y[l];
         energy += TwoPi * nodes[i].weight * value[i] * value[i];
         fit.peakValue = std::max(fit.peakValue, value[i]);
@@ -104,7 +105,7 @@ ZonalFit fitZonal(const std::function<double(double mu)>& p, int order, SHWindow
     double err2 = 0;
     fit.minValue = INFINITY;
     for (size_t i = 0; i < nodes.size(); ++i) {
-        sh::shEvalZonal(order, nodes[i].mu, y.data());
+        sh::shEvalZonal(order, nodes[i].angle.mu, y.data());
         double r = 0;
         for (int l = order - 1; l >= 0; --l) r += fit.p[l] * y[l];
         const double e = value[i] - r;
@@ -115,6 +116,10 @@ ZonalFit fitZonal(const std::function<double(double mu)>& p, int order, SHWindow
     fit.l2Error = std::sqrt(err2);
     fit.relativeL2Error = energy > 0 ? fit.l2Error / std::sqrt(energy) : 0.0;
     return fit;
+}
+
+ZonalFit fitZonal(const std::function<double(double mu)>& p, int order, SHWindow window) {
+    return fitZonal([&](const AngleCosine& c) { return p(c.mu); }, order, window);
 }
 
 double relativeL2ErrorByParseval(const std::vector<double>& pFull, double energy, int n,
@@ -154,7 +159,8 @@ int lowestOrder(const std::vector<double>& pFull, double energy, double tol, SHW
 
 }  // namespace
 
-ZonalFit fitZonal(const std::function<double(double mu)>& p, const ZonalFitRequest& request) {
+ZonalFit fitZonal(const std::function<double(const AngleCosine&)>& p,
+                  const ZonalFitRequest& request) {
     int order = request.order;
     if (order == 0) {
         const int maxOrder = ZonalFitRequest::kMaxAutoOrder;
@@ -172,6 +178,10 @@ ZonalFit fitZonal(const std::function<double(double mu)>& p, const ZonalFitReque
     if (request.window) return fitZonal(p, order, *request.window);
     const ZonalFit f = fitZonal(p, order, SHWindow::None);
     return rings(f) ? fitZonal(p, order, SHWindow::Hann) : f;
+}
+
+ZonalFit fitZonal(const std::function<double(double mu)>& p, const ZonalFitRequest& request) {
+    return fitZonal([&](const AngleCosine& c) { return p(c.mu); }, request);
 }
 
 }  // namespace shvol

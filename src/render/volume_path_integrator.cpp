@@ -65,13 +65,11 @@ void VolumePathIntegrator::buildLightSamplers() {
     effects_.skyCompressed = sky_->compressed();
     if (effects_.lightSampling == LightSampling::Product) {
         product_ = std::make_unique<const ProductSampler>(*sky_, s.productOrder, s.productDepth);
-        const Vec3 z(0, 0, 1);
         for (const auto& m : scene.media) {
             // The lobe only shapes the pdf: a Hann-windowed fit rings least (zonal_fit.h).
             const PhaseFunction& phase = m->phase();
-            const ZonalFit fit =
-                fitZonal([&](double mu) { return phase.eval(z, sphericalDirection(mu, 0)); },
-                         s.productOrder, SHWindow::Hann);
+            const ZonalFit fit = fitZonal([&](const AngleCosine& c) { return phase.evalAngle(c); },
+                                          s.productOrder, SHWindow::Hann);
             // Without MIS the product sampler alone must reach every lit direction: the
             // defensive share then guards against cells whose lobe mass rounds to ≤ 0 even for
             // a fit that is non-negative at its quadrature nodes.

@@ -4,6 +4,8 @@
 
 #include "shvol/core/error.h"
 #include "shvol/phase/henyey_greenstein.h"
+#include "shvol/phase/henyey_greenstein_phase.h"
+#include "shvol/phase/phase_function.h"
 #include "shvol/phase/rayleigh_phase.h"
 
 namespace shvol {
@@ -22,6 +24,30 @@ TEST(ZonalFit, HenyeyGreensteinCoefficients) {
         const double total = (1 + g * g) / (FourPi * sqr(1 - g * g));
         EXPECT_NEAR(f.energyFraction, captured / total, 1e-6 * captured / total) << g;
         EXPECT_NEAR(f.relativeL2Error, std::sqrt(std::max(0.0, 1 - captured / total)), 1e-4) << g;
+    }
+}
+
+// Near |g| = 1 the lobe is narrower than μ's rounding: at g = 0.999999 its width, 10⁻⁶ rad, is
+// 1 − μ = 5·10⁻¹³, which μ holds to 2·10⁻⁴. The fit hands p each node's angle (AngleCosine), and
+// both HG from the complements and a phase function evaluated between directions
+// (PhaseFunction::evalAngle, what SH sampling and the product sampler fit) reproduce the closed
+// form; from μ alone the coefficients were off by 1.5·10⁻⁶ of themselves at 0.999999.
+TEST(ZonalFit, HenyeyGreensteinCoefficientsNearTheLimit) {
+    for (double g : {0.9999, 0.99999, 0.999999, -0.999999}) {
+        const PhaseFunction phase = HenyeyGreensteinPhase(g);
+        const ZonalFit fits[] = {
+            fitZonal([g](const AngleCosine& c) { return henyeyGreenstein(c, g); }, 64),
+            fitZonal([&](const AngleCosine& c) { return phase.evalAngle(c); }, 64)};
+        double captured = 0;
+        for (int l = 0; l < 64; ++l) captured += std::pow(g, 2 * l) * (2 * l + 1) / FourPi;
+        const double total = (1 + g * g) / (FourPi * sqr(1 - g * g));
+        for (const ZonalFit& f : fits) {
+            for (int l = 0; l < 64; ++l) {
+                const double exact = std::pow(g, l) * std::sqrt((2 * l + 1) / FourPi);
+                ASSERT_NEAR(f.p[l], exact, 1e-10 * std::abs(exact)) << "g " << g << " l " << l;
+            }
+            EXPECT_NEAR(f.energyFraction, captured / total, 1e-9 * captured / total) << g;
+        }
     }
 }
 
