@@ -2,7 +2,6 @@
 
 #include <signal.h>
 
-#include <csignal>
 #include <mutex>
 
 #include "shvol/core/atomic_file.h"
@@ -11,17 +10,24 @@ namespace shvol {
 
 namespace {
 
-using Handler = void (*)(int);
+constexpr int kSignals[] = {SIGINT, SIGTERM};
 
 std::atomic<bool> gInterrupted{false};
-/// The handlers the guards replaced, read by the signal handler (lock-free atomics).
-std::atomic<Handler> gPreviousInt{SIG_DFL}, gPreviousTerm{SIG_DFL};
-static_assert(std::atomic<bool>::is_always_lock_free && std::atomic<Handler>::is_always_lock_free,
-              "the signal handler reads these");
 
+/// The actions the guards replaced, one per entry of kSignals, and whether a guard's handler is
+/// installed for it. Written only under gMutex while none of this file's handlers is installed
+/// (before installing, after restoring), so the handler reads them without a race.
+struct sigaction gPrevious[2];
+bool gCaught[2] = {false, false};
+
+int indexOf(int sig) {
+    return sig == SIGINT ? 0 : 1;
+}
+
+/// Sets the flag and puts the previous action back for the next signal of this kind.
 extern "C" void onInterrupt(int sig) {
     gInterrupted.store(true);
-    std::signal(sig, (sig == SIGINT ? gPreviousInt : gPreviousTerm).load());
+    ::sigaction(sig, &gPrevious[indexOf(sig)], nullptr);
 }
 
 std::mutex gMutex;
@@ -31,26 +37,36 @@ int gDepth = 0;
 
 InterruptGuard::InterruptGuard() {
     const std::lock_guard<std::mutex> lock(gMutex);
-    if (gDepth++ > 0) return;
+    // Once interrupted, a later guard (the next render of `batch --jobs`) catches nothing: the
+    // next signal ends the process.
+    if (gDepth++ > 0 || gInterrupted.load()) return;
     // Installed before this guard's own, so that they are what the first signal hands back to
     // (installed later, they would see this guard's handler and stay away from SIGINT and
     // SIGTERM for good).
     removeTemporariesOnSignals();
-    // The previous handler is stored before ours is in place: a signal right after it must
-    // find it.
-    for (const int sig : {SIGINT, SIGTERM}) {
-        struct sigaction old {};
-        ::sigaction(sig, nullptr, &old);
-        (sig == SIGINT ? gPreviousInt : gPreviousTerm).store(old.sa_handler);
-        std::signal(sig, onInterrupt);
+    for (const int sig : kSignals) {
+        const int i = indexOf(sig);
+        // The previous action is stored before ours is in place: a signal right after it must
+        // find it. A signal the process ignores (started with nohup or in the background of a
+        // script) stays ignored.
+        if (::sigaction(sig, nullptr, &gPrevious[i]) != 0 || gPrevious[i].sa_handler == SIG_IGN)
+            continue;
+        struct sigaction ours {};
+        ours.sa_handler = onInterrupt;
+        ours.sa_flags = SA_RESTART;  // as std::signal has it: reads and waits go on
+        sigemptyset(&ours.sa_mask);
+        gCaught[i] = ::sigaction(sig, &ours, nullptr) == 0;
     }
 }
 
 InterruptGuard::~InterruptGuard() {
     const std::lock_guard<std::mutex> lock(gMutex);
     if (--gDepth > 0) return;
-    std::signal(SIGINT, gPreviousInt.load());
-    std::signal(SIGTERM, gPreviousTerm.load());
+    for (const int sig : kSignals) {
+        const int i = indexOf(sig);
+        if (gCaught[i]) ::sigaction(sig, &gPrevious[i], nullptr);
+        gCaught[i] = false;
+    }
 }
 
 const std::atomic<bool>& InterruptGuard::interrupted() {

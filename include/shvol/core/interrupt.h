@@ -8,10 +8,11 @@
 namespace shvol {
 
 /// Catches SIGINT and SIGTERM while at least one guard lives (the renders of `batch --jobs` run
-/// side by side), then restores the handlers it replaced. The first signal sets interrupted()
-/// and hands the signal back to the handler that was there before: the one that removes
-/// writeAtomically's temporaries (installed first, for a signal whose action was the default) or
-/// whatever the program had.
+/// side by side), then restores the actions it replaced. The first signal sets interrupted() and
+/// reinstalls, for the next signal of its kind, the action that was there before: the one that
+/// removes writeAtomically's temporaries (installed first, for a signal whose action was the
+/// default) or whatever the program had. A signal the process ignores is left ignored, and once
+/// interrupted() is set a new guard catches nothing.
 class InterruptGuard {
   public:
     InterruptGuard();
