@@ -32,8 +32,16 @@ TEST(ZonalFit, HenyeyGreensteinCoefficients) {
 // both HG from the complements and a phase function evaluated between directions
 // (PhaseFunction::evalAngle, what SH sampling and the product sampler fit) reproduce the closed
 // form; from μ alone the coefficients were off by 1.5·10⁻⁶ of themselves at 0.999999.
+// Bounds: worst relative errors of p_l measured 1.4·10⁻¹⁴ (g 0.99), 2.0·10⁻¹⁴ (0.999),
+// 2.6·10⁻¹³ (0.9999), 4.2·10⁻¹³ (0.99999), 1.1·10⁻¹¹ (0.999999) and 2.0·10⁻¹¹ (−0.999999),
+// those of the energy fraction about twice as large; the bounds leave 5–7 times that.
 TEST(ZonalFit, HenyeyGreensteinCoefficientsNearTheLimit) {
-    for (double g : {0.9999, 0.99999, 0.999999, -0.999999}) {
+    struct Case {
+        double g, bound;
+    };
+    for (const Case& k : {Case{0.99, 1e-13}, Case{0.999, 1e-13}, Case{0.9999, 3e-12},
+                          Case{0.99999, 3e-12}, Case{0.999999, 1e-10}, Case{-0.999999, 1e-10}}) {
+        const double g = k.g;
         const PhaseFunction phase = HenyeyGreensteinPhase(g);
         const ZonalFit fits[] = {
             fitZonal([g](const AngleCosine& c) { return henyeyGreenstein(c, g); }, 64),
@@ -44,9 +52,9 @@ TEST(ZonalFit, HenyeyGreensteinCoefficientsNearTheLimit) {
         for (const ZonalFit& f : fits) {
             for (int l = 0; l < 64; ++l) {
                 const double exact = std::pow(g, l) * std::sqrt((2 * l + 1) / FourPi);
-                ASSERT_NEAR(f.p[l], exact, 1e-10 * std::abs(exact)) << "g " << g << " l " << l;
+                ASSERT_NEAR(f.p[l], exact, k.bound * std::abs(exact)) << "g " << g << " l " << l;
             }
-            EXPECT_NEAR(f.energyFraction, captured / total, 1e-9 * captured / total) << g;
+            EXPECT_NEAR(f.energyFraction, captured / total, 2 * k.bound * captured / total) << g;
         }
     }
 }

@@ -103,8 +103,8 @@ struct AngleCosine {
         mu = std::clamp(mu, -1.0, 1.0);
         return {mu, 1 - mu, 1 + mu};
     }
-    /// Of the angle θ ∈ [0, π] itself: 1 − μ = 2 sin²(θ/2), 1 + μ = 2 cos²(θ/2), so that a
-    /// quadrature node at θ = 10⁻⁶ rad keeps its angle (μ = cos θ alone would round it by 10⁻⁴).
+    /// Of the angle θ ∈ [0, π] itself: 1 − μ = 2 sin²(θ/2), 1 + μ = 2 cos²(θ/2) (the
+    /// quadrature nodes of fitZonal).
     static AngleCosine ofAngle(double theta) {
         const double s = std::sin(0.5 * theta), c = std::cos(0.5 * theta);
         return {std::cos(theta), 2 * s * s, 2 * c * c};

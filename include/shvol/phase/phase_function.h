@@ -52,9 +52,8 @@ class PhaseFunction {
     double pdf(const Vec3& wo, const Vec3& wi) const {
         return std::visit([&](const auto& p) { return p.pdf(wo, wi); }, p_);
     }
-    /// p at the angle c between wo and wi (wo = +z; the phase functions are rotationally
-    /// symmetric), with sin θ from the complements: from a rounded μ alone, √(1 − μ²) would move a
-    /// direction 10⁻⁶ rad from the pole by 10⁻⁴ of its angle. For zonal fits (fitZonal).
+    /// p at the angle c between wo and wi (the phase functions are rotationally symmetric), with
+    /// sin θ from c's complements rather than from μ; for zonal fits (fitZonal).
     double evalAngle(const AngleCosine& c) const {
         return eval(Vec3(0, 0, 1), sphericalDirectionFromCosSin(c.mu, c.sinTheta(), Vec2(1, 0)));
     }

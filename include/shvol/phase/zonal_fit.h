@@ -39,11 +39,13 @@ struct ZonalFit {
 
 /// Fits p at the given order (number of bands, 1 … 1024). p is given the angle of each
 /// quadrature node with its cosine's complements (AngleCosine::ofAngle), so that a lobe narrower
-/// than μ's rounding near ±1 (HG at |g| ≥ 0.9999) can be evaluated where it is: from μ alone the
-/// coefficients of HG 0.999999 were off by 1.5·10⁻⁶ of themselves, from the angle by 1.1·10⁻¹¹.
+/// than μ's rounding near ±1 can be evaluated where it is: from μ alone the coefficients of HG
+/// were off by 1.5·10⁻⁶ of themselves at g = 0.999999 and by 3.5·10⁻¹⁰ at 0.9999, from the angle
+/// by 1.1·10⁻¹¹ and 2.6·10⁻¹³. A generic lambda matches both overloads: name its parameter type.
 ZonalFit fitZonal(const std::function<double(const AngleCosine&)>& p, int order,
                   SHWindow window = SHWindow::None);
-/// The same for p(μ), for functions that μ resolves (polynomials, lobes of |g| < 0.999).
+/// The same for p(μ), for functions that μ resolves (polynomials, lobes much wider than 10⁻⁴
+/// rad, e.g. HG with |g| ≤ 0.99).
 ZonalFit fitZonal(const std::function<double(double mu)>& p, int order,
                   SHWindow window = SHWindow::None);
 
