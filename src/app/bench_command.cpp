@@ -55,9 +55,9 @@ struct Row {
 /// "a / b" in paths/s as "1.97x", the ratio of the two rows' best rounds, followed with more than
 /// one round by the range of the ratios round by round ("1.97x (rounds 1.85-2.05x)"): the rounds
 /// interleave the configurations, so a round's ratio is a same-run ratio too, and their spread
-/// shows the machine's noise (a ratio of identical work that reads 0.9x beside rounds of
-/// 0.85-1.05x is noise). The best-of ratio always lies within that range: the round of a's best
-/// gives a ratio at least as large, the round of b's best one at least as small.
+/// shows part of the machine's noise (README: not all of it). The best-of ratio always lies within
+/// that range: the round of a's best gives a ratio at least as large, the round of b's best one at
+/// least as small.
 std::string ratioText(const Row& a, const Row& b) {
     char text[96];
     std::snprintf(text, sizeof text, "%.2fx", a.pathsPerSecond / b.pathsPerSecond);

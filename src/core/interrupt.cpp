@@ -40,9 +40,9 @@ InterruptGuard::InterruptGuard() {
     // Once interrupted, a later guard (the next render of `batch --jobs`) catches nothing: the
     // next signal ends the process.
     if (gDepth++ > 0 || gInterrupted.load()) return;
-    // Installed before this guard's own, so that they are what the first signal hands back to
-    // (installed later, they would see this guard's handler and stay away from SIGINT and
-    // SIGTERM for good).
+    // The temporaries' handlers go in before this guard's, so that they are what the first signal
+    // hands back to (installed later, they would find this guard's handler and stay away from
+    // SIGINT and SIGTERM for good).
     removeTemporariesOnSignals();
     for (const int sig : kSignals) {
         const int i = indexOf(sig);
