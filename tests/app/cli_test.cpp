@@ -878,9 +878,13 @@ TEST_F(Cli, InterruptedRenderWritesWhatItHas) {
     write("s.json", scene(Homogeneous));
     for (const char* sig : {"INT", "TERM"}) {
         const std::string out = path(std::string("i") + sig + ".exr");
-        // The shell's redirections apply to `wait`; the render's stderr goes to bg.txt.
-        const Result r = run("render " + path("s.json") + " -o " + out + " --spp 10000000 2>" +
-                             path("bg.txt") + " & p=$!; sleep 1.5; kill -" + sig + " $p; wait $p");
+        // The shell's redirections apply to `wait`; the render's stderr goes to bg.txt. A job
+        // started with `&` by a script ignores SIGINT (and shvol leaves it ignored): env gives it
+        // the default action back, as a user stopping such a job with SIGINT must.
+        const Result r =
+            runCommand("env --default-signal=INT " + std::string(SHVOL_BINARY) + " render " +
+                       path("s.json") + " -o " + out + " --spp 10000000 2>" + path("bg.txt") +
+                       " & p=$!; sleep 1.5; " + "kill -" + sig + " $p; wait $p");
         std::ifstream bg(path("bg.txt"));
         const std::string err((std::istreambuf_iterator<char>(bg)), {});
         EXPECT_EQ(r.code, 130) << sig << ": " << err;
