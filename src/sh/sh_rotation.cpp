@@ -351,8 +351,22 @@ Eigen::VectorXd rotateZonal(const Eigen::VectorXd& p, const Vec3& d) {
     return out;
 }
 
-Eigen::Matrix3d rotationTo(const Vec3& d) {
-    return Eigen::Quaterniond::FromTwoVectors(Vec3(0, 0, 1), d.normalized()).toRotationMatrix();
+// Rodrigues' formula about v = ẑ × d = (−y, x, 0) with cos θ = c = d_z:
+// R = I + [v]× + [v]×² / (1 + c), [v]×² = v vᵀ − |v|² I. For c < 0, 1/(1 + c) is taken as
+// (1 − c)/(x² + y²), which does not cancel. (Eigen's Quaternion::FromTwoVectors gives the same
+// rotation but instantiates a JacobiSVD for the antiparallel case: a third of this file's
+// compile time.)
+Eigen::Matrix3d rotationTo(const Vec3& dIn) {
+    const Vec3 d = dIn.normalized();
+    const double x = d.x(), y = d.y(), c = d.z(), s = x * x + y * y;
+    if (!(s > 0))  // ±z: the identity, or a half turn about x
+        return Eigen::Matrix3d(Vec3(1, c >= 0 ? 1 : -1, c >= 0 ? 1 : -1).asDiagonal());
+    const double k = c >= 0 ? 1 / (1 + c) : (1 - c) / s;
+    Eigen::Matrix3d R;
+    R << 1 - x * x * k, -x * y * k, x,  //
+        -x * y * k, 1 - y * y * k, y,   //
+        -x, -y, c;
+    return R;
 }
 
 Eigen::Matrix3d rotationZYZ(double alpha, double beta, double gamma) {

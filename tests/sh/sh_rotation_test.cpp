@@ -160,6 +160,28 @@ TEST(ShVectorRotation, AgreesWithShRotation) {
     for (int count : {1, 3, 5}) agreesWithShRotation(count);
 }
 
+// rotationTo's closed form against Eigen's shortest-arc quaternion, over directions that include
+// the poles and directions within 1e-9 rad of -z, where 1/(1 + cos θ) would cancel.
+TEST(ShRotation, RotationToIsTheShortestArc) {
+    std::vector<Vec3> ds = {Vec3(0, 0, 1),        Vec3(1, 0, 0),         Vec3(0, -1, 0),
+                            Vec3(1e-9, 0, -1),    Vec3(-3e-9, 2e-9, -1), Vec3(1e-300, 0, -1),
+                            Vec3(0.3, -0.2, -0.9)};
+    Rng rng(11, 3);
+    for (int i = 0; i < 200; ++i)
+        ds.push_back(2 * Vec3(rng.uniform(), rng.uniform(), rng.uniform()) - Vec3::Ones());
+    for (const Vec3& d0 : ds) {
+        const Vec3 d = d0.normalized();
+        const Eigen::Matrix3d R = rotationTo(d0);
+        EXPECT_LT((R.transpose() * R - Eigen::Matrix3d::Identity()).norm(), 4e-15) << d.transpose();
+        EXPECT_NEAR(R.determinant(), 1.0, 4e-15) << d.transpose();
+        EXPECT_LT((R * Vec3(0, 0, 1) - d).norm(), 4e-15) << d.transpose();
+        const Eigen::Matrix3d Q =
+            Eigen::Quaterniond::FromTwoVectors(Vec3(0, 0, 1), d).toRotationMatrix();
+        if (d.z() > -1 + 1e-6) EXPECT_LT((R - Q).norm(), 1e-13) << d.transpose();
+    }
+    EXPECT_LT((rotationTo(Vec3(0, 0, -2)) * Vec3(0, 0, 1) - Vec3(0, 0, -1)).norm(), 1e-15);
+}
+
 TEST(ShRotation, EulerZYZ) {
     const Eigen::Matrix3d R = rotationZYZ(0.0, 0.5 * Pi, 0.0);
     EXPECT_LT((R * Vec3(0, 0, 1) - Vec3(1, 0, 0)).norm(), 1e-15);

@@ -95,8 +95,9 @@ class ShVectorRotation {
 void rotateZonal(int n, const double* p, const Vec3& d, double* out);
 Eigen::VectorXd rotateZonal(const Eigen::VectorXd& p, const Vec3& d);
 
-/// A rotation taking +z to the unit vector d (the shortest-arc one; any rotation with R·ẑ = d
-/// gives the same rotated zonal function).
+/// A rotation taking +z to the direction of d (the shortest-arc one, Rodrigues' formula about
+/// ẑ × d; for d along −z a half turn about x; any rotation with R·ẑ = d gives the same rotated
+/// zonal function).
 Eigen::Matrix3d rotationTo(const Vec3& d);
 /// R = Rz(α) Ry(β) Rz(γ) (the ZYZ Euler convention of Gautron §4).
 Eigen::Matrix3d rotationZYZ(double alpha, double beta, double gamma);
