@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # shvol set-up: installs the Debian packages shvol needs (only those missing), builds, then
 #   ./setup.sh render   renders the default scene media/default.json to default.exr
-#   ./setup.sh test     runs every test (ctest), then the tests under ASan+UBSan and the fuzzers
+#   ./setup.sh test     runs every test (ctest), then a sanitizer build's tests and the fuzzers
 #   ./setup.sh build    only builds
 # Nothing is downloaded except Debian packages through apt-get.
 set -euo pipefail
@@ -25,35 +25,41 @@ if ((${#missing[@]})); then
 fi
 
 # clang++ compiles the OpenVDB translation unit about 2.5x faster than g++.
+t0=$SECONDS
 cmake -G Ninja -S . -B build -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ >/dev/null
 cmake --build build -j "$(nproc)"
+echo "setup: release build took $((SECONDS - t0)) s" >&2
 
-# After the release tests: the test suite again under AddressSanitizer and
-# UndefinedBehaviorSanitizer (build-asan/), then each libFuzzer target over a copy of its seed
-# corpus for SHVOL_FUZZ_SECONDS (default 20) seconds (build-fuzz/), one per core at a time; all
-# run even when one fails. A fuzzer's crash input is kept in build-fuzz/artifacts/. README,
-# "Fuzzing and sanitizers".
+# After the release tests, one sanitizer build (build-asan/: AddressSanitizer and
+# UndefinedBehaviorSanitizer, libFuzzer coverage in the loaders) of the libraries, the test
+# programs of the modules in sanitized_modules, the hard-case suite and the fuzz targets; it runs
+# those tests, then each libFuzzer target over a copy of its seed corpus for SHVOL_FUZZ_SECONDS
+# (default 20) seconds, one per core at a time; all run even when one fails. A fuzzer's crash
+# input is kept in build-asan/fuzz-artifacts/. README, "Fuzzing and sanitizers".
+sanitized_modules="core;media"
 sanitizers() {
-  local configure=(-G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++
-                   -DSHVOL_BUILD_BENCH=OFF -DSHVOL_BUILD_VALIDATION=OFF -DSHVOL_MPI=OFF)
   local t0=$SECONDS
-  cmake -S . -B build-asan "${configure[@]}" -DSHVOL_SANITIZE=ON >/dev/null
-  cmake --build build-asan -j "$(nproc)"
+  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ \
+        -DSHVOL_SANITIZE=ON -DSHVOL_FUZZ=ON -DSHVOL_MPI=OFF -DSHVOL_BUILD_BENCH=OFF \
+        -DSHVOL_BUILD_VALIDATION=OFF -DSHVOL_TEST_MODULES="$sanitized_modules" >/dev/null
+  local targets=(fuzzers validate_hardcases) mod
+  for mod in ${sanitized_modules//;/ }; do targets+=("test_$mod"); done
+  cmake --build build-asan -j "$(nproc)" --target "${targets[@]}"
+  echo "setup: sanitizer build took $((SECONDS - t0)) s" >&2
   # ctest starts the tests it knows to be long first. On a fresh build-asan it knows none, and
-  # the longest (30 s under ASan) ran last with one core idle; the release run's timings (the
-  # same tests) tell it which they are.
+  # the longest could run last with one core idle; the release run's timings (the same tests)
+  # tell it which they are.
+  t0=$SECONDS
   local costs=Testing/Temporary/CTestCostData.txt
   if [ ! -e build-asan/$costs ] && [ -e build/$costs ]; then
     mkdir -p build-asan/Testing/Temporary
     cp build/$costs build-asan/$costs
   fi
   (cd build-asan && ctest --output-on-failure -j "$(nproc)")
-  echo "setup: sanitizer build and tests took $((SECONDS - t0)) s" >&2
+  echo "setup: sanitizer tests took $((SECONDS - t0)) s" >&2
 
   t0=$SECONDS
-  cmake -S . -B build-fuzz "${configure[@]}" -DSHVOL_FUZZ=ON -DSHVOL_BUILD_TESTS=OFF >/dev/null
-  cmake --build build-fuzz -j "$(nproc)" --target fuzzers
-  local work artifacts="$PWD/build-fuzz/artifacts" supp="$PWD/tests/sanitizers/lsan.supp"
+  local work artifacts="$PWD/build-asan/fuzz-artifacts" supp="$PWD/tests/sanitizers/lsan.supp"
   work=$(mktemp -d)
   mkdir -p "$artifacts"
   # Each fuzzer is one process on one core, so nproc of them run side by side, each for the full
@@ -65,7 +71,7 @@ sanitizers() {
     for name in "${batch[@]}"; do
       mkdir "$work/$name"
       cp tests/fuzz/"$name"/* "$work/$name/"
-      LSAN_OPTIONS="suppressions=$supp" build-fuzz/"${name}_fuzzer" "$work/$name" \
+      LSAN_OPTIONS="suppressions=$supp" build-asan/"${name}_fuzzer" "$work/$name" \
         -max_total_time="${SHVOL_FUZZ_SECONDS:-20}" -timeout=10 -rss_limit_mb=2048 \
         -artifact_prefix="$artifacts/${name}-" >"$work/$name.log" 2>&1 &
       pids+=($!)
@@ -85,12 +91,14 @@ sanitizers() {
     echo "setup: failed: ${failed[*]/%/_fuzzer}; the inputs are in $artifacts" >&2
     return 1
   fi
-  echo "setup: fuzz build and runs took $((SECONDS - t0)) s" >&2
+  echo "setup: fuzz runs took $((SECONDS - t0)) s" >&2
 }
 
 case "${1:-build}" in
   render) build/shvol render media/default.json -o default.exr ;;
-  test)   (cd build && ctest --output-on-failure -j "$(nproc)")
+  test)   t0=$SECONDS
+          (cd build && ctest --output-on-failure -j "$(nproc)")
+          echo "setup: release tests took $((SECONDS - t0)) s" >&2
           sanitizers ;;
   build)  ;;
   *) echo "usage: $0 [render|test|build]" >&2; exit 2 ;;
