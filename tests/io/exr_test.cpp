@@ -158,6 +158,30 @@ TEST(Exr, DataWindowLargerThanTheFileIsRefused) {
     EXPECT_EQ(messageOf([&] { readExr(wide); }).rfind(wide + ": ", 0), 0u);
 }
 
+// A header attribute whose size reaches beyond the file's end is refused before OpenEXR
+// allocates it (a fuzz input's `channels` claimed 1.7 GB in 375 bytes); so is a negative size.
+TEST(Exr, AttributeSizeBeyondTheFileIsRefused) {
+    Image img(3, 2);
+    writeExr(tmp("sizes.exr"), img);
+    std::ifstream in(tmp("sizes.exr"), std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    const std::string tag("channels\0chlist\0", 16);
+    const size_t at = bytes.find(tag);
+    ASSERT_NE(at, std::string::npos);
+    for (const int32_t size : {1768712291, -5, int32_t(bytes.size())}) {
+        std::string b = bytes;
+        std::memcpy(&b[at + tag.size()], &size, 4);
+        const std::string path = tmp("size.exr");
+        std::ofstream(path, std::ios::binary) << b;
+        const size_t left = bytes.size() - (at + tag.size() + 4);
+        EXPECT_EQ(messageOf([&] { readExr(path); }),
+                  path + ": header attribute 'channels': its value claims " + std::to_string(size) +
+                      " bytes, the file has " + std::to_string(left) + " left (damaged file)");
+    }
+    // The attribute at its own size still reads.
+    EXPECT_EQ(readExr(tmp("sizes.exr")).width, 3);
+}
+
 // Only regular files are read (a device such as /dev/zero never ends), and a file name the
 // system refuses (longer than NAME_MAX) gives a shvol::Error, not std::filesystem_error.
 TEST(Exr, OnlyRegularFilesAreRead) {
