@@ -39,16 +39,20 @@ constexpr double kMinExrPixelLimit = 1 << 20;  // small files may still hold a 1
 void checkExrAttributeSizes(const std::string& path, uintmax_t bytes) {
     std::ifstream in(path, std::ios::binary);
     unsigned char start[8];
-    if (!in.read(reinterpret_cast<char*>(start), 8)) return;
+    if (!in.read(reinterpret_cast<char*>(start), 8) || start[0] != 0x76 || start[1] != 0x2f ||
+        start[2] != 0x31 || start[3] != 0x01)
+        return;                              // not EXR's magic number: OpenEXR says so
     const bool multipart = start[5] & 0x10;  // version bit 12
     uintmax_t at = 8;
-    auto readName = [&](std::string& s) {  // false at the file's end or past 255 characters
+    // Reads a name up to its \0 (control characters kept out of the error line as '?'); false at
+    // the file's end or past 255 characters.
+    auto readName = [&](std::string& s) {
         s.clear();
         for (char c; in.get(c);) {
             ++at;
             if (c == 0) return true;
             if (s.size() == 255) return false;
-            s += c;
+            s += (unsigned char)c < 0x20 || c == 0x7f ? '?' : c;
         }
         return false;
     };

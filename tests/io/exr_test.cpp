@@ -180,6 +180,14 @@ TEST(Exr, AttributeSizeBeyondTheFileIsRefused) {
     }
     // The attribute at its own size still reads.
     EXPECT_EQ(readExr(tmp("sizes.exr")).width, 3);
+    // A name from the file stays on one line.
+    const std::string path = tmp("name.exr");
+    std::ofstream(path, std::ios::binary)
+        << std::string("v/1\x01\x02\0\0\0ab\ncd\0x\0\x7f\x7f\x7f\x7f", 20);
+    EXPECT_EQ(messageOf([&] { readExr(path); }),
+              path +
+                  ": header attribute 'ab?cd': its value claims 2139062143 bytes, the file has "
+                  "0 left (damaged file)");
 }
 
 // Only regular files are read (a device such as /dev/zero never ends), and a file name the
