@@ -57,8 +57,9 @@ void checkExrAttributeSizes(const std::string& path, uintmax_t bytes) {
         return false;
     };
     std::string name, type;
-    for (bool empty = false; !empty;) {
-        for (empty = true; readName(name) && !name.empty(); empty = false) {
+    for (;;) {  // one header a turn
+        int attributes = 0;
+        for (; readName(name) && !name.empty(); ++attributes) {
             unsigned char size[4];
             if (!readName(type) || !in.read(reinterpret_cast<char*>(size), 4)) return;
             at += 4;
@@ -71,7 +72,7 @@ void checkExrAttributeSizes(const std::string& path, uintmax_t bytes) {
             in.seekg(n, std::ios::cur);
             at += uintmax_t(n);
         }
-        if (!in || !multipart) return;
+        if (!in || !multipart || attributes == 0) return;
     }
 }
 

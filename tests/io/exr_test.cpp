@@ -7,7 +7,10 @@
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
+#include <ImfMultiPartOutputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfOutputPart.h>
+#include <ImfPartType.h>
 
 #include <cstring>
 #include <filesystem>
@@ -188,6 +191,42 @@ TEST(Exr, AttributeSizeBeyondTheFileIsRefused) {
               path +
                   ": header attribute 'ab?cd': its value claims 2139062143 bytes, the file has "
                   "0 left (damaged file)");
+}
+
+// In a multi-part file every header is walked: a size beyond the end in the second is refused.
+TEST(Exr, AttributeSizeBeyondTheFileIsRefusedInAnyPart) {
+    const std::string path = tmp("parts.exr");
+    {
+        std::vector<Imf::Header> headers(2, Imf::Header(2, 2));
+        for (int i = 0; i < 2; ++i) {
+            headers[size_t(i)].setName(i == 0 ? "first" : "second");
+            headers[size_t(i)].setType(Imf::SCANLINEIMAGE);
+            headers[size_t(i)].channels().insert("Y", Imf::Channel(Imf::FLOAT));
+        }
+        Imf::MultiPartOutputFile file(path.c_str(), headers.data(), 2);
+        std::vector<float> y(4, 0.25f);
+        for (int i = 0; i < 2; ++i) {
+            Imf::OutputPart part(file, i);
+            Imf::FrameBuffer fb;
+            fb.insert("Y", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(y.data()), 4, 8));
+            part.setFrameBuffer(fb);
+            part.writePixels(2);
+        }
+    }
+    EXPECT_EQ(readExr(path).width, 2);  // the first part
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    const std::string tag("channels\0chlist\0", 16);
+    const size_t at = bytes.find(tag, bytes.find(tag) + 1);  // the second part's
+    ASSERT_NE(at, std::string::npos);
+    const int32_t size = 1 << 30;
+    std::memcpy(&bytes[at + tag.size()], &size, 4);
+    std::ofstream(path, std::ios::binary) << bytes;
+    EXPECT_EQ(
+        messageOf([&] {
+            readExr(path);
+        }).rfind(path + ": header attribute 'channels': its value claims 1073741824 bytes", 0),
+        0u);
 }
 
 // Only regular files are read (a device such as /dev/zero never ends), and a file name the
