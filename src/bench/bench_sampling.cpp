@@ -8,7 +8,7 @@
 namespace shvol {
 namespace {
 
-constexpr int kRequests = 8;  // a path of a few bounces: jitter, then phase and roulette numbers
+constexpr int kRequests = 8;  // a path of a few bounces: jitter, then flight and phase pairs
 
 void IndependentPath(benchmark::State& state) {
     uint32_t n = 0;

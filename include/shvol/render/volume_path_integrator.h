@@ -92,8 +92,8 @@ class VolumePathIntegrator {
     /// a sample stream, Rng (independent numbers) or SobolSampler (sampling/sobol_sampler.h):
     /// per flight through active media a 2D pair for the free flight's first two numbers (its first
     /// exponential and acceptance test), then per bounce a 2D light sample (with next-event
-    /// estimation), a 2D phase sample and a 1D Russian-roulette number, in that order; the rest
-    /// of free-flight tracking, and transmittance tracking, draw from its rng().
+    /// estimation) and a 2D phase sample, in that order; the rest of free-flight tracking,
+    /// transmittance tracking and Russian roulette draw from its rng().
     /// A camera path, or a record path of the radiance cache (see the file comment).
     enum class PathKind { Camera, CacheRecord };
     template <typename Sampler>
