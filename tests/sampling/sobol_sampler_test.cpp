@@ -84,12 +84,12 @@ TEST(SobolSampler, DeferredRequestsKeepTheStream) {
         SobolSampler eager(pixel, sample), deferred(pixel, sample);
         for (int bounce = 0; bounce < SobolSampler::kDimensions / 3 + 2; ++bounce) {
             const Vec2 flight = eager.next2D(), phase = eager.next2D();
-            const double roulette = eager.next1D(), tracking = eager.rng().uniform();
+            const double select = eager.next1D(), tracking = eager.rng().uniform();
             const DeferredPair f = deferred.deferred2D();
             const Vec2 p = deferred.next2D();
             const double r = deferred.next1D();
             ASSERT_EQ(p, phase) << bounce;
-            ASSERT_EQ(r, roulette) << bounce;
+            ASSERT_EQ(r, select) << bounce;
             if (bounce % 2) ASSERT_EQ(f.value(), flight) << bounce;  // read after the others
             ASSERT_EQ(deferred.rng().uniform(), tracking) << bounce;
         }
