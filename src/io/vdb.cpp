@@ -437,6 +437,7 @@ std::optional<DensityBricks> makeBricks(const openvdb::FloatTree& tree) {
             }))
             return std::nullopt;
     DensityBricks d(lo, res, 0.f);
+    d.reserve(bricks);
     Accessor acc(tree);
     auto voxel = [&](int i, int j, int l) { return acc.getValue(openvdb::Coord(i, j, l)); };
     for (const Box& b : boxes)

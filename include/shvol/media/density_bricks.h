@@ -28,6 +28,8 @@ class DensityBricks {
     /// whose every lookup gives `background`.
     DensityBricks(const Eigen::Vector3i& lo, const Eigen::Vector3i& res, float background);
 
+    /// Room for `bricks` bricks in all: adding them then moves no stored brick.
+    void reserve(size_t bricks) { values_.reserve(bricks * kVoxels); }
     /// Adds the brick at brick coordinate c, filled by voxel(x, y, z) for the voxels
     /// 8c … 8c + 8 of each axis (the brick and its apron).
     template <typename Voxel>
