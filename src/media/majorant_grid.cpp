@@ -19,7 +19,18 @@ MajorantGrid MajorantGrid::withCells(const Vec3& lo, const Vec3& hi, double cell
     return g;
 }
 
+float MajorantGrid::floatAtLeast(double v) {
+    const float f = float(v);
+    return double(f) < v ? std::nextafter(f, INFINITY) : f;
+}
+
+float MajorantGrid::floatAtMost(double v) {
+    const float f = float(v);
+    return double(f) > v ? std::nextafter(f, -INFINITY) : f;
+}
+
 void MajorantGrid::expand(const Vec3& bLo, const Vec3& bHi, double value) {
+    const float upper = floatAtLeast(value);
     int c0[3], c1[3];
     for (int a = 0; a < 3; ++a) {
         c0[a] = std::clamp(int(std::floor((bLo[a] - lo_[a]) / cellSize_[a])), 0, res_[a] - 1);
@@ -28,8 +39,8 @@ void MajorantGrid::expand(const Vec3& bLo, const Vec3& bHi, double value) {
     for (int z = c0[2]; z <= c1[2]; ++z)
         for (int y = c0[1]; y <= c1[1]; ++y)
             for (int x = c0[0]; x <= c1[0]; ++x) {
-                double& m = cells_[index(x, y, z)].max;
-                m = std::max(m, value);
+                float& m = cells_[index(x, y, z)].max;
+                m = std::max(m, upper);
             }
 }
 
@@ -49,8 +60,8 @@ MajorantGrid MajorantGrid::coarsened() const {
     for (int z = 0; z < res_.z(); ++z)
         for (int y = 0; y < res_.y(); ++y)
             for (int x = 0; x < res_.x(); ++x) {
-                double& m = g.cells_[g.index(x / 2, y / 2, z / 2)].max;
-                m = std::max(m, cell(x, y, z));
+                float& m = g.cells_[g.index(x / 2, y / 2, z / 2)].max;
+                m = std::max(m, cells_[index(x, y, z)].max);
             }
     return g;
 }
@@ -67,12 +78,13 @@ double MajorantGrid::trackingCost(const std::vector<std::pair<Vec3, Vec3>>& rays
 }
 
 void MajorantGrid::setMinimum(const std::vector<double>& minimum) {
-    for (size_t i = 0; i < cells_.size() && i < minimum.size(); ++i) cells_[i].min = minimum[i];
+    for (size_t i = 0; i < cells_.size() && i < minimum.size(); ++i)
+        cells_[i].min = floatAtMost(minimum[i]);
 }
 
 double MajorantGrid::maxValue() const {
     double m = 0;
-    for (const Bounds& b : cells_) m = std::max(m, b.max);
+    for (const Bounds& b : cells_) m = std::max(m, double(b.max));
     return m;
 }
 

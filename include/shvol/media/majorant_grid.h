@@ -27,6 +27,12 @@ class MajorantGrid {
     void expand(const Vec3& bLo, const Vec3& bHi, double value);
     /// Lower bounds of the density per cell, in index order (x fastest); empty: 0 everywhere.
     void setMinimum(const std::vector<double>& minimum);
+    /// Cells keep their bounds in float, rounded outward (the upper bound up, the lower down):
+    /// exact for the densities of a float VDB grid, and a bound still for any double. Half the
+    /// memory of doubles, which a grid of one-voxel cells over a large box feels at load (page
+    /// faults) and the walk in its cache.
+    static float floatAtLeast(double v);
+    static float floatAtMost(double v);
     /// The box [lo, hi] of cell (x, y, z).
     Vec3 cellLower(int x, int y, int z) const {
         return lo_ + Vec3(x, y, z).cwiseProduct(cellSize_);
@@ -68,9 +74,9 @@ class MajorantGrid {
     Vec3 lo_{0, 0, 0}, hi_{0, 0, 0}, cellSize_{1, 1, 1}, invCellSize_{1, 1, 1};
     Eigen::Vector3i res_{0, 0, 0};
     /// Per cell, x fastest: the upper and the lower bound of the density (min 0 until
-    /// setMinimum).
+    /// setMinimum), rounded outward to float.
     struct Bounds {
-        double max = 0, min = 0;
+        float max = 0, min = 0;
     };
     std::vector<Bounds> cells_;
 };
