@@ -19,16 +19,6 @@ MajorantGrid MajorantGrid::withCells(const Vec3& lo, const Vec3& hi, double cell
     return g;
 }
 
-float MajorantGrid::floatAtLeast(double v) {
-    const float f = float(v);
-    return double(f) < v ? std::nextafter(f, INFINITY) : f;
-}
-
-float MajorantGrid::floatAtMost(double v) {
-    const float f = float(v);
-    return double(f) > v ? std::nextafter(f, -INFINITY) : f;
-}
-
 void MajorantGrid::expand(const Vec3& bLo, const Vec3& bHi, double value) {
     const float upper = floatAtLeast(value);
     int c0[3], c1[3];

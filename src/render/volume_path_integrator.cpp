@@ -401,7 +401,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
         if (depth >= s.rrDepth) {
             // The roulette's number comes from the independent stream, and only when it is
             // needed: stratified (a Sobol' request of its own every bounce), it did not lower the
-            // error of long paths and cost 3% of their time (README, "Sample streams").
+            // error of long paths and cost up to 3% of their time (README, "Sample streams").
             const double q = rouletteSurvival(maxComponent(beta), effects_.rouletteThreshold);
             if (q < 1) {
                 if (rng.uniform() >= q) break;

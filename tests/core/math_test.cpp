@@ -23,6 +23,23 @@ TEST(Math, FloorToIntMatchesFloor) {
     }
 }
 
+// floatAtLeast and floatAtMost give the nearest float on their side of any double (the next float
+// towards the value is past it), and a float itself.
+TEST(Math, FloatAtLeastAndAtMostRoundOutward) {
+    Rng rng(3, 1);
+    for (int i = 0; i < 100000; ++i) {
+        const double v = std::ldexp(rng.uniform(), int(rng.uniform() * 60) - 30);
+        const float up = floatAtLeast(v), down = floatAtMost(v);
+        ASSERT_GE(double(up), v) << v;
+        ASSERT_LT(double(std::nextafter(up, -INFINITY)), v) << v;
+        ASSERT_LE(double(down), v) << v;
+        ASSERT_GT(double(std::nextafter(down, INFINITY)), v) << v;
+        const float f = float(v);
+        ASSERT_EQ(floatAtLeast(f), f);
+        ASSERT_EQ(floatAtMost(f), f);
+    }
+}
+
 // exponentialVariate(u) = −log1p(−u) to within 2 ulp for the numbers the samplers give
 // (multiples of 2⁻⁵³ in [0, 1)), tiny and close to 1 included.
 TEST(Math, ExponentialVariateMatchesLog1p) {

@@ -26,6 +26,16 @@ template <typename T>
 inline T sqr(T x) {
     return x * x;
 }
+/// The least float ≥ v and the greatest float ≤ v: v rounded outward, for bounds kept in float
+/// (MajorantGrid); exact for a v that is a float.
+inline float floatAtLeast(double v) {
+    const float f = float(v);
+    return double(f) < v ? std::nextafter(f, INFINITY) : f;
+}
+inline float floatAtMost(double v) {
+    const float f = float(v);
+    return double(f) > v ? std::nextafter(f, -INFINITY) : f;
+}
 /// ⌊x⌋ for finite |x| < 2³¹ (callers keep their arguments in that range: points inside a
 /// majorant grid or its bricks): a truncation and a correction (std::floor is a libm call unless
 /// the target has SSE4.1).

@@ -27,12 +27,6 @@ class MajorantGrid {
     void expand(const Vec3& bLo, const Vec3& bHi, double value);
     /// Lower bounds of the density per cell, in index order (x fastest); empty: 0 everywhere.
     void setMinimum(const std::vector<double>& minimum);
-    /// Cells keep their bounds in float, rounded outward (the upper bound up, the lower down):
-    /// exact for the densities of a float VDB grid, and a bound still for any double. Half the
-    /// memory of doubles, which a grid of one-voxel cells over a large box feels at load (page
-    /// faults) and the walk in its cache.
-    static float floatAtLeast(double v);
-    static float floatAtMost(double v);
     /// The box [lo, hi] of cell (x, y, z).
     Vec3 cellLower(int x, int y, int z) const {
         return lo_ + Vec3(x, y, z).cwiseProduct(cellSize_);
@@ -74,7 +68,10 @@ class MajorantGrid {
     Vec3 lo_{0, 0, 0}, hi_{0, 0, 0}, cellSize_{1, 1, 1}, invCellSize_{1, 1, 1};
     Eigen::Vector3i res_{0, 0, 0};
     /// Per cell, x fastest: the upper and the lower bound of the density (min 0 until
-    /// setMinimum), rounded outward to float.
+    /// setMinimum), rounded outward to float (floatAtLeast, floatAtMost): exact for the
+    /// densities of a float VDB grid, and still bounds for any double. Half the memory of
+    /// doubles, which the one-voxel grid the cell-size choice builds over a large box feels at
+    /// load (page faults).
     struct Bounds {
         float max = 0, min = 0;
     };
