@@ -31,10 +31,15 @@ TEST(MajorantGrid, BoundsRoundOutwardToFloat) {
     EXPECT_GE(g.cell(0, 0, 0), 0.7);
     EXPECT_EQ(g.cell(0, 0, 0), double(floatAtLeast(0.7)));
     EXPECT_EQ(g.maxValue(), double(floatAtLeast(0.7)));
-    g.traverse(Vec3(-1, 0.5, 0.5), Vec3(1, 0, 0), 0, 10, [](double, double, double m, double mn) {
-        if (m > 0) EXPECT_TRUE(mn <= 0.1 && mn > 0.0999999) << mn;
+    int dense = 0;  // segments through the cell with density: the walk must meet it once
+    g.traverse(Vec3(-1, 0.5, 0.5), Vec3(1, 0, 0), 0, 10, [&](double, double, double m, double mn) {
+        if (m > 0) {
+            ++dense;
+            EXPECT_TRUE(mn <= 0.1 && mn > 0.0999999) << mn;
+        }
         return true;
     });
+    EXPECT_EQ(dense, 1);
 }
 
 // Segments must tile the clipped ray interval in order, and each segment's majorant must be the
