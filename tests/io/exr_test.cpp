@@ -26,6 +26,7 @@ namespace {
 std::string tmp(const std::string& name) {
     return test::privateTempPath(name);
 }
+using shvol::test::fileBytes;
 using shvol::test::messageOf;
 }  // namespace
 
@@ -141,8 +142,7 @@ TEST(Exr, DataWindowLargerThanTheFileIsRefused) {
         file.setFrameBuffer(fb);
         file.writePixels(4);
     }
-    std::ifstream in(path, std::ios::binary);
-    const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    const std::string bytes = fileBytes(path);
     const std::string tag("dataWindow\0box2i\0", 17);
     const size_t at = bytes.find(tag);
     ASSERT_NE(at, std::string::npos);
@@ -166,8 +166,7 @@ TEST(Exr, DataWindowLargerThanTheFileIsRefused) {
 TEST(Exr, AttributeSizeBeyondTheFileIsRefused) {
     Image img(3, 2);
     writeExr(tmp("sizes.exr"), img);
-    std::ifstream in(tmp("sizes.exr"), std::ios::binary);
-    const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    const std::string bytes = fileBytes(tmp("sizes.exr"));
     const std::string tag("channels\0chlist\0", 16);
     const size_t at = bytes.find(tag);
     ASSERT_NE(at, std::string::npos);
@@ -214,8 +213,7 @@ TEST(Exr, AttributeSizeBeyondTheFileIsRefusedInAnyPart) {
         }
     }
     EXPECT_EQ(readExr(path).width, 2);  // the first part
-    std::ifstream in(path, std::ios::binary);
-    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    std::string bytes = fileBytes(path);
     const std::string tag("channels\0chlist\0", 16);
     const size_t at = bytes.find(tag, bytes.find(tag) + 1);  // the second part's
     ASSERT_NE(at, std::string::npos);
