@@ -72,6 +72,8 @@ size_t findNumberToken(const std::string& text, const std::string& token) {
 }  // namespace
 
 Json parseJsonFile(const std::string& path) {
+    if (const std::string problem = inputFileProblem(path); !problem.empty())
+        fail(path, "", problem);  // (a directory opens, and reads as empty)
     std::ifstream f(path);
     if (!f) fail(path, "", "cannot open file");
     std::stringstream ss;
@@ -146,6 +148,8 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
         if (parts.empty() || keyPath.back() == '.')
             fail(file, "--set " + assignment, "empty component in key path");
     }
+    // The document itself must be an object (a scene or a sweep), overrides or not.
+    if (!doc.is_object()) fail(file, "(top level)", "expected an object, got " + typeName(doc));
     Json* node = &doc;
     std::string walked;
     const auto cannotDescend = [&] {
@@ -153,16 +157,21 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
              "--set: cannot descend into " + std::string(node->is_array() ? "an " : "a ") +
                  typeName(*node));
     };
+    // The element of the array *node that `part` names.
+    const auto element = [&](const std::string& part) {
+        const std::string size = std::to_string(node->size());
+        if (part.find_first_not_of("0123456789") != std::string::npos)
+            fail(file, walked,
+                 "--set: \"" + part + "\" is not an index of the array (" + size + " elements)");
+        const size_t i = part.size() > 9 ? node->size() : std::stoul(part);
+        if (i >= node->size())
+            fail(file, walked, "--set: index " + part + " out of range (" + size + " elements)");
+        return i;
+    };
     for (size_t k = 0; k + 1 < parts.size(); ++k) {
         const std::string& part = parts[k];
-        const bool isIndex = part.find_first_not_of("0123456789") == std::string::npos;
-        if (node->is_array() && isIndex) {
-            const size_t i = part.size() > 9 ? node->size() : std::stoul(part);
-            if (i >= node->size())
-                fail(file, walked,
-                     "--set: index " + part + " out of range (" + std::to_string(node->size()) +
-                         " elements)");
-            node = &(*node)[i];
+        if (node->is_array()) {
+            node = &(*node)[element(part)];
             walked += "[" + part + "]";
         } else if (node->is_object() || node->is_null()) {
             node = &(*node)[part];
@@ -174,13 +183,7 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
     const std::string& last = parts.back();
     if (node->is_array()) {
         if (value.is_null()) fail(file, walked, "--set: array elements cannot be deleted");
-        const bool isIndex = last.find_first_not_of("0123456789") == std::string::npos;
-        const size_t i = !isIndex || last.size() > 9 ? node->size() : std::stoul(last);
-        if (i >= node->size())
-            fail(file, walked,
-                 "--set: index " + last + " out of range (" + std::to_string(node->size()) +
-                     " elements)");
-        (*node)[i] = std::move(value);
+        (*node)[element(last)] = std::move(value);
         return;
     }
     if (!node->is_object() && !node->is_null()) cannotDescend();

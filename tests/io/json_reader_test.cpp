@@ -92,7 +92,10 @@ TEST(JsonReader, MalformedFileNamesLineAndColumn) {
     const std::string m = messageOf([&] { parseJsonFile(path); });
     EXPECT_EQ(m.rfind(path + ": line 3, column 8: malformed JSON", 0), 0u) << m;
     EXPECT_EQ(messageOf([&] { parseJsonFile(path + ".missing"); }),
-              path + ".missing: cannot open file");
+              path + ".missing: no such file");
+    // (A directory would read as an empty document: "unexpected end of input".)
+    EXPECT_EQ(messageOf([&] { parseJsonFile(testing::TempDir()); }),
+              testing::TempDir() + ": not a regular file");
 }
 
 TEST(JsonReader, Overrides) {
@@ -109,9 +112,17 @@ TEST(JsonReader, Overrides) {
               "s.json: media: --set: index 3 out of range (1 elements)");
     EXPECT_EQ(messageOf([&] { applyOverride(j, "render.spp.x=1", "s.json"); }),
               "s.json: render.spp: --set: cannot descend into a number");
-    Json list = Json::array();
+    EXPECT_EQ(messageOf([&] { applyOverride(j, "media.-1.g=1", "s.json"); }),
+              "s.json: media: --set: \"-1\" is not an index of the array (1 elements)");
+    EXPECT_EQ(messageOf([&] { applyOverride(j, "media.x=1", "s.json"); }),
+              "s.json: media: --set: \"x\" is not an index of the array (1 elements)");
+    // A document that is no object is refused as such, as it is without overrides (a scene of
+    // `null` would otherwise become one of defaults).
+    Json list = Json::array(), null;
     EXPECT_EQ(messageOf([&] { applyOverride(list, "render.spp=1", "s.json"); }),
-              "s.json: --set: cannot descend into an array");
+              "s.json: (top level): expected an object, got array");
+    EXPECT_EQ(messageOf([&] { applyOverride(null, "render.spp=1", "s.json"); }),
+              "s.json: (top level): expected an object, got null");
     EXPECT_EQ(messageOf([&] { applyOverride(j, "nonsense", "s.json"); }),
               "s.json: --set nonsense: expected key.path=value");
 }
