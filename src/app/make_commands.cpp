@@ -132,14 +132,7 @@ void addMakeSkyCommand(CLI::App& app, std::function<int()>& run) {
     c->add_option("--sun-radiance", a->sunRadiance,
                   "Radiance inside the sun disc (preetham: its luminance in kcd/m^2; default: "
                   "physical)")
-        ->check(CLI::Validator(
-            [](std::string& text) -> std::string {
-                double v = 0;
-                if (!CLI::detail::lexical_cast(text, v) || !std::isfinite(v))
-                    return "expected a number, got \"" + text + "\"";
-                return v > 0 ? "" : "must be positive, got " + text;
-            },
-            "> 0"))
+        ->check(numberIn(0, 1e30, true, ""))  // (the cap of every radiance: describeSky)
         ->default_str("the model's");
     c->add_option("--sun-radius", a->sunRadius,
                   "Sun angular radius in radians (default: 0.02 simple, 0.004625 preetham)")

@@ -275,10 +275,20 @@ SkySummary describeSky(const SkyParams& s) {
         out.groundRadiance = (skyIlluminance(sky) + sunE) * (s.groundAlbedo * InvPi);
     }
     out.sunLuminance = rec709Luminance(out.sunRadiance);
-    if (!(out.sunRadiance.maxCoeff() < 1e30))  // float32 ends at 3.4e38
-        throw Error("sky: a sun of radius " + num(out.sunAngularRadius) +
-                    " rad would need radiance " + num(out.sunRadiance.maxCoeff()) +
-                    ", too large for float32; give a larger sun radius");
+    // Radiances stay at most 1e30, as the scene's (float32 ends at 3.4e38, and the sky's sums
+    // must not reach it either).
+    if (!(out.sunRadiance.maxCoeff() <= 1e30)) {
+        const std::string radiance = num(out.sunRadiance.maxCoeff());
+        if (s.sunRadiance)
+            fail("", "--sun-radiance",
+                 "gives the sun disc a radiance of " + radiance +
+                     " (largest channel), above the "
+                     "limit of 1e30");
+        fail("", "--sun-radius",
+             "a sun of radius " + num(out.sunAngularRadius) + " rad would need a radiance of " +
+                 radiance +
+                 " for the physical illuminance, above the limit of 1e30; give a larger radius");
+    }
     return out;
 }
 

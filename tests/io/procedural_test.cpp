@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "shvol/core/error.h"
+#include "test_util.h"
 
 namespace shvol {
 
@@ -433,6 +434,24 @@ TEST(ProceduralSky, DefaultsAndValidation) {
     EXPECT_TRUE(bad([](SkyParams& r) { r.width = 7; }));
     EXPECT_TRUE(bad([](SkyParams& r) { r.width = 16385; }));
     EXPECT_FALSE(bad([](SkyParams&) {}));
+
+    // Radiances up to 1e30, the scene's own cap; beyond it the message names the option that
+    // made it: the radiance given, or (a physical sun) a disc too small for its illuminance.
+    SkyParams simple;
+    simple.sunRadiance = 1e30;
+    simple.sunAngularRadius = 0.5;
+    EXPECT_LE(describeSky(simple).sunRadiance.maxCoeff(), 1e30);
+    simple.sunRadiance = 2e30;
+    EXPECT_EQ(test::messageOf([&] { describeSky(simple); }),
+              "--sun-radiance: gives the sun disc a radiance of 2e+30 (largest channel), above "
+              "the limit of 1e30");
+    SkyParams tiny;
+    tiny.model = SkyModel::Preetham;
+    tiny.sunAngularRadius = 1e-19;
+    EXPECT_EQ(test::messageOf([&] {
+                  describeSky(tiny);
+              }).rfind("--sun-radius: a sun of radius 1e-19 rad would need a radiance of ", 0),
+              0u);
 }
 
 }  // namespace shvol
