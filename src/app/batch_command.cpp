@@ -333,6 +333,18 @@ int runBatch(BatchArgs a) {
         if (s.reference && s.reference->render)
             s.reference->file = (fs::path(s.output) / "reference.exr").string();
     }
+    // The runs go into a directory, made with its parents if missing: fail now (--dry-run too),
+    // not after the reference's render, if its nearest existing ancestor is no directory.
+    {
+        std::error_code ec;
+        const fs::path out = fs::absolute(s.output, ec);
+        fs::path p = out;
+        while (!fs::exists(p, ec) && p.has_relative_path()) p = p.parent_path();
+        if (!fs::is_directory(p, ec))
+            fail(s.output, "",
+                 (p == out ? "is not a directory" : p.string() + " is not a directory") +
+                     std::string(" (batch writes a directory of runs there)"));
+    }
     if (a.dryRun) {
         if (!world.root()) return 0;
         if (s.reference)
@@ -357,7 +369,8 @@ int runBatch(BatchArgs a) {
             if (s.reference->render) stamp = referenceStamp(s, ztest, inputs);
             reference = referenceFingerprint(s, stamp, ztest);
         }
-        fs::create_directories(s.output);
+        if (std::error_code ec; !fs::create_directories(s.output, ec) && ec)
+            fail(s.output, "", "cannot make the directory (" + ec.message() + ")");
         ledger.emplace(s.output);
         for (const Json& row : ledger->rows()) {
             const std::string id = row["run"].get<std::string>();

@@ -56,9 +56,10 @@ CLI::Validator numberIn(double lo, double hi, bool loOpen = false, const std::st
 CLI::Validator integerIn(long long lo, long long hi);
 /// Whether `path` ends in `ext` (".exr"), in any case.
 bool hasExtension(const std::string& path, const std::string& ext);
-/// Whether the output path names the existing file `input` (through links too): an output that
-/// would replace what the command reads.
-bool replacesInput(const std::string& output, const std::string& input);
+/// Whether the two paths name one file: the same existing file (through links too), or the same
+/// path once made absolute and normal. An output that would replace what the command reads, or
+/// another of its outputs.
+bool sameFile(const std::string& a, const std::string& b);
 /// The largest --seed (2^53, as render.seed: every seed is exact in a JSON number).
 inline constexpr long long kMaxSeed = 9007199254740992LL;
 

@@ -1,5 +1,6 @@
 // shvol phase fit | sample: the zonal SH fit of a phase function, and samples from the SH-sampled
 // phase function exactly as a render builds it (same keys, defaults, pdf and weights).
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -153,14 +154,16 @@ int runSample(const PhaseArgs& a) {
     // The samples must not replace the table they are drawn from.
     const Json spec = phaseSpecToJson(a.spec);
     if (spec.contains("file") && spec["file"].is_string() &&
-        replacesInput(a.out, spec["file"].get<std::string>()))
+        sameFile(a.out, spec["file"].get<std::string>()))
         fail(a.out, "",
              "is the phase table being sampled (the spec's file); write the samples "
              "elsewhere");
     const Vec3 z(0, 0, 1);
     WeightStats ws;
     writeAtomically(a.out, [&](const std::string& tmp) {
+        errno = 0;
         std::ofstream csv(tmp);
+        if (!csv) failWriting(a.out, errno);
         csv << std::setprecision(17) << "x,y,z,pdf,weight\n";
         Rng rng(a.seed, 0);
         auto row = [&](const Vec3& w, double value, double pdf) {
@@ -184,7 +187,7 @@ int runSample(const PhaseArgs& a) {
             }
         }
         csv.close();
-        if (!csv) fail(a.out, "", "cannot write file");
+        if (!csv) failWriting(a.out, 0);  // (errno may come from the sampling in between)
     });
     std::fprintf(stderr,
                  "wrote %lld samples to %s\nweight p/pdf: mean %.6g, variance %.6g, max %.6g",

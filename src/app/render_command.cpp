@@ -239,23 +239,25 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
                       "as inf");
         std::fprintf(stderr, "shvol: warning: %s: %s\n", o.image.c_str(), all.back().c_str());
     }
+    const size_t unknown = size_t(
+        std::count_if(film.count.begin(), film.count.end(), [](uint32_t n) { return n < 2; }));
+    if (variance && unknown > 0) {
+        all.push_back(std::to_string(unknown) + " of " + std::to_string(film.pixels()) +
+                      " pixels have fewer than 2 samples (the render stopped early); their "
+                      "standard error is written as +inf (unknown)");
+        std::fprintf(stderr, "shvol: warning: %s: %s\n", o.stderrImage.c_str(), all.back().c_str());
+    }
     writeAtomically(o.stats, [&](const std::string& tmp) {
+        errno = 0;
         std::ofstream f(tmp);
         nlohmann::json j = statsJson(scene, image, st, o.image, all, provenance);
         if (variance) j["standard_error"] = o.stderrImage;
         f << dumpJson(j, 2) << "\n";
         f.close();
-        if (!f) fail(o.stats, "", "cannot write file");
+        if (!f) failWriting(o.stats, errno);
         writeExr(o.image, image);
         if (variance) writeExr(o.stderrImage, film.standardError());
     });
-    const size_t unknown = size_t(
-        std::count_if(film.count.begin(), film.count.end(), [](uint32_t n) { return n < 2; }));
-    if (variance && unknown > 0)
-        std::fprintf(stderr,
-                     "shvol: warning: %s: %zu of %zu pixels have fewer than 2 samples (the render "
-                     "stopped early); their standard error is written as +inf (unknown)\n",
-                     o.stderrImage.c_str(), unknown, film.pixels());
 }
 
 /// --spp: "N" or increasing "N1,N2,…,N" (each Ni an image of its own).
@@ -312,13 +314,6 @@ int runRender(const RenderArgs& a) {
             if (std::filesystem::path(out.substr(0, out.size() - 4)).filename().empty())
                 fail(out, "", "the output needs a name before .exr");
             final = outputsFor(out, "");
-            // Fail before rendering, not after, if the outputs cannot be written.
-            for (const std::string& f : {final.image, final.stats}) {
-                const std::filesystem::path dir = std::filesystem::path(f).parent_path();
-                if (!dir.empty() && !std::filesystem::is_directory(dir))
-                    fail(f, "", "cannot write: directory " + dir.string() + " does not exist");
-                if (std::filesystem::is_directory(f)) fail(f, "", "cannot write: is a directory");
-            }
             warnings = phaseWarnings(scene);
             if (scene.settings.radianceCache.enabled && !Effects::of(scene).radianceCache)
                 warnings.push_back(
@@ -342,19 +337,36 @@ int runRender(const RenderArgs& a) {
                          " samples per pixel, more than the " + std::to_string(scene.settings.spp) +
                          " asked for; resume with at least that many (--spp)");
             if (sppList.size() > 1) stops.assign(sppList.begin(), sppList.end() - 1);
-            // No output may replace a file the render reads (a sky written over by its render).
-            std::vector<std::string> writes = {final.image, final.stats, a.checkpoint};
+            // Every file the render writes, with what it is.
+            std::vector<std::pair<std::string, std::string>> writes = {
+                {final.image, "the image"}, {final.stats, "the statistics"}};
             for (const uint32_t n : stops) {
                 const Outputs o = outputsFor(out, "spp" + std::to_string(n));
-                writes.insert(writes.end(), {o.image, o.stats, a.variance ? o.stderrImage : ""});
+                const std::string at = " at " + std::to_string(n) + " spp";
+                writes.insert(writes.end(),
+                              {{o.image, "the image" + at}, {o.stats, "the statistics" + at}});
+                if (a.variance) writes.push_back({o.stderrImage, "the standard errors" + at});
             }
-            if (a.variance) writes.push_back(final.stderrImage);
-            for (const Json& in : provenance.at("inputs"))
-                for (const std::string& w : writes)
-                    if (replacesInput(w, in.at("path").get<std::string>()))
+            if (a.variance) writes.push_back({final.stderrImage, "the standard errors"});
+            if (!a.checkpoint.empty()) writes.push_back({a.checkpoint, "the checkpoint"});
+            // Fail before rendering, not after, if an output cannot be written, would replace a
+            // file the render reads (a sky written over by its render) or another output (a
+            // checkpoint named as the image).
+            for (size_t i = 0; i < writes.size(); ++i) {
+                const std::string& w = writes[i].first;
+                if (const std::string problem = outputFileProblem(w); !problem.empty())
+                    fail(w, "", "cannot write: " + problem);
+                for (const Json& in : provenance.at("inputs"))
+                    if (sameFile(w, in.at("path").get<std::string>()))
                         fail(w, "",
                              "is an input of the scene (" + in.at("key").get<std::string>() +
                                  "); write the output elsewhere");
+                for (size_t k = 0; k < i; ++k)
+                    if (sameFile(w, writes[k].first))
+                        fail(w, "",
+                             writes[i].second + " would be written over " + writes[k].second +
+                                 "; give each a file of its own");
+            }
             if (a.variance &&
                 std::min(stops.empty() ? 2 : stops.front(), uint32_t(scene.settings.spp)) < 2)
                 fail("", "--variance",
@@ -389,8 +401,12 @@ int runRender(const RenderArgs& a) {
                 world.reduceToRoot(reduced, stats);
             }
             if (!speaks) return;
+            // The image is that of a render of n samples, and its stats say so.
+            stats.spp = int(n);
+            nlohmann::json asked = provenance;
+            asked["scene_resolved"]["render"]["spp"] = n;
             const Outputs o = outputsFor(out, "spp" + std::to_string(n));
-            writeOutputs(o, scene, spread ? reduced : f, stats, warnings, provenance, a.variance);
+            writeOutputs(o, scene, spread ? reduced : f, stats, warnings, asked, a.variance);
             if (!a.quiet) std::fprintf(stderr, "wrote %s (%u spp)\n", o.image.c_str(), n);
         }
         const auto now = std::chrono::steady_clock::now();

@@ -31,9 +31,19 @@ bool hasExtension(const std::string& path, const std::string& ext) {
     return tail == ext;
 }
 
-bool replacesInput(const std::string& output, const std::string& input) {
-    std::error_code ec;
-    return !output.empty() && std::filesystem::equivalent(output, input, ec);
+bool sameFile(const std::string& a, const std::string& b) {
+    namespace fs = std::filesystem;
+    if (a.empty() || b.empty()) return false;
+    std::error_code ec, ea, eb;
+    if (fs::equivalent(a, b, ec)) return true;
+    // (Made absolute first: weakly_canonical leaves a relative path with no existing prefix,
+    // "x.exr", as it is, and "./x.exr" becomes absolute.)
+    const auto normal = [](const std::string& p, std::error_code& e) {
+        const fs::path abs = fs::absolute(p, e);
+        return e ? abs : fs::weakly_canonical(abs, e);
+    };
+    const fs::path pa = normal(a, ea), pb = normal(b, eb);
+    return !ea && !eb && pa == pb;
 }
 
 CLI::Validator integerIn(long long lo, long long hi) {

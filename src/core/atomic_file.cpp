@@ -3,9 +3,11 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <mutex>
 
@@ -78,6 +80,26 @@ class TemporaryGuard {
 
 }  // namespace
 
+std::string outputFileProblem(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path dir = fs::path(path).parent_path();
+    if (!dir.empty()) {
+        const fs::file_status st = fs::status(dir, ec);
+        if (st.type() == fs::file_type::not_found)
+            return "directory " + dir.string() + " does not exist";
+        if (!ec && !fs::is_directory(st)) return dir.string() + " is not a directory";
+    }
+    if (fs::is_directory(path, ec)) return "is a directory";
+    return "";
+}
+
+void failWriting(const std::string& path, int error) {
+    fail(path, "",
+         error == 0 ? "cannot write file"
+                    : std::string("cannot write file (") + std::strerror(error) + ")");
+}
+
 void writeAtomically(const std::string& path,
                      const std::function<void(const std::string&)>& write) {
     const std::string tmp = path + ".tmp" + std::to_string(::getpid());
@@ -89,17 +111,19 @@ void writeAtomically(const std::string& path,
         throw;
     }
     if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        const int error = errno;
         std::remove(tmp.c_str());
-        fail(path, "", "cannot write file");
+        failWriting(path, error);
     }
 }
 
 void writeTextAtomically(const std::string& path, const std::string& text) {
     writeAtomically(path, [&](const std::string& tmp) {
+        errno = 0;
         std::ofstream f(tmp, std::ios::binary);
         f << text;
         f.close();
-        if (!f) fail(path, "", "cannot write file");
+        if (!f) failWriting(path, errno);
     });
 }
 

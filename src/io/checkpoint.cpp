@@ -7,6 +7,7 @@
 #include "shvol/core/atomic_file.h"
 #include "shvol/core/error.h"
 #include "shvol/core/hash.h"
+#include "shvol/core/input_file.h"
 #include "shvol/io/json_reader.h"
 
 namespace shvol {
@@ -45,6 +46,8 @@ void writeCheckpoint(const std::string& path, const Film& film, uint64_t identit
 }
 
 Film readCheckpoint(const std::string& path, uint64_t identity) {
+    if (const std::string problem = inputFileProblem(path); !problem.empty())
+        fail(path, "", problem);  // (a directory opens, and fails only when read)
     std::ifstream f(path, std::ios::binary);
     if (!f) fail(path, "", "cannot open checkpoint");
     const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());

@@ -150,7 +150,7 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
         {"make-medium cloud -o " + path("m.vdb") + " --resolution 2",
          "--resolution: must be an integer in [4, 1024], got 2"},
         {"frobnicate x.json", "unknown subcommand \"frobnicate\"; expected one of render,"},
-        {"batch " + path("none.json"), path("none.json") + ": cannot open file"},
+        {"batch " + path("none.json"), path("none.json") + ": no such file"},
         {"render " + path("s.json") + " -o " + path("m.png"),
          "render writes OpenEXR; name the output .exr"},
         {"make-medium cloud -o " + path("m.vdb") + " --coverage -2",
@@ -941,6 +941,40 @@ TEST_F(Cli, TimeLimitCheckpointAndResume) {
     EXPECT_FALSE(fs::exists(path("x.exr")));
 }
 
+// Every file a render would write is checked before it renders: a checkpoint whose directory
+// is missing, that is a directory, or that names one of the images or statistics is refused at
+// once (it used to fail after the whole render, or to be written over the image), and so is an
+// output below a regular file. A directory given to --resume is named as such.
+TEST_F(Cli, RenderChecksEveryOutputFirst) {
+    write("s.json", scene(Homogeneous));
+    write("afile", "");
+    fs::create_directories(path("d"));
+    const std::string s = "render " + path("s.json") + " --quiet -o " + path("o.exr") + " ";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"--checkpoint " + path("no/ck.bin"),
+         path("no/ck.bin") + ": cannot write: directory " + path("no") + " does not exist"},
+        {"--checkpoint " + path("d"), path("d") + ": cannot write: is a directory"},
+        {"--checkpoint " + path("o.exr"),
+         path("o.exr") + ": the checkpoint would be written over the image"},
+        {"--checkpoint " + path("d/../o.stats.json"),
+         path("d/../o.stats.json") + ": the checkpoint would be written over the statistics"},
+        {"--spp 1,2 --checkpoint " + path("o.spp1.exr"),
+         path("o.spp1.exr") + ": the checkpoint would be written over the image at 1 spp"},
+        {"--checkpoint " + path("d") + " --resume", path("d") + ": not a regular file"},
+    };
+    for (const auto& [options, message] : cases) {
+        const Result r = run(s + options);
+        EXPECT_EQ(r.code, 1) << options;
+        EXPECT_EQ(r.err.rfind("shvol: error: " + message, 0), 0u) << options << ": " << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_FALSE(fs::exists(path("o.exr"))) << options;
+    }
+    const Result r = run("render " + path("s.json") + " --quiet -o " + path("afile/o.exr"));
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "shvol: error: " + path("afile/o.exr") + ": cannot write: " + path("afile") +
+                         " is not a directory\n");
+}
+
 // A checkpoint is refused when a file the scene names has changed since it was written (the
 // resumed image would mix two renders), and accepted again once the file is as it was.
 TEST_F(Cli, ResumeRefusesChangedInputFiles) {
@@ -965,6 +999,27 @@ TEST_F(Cli, ResumeRefusesChangedInputFiles) {
     EXPECT_TRUE(fs::exists(path("r.exr")));
 }
 
+// A render stopped before pixels had 2 samples writes their standard error as +inf and says so,
+// on stderr and in the statistics' warnings (which hold every warning printed).
+TEST_F(Cli, UnknownStandardErrorsAreAWarningInTheStats) {
+    write("s.json", scene(Homogeneous));
+    const Result r = run("render " + path("s.json") + " --quiet -o " + path("v.exr") +
+                         " --set camera.resolution=[320,240] --spp 1000000 --variance"
+                         " --time-limit 0.001 --threads 1");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto stats = nlohmann::json::parse(std::ifstream(path("v.stats.json")));
+    const bool unknown = stats["samples_per_pixel_min"].get<int>() < 2;  // (a fast host: none)
+    const std::string said = "pixels have fewer than 2 samples";
+    EXPECT_EQ(r.err.find(path("v.stderr.exr") + ": ") != std::string::npos &&
+                  r.err.find(said) != std::string::npos,
+              unknown)
+        << r.err;
+    int inStats = 0;
+    for (const auto& w : stats["warnings"])
+        inStats += w.get<std::string>().find(said) != std::string::npos;
+    EXPECT_EQ(inStats, unknown ? 1 : 0) << stats["warnings"];
+}
+
 // --spp 4,16 writes the 4-spp image on the way (identical to a separate 4-spp render) and
 // --variance the standard error of every pixel's mean beside each image.
 TEST_F(Cli, ProgressiveSppAndVariance) {
@@ -977,6 +1032,9 @@ TEST_F(Cli, ProgressiveSppAndVariance) {
     std::ifstream f(path("p.spp4.stats.json"));
     const auto stats = nlohmann::json::parse(f);
     EXPECT_EQ(stats["samples_per_pixel_min"], 4);
+    // The image is a render of 4 spp, and its statistics say so.
+    EXPECT_EQ(stats["spp"], 4);
+    EXPECT_EQ(stats["scene_resolved"]["render"]["spp"], 4);
     EXPECT_EQ(stats["standard_error"], path("p.spp4.stderr.exr"));
     const Image se4 = readExr(path("p.spp4.stderr.exr")), se16 = readExr(path("p.stderr.exr"));
     double sum4 = 0, sum16 = 0;
@@ -1121,6 +1179,29 @@ TEST_F(Cli, BatchErrorsNameTheRun) {
         std::string::npos)
         << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+// The output directory must be one or become one: a regular file there, or above it, is refused
+// with one line before anything renders, by --dry-run too.
+TEST_F(Cli, BatchOutputMustBeADirectory) {
+    write("s.json", scene(Homogeneous));
+    write("sweep.json", R"({"scene": "s.json", "axes": {"render.spp": [1]}})");
+    write("afile", "");
+    for (const std::string dry : {"", " --dry-run"})
+        for (const auto& [out, message] : std::vector<std::pair<std::string, std::string>>{
+                 {path("afile"), path("afile") + ": is not a directory"},
+                 {path("afile/x/y"),
+                  path("afile/x/y") + ": " + path("afile") + " is not a directory"}}) {
+            const Result r = run("batch " + path("sweep.json") + " --quiet --output " + out + dry);
+            EXPECT_EQ(r.code, 1) << out << dry;
+            EXPECT_EQ(r.err,
+                      "shvol: error: " + message + " (batch writes a directory of runs there)\n")
+                << dry;
+        }
+    EXPECT_EQ(test::fileBytes(path("afile")), "");
+    const Result r = run("batch " + path("sweep.json") + " --quiet --output " + path("new/runs"));
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(fs::is_directory(path("new/runs")));
 }
 
 // Every run's scene, and a rendered reference's, is checked before the first render, and by

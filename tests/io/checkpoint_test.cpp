@@ -66,7 +66,10 @@ TEST(Checkpoint, DamagedOrForeignFilesAreRefused) {
     std::ofstream(p) << "{\"not\": \"a checkpoint\"}";
     EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, 42); }), p + ": not a shvol checkpoint");
     EXPECT_EQ(test::messageOf([&] { readCheckpoint(tempPath("missing.bin"), 42); }),
-              tempPath("missing.bin") + ": cannot open checkpoint");
+              tempPath("missing.bin") + ": no such file");
+    // A directory opens as a stream and fails only when read: named as what it is.
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(testing::TempDir(), 42); }),
+              testing::TempDir() + ": not a regular file");
 }
 
 // The identity ignores render.spp (a render may be continued to more samples) and follows the

@@ -19,6 +19,15 @@ void writeAtomically(const std::string& path, const std::function<void(const std
 /// first and hands signals back to what it replaced.
 void removeTemporariesOnSignals();
 
+/// Why a file cannot be written at path, as far as can be told before writing it: "directory D
+/// does not exist", "D is not a directory" (the parent is a file) or "is a directory"; empty
+/// otherwise. A command checks its outputs with it before the work that fills them.
+std::string outputFileProblem(const std::string& path);
+
+/// Throws shvol::Error "path: cannot write file (reason)", the reason being strerror(error) (the
+/// errno a failed open, write or rename left; 0: no reason known).
+[[noreturn]] void failWriting(const std::string& path, int error);
+
 /// Writes text to path atomically.
 void writeTextAtomically(const std::string& path, const std::string& text);
 
