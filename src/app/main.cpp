@@ -1,5 +1,6 @@
 // shvol: a participating-media simulator. See README.md for the command-line reference.
 #include <cstdio>
+#include <new>
 #include <string>
 
 #include "commands.h"
@@ -73,6 +74,9 @@ int runMain(int argc, char** argv) {
         return 1;
     } catch (const shvol::Error& e) {
         error = std::string("shvol: error: ") + e.what();
+    } catch (const std::bad_alloc&) {  // (a resolution of 16384² needs about 16 GB, say)
+        error = "shvol: error: out of memory; outputs not written yet were not written (the "
+                "stats' peak_memory_mib of a smaller run shows what the work takes)";
     } catch (const std::exception& e) {
         error = std::string("shvol: internal error: ") + e.what();
     }

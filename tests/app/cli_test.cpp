@@ -1181,6 +1181,19 @@ TEST_F(Cli, BatchErrorsNameTheRun) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }
 
+// Memory that runs out (here a 16384² film under a 3 GB address-space limit) is one line saying
+// so, exit 1 and no output, not an "internal error: std::bad_alloc".
+TEST_F(Cli, OutOfMemoryIsOneLine) {
+    write("s.json", scene(Homogeneous));
+    const Result r = runCommand("ulimit -v 3000000; " + std::string(SHVOL_BINARY) + " render " +
+                                path("s.json") + " --quiet -o " + path("big.exr") +
+                                " --set camera.resolution=[16384,16384] --spp 1");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err.rfind("shvol: error: out of memory;", 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(path("big.exr")));
+}
+
 // The output directory must be one or become one: a regular file there, or above it, is refused
 // with one line before anything renders, by --dry-run too.
 TEST_F(Cli, BatchOutputMustBeADirectory) {
