@@ -75,8 +75,9 @@ int runMain(int argc, char** argv) {
     } catch (const shvol::Error& e) {
         error = std::string("shvol: error: ") + e.what();
     } catch (const std::bad_alloc&) {  // (a 16384² render needs about 11 GB, say)
-        error = "shvol: error: out of memory; outputs not written yet were not written (the "
-                "stats' peak_memory_mib of a smaller run shows what the work takes)";
+        error =
+            "shvol: error: out of memory; outputs not written yet were not written (the "
+            "stats' peak_memory_mib of a smaller run shows what the work takes)";
     } catch (const std::exception& e) {
         error = std::string("shvol: internal error: ") + e.what();
     }

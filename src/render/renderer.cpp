@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 
 #include "shvol/core/error.h"
 #include "shvol/core/progress.h"
@@ -88,6 +89,11 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
                     " samples per pixel, more than the " + std::to_string(spp) + " asked for");
     const int threads =
         options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
+    // More threads than cores, as asked: TBB keeps its workers to the cores unless its limit is
+    // raised (it would print a warning and run fewer threads).
+    std::optional<tbb::global_control> limit;
+    if (threads > tbb::this_task_arena::max_concurrency())
+        limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
     tbb::task_arena arena(threads);
     // Built inside the arena: the radiance cache's first pass runs parallel loops.
     std::unique_ptr<const VolumePathIntegrator> built;

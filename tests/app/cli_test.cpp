@@ -582,6 +582,13 @@ TEST_F(Cli, SameSeedSameImageAnyThreads) {
     ASSERT_EQ(
         run("render " + path("s.json") + " -o " + path("b.exr") + " --threads 2 --quiet").code, 0);
     EXPECT_EQ(readExr(path("a.exr")).rgb, readExr(path("b.exr")).rgb);
+    // More threads than cores run as asked, without TBB's warning that it ignores the request.
+    const Result r =
+        run("render " + path("s.json") + " -o " + path("c.exr") + " --threads 48 --quiet");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    EXPECT_EQ(nlohmann::json::parse(std::ifstream(path("c.stats.json")))["threads"], 48);
+    EXPECT_EQ(readExr(path("a.exr")).rgb, readExr(path("c.exr")).rgb);
 }
 
 TEST_F(Cli, MalformedJson) {
