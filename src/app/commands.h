@@ -56,6 +56,13 @@ CLI::Validator numberIn(double lo, double hi, bool loOpen = false, const std::st
 CLI::Validator integerIn(long long lo, long long hi);
 /// Whether `path` ends in `ext` (".exr"), in any case.
 bool hasExtension(const std::string& path, const std::string& ext);
+/// What is wrong with `path` as the name of an output of type `ext`: "<what>; name the file
+/// <ext>" without the extension, "the output needs a name before <ext>" for a bare extension
+/// (".exr", "dir/.exr"); empty when it is fine. `what` says what the command writes.
+std::string outputNameProblem(const std::string& path, const std::string& ext,
+                              const std::string& what);
+/// outputNameProblem as a CLI11 check of an -o option.
+CLI::Validator outputNamed(const std::string& ext, const std::string& what);
 /// Whether the two paths name one file: the same existing file (through links too), or the same
 /// path once made absolute and normal. An output that would replace what the command reads, or
 /// another of its outputs.

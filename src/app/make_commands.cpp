@@ -13,14 +13,6 @@ namespace shvol::app {
 namespace {
 /// -o FILE of a make command, refused unless FILE ends in `ext` (e.g. "make-sky writes OpenEXR;
 /// name the file .exr").
-CLI::Validator outputNamed(const std::string& ext, const std::string& what) {
-    return CLI::Validator(
-        [ext, what](std::string& path) -> std::string {
-            return hasExtension(path, ext) ? "" : what + "; name the file " + ext;
-        },
-        "FILE" + ext);
-}
-
 struct MediumArgs {
     std::string kind, output, grid = "density";  // (kind: required, so no default)
     int resolution = 96;
@@ -42,7 +34,9 @@ void addMakeMediumCommand(CLI::App& app, std::function<int()>& run) {
         ->check(outputNamed(".vdb", "make-medium writes OpenVDB"));
     c->add_option("--resolution", a->resolution, "Voxels per axis over the unit cube")
         ->check(integerIn(4, 1024));
-    c->add_option("--grid", a->grid, "Grid name");
+    c->add_option("--grid", a->grid, "Grid name")
+        ->check(CLI::Validator(
+            [](std::string& name) { return name.empty() ? "a grid needs a name" : ""; }, "NAME"));
     c->add_option("--seed", a->seed, "Noise seed (cloud, plume)")->check(integerIn(0, kMaxSeed));
     c->add_option("--octaves", a->octaves, "fBm octaves (cloud)")->check(integerIn(1, 12));
     c->add_option("--frequency", a->frequency, "Base noise frequency (cloud)")

@@ -263,8 +263,10 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
 /// --spp: "N" or increasing "N1,N2,…,N" (each Ni an image of its own).
 std::vector<uint32_t> parseSppList(const std::string& text) {
     std::vector<uint32_t> list;
-    std::stringstream ss(text);
-    for (std::string item; std::getline(ss, item, ',');) {
+    // Every item between commas, empty ones too ("16," is refused like ",16").
+    for (size_t from = 0, to = 0; to != std::string::npos; from = to + 1) {
+        to = text.find(',', from);
+        const std::string item = text.substr(from, to == std::string::npos ? to : to - from);
         const std::string err = integerIn(1, 1 << 24)(item);
         if (!err.empty()) fail("", "--spp", err);
         const uint32_t n = uint32_t(std::stoul(item));
@@ -308,11 +310,10 @@ int runRender(const RenderArgs& a) {
             scene = sceneFromJson(doc, a.scene, &resolved);
             out = a.output;
             if (out.empty()) out = std::filesystem::path(a.scene).stem().string() + ".exr";
-            if (!hasExtension(out, ".exr"))
-                fail(out, "",
-                     "render writes OpenEXR; name the output .exr (shvol tonemap makes a PNG)");
-            if (std::filesystem::path(out.substr(0, out.size() - 4)).filename().empty())
-                fail(out, "", "the output needs a name before .exr");
+            if (const std::string problem = outputNameProblem(
+                    out, ".exr", "render writes OpenEXR (shvol tonemap makes a PNG)");
+                !problem.empty())
+                fail(out, "", problem);
             final = outputsFor(out, "");
             warnings = phaseWarnings(scene);
             if (scene.settings.radianceCache.enabled && !Effects::of(scene).radianceCache)

@@ -18,13 +18,13 @@ void addTonemapCommand(CLI::App& app, std::function<int()>& run) {
     CLI::App* c = app.add_subcommand(
         "tonemap", "Write an sRGB PNG preview of an EXR: clamp(2^exposure * v), sRGB-encoded");
     c->add_option("image", a->input, "Input EXR")->required();
-    c->add_option("-o,--output", a->output, "Output PNG")->required();
+    c->add_option("-o,--output", a->output, "Output PNG")
+        ->required()
+        ->check(outputNamed(".png", "tonemap writes PNG"));
     c->add_option("--exposure", a->exposure, "Exposure in stops (default 0)")
         ->check(numberIn(-64.0, 64.0, false, " stops"));
     c->callback([&run, a] {
         run = [a] {
-            if (!hasExtension(a->output, ".png"))
-                fail(a->output, "", "tonemap writes PNG; name the file .png");
             const Image img = readExr(a->input, /*allowInfinity=*/true);
             writePng(a->output, img, a->exposure);
             return 0;

@@ -31,6 +31,20 @@ bool hasExtension(const std::string& path, const std::string& ext) {
     return tail == ext;
 }
 
+std::string outputNameProblem(const std::string& path, const std::string& ext,
+                              const std::string& what) {
+    if (!hasExtension(path, ext)) return what + "; name the file " + ext;
+    if (std::filesystem::path(path.substr(0, path.size() - ext.size())).filename().empty())
+        return "the output needs a name before " + ext;
+    return "";
+}
+
+CLI::Validator outputNamed(const std::string& ext, const std::string& what) {
+    return CLI::Validator(
+        [ext, what](std::string& path) { return outputNameProblem(path, ext, what); },
+        "FILE" + ext);
+}
+
 bool sameFile(const std::string& a, const std::string& b) {
     namespace fs = std::filesystem;
     if (a.empty() || b.empty()) return false;

@@ -139,6 +139,9 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
     const Case cases[] = {
         {"render " + path("s.json") + " --spp 0",
          "--spp: must be an integer in [1, 16777216], got 0"},
+        {"render " + path("s.json") + " --spp 2,",
+         "--spp: expected an integer in [1, 16777216], got \"\""},
+        {"make-medium cloud -o " + path("m.vdb") + " --grid ''", "--grid: a grid needs a name"},
         {"render " + path("s.json") + " --spp abc",
          "--spp: expected an integer in [1, 16777216], got \"abc\""},
         {"render " + path("s.json") + " --seed -1",
@@ -152,7 +155,7 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
         {"frobnicate x.json", "unknown subcommand \"frobnicate\"; expected one of render,"},
         {"batch " + path("none.json"), path("none.json") + ": no such file"},
         {"render " + path("s.json") + " -o " + path("m.png"),
-         "render writes OpenEXR; name the output .exr"},
+         "render writes OpenEXR (shvol tonemap makes a PNG); name the file .exr"},
         {"make-medium cloud -o " + path("m.vdb") + " --coverage -2",
          "--coverage: must be in [-1, 1], got -2"},
         {"make-medium cloud -o " + path("m.vdb") + " --resolution 16 --coverage -1",
@@ -166,6 +169,11 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
          "--seed: must be an integer in [0, 9007199254740992], got -1"},
         {"make-medium cloud -o " + path("m.txt"), "make-medium writes OpenVDB; name the file .vdb"},
         {"make-sky -o " + path("m.png"), "make-sky writes OpenEXR; name the file .exr"},
+        // A bare extension is no name, for every command that writes one.
+        {"make-medium cloud -o " + path(".vdb"), "the output needs a name before .vdb"},
+        {"make-sky -o " + path(".EXR"), "the output needs a name before .exr"},
+        {"tonemap " + path("s.json") + " -o " + path(".png"),
+         "the output needs a name before .png"},
     };
     for (const Case& c : cases) {
         const Result r = run(c.args);
