@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <vector>
 
@@ -90,8 +91,46 @@ Json parseJsonFile(const std::string& path) {
         }
         return "line " + std::to_string(line) + ", column " + std::to_string(col);
     };
+    // The parser reads a NUL byte as the end of the text, and would ignore what follows.
+    if (const size_t nul = text.find('\0'); nul != std::string::npos)
+        fail(path, lineColumn(nul), "malformed JSON: a NUL byte");
+    // A key given twice in one object: the parser keeps the last silently, so a scene's first
+    // value would be ignored without a word. The place is the object's JSON path (the parser's
+    // callback gives no position).
+    struct Frame {
+        bool array;
+        long index = -1;  ///< of the array's element being read
+        std::string key;  ///< of the object's member being read
+        std::set<std::string> keys;
+    };
+    std::vector<Frame> frames;
+    const auto where = [&](size_t depth) {
+        std::string at;
+        for (size_t k = 0; k < depth; ++k)
+            at += frames[k].array ? "[" + std::to_string(frames[k].index) + "]"
+                                  : (at.empty() ? "" : ".") + frames[k].key;
+        return at.empty() ? std::string("(top level)") : at;
+    };
+    const auto checkKeys = [&](int, Json::parse_event_t event, Json& parsed) {
+        using E = Json::parse_event_t;
+        const bool element =
+            event == E::value || event == E::object_start || event == E::array_start;
+        if (element && !frames.empty() && frames.back().array) ++frames.back().index;
+        if (event == E::object_start || event == E::array_start)
+            frames.push_back({event == E::array_start});
+        else if (event == E::object_end || event == E::array_end)
+            frames.pop_back();
+        else if (event == E::key) {
+            Frame& f = frames.back();
+            f.key = parsed.get<std::string>();
+            if (!f.keys.insert(f.key).second)
+                fail(path, where(frames.size() - 1),
+                     "key \"" + f.key + "\" appears twice (the last would replace the first)");
+        }
+        return true;
+    };
     try {
-        return Json::parse(text);
+        return Json::parse(text, checkKeys);
     } catch (const Json::out_of_range& e) {  // e.g. a number such as 1e999
         // e.what() is "[json.exception…] number overflow parsing '1e999'", without a position:
         // the place is where that number first occurs.

@@ -98,6 +98,28 @@ TEST(JsonReader, MalformedFileNamesLineAndColumn) {
               testing::TempDir() + ": not a regular file");
 }
 
+// A key given twice in one object is refused at the object's path (the parser would keep the last
+// value silently), in nested objects and arrays too; and a NUL byte, after which the parser would
+// read nothing more, at its line and column.
+TEST(JsonReader, DuplicateKeysAndNulBytesAreRefused) {
+    const std::string path = testing::TempDir() + "/dup.json";
+    const auto refusal = [&](const std::string& text) {
+        std::ofstream(path, std::ios::binary) << text;
+        return messageOf([&] { parseJsonFile(path); });
+    };
+    EXPECT_EQ(refusal(R"({"a": 1, "a": 2})"),
+              path + ": (top level): key \"a\" appears twice (the last would replace the first)");
+    EXPECT_EQ(refusal(R"({"camera": {"fov": 30, "fov": 40}})"),
+              path + ": camera: key \"fov\" appears twice (the last would replace the first)");
+    EXPECT_EQ(refusal(R"({"x": [[1, {"k": 1}], {"k": 1, "j": {"k": 2}, "k": 3}]})"),
+              path + ": x[1]: key \"k\" appears twice (the last would replace the first)");
+    EXPECT_EQ(refusal(std::string("{\"a\": 1}\n\0{\"b\"", 13)),
+              path + ": line 2, column 1: malformed JSON: a NUL byte");
+    // The same key in different objects, and equal values in an array, are fine.
+    EXPECT_EQ(refusal(R"({"a": {"k": 1}, "b": {"k": 1}, "c": [{"k": 1}, {"k": 2}], "k": 0})"),
+              "(no error)");
+}
+
 TEST(JsonReader, Overrides) {
     Json j = Json::parse(R"({"render": {"spp": 4}, "media": [{"g": 0}]})");
     applyOverride(j, "render.spp=64", "s.json");
