@@ -140,6 +140,9 @@ void addMakeSkyCommand(CLI::App& app, std::function<int()>& run) {
             SkyParams& p = a->params;
             p.model = skyModelFromName(a->model);
             p.mapping = latLongMappingFromName(a->mapping);
+            if (p.width % 2)
+                fail("", "--width",
+                     "must be even (the height is width/2), got " + std::to_string(p.width));
             p.height = p.width / 2;
             if (radianceGiven) p.sunRadiance = a->sunRadiance;
             if (radiusGiven) p.sunAngularRadius = a->sunRadius;

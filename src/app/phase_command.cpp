@@ -63,6 +63,17 @@ SHSampledPhase shPhase(const PhaseArgs& a) {
     return std::get<SHSampledPhase>(p.variant());
 }
 
+/// x^n as %.3g, or as "10^k" (k = n·log10 x rounded) where it leaves the range of a double.
+std::string powerText(double x, int n) {
+    const double p = std::pow(x, n);
+    char text[64];
+    if (std::isfinite(p) && (p == 0 || std::abs(p) > 1e-300))
+        std::snprintf(text, sizeof text, "%.3g", p);
+    else
+        std::snprintf(text, sizeof text, "10^%.0f", n * std::log10(x));
+    return text;
+}
+
 const char* evaluateName(const SHSampledPhase& sh) {
     return sh.evaluate() == SHSampledPhase::Evaluate::Exact ? "exact" : "sh";
 }
@@ -123,9 +134,9 @@ int runFit(const PhaseArgs& a) {
         "# the sampler: weight p/pdf per phase sample, E[(p/pdf)^2] by quadrature\n"
         "clamped_bins_fraction       %.6g\ndefensive_fraction          %.6g\n"
         "weight_second_moment        %.6g  (evaluate %s)\n"
-        "weight_second_moment_exact  %.6g  (evaluate exact; ^100 = %.3g)\n",
+        "weight_second_moment_exact  %.6g  (evaluate exact; ^100 = %s)\n",
         sh.sampler().clampedFraction(), sh.defensiveFraction(), m2, evaluateName(sh), m2exact,
-        std::pow(m2exact, 100));
+        powerText(m2exact, 100).c_str());
     std::printf("l,p_l\n");
     for (int l = 0; l < order; ++l) std::printf("%d,%.17g\n", l, f.p[l]);
     return 0;

@@ -667,6 +667,7 @@ std::vector<size_t> scanObj(std::string_view text, const std::string& path) {
         };
         if (keyword("f")) {
             fLines.push_back(lineNo);
+            size_t corners = 0;
             for (std::string_view w : splitWords(line.substr(1))) {
                 if (w[0] == '#')
                     fail(path, "line " + std::to_string(lineNo),
@@ -674,7 +675,13 @@ std::vector<size_t> scanObj(std::string_view text, const std::string& path) {
                          "it on a line of its own");
                 const std::string defect = objCornerDefect(w);
                 if (!defect.empty()) fail(path, "line " + std::to_string(lineNo), defect);
+                ++corners;
             }
+            // (tinyobjloader would drop the face with only a warning.)
+            if (corners < 3)
+                fail(path, "line " + std::to_string(lineNo),
+                     "a face of " + std::to_string(corners) +
+                         (corners == 1 ? " corner" : " corners") + "; a face needs at least 3");
             continue;
         }
         size_t least, most;
@@ -778,9 +785,7 @@ TriangleMesh readObj(const std::string& path) {
     // From the text we have read: mtllib lines then read an empty material stream, never a file.
     if (!reader.ParseFromString(text, "", config) || !reader.Error().empty())
         failTinyObj(path, reader.Error());
-    // tinyobjloader drops faces of fewer than 3 vertices with only a warning.
-    if (reader.Warning().find("Degenerated face") != std::string::npos)
-        fail(path, "", "a face has fewer than 3 vertices");
+    // (scanObj refused faces of fewer than 3 corners, which tinyobjloader drops with a warning.)
     const tinyobj::attrib_t& a = reader.GetAttrib();
     const int nv = int(a.vertices.size() / 3), nvt = int(a.texcoords.size() / 2),
               nvn = int(a.normals.size() / 3);

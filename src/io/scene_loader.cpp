@@ -183,6 +183,9 @@ Bsdf readBsdf(JsonReader r) {
         if (type == "phong") {
             b = Bsdf::phong(rd, rs, r.number("exponent", 22, 0, 1e6));
         } else {
+            // One roughness or two: with both, which one wins would be a guess.
+            if (r.has("alpha") && (r.has("alpha_x") || r.has("alpha_y")))
+                r.error("alpha", "give alpha (isotropic) or alpha_x and alpha_y, not both");
             const double a = r.number("alpha", 0.1, 1e-4, 10);
             b = Bsdf::ward(rd, rs, r.number("alpha_x", a, 1e-4, 10),
                            r.number("alpha_y", a, 1e-4, 10));

@@ -101,8 +101,8 @@ Sweep readSweep(const std::string& path) {
     std::vector<Json> values;
     if (r.has("axes")) {
         const Json& axes = r.raw("axes");
-        if (!axes.is_object() || axes.empty())
-            r.error("axes", "expected an object {\"key.path\": [values], …}");
+        if (!axes.is_object()) r.error("axes", "expected an object {\"key.path\": [values], …}");
+        if (axes.empty()) r.error("axes", "needs at least one axis {\"key.path\": [values]}");
         std::ifstream f(path);
         const auto ordered = nlohmann::ordered_json::parse(f)["axes"];
         for (auto it = ordered.begin(); it != ordered.end(); ++it) {

@@ -169,6 +169,7 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
          "--seed: must be an integer in [0, 9007199254740992], got -1"},
         {"make-medium cloud -o " + path("m.txt"), "make-medium writes OpenVDB; name the file .vdb"},
         {"make-sky -o " + path("m.png"), "make-sky writes OpenEXR; name the file .exr"},
+        {"make-sky -o " + path("m.exr") + " --width 9", "--width: must be even (the height is width/2), got 9"},
         // A bare extension is no name, for every command that writes one.
         {"make-medium cloud -o " + path(".vdb"), "the output needs a name before .vdb"},
         {"make-sky -o " + path(".EXR"), "the output needs a name before .exr"},
@@ -358,6 +359,11 @@ TEST_F(Cli, NumberOverflowIsAnInputError) {
                          " --set camera.fov=1e999 --quiet");
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("camera.fov: expected a number, got string"), std::string::npos) << r.err;
+    // The weight's second moment over 100 bounces, where it overflows a double, as a power of 10.
+    const Result q = run("phase fit hg:g=0.999999");
+    EXPECT_EQ(q.code, 0) << q.err;
+    EXPECT_NE(q.out.find("(evaluate exact; ^100 = 10^"), std::string::npos) << q.out;
+    EXPECT_EQ(q.out.find("inf"), std::string::npos) << q.out;
     const Result p = run("phase fit hg:g=1e999 --order 4");
     EXPECT_EQ(p.code, 1);
     EXPECT_NE(p.err.find("phase spec \"hg:g=1e999\": g: expected a number"), std::string::npos)

@@ -554,7 +554,9 @@ TEST(MeshFile, ObjErrors) {
               tmp("mixed.obj") +
                   ": line 7: some face corners have texture coordinates (vt) and others do not");
     EXPECT_EQ(errorOf("line.obj", tet + "f 1 3 2\nf 1 2\n"),
-              tmp("line.obj") + ": a face has fewer than 3 vertices");
+              tmp("line.obj") + ": line 6: a face of 2 corners; a face needs at least 3");
+    EXPECT_EQ(errorOf("point.obj", tet + "f 1\nf 1 3 2\n"),
+              tmp("point.obj") + ": line 5: a face of 1 corner; a face needs at least 3");
     EXPECT_EQ(errorOf("degenerate.obj", tet + "f 1 3 2\nf 1 2 2\n"),
               tmp("degenerate.obj") +
                   ": face 1: repeated vertex index in (0, 2, 2): degenerate triangle");

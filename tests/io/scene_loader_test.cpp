@@ -356,6 +356,9 @@ TEST(SceneLoader, BadSurfacesGiveOneLineNamingThePlace) {
     expectIn(message(R"({"surfaces": [{"type": "sphere", "name": "a"},
                                       {"type": "sphere", "name": "a"}]})"),
              "surfaces[1].name: \"a\" is also the name of surfaces[0]");
+    expectIn(message(R"({"surfaces": [{"type": "sphere",
+                          "bsdf": {"type": "ward", "alpha": 0.2, "alpha_y": 0.3}}]})"),
+             "surfaces[0].bsdf.alpha: give alpha (isotropic) or alpha_x and alpha_y, not both");
     {  // 64 bounded media at most (the integrator's inside set has 64 bits)
         Json doc = Json::parse(R"({"surfaces": [], "media": []})");
         for (int i = 0; i < 65; ++i) {

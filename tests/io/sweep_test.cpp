@@ -117,6 +117,10 @@ TEST(Sweep, ErrorsNameFileAndKey) {
         return m.substr(m.find("sweep.json") + 10);
     };
     EXPECT_EQ(err("e1", R"({"scene": "nope.json"})").substr(0, 18), ": scene: no such f");
+    EXPECT_EQ(err("e1a", R"({"scene": "scene.json", "axes": {}})"),
+              ": axes: needs at least one axis {\"key.path\": [values]}");
+    EXPECT_EQ(err("e1b", R"({"scene": "scene.json", "axes": [1]})"),
+              ": axes: expected an object {\"key.path\": [values], …}");
     EXPECT_EQ(
         err("e2",
             R"({"scene": "scene.json", "combine": "zip", "axes": {"spp": [1], "seed": [1, 2]}})"),
