@@ -229,24 +229,31 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
     const Image image = film.image();
     std::vector<std::string> all = warnings;
     for (const std::string& w : renderWarnings(scene, st)) all.push_back(w);
+    // Warnings about this image's files: on stderr, naming the file, and in its statistics.
+    const auto warn = [&](const std::string& file, const std::string& text) {
+        all.push_back(text);
+        std::fprintf(stderr, "shvol: warning: %s: %s\n", file.c_str(), text.c_str());
+    };
     // A mean beyond the largest float (3.4·10³⁸) becomes ±inf in the float32 EXR: said, not
     // clamped (the value is not known to be the largest float either).
     const size_t overflows = size_t(std::count_if(image.rgb.begin(), image.rgb.end(),
                                                   [](float v) { return !std::isfinite(v); }));
-    if (overflows > 0) {
-        all.push_back(std::to_string(overflows) +
-                      " pixel values exceed the float32 range of OpenEXR (3.4e38) and are written "
-                      "as inf");
-        std::fprintf(stderr, "shvol: warning: %s: %s\n", o.image.c_str(), all.back().c_str());
-    }
-    const size_t unknown = size_t(
-        std::count_if(film.count.begin(), film.count.end(), [](uint32_t n) { return n < 2; }));
-    if (variance && unknown > 0) {
-        all.push_back(std::to_string(unknown) + " of " + std::to_string(film.pixels()) +
-                      " pixels have fewer than 2 samples (the render stopped early); their "
-                      "standard error is written as +inf (unknown)");
-        std::fprintf(stderr, "shvol: warning: %s: %s\n", o.stderrImage.c_str(), all.back().c_str());
-    }
+    if (overflows > 0)
+        warn(o.image, std::to_string(overflows) +
+                          " pixel values exceed the float32 range of OpenEXR (3.4e38) and are "
+                          "written as inf");
+    const auto pixelsBelow = [&](uint32_t n) {
+        return size_t(
+            std::count_if(film.count.begin(), film.count.end(), [n](uint32_t c) { return c < n; }));
+    };
+    const std::string of = " of " + std::to_string(film.pixels()) + " pixels have ";
+    if (const size_t empty = pixelsBelow(1); empty > 0)
+        warn(o.image, std::to_string(empty) + of +
+                          "no sample (the render stopped early) and are written as 0");
+    if (const size_t unknown = pixelsBelow(2); variance && unknown > 0)
+        warn(o.stderrImage, std::to_string(unknown) + of +
+                                "fewer than 2 samples (the render stopped early); their standard "
+                                "error is written as +inf (unknown)");
     writeAtomically(o.stats, [&](const std::string& tmp) {
         errno = 0;
         std::ofstream f(tmp);

@@ -169,7 +169,8 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
          "--seed: must be an integer in [0, 9007199254740992], got -1"},
         {"make-medium cloud -o " + path("m.txt"), "make-medium writes OpenVDB; name the file .vdb"},
         {"make-sky -o " + path("m.png"), "make-sky writes OpenEXR; name the file .exr"},
-        {"make-sky -o " + path("m.exr") + " --width 9", "--width: must be even (the height is width/2), got 9"},
+        {"make-sky -o " + path("m.exr") + " --width 9",
+         "--width: must be even (the height is width/2), got 9"},
         // A bare extension is no name, for every command that writes one.
         {"make-medium cloud -o " + path(".vdb"), "the output needs a name before .vdb"},
         {"make-sky -o " + path(".EXR"), "the output needs a name before .exr"},
@@ -1020,9 +1021,10 @@ TEST_F(Cli, ResumeRefusesChangedInputFiles) {
     EXPECT_TRUE(fs::exists(path("r.exr")));
 }
 
-// A render stopped before pixels had 2 samples writes their standard error as +inf and says so,
-// on stderr and in the statistics' warnings (which hold every warning printed).
-TEST_F(Cli, UnknownStandardErrorsAreAWarningInTheStats) {
+// A render stopped before pixels had 2 samples writes their standard error as +inf, and before
+// they had 1 their value as 0, and says so, on stderr and in the statistics' warnings (which hold
+// every warning printed).
+TEST_F(Cli, UnsampledPixelsAreAWarningInTheStats) {
     write("s.json", scene(Homogeneous));
     const Result r = run("render " + path("s.json") + " --quiet -o " + path("v.exr") +
                          " --set camera.resolution=[320,240] --spp 1000000 --variance"
@@ -1039,6 +1041,18 @@ TEST_F(Cli, UnknownStandardErrorsAreAWarningInTheStats) {
     for (const auto& w : stats["warnings"])
         inStats += w.get<std::string>().find(said) != std::string::npos;
     EXPECT_EQ(inStats, unknown ? 1 : 0) << stats["warnings"];
+    // Pixels without any sample are black in the image, and said to be.
+    const bool empty = stats["samples_per_pixel_min"].get<int>() == 0;
+    const std::string black =
+        "pixels have no sample (the render stopped early) and are written as 0";
+    EXPECT_EQ(r.err.find(path("v.exr") + ": ") != std::string::npos &&
+                  r.err.find(black) != std::string::npos,
+              empty)
+        << r.err;
+    int blackInStats = 0;
+    for (const auto& w : stats["warnings"])
+        blackInStats += w.get<std::string>().find(black) != std::string::npos;
+    EXPECT_EQ(blackInStats, empty ? 1 : 0) << stats["warnings"];
 }
 
 // --spp 4,16 writes the 4-spp image on the way (identical to a separate 4-spp render) and
