@@ -12,6 +12,7 @@
 
 #include "commands.h"
 #include "mpi_world.h"
+#include "shvol/core/atomic_file.h"
 #include "shvol/core/error.h"
 #include "shvol/core/hash.h"
 #include "shvol/core/image_metrics.h"
@@ -94,11 +95,9 @@ int renderReference(const Sweep& s, const BatchArgs& a, bool variance, const std
     return code;
 }
 
-/// The message of an error for the one line main prints: shvol::Error's as it is, any other
-/// exception's marked as internal; with `run`, the run it stopped (whose scene the error names).
+/// errorMessage(e), with `run` followed by the run it stopped (whose scene the error names).
 std::string errorText(const std::exception& e, const SweepRun* run = nullptr) {
-    std::string text =
-        dynamic_cast<const Error*>(&e) ? e.what() : std::string("internal error: ") + e.what();
+    const std::string text = errorMessage(e);
     return run ? text + " (in run " + describe(*run) + ")" : text;
 }
 
@@ -334,17 +333,11 @@ int runBatch(BatchArgs a) {
             s.reference->file = (fs::path(s.output) / "reference.exr").string();
     }
     // The runs go into a directory, made with its parents if missing: fail now (--dry-run too),
-    // not after the reference's render, if its nearest existing ancestor is no directory.
-    {
-        std::error_code ec;
-        const fs::path out = fs::absolute(s.output, ec);
-        fs::path p = out;
-        while (!fs::exists(p, ec) && p.has_relative_path()) p = p.parent_path();
-        if (!fs::is_directory(p, ec))
-            fail(s.output, "",
-                 (p == out ? "is not a directory" : p.string() + " is not a directory") +
-                     std::string(" (batch writes a directory of runs there)"));
-    }
+    // not after the reference's render, if that cannot be. (Checked by every rank, reported once.)
+    collectively([&] {
+        if (const std::string problem = outputDirectoryProblem(s.output); !problem.empty())
+            fail(s.output, "", problem + " (batch writes a directory of runs there)");
+    });
     if (a.dryRun) {
         if (!world.root()) return 0;
         if (s.reference)

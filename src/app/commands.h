@@ -18,6 +18,11 @@ void addTonemapCommand(CLI::App& app, std::function<int()>& run);
 void addBatchCommand(CLI::App& app, std::function<int()>& run);
 void addReportCommand(CLI::App& app, std::function<int()>& run);
 
+/// The text of a failure for the error line: shvol::Error's message as it is, memory running out
+/// as "out of memory; …", any other exception's as "internal error: …" (isInternalError).
+std::string errorMessage(const std::exception& e);
+bool isInternalError(const std::exception& e);
+
 /// What `shvol render` is asked to do (its options).
 struct RenderArgs {
     std::string scene, output, checkpoint;
@@ -61,7 +66,10 @@ bool hasExtension(const std::string& path, const std::string& ext);
 /// (".exr", "dir/.exr"); empty when it is fine. `what` says what the command writes.
 std::string outputNameProblem(const std::string& path, const std::string& ext,
                               const std::string& what);
-/// outputNameProblem as a CLI11 check of an -o option.
+/// outputFileProblem as a CLI11 check of an output option, checked as the options are parsed,
+/// before any work: "--output: x.exr: cannot write: directory x does not exist".
+CLI::Validator writableOutput();
+/// outputNameProblem, then writableOutput, as a CLI11 check of an output option.
 CLI::Validator outputNamed(const std::string& ext, const std::string& what);
 /// Whether the two paths name one file: the same existing file (through links too), or the same
 /// path once made absolute and normal. An output that would replace what the command reads, or

@@ -1,6 +1,5 @@
 // shvol: a participating-media simulator. See README.md for the command-line reference.
 #include <cstdio>
-#include <new>
 #include <string>
 
 #include "commands.h"
@@ -72,14 +71,9 @@ int runMain(int argc, char** argv) {
         return run();
     } catch (const shvol::app::ReportedOnRoot&) {
         return 1;
-    } catch (const shvol::Error& e) {
-        error = std::string("shvol: error: ") + e.what();
-    } catch (const std::bad_alloc&) {  // (a 16384² render needs about 11 GB, say)
-        error =
-            "shvol: error: out of memory; outputs not written yet were not written (the "
-            "stats' peak_memory_mib of a smaller run shows what the work takes)";
-    } catch (const std::exception& e) {
-        error = std::string("shvol: internal error: ") + e.what();
+    } catch (const std::exception& e) {  // shvol::Error, memory running out, or a defect
+        error = (shvol::app::isInternalError(e) ? "shvol: " : "shvol: error: ") +
+                shvol::app::errorMessage(e);
     }
     std::fprintf(stderr, "%s\n", error.c_str());
     // An error on one rank only (rank 0's come after the others have finished their part).

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <thread>
 
+#include "commands.h"
 #include "shvol/core/error.h"
 
 #ifdef SHVOL_HAVE_MPI
@@ -177,10 +178,8 @@ void collectively(const std::function<void()>& setup, bool together) {
     std::string error;
     try {
         setup();
-    } catch (const Error& e) {
-        error = e.what();
-    } catch (const std::exception& e) {  // reported too: the other ranks must not wait forever
-        error = std::string("internal error: ") + e.what();
+    } catch (const std::exception& e) {  // any: the other ranks must not wait forever
+        error = errorMessage(e);
     }
     error = MpiWorld::get().firstError(error);
     if (error.empty()) return;

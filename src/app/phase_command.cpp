@@ -1,6 +1,7 @@
 // shvol phase fit | sample: the zonal SH fit of a phase function, and samples from the SH-sampled
 // phase function exactly as a render builds it (same keys, defaults, pdf and weights).
 #include <cerrno>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -63,11 +64,12 @@ SHSampledPhase shPhase(const PhaseArgs& a) {
     return std::get<SHSampledPhase>(p.variant());
 }
 
-/// x^n as %.3g, or as "10^k" (k = n·log10 x rounded) where it leaves the range of a double.
+/// x^n as %.3g, or as "10^k" (k = n·log10 x rounded) where it leaves the range of a double (for
+/// x > 0).
 std::string powerText(double x, int n) {
     const double p = std::pow(x, n);
     char text[64];
-    if (std::isfinite(p) && (p == 0 || std::abs(p) > 1e-300))
+    if (x <= 0 || (std::isfinite(p) && p >= DBL_MIN))
         std::snprintf(text, sizeof text, "%.3g", p);
     else
         std::snprintf(text, sizeof text, "10^%.0f", n * std::log10(x));
@@ -261,7 +263,9 @@ void addPhaseCommand(CLI::App& app, std::function<int()>& run) {
     commonOptions(sample, *a);
     sample->add_option("--count", a->count, "Number of samples")->check(integerIn(1, 1LL << 32));
     sample->add_option("--seed", a->seed, "Random seed")->check(integerIn(0, kMaxSeed));
-    sample->add_option("--out", a->out, "Output CSV (x,y,z,pdf,weight)")->required();
+    sample->add_option("--out", a->out, "Output CSV (x,y,z,pdf,weight)")
+        ->required()
+        ->check(writableOutput());
     sample
         ->add_option("--sampler", a->sampler,
                      "zonal (the renderer's: 1D warp in z, uniform phi, defensive share) or "

@@ -1,6 +1,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -32,6 +33,8 @@ double peakMemoryMiB() {
 }
 
 namespace {
+
+constexpr const char* kRenderWritesExr = "render writes OpenEXR (shvol tonemap makes a PNG)";
 
 /// A rendered SH fit looser than this (relative L2 error) is worth a warning.
 constexpr double kLooseFit = 0.1;
@@ -104,6 +107,9 @@ std::vector<std::string> renderWarnings(const Scene& scene, const RenderStats& s
                       st.radianceCache.tableProjectionError, scene.settings.radianceCache.hshOrder);
         w.push_back(msg);
     }
+    if (st.counters.nonFiniteSamples > 0)
+        w.push_back(std::to_string(st.counters.nonFiniteSamples) +
+                    " samples were NaN or infinite and were dropped");
     return w;
 }
 
@@ -257,11 +263,12 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
     writeAtomically(o.stats, [&](const std::string& tmp) {
         errno = 0;
         std::ofstream f(tmp);
+        if (!f) failWriting(o.stats, errno);  // (the calls below may set errno too)
         nlohmann::json j = statsJson(scene, image, st, o.image, all, provenance);
         if (variance) j["standard_error"] = o.stderrImage;
         f << dumpJson(j, 2) << "\n";
         f.close();
-        if (!f) failWriting(o.stats, errno);
+        if (!f) failWriting(o.stats, 0);
         writeExr(o.image, image);
         if (variance) writeExr(o.stderrImage, film.standardError());
     });
@@ -281,7 +288,6 @@ std::vector<uint32_t> parseSppList(const std::string& text) {
             fail("", "--spp", "sample counts must increase, got " + text);
         list.push_back(n);
     }
-    if (list.empty()) fail("", "--spp", "expected N or N1,N2,...");
     return list;
 }
 
@@ -317,8 +323,8 @@ int runRender(const RenderArgs& a) {
             scene = sceneFromJson(doc, a.scene, &resolved);
             out = a.output;
             if (out.empty()) out = std::filesystem::path(a.scene).stem().string() + ".exr";
-            if (const std::string problem = outputNameProblem(
-                    out, ".exr", "render writes OpenEXR (shvol tonemap makes a PNG)");
+            // (-o is checked as it is parsed; the default, <scene name>.exr, here.)
+            if (const std::string problem = outputNameProblem(out, ".exr", kRenderWritesExr);
                 !problem.empty())
                 fail(out, "", problem);
             final = outputsFor(out, "");
@@ -446,9 +452,6 @@ int runRender(const RenderArgs& a) {
                      a.checkpoint.empty() ? "" : "; continue with --resume");
     for (const std::string& w : renderWarnings(scene, r.stats))
         std::fprintf(stderr, "shvol: warning: %s: %s\n", a.scene.c_str(), w.c_str());
-    if (r.stats.counters.nonFiniteSamples > 0)
-        std::fprintf(stderr, "shvol: warning: %llu samples were NaN or infinite and were dropped\n",
-                     (unsigned long long)r.stats.counters.nonFiniteSamples);
     if (!a.quiet)
         std::fprintf(
             stderr, "wrote %s and %s (%.2f s, %.3g paths/s, %s%d threads)\n", final.image.c_str(),
@@ -462,10 +465,16 @@ void addRenderCommand(CLI::App& app, std::function<int()>& run) {
     CLI::App* c = app.add_subcommand("render", "Render a scene to a float32 EXR and a stats JSON");
     c->add_option("scene", args->scene, "Scene file (JSON)")->required();
     c->add_option("-o,--output", args->output,
-                  "Output EXR (default: <scene name>.exr); statistics go to <output>.stats.json");
+                  "Output EXR (default: <scene name>.exr); statistics go to <output>.stats.json")
+        ->check(outputNamed(".exr", kRenderWritesExr));
     c->add_option("--spp", args->spp,
                   "Samples per pixel (overrides render.spp); N1,N2,...,N also writes the image "
                   "at each Ni as <output>.sppNi.exr, identical to a render of Ni spp")
+        ->check(CLI::Validator(
+            [](std::string& text) {
+                return text.empty() ? "expected N or N1,N2,...,N, got \"\"" : "";
+            },
+            "N|N1,N2,..."))
         ->default_str("the scene's render.spp");
     c->add_flag("--variance", args->variance,
                 "Also write the standard error of each pixel's mean to <output>.stderr.exr");

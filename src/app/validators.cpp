@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "commands.h"
+#include "shvol/core/atomic_file.h"
 
 namespace shvol::app {
 
@@ -39,9 +40,22 @@ std::string outputNameProblem(const std::string& path, const std::string& ext,
     return "";
 }
 
+CLI::Validator writableOutput() {
+    return CLI::Validator(
+        [](std::string& path) {
+            const std::string problem = outputFileProblem(path);
+            return problem.empty() ? problem : path + ": cannot write: " + problem;
+        },
+        "FILE");
+}
+
 CLI::Validator outputNamed(const std::string& ext, const std::string& what) {
     return CLI::Validator(
-        [ext, what](std::string& path) { return outputNameProblem(path, ext, what); },
+        [ext, what](std::string& path) {
+            const std::string problem = outputNameProblem(path, ext, what);
+            if (problem.empty()) return writableOutput()(path);
+            return path.empty() ? problem : path + ": " + problem;
+        },
         "FILE" + ext);
 }
 

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <system_error>
 
 #include "shvol/core/error.h"
 
@@ -80,18 +81,52 @@ class TemporaryGuard {
 
 }  // namespace
 
+namespace {
+
+/// The nearest of `path` (made absolute) and its ancestors that exists; empty if none does (the
+/// current directory removed).
+std::filesystem::path nearestExisting(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    fs::path p = fs::absolute(path, ec);
+    if (ec) return {};
+    while (!fs::exists(p, ec) && p.has_relative_path()) p = p.parent_path();
+    return fs::exists(p, ec) ? p : fs::path();
+}
+
+/// Why files cannot be made in the existing `dir`: not a directory, or not writable.
+std::string directoryProblem(const std::filesystem::path& dir, const std::string& name) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec)) return name + " is not a directory";
+    if (::access(dir.c_str(), W_OK | X_OK) != 0)
+        return "directory " + name + " is not writable (" + std::generic_category().message(errno) +
+               ")";
+    return "";
+}
+
+}  // namespace
+
 std::string outputFileProblem(const std::string& path) {
     namespace fs = std::filesystem;
     std::error_code ec;
-    const fs::path dir = fs::path(path).parent_path();
-    if (!dir.empty()) {
-        const fs::file_status st = fs::status(dir, ec);
-        if (st.type() == fs::file_type::not_found)
-            return "directory " + dir.string() + " does not exist";
-        if (!ec && !fs::is_directory(st)) return dir.string() + " is not a directory";
+    const fs::path parent = fs::path(path).parent_path();
+    const fs::path dir = parent.empty() ? fs::path(".") : parent;
+    if (!fs::exists(dir, ec)) {
+        const fs::path up = nearestExisting(dir.string());
+        if (!up.empty() && !fs::is_directory(up, ec)) return up.string() + " is not a directory";
+        return "directory " + dir.string() + " does not exist";
     }
+    if (std::string problem = directoryProblem(dir, dir.string()); !problem.empty()) return problem;
     if (fs::is_directory(path, ec)) return "is a directory";
     return "";
+}
+
+std::string outputDirectoryProblem(const std::string& path) {
+    const std::filesystem::path up = nearestExisting(path);
+    if (up.empty()) return "cannot be made (no part of it exists)";
+    std::error_code ec;
+    const bool itself = std::filesystem::equivalent(up, path, ec);
+    return directoryProblem(up, itself ? "it" : up.string());
 }
 
 void failWriting(const std::string& path, int error) {

@@ -79,7 +79,10 @@ Json parseJsonFile(const std::string& path) {
     if (!f) fail(path, "", "cannot open file");
     std::stringstream ss;
     ss << f.rdbuf();
-    const std::string text = ss.str();
+    return parseJsonText(ss.str(), path);
+}
+
+Json parseJsonText(const std::string& text, const std::string& path) {
     // "line L, column C" of the byte at offset `byte` (0-based).
     auto lineColumn = [&](size_t byte) {
         size_t line = 1, col = 1;
@@ -152,11 +155,14 @@ Json parseJsonFile(const std::string& path) {
 }
 
 Json overrideValue(const std::string& text) {
+    Json value;
     try {
-        return Json::parse(text);
+        value = Json::parse(text);
     } catch (const Json::exception&) {  // not JSON (or a number out of range): a string
         return text;
     }
+    // JSON, so refused as a file's would be if it repeats a key.
+    return value.is_structured() ? parseJsonText(text, "--set value " + text) : value;
 }
 
 std::string canonicalKeyPath(const std::string& key) {

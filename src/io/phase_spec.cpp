@@ -99,16 +99,7 @@ Json phaseSpecToJson(const std::string& spec) {
     const std::string where = specName(spec);
     const auto b = spec.find_first_not_of(" \t\r\n");
     if (b == std::string::npos) fail(where, "", "empty phase specification");
-    if (spec[b] == '{') {
-        try {
-            return Json::parse(spec);
-        } catch (const Json::exception& e) {
-            std::string msg = e.what();
-            const auto colon = msg.find(": ", msg.find("column "));
-            if (colon != std::string::npos) msg = msg.substr(colon + 2);
-            fail(where, "", "malformed JSON: " + msg);
-        }
-    }
+    if (spec[b] == '{') return parseJsonText(spec, where);
     const auto colon = spec.find(':');
     const std::string name = spec.substr(0, colon);
     if (name.empty()) fail(where, "", "missing phase function name before ':'");

@@ -59,13 +59,7 @@ std::vector<uint8_t> encodePng(const Image& img, double exposure) {
 
 void writePng(const std::string& path, const Image& image, double exposure) {
     const std::vector<uint8_t> bytes = encodePng(image, exposure);
-    writeAtomically(path, [&](const std::string& tmp) {
-        errno = 0;
-        std::ofstream f(tmp, std::ios::binary);
-        f.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-        f.close();
-        if (!f) failWriting(path, errno);
-    });
+    writeTextAtomically(path, std::string(bytes.begin(), bytes.end()));
 }
 
 }  // namespace shvol

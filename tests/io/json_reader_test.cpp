@@ -145,6 +145,9 @@ TEST(JsonReader, Overrides) {
               "s.json: (top level): expected an object, got array");
     EXPECT_EQ(messageOf([&] { applyOverride(null, "render.spp=1", "s.json"); }),
               "s.json: (top level): expected an object, got null");
+    EXPECT_EQ(messageOf([&] { applyOverride(j, "camera={\"fov\": 30, \"fov\": 40}", "s.json"); }),
+              "--set value {\"fov\": 30, \"fov\": 40}: (top level): key \"fov\" appears twice (the "
+              "last would replace the first)");
     EXPECT_EQ(messageOf([&] { applyOverride(j, "nonsense", "s.json"); }),
               "s.json: --set nonsense: expected key.path=value");
 }

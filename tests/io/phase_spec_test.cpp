@@ -208,8 +208,13 @@ TEST(PhaseSpec, ShortFormErrorsNameTheSpec) {
     EXPECT_EQ(err("hg:type=rayleigh"),
               "phase spec \"hg:type=rayleigh\": the type is the name before ':', not a key");
     EXPECT_EQ(err(R"({"type": "hg", "g": })"),
-              "phase spec \"{\"type\": \"hg\", \"g\": }\": malformed JSON: syntax error while "
-              "parsing value - unexpected '}'; expected '[', '{', or a literal");
+              "phase spec \"{\"type\": \"hg\", \"g\": }\": line 1, column 21: malformed JSON: "
+              "syntax error while parsing value - unexpected '}'; expected '[', '{', or a "
+              "literal");
+    // A key given twice is refused, as in the short form and in files.
+    EXPECT_EQ(err(R"({"type": "hg", "g": 0.5, "g": 0.9})"),
+              "phase spec \"{\"type\": \"hg\", \"g\": 0.5, \"g\": 0.9}\": (top level): key \"g\" "
+              "appears twice (the last would replace the first)");
     EXPECT_EQ(err(R"({"type": "hg", "q": 1})"),
               "phase spec \"{\"type\": \"hg\", \"q\": 1}\": q: unknown key");
 }

@@ -20,9 +20,13 @@ void writeAtomically(const std::string& path, const std::function<void(const std
 void removeTemporariesOnSignals();
 
 /// Why a file cannot be written at path, as far as can be told before writing it: "directory D
-/// does not exist", "D is not a directory" (the parent is a file) or "is a directory"; empty
-/// otherwise. A command checks its outputs with it before the work that fills them.
+/// does not exist", "A is not a directory" (D, or an ancestor A of it, is a file), "directory D
+/// is not writable (reason)" or "is a directory"; empty otherwise. A command checks its outputs
+/// with it before the work that fills them.
 std::string outputFileProblem(const std::string& path);
+/// Why the directory at path cannot be made (with its parents) and written into: its nearest
+/// existing ancestor, or itself ("it"), "is not a directory" or is not writable; empty otherwise.
+std::string outputDirectoryProblem(const std::string& path);
 
 /// Throws shvol::Error "path: cannot write file (reason)", the reason being strerror(error) (the
 /// errno a failed open, write or rename left; 0: no reason known).

@@ -20,6 +20,10 @@ inline std::string dumpJson(const Json& j, int indent = -1) {
 
 /// Parses a whole file; errors name the file and the line/column.
 Json parseJsonFile(const std::string& path);
+/// Parses JSON text from `file` (a file name, or what names the text in errors): a malformed text
+/// or a NUL byte is refused at its line and column, a key given twice in one object (which the
+/// parser would keep silently, the last value winning) at the object's JSON path.
+Json parseJsonText(const std::string& text, const std::string& file);
 
 /// Applies an override "a.b.0.c=value" (or "a.b[0].c=value") to a document, creating objects
 /// along the path. The value is parsed as JSON when it is valid JSON, else taken as a string.
