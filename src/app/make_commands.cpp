@@ -11,8 +11,6 @@
 namespace shvol::app {
 
 namespace {
-/// -o FILE of a make command, refused unless FILE ends in `ext` (e.g. "make-sky writes OpenEXR;
-/// name the file .exr").
 struct MediumArgs {
     std::string kind, output, grid = "density";  // (kind: required, so no default)
     int resolution = 96;
