@@ -1214,6 +1214,31 @@ TEST_F(Cli, BatchRefusesAnotherBuildAndRenewsAStaleReference) {
     EXPECT_NE(r.err.find("rendering the reference"), std::string::npos) << r.err;
 }
 
+// A reference render interrupted after writing its partial image leaves no stamp behind: the old
+// reference's stamp, left beside the partial image, made a later batch of the old spec take that
+// image for its finished reference without a word.
+TEST_F(Cli, BatchInterruptedReferenceIsRenderedAgain) {
+    write("s.json", scene(Homogeneous));
+    write("a.json", R"({"scene": "s.json", "axes": {"spp": [2]}, "reference": {"spp": 16},
+                        "metrics": ["rmse"], "output": "out"})");
+    write("b.json", R"({"scene": "s.json", "axes": {"spp": [2]}, "reference": {"spp": 16000000},
+                        "metrics": ["rmse"], "output": "out"})");
+    Result r = run("batch " + path("a.json") + " --quiet");
+    ASSERT_EQ(r.code, 0) << r.err;
+    ASSERT_TRUE(fs::exists(path("out/reference.exr.fingerprint")));
+    fs::remove(path("out/results.jsonl"));
+    fs::remove(path("out/results.csv"));
+    r = runCommand("timeout --preserve-status -s TERM 1.5 " + std::string(SHVOL_BINARY) +
+                   " batch " + path("b.json") + " --threads 1");
+    ASSERT_EQ(r.code, 130) << r.err;  // stopped inside the reference's render
+    EXPECT_NE(r.err.find("rendering the reference"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("out/reference.exr.fingerprint")));
+    r = run("batch " + path("a.json"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("rendering the reference"), std::string::npos) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(std::ifstream(path("out/reference.stats.json")))["spp"], 16);
+}
+
 // An error in a run's scene names the scene and the key, and the run of the sweep that set it.
 TEST_F(Cli, BatchErrorsNameTheRun) {
     write("s.json", scene(Homogeneous));
