@@ -342,6 +342,22 @@ int runBatch(BatchArgs a) {
     collectively([&] {
         if (const std::string problem = outputDirectoryProblem(s.output); !problem.empty())
             fail(s.output, "", problem + " (batch writes a directory of runs there)");
+        // A reference file among the batch's own outputs would be written over by a run.
+        if (!s.reference || s.reference->render) return;
+        std::error_code ec;
+        const fs::path ref = fs::weakly_canonical(fs::absolute(s.reference->file, ec), ec),
+                       out = fs::weakly_canonical(fs::absolute(s.output, ec), ec);
+        if (ec || ref.parent_path() != out) return;
+        const std::string name = ref.filename().string();
+        std::vector<std::string> written = {"results.jsonl", "results.csv", "report.md"};
+        for (const SweepRun& run : s.runs)
+            if (name.rfind(run.id + ".", 0) == 0)
+                for (const char* ext : {".exr", ".stats.json", ".stderr.exr"})
+                    written.push_back(run.id + ext);
+        if (std::find(written.begin(), written.end(), name) != written.end())
+            fail(s.reference->file, "",
+                 "the reference would be written over by the batch's own " + name +
+                     "; keep it outside the output directory " + s.output);
     });
     if (a.dryRun) {
         if (!world.root()) return 0;

@@ -1214,6 +1214,32 @@ TEST_F(Cli, BatchRefusesAnotherBuildAndRenewsAStaleReference) {
     EXPECT_NE(r.err.find("rendering the reference"), std::string::npos) << r.err;
 }
 
+// A given reference that is one of the batch's own outputs (a run's image, its stats, the ledger)
+// is refused before anything renders, by --dry-run too: it was written over by the run, and the
+// ledger lost at the next start.
+TEST_F(Cli, BatchRefusesAReferenceAmongItsOutputs) {
+    write("s.json", scene(Homogeneous));
+    fs::create_directories(path("out"));
+    ASSERT_EQ(run("render " + path("s.json") + " --quiet -o " + path("out/r0001.exr")).code, 0);
+    const std::string before = test::fileBytes(path("out/r0001.exr"));
+    fs::copy_file(path("out/r0001.exr"), path("out/report.md"));
+    for (const std::string& reference : {"out/r0001.exr", "out/report.md"}) {
+        write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [1, 2]}, "metrics": ["rmse"],
+                                "reference": {"file": ")" +
+                                reference + R"("}, "output": "out"})");
+        for (const std::string dry : {"", " --dry-run"}) {
+            const Result r = run("batch " + path("sweep.json") + " --quiet" + dry);
+            EXPECT_EQ(r.code, 1) << reference << dry;
+            EXPECT_NE(r.err.find(": the reference would be written over by the batch's own " +
+                                 fs::path(reference).filename().string()),
+                      std::string::npos)
+                << r.err;
+        }
+    }
+    EXPECT_EQ(test::fileBytes(path("out/r0001.exr")), before);
+    EXPECT_FALSE(fs::exists(path("out/results.jsonl")));
+}
+
 // A reference render interrupted after writing its partial image leaves no stamp behind: the old
 // reference's stamp, left beside the partial image, made a later batch of the old spec take that
 // image for its finished reference without a word.
