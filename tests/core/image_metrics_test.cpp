@@ -21,8 +21,11 @@ TEST(ImageMetrics, HandComputedValues) {
     EXPECT_DOUBLE_EQ(m.bias, 2.0 / 6);
     EXPECT_NEAR(m.relMse, (1 / 1.01 + 1 / 0.01 + 0.25 / 4.01 + 0 + 4 / 1.01 + 0.25 / 1.01) / 6,
                 1e-12);
-    const double mean = 2.0 / 6, ss = 1 + 1 + 0.25 + 0 + 4 + 0.25 - 6 * mean * mean;
-    EXPECT_NEAR(m.biasHalfWidth95, 1.96 * std::sqrt(ss / 5 / 6), 1e-12);
+    // The interval is over the 2 pixels' mean differences (0.5/3 and 1.5/3): a pixel's channels
+    // share its paths, so they are not independent values.
+    const double d0 = 0.5 / 3, d1 = 1.5 / 3, mean = (d0 + d1) / 2;
+    const double var = (d0 - mean) * (d0 - mean) + (d1 - mean) * (d1 - mean);  // /(2 − 1)
+    EXPECT_NEAR(m.biasHalfWidth95, 1.96 * std::sqrt(var / 2), 1e-12);
     EXPECT_THROW(imageMetrics(Image(3, 1), r), Error);
 }
 
@@ -49,6 +52,22 @@ TEST(ImageMetrics, ZTest) {
     x.set(5, 5, Spectrum(2, 1, 1));
     t = zTest(x, se, r, zero);
     EXPECT_FALSE(t.passed);
+}
+
+// Values with (almost) no noise, such as pixels of constant sky, differ by the float32 rounding
+// of their storage: one float step passes (it failed at p ≈ 10⁻³⁵ with σ = 2.6·10⁻⁹, the
+// audit's case), a hundred steps do not.
+TEST(ImageMetrics, ZTestAllowsTheFloatRoundingOfStoredValues) {
+    Image r(1, 1), x(1, 1), se(1, 1), zero(1, 1);
+    const float one = 1.0f, next = std::nextafter(one, 2.0f);
+    r.set(0, 0, Spectrum::Constant(one));
+    se.set(0, 0, Spectrum::Constant(2.6e-9));
+    x.set(0, 0, Spectrum(next, one, one));
+    EXPECT_TRUE(zTest(x, se, r, zero).passed) << zTest(x, se, r, zero).minP;
+    EXPECT_TRUE(zTest(x, zero, r, zero).passed);
+    x.set(0, 0, Spectrum(one + 100 * (next - one), one, one));
+    EXPECT_FALSE(zTest(x, se, r, zero).passed);
+    EXPECT_EQ(zTest(x, se, r, zero).tested, 3);
 }
 
 }  // namespace shvol

@@ -2,11 +2,15 @@
 /// \file Error metrics of an image x against a reference r, over all pixels and channels (N
 /// values):
 ///   RMSE = √(Σ (x − r)² / N),  relMSE = Σ (x − r)² / (r² + ε) / N with ε = 10⁻²,
-///   MAE = Σ |x − r| / N,  bias = Σ (x − r) / N with a 95% interval ± 1.96 s/√N (s the sample
-///   standard deviation of x − r; pixels are independent, each has its own sample streams).
+///   MAE = Σ |x − r| / N,  bias = Σ (x − r) / N with a 95% interval ± 1.96 s/√P over the P = N/3
+///   pixels (s the sample standard deviation of a pixel's mean x − r over its channels: pixels
+///   are independent, each has its own sample streams, but a pixel's channels share its paths).
 /// The z-test (as Mitsuba 3's test suite does it): with the standard errors σ_x, σ_r of each
-/// value, z = (x − r)/√(σ_x² + σ_r²), p = 2(1 − Φ(|z|)) = erfc(|z|/√2), and the image passes at
-/// level α when min p ≥ 1 − (1 − α)^{1/N} (Šidák). Values where both σ are 0 are left out.
+/// value, z = (x − r)/√(σ_x² + σ_r² + (u_x² + u_r²)/12), p = 2(1 − Φ(|z|)) = erfc(|z|/√2), and the
+/// image passes at level α when min p ≥ 1 − (1 − α)^{1/N} (Šidák). u is the float32 spacing at
+/// the value (its rounding when stored is uniform over ±u/2): without it, a pixel of constant sky
+/// (σ ≈ 0) one float step from the reference failed at p ≈ 10⁻³⁵. Values where the whole
+/// denominator is 0 are left out.
 #include "shvol/core/image.h"
 
 namespace shvol {
