@@ -119,7 +119,9 @@ def main():
             e, sd = mean_sd([r[error] for r in rs])
         else:
             e, sd = math.nan, math.nan
-        eff = 1 / (e * e * t) if error == "rmse" and e > 0 and t > 0 else math.nan
+        # 1/(MSE x time) with the MSE's mean over the repeats (not the mean RMSE squared).
+        mse = sum(r["rmse"] ** 2 for r in rs) / len(rs) if error == "rmse" else math.nan
+        eff = 1 / (mse * t) if error == "rmse" and mse > 0 and t > 0 else math.nan
         summary.append((c, spp, len(rs), e, sd, t, eff))
 
     figures = []
@@ -183,7 +185,7 @@ def main():
             "1/(MSE·time)"]
     table = [head]
     for c, spp, n, e, sd, t, eff in summary:
-        table.append([c, str(spp), str(n), f"{e:.4g} ± {sd:.2g}" if error else "",
+        table.append([c, str(spp), str(n), (f"{e:.4g} ± {sd:.2g}" if n > 1 else f"{e:.4g}") if error else "",
                       f"{t:.3g}", f"{eff:.4g}" if not math.isnan(eff) else ""])
     md = [f"# Batch report: {directory}", "",
           f"{len(rows)} runs, {len(configs)} configurations; error metric: {error or 'none'}.", ""]

@@ -1528,6 +1528,19 @@ TEST_F(Cli, BatchReport) {
     c = run("report " + path("o"));
     EXPECT_EQ(c.code, 1);
     EXPECT_EQ(c.err, "shvol: error: " + ledger + ": line 1: malformed JSON row\n");
+    // Efficiency is 1/(MSE·time) with the MSE's mean over the repeats, (1 + 9)/2 here, not the
+    // mean RMSE squared (4); a configuration of one run has no spread to show.
+    std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "g": 1, "wall_time_s": 1, "rmse": 1})"
+                          << "\n"
+                          << R"({"run": "r0001", "spp": 8, "g": 1, "wall_time_s": 1, "rmse": 3})"
+                          << "\n"
+                          << R"({"run": "r0002", "spp": 8, "g": 2, "wall_time_s": 2, "rmse": 1})"
+                          << "\n";
+    c = run("report " + path("o"));
+    ASSERT_EQ(c.code, 0) << c.err;
+    const std::string table = test::fileBytes(path("o/report.md"));
+    EXPECT_NE(table.find("| g=1 | 8 | 2 | 2 ± 1.4 | 1 | 0.2 |"), std::string::npos) << table;
+    EXPECT_NE(table.find("| g=2 | 8 | 1 | 1 | 2 | 0.5 |"), std::string::npos) << table;
 }
 
 // A scene whose file name is not valid UTF-8 renders, and its stats are valid JSON (the name is
