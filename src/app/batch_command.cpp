@@ -9,6 +9,7 @@
 #include <optional>
 #include <set>
 #include <thread>
+#include <unordered_map>
 
 #include "commands.h"
 #include "mpi_world.h"
@@ -386,13 +387,14 @@ int runBatch(BatchArgs a) {
         if (std::error_code ec; !fs::create_directories(s.output, ec) && ec)
             fail(s.output, "", "cannot make the directory (" + ec.message() + ")");
         ledger.emplace(s.output);
+        std::unordered_map<std::string, const SweepRun*> runs;  // (a search each: O(n²) rows)
+        for (const SweepRun& r : s.runs) runs.emplace(r.id, &r);
         for (const Json& row : ledger->rows()) {
             const std::string id = row["run"].get<std::string>();
-            const auto it = std::find_if(s.runs.begin(), s.runs.end(),
-                                         [&](const SweepRun& r) { return r.id == id; });
-            if (it == s.runs.end() || row.value("fingerprint", "") != it->fingerprint)
+            const auto it = runs.find(id);
+            if (it == runs.end() || row.value("fingerprint", "") != it->second->fingerprint)
                 fail(ledger->jsonlPath(), "run " + id,
-                     it == s.runs.end()
+                     it == runs.end()
                          ? "finished, but the sweep no longer has it; use another output directory"
                          : "finished with other settings or another scene than the sweep now "
                            "gives; use another output directory");

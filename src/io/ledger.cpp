@@ -1,7 +1,12 @@
 #include "shvol/io/ledger.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "shvol/core/atomic_file.h"
 #include "shvol/core/error.h"
@@ -18,22 +23,56 @@ std::string csvField(const Json& v) {
     return q + "\"";
 }
 
+/// Appends text to the file at path (made if missing) with one write(2) call as far as it goes:
+/// a kill can cut it short, never interleave it.
+void appendToFile(const std::string& path, const std::string& text) {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0) failWriting(path, errno);
+    for (size_t done = 0; done < text.size();) {
+        const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            const int error = errno;
+            ::close(fd);
+            failWriting(path, error);
+        }
+        done += size_t(n);
+    }
+    if (::close(fd) != 0) failWriting(path, errno);
+}
+
 }  // namespace
 
 Ledger::Ledger(std::string dir) : dir_(std::move(dir)) {
-    std::ifstream f(jsonlPath());
+    std::string text;
+    {
+        std::ifstream f(jsonlPath(), std::ios::binary);
+        std::stringstream ss;
+        ss << f.rdbuf();
+        text = ss.str();
+    }
+    // Rows end in '\n': a last line without it is a row a kill cut short while it was appended.
+    // It is dropped (its run renders again) and the file rewritten without it.
+    const size_t whole = text.rfind('\n') == std::string::npos ? 0 : text.rfind('\n') + 1;
+    std::istringstream lines(text.substr(0, whole));
     int line = 0;
-    for (std::string text; std::getline(f, text);) {
+    for (std::string row; std::getline(lines, row);) {
         ++line;
-        if (text.empty()) continue;
+        if (row.empty()) continue;
         try {
-            rows_.push_back(Json::parse(text));
+            rows_.push_back(Json::parse(row));
         } catch (const Json::exception&) {
             fail(jsonlPath(), "line " + std::to_string(line), "malformed JSON row");
         }
-        if (!rows_.back().is_object() || !rows_.back().contains("run"))
+        if (!rows_.back().is_object() || !rows_.back().contains("run") ||
+            !rows_.back()["run"].is_string())
             fail(jsonlPath(), "line " + std::to_string(line), "a row without \"run\"");
+        index_.emplace(rows_.back()["run"].get<std::string>(), rows_.size() - 1);
+        addColumns(rows_.back());
     }
+    if (whole < text.size()) writeTextAtomically(jsonlPath(), text.substr(0, whole));
+    // The CSV may hold a row the JSONL does not (a kill between the two appends): made again.
+    if (!rows_.empty()) writeCsv();
 }
 
 std::string Ledger::jsonlPath() const {
@@ -44,32 +83,45 @@ std::string Ledger::csvPath() const {
 }
 
 const Json* Ledger::find(const std::string& id) const {
-    for (const Json& r : rows_)
-        if (r["run"] == id) return &r;
-    return nullptr;
+    const auto it = index_.find(id);
+    return it == index_.end() ? nullptr : &rows_[it->second];
+}
+
+bool Ledger::addColumns(const Json& row) {
+    bool added = false;
+    for (auto it = row.begin(); it != row.end(); ++it)
+        if (columnSet_.insert(it.key()).second) columns_.push_back(it.key()), added = true;
+    return added;
+}
+
+std::string Ledger::csvRow(const Json& row) const {
+    std::string line;
+    for (size_t c = 0; c < columns_.size(); ++c)
+        line += (c ? "," : "") + (row.contains(columns_[c]) ? csvField(row[columns_[c]]) : "");
+    return line + "\n";
+}
+
+void Ledger::writeCsv() const {
+    std::string csv;
+    for (size_t c = 0; c < columns_.size(); ++c) csv += (c ? "," : "") + csvField(columns_[c]);
+    csv += "\n";
+    for (const Json& r : rows_) csv += csvRow(r);
+    writeTextAtomically(csvPath(), csv);
 }
 
 void Ledger::append(const Json& row) {
+    const std::string id = row.value("run", "");
+    if (id.empty() || find(id)) fail(jsonlPath(), "run " + id, "a row without a new \"run\"");
     rows_.push_back(row);
-    std::string jsonl;
-    std::vector<std::string> columns;
-    for (const Json& r : rows_) {
-        jsonl += dumpJson(r) + "\n";
-        for (auto it = r.begin(); it != r.end(); ++it)
-            if (std::find(columns.begin(), columns.end(), it.key()) == columns.end())
-                columns.push_back(it.key());
-    }
-    std::string csv;
-    for (size_t c = 0; c < columns.size(); ++c) csv += (c ? "," : "") + csvField(columns[c]);
-    csv += "\n";
-    for (const Json& r : rows_) {
-        for (size_t c = 0; c < columns.size(); ++c)
-            csv += (c ? "," : "") + (r.contains(columns[c]) ? csvField(r[columns[c]]) : "");
-        csv += "\n";
-    }
-    // The CSV first: the JSONL is the record that a run finished.
-    writeTextAtomically(csvPath(), csv);
-    writeTextAtomically(jsonlPath(), jsonl);
+    index_.emplace(id, rows_.size() - 1);
+    // The CSV first: the JSONL is the record that a run finished. A row with a new column (the
+    // first rows, mostly) rewrites the table; the others add one line to each file, so a batch
+    // of n runs writes O(n) bytes, not O(n²).
+    if (addColumns(row) || rows_.size() == 1)
+        writeCsv();
+    else
+        appendToFile(csvPath(), csvRow(row));
+    appendToFile(jsonlPath(), dumpJson(row) + "\n");
 }
 
 }  // namespace shvol

@@ -1,10 +1,14 @@
 #pragma once
 /// \file The ledger of a batch: DIR/results.jsonl, one JSON object per finished run, and
 /// DIR/results.csv, the same rows as a table (the union of the rows' keys, alphabetical; nested
-/// values as JSON text). Both are rewritten whole through a temporary and a rename for every row,
-/// so a kill at any moment (kill -9 included) leaves either the old or the new ledger, never half a
-/// row.
+/// values as JSON text). A finished run appends one line to each (the CSV first), with one write
+/// call; a row that adds a column rewrites the CSV whole through a temporary and a rename. A kill
+/// at any moment (kill -9 included) can leave at most a last JSONL line cut short, which the next
+/// Ledger drops (the run renders again), and a CSV row more than the JSONL holds, which it writes
+/// again from the JSONL: no half row survives.
 #include <string>
+#include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "shvol/io/json_reader.h"
@@ -18,13 +22,22 @@ class Ledger {
     const std::vector<Json>& rows() const { return rows_; }
     /// The row whose "run" is id, or nullptr.
     const Json* find(const std::string& id) const;
+    /// Adds a finished run's row; its "run" must be new.
     void append(const Json& row);
     std::string jsonlPath() const;
     std::string csvPath() const;
 
   private:
+    /// Adds the row's keys that are not columns yet; true if there were any.
+    bool addColumns(const Json& row);
+    std::string csvRow(const Json& row) const;
+    void writeCsv() const;
+
     std::string dir_;
     std::vector<Json> rows_;
+    std::unordered_map<std::string, size_t> index_;  ///< run id → row
+    std::vector<std::string> columns_;               ///< in order of first appearance
+    std::unordered_set<std::string> columnSet_;
 };
 
 }  // namespace shvol
