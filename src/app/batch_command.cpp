@@ -447,8 +447,11 @@ int runBatch(BatchArgs a) {
     queue.done();
     if (!queue.error().empty()) throw Error(queue.error());
     if (queue.code()) {
-        std::fprintf(stderr, "batch: stopped; %zu runs are in %s, run again to finish\n",
-                     ledger->rows().size(), ledger->jsonlPath().c_str());
+        if (ledger->rows().empty())
+            std::fprintf(stderr, "batch: stopped before a run finished; run again to finish\n");
+        else
+            std::fprintf(stderr, "batch: stopped; %zu runs are in %s, run again to finish\n",
+                         ledger->rows().size(), ledger->jsonlPath().c_str());
         return queue.code();
     }
     if (!a.quiet)

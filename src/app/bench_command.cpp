@@ -247,9 +247,9 @@ std::string defaultBenchScene() {
 }
 
 int runBench(BenchArgs& a) {
-    std::fprintf(stderr, "shvol bench %s (%d spp)\n", a.scene.c_str(), a.spp);
     const Json doc = sceneDocument(a.scene, a.sets);
     checkScene(doc, a.scene);  // a bad value fails now, not after the table is printed
+    std::fprintf(stderr, "shvol bench %s (%d spp)\n", a.scene.c_str(), a.spp);
     if (a.cache.empty()) a.cache = ".";
     if (a.accuracy) {  // made now, not after minutes of rendering the reference
         std::error_code ec;
@@ -279,8 +279,10 @@ int runBench(BenchArgs& a) {
     const Row &now = rows[0], &openvdb = rows[1], &plain = rows[2], &tentative = rows[3],
               &global = rows[4], &globalVdb = rows[5], &two = rows[6];
     printRows(rows);
-    std::printf("\nns per density lookup (Medium::sigmaT): bricks %.1f, OpenVDB accessor %.1f\n",
-                nsPerLookup(a, a.sets), nsPerLookup(a, vdbLookups));
+    if (const double bricks = nsPerLookup(a, a.sets); bricks > 0)  // (0: no medium to look up)
+        std::printf(
+            "\nns per density lookup (Medium::sigmaT): bricks %.1f, OpenVDB accessor %.1f\n",
+            bricks, nsPerLookup(a, vdbLookups));
     auto ratio = [](const char* what, const Row& a, const Row& b) {
         std::printf("%s: %s\n", what, ratioText(a, b).c_str());
     };
