@@ -92,9 +92,11 @@ int renderReference(const Sweep& s, const BatchArgs& a, bool variance, const std
     r.variance = variance;
     // The stamp of the reference being replaced goes first: a render interrupted after writing
     // its partial image must not leave that image passing for the old, finished one.
-    if (std::error_code ec; world.root() && (fs::remove(ref.file + ".fingerprint", ec), ec))
-        fail(ref.file + ".fingerprint", "", "cannot remove the old stamp (" + ec.message() + ")");
-    world.barrier();
+    collectively([&] {  // (rank 0 removes it; the others wait, and fail with it)
+        if (std::error_code ec; world.root() && (fs::remove(ref.file + ".fingerprint", ec), ec))
+            fail(ref.file + ".fingerprint", "",
+                 "cannot remove the old stamp (" + ec.message() + ")");
+    });
     const int code = runRender(r);
     world.barrier();  // the other ranks read it once rank 0 has written it
     if (code == 0 && world.root()) std::ofstream(ref.file + ".fingerprint") << stamp;

@@ -79,10 +79,6 @@ class TemporaryGuard {
     TemporarySlot* slot_ = nullptr;
 };
 
-}  // namespace
-
-namespace {
-
 /// The nearest of `path` (made absolute) and its ancestors that exists; empty if none does (the
 /// current directory removed).
 std::filesystem::path nearestExisting(const std::string& path) {
@@ -132,7 +128,7 @@ std::string outputDirectoryProblem(const std::string& path) {
 void failWriting(const std::string& path, int error) {
     fail(path, "",
          error == 0 ? "cannot write file"
-                    : std::string("cannot write file (") + std::strerror(error) + ")");
+                    : "cannot write file (" + std::generic_category().message(error) + ")");
 }
 
 void writeAtomically(const std::string& path,
