@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include "shvol/core/error.h"
 #include "shvol/core/hash.h"
@@ -179,6 +180,7 @@ Sweep readSweep(const std::string& path) {
         }
     }
     std::vector<double> runSpp;  // each run's samples per pixel, for the z-test's check below
+    std::map<double, std::string> runOfSeed;  // a run of each seed, for the reference's check
     for (const auto& p : points)
         for (int k = 0; k < repeats; ++k) {
             SweepRun run;
@@ -202,6 +204,9 @@ Sweep readSweep(const std::string& path) {
             const Json doc = runDocument(s.sceneDoc, s.scene, run.sets);
             run.fingerprint = hashText(dumpJson(doc));
             runSpp.push_back(sppOf(doc));
+            if (const Json* seed = doc.contains("render") ? &doc["render"] : nullptr;
+                seed && seed->contains("seed") && (*seed)["seed"].is_number())
+                runOfSeed.emplace((*seed)["seed"].get<double>(), run.id);
             s.runs.push_back(run);
         }
 
@@ -216,9 +221,15 @@ Sweep readSweep(const std::string& path) {
             sr.sets = base;
             for (const std::string& a : stringList(ref, "set", path)) sr.sets.push_back(a);
             sr.sets.push_back("render.spp=" + std::to_string(ref.integer("spp", 4096, 1, 1 << 24)));
-            // A seed no run uses by default, so the reference's noise is independent.
-            sr.sets.push_back("render.seed=" + std::to_string((long long)ref.wholeNumber(
-                                                   "seed", 1e9, 0, 9007199254740992.0)));
+            // A seed no run uses by default, so the reference's noise is independent: a run of
+            // the same seed would repeat the reference's first samples, and its error would look
+            // smaller than it is.
+            const double seed = ref.wholeNumber("seed", 1e9, 0, 9007199254740992.0);
+            if (const auto same = runOfSeed.find(seed); same != runOfSeed.end())
+                ref.error("seed", "is also the seed of run " + same->second +
+                                      ", which would repeat the reference's first samples; give "
+                                      "the reference another seed");
+            sr.sets.push_back("render.seed=" + std::to_string((long long)seed));
             sr.file = (fs::path(s.output) / "reference.exr").string();
         }
         ref.finish();

@@ -117,6 +117,15 @@ TEST(Sweep, ErrorsNameFileAndKey) {
         return m.substr(m.find("sweep.json") + 10);
     };
     EXPECT_EQ(err("e1", R"({"scene": "nope.json"})").substr(0, 18), ": scene: no such f");
+    // A reference rendered with a run's seed would share that run's first samples.
+    EXPECT_EQ(err("e1s", R"({"scene": "scene.json", "axes": {"spp": [1, 2]}, "repeats": 2,
+                            "reference": {"spp": 8, "seed": 2}})"),
+              ": reference.seed: is also the seed of run r0001, which would repeat the "
+              "reference's first samples; give the reference another seed");
+    EXPECT_EQ(err("e1t", R"({"scene": "scene.json", "axes": {"seed": [5, 6]},
+                            "reference": {"spp": 8, "seed": 6}})"),
+              ": reference.seed: is also the seed of run r0001, which would repeat the "
+              "reference's first samples; give the reference another seed");
     EXPECT_EQ(err("e1a", R"({"scene": "scene.json", "axes": {}})"),
               ": axes: needs at least one axis {\"key.path\": [values]}");
     EXPECT_EQ(err("e1b", R"({"scene": "scene.json", "axes": [1]})"),
