@@ -367,8 +367,20 @@ int runBatch(BatchArgs a) {
         if (s.reference)
             std::printf("reference %s%s\n", s.reference->file.c_str(),
                         s.reference->render ? " (rendered once, cached)" : "");
-        for (const SweepRun& run : s.runs) std::printf("%s\n", describe(run).c_str());
-        std::printf("%zu runs into %s\n", s.runs.size(), s.output.c_str());
+        // Runs an earlier start finished, as its ledger has them (read, not repaired: a dry run
+        // writes nothing); whether they still match the sweep is checked when the batch starts.
+        const Ledger done(s.output, Ledger::Open::ReadOnly);
+        size_t finished = 0;
+        for (const SweepRun& run : s.runs) {
+            const bool has = done.find(run.id);
+            finished += has;
+            std::printf("%s%s\n", describe(run).c_str(), has ? " (finished)" : "");
+        }
+        std::printf("%zu runs into %s", s.runs.size(), s.output.c_str());
+        if (finished > 0)
+            std::printf(", %zu of them finished (the start checks that they match this sweep)",
+                        finished);
+        std::printf("\n");
         return 0;
     }
     // Every rank stamps the runs it may render (it reads their files to render them anyway).

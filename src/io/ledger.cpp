@@ -43,7 +43,7 @@ void appendToFile(const std::string& path, const std::string& text) {
 
 }  // namespace
 
-Ledger::Ledger(std::string dir) : dir_(std::move(dir)) {
+Ledger::Ledger(std::string dir, Open open) : dir_(std::move(dir)) {
     std::string text;
     {
         std::ifstream f(jsonlPath(), std::ios::binary);
@@ -70,6 +70,7 @@ Ledger::Ledger(std::string dir) : dir_(std::move(dir)) {
         index_.emplace(rows_.back()["run"].get<std::string>(), rows_.size() - 1);
         addColumns(rows_.back());
     }
+    if (open == Open::ReadOnly) return;
     if (whole < text.size()) writeTextAtomically(jsonlPath(), text.substr(0, whole));
     // The CSV may hold a row the JSONL does not (a kill between the two appends): made again.
     if (!rows_.empty()) writeCsv();

@@ -1170,6 +1170,22 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
               std::string::npos)
         << r.err;
     EXPECT_EQ(run("batch " + path("sweep.json") + " --dry-run").out.substr(0, 10), "reference ");
+    // --dry-run marks the runs a ledger holds, and writes nothing (a last line cut short by a
+    // kill stays as it is: only a start repairs it).
+    const std::string ledger = path("clean/results.jsonl"), rows = test::fileBytes(ledger);
+    const std::string firstTwo = rows.substr(0, rows.find('\n', rows.find('\n') + 1) + 1);
+    std::ofstream(ledger, std::ios::binary) << firstTwo << "{\"run\": \"r00";
+    r = run("batch " + path("sweep.json") + " --dry-run --output " + path("clean"));
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("9 runs into " + path("clean") + ", 2 of them finished"),
+              std::string::npos)
+        << r.out;
+    size_t marked = 0;
+    for (size_t at = r.out.find(" (finished)\n"); at != std::string::npos;
+         at = r.out.find(" (finished)\n", at + 1))
+        ++marked;
+    EXPECT_EQ(marked, 2u) << r.out;
+    EXPECT_EQ(test::fileBytes(ledger), firstTwo + "{\"run\": \"r00");
 }
 
 // A batch belongs to one build: rows finished by another shvol build are refused (a changed

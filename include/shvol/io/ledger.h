@@ -17,8 +17,10 @@ namespace shvol {
 
 class Ledger {
   public:
+    /// ReadOnly leaves the files as they are (a last line cut short is only skipped).
+    enum class Open { Repair, ReadOnly };
     /// Reads DIR/results.jsonl if it exists; a malformed line is an error naming file and line.
-    explicit Ledger(std::string dir);
+    explicit Ledger(std::string dir, Open open = Open::Repair);
     const std::vector<Json>& rows() const { return rows_; }
     /// The row whose "run" is id, or nullptr.
     const Json* find(const std::string& id) const;
