@@ -51,14 +51,22 @@ Ledger::Ledger(std::string dir, Open open) : dir_(std::move(dir)) {
         ss << f.rdbuf();
         text = ss.str();
     }
+    const size_t original = text.size();
     // Rows end in '\n': a last line without it is a row a kill cut short while it was appended.
     // It is dropped (its run renders again) and the file rewritten without it.
-    const size_t whole = text.rfind('\n') == std::string::npos ? 0 : text.rfind('\n') + 1;
+    size_t whole = text.rfind('\n') == std::string::npos ? 0 : text.rfind('\n') + 1;
+    // ... unless it is a whole row (a hand-edited file without a final newline): then kept, and
+    // given its newline.
+    if (whole < text.size()) {
+        const Json last = Json::parse(text.substr(whole), nullptr, false);
+        if (last.is_object() && last.contains("run") && last["run"].is_string())
+            text += '\n', whole = text.size();
+    }
     std::istringstream lines(text.substr(0, whole));
     int line = 0;
     for (std::string row; std::getline(lines, row);) {
         ++line;
-        if (row.empty()) continue;
+        if (row.find_first_not_of(" \t\r") == std::string::npos) continue;
         try {
             rows_.push_back(Json::parse(row));
         } catch (const Json::exception&) {
@@ -71,7 +79,7 @@ Ledger::Ledger(std::string dir, Open open) : dir_(std::move(dir)) {
         addColumns(rows_.back());
     }
     if (open == Open::ReadOnly) return;
-    if (whole < text.size()) writeTextAtomically(jsonlPath(), text.substr(0, whole));
+    if (whole != original) writeTextAtomically(jsonlPath(), text.substr(0, whole));
     // The CSV may hold a row the JSONL does not (a kill between the two appends): made again.
     if (!rows_.empty()) writeCsv();
 }

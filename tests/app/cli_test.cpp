@@ -1265,8 +1265,10 @@ TEST_F(Cli, BatchInterruptedReferenceIsRenderedAgain) {
     ASSERT_TRUE(fs::exists(path("out/reference.exr.fingerprint")));
     fs::remove(path("out/results.jsonl"));
     fs::remove(path("out/results.csv"));
-    r = runCommand("timeout --preserve-status -s TERM 1.5 " + std::string(SHVOL_BINARY) +
+    r = runCommand("timeout --foreground --preserve-status -s TERM 4 " + std::string(SHVOL_BINARY) +
                    " batch " + path("b.json") + " --threads 1");
+    // (--foreground: else timeout signals its process group as well, and a second SIGTERM ends
+    // shvol at once, 143, as a second Ctrl-C does.)
     ASSERT_EQ(r.code, 130) << r.err;  // stopped inside the reference's render
     EXPECT_NE(r.err.find("rendering the reference"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(path("out/reference.exr.fingerprint")));

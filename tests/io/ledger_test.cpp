@@ -83,6 +83,21 @@ TEST(Ledger, RepairsWhatAKillLeft) {
     EXPECT_EQ(test::fileBytes((dir / "results.csv").string()), "rmse,run\n1,r0000\n");
 }
 
+// A last line that is a whole row without its newline (a hand-edited file) is kept and given
+// its newline; blank lines, with spaces or a Windows \r, are skipped.
+TEST(Ledger, KeepsAWholeLastRowAndSkipsBlankLines) {
+    const fs::path dir = fs::path(testing::TempDir()) / "shvol_ledger_whole";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    std::ofstream(dir / "results.jsonl", std::ios::binary)
+        << "{\"run\": \"r0000\"}\r\n \r\n\n{\"run\": \"r0001\"}";
+    const Ledger l(dir.string());
+    EXPECT_EQ(l.rows().size(), 2u);
+    EXPECT_NE(l.find("r0001"), nullptr);
+    EXPECT_EQ(test::fileBytes((dir / "results.jsonl").string()),
+              "{\"run\": \"r0000\"}\r\n \r\n\n{\"run\": \"r0001\"}\n");
+}
+
 TEST(Ledger, MalformedRowIsAnError) {
     const fs::path dir = fs::path(testing::TempDir()) / "shvol_ledger_bad";
     fs::remove_all(dir);

@@ -28,8 +28,8 @@ std::string outputFileProblem(const std::string& path);
 /// existing ancestor, or itself ("it"), "is not a directory" or is not writable; empty otherwise.
 std::string outputDirectoryProblem(const std::string& path);
 
-/// Throws shvol::Error "path: cannot write file (reason)", the reason being strerror(error) (the
-/// errno a failed open, write or rename left; 0: no reason known).
+/// Throws shvol::Error "path: cannot write file (reason)", the reason being the message of errno
+/// value `error` (the errno a failed open, write or rename left; 0: no reason known).
 [[noreturn]] void failWriting(const std::string& path, int error);
 
 /// Writes text to path atomically.

@@ -9,8 +9,9 @@
 /// value, z = (x − r)/√(σ_x² + σ_r² + (u_x² + u_r²)/12), p = 2(1 − Φ(|z|)) = erfc(|z|/√2), and the
 /// image passes at level α when min p ≥ 1 − (1 − α)^{1/N} (Šidák). u is the float32 spacing at
 /// the value (its rounding when stored is uniform over ±u/2): without it, a pixel of constant sky
-/// (σ ≈ 0) one float step from the reference failed at p ≈ 10⁻³⁵. Values where the whole
-/// denominator is 0 are left out.
+/// (σ ≈ 0) one float step from the reference failed (p underflowed to 0). Values equal in both
+/// images with both σ = 0 (a black void) are left out, as they would only loosen the Šidák
+/// level.
 #include "shvol/core/image.h"
 
 namespace shvol {

@@ -1,11 +1,12 @@
 #pragma once
 /// \file The ledger of a batch: DIR/results.jsonl, one JSON object per finished run, and
-/// DIR/results.csv, the same rows as a table (the union of the rows' keys, alphabetical; nested
-/// values as JSON text). A finished run appends one line to each (the CSV first), with one write
-/// call; a row that adds a column rewrites the CSV whole through a temporary and a rename. A kill
-/// at any moment (kill -9 included) can leave at most a last JSONL line cut short, which the next
-/// Ledger drops (the run renders again), and a CSV row more than the JSONL holds, which it writes
-/// again from the JSONL: no half row survives.
+/// DIR/results.csv, the same rows as a table (the union of the rows' keys in order of first
+/// appearance; nested values as JSON text). A finished run appends one line to each (the CSV
+/// first), with one write call; a row that adds a column rewrites the CSV whole through a temporary
+/// and a rename. A kill at any moment (kill -9 included) can leave at most a last JSONL line cut
+/// short, which the next Ledger drops (the run renders again; a last line that is a whole row is
+/// kept), and a CSV row more than the JSONL holds, which it writes again from the JSONL: no half
+/// row survives.
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
