@@ -44,6 +44,7 @@ def is_number(v):
 def load(directory):
     path = os.path.join(directory, "results.jsonl")
     rows = []
+    first_line = {}  # run id -> the line that has it
     try:
         f = open(path, encoding="utf-8", errors="replace")
     except OSError as e:
@@ -75,6 +76,12 @@ def load(directory):
                 if not is_number(row[key]) or row[key] < 0 and key != "bias":
                     fail(f"{path}: line {n}: {key}: expected a finite number"
                          f"{'' if key == 'bias' else ' >= 0'}, got {json.dumps(row[key])}")
+            # (A run in two rows would be counted twice; shvol batch refuses such a ledger too.)
+            run = json.dumps(row.get("run"))
+            if "run" in row and run in first_line:
+                fail(f"{path}: line {n}: run {row.get('run')} again (first at line "
+                     f"{first_line[run]}): two batches wrote into this directory")
+            first_line[run] = n
             rows.append(row)
     if not rows:
         fail(f"{path}: no finished runs to report")

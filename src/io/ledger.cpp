@@ -1,12 +1,15 @@
 #include "shvol/io/ledger.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <system_error>
 
 #include "shvol/core/atomic_file.h"
 #include "shvol/core/error.h"
@@ -23,18 +26,28 @@ std::string csvField(const Json& v) {
     return q + "\"";
 }
 
+std::string errnoText(int error = errno) { return std::generic_category().message(error); }
+
 /// Appends text to the file at path (made if missing) with one write(2) call as far as it goes:
-/// a kill can cut it short, never interleave it.
+/// a kill can cut it short, never interleave it. A write that fails (a full disk, a file size
+/// limit) is cut back off, so the file is as it was; the error says if that failed too.
 void appendToFile(const std::string& path, const std::string& text) {
     const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
-    if (fd < 0) failWriting(path, errno);
+    struct stat st {};
+    if (fd < 0 || ::fstat(fd, &st) != 0) {
+        const int error = errno;
+        if (fd >= 0) ::close(fd);
+        failWriting(path, error);
+    }
     for (size_t done = 0; done < text.size();) {
         const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
         if (n < 0 && errno == EINTR) continue;
         if (n <= 0) {
-            const int error = errno;
+            const int error = n < 0 ? errno : ENOSPC;
+            const bool cutBack = ::ftruncate(fd, st.st_size) == 0;
             ::close(fd);
-            failWriting(path, error);
+            if (cutBack) failWriting(path, error);
+            fail(path, "", "cannot write file (" + errnoText(error) + "); its last line is cut short");
         }
         done += size_t(n);
     }
@@ -44,6 +57,16 @@ void appendToFile(const std::string& path, const std::string& text) {
 }  // namespace
 
 Ledger::Ledger(std::string dir, Open open) : dir_(std::move(dir)) {
+    // One writer per directory: two batches appending to one ledger would repeat runs.
+    if (open == Open::Repair) {
+        lock_ = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+        if (lock_ < 0) fail(dir_, "", "cannot open the directory (" + errnoText() + ")");
+        if (::flock(lock_, LOCK_EX | LOCK_NB) != 0)
+            fail(dir_, "",
+                 errno == EWOULDBLOCK ? "another shvol batch is writing into this directory; "
+                                        "wait for it to end or use another output directory"
+                                      : "cannot lock the directory (" + errnoText() + ")");
+    }
     std::string text;
     {
         std::ifstream f(jsonlPath(), std::ios::binary);
@@ -64,6 +87,7 @@ Ledger::Ledger(std::string dir, Open open) : dir_(std::move(dir)) {
     }
     std::istringstream lines(text.substr(0, whole));
     int line = 0;
+    std::vector<int> lineOf;  // row → its line
     for (std::string row; std::getline(lines, row);) {
         ++line;
         if (row.find_first_not_of(" \t\r") == std::string::npos) continue;
@@ -75,13 +99,22 @@ Ledger::Ledger(std::string dir, Open open) : dir_(std::move(dir)) {
         if (!rows_.back().is_object() || !rows_.back().contains("run") ||
             !rows_.back()["run"].is_string())
             fail(jsonlPath(), "line " + std::to_string(line), "a row without \"run\"");
-        index_.emplace(rows_.back()["run"].get<std::string>(), rows_.size() - 1);
+        const std::string id = rows_.back()["run"].get<std::string>();
+        lineOf.push_back(line);
+        if (const auto [it, added] = index_.emplace(id, rows_.size() - 1); !added)
+            fail(jsonlPath(), "line " + std::to_string(line),
+                 "run " + id + " again (first at line " + std::to_string(lineOf[it->second]) +
+                     "): two batches wrote into this directory; use another output directory");
         addColumns(rows_.back());
     }
     if (open == Open::ReadOnly) return;
     if (whole != original) writeTextAtomically(jsonlPath(), text.substr(0, whole));
     // The CSV may hold a row the JSONL does not (a kill between the two appends): made again.
     if (!rows_.empty()) writeCsv();
+}
+
+Ledger::~Ledger() {
+    if (lock_ >= 0) ::close(lock_);  // (which releases the lock)
 }
 
 std::string Ledger::jsonlPath() const {
@@ -121,16 +154,26 @@ void Ledger::writeCsv() const {
 void Ledger::append(const Json& row) {
     const std::string id = row.value("run", "");
     if (id.empty() || find(id)) fail(jsonlPath(), "run " + id, "a row without a new \"run\"");
+    if (failed_)
+        fail(jsonlPath(), "run " + id, "not added: an earlier write to the ledger failed");
     rows_.push_back(row);
     index_.emplace(id, rows_.size() - 1);
     // The CSV first: the JSONL is the record that a run finished. A row with a new column (the
     // first rows, mostly) rewrites the table; the others add one line to each file, so a batch
-    // of n runs writes O(n) bytes, not O(n²).
-    if (addColumns(row) || rows_.size() == 1)
-        writeCsv();
-    else
-        appendToFile(csvPath(), csvRow(row));
-    appendToFile(jsonlPath(), dumpJson(row) + "\n");
+    // of n runs writes O(n) bytes, not O(n²). A failed write leaves the row out (a CSV row more
+    // than the JSONL holds is made again on the next open) and the ledger refuses more rows.
+    try {
+        if (addColumns(row) || rows_.size() == 1)
+            writeCsv();
+        else
+            appendToFile(csvPath(), csvRow(row));
+        appendToFile(jsonlPath(), dumpJson(row) + "\n");
+    } catch (...) {
+        failed_ = true;
+        index_.erase(id);
+        rows_.pop_back();
+        throw;
+    }
 }
 
 }  // namespace shvol

@@ -1,5 +1,8 @@
 // The shvol program as a user runs it: exit codes, one-line errors, no half-written output.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -1328,6 +1331,28 @@ TEST_F(Cli, BatchOutputMustBeADirectory) {
     EXPECT_TRUE(fs::is_directory(path("new/runs")));
 }
 
+// A second batch into a directory another batch is writing into (held here by the test's own
+// flock, as a running batch holds it) is refused before it renders its reference or a run: the
+// two appended the same runs to one ledger, which report then counted twice.
+TEST_F(Cli, BatchRefusesADirectoryAnotherBatchWrites) {
+    write("s.json", scene(Homogeneous));
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [1]}, "reference": {"spp": 2},
+                           "metrics": ["rmse"], "output": "out"})");
+    fs::create_directories(path("out"));
+    const int held = ::open(path("out").c_str(), O_RDONLY | O_DIRECTORY);
+    ASSERT_GE(held, 0);
+    ASSERT_EQ(::flock(held, LOCK_EX | LOCK_NB), 0);
+    Result r = run("batch " + path("sweep.json") + " --quiet");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "shvol: error: " + path("out") +
+                         ": another shvol batch is writing into this directory; wait for it to "
+                         "end or use another output directory\n");
+    EXPECT_TRUE(fs::is_empty(path("out")));
+    ::close(held);
+    r = run("batch " + path("sweep.json") + " --quiet");
+    EXPECT_EQ(r.code, 0) << r.err;
+}
+
 // Every run's scene, and a rendered reference's, is checked before the first render, and by
 // --dry-run: a bad value in the last run of an axis stops the batch before anything is written.
 TEST_F(Cli, BatchChecksEveryRunsSceneFirst) {
@@ -1541,6 +1566,13 @@ TEST_F(Cli, BatchReport) {
     c = run("report " + path("o"));
     EXPECT_EQ(c.code, 1);
     EXPECT_EQ(c.err, "shvol: error: " + ledger + ": line 1: malformed JSON row\n");
+    std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "wall_time_s": 1})" << "\n"
+                          << R"({"run": "r0001", "spp": 8, "wall_time_s": 1})" << "\n"
+                          << R"({"run": "r0000", "spp": 8, "wall_time_s": 2})" << "\n";
+    c = run("report " + path("o"));  // (it would be counted twice)
+    EXPECT_EQ(c.err, "shvol: error: " + ledger +
+                         ": line 3: run r0000 again (first at line 1): two batches wrote into "
+                         "this directory\n");
     // Efficiency is 1/(MSE·time) with the MSE's mean over the repeats, (1 + 9)/2 here, not the
     // mean RMSE squared (4); a configuration of one run has no spread to show.
     std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "g": 1, "wall_time_s": 1, "rmse": 1})"

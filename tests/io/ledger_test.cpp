@@ -1,7 +1,10 @@
 #include "shvol/io/ledger.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+
+#include <csignal>
 
 #include <filesystem>
 #include <fstream>
@@ -96,6 +99,79 @@ TEST(Ledger, KeepsAWholeLastRowAndSkipsBlankLines) {
     EXPECT_NE(l.find("r0001"), nullptr);
     EXPECT_EQ(test::fileBytes((dir / "results.jsonl").string()),
               "{\"run\": \"r0000\"}\r\n \r\n\n{\"run\": \"r0001\"}\n");
+}
+
+// A write that fails part way (here at a file size limit, as at a full disk) is cut back off:
+// the JSONL is as it was, the row is not in the ledger, and later rows are refused (before,
+// the row stayed in memory and the next job's row followed a half line no restart could mend).
+TEST(Ledger, AFailedWriteLeavesTheFileAsItWas) {
+    const fs::path dir = fs::path(testing::TempDir()) / "shvol_ledger_full";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string jsonl = (dir / "results.jsonl").string();
+    {
+        Ledger l(dir.string());
+        l.append({{"run", "r0000"}, {"rmse", 0.5}});
+        l.append({{"run", "r0001"}, {"rmse", 0.25}});
+        const std::string before = test::fileBytes(jsonl);
+        ASSERT_LT(test::fileBytes(l.csvPath()).size() + 12, before.size() + 5);  // the CSV fits
+        std::string message;
+        {
+            // Room for 5 more bytes in any file; past them write(2) fails with EFBIG (the
+            // SIGXFSZ that would end the process is ignored meanwhile).
+            rlimit old{};
+            ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
+            rlimit small = old;
+            small.rlim_cur = before.size() + 5;
+            const auto handler = std::signal(SIGXFSZ, SIG_IGN);
+            ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
+            message = test::messageOf([&] { l.append({{"run", "r0002"}, {"rmse", 0.125}}); });
+            ::setrlimit(RLIMIT_FSIZE, &old);
+            std::signal(SIGXFSZ, handler);
+        }
+        EXPECT_EQ(message, jsonl + ": cannot write file (File too large)");
+        EXPECT_EQ(test::fileBytes(jsonl), before);
+        EXPECT_EQ(l.rows().size(), 2u);
+        EXPECT_EQ(l.find("r0002"), nullptr);
+        EXPECT_EQ(test::messageOf([&] { l.append({{"run", "r0003"}}); }),
+                  jsonl + ": run r0003: not added: an earlier write to the ledger failed");
+        EXPECT_EQ(test::fileBytes(jsonl), before);
+    }
+    const Ledger l(dir.string());  // the CSV's extra row goes on the next open
+    EXPECT_EQ(l.rows().size(), 2u);
+    EXPECT_EQ(test::fileBytes(l.csvPath()), "rmse,run\n0.5,r0000\n0.25,r0001\n");
+}
+
+// One writer per directory: a second Ledger that may write is refused while the first lives (in
+// this process or another: the lock is flock(2) on the directory); one that only reads is not.
+TEST(Ledger, OneWriterPerDirectory) {
+    const fs::path dir = fs::path(testing::TempDir()) / "shvol_ledger_lock";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    {
+        Ledger first(dir.string());
+        first.append({{"run", "r0000"}});
+        EXPECT_EQ(test::messageOf([&] { Ledger second(dir.string()); }),
+                  dir.string() +
+                      ": another shvol batch is writing into this directory; wait for it to end "
+                      "or use another output directory");
+        EXPECT_EQ(Ledger(dir.string(), Ledger::Open::ReadOnly).rows().size(), 1u);
+    }
+    EXPECT_EQ(Ledger(dir.string()).rows().size(), 1u);  // released with the first
+}
+
+// A run in two rows (two batches that wrote into one directory before the lock) is refused:
+// report would count it twice.
+TEST(Ledger, ARunTwiceIsAnError) {
+    const fs::path dir = fs::path(testing::TempDir()) / "shvol_ledger_twice";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    std::ofstream(dir / "results.jsonl")
+        << "{\"run\": \"r0\"}\n{\"run\": \"r1\"}\n{\"run\": \"r0\"}\n";
+    EXPECT_EQ(test::messageOf([&] { Ledger l(dir.string(), Ledger::Open::ReadOnly); }),
+              (dir / "results.jsonl").string() +
+                  ": line 3: run r0 again (first at line 1): two batches wrote into this "
+                  "directory; use another output directory");
 }
 
 TEST(Ledger, MalformedRowIsAnError) {

@@ -6,7 +6,10 @@
 /// and a rename. A kill at any moment (kill -9 included) can leave at most a last JSONL line cut
 /// short, which the next Ledger drops (the run renders again; a last line that is a whole row is
 /// kept), and a CSV row more than the JSONL holds, which it writes again from the JSONL: no half
-/// row survives.
+/// row survives. A write that fails (a full disk) is cut back off the file, and the ledger then
+/// refuses more rows. A Ledger that may write (Open::Repair) holds an exclusive flock(2) on DIR
+/// while it lives: a second one, in this process or another, is refused; so is a file naming a
+/// run twice.
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -22,10 +25,14 @@ class Ledger {
     enum class Open { Repair, ReadOnly };
     /// Reads DIR/results.jsonl if it exists; a malformed line is an error naming file and line.
     explicit Ledger(std::string dir, Open open = Open::Repair);
+    ~Ledger();
+    Ledger(const Ledger&) = delete;
+    Ledger& operator=(const Ledger&) = delete;
     const std::vector<Json>& rows() const { return rows_; }
     /// The row whose "run" is id, or nullptr.
     const Json* find(const std::string& id) const;
-    /// Adds a finished run's row; its "run" must be new.
+    /// Adds a finished run's row; its "run" must be new. If writing it fails, the row is not
+    /// added, the files are left as they were and later appends are refused.
     void append(const Json& row);
     std::string jsonlPath() const;
     std::string csvPath() const;
@@ -41,6 +48,8 @@ class Ledger {
     std::unordered_map<std::string, size_t> index_;  ///< run id → row
     std::vector<std::string> columns_;               ///< in order of first appearance
     std::unordered_set<std::string> columnSet_;
+    int lock_ = -1;        ///< DIR, flock'ed (Open::Repair)
+    bool failed_ = false;  ///< a write failed: no more rows
 };
 
 }  // namespace shvol
