@@ -352,11 +352,13 @@ int runBatch(BatchArgs a) {
                        out = fs::weakly_canonical(fs::absolute(s.output, ec), ec);
         if (ec || ref.parent_path() != out) return;
         const std::string name = ref.filename().string();
-        std::vector<std::string> written = {"results.jsonl", "results.csv", "report.md"};
+        std::vector<std::string> written = {"results.jsonl", "results.csv", "report.md",
+                                            "report.html"};
         for (const SweepRun& run : s.runs)
             if (name.rfind(run.id + ".", 0) == 0)
                 for (const char* ext : {".exr", ".stats.json", ".stderr.exr"})
                     written.push_back(run.id + ext);
+        // (report's plots are PNG files, which no reference can be: readExr refuses them.)
         if (std::find(written.begin(), written.end(), name) != written.end())
             fail(s.reference->file, "",
                  "the reference would be written over by the batch's own " + name +

@@ -1237,7 +1237,8 @@ TEST_F(Cli, BatchRefusesAReferenceAmongItsOutputs) {
     ASSERT_EQ(run("render " + path("s.json") + " --quiet -o " + path("out/r0001.exr")).code, 0);
     const std::string before = test::fileBytes(path("out/r0001.exr"));
     fs::copy_file(path("out/r0001.exr"), path("out/report.md"));
-    for (const std::string& reference : {"out/r0001.exr", "out/report.md"}) {
+    fs::copy_file(path("out/r0001.exr"), path("out/report.html"));
+    for (const std::string& reference : {"out/r0001.exr", "out/report.md", "out/report.html"}) {
         write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [1, 2]}, "metrics": ["rmse"],
                                 "reference": {"file": ")" +
                                 reference + R"("}, "output": "out"})");

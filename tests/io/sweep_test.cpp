@@ -126,6 +126,12 @@ TEST(Sweep, ErrorsNameFileAndKey) {
                             "reference": {"spp": 8, "seed": 6}})"),
               ": reference.seed: is also the seed of run r0001, which would repeat the "
               "reference's first samples; give the reference another seed");
+    // The default seed that clashes is named as such: the sweep has no reference.seed.
+    EXPECT_EQ(err("e1u", R"({"scene": "scene.json", "axes": {"seed": [1000000000]},
+                            "reference": {"spp": 8}})"),
+              ": reference: its default seed 1000000000 is also the seed of run r0000, which "
+              "would repeat the reference's first samples; give the reference a \"seed\" of "
+              "its own");
     EXPECT_EQ(err("e1a", R"({"scene": "scene.json", "axes": {}})"),
               ": axes: needs at least one axis {\"key.path\": [values]}");
     EXPECT_EQ(err("e1b", R"({"scene": "scene.json", "axes": [1]})"),
