@@ -9,7 +9,7 @@ std::string surfaceReachMessage(double r) {
     static_assert(kMaxSurfaceCoordinate == 1e15, "the message names the bound");
     char b[160];
     std::snprintf(b, sizeof b,
-                  "coordinates reach %.3g, beyond ±1e15 (the ray tracer's range; scale the scene "
+                  "coordinates reach %.4g, beyond ±1e15 (the ray tracer's range; scale the scene "
                   "down)",
                   r);
     return b;

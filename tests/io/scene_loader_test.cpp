@@ -387,11 +387,11 @@ TEST(SceneLoader, BadSurfacesGiveOneLineNamingThePlace) {
              "media[0].boundary: the scene has no surfaces");
     // Beyond the ray tracer's range (±1e15, after the transform).
     expectIn(message(R"({"surfaces": [{"file": "box.obj", "transform": {"scale": 1e12,
-                                                                   "translate": [5e15, 0, 0]}}]})"),
-             "scene.json: surfaces[0].file: coordinates reach 5e+15, beyond ±1e15");
-    expectIn(message(R"({"surfaces": [{"type": "rectangle",
-                                       "transform": {"translate": [0, -3e15, 0]}}]})"),
-             "scene.json: surfaces[0]: coordinates reach 3e+15, beyond ±1e15");
+                                                                   "translate": [1e15, 0, 0]}}]})"),
+             "scene.json: surfaces[0].file: coordinates reach 1.001e+15, beyond ±1e15");
+    expectIn(message(R"({"surfaces": [{"type": "rectangle", "transform": {"scale": 1e12,
+                                       "translate": [0, -1e15, 0]}}]})"),
+             "scene.json: surfaces[0]: coordinates reach 1.001e+15, beyond ±1e15");
     expectIn(message(R"({"surfaces": [{"type": "sphere", "center": [0, 0, 2e15]}]})"),
              "scene.json: surfaces[0]: coordinates reach 2e+15, beyond ±1e15");
     EXPECT_EQ(message(R"({"surfaces": [{"type": "sphere", "center": [0, 0, 9e14]}]})"),
@@ -424,6 +424,11 @@ TEST(SceneLoader, ErrorsNameBoundsAndTheTypeAKeyBelongsTo) {
                   "surfaces[0].transform.scale: value 1e300 out of range [1e-12, 1e12]");
     expectMessage(R"({"surfaces": [{"type": "rectangle", "transform": {"scale": [1, 0, 1]}}]})",
                   "surfaces[0].transform.scale: component 0 out of range [1e-12, 1e12]");
+    // (A translation of 1e308 overflowed the grid's inverse transform, and the error named the
+    // .vdb file.)
+    expectMessage(R"({"surfaces": [{"type": "rectangle",
+                                    "transform": {"translate": [0, 1e308, 0]}}]})",
+                  "surfaces[0].transform.translate: component 1e308 out of range [-1e15, 1e15]");
     // The cap of an unbounded range (1e30) is said only to a value beyond it.
     expectMessage(R"({"environment": {"type": "constant", "radiance": [1, 2e30, 1]}})",
                   "environment.radiance: component 2e30 out of range (expected at most 1e30)");
@@ -481,7 +486,7 @@ TEST(SceneLoader, CheckSceneReadsKeysNotGridsSkiesOrMeshes) {
     // (A scale of 1e-300 once passed the check and made the grid's transform singular at load.)
     for (const std::string set :
          {"media[0].nosuch=1", "media[0].albedo=2", "environment.file=\"none.exr\"", "render.spp=0",
-          "media[0].transform.scale=1e-300"}) {
+          "media[0].transform.scale=1e-300", "media[0].transform.translate=[1e308,0,0]"}) {
         const Json bad = sceneDocument(kSunlitCloud, {set});
         const std::string message = messageOf([&] { checkScene(bad, kSunlitCloud); });
         EXPECT_NE(message, "(no error)") << set;
