@@ -26,7 +26,9 @@ std::string csvField(const Json& v) {
     return q + "\"";
 }
 
-std::string errnoText(int error = errno) { return std::generic_category().message(error); }
+std::string errnoText(int error = errno) {
+    return std::generic_category().message(error);
+}
 
 /// Appends text to the file at path (made if missing) with one write(2) call as far as it goes:
 /// a kill can cut it short, never interleave it. A write that fails (a full disk, a file size
@@ -47,7 +49,8 @@ void appendToFile(const std::string& path, const std::string& text) {
             const bool cutBack = ::ftruncate(fd, st.st_size) == 0;
             ::close(fd);
             if (cutBack) failWriting(path, error);
-            fail(path, "", "cannot write file (" + errnoText(error) + "); its last line is cut short");
+            fail(path, "",
+                 "cannot write file (" + errnoText(error) + "); its last line is cut short");
         }
         done += size_t(n);
     }
@@ -154,8 +157,7 @@ void Ledger::writeCsv() const {
 void Ledger::append(const Json& row) {
     const std::string id = row.value("run", "");
     if (id.empty() || find(id)) fail(jsonlPath(), "run " + id, "a row without a new \"run\"");
-    if (failed_)
-        fail(jsonlPath(), "run " + id, "not added: an earlier write to the ledger failed");
+    if (failed_) fail(jsonlPath(), "run " + id, "not added: an earlier write to the ledger failed");
     rows_.push_back(row);
     index_.emplace(id, rows_.size() - 1);
     // The CSV first: the JSONL is the record that a run finished. A row with a new column (the

@@ -1567,9 +1567,12 @@ TEST_F(Cli, BatchReport) {
     c = run("report " + path("o"));
     EXPECT_EQ(c.code, 1);
     EXPECT_EQ(c.err, "shvol: error: " + ledger + ": line 1: malformed JSON row\n");
-    std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "wall_time_s": 1})" << "\n"
-                          << R"({"run": "r0001", "spp": 8, "wall_time_s": 1})" << "\n"
-                          << R"({"run": "r0000", "spp": 8, "wall_time_s": 2})" << "\n";
+    std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "wall_time_s": 1})"
+                          << "\n"
+                          << R"({"run": "r0001", "spp": 8, "wall_time_s": 1})"
+                          << "\n"
+                          << R"({"run": "r0000", "spp": 8, "wall_time_s": 2})"
+                          << "\n";
     c = run("report " + path("o"));  // (it would be counted twice)
     EXPECT_EQ(c.err, "shvol: error: " + ledger +
                          ": line 3: run r0000 again (first at line 1): two batches wrote into "

@@ -133,7 +133,9 @@ TEST(Ledger, AFailedWriteLeavesTheFileAsItWas) {
         EXPECT_EQ(test::fileBytes(jsonl), before);
         EXPECT_EQ(l.rows().size(), 2u);
         EXPECT_EQ(l.find("r0002"), nullptr);
-        EXPECT_EQ(test::messageOf([&] { l.append({{"run", "r0003"}}); }),
+        EXPECT_EQ(test::messageOf([&] {
+                      l.append({{"run", "r0003"}});
+                  }),
                   jsonl + ": run r0003: not added: an earlier write to the ledger failed");
         EXPECT_EQ(test::fileBytes(jsonl), before);
     }
