@@ -149,6 +149,37 @@ void checkRunScenes(const Sweep& s) {
     }
 }
 
+/// Refuses a ledger whose finished rows the batch cannot resume, naming the run: a finished run
+/// must be the run the sweep describes now, rendered by this build (another may render the same
+/// scene differently: a changed default, a fix), and measured against the reference the sweep
+/// gives now (`reference`, its fingerprint), or resuming would mix experiments. Without
+/// `reference` (--dry-run, which hashes no input files) the run's fingerprint and reference are
+/// not compared.
+void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string* reference) {
+    std::unordered_map<std::string, const SweepRun*> runs;  // (a search each: O(n²) rows)
+    for (const SweepRun& r : s.runs) runs.emplace(r.id, &r);
+    for (const Json& row : ledger.rows()) {
+        const std::string id = row["run"].get<std::string>();
+        const auto it = runs.find(id);
+        if (it == runs.end())
+            fail(ledger.jsonlPath(), "run " + id,
+                 "finished, but the sweep no longer has it; use another output directory");
+        if (reference && row.value("fingerprint", "") != it->second->fingerprint)
+            fail(ledger.jsonlPath(), "run " + id,
+                 "finished with other settings or another scene than the sweep now gives; use "
+                 "another output directory");
+        const std::string build = row.value("git_revision", "(none)");
+        if (build != SHVOL_GIT_REVISION)
+            fail(ledger.jsonlPath(), "run " + id,
+                 "finished by shvol " + build + ", this is " + SHVOL_GIT_REVISION +
+                     "; use another output directory");
+        if (reference && row.value("reference_fingerprint", "") != *reference)
+            fail(ledger.jsonlPath(), "run " + id,
+                 "measured against another reference than the sweep now gives (its settings, "
+                 "scene or file changed); use another output directory");
+    }
+}
+
 /// What every worker needs to turn a run into its ledger row.
 struct RunContext {
     explicit RunContext(const Sweep& s) : sweep(s) {}
@@ -370,8 +401,10 @@ int runBatch(BatchArgs a) {
             std::printf("reference %s%s\n", s.reference->file.c_str(),
                         s.reference->render ? " (rendered once, cached)" : "");
         // Runs an earlier start finished, as its ledger has them (read, not repaired: a dry run
-        // writes nothing); whether they still match the sweep is checked when the batch starts.
+        // writes nothing). What a start would refuse without hashing input files is refused
+        // here too; whether their scenes and reference still match is checked when it starts.
         const Ledger done(s.output, Ledger::Open::ReadOnly);
+        checkFinishedRows(done, s, nullptr);
         size_t finished = 0;
         for (const SweepRun& run : s.runs) {
             const bool has = done.find(run.id);
@@ -389,9 +422,8 @@ int runBatch(BatchArgs a) {
     std::map<std::string, Json> inputs;  // each named file hashed once per batch
     collectively([&] { fingerprintInputs(s, inputs); });
     const bool ztest = std::find(s.metrics.begin(), s.metrics.end(), "ztest") != s.metrics.end();
-    // Rank 0 stamps the reference (reading the files its scene names) and keeps the ledger. A
-    // finished run must be the run the sweep describes now, measured against the reference it
-    // gives now, or resuming would mix experiments.
+    // Rank 0 stamps the reference (reading the files its scene names) and keeps the ledger,
+    // whose finished rows must belong to this sweep, build and reference.
     std::string stamp, reference;
     std::optional<Ledger> ledger;
     collectively([&] {
@@ -403,29 +435,7 @@ int runBatch(BatchArgs a) {
         if (std::error_code ec; !fs::create_directories(s.output, ec) && ec)
             fail(s.output, "", "cannot make the directory (" + ec.message() + ")");
         ledger.emplace(s.output);
-        std::unordered_map<std::string, const SweepRun*> runs;  // (a search each: O(n²) rows)
-        for (const SweepRun& r : s.runs) runs.emplace(r.id, &r);
-        for (const Json& row : ledger->rows()) {
-            const std::string id = row["run"].get<std::string>();
-            const auto it = runs.find(id);
-            if (it == runs.end() || row.value("fingerprint", "") != it->second->fingerprint)
-                fail(ledger->jsonlPath(), "run " + id,
-                     it == runs.end()
-                         ? "finished, but the sweep no longer has it; use another output directory"
-                         : "finished with other settings or another scene than the sweep now "
-                           "gives; use another output directory");
-            // Another build may render the same scene differently (a changed default, a fix):
-            // its rows and this one's would mix in one experiment.
-            const std::string build = row.value("git_revision", "(none)");
-            if (build != SHVOL_GIT_REVISION)
-                fail(ledger->jsonlPath(), "run " + id,
-                     "finished by shvol " + build + ", this is " + SHVOL_GIT_REVISION +
-                         "; use another output directory");
-            if (row.value("reference_fingerprint", "") != reference)
-                fail(ledger->jsonlPath(), "run " + id,
-                     "measured against another reference than the sweep now gives (its "
-                     "settings, scene or file changed); use another output directory");
-        }
+        checkFinishedRows(*ledger, s, &reference);
     });
     RunContext c(s);
     c.ztest = ztest;

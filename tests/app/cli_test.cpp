@@ -1214,11 +1214,13 @@ TEST_F(Cli, BatchRefusesAnotherBuildAndRenewsAStaleReference) {
         }
     }
     std::ofstream(jsonl) << rows;
-    r = run(batch);
-    EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find(jsonl + ": run r0000: finished by shvol 0000000, this is "),
-              std::string::npos)
-        << r.err;
+    for (const std::string dry : {"", " --dry-run"}) {  // (a dry run said all was well)
+        r = run(batch + dry);
+        EXPECT_EQ(r.code, 1) << dry;
+        EXPECT_NE(r.err.find(jsonl + ": run r0000: finished by shvol 0000000, this is "),
+                  std::string::npos)
+            << r.err;
+    }
     fs::remove(jsonl);
     fs::remove(path("out/results.csv"));
     write("s.json", scene(R"({"type": "homogeneous", "sigma_t": 3, "albedo": 0.8,
