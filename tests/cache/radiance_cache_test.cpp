@@ -132,6 +132,28 @@ TEST(RadianceCache, GradientsMatchFiniteDifferencesOfFreshRecords) {
     EXPECT_LT(std::sqrt(err / norm), 0.05);
 }
 
+// Constant radiance has zero gradients, also where a displacement uncovers the sky behind an
+// occluder (here a square above the record, half the rays meeting it). The displaced-point
+// quadrature misses what is uncovered, so taken of L itself it gave gradients of a constant,
+// which put a white furnace's sphere on a floor up to 9.8% off 1 (a = 1); taken of L − c (c the
+// displaced samples' mean radiance) they are those of 0.
+TEST(RadianceCache, ConstantRadianceHasNoGradientsBehindAnOccluder) {
+    const int count = 4096;
+    std::vector<IncomingSample> samples;
+    for (const Vec3& w : RadianceCache::directions(count, jitter(count, 5))) {
+        const Vec3 W = (0.5 / w.z()) * w;  // on the plane z = 0.5 above the record at 0
+        const bool hit = std::abs(W.x()) < 0.4 && std::abs(W.y()) < 0.4;
+        samples.push_back({w, Spectrum::Ones(), hit, hit ? W : Vec3::Zero(), Vec3(0, 0, -1)});
+    }
+    const RadianceCache cache(4, 0.3, kLo, kHi);
+    const RadianceCache::Record r = cache.build(Vec3::Zero(), Vec3(0, 0, 1), samples);
+    double largest = 0;
+    for (size_t i = 0; i < r.dx.size(); ++i)
+        largest = std::max({largest, std::abs(r.dx[i]), std::abs(r.dy[i])});
+    EXPECT_LT(largest, 1e-9);
+    EXPECT_GT(std::abs(r.lambda[0]), 1);  // (the record itself is the constant's: 2π·H₀)
+}
+
 // Any number of rays covers the whole hemisphere: the mean of z and of the φ quadrant counts are
 // those of uniform directions (k² stratified, the rest uniform).
 TEST(RadianceCache, DirectionsAreUniformForAnyCount) {
