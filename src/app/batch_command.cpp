@@ -501,7 +501,7 @@ void addBatchCommand(CLI::App& app, std::function<int()>& run) {
         ->check(integerIn(0, 4096));
     c->add_option("--jobs", a->jobs,
                   "Renders at once in this process, each on its share of the cores (under "
-                  "mpirun: one per rank)")
+                  "mpirun each rank renders one: more than 1 is refused; start more ranks)")
         ->check(integerIn(1, 256));
     c->add_flag("--dry-run", a->dryRun,
                 "Check every run's scene, print one line per run and render nothing");

@@ -82,7 +82,7 @@ Json parseJsonFile(const std::string& path) {
     return parseJsonText(ss.str(), path);
 }
 
-Json parseJsonText(const std::string& text, const std::string& path) {
+Json parseJsonText(const std::string& text, const std::string& path, const std::string& root) {
     // "line L, column C" of the byte at offset `byte` (0-based).
     auto lineColumn = [&](size_t byte) {
         size_t line = 1, col = 1;
@@ -108,7 +108,7 @@ Json parseJsonText(const std::string& text, const std::string& path) {
     };
     std::vector<Frame> frames;
     const auto where = [&](size_t depth) {
-        std::string at;
+        std::string at = root;
         for (size_t k = 0; k < depth; ++k)
             at += frames[k].array ? "[" + std::to_string(frames[k].index) + "]"
                                   : (at.empty() ? "" : ".") + frames[k].key;
@@ -154,15 +154,22 @@ Json parseJsonText(const std::string& text, const std::string& path) {
     }
 }
 
-Json overrideValue(const std::string& text) {
+Json overrideValue(const std::string& text, const std::string& key) {
     Json value;
     try {
         value = Json::parse(text);
     } catch (const Json::exception&) {  // not JSON (or a number out of range): a string
         return text;
     }
-    // JSON, so refused as a file's would be if it repeats a key.
-    return value.is_structured() ? parseJsonText(text, "--set value " + text) : value;
+    // JSON, so refused as a file's would be if it repeats a key, named at its place in the scene
+    // (media.0.phase → media[0].phase).
+    if (!value.is_structured()) return value;
+    std::string root, part;
+    for (std::stringstream ss(canonicalKeyPath(key)); std::getline(ss, part, '.');)
+        root += !part.empty() && part.find_first_not_of("0123456789") == std::string::npos
+                    ? "[" + part + "]"
+                    : (root.empty() ? "" : ".") + part;
+    return parseJsonText(text, "--set value " + text, root);
 }
 
 std::string canonicalKeyPath(const std::string& key) {
@@ -181,7 +188,7 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
     if (eq == std::string::npos || eq == 0)
         fail(file, "--set " + assignment, "expected key.path=value");
     const std::string keyPath = canonicalKeyPath(assignment.substr(0, eq));
-    Json value = overrideValue(assignment.substr(eq + 1));
+    Json value = overrideValue(assignment.substr(eq + 1), assignment.substr(0, eq));
     std::vector<std::string> parts;
     {
         std::stringstream ss(keyPath);
@@ -312,12 +319,18 @@ const Json& JsonReader::get(const std::string& key, const char* type) const {
     return j_.at(key);
 }
 
+namespace {
+/// A default as a reader would write it: an integral number as an integer.
+Json writtenDefault(double v) {
+    const bool integral = std::abs(v) < 0x1p53 && v == std::floor(v);
+    return integral ? Json((long long)v) : Json(v);
+}
+}  // namespace
+
 double JsonReader::number(const std::string& key, std::optional<double> def) {
     used_.insert(key);
     if (!j_.contains(key) && def) {
-        // An integral default is recorded as an integer, as a reader would write it.
-        const bool integral = std::abs(*def) < 0x1p53 && *def == std::floor(*def);
-        note(key, integral ? Json((long long)*def) : Json(*def));
+        note(key, writtenDefault(*def));
         return *def;
     }
     const Json& v = get(key, "number");
@@ -427,7 +440,8 @@ std::string JsonReader::choice(const std::string& key, const std::string& def,
 Vec3 JsonReader::vec3(const std::string& key, std::optional<Vec3> def) {
     used_.insert(key);
     if (!j_.contains(key) && def) {
-        note(key, {(*def)[0], (*def)[1], (*def)[2]});
+        note(key,
+             {writtenDefault((*def)[0]), writtenDefault((*def)[1]), writtenDefault((*def)[2])});
         return *def;
     }
     const Json& v = get(key, "array of 3 numbers");

@@ -59,7 +59,8 @@ std::vector<std::string> stringList(JsonReader& r, const std::string& key,
             out.push_back(a);
             continue;
         }
-        out.push_back(assignment(sweepFile, a.substr(0, eq), overrideValue(a.substr(eq + 1))));
+        out.push_back(assignment(sweepFile, a.substr(0, eq),
+                                 overrideValue(a.substr(eq + 1), a.substr(0, eq))));
     }
     return out;
 }

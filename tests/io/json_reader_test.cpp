@@ -145,9 +145,15 @@ TEST(JsonReader, Overrides) {
               "s.json: (top level): expected an object, got array");
     EXPECT_EQ(messageOf([&] { applyOverride(null, "render.spp=1", "s.json"); }),
               "s.json: (top level): expected an object, got null");
+    // (named at the key's place in the scene, not at the value's "(top level)")
     EXPECT_EQ(messageOf([&] { applyOverride(j, "camera={\"fov\": 30, \"fov\": 40}", "s.json"); }),
-              "--set value {\"fov\": 30, \"fov\": 40}: (top level): key \"fov\" appears twice (the "
+              "--set value {\"fov\": 30, \"fov\": 40}: camera: key \"fov\" appears twice (the "
               "last would replace the first)");
+    EXPECT_EQ(messageOf([&] {
+                  applyOverride(j, "media.0.phase={\"a\": [{\"g\": 1, \"g\": 2}]}", "s.json");
+              }),
+              "--set value {\"a\": [{\"g\": 1, \"g\": 2}]}: media[0].phase.a[0]: key \"g\" appears "
+              "twice (the last would replace the first)");
     EXPECT_EQ(messageOf([&] { applyOverride(j, "nonsense", "s.json"); }),
               "s.json: --set nonsense: expected key.path=value");
 }

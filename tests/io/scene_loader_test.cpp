@@ -186,6 +186,9 @@ TEST(SceneLoader, ResolvedSceneFillsInDefaults) {
     EXPECT_FALSE(s.settings.nee.has_value());
     EXPECT_EQ(resolved["camera"]["fov"], s.camera.fovDegrees);
     EXPECT_EQ(resolved["camera"]["resolution"], Json({s.camera.width, s.camera.height}));
+    // A vector default's integral components are integers too, as a reader writes them.
+    EXPECT_EQ(dumpJson(resolved["camera"]["position"]), "[0,-4,0]");
+    EXPECT_EQ(dumpJson(resolved["media"][0]["albedo"]), "[1,1,1]");
     EXPECT_EQ(resolved["environment"], Json({{"type", "constant"}, {"radiance", 0}}));
     const Json& m = resolved["media"][0];
     EXPECT_EQ(m["sigma_t"], 1.0);

@@ -22,8 +22,9 @@ inline std::string dumpJson(const Json& j, int indent = -1) {
 Json parseJsonFile(const std::string& path);
 /// Parses JSON text from `file` (a file name, or what names the text in errors): a malformed text
 /// or a NUL byte is refused at its line and column, a key given twice in one object (which the
-/// parser would keep silently, the last value winning) at the object's JSON path.
-Json parseJsonText(const std::string& text, const std::string& file);
+/// parser would keep silently, the last value winning) at the object's JSON path, which starts
+/// at `root` (the text's place in a larger document; empty: the top level).
+Json parseJsonText(const std::string& text, const std::string& file, const std::string& root = "");
 
 /// Applies an override "a.b.0.c=value" (or "a.b[0].c=value") to a document, creating objects
 /// along the path. The value is parsed as JSON when it is valid JSON, else taken as a string.
@@ -36,8 +37,9 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
 /// media.0.albedo.
 std::string canonicalKeyPath(const std::string& key);
 /// The value of an override "key=text" as applyOverride reads it: the JSON text parsed, or the
-/// text itself as a string when it is not valid JSON.
-Json overrideValue(const std::string& text);
+/// text itself as a string when it is not valid JSON. `key`, the key path it is assigned to,
+/// places a repeated key in errors.
+Json overrideValue(const std::string& text, const std::string& key);
 
 class JsonReader {
   public:
