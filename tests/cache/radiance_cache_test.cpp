@@ -136,7 +136,7 @@ TEST(RadianceCache, GradientsMatchFiniteDifferencesOfFreshRecords) {
 // occluder (here a square above the record, half the rays meeting it). The displaced-point
 // quadrature misses what is uncovered, so taken of L itself it gave gradients of a constant,
 // which put a white furnace's sphere on a floor up to 9.8% off 1 (a = 1); taken of L − c (c the
-// displaced samples' mean radiance) they are those of 0.
+// record's mean incoming radiance) they are those of 0.
 TEST(RadianceCache, ConstantRadianceHasNoGradientsBehindAnOccluder) {
     const int count = 4096;
     std::vector<IncomingSample> samples;
