@@ -136,7 +136,7 @@ TEST(RadianceCache, GradientsMatchFiniteDifferencesOfFreshRecords) {
 // occluder (here a square above the record, half the rays meeting it). The displaced-point
 // quadrature misses what is uncovered, so taken of L itself it gave gradients of a constant,
 // which put a white furnace's sphere on a floor up to 9.8% off 1 (a = 1); taken of L − c (c the
-// record's mean incoming radiance) they are those of 0.
+// mean radiance of the samples that met no surface) they are those of 0.
 TEST(RadianceCache, ConstantRadianceHasNoGradientsBehindAnOccluder) {
     const int count = 4096;
     std::vector<IncomingSample> samples;
@@ -152,6 +152,44 @@ TEST(RadianceCache, ConstantRadianceHasNoGradientsBehindAnOccluder) {
         largest = std::max({largest, std::abs(r.dx[i]), std::abs(r.dy[i])});
     EXPECT_LT(largest, 1e-9);
     EXPECT_GT(std::abs(r.lambda[0]), 1);  // (the record itself is the constant's: 2π·H₀)
+}
+
+// Behind an occluder (a square above the record) the gradients agree with finite differences
+// of records built afresh nearby, for a lit occluder against a black background and for a dark
+// one against a sky of 1. The displaced-point quadrature gives nothing to the sky a displacement
+// uncovers; counted as black, the second case's gradients had the wrong magnitude, and counted
+// as the mean of all samples, the first case's.
+TEST(RadianceCache, GradientsBehindAnOccluderMatchFiniteDifferences) {
+    const int n = 3, count = 65536;
+    for (const auto& [occluder, sky] : {std::pair(1.0, 0.0), std::pair(0.2, 1.0)}) {
+        auto samplesAt = [&, occluder = occluder, sky = sky](const Vec3& p) {
+            std::vector<IncomingSample> s;
+            for (const Vec3& w : RadianceCache::directions(count, jitter(count, 11))) {
+                const Vec3 W = p + ((0.5 - p.z()) / w.z()) * w;  // on the plane z = 0.5
+                const bool hit = std::abs(W.x()) < 0.4 && std::abs(W.y()) < 0.4;
+                s.push_back({w, Spectrum::Constant(hit ? occluder : sky), hit,
+                             hit ? W : Vec3::Zero(), Vec3(0, 0, -1)});
+            }
+            return s;
+        };
+        const RadianceCache cache(n, 0.3, kLo, kHi);
+        const Vec3 p(0.15, 0.1, 0), up(0, 0, 1);
+        const RadianceCache::Record r = cache.build(p, up, samplesAt(p));
+        const double h = 0.01;
+        const RadianceCache::Record rx =
+            cache.build(p + Vec3(h, 0, 0), up, samplesAt(p + Vec3(h, 0, 0)));
+        const RadianceCache::Record ry =
+            cache.build(p + Vec3(0, h, 0), up, samplesAt(p + Vec3(0, h, 0)));
+        double err = 0, norm = 0;
+        for (int i = 0; i < n * n; ++i) {
+            const double fdx = (rx.lambda[i] - r.lambda[i]) / h,
+                         fdy = (ry.lambda[i] - r.lambda[i]) / h;
+            err += sqr(fdx - r.dx[i]) + sqr(fdy - r.dy[i]);
+            norm += sqr(fdx) + sqr(fdy);
+        }
+        EXPECT_GT(norm, 0.01) << occluder;
+        EXPECT_LT(std::sqrt(err / norm), 0.1) << occluder;
+    }
 }
 
 // Any number of rays covers the whole hemisphere: the mean of z and of the φ quadrant counts are

@@ -11,10 +11,10 @@
 /// surface point W_k (normal n_W) by the ratio of the solid angles it subtends,
 ///   λ′_i = (2π / N_r) Σ_k (|W_k − P|² cos ξ′_k) / (|W_k − P′|² cos ξ_k) L_k H_i(ω′_k),
 /// ω′_k the direction from P′ to W_k, and ∂λ/∂x = (λ′ − λ)/Δx (samples that met no surface keep
-/// their direction and weight). The gradients are taken of L_k − c, c the mean of the L_k: they
-/// are the same as L's (a constant's projection over the fixed hemisphere
-/// does not move with P), but the quadrature's error at what a displacement uncovers behind an
-/// occluder scales with L − c, so a constant field gets exactly zero gradients. R_i is the harmonic
+/// their direction and weight). The quadrature gives nothing to directions a displacement
+/// uncovers behind an occluder; the gradients are taken of L_k − c, c the mean radiance of the
+/// samples that met no surface (0 if none), so that those directions count as showing that
+/// background: exact for a constant background, as before for a black one. R_i is the harmonic
 /// mean distance to the surfaces the samples met, clamped to [0.01, 0.25] × the scene's diagonal
 /// (as irradiance caches do, so that records in corners do not shrink to nothing nor open spaces
 /// reach across the scene). A query at (P, N) averages the records with weight (Gautron eq. 23)
