@@ -77,11 +77,12 @@ def load(directory):
                     fail(f"{path}: line {n}: {key}: expected a finite number"
                          f"{'' if key == 'bias' else ' >= 0'}, got {json.dumps(row[key])}")
             # (A run in two rows would be counted twice; shvol batch refuses such a ledger too.)
-            run = json.dumps(row.get("run"))
-            if "run" in row and run in first_line:
-                fail(f"{path}: line {n}: run {row.get('run')} again (first at line "
-                     f"{first_line[run]}): two batches wrote into this directory")
-            first_line[run] = n
+            run = row.get("run")
+            if isinstance(run, str):
+                if run in first_line:
+                    fail(f"{path}: line {n}: run {run} again (first at line "
+                         f"{first_line[run]}): two batches wrote into this directory")
+                first_line[run] = n
             rows.append(row)
     if not rows:
         fail(f"{path}: no finished runs to report")

@@ -48,7 +48,7 @@ void appendToFile(const std::string& path, const std::string& text) {
             const int error = n < 0 ? errno : ENOSPC;
             const bool cutBack = ::ftruncate(fd, st.st_size) == 0;
             ::close(fd);
-            if (cutBack) failWriting(path, error);
+            if (cutBack || done == 0) failWriting(path, error);
             fail(path, "",
                  "cannot write file (" + errnoText(error) + "); its last line is cut short");
         }
@@ -64,12 +64,24 @@ Ledger::Ledger(std::string dir, Open open) : dir_(std::move(dir)) {
     if (open == Open::Repair) {
         lock_ = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
         if (lock_ < 0) fail(dir_, "", "cannot open the directory (" + errnoText() + ")");
-        if (::flock(lock_, LOCK_EX | LOCK_NB) != 0)
+        if (::flock(lock_, LOCK_EX | LOCK_NB) != 0) {
+            const int error = errno;
+            ::close(lock_);
             fail(dir_, "",
-                 errno == EWOULDBLOCK ? "another shvol batch is writing into this directory; "
+                 error == EWOULDBLOCK ? "another shvol batch is writing into this directory; "
                                         "wait for it to end or use another output directory"
-                                      : "cannot lock the directory (" + errnoText() + ")");
+                                      : "cannot lock the directory (" + errnoText(error) + ")");
+        }
     }
+    try {
+        read(open);
+    } catch (...) {
+        if (lock_ >= 0) ::close(lock_);  // (the destructor does not run: the lock would stay)
+        throw;
+    }
+}
+
+void Ledger::read(Open open) {
     std::string text;
     {
         std::ifstream f(jsonlPath(), std::ios::binary);
@@ -107,7 +119,8 @@ Ledger::Ledger(std::string dir, Open open) : dir_(std::move(dir)) {
         if (const auto [it, added] = index_.emplace(id, rows_.size() - 1); !added)
             fail(jsonlPath(), "line " + std::to_string(line),
                  "run " + id + " again (first at line " + std::to_string(lineOf[it->second]) +
-                     "): two batches wrote into this directory; use another output directory");
+                     "): two batches wrote into this directory; delete one of the two lines, or "
+                     "use another output directory");
         addColumns(rows_.back());
     }
     if (open == Open::ReadOnly) return;

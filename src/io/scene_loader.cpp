@@ -156,7 +156,9 @@ Eigen::Affine3d readTransform(JsonReader r) {
     // tracer's range).
     const Vec3 t = r.vec3("translate", Vec3::Zero());
     for (int i = 0; i < 3; ++i)
-        if (!(std::abs(t[i]) <= 1e15)) r.rangeError("translate", "component", t[i], -1e15, 1e15);
+        if (!(std::abs(t[i]) <= kMaxSurfaceCoordinate))
+            r.rangeError("translate", "component", t[i], -kMaxSurfaceCoordinate,
+                         kMaxSurfaceCoordinate);
     const Vec3 s = vec3OrScalarIn(r, "scale", Vec3::Ones(), 1e-12, 1e12);
     Eigen::Affine3d m = Eigen::Affine3d::Identity();
     m.translate(t);

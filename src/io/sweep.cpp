@@ -225,13 +225,14 @@ Sweep readSweep(const std::string& path) {
             // A seed no run uses by default, so the reference's noise is independent: a run of
             // the same seed would repeat the reference's first samples, and its error would look
             // smaller than it is.
-            const double seed = ref.wholeNumber("seed", 1e9, 0, 9007199254740992.0);
+            constexpr long long kDefaultSeed = 1000000000;
+            const double seed = ref.wholeNumber("seed", kDefaultSeed, 0, 9007199254740992.0);
             if (const auto same = runOfSeed.find(seed); same != runOfSeed.end()) {
                 const std::string why = "is also the seed of run " + same->second +
                                         ", which would repeat the reference's first samples; ";
                 if (ref.has("seed")) ref.error("seed", why + "give the reference another seed");
-                r.error("reference", "its default seed 1000000000 " + why +
-                                         "give the reference a \"seed\" of its own");
+                r.error("reference", "its default seed " + std::to_string(kDefaultSeed) + " " +
+                                         why + "give the reference a \"seed\" of its own");
             }
             sr.sets.push_back("render.seed=" + std::to_string((long long)seed));
             sr.file = (fs::path(s.output) / "reference.exr").string();

@@ -1342,7 +1342,7 @@ TEST_F(Cli, BatchRefusesADirectoryAnotherBatchWrites) {
     write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [1]}, "reference": {"spp": 2},
                            "metrics": ["rmse"], "output": "out"})");
     fs::create_directories(path("out"));
-    const int held = ::open(path("out").c_str(), O_RDONLY | O_DIRECTORY);
+    const int held = ::open(path("out").c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     ASSERT_GE(held, 0);
     ASSERT_EQ(::flock(held, LOCK_EX | LOCK_NB), 0);
     Result r = run("batch " + path("sweep.json") + " --quiet");
@@ -1576,6 +1576,7 @@ TEST_F(Cli, BatchReport) {
                           << R"({"run": "r0000", "spp": 8, "wall_time_s": 2})"
                           << "\n";
     c = run("report " + path("o"));  // (it would be counted twice)
+    EXPECT_EQ(c.code, 1);
     EXPECT_EQ(c.err, "shvol: error: " + ledger +
                          ": line 3: run r0000 again (first at line 1): two batches wrote into "
                          "this directory\n");

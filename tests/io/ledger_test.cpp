@@ -173,7 +173,7 @@ TEST(Ledger, ARunTwiceIsAnError) {
     EXPECT_EQ(test::messageOf([&] { Ledger l(dir.string(), Ledger::Open::ReadOnly); }),
               (dir / "results.jsonl").string() +
                   ": line 3: run r0 again (first at line 1): two batches wrote into this "
-                  "directory; use another output directory");
+                  "directory; delete one of the two lines, or use another output directory");
 }
 
 TEST(Ledger, MalformedRowIsAnError) {
@@ -183,6 +183,9 @@ TEST(Ledger, MalformedRowIsAnError) {
     std::ofstream(dir / "results.jsonl") << "{\"run\": \"r0\"}\n{\"run\": \n";
     EXPECT_EQ(test::messageOf([&] { Ledger l(dir.string()); }),
               (dir / "results.jsonl").string() + ": line 2: malformed JSON row");
+    // The refused Ledger released its lock (a constructor that throws runs no destructor).
+    std::ofstream(dir / "results.jsonl") << "{\"run\": \"r0\"}\n";
+    EXPECT_EQ(Ledger(dir.string()).rows().size(), 1u);
 }
 
 }  // namespace shvol

@@ -38,6 +38,8 @@ class Ledger {
     std::string csvPath() const;
 
   private:
+    /// Reads (and with Open::Repair mends) the files: the constructor's work after the lock.
+    void read(Open open);
     /// Adds the row's keys that are not columns yet; true if there were any.
     bool addColumns(const Json& row);
     std::string csvRow(const Json& row) const;
