@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -67,10 +68,18 @@ Ledger::Ledger(std::string dir, Open open) : dir_(std::move(dir)) {
         if (::flock(lock_, LOCK_EX | LOCK_NB) != 0) {
             const int error = errno;
             ::close(lock_);
-            fail(dir_, "",
-                 error == EWOULDBLOCK ? "another shvol batch is writing into this directory; "
-                                        "wait for it to end or use another output directory"
-                                      : "cannot lock the directory (" + errnoText(error) + ")");
+            lock_ = -1;
+            if (error == EWOULDBLOCK)
+                fail(dir_, "",
+                     "another shvol batch is writing into this directory; wait for it to end or "
+                     "use another output directory");
+            // A file system without flock (some network ones): the batch goes on unguarded.
+            if (error != ENOLCK && error != EOPNOTSUPP && error != ENOSYS)
+                fail(dir_, "", "cannot lock the directory (" + errnoText(error) + ")");
+            std::fprintf(stderr,
+                         "shvol: warning: %s: cannot lock the directory (%s); two batches writing "
+                         "into it at once would repeat runs\n",
+                         dir_.c_str(), errnoText(error).c_str());
         }
     }
     try {
