@@ -133,7 +133,7 @@ TEST(RadianceCache, GradientsMatchFiniteDifferencesOfFreshRecords) {
 }
 
 // Constant radiance has zero gradients, also where a displacement uncovers the sky behind an
-// occluder (here a square above the record, half the rays meeting it). The displaced-point
+// occluder (here a square above the record, a quarter of the rays meeting it). The displaced-point
 // quadrature misses what is uncovered, so taken of L itself it gave gradients of a constant,
 // which put a white furnace's sphere on a floor up to 9.8% off 1 (a = 1); taken of L − c (c the
 // mean radiance of the samples that met no surface) they are those of 0.
