@@ -154,22 +154,15 @@ Json parseJsonText(const std::string& text, const std::string& path, const std::
     }
 }
 
-Json overrideValue(const std::string& text, const std::string& key) {
+Json overrideValue(const std::string& text, const std::string& place) {
     Json value;
     try {
         value = Json::parse(text);
     } catch (const Json::exception&) {  // not JSON (or a number out of range): a string
         return text;
     }
-    // JSON, so refused as a file's would be if it repeats a key, named at its place in the scene
-    // (media.0.phase → media[0].phase).
-    if (!value.is_structured()) return value;
-    std::string root, part;
-    for (std::stringstream ss(canonicalKeyPath(key)); std::getline(ss, part, '.');)
-        root += !part.empty() && part.find_first_not_of("0123456789") == std::string::npos
-                    ? "[" + part + "]"
-                    : (root.empty() ? "" : ".") + part;
-    return parseJsonText(text, "--set value " + text, root);
+    // JSON, so refused as a file's would be if it repeats a key, named at its place.
+    return value.is_structured() ? parseJsonText(text, "--set value " + text, place) : value;
 }
 
 std::string canonicalKeyPath(const std::string& key) {
@@ -188,7 +181,6 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
     if (eq == std::string::npos || eq == 0)
         fail(file, "--set " + assignment, "expected key.path=value");
     const std::string keyPath = canonicalKeyPath(assignment.substr(0, eq));
-    Json value = overrideValue(assignment.substr(eq + 1), assignment.substr(0, eq));
     std::vector<std::string> parts;
     {
         std::stringstream ss(keyPath);
@@ -233,6 +225,10 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
         }
     }
     const std::string& last = parts.back();
+    // (read once the path is walked: errors in the value are named at its place, media[0].phase)
+    Json value = overrideValue(
+        assignment.substr(eq + 1),
+        node->is_array() ? walked + "[" + last + "]" : (walked.empty() ? "" : walked + ".") + last);
     if (node->is_array()) {
         if (value.is_null()) fail(file, walked, "--set: array elements cannot be deleted");
         (*node)[element(last)] = std::move(value);

@@ -37,9 +37,9 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
 /// media.0.albedo.
 std::string canonicalKeyPath(const std::string& key);
 /// The value of an override "key=text" as applyOverride reads it: the JSON text parsed, or the
-/// text itself as a string when it is not valid JSON. `key`, the key path it is assigned to,
-/// places a repeated key in errors.
-Json overrideValue(const std::string& text, const std::string& key);
+/// text itself as a string when it is not valid JSON. `place`, the JSON path it is assigned to
+/// (media[0].phase), places a repeated key in errors.
+Json overrideValue(const std::string& text, const std::string& place);
 
 class JsonReader {
   public:
