@@ -33,7 +33,9 @@ std::string errnoText(int error = errno) {
 
 /// Appends text to the file at path (made if missing) with one write(2) call as far as it goes:
 /// a kill can cut it short, never interleave it. A write that fails (a full disk, a file size
-/// limit) is cut back off, so the file is as it was; the error says if that failed too.
+/// limit) is cut back off, so the file is as it was; the error says if that failed too. The
+/// data are flushed (fdatasync) before the file is closed: a network file system may report a
+/// full disk or quota only then, and after close the row could no longer be cut back off.
 void appendToFile(const std::string& path, const std::string& text) {
     const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
     struct stat st {};
@@ -42,19 +44,20 @@ void appendToFile(const std::string& path, const std::string& text) {
         if (fd >= 0) ::close(fd);
         failWriting(path, error);
     }
+    auto failCuttingBack = [&](int error, bool written) {
+        const bool cutBack = ::ftruncate(fd, st.st_size) == 0;
+        ::close(fd);
+        if (cutBack || !written) failWriting(path, error);
+        fail(path, "", "cannot write file (" + errnoText(error) + "); its last line is cut short");
+    };
     for (size_t done = 0; done < text.size();) {
         const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
         if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) {
-            const int error = n < 0 ? errno : ENOSPC;
-            const bool cutBack = ::ftruncate(fd, st.st_size) == 0;
-            ::close(fd);
-            if (cutBack || done == 0) failWriting(path, error);
-            fail(path, "",
-                 "cannot write file (" + errnoText(error) + "); its last line is cut short");
-        }
+        if (n <= 0) failCuttingBack(n < 0 ? errno : ENOSPC, done > 0);
         done += size_t(n);
     }
+    while (::fdatasync(fd) != 0)
+        if (errno != EINTR) failCuttingBack(errno, true);
     if (::close(fd) != 0) failWriting(path, errno);
 }
 
