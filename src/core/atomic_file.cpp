@@ -100,12 +100,40 @@ std::string directoryProblem(const std::filesystem::path& dir, const std::string
     return "";
 }
 
+/// What `path` names once its symbolic links are followed: itself if it is no link, else the
+/// last link's target (relative targets taken from their link's directory), which need not exist.
+/// Forty links at most, as the kernel allows: a loop ends there, and writing to it then fails.
+std::filesystem::path linkTarget(const std::string& path) {
+    namespace fs = std::filesystem;
+    fs::path p = path;
+    std::error_code ec;
+    for (int i = 0; i < 40 && fs::is_symlink(p, ec); ++i) {
+        const fs::path next = fs::read_symlink(p, ec);
+        if (ec) break;
+        p = next.is_absolute() ? next : p.parent_path() / next;
+    }
+    return p;
+}
+
+/// Why the file at `target` (a link's target) cannot be replaced by a rename: "is a directory",
+/// or "is not a regular file (…)" for a device, FIFO or socket; empty otherwise (none there too).
+std::string replacementProblem(const std::filesystem::path& target) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_status st = fs::status(target, ec);
+    if (fs::is_directory(st)) return "is a directory";
+    if (fs::exists(st) && !fs::is_regular_file(st))
+        return "is not a regular file (a device, FIFO or socket: it would be replaced)";
+    return "";
+}
+
 }  // namespace
 
 std::string outputFileProblem(const std::string& path) {
     namespace fs = std::filesystem;
     std::error_code ec;
-    const fs::path parent = fs::path(path).parent_path();
+    const fs::path target = linkTarget(path);
+    const fs::path parent = target.parent_path();
     const fs::path dir = parent.empty() ? fs::path(".") : parent;
     if (!fs::exists(dir, ec)) {
         const fs::path up = nearestExisting(dir.string());
@@ -113,8 +141,7 @@ std::string outputFileProblem(const std::string& path) {
         return "directory " + dir.string() + " does not exist";
     }
     if (std::string problem = directoryProblem(dir, dir.string()); !problem.empty()) return problem;
-    if (fs::is_directory(path, ec)) return "is a directory";
-    return "";
+    return replacementProblem(target);
 }
 
 std::string outputDirectoryProblem(const std::string& path) {
@@ -133,7 +160,12 @@ void failWriting(const std::string& path, int error) {
 
 void writeAtomically(const std::string& path,
                      const std::function<void(const std::string&)>& write) {
-    const std::string tmp = path + ".tmp" + std::to_string(::getpid());
+    // A symbolic link keeps pointing where it did and its target gets the new contents (the
+    // rename would replace the link itself); a device, FIFO or socket is never replaced.
+    const std::string target = linkTarget(path).string();
+    if (const std::string problem = replacementProblem(target); !problem.empty())
+        fail(path, "", "cannot write: " + problem);
+    const std::string tmp = target + ".tmp" + std::to_string(::getpid());
     const TemporaryGuard guard(tmp);
     try {
         write(tmp);
@@ -141,7 +173,7 @@ void writeAtomically(const std::string& path,
         std::remove(tmp.c_str());
         throw;
     }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    if (std::rename(tmp.c_str(), target.c_str()) != 0) {
         const int error = errno;
         std::remove(tmp.c_str());
         failWriting(path, error);

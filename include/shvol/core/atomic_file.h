@@ -7,9 +7,12 @@
 namespace shvol {
 
 /// Calls write(tmpPath), then renames tmpPath to path. If write throws, the temporary is removed
-/// and the exception propagates; the target is never left half-written. A SIGTERM, SIGHUP or
-/// SIGINT that ends the process meanwhile (one whose action was the default when the first write
-/// began) removes the temporary too before the process ends as the signal would have ended it.
+/// and the exception propagates; the target is never left half-written. A path that is a
+/// symbolic link writes its target (the link stays); a directory, device, FIFO or socket
+/// there throws before write is called ("path: cannot write: is not a regular file (…)"). A
+/// SIGTERM, SIGHUP or SIGINT that ends the process meanwhile (one whose action was the default when
+/// the first write began) removes the temporary too before the process ends as the signal would
+/// have ended it.
 void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write);
 
 /// Installs, once, the handlers behind that promise: for SIGTERM, SIGHUP and SIGINT whose action
@@ -21,7 +24,9 @@ void removeTemporariesOnSignals();
 
 /// Why a file cannot be written at path, as far as can be told before writing it: "directory D
 /// does not exist", "A is not a directory" (D, or an ancestor A of it, is a file), "directory D
-/// is not writable (reason)" or "is a directory"; empty otherwise. A command checks its outputs
+/// is not writable (reason)", "is a directory" or "is not a regular file (…)" (a device, FIFO or
+/// socket, which the rename of writeAtomically would replace); empty otherwise. Symbolic links
+/// are followed: what counts is the file their target names. A command checks its outputs
 /// with it before the work that fills them.
 std::string outputFileProblem(const std::string& path);
 /// Why the directory at path cannot be made (with its parents) and written into: its nearest
