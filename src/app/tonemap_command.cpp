@@ -25,7 +25,7 @@ void addTonemapCommand(CLI::App& app, std::function<int()>& run) {
         ->check(numberIn(-64.0, 64.0, false, " stops"));
     c->callback([&run, a] {
         run = [a] {
-            const Image img = readExr(a->input, /*allowInfinity=*/true);
+            const Image img = readExr(a->input, ExrValues::Preview);
             writePng(a->output, img, a->exposure);
             return 0;
         };

@@ -78,7 +78,7 @@ void checkExrAttributeSizes(const std::string& path, uintmax_t bytes) {
 
 }  // namespace
 
-Image readExr(const std::string& path, bool allowInfinity) {
+Image readExr(const std::string& path, ExrValues values) {
     const uintmax_t bytes = regularFileSize(path);
     static std::once_flag limits;
     std::call_once(limits, [] {
@@ -128,7 +128,11 @@ Image readExr(const std::string& path, bool allowInfinity) {
             const Spectrum v = img.at(x, y);
             const std::string where =
                 "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")";
-            if (!v.allFinite() && !(allowInfinity && !v.hasNaN() && (v > 0).all()))
+            if (values == ExrValues::Compared) {
+                if (v.hasNaN()) fail(path, where, "NaN value");
+                continue;
+            }
+            if (!v.allFinite() && !(values == ExrValues::Preview && !v.hasNaN() && (v > 0).all()))
                 fail(path, where, "NaN or infinite value");
             if ((v < 0).any()) fail(path, where, "negative value");
         }

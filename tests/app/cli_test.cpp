@@ -1012,6 +1012,45 @@ TEST_F(Cli, RenderChecksEveryOutputFirst) {
     }
 }
 
+// diff's metrics over two small images, against the formulas of README worked by hand; values
+// infinite in either image (a standard-error image's unknown errors) are left out and counted,
+// negative ones (another renderer's filter ringing) compared; NaN, or nothing finite to compare,
+// is one line and exit 1.
+TEST_F(Cli, DiffComparesTheValuesFiniteInBoth) {
+    Image a(2, 1), b(2, 1);
+    a.set(0, 0, Spectrum(1, 2, 4)), a.set(1, 0, Spectrum(0.5, INFINITY, 0));
+    b.set(0, 0, Spectrum(1, 1, 2)), b.set(1, 0, Spectrum(-0.5, 3, 0));
+    writeExr(path("a.exr"), a);
+    writeExr(path("b.exr"), b);
+    Result r = run("diff " + path("a.exr") + " " + path("b.exr") + " --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    // Differences 0, 1, 2, 1, 0 over five values, the sixth (+inf) left out.
+    EXPECT_NEAR(j["rmse"].get<double>(), std::sqrt(6.0 / 5), 1e-12);
+    EXPECT_NEAR(j["relative_rmse"].get<double>(),
+                std::sqrt((sqr(1 / 1.01) + sqr(2 / 2.01) + sqr(1 / 0.51)) / 5), 1e-12);
+    EXPECT_EQ(j["max_abs_error"].get<double>(), 2);
+    EXPECT_NEAR(j["mean"].get<double>(), 7.5 / 5, 1e-12);
+    EXPECT_NEAR(j["reference_mean"].get<double>(), 3.5 / 5, 1e-12);
+    EXPECT_EQ(j["infinite_values"].get<int>(), 1);
+    r = run("diff " + path("a.exr") + " " + path("b.exr"));
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("\ninfinite_values 1\n"), std::string::npos) << r.out;
+
+    Image inf(2, 1);
+    inf.rgb.assign(inf.rgb.size(), INFINITY);
+    writeExr(path("inf.exr"), inf);
+    r = run("diff " + path("inf.exr") + " " + path("b.exr"));
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "shvol: error: " + path("inf.exr") +
+                         ": no channel value is finite in both images: nothing to compare\n");
+    b.set(1, 0, Spectrum(NAN, 0, 0));
+    writeExr(path("nan.exr"), b);
+    r = run("diff " + path("a.exr") + " " + path("nan.exr"));
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "shvol: error: " + path("nan.exr") + ": pixel (1, 0): NaN value\n");
+}
+
 // A checkpoint is refused when a file the scene names has changed since it was written (the
 // resumed image would mix two renders), and accepted again once the file is as it was.
 TEST_F(Cli, ResumeRefusesChangedInputFiles) {

@@ -78,22 +78,30 @@ TEST(Exr, BadFilesGiveOneClearLine) {
 }
 
 // +inf (what a render writes for a mean beyond the float range) is accepted only when asked for
-// (tonemap's previews); NaN and −inf never.
+// (tonemap's previews); NaN and −inf never. Images to compare (diff) may hold ±inf and negative
+// values, never NaN.
 TEST(Exr, InfinityOnlyWhenAllowed) {
     Image img(3, 2);
     img.set(1, 0, Spectrum(INFINITY, 1, 1));
     writeExr(tmp("inf.exr"), img);
     EXPECT_EQ(messageOf([] { readExr(tmp("inf.exr")); }),
               tmp("inf.exr") + ": pixel (1, 0): NaN or infinite value");
-    EXPECT_EQ(readExr(tmp("inf.exr"), true).at(1, 0)[0], INFINITY);
+    EXPECT_EQ(readExr(tmp("inf.exr"), ExrValues::Preview).at(1, 0)[0], INFINITY);
     img.set(1, 0, Spectrum(NAN, 1, 1));
     writeExr(tmp("nan2.exr"), img);
-    EXPECT_EQ(messageOf([] { readExr(tmp("nan2.exr"), true); }),
+    EXPECT_EQ(messageOf([] { readExr(tmp("nan2.exr"), ExrValues::Preview); }),
               tmp("nan2.exr") + ": pixel (1, 0): NaN or infinite value");
     img.set(1, 0, Spectrum(1, -INFINITY, 1));
     writeExr(tmp("minf.exr"), img);
-    EXPECT_EQ(messageOf([] { readExr(tmp("minf.exr"), true); }),
+    EXPECT_EQ(messageOf([] { readExr(tmp("minf.exr"), ExrValues::Preview); }),
               tmp("minf.exr") + ": pixel (1, 0): NaN or infinite value");
+    img.set(0, 1, Spectrum(-2, 0, 0));
+    writeExr(tmp("minf.exr"), img);
+    const Image compared = readExr(tmp("minf.exr"), ExrValues::Compared);
+    EXPECT_EQ(compared.at(1, 0)[1], -INFINITY);
+    EXPECT_EQ(compared.at(0, 1)[0], -2.f);
+    EXPECT_EQ(messageOf([] { readExr(tmp("nan2.exr"), ExrValues::Compared); }),
+              tmp("nan2.exr") + ": pixel (1, 0): NaN value");
 }
 
 TEST(Exr, FailedWriteLeavesNoFile) {

@@ -6,11 +6,19 @@
 
 namespace shvol {
 
+/// The pixel values readExr accepts besides finite non-negative ones.
+enum class ExrValues {
+    Radiance,  ///< none: a sky, a reference, a run's image
+    Preview,   ///< +inf too: a render writes it for a mean beyond the float range, and
+               ///< --variance for an unknown standard error
+    Compared,  ///< any but NaN: ±inf, and negative values (another renderer's filter can ring
+               ///< below 0)
+};
+
 /// Reads the R, G, B channels (or a single Y channel, replicated) of an EXR file as floats.
-/// Errors (missing or corrupt file, no colour channels, NaN/Inf or negative pixels) name the file
-/// and the pixel. \param allowInfinity accept +inf (a render writes it for a mean beyond the
-/// float range, and --variance for an unknown standard error): for previews.
-Image readExr(const std::string& path, bool allowInfinity = false);
+/// Errors (missing or corrupt file, no colour channels, NaN, and infinite or negative values
+/// that `values` does not accept) name the file and the pixel.
+Image readExr(const std::string& path, ExrValues values = ExrValues::Radiance);
 
 /// Writes float32 R, G, B atomically (temporary file, then rename).
 void writeExr(const std::string& path, const Image& image);
