@@ -221,6 +221,7 @@ Surface readSurface(JsonReader r, size_t index, Contents contents) {
             const Eigen::Matrix3d nm = toWorld.linear().inverse().transpose();
             for (Vec3& n : s.mesh.n) n = (nm * n).normalized();
             validateMesh(s.mesh, file);
+            widestAngleFirst(s.mesh);
         }
     } else if (type == "rectangle") {
         s = Surface::rectangle(toWorld);

@@ -36,6 +36,25 @@ std::string edgeName(uint32_t a, uint32_t b) {
 
 }  // namespace
 
+int widestAngle(const TriangleMesh& mesh, size_t f) {
+    const uint32_t* t = &mesh.indices[3 * f];
+    // The widest angle is opposite the longest edge; edge j runs from vertex j + 1 to j + 2.
+    double longest = -1;
+    int w = 0;
+    for (int j = 0; j < 3; ++j) {
+        const double l = (mesh.p[t[(j + 2) % 3]] - mesh.p[t[(j + 1) % 3]]).squaredNorm();
+        if (l > longest) longest = l, w = j;
+    }
+    return w;
+}
+
+void widestAngleFirst(TriangleMesh& mesh) {
+    for (size_t f = 0; f < mesh.triangleCount(); ++f) {
+        uint32_t* t = &mesh.indices[3 * f];
+        std::rotate(t, t + widestAngle(mesh, f), t + 3);
+    }
+}
+
 void validateMesh(const TriangleMesh& mesh, const std::string& file) {
     const size_t nv = mesh.p.size();
     if (mesh.indices.size() % 3 != 0)
@@ -73,9 +92,13 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file) {
             fail(file, place,
                  "repeated vertex index in (" + std::to_string(t[0]) + ", " + std::to_string(t[1]) +
                      ", " + std::to_string(t[2]) + "): degenerate triangle");
-        // Zero area, up to rounding: the angle at p0 within 1e-12 of 0 or π. Such a triangle
-        // has no reliable geometric normal.
-        const Vec3 e1 = mesh.p[t[1]] - mesh.p[t[0]], e2 = mesh.p[t[2]] - mesh.p[t[0]];
+        // Zero area, up to rounding: the widest angle within 1e-12 of π (its sine below 1e-12),
+        // the three vertices on a line. Such a triangle has no reliable geometric normal; any
+        // other has one, computed at that angle (widestAngleFirst). A needle, whose narrowest
+        // angle is near 0, is a triangle like any other, whichever vertex is listed first.
+        const int w = widestAngle(mesh, f);
+        const Vec3& p0 = mesh.p[t[w]];
+        const Vec3 e1 = mesh.p[t[(w + 1) % 3]] - p0, e2 = mesh.p[t[(w + 2) % 3]] - p0;
         const double c = e1.cross(e2).norm();
         if (!std::isfinite(c)) fail(file, place, "area is not finite (coordinates too large)");
         if (!(c > 1e-12 * e1.norm() * e2.norm()))

@@ -191,6 +191,50 @@ TEST(TriangleMesh, ValidateNamesTheFace) {
               "big.ply: face 0: area is not finite (coordinates too large)");
 }
 
+// Whether a triangle is degenerate does not depend on which vertex is listed first: a needle
+// 10¹³ long and 1 wide (angles of 10⁻¹³, 90° and 90°) is accepted in all three rotations (the
+// test used to look at the first vertex's angle only, and called it "collinear"), and a sliver
+// whose widest angle is within 10⁻¹³ of π is refused in all three.
+TEST(TriangleMesh, DegeneracyDoesNotDependOnTheFirstVertex) {
+    TriangleMesh needle, sliver;
+    needle.p = {Vec3(1e13, 0, 0), Vec3(0, 0, 0), Vec3(0, 1, 0)};
+    sliver.p = {Vec3(0, 0, 0), Vec3(1, 1e-13, 0), Vec3(2, 0, 0)};
+    for (int r = 0; r < 3; ++r) {
+        needle.indices =
+            sliver.indices = {uint32_t(r), uint32_t((r + 1) % 3), uint32_t((r + 2) % 3)};
+        EXPECT_NO_THROW(validateMesh(needle, "needle.obj")) << r;
+        EXPECT_EQ(messageOf([&] { validateMesh(sliver, "sliver.obj"); }),
+                  "sliver.obj: face 0: zero area (collinear vertices): degenerate triangle")
+            << r;
+        EXPECT_EQ(widestAngle(sliver, 0), (4 - r) % 3) << r;  // vertex 1, where it is listed
+    }
+}
+
+// widestAngleFirst keeps each triangle's winding and puts its widest angle first, where the
+// cross product behind the normal has the least rounding: for a rotated needle it then gives
+// the exact normal to 1e-12, which from the sharp vertex it misses by more than 1e-6.
+TEST(TriangleMesh, WidestAngleFirstGivesTheNormalItsPrecision) {
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+    TriangleMesh m;
+    m.p = {R * Vec3(1e13, 0, 0), Vec3(0, 0, 0), R * Vec3(0, 1, 0)};
+    m.indices = {0, 1, 2};
+    const Vec3 exact = R * Vec3(0, 0, -1);  // (p1 − p0) × (p2 − p0) ∝ −z before the rotation
+    auto normal = [&] {
+        const uint32_t* t = m.indices.data();
+        return (m.p[t[1]] - m.p[t[0]]).cross(m.p[t[2]] - m.p[t[0]]).normalized();
+    };
+    EXPECT_GT((normal() - exact).norm(), 1e-6);
+    widestAngleFirst(m);
+    // Either right angle (the two edges from the sharp vertex tie in double), winding kept.
+    const std::vector<uint32_t> rotated = m.indices;
+    EXPECT_TRUE(rotated == (std::vector<uint32_t>{1, 2, 0}) ||
+                rotated == (std::vector<uint32_t>{2, 0, 1}))
+        << rotated[0] << rotated[1] << rotated[2];
+    EXPECT_LT((normal() - exact).norm(), 1e-12);
+    widestAngleFirst(m);  // already first: unchanged
+    EXPECT_EQ(m.indices, rotated);
+}
+
 TEST(TriangleMesh, ValidateRefusesAnEmptyMesh) {
     EXPECT_EQ(messageOf([&] { validateMesh(TriangleMesh(), "e.obj"); }),
               "e.obj: the mesh has no triangles");

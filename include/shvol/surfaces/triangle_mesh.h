@@ -22,8 +22,21 @@ struct TriangleMesh {
 
 /// Throws shvol::Error "FILE: vertex K: …" or "FILE: face K: …" (K counted from 0) for a
 /// non-finite position, normal or texture coordinate, a zero normal, an index out of range, a
-/// triangle of zero area (repeated or collinear vertices), or a mesh without triangles.
+/// triangle of zero area (repeated vertices, or collinear: the sine of its widest angle below
+/// 10⁻¹², whichever vertex comes first), or a mesh without triangles. Indices must be in range
+/// for the functions below.
 void validateMesh(const TriangleMesh& mesh, const std::string& file);
+
+/// The corner (0, 1 or 2) of triangle f with the widest angle, the one opposite its longest edge
+/// (the first of equals).
+int widestAngle(const TriangleMesh& mesh, size_t f);
+
+/// Rotates every triangle's indices (its winding, and so its normal, unchanged) so that its
+/// widest angle comes first. The cross product (p1 − p0) × (p2 − p0) behind the geometric normal
+/// and the area then has the least rounding: its relative error grows as ε / sin(angle at p0),
+/// which at a needle's sharp vertex can be 1 (a triangle 10¹³ long and 1 wide has an angle of
+/// 10⁻¹³ there and of 90° at the other two).
+void widestAngleFirst(TriangleMesh& mesh);
 
 /// Why the mesh is not the closed, consistently oriented surface of a solid, or "" if it is:
 /// every directed edge (a, b) of a triangle must appear exactly once, and its reverse (b, a)
