@@ -158,7 +158,9 @@ Json overrideValue(const std::string& text, const std::string& place) {
     Json value;
     try {
         value = Json::parse(text);
-    } catch (const Json::exception&) {  // not JSON (or a number out of range): a string
+    } catch (const Json::out_of_range&) {  // a number beyond a double (1e400)
+        fail("--set value " + text, place, "number out of range");
+    } catch (const Json::exception&) {  // not JSON: a string
         return text;
     }
     // JSON, so refused as a file's would be if it repeats a key, named at its place.
@@ -176,21 +178,44 @@ std::string canonicalKeyPath(const std::string& key) {
     return path;
 }
 
+std::string keyPathProblem(const std::string& key) {
+    size_t i = 0;
+    const auto name = [&] {  // a non-empty run of characters other than . [ ]
+        const size_t start = i;
+        while (i < key.size() && key[i] != '.' && key[i] != '[' && key[i] != ']') ++i;
+        return i > start;
+    };
+    if (!name())
+        return key.empty() || key[0] == '.' ? "empty component in key path"
+                                            : "a key path starts with a name";
+    while (i < key.size()) {
+        const char c = key[i++];
+        if (c == '.') {
+            if (!name()) return "empty component in key path";
+        } else if (c == '[') {
+            const size_t start = i;
+            while (i < key.size() && key[i] >= '0' && key[i] <= '9') ++i;
+            if (i == start || i == key.size() || key[i] != ']')
+                return "expected an index in brackets, as in media[0]";
+            ++i;
+        } else {
+            return "']' without '[' in key path";
+        }
+    }
+    return "";
+}
+
 void applyOverride(Json& doc, const std::string& assignment, const std::string& file) {
     const auto eq = assignment.find('=');
     if (eq == std::string::npos || eq == 0)
         fail(file, "--set " + assignment, "expected key.path=value");
-    const std::string keyPath = canonicalKeyPath(assignment.substr(0, eq));
+    const std::string key = assignment.substr(0, eq);
+    if (const std::string problem = keyPathProblem(key); !problem.empty())
+        fail(file, "--set " + assignment, problem);
     std::vector<std::string> parts;
     {
-        std::stringstream ss(keyPath);
-        std::string part;
-        while (std::getline(ss, part, '.')) {
-            if (part.empty()) fail(file, "--set " + assignment, "empty component in key path");
-            parts.push_back(part);
-        }
-        if (parts.empty() || keyPath.back() == '.')
-            fail(file, "--set " + assignment, "empty component in key path");
+        std::stringstream ss(canonicalKeyPath(key));
+        for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
     }
     // The document itself must be an object (a scene or a sweep), overrides or not.
     if (!doc.is_object()) fail(file, "(top level)", "expected an object, got " + typeName(doc));

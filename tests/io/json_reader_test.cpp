@@ -184,6 +184,42 @@ TEST(JsonReader, OverrideSemantics) {
               "s.json: --set media.=1: empty component in key path");
 }
 
+// A malformed key path is refused at once (brackets used to be dropped wherever they were, so
+// camera[fov=0.5 set camera.fov, and camera]fov was named as the unknown key "camerafov"), and
+// so is a number beyond a double, which used to become the string "1e400".
+TEST(JsonReader, OverrideRefusesMalformedKeyPathsAndNumbers) {
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"camera[fov=0.5", "expected an index in brackets, as in media[0]"},
+        {"media[0]].albedo=0.5", "']' without '[' in key path"},
+        {"media[0][albedo]=0.5", "expected an index in brackets, as in media[0]"},
+        {"media[]=1", "expected an index in brackets, as in media[0]"},
+        {"camera]fov=1", "']' without '[' in key path"},
+        {"[0].x=1", "a key path starts with a name"},
+        {".x=1", "empty component in key path"},
+        {"a..b=1", "empty component in key path"},
+        {"media[0].=1", "empty component in key path"},
+    };
+    for (const auto& c : cases) {
+        Json j = Json::parse(R"({"camera": {"fov": 40}, "media": [{"albedo": 1}]})");
+        const Json before = j;
+        EXPECT_EQ(messageOf([&] { applyOverride(j, c.first, "s.json"); }),
+                  "s.json: --set " + c.first + ": " + c.second);
+        EXPECT_EQ(j, before) << c.first;
+    }
+    Json j = Json::parse(R"({"media": [{"albedo": 1, "phase": {"g": 0}}]})");
+    applyOverride(j, "media[0].phase.g=0.5", "s.json");  // both notations, and nested indices
+    applyOverride(j, "media.0.albedo=0.25", "s.json");
+    EXPECT_EQ(j["media"][0]["phase"]["g"], 0.5);
+    EXPECT_EQ(j["media"][0]["albedo"], 0.25);
+    applyOverride(j, "m=[[1,2],[3,4]]", "s.json");
+    applyOverride(j, "m[1][0]=7", "s.json");
+    EXPECT_EQ(j["m"], Json::parse("[[1,2],[7,4]]"));
+    EXPECT_EQ(messageOf([&] { applyOverride(j, "media[0].albedo=1e400", "s.json"); }),
+              "--set value 1e400: media[0].albedo: number out of range");
+    EXPECT_EQ(messageOf([&] { applyOverride(j, "render.spp=" + std::string(400, '9'), "s.json"); }),
+              "--set value " + std::string(400, '9') + ": render.spp: number out of range");
+}
+
 // Found by fuzz/scene_fuzzer and fuzz/phase_spec_fuzzer: a --set value that is not JSON is kept
 // as a string, bytes and all; quoting it in a message must not throw nlohmann's type_error 316
 // (invalid UTF-8), which escaped as a non-shvol exception.
