@@ -339,7 +339,6 @@ int runRender(const RenderArgs& a) {
                           {"command_line", commandLine()},
                           {"machine", machineDescription()},
                           {"mpi_ranks", spread ? world.size() : 1}};
-            if (a.resume && a.checkpoint.empty()) fail("", "--resume", "needs --checkpoint FILE");
             identity = a.checkpoint.empty()
                            ? 0
                            : renderIdentity(doc, namedFileContents(provenance.at("inputs")),
@@ -490,14 +489,24 @@ void addRenderCommand(CLI::App& app, std::function<int()>& run) {
                   "Stop after this many seconds of rendering and write what is finished")
         ->check(numberIn(0, 1e9, true))
         ->default_str("none");
-    c->add_option("--checkpoint", args->checkpoint,
-                  "Save the progress to FILE between passes, on interruption and at the end");
+    // An empty name (a script's unset variable) would save nothing and be found out only at
+    // --resume; the options that act on a checkpoint are refused without one.
+    CLI::Option* checkpoint =
+        c->add_option("--checkpoint", args->checkpoint,
+                      "Save the progress to FILE between passes, on interruption and at the end")
+            ->check(CLI::Validator(
+                [](std::string& path) {
+                    return path.empty() ? std::string("needs a file name") : writableOutput()(path);
+                },
+                "FILE"));
     c->add_option("--checkpoint-interval", args->checkpointInterval,
                   "Seconds between checkpoints (written at the end of a pass)")
-        ->check(numberIn(0, 1e9));
+        ->check(numberIn(0, 1e9))
+        ->needs(checkpoint);
     c->add_flag("--resume", args->resume,
                 "Continue the render saved in --checkpoint (same scene, --set and seed; the "
-                "sample count may grow)");
+                "sample count may grow)")
+        ->needs(checkpoint);
     c->callback([&run, args] { run = [args] { return runRender(*args); }; });
 }
 

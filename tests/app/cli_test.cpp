@@ -2,6 +2,7 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -962,30 +963,42 @@ TEST_F(Cli, TimeLimitCheckpointAndResume) {
         << r.err;
     r = run(s + "-o " + path("x.exr") + " --resume");
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find("--resume: needs --checkpoint FILE"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--resume requires --checkpoint (see --help)"), std::string::npos)
+        << r.err;
     EXPECT_FALSE(fs::exists(path("x.exr")));
 }
 
 // Every file a render would write is checked before it renders: a checkpoint whose directory
 // is missing, that is a directory, or that names one of the images or statistics is refused at
 // once (it used to fail after the whole render, or to be written over the image), and so is an
-// output below a regular file. A directory given to --resume is named as such.
+// output below a regular file. A directory given to --resume is named as such. A FIFO (or a
+// device) is refused: the rename of the finished file used to replace it, and as root
+// `--checkpoint /dev/null` replaced /dev/null.
 TEST_F(Cli, RenderChecksEveryOutputFirst) {
     write("s.json", scene(Homogeneous));
     write("afile", "");
     fs::create_directories(path("d"));
+    ASSERT_EQ(::mkfifo(path("fifo").c_str(), 0600), 0);
     const std::string s = "render " + path("s.json") + " --quiet -o " + path("o.exr") + " ";
     const std::vector<std::pair<std::string, std::string>> cases = {
-        {"--checkpoint " + path("no/ck.bin"),
-         path("no/ck.bin") + ": cannot write: directory " + path("no") + " does not exist"},
-        {"--checkpoint " + path("d"), path("d") + ": cannot write: is a directory"},
+        {"--checkpoint " + path("no/ck.bin"), "--checkpoint: " + path("no/ck.bin") +
+                                                  ": cannot write: directory " + path("no") +
+                                                  " does not exist"},
+        {"--checkpoint " + path("d"), "--checkpoint: " + path("d") + ": cannot write: is a directory"},
+        {"--checkpoint ''", "--checkpoint: needs a file name"},
+        {"--checkpoint-interval 5", "--checkpoint-interval requires --checkpoint"},
+        {"--resume", "--resume requires --checkpoint"},
         {"--checkpoint " + path("o.exr"),
          path("o.exr") + ": the checkpoint would be written over the image"},
         {"--checkpoint " + path("d/../o.stats.json"),
          path("d/../o.stats.json") + ": the checkpoint would be written over the statistics"},
         {"--spp 1,2 --checkpoint " + path("o.spp1.exr"),
          path("o.spp1.exr") + ": the checkpoint would be written over the image at 1 spp"},
-        {"--checkpoint " + path("d") + " --resume", path("d") + ": not a regular file"},
+        {"--checkpoint " + path("d") + " --resume",
+         "--checkpoint: " + path("d") + ": cannot write: is a directory"},
+        {"--checkpoint " + path("fifo"), "--checkpoint: " + path("fifo") +
+                                             ": cannot write: is not a regular file (a device, "
+                                             "FIFO or socket"},
     };
     for (const auto& [options, message] : cases) {
         const Result r = run(s + options);
