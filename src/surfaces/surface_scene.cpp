@@ -41,14 +41,22 @@ double analyticRoot(const Surface& s, const Vec3& o, const Vec3& d, double t0, d
                                            : diskRoot(o, d, s, t0, t1);
 }
 
-// Embree user geometry for spheres and disks, intersected in double precision. Only rtcIntersect1
-// and rtcOccluded1 are used, so every callback sees one ray (N == 1).
+/// A sphere or disk as Embree user geometry, and the scale of Embree's space (below).
+struct AnalyticGeometry {
+    const Surface* surface;
+    double scale;
+};
+
+// Embree user geometry for spheres and disks, intersected in double precision in the scene's
+// space (Embree's divided by the scale, exactly: a power of 2). Only rtcIntersect1 and
+// rtcOccluded1 are used, so every callback sees one ray (N == 1).
 void analyticBounds(const RTCBoundsFunctionArguments* a) {
-    const Surface& s = *static_cast<const Surface*>(a->geometryUserPtr);
+    const auto& [surface, scale] = *static_cast<const AnalyticGeometry*>(a->geometryUserPtr);
+    const Surface& s = *surface;
     Vec3 half = Vec3::Constant(s.radius);
     if (s.kind == Surface::Kind::Disk)  // extent of a disk along axis i: r √(1 − n_i²)
         for (int i = 0; i < 3; ++i) half[i] = s.radius * safeSqrt(1 - s.normal[i] * s.normal[i]);
-    const Vec3 lo = s.center - half, hi = s.center + half;
+    const Vec3 lo = (s.center - half) * scale, hi = (s.center + half) * scale;
     const float inf = std::numeric_limits<float>::infinity();
     // Rounded outwards, so the float box contains the double shape.
     a->bounds_o->lower_x = std::nextafter(float(lo.x()), -inf);
@@ -62,12 +70,12 @@ void analyticBounds(const RTCBoundsFunctionArguments* a) {
 void analyticIntersect(const RTCIntersectFunctionNArguments* a) {
     if (!a->valid[0]) return;
     RTCRayHit& rh = *reinterpret_cast<RTCRayHit*>(a->rayhit);
-    const Surface& s = *static_cast<const Surface*>(a->geometryUserPtr);
-    const Vec3 o(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z);
+    const auto& [s, scale] = *static_cast<const AnalyticGeometry*>(a->geometryUserPtr);
+    const Vec3 o = Vec3(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z) / scale;
     const Vec3 d = Vec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z).normalized();
-    const double t = analyticRoot(s, o, d, rh.ray.tnear, rh.ray.tfar);
+    const double t = analyticRoot(*s, o, d, rh.ray.tnear / scale, rh.ray.tfar / scale);
     if (std::isnan(t)) return;
-    rh.ray.tfar = float(t);
+    rh.ray.tfar = float(t * scale);
     rh.hit.u = rh.hit.v = 0;
     rh.hit.Ng_x = rh.hit.Ng_y = rh.hit.Ng_z = 0;  // recomputed in double by intersect()
     rh.hit.primID = a->primID;
@@ -78,20 +86,22 @@ void analyticIntersect(const RTCIntersectFunctionNArguments* a) {
 void analyticOccluded(const RTCOccludedFunctionNArguments* a) {
     if (!a->valid[0]) return;
     RTCRay& ray = *reinterpret_cast<RTCRay*>(a->ray);
-    const Surface& s = *static_cast<const Surface*>(a->geometryUserPtr);
-    const Vec3 o(ray.org_x, ray.org_y, ray.org_z);
+    const auto& [s, scale] = *static_cast<const AnalyticGeometry*>(a->geometryUserPtr);
+    const Vec3 o = Vec3(ray.org_x, ray.org_y, ray.org_z) / scale;
     const Vec3 d = Vec3(ray.dir_x, ray.dir_y, ray.dir_z).normalized();
-    if (!std::isnan(analyticRoot(s, o, d, ray.tnear, ray.tfar)))
+    if (!std::isnan(analyticRoot(*s, o, d, ray.tnear / scale, ray.tfar / scale)))
         ray.tfar = -std::numeric_limits<float>::infinity();
 }
 
-RTCRay toRtc(const Ray& ray, double tMax) {
+/// The ray in Embree's space: positions and distances times `scale` (its direction unscaled).
+RTCRay toRtc(const Ray& ray, double tMax, double scale) {
     RTCRay r;
-    r.org_x = float(ray.o.x()), r.org_y = float(ray.o.y()), r.org_z = float(ray.o.z());
+    const Vec3 o = ray.o * scale;
+    r.org_x = float(o.x()), r.org_y = float(o.y()), r.org_z = float(o.z());
     r.dir_x = float(ray.d.x()), r.dir_y = float(ray.d.y()), r.dir_z = float(ray.d.z());
     r.tnear = 0;
-    r.tfar = tMax < double(std::numeric_limits<float>::max())
-                 ? float(tMax)
+    r.tfar = tMax * scale < double(std::numeric_limits<float>::max())
+                 ? float(tMax * scale)
                  : std::numeric_limits<float>::infinity();
     r.time = 0;
     r.mask = 0xFFFFFFFFu;
@@ -105,6 +115,13 @@ RTCRay toRtc(const Ray& ray, double tMax) {
 struct SurfaceScene::Embree {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
+    /// Embree's space is the scene's times `scale`, the power of 2 that brings the surfaces'
+    /// largest coordinate magnitude R into [1, 2). Its float triangle test multiplies three
+    /// lengths, which overflowed (3.4·10³⁸) once edges and distances reached about 10¹³, and
+    /// then missed triangles; scaled by a power of 2 every float operation is exact as before,
+    /// so a scene gets the hits it would get at R ≈ 1, whatever its size.
+    double scale = 1;
+    std::vector<AnalyticGeometry> analytic;  ///< user data of the spheres and disks
     ~Embree() {
         if (scene) rtcReleaseScene(scene);
         if (device) rtcReleaseDevice(device);
@@ -126,14 +143,20 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
     rtcSetSceneFlags(rtc_->scene, RTC_SCENE_FLAG_ROBUST);
     lo_ = Vec3::Constant(std::numeric_limits<double>::infinity());
     hi_ = -lo_;
-    for (size_t i = 0; i < surfaces_.size(); ++i) {
-        Surface& s = surfaces_[i];
+    for (const Surface& s : surfaces_) {
         hasNull_ = hasNull_ || s.bsdf.type == BsdfType::Null;
         if (!(s.reach() <= kMaxSurfaceCoordinate))
             throw Error(s.name + ": " + surfaceReachMessage(s.reach()));
         // (A disk's box is its sphere's: a bound, enough for ε and the cache's grid.)
         const Bounds3 b = s.bounds();
         lo_ = lo_.cwiseMin(b.lo), hi_ = hi_.cwiseMax(b.hi);
+    }
+    const double R =
+        surfaces_.empty() ? 0 : std::max(lo_.cwiseAbs().maxCoeff(), hi_.cwiseAbs().maxCoeff());
+    const double scale = rtc_->scale = R > 0 ? std::ldexp(1.0, -std::ilogb(R)) : 1.0;
+    rtc_->analytic.reserve(surfaces_.size());  // (their addresses are Embree's user data)
+    for (size_t i = 0; i < surfaces_.size(); ++i) {
+        const Surface& s = surfaces_[i];
         RTCGeometry g;
         if (s.kind == Surface::Kind::Mesh || s.kind == Surface::Kind::Rectangle) {
             g = rtcNewGeometry(rtc_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -145,13 +168,14 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
                                         3 * sizeof(unsigned), m.triangleCount()));
             if (!v || !idx) rtc_->fail("could not allocate a mesh buffer");
             for (size_t k = 0; k < m.p.size(); ++k)
-                for (int j = 0; j < 3; ++j) v[3 * k + j] = float(m.p[k][j]);
+                for (int j = 0; j < 3; ++j) v[3 * k + j] = float(m.p[k][j] * scale);
             std::copy(m.indices.begin(), m.indices.end(), idx);
             triangles_ += m.triangleCount();
         } else {
             g = rtcNewGeometry(rtc_->device, RTC_GEOMETRY_TYPE_USER);
             rtcSetGeometryUserPrimitiveCount(g, 1);
-            rtcSetGeometryUserData(g, &s);
+            rtc_->analytic.push_back({&s, scale});
+            rtcSetGeometryUserData(g, &rtc_->analytic.back());
             rtcSetGeometryBoundsFunction(g, analyticBounds, nullptr);
             rtcSetGeometryIntersectFunction(g, analyticIntersect);
             rtcSetGeometryOccludedFunction(g, analyticOccluded);
@@ -162,9 +186,7 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
     }
     rtcCommitScene(rtc_->scene);
     if (rtcGetDeviceError(rtc_->device) != RTC_ERROR_NONE) rtc_->fail("building the BVH");
-    const double scale =
-        surfaces_.empty() ? 0 : std::max(lo_.cwiseAbs().maxCoeff(), hi_.cwiseAbs().maxCoeff());
-    epsilon_ = std::ldexp(scale > 0 ? scale : 1.0, -16);
+    epsilon_ = std::ldexp(R > 0 ? R : 1.0, -16);
     static_assert(256 * kMaxSurfaceCoordinate < 1.8e18, "far origins stay within Embree's range");
     buildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -207,7 +229,7 @@ bool SurfaceScene::intersectInRange(const Ray& ray, double tMax, SurfaceHit* hit
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
-    rh.ray = toRtc(ray, tMax);
+    rh.ray = toRtc(ray, tMax, rtc_->scale);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(rtc_->scene, &ctx, &rh);
@@ -218,7 +240,7 @@ bool SurfaceScene::intersectInRange(const Ray& ray, double tMax, SurfaceHit* hit
     hit->ns = Vec3::Zero();  // set below only from vertex normals
     switch (s.kind) {
         case Surface::Kind::Sphere: {
-            const Vec3 q = ray(rh.ray.tfar) - s.center;
+            const Vec3 q = ray(rh.ray.tfar / rtc_->scale) - s.center;
             hit->ng = q.normalized();
             hit->p = s.center + s.radius * hit->ng;
             hit->uv = Vec2(sphericalPhi(hit->ng) * Inv2Pi, safeAcos(hit->ng.z()) * InvPi);
@@ -271,7 +293,7 @@ bool SurfaceScene::occluded(const Ray& ray, double tMax) const {
     if (!startNear(ray, tMax, &moved, &tEntry)) return false;
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
-    RTCRay r = toRtc(moved, tMax - tEntry);
+    RTCRay r = toRtc(moved, tMax - tEntry, rtc_->scale);
     rtcOccluded1(rtc_->scene, &ctx, &r);
     return r.tfar < 0;
 }

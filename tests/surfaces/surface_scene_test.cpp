@@ -176,6 +176,15 @@ TEST(SurfaceScene, NoSelfIntersectionAtScale1) {
 TEST(SurfaceScene, NoSelfIntersectionAtScale1e4) {
     checkNoSelfIntersection(1e4);
 }
+// At the ends of the range: Embree's float triangle test multiplies three lengths, which
+// overflowed at this scale (edges of 10¹², distances of 10¹⁴) and missed triangles, until its
+// space was scaled to the surfaces' size (SurfaceScene::Embree::scale).
+TEST(SurfaceScene, NoSelfIntersectionAtScale1e13) {
+    checkNoSelfIntersection(1e13);
+}
+TEST(SurfaceScene, NoSelfIntersectionAtScale1em12) {
+    checkNoSelfIntersection(1e-12);
+}
 
 TEST(SurfaceScene, EpsilonFollowsTheSceneScale) {
     const SurfaceScene a(one(Surface::sphere(Vec3(0, 0, 0), 1e-4)));
