@@ -344,12 +344,24 @@ int runRender(const RenderArgs& a) {
                            : renderIdentity(doc, namedFileContents(provenance.at("inputs")),
                                             SHVOL_GIT_REVISION);
             if (a.resume) film = readCheckpoint(a.checkpoint, identity);
+            if (a.variance && film.maxCount() > 0 && film.sumSq.empty())
+                fail(a.checkpoint, "",
+                     "was saved without --variance, so the standard errors of its samples are "
+                     "lost; resume without --variance, or start afresh");
             if (film.maxCount() > uint32_t(scene.settings.spp))
                 fail(a.checkpoint, "",
                      "has " + std::to_string(film.maxCount()) +
                          " samples per pixel, more than the " + std::to_string(scene.settings.spp) +
                          " asked for; resume with at least that many (--spp)");
             if (sppList.size() > 1) stops.assign(sppList.begin(), sppList.end() - 1);
+            // A resumed film past an image asked for cannot give it: say so, not write nothing.
+            for (const uint32_t n : stops)
+                if (n <= film.minCount())
+                    warnings.push_back("--spp " + std::to_string(n) + ": the checkpoint " +
+                                       a.checkpoint + " already holds " +
+                                       std::to_string(film.minCount()) +
+                                       " samples per pixel; the image at " + std::to_string(n) +
+                                       " spp is not written");
             // Every file the render writes, with what it is.
             std::vector<std::pair<std::string, std::string>> writes = {
                 {final.image, "the image"}, {final.stats, "the statistics"}};
@@ -370,10 +382,13 @@ int runRender(const RenderArgs& a) {
                 if (const std::string problem = outputFileProblem(w); !problem.empty())
                     fail(w, "", "cannot write: " + problem);
                 for (const Json& in : provenance.at("inputs"))
-                    if (sameFile(w, in.at("path").get<std::string>()))
+                    if (sameFile(w, in.at("path").get<std::string>())) {
+                        const std::string key = in.at("key").get<std::string>();
                         fail(w, "",
-                             "is an input of the scene (" + in.at("key").get<std::string>() +
-                                 "); write the output elsewhere");
+                             (key == "(scene)" ? std::string("is the scene file")
+                                               : "is an input of the scene (" + key + ")") +
+                                 "; write the output elsewhere");
+                    }
                 for (size_t k = 0; k < i; ++k)
                     if (sameFile(w, writes[k].first))
                         fail(w, "",

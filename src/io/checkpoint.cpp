@@ -69,8 +69,9 @@ Film readCheckpoint(const std::string& path, uint64_t identity) {
     const size_t expected = header + pixels * (4 + 3 * 8 * (hasSumSq ? 2 : 1)) + 8;
     if (bytes.size() != expected)
         fail(path, "",
-             "truncated or padded: " + std::to_string(bytes.size()) + " bytes, expected " +
-                 std::to_string(expected) + " for " + std::to_string(w) + "x" + std::to_string(h));
+             std::to_string(bytes.size()) + " bytes where its header (" + std::to_string(w) + "x" +
+                 std::to_string(h) + (hasSumSq ? ", with variance" : "") + ") needs " +
+                 std::to_string(expected) + ": truncated, padded or corrupt");
     std::memcpy(&sum, bytes.data() + expected - 8, 8);
     if (fnv1a(bytes.data(), expected - 8) != sum)
         fail(path, "", "checksum mismatch (corrupt file)");

@@ -844,6 +844,11 @@ TEST_F(Cli, RenderRefusesToOverwriteItsInputs) {
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find(path("ck.exr") + ": is an input of the scene"), std::string::npos)
         << r.err;
+    r = run("render " + path("u.json") + " -o " + path("y.exr") + " --checkpoint " +
+            path("u.json") + " --quiet");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "shvol: error: " + path("u.json") +
+                         ": is the scene file; write the output elsewhere\n");
     EXPECT_FALSE(fs::exists(path("x.exr")));
     EXPECT_FALSE(fs::exists(path("y.exr")));
     // Another name: fine.
@@ -961,6 +966,24 @@ TEST_F(Cli, TimeLimitCheckpointAndResume) {
         r.err.find(path("ck.bin") + ": has 20000 samples per pixel, more than the 100 asked for"),
         std::string::npos)
         << r.err;
+    // Standard errors asked of a checkpoint saved without them: refused, naming it.
+    r = run(s + "-o " + path("x.exr") + " --variance --checkpoint " + path("ck.bin") + " --resume");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "shvol: error: " + path("ck.bin") +
+                         ": was saved without --variance, so the standard errors of its samples "
+                         "are lost; resume without --variance, or start afresh\n");
+    // An image at fewer samples than the checkpoint holds cannot be written: a warning says so.
+    r = run("render " + path("s.json") + " --spp 16,20000 --quiet -o " + path("y.exr") +
+            " --checkpoint " + path("ck.bin") + " --resume");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("shvol: warning: " + path("s.json") + ": --spp 16: the checkpoint " +
+                         path("ck.bin") +
+                         " already holds 20000 samples per pixel; the image at 16 spp is not "
+                         "written"),
+              std::string::npos)
+        << r.err;
+    EXPECT_TRUE(fs::exists(path("y.exr")));
+    EXPECT_FALSE(fs::exists(path("y.spp16.exr")));
     r = run(s + "-o " + path("x.exr") + " --resume");
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("--resume requires --checkpoint (see --help)"), std::string::npos)
@@ -984,7 +1007,8 @@ TEST_F(Cli, RenderChecksEveryOutputFirst) {
         {"--checkpoint " + path("no/ck.bin"), "--checkpoint: " + path("no/ck.bin") +
                                                   ": cannot write: directory " + path("no") +
                                                   " does not exist"},
-        {"--checkpoint " + path("d"), "--checkpoint: " + path("d") + ": cannot write: is a directory"},
+        {"--checkpoint " + path("d"),
+         "--checkpoint: " + path("d") + ": cannot write: is a directory"},
         {"--checkpoint ''", "--checkpoint: needs a file name"},
         {"--checkpoint-interval 5", "--checkpoint-interval requires --checkpoint"},
         {"--resume", "--resume requires --checkpoint"},
