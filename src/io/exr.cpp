@@ -102,7 +102,23 @@ Image readExr(const std::string& path, ExrValues values) {
         const Imf::ChannelList& ch = file.header().channels();
         const bool rgb = ch.findChannel("R") && ch.findChannel("G") && ch.findChannel("B");
         const bool y = ch.findChannel("Y");
-        if (!rgb && !y) fail(path, "channels", "no R,G,B or Y channel");
+        if (!rgb && !y) {
+            std::string names;  // the first 8, printable ASCII (a damaged file's are bytes)
+            int listed = 0;
+            for (auto c = ch.begin(); c != ch.end(); ++c, ++listed) {
+                if (listed == 8) {
+                    names += ", …";
+                    break;
+                }
+                std::string name = c.name();
+                for (char& b : name)
+                    if (b < 0x20 || b > 0x7e) b = '?';
+                names += (names.empty() ? "" : ", ") + name;
+            }
+            fail(path, "channels",
+                 "has " + (names.empty() ? std::string("none") : names) +
+                     "; needs R, G and B, or Y");
+        }
         img = Image(int(w), int(h));
         Imf::FrameBuffer fb;
         const size_t xs = 3 * sizeof(float), ys = xs * img.width;

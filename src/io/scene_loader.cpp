@@ -272,7 +272,7 @@ int readBoundary(JsonReader& r, const std::vector<Surface>& surfaces, Contents c
     if (sf.interiorMedium >= 0) r.error("boundary", sf.name + " already bounds another medium");
     if (sf.kind == Surface::Kind::Mesh && contents == Contents::Load) {  // (the file's contents)
         const std::string defect = closedMeshDefect(sf.mesh);
-        if (!defect.empty()) r.error("boundary", sf.name + " is not closed: " + defect);
+        if (!defect.empty()) r.error("boundary", sf.name + ": " + defect);
     }
     const BsdfType t = sf.bsdf.type;
     if (t != BsdfType::Null && t != BsdfType::Dielectric)

@@ -58,6 +58,26 @@ TEST(Exr, LuminanceOnlyFileIsGrey) {
     EXPECT_EQ(img.rgb, std::vector<float>({0.5f, 0.5f, 0.5f, 2.f, 2.f, 2.f}));
 }
 
+// A file without colour channels names those it has (it said only "no R,G,B or Y channel",
+// which read the same for a file with R and G as for one with none).
+TEST(Exr, MissingColourChannelsAreNamed) {
+    const std::string path = tmp("rg.exr");
+    {
+        Imf::Header header(2, 1);
+        header.channels().insert("R", Imf::Channel(Imf::FLOAT));
+        header.channels().insert("G", Imf::Channel(Imf::FLOAT));
+        Imf::OutputFile file(path.c_str(), header);
+        float v[2] = {0.5f, 2.0f};
+        Imf::FrameBuffer fb;
+        for (const char* c : {"R", "G"})
+            fb.insert(c, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(v), sizeof(float), 0));
+        file.setFrameBuffer(fb);
+        file.writePixels(1);
+    }
+    EXPECT_EQ(messageOf([&] { readExr(path); }),
+              path + ": channels: has G, R; needs R, G and B, or Y");
+}
+
 TEST(Exr, BadFilesGiveOneClearLine) {
     EXPECT_EQ(messageOf([] { readExr(tmp("missing.exr")); }),
               tmp("missing.exr") + ": no such file");

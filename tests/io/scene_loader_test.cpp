@@ -342,7 +342,7 @@ TEST(SceneLoader, BadSurfacesGiveOneLineNamingThePlace) {
     expectIn(message(R"({"surfaces": [{"type": "mesh", "file": "open.obj",
                           "bsdf": {"type": "null"}}],
                          "media": [{"type": "homogeneous", "boundary": 0}]})"),
-             "scene.json: media[0].boundary: surfaces[0] is not closed: edge");
+             "scene.json: media[0].boundary: surfaces[0]: edge");
     expectIn(message(R"({"surfaces": [{"type": "rectangle", "bsdf": {"type": "null"}}],
                          "media": [{"type": "homogeneous", "boundary": 0}]})"),
              "media[0].boundary: surfaces[0] is not a closed shape");
