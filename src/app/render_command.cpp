@@ -354,14 +354,19 @@ int runRender(const RenderArgs& a) {
                          " samples per pixel, more than the " + std::to_string(scene.settings.spp) +
                          " asked for; resume with at least that many (--spp)");
             if (sppList.size() > 1) stops.assign(sppList.begin(), sppList.end() - 1);
-            // A resumed film past an image asked for cannot give it: say so, not write nothing.
+            // A resumed film with a pixel past an image asked for cannot give that image (a
+            // render of n spp): say so, and leave it out, rather than write nothing or a mix.
+            const auto past = [&](uint32_t n) {
+                return n < film.maxCount() || n <= film.minCount();
+            };
             for (const uint32_t n : stops)
-                if (n <= film.minCount())
+                if (past(n))
                     warnings.push_back("--spp " + std::to_string(n) + ": the checkpoint " +
-                                       a.checkpoint + " already holds " +
-                                       std::to_string(film.minCount()) +
+                                       a.checkpoint + " already holds up to " +
+                                       std::to_string(film.maxCount()) +
                                        " samples per pixel; the image at " + std::to_string(n) +
                                        " spp is not written");
+            stops.erase(std::remove_if(stops.begin(), stops.end(), past), stops.end());
             // Every file the render writes, with what it is.
             std::vector<std::pair<std::string, std::string>> writes = {
                 {final.image, "the image"}, {final.stats, "the statistics"}};

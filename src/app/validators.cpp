@@ -70,7 +70,8 @@ bool sameFile(const std::string& a, const std::string& b) {
         const fs::path abs = fs::absolute(p, e);
         return e ? abs : fs::weakly_canonical(abs, e);
     };
-    const fs::path pa = normal(a, ea), pb = normal(b, eb);
+    // Links followed first: a dangling link names the file it would be written to.
+    const fs::path pa = normal(linkTarget(a).string(), ea), pb = normal(linkTarget(b).string(), eb);
     return !ea && !eb && pa == pb;
 }
 

@@ -57,31 +57,30 @@ RadianceCache::Record RadianceCache::build(const Vec3& p, const Vec3& n,
     // The displaced-point quadrature gives nothing to the directions a displacement uncovers
     // behind an occluder: taken of L, it assumes they are black. The gradients are taken of
     // L − c instead, which assumes the uncovered directions show radiance c: what lies behind
-    // the occluders, as far as one number can tell. With samples that met no surface, c is
-    // their mean radiance, the background's: exact for a constant background (a white furnace
-    // with an occluder had gradients of a constant, and came out up to 1.1% off 1 at a = 0.25
-    // and 9.8% at a = 1), and 0 for a black one. A record that sees only surfaces takes the mean
-    // of the farther half of its hits, which lie behind the nearer: exact for constant
-    // radiance there too (with c = 0, as until 4 Dec, a render inside an emitting shell with an
-    // occluder had twice the error: RMSE 0.017 against 0.0089 at a = 1, HSH order 20; README).
-    // (It is not a control variate:
-    // the estimate's expectation changes with c. The mean of all samples, tried first, was 26%
-    // low for a lit occluder against a black background.)
+    // the occluders, as far as one number can tell. With samples that met no surface (and did
+    // not dip below it), c is their mean radiance, the background's: exact for a constant
+    // background (a white furnace with an occluder had gradients of a constant, and came out up
+    // to 1.1% off 1 at a = 0.25 and 9.8% at a = 1), and 0 for a black one. A record that sees only
+    // surfaces takes the mean of the farther half of its hits, which lie behind the nearer: exact
+    // for constant radiance there too (with c = 0, as until 4 Dec, a render inside an emitting
+    // shell with an occluder had twice the error: RMSE 0.017 against 0.0089 at a = 1, HSH order 20;
+    // README). (It is not a control variate: the estimate's expectation changes with c. The mean of
+    // all samples, tried first, was 26% low for a lit occluder against a black background.)
     Spectrum c = Spectrum::Zero();
     int misses = 0;
     for (const IncomingSample& s : samples)
-        if (!s.hit) c += s.L, ++misses;
+        if (!s.hit && !s.below) c += s.L, ++misses;
     if (misses > 0) {
         c /= double(misses);
-    } else if (!samples.empty()) {
-        std::vector<std::pair<double, const Spectrum*>> byDistance;  // (squared distance, L)
-        for (const IncomingSample& s : samples)
-            byDistance.push_back({(s.W - p).squaredNorm(), &s.L});
+    } else {
+        // (squared distance, index: ties go by index, the same on every standard library)
+        std::vector<std::pair<double, size_t>> byDistance;
+        for (size_t k = 0; k < samples.size(); ++k)
+            if (samples[k].hit) byDistance.push_back({(samples[k].W - p).squaredNorm(), k});
         const size_t half = byDistance.size() / 2;
-        std::nth_element(byDistance.begin(), byDistance.begin() + half, byDistance.end(),
-                         [](const auto& x, const auto& y) { return x.first < y.first; });
-        for (size_t k = half; k < byDistance.size(); ++k) c += *byDistance[k].second;
-        c /= double(byDistance.size() - half);
+        std::nth_element(byDistance.begin(), byDistance.begin() + half, byDistance.end());
+        for (size_t k = half; k < byDistance.size(); ++k) c += samples[byDistance[k].second].L;
+        if (byDistance.size() > half) c /= double(byDistance.size() - half);
     }
     const double scale = TwoPi / samples.size();
     const double delta = 1e-3 * r.R;  // Δx of the finite differences

@@ -100,9 +100,23 @@ std::string directoryProblem(const std::filesystem::path& dir, const std::string
     return "";
 }
 
-/// What `path` names once its symbolic links are followed: itself if it is no link, else the
-/// last link's target (relative targets taken from their link's directory), which need not exist.
-/// Forty links at most, as the kernel allows: a loop ends there, and writing to it then fails.
+/// Why the file at `target` (a link's target) cannot be replaced by a rename: "is a directory",
+/// or "is not a regular file (…)" for a device, FIFO or socket; empty otherwise (none there too).
+std::string replacementProblem(const std::filesystem::path& target) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_status st = fs::status(target, ec);
+    // (a loop of links, or one that cannot be read: the rename would replace the link)
+    if (ec && ec != std::errc::no_such_file_or_directory)
+        return "cannot be resolved (" + ec.message() + ")";
+    if (fs::is_directory(st)) return "is a directory";
+    if (fs::exists(st) && !fs::is_regular_file(st))
+        return "is not a regular file (a device, FIFO or socket: it would be replaced)";
+    return "";
+}
+
+}  // namespace
+
 std::filesystem::path linkTarget(const std::string& path) {
     namespace fs = std::filesystem;
     fs::path p = path;
@@ -114,20 +128,6 @@ std::filesystem::path linkTarget(const std::string& path) {
     }
     return p;
 }
-
-/// Why the file at `target` (a link's target) cannot be replaced by a rename: "is a directory",
-/// or "is not a regular file (…)" for a device, FIFO or socket; empty otherwise (none there too).
-std::string replacementProblem(const std::filesystem::path& target) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const fs::file_status st = fs::status(target, ec);
-    if (fs::is_directory(st)) return "is a directory";
-    if (fs::exists(st) && !fs::is_regular_file(st))
-        return "is not a regular file (a device, FIFO or socket: it would be replaced)";
-    return "";
-}
-
-}  // namespace
 
 std::string outputFileProblem(const std::string& path) {
     namespace fs = std::filesystem;

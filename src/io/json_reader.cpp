@@ -198,8 +198,10 @@ std::string keyPathProblem(const std::string& key) {
             if (i == start || i == key.size() || key[i] != ']')
                 return "expected an index in brackets, as in media[0]";
             ++i;
-        } else {
+        } else if (c == ']') {
             return "']' without '[' in key path";
+        } else {
+            return "expected '.' or '[' after ']' in key path";
         }
     }
     return "";

@@ -52,6 +52,8 @@ std::vector<std::string> stringList(JsonReader& r, const std::string& key,
         const size_t eq = a.find('=');
         if (eq == std::string::npos)
             r.error(key + "[" + std::to_string(i) + "]", "expected a \"key.path=value\" string");
+        if (const std::string problem = keyPathProblem(a.substr(0, eq)); !problem.empty())
+            r.error(key + "[" + std::to_string(i) + "]", problem);
         // The sweep's seeds come last and would silently replace it.
         if (a.substr(0, eq) == "render.seed")
             r.error(key + "[" + std::to_string(i) + "]", kSeedIsTheSweeps);
@@ -111,6 +113,8 @@ Sweep readSweep(const std::string& path) {
             const Json& v = axes[it.key()];
             if (!v.is_array() || v.empty())
                 fail(path, "axes." + it.key(), "expected a non-empty array of values");
+            if (const std::string problem = keyPathProblem(it.key()); !problem.empty())
+                fail(path, "axes." + it.key(), problem);
             s.axes.push_back(it.key());
             values.push_back(v);
         }

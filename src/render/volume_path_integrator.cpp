@@ -522,6 +522,7 @@ void VolumePathIntegrator::buildRadianceCache() {
                     // path tracer's rule that reflection stays on the side it came from gives.
                     if (!(w.dot(hit.ng) * cosOg > 0)) {
                         sample.L = Spectrum::Zero();
+                        sample.below = true;
                         return;
                     }
                     const Ray r = surf.spawn(hit.p, hit.ng, w);

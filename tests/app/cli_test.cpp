@@ -701,7 +701,8 @@ TEST_F(Cli, BadMeshFiles) {
         "open.json",
         scene(R"({"type": "homogeneous", "boundary": 0})",
               R"(, "surfaces": [{"type": "mesh", "file": "open.obj", "bsdf": {"type": "null"}}])"));
-    expectOneLineError("open.json", "media[0].boundary: surfaces[0] is not closed");
+    expectOneLineError("open.json", "media[0].boundary: surfaces[0]: edge (1, 2) of face 0 has no "
+                                    "opposite edge: the mesh is not closed");
 }
 
 TEST_F(Cli, SurfaceSceneSameImageAnyThreadsAndStats) {
@@ -978,8 +979,8 @@ TEST_F(Cli, TimeLimitCheckpointAndResume) {
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("shvol: warning: " + path("s.json") + ": --spp 16: the checkpoint " +
                          path("ck.bin") +
-                         " already holds 20000 samples per pixel; the image at 16 spp is not "
-                         "written"),
+                         " already holds up to 20000 samples per pixel; the image at 16 spp is "
+                         "not written"),
               std::string::npos)
         << r.err;
     EXPECT_TRUE(fs::exists(path("y.exr")));

@@ -86,6 +86,14 @@ TEST(AtomicFile, RefusesToReplaceWhatIsNotARegularFile) {
         EXPECT_FALSE(called) << p;
         EXPECT_TRUE(fs::is_fifo(fifo));
     }
+    // A loop of links (the review's case) is refused, and stays a loop.
+    fs::create_symlink("loop_b", dir.path / "loop_a");
+    fs::create_symlink("loop_a", dir.path / "loop_b");
+    const std::string loop = (dir.path / "loop_a").string();
+    EXPECT_EQ(outputFileProblem(loop).rfind("cannot be resolved (", 0), 0u)
+        << outputFileProblem(loop);
+    EXPECT_THROW(writeTextAtomically(loop, "x"), Error);
+    EXPECT_TRUE(fs::is_symlink(dir.path / "loop_a"));
     // A directory is refused by both too.
     EXPECT_EQ(outputFileProblem(dir.path.string()), "is a directory");
     EXPECT_THROW(writeTextAtomically(dir.path.string(), "x"), Error);

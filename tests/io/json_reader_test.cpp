@@ -194,6 +194,7 @@ TEST(JsonReader, OverrideRefusesMalformedKeyPathsAndNumbers) {
         {"media[0][albedo]=0.5", "expected an index in brackets, as in media[0]"},
         {"media[]=1", "expected an index in brackets, as in media[0]"},
         {"camera]fov=1", "']' without '[' in key path"},
+        {"media[0]albedo=1", "expected '.' or '[' after ']' in key path"},
         {"[0].x=1", "a key path starts with a name"},
         {".x=1", "empty component in key path"},
         {"a..b=1", "empty component in key path"},

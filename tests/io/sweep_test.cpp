@@ -142,6 +142,12 @@ TEST(Sweep, ErrorsNameFileAndKey) {
         ": axes.seed: zipped axes need equal lengths (2 vs 1)");
     EXPECT_EQ(err("e3", R"({"scene": "scene.json", "axes": {"spp": [0]}})"),
               ": axes.spp: expected integers ≥ 1");
+    // A malformed key path is named in the sweep, not later as a --set of the scene.
+    EXPECT_EQ(err("e3k", R"({"scene": "scene.json", "axes": {"camera[fov": [30, 40]}})"),
+              ": axes.camera[fov: expected an index in brackets, as in media[0]");
+    EXPECT_EQ(err("e3l", R"({"scene": "scene.json", "axes": {"spp": [1]},
+                            "set": ["camera]fov=30"]})"),
+              ": set[0]: ']' without '[' in key path");
     EXPECT_EQ(err("e3s", R"({"scene": "scene.json", "axes": {"seed": [-1]}})"),
               ": axes.seed: expected non-negative integers");
     EXPECT_EQ(err("e4", R"({"scene": "scene.json", "metrics": ["rmse"]})"),

@@ -38,12 +38,15 @@
 namespace shvol {
 
 /// One incoming-radiance sample of a record: the direction it arrives from (local, z > 0), its
-/// radiance, and the first surface point along it (for the gradients).
+/// radiance, and the first surface point along it (for the gradients). `below`: the direction
+/// dips below the surface (a shading normal's hemisphere), so no light and nothing met: neither
+/// background nor a hit.
 struct IncomingSample {
     Vec3 w;
     Spectrum L;
     bool hit = false;
     Vec3 W{0, 0, 0}, nW{0, 0, 1};
+    bool below = false;
 };
 
 class RadianceCache {

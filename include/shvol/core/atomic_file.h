@@ -1,6 +1,7 @@
 #pragma once
 /// \file Output files appear whole or not at all: write to a temporary beside the target, then
 /// rename (rename(2) is atomic within a file system).
+#include <filesystem>
 #include <functional>
 #include <string>
 
@@ -22,10 +23,17 @@ void writeAtomically(const std::string& path, const std::function<void(const std
 /// first and hands signals back to what it replaced.
 void removeTemporariesOnSignals();
 
+/// What `path` names once its symbolic links are followed: itself if it is no link, else the
+/// last link's target (relative targets taken from their link's directory), which need not
+/// exist. Forty links at most, as the kernel allows: a loop stays a link, which
+/// outputFileProblem and writeAtomically refuse.
+std::filesystem::path linkTarget(const std::string& path);
+
 /// Why a file cannot be written at path, as far as can be told before writing it: "directory D
 /// does not exist", "A is not a directory" (D, or an ancestor A of it, is a file), "directory D
-/// is not writable (reason)", "is a directory" or "is not a regular file (…)" (a device, FIFO or
-/// socket, which the rename of writeAtomically would replace); empty otherwise. Symbolic links
+/// is not writable (reason)", "is a directory", "is not a regular file (…)" (a device, FIFO or
+/// socket, which the rename of writeAtomically would replace) or "cannot be resolved (…)" (a
+/// loop of links); empty otherwise. Symbolic links
 /// are followed: what counts is the file their target names. A command checks its outputs
 /// with it before the work that fills them.
 std::string outputFileProblem(const std::string& path);
