@@ -178,13 +178,16 @@ std::string canonicalKeyPath(const std::string& key) {
     return path;
 }
 
-std::string keyPathProblem(const std::string& key) {
+std::string keyPathProblem(const std::string& key, std::vector<std::string>* parts) {
     size_t i = 0;
-    const auto name = [&] {  // a non-empty run of characters other than . [ ]
+    // Reads the run of characters `allowed` accepts from i (into parts); false if it is empty.
+    const auto run = [&](auto&& allowed) {
         const size_t start = i;
-        while (i < key.size() && key[i] != '.' && key[i] != '[' && key[i] != ']') ++i;
+        while (i < key.size() && allowed(key[i])) ++i;
+        if (i > start && parts) parts->push_back(key.substr(start, i - start));
         return i > start;
     };
+    const auto name = [&] { return run([](char c) { return c != '.' && c != '[' && c != ']'; }); };
     if (!name())
         return key.empty() || key[0] == '.' ? "empty component in key path"
                                             : "a key path starts with a name";
@@ -193,9 +196,8 @@ std::string keyPathProblem(const std::string& key) {
         if (c == '.') {
             if (!name()) return "empty component in key path";
         } else if (c == '[') {
-            const size_t start = i;
-            while (i < key.size() && key[i] >= '0' && key[i] <= '9') ++i;
-            if (i == start || i == key.size() || key[i] != ']')
+            if (!run([](char d) { return d >= '0' && d <= '9'; }) || i == key.size() ||
+                key[i] != ']')
                 return "expected an index in brackets, as in media[0]";
             ++i;
         } else if (c == ']') {
@@ -211,14 +213,10 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
     const auto eq = assignment.find('=');
     if (eq == std::string::npos || eq == 0)
         fail(file, "--set " + assignment, "expected key.path=value");
-    const std::string key = assignment.substr(0, eq);
-    if (const std::string problem = keyPathProblem(key); !problem.empty())
-        fail(file, "--set " + assignment, problem);
     std::vector<std::string> parts;
-    {
-        std::stringstream ss(canonicalKeyPath(key));
-        for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
-    }
+    if (const std::string problem = keyPathProblem(assignment.substr(0, eq), &parts);
+        !problem.empty())
+        fail(file, "--set " + assignment, problem);
     // The document itself must be an object (a scene or a sweep), overrides or not.
     if (!doc.is_object()) fail(file, "(top level)", "expected an object, got " + typeName(doc));
     Json* node = &doc;

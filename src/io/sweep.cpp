@@ -50,19 +50,18 @@ std::vector<std::string> stringList(JsonReader& r, const std::string& key,
     for (size_t i = 0; i < j.size(); ++i) {
         const std::string a = j[i].is_string() ? j[i].get<std::string>() : "";
         const size_t eq = a.find('=');
-        if (eq == std::string::npos)
-            r.error(key + "[" + std::to_string(i) + "]", "expected a \"key.path=value\" string");
-        if (const std::string problem = keyPathProblem(a.substr(0, eq)); !problem.empty())
-            r.error(key + "[" + std::to_string(i) + "]", problem);
+        const std::string place = key + "[" + std::to_string(i) + "]";
+        if (eq == std::string::npos) r.error(place, "expected a \"key.path=value\" string");
+        const std::string path = a.substr(0, eq);
+        if (const std::string problem = keyPathProblem(path); !problem.empty())
+            r.error(place, problem);
         // The sweep's seeds come last and would silently replace it.
-        if (a.substr(0, eq) == "render.seed")
-            r.error(key + "[" + std::to_string(i) + "]", kSeedIsTheSweeps);
-        if (!namesFile(a.substr(0, eq))) {
+        if (path == "render.seed") r.error(place, kSeedIsTheSweeps);
+        if (!namesFile(path)) {
             out.push_back(a);
             continue;
         }
-        out.push_back(assignment(sweepFile, a.substr(0, eq),
-                                 overrideValue(a.substr(eq + 1), a.substr(0, eq))));
+        out.push_back(assignment(sweepFile, path, overrideValue(a.substr(eq + 1), path)));
     }
     return out;
 }

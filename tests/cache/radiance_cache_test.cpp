@@ -133,11 +133,14 @@ TEST(RadianceCache, GradientsMatchFiniteDifferencesOfFreshRecords) {
     EXPECT_LT(std::sqrt(err / norm), 0.05);
 }
 
-// Constant radiance has zero gradients, also where a displacement uncovers the sky behind an
-// occluder (here a square above the record, a quarter of the rays meeting it). The displaced-point
-// quadrature misses what is uncovered, so taken of L itself it gave gradients of a constant,
-// which put a white furnace's sphere on a floor up to 9.8% off 1 (a = 1); taken of L − c (c the
-// mean radiance of the samples that met no surface) they are those of 0.
+/// The largest magnitude of a record's gradient coefficients.
+double largestGradient(const RadianceCache::Record& r) {
+    double largest = 0;
+    for (size_t i = 0; i < r.dx.size(); ++i)
+        largest = std::max({largest, std::abs(r.dx[i]), std::abs(r.dy[i])});
+    return largest;
+}
+
 /// What a record at p (below z = 0.5) sees: a square occluder |x|, |y| < 0.4 on the plane z = 0.5
 /// of radiance `occluder`, and beyond it radiance `beyond`: a sky (no hit) or, closed, a ceiling
 /// z = 5 (a hit).
@@ -158,26 +161,26 @@ std::vector<IncomingSample> occluderSamples(const Vec3& p, int count, uint64_t s
 }
 
 // Constant radiance has no gradients, also where a displacement uncovers what lies behind an
-// occluder: a sky, or (closed) a ceiling, which the farther half of the record's hits stands for.
-// Taken of L, the gradients were 1.5 under the sky, and with c = 0 (until 4 Dec) 1.37 under the
-// ceiling.
+// occluder (a square above the record, a quarter of the rays meeting it): a sky, or (closed) a
+// ceiling, which the farther half of the record's hits stands for. The displaced-point
+// quadrature misses what is uncovered: taken of L, the gradients were 1.5 under the sky (a white
+// furnace's sphere on a floor came out up to 9.8% off 1 at a = 1), and with c = 0 (until 4 Dec)
+// 1.37 under the ceiling.
 TEST(RadianceCache, ConstantRadianceHasNoGradientsBehindAnOccluder) {
     for (const bool closed : {false, true}) {
         const RadianceCache cache(4, 0.3, kLo, kHi);
         const RadianceCache::Record r = cache.build(
             Vec3::Zero(), Vec3(0, 0, 1), occluderSamples(Vec3::Zero(), 4096, 5, 1, 1, closed));
-        double largest = 0;
-        for (size_t i = 0; i < r.dx.size(); ++i)
-            largest = std::max({largest, std::abs(r.dx[i]), std::abs(r.dy[i])});
-        EXPECT_LT(largest, 1e-9) << closed;
+        EXPECT_LT(largestGradient(r), 1e-9) << closed;
         EXPECT_GT(std::abs(r.lambda[0]), 1);  // (the record itself is the constant's: 2π·H₀)
     }
 }
 
 // A record on an edge sees the adjacent face's hits nearly in their own plane: the
 // reprojection's Jacobian cos ξ′/cos ξ is unbounded there, and such hits 10⁻¹⁷ off the plane by
-// rounding gave gradients of 10¹³ in a closed glossy room (RadianceCachePath.
-// GlossyRoomStaysNearThePathTracedImage: image 6·10⁵ times too bright). They are not displaced:
+// rounding gave gradients of 10¹³ in a closed glossy room (once c was not 0 there,
+// RadianceCachePath.GlossyRoomStaysNearThePathTracedImage's image came out 6·10⁵ times too
+// bright). They are not displaced:
 // the gradients stay of the size of the record's value over its reach.
 TEST(RadianceCache, HitsInThePlaneOfTheirSurfaceAreNotDisplaced) {
     const int count = 4096;
@@ -193,11 +196,8 @@ TEST(RadianceCache, HitsInThePlaneOfTheirSurfaceAreNotDisplaced) {
     }
     const RadianceCache cache(4, 0.3, kLo, kHi);
     const RadianceCache::Record r = cache.build(p, Vec3(0, 0, 1), samples);
-    double largest = 0;
-    for (size_t i = 0; i < r.dx.size(); ++i)
-        largest = std::max({largest, std::abs(r.dx[i]), std::abs(r.dy[i])});
     EXPECT_GT(r.lambda[0], 0.1);
-    EXPECT_LT(largest * r.R, r.lambda[0]) << largest;
+    EXPECT_LT(largestGradient(r) * r.R, r.lambda[0]) << largestGradient(r);
 }
 
 // Behind an occluder (a square above the record) the gradients agree with finite differences

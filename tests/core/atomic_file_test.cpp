@@ -6,10 +6,10 @@
 #include <gtest/gtest.h>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include "shvol/core/error.h"
+#include "test_util.h"
 
 namespace shvol {
 
@@ -17,11 +17,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// A directory of its own under the test's temporary directory, removed at the end.
+/// A directory of its own under the test's temporary directory (test::privateTempPath), removed
+/// at the end.
 struct ScratchDir {
-    fs::path path = fs::path(testing::TempDir()) /
-                    ("atomic_file_" + std::to_string(::getpid()) + "_" +
-                     testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::path path = test::privateTempPath("dir");
     ScratchDir() {
         fs::remove_all(path);
         fs::create_directories(path);
@@ -30,10 +29,7 @@ struct ScratchDir {
 };
 
 std::string contents(const fs::path& p) {
-    std::ifstream f(p);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
+    return test::fileBytes(p.string());
 }
 
 }  // namespace

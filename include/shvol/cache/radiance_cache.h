@@ -12,12 +12,15 @@
 ///   λ′_i = (2π / N_r) Σ_k (|W_k − P|² cos ξ′_k) / (|W_k − P′|² cos ξ_k) L_k H_i(ω′_k),
 /// ω′_k the direction from P′ to W_k, and ∂λ/∂x = (λ′ − λ)/Δx (samples that met no surface keep
 /// their direction and weight). The quadrature gives nothing to directions a displacement
-/// uncovers behind an occluder; the gradients are taken of L_k − c, c the mean radiance of the
-/// samples that met no surface (0 if none), so that those directions count as showing that
-/// background: exact for a constant background, as before for a black one. R_i is the harmonic
-/// mean distance to the surfaces the samples met, clamped to [0.01, 0.25] × the scene's diagonal
-/// (as irradiance caches do, so that records in corners do not shrink to nothing nor open spaces
-/// reach across the scene). A query at (P, N) averages the records with weight (Gautron eq. 23)
+/// uncovers behind an occluder; the gradients are taken of L_k − c, so that those directions
+/// count as showing radiance c: the mean radiance of the samples that met no surface (the
+/// background), or for a record that sees only surfaces that of the farther half of its hits;
+/// exact for constant radiance behind the occluders. Hits whose surface's plane passes within
+/// 10 Δx of P are not displaced (the reprojection's Jacobian is unbounded there). R_i is the
+/// harmonic mean distance to the surfaces the samples met, clamped to [0.01, 0.25] × the scene's
+/// diagonal (as irradiance caches do, so that records in corners do not shrink to nothing nor open
+/// spaces reach across the scene). A query at (P, N) averages the records with weight (Gautron eq.
+/// 23)
 ///   w_i = 1 / (|P − P_i| / R_i + √(1 − N·N_i))  >  1/a,
 /// each extrapolated by its gradients and rotated from its frame to the query's (eq. 24;
 /// sh::HshRotation, through SH with the record held at its horizon and the truncation's residual

@@ -37,8 +37,9 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
 /// media.0.albedo.
 std::string canonicalKeyPath(const std::string& key);
 /// Why `key` is not a key path (names joined by '.', each followed by any indices in brackets:
-/// media[0].phase.g, media.0.phase.g), as applyOverride refuses it; empty if it is one.
-std::string keyPathProblem(const std::string& key);
+/// media[0].phase.g, media.0.phase.g), as applyOverride refuses it; empty if it is one. With
+/// `parts`, appends its components as it reads them (media, 0, phase, g).
+std::string keyPathProblem(const std::string& key, std::vector<std::string>* parts = nullptr);
 /// The value of an override "key=text" as applyOverride reads it: the JSON text parsed, or the
 /// text itself as a string when it is not valid JSON; a number beyond a double's range (1e400)
 /// is an error. `place`, the JSON path it is assigned to
