@@ -303,7 +303,7 @@ int runRender(const RenderArgs& a) {
     Outputs final;
     std::vector<std::string> warnings;
     nlohmann::json provenance;
-    uint64_t identity = 0;
+    Json identity;
     Film film;
     std::vector<uint32_t> stops;
     collectively(
@@ -339,10 +339,8 @@ int runRender(const RenderArgs& a) {
                           {"command_line", commandLine()},
                           {"machine", machineDescription()},
                           {"mpi_ranks", spread ? world.size() : 1}};
-            identity = a.checkpoint.empty()
-                           ? 0
-                           : renderIdentity(doc, namedFileContents(provenance.at("inputs")),
-                                            SHVOL_GIT_REVISION);
+            if (!a.checkpoint.empty())
+                identity = renderIdentity(doc, provenance.at("inputs"), SHVOL_GIT_REVISION);
             if (a.resume) film = readCheckpoint(a.checkpoint, identity);
             if (a.variance && film.maxCount() > 0 && film.sumSq.empty())
                 fail(a.checkpoint, "",

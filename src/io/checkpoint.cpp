@@ -1,5 +1,6 @@
 #include "shvol/io/checkpoint.h"
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -14,7 +15,8 @@ namespace shvol {
 
 namespace {
 
-constexpr char kMagic[8] = {'S', 'H', 'V', 'O', 'L', 'C', 'K', '1'};
+constexpr char kMagic[8] = {'S', 'H', 'V', 'O', 'L', 'C', 'K', '2'};
+constexpr char kMagic1[8] = {'S', 'H', 'V', 'O', 'L', 'C', 'K', '1'};  ///< format 1
 constexpr uint32_t kHasSumSq = 1;  ///< flags: the film has sums of squares (--variance)
 
 template <class T>
@@ -22,17 +24,90 @@ void put(std::string& out, const T& v) {
     out.append(reinterpret_cast<const char*>(&v), sizeof v);
 }
 
-}  // namespace
-
-uint64_t renderIdentity(Json doc, const std::string& files, const std::string& build) {
-    if (doc.contains("render") && doc["render"].is_object()) doc["render"].erase("spp");
-    const std::string text = dumpJson(doc) + "\n" + files + "build " + build;
-    return fnv1a(text.data(), text.size());
+/// Adds the parts of value `v`, named `name`, at `depth` levels below the document
+/// (renderIdentity). An empty object above the third level adds none: it sets nothing, as with
+/// "render": {"spp": 4} once the sample count is left out.
+void addParts(const Json& v, const std::string& name, int depth, Json& parts) {
+    const bool ofObjects = v.is_array() && std::any_of(v.begin(), v.end(),
+                                                       [](const Json& e) { return e.is_object(); });
+    if (depth >= 3 || !(v.is_object() || ofObjects)) {
+        const std::string text = dumpJson(v);
+        parts[name] = hexHash(fnv1a(text.data(), text.size()));
+    } else if (v.is_object()) {
+        for (auto it = v.begin(); it != v.end(); ++it)
+            addParts(it.value(), name.empty() ? it.key() : name + "." + it.key(), depth + 1, parts);
+    } else {
+        for (size_t i = 0; i < v.size(); ++i)
+            addParts(v[i], name + "[" + std::to_string(i) + "]", depth + 1, parts);
+    }
 }
 
-void writeCheckpoint(const std::string& path, const Film& film, uint64_t identity) {
+/// The keys of objects `a` and `b` whose values differ, in order, with the keys only one of
+/// them has unless `sharedOnly`.
+std::vector<std::string> differingKeys(const Json& a, const Json& b, bool sharedOnly) {
+    std::vector<std::string> keys;
+    for (auto it = a.begin(); it != a.end(); ++it)
+        if (b.contains(it.key()) ? b.at(it.key()) != it.value() : !sharedOnly)
+            keys.push_back(it.key());
+    for (auto it = b.begin(); it != b.end(); ++it)
+        if (!a.contains(it.key()) && !sharedOnly) keys.push_back(it.key());
+    std::sort(keys.begin(), keys.end());
+    return keys;
+}
+
+/// "a", "a and b", "a, b and c"; past 6 names, "a, …, f and N more".
+std::string listed(const std::vector<std::string>& names) {
+    const size_t shown = names.size() > 6 ? 6 : names.size();
+    std::string text;
+    for (size_t i = 0; i < shown; ++i)
+        text += (i == 0 ? "" : i + 1 == names.size() ? " and " : ", ") + names[i];
+    if (shown < names.size()) text += " and " + std::to_string(names.size() - shown) + " more";
+    return text;
+}
+
+}  // namespace
+
+Json renderIdentity(const Json& sceneDoc, const Json& inputFiles, const std::string& build) {
+    Json scene = Json::object(), inputs = Json::object();
+    Json doc = sceneDoc;
+    if (doc.contains("render") && doc["render"].is_object()) doc["render"].erase("spp");
+    addParts(doc, "", 0, scene);
+    for (const Json& f : inputFiles)
+        if (f.at("key") != "(scene)") inputs[f.at("key").get<std::string>()] = f.at("fnv1a64");
+    return {{"scene", scene}, {"inputs", inputs}, {"build", build}};
+}
+
+std::string identityDifference(const Json& saved, const Json& current) {
+    std::vector<std::string> clauses;
+    const auto part = [](const Json& id, const char* key) {
+        return id.is_object() && id.contains(key) ? id.at(key) : Json::object();
+    };
+    if (const auto keys = differingKeys(part(saved, "scene"), part(current, "scene"), false);
+        !keys.empty())
+        clauses.push_back("scene values " + listed(keys) +
+                          (keys.size() > 1 ? " differ" : " differs") + " (scene file or --set)");
+    // (A file only one of them reads follows from a scene value, named above.)
+    if (const auto keys = differingKeys(part(saved, "inputs"), part(current, "inputs"), true);
+        !keys.empty())
+        clauses.push_back("the file" + std::string(keys.size() > 1 ? "s" : "") + " named by " +
+                          listed(keys) + (keys.size() > 1 ? " differ" : " differs") +
+                          " in contents");
+    const Json savedBuild = part(saved, "build"), build = part(current, "build");
+    if (savedBuild != build)
+        clauses.push_back("it was saved by shvol build " +
+                          (savedBuild.is_string() ? savedBuild.get<std::string>() : "(unknown)") +
+                          ", this is " +
+                          (build.is_string() ? build.get<std::string>() : "(unknown)"));
+    std::string text;
+    for (const std::string& c : clauses) text += (text.empty() ? "" : "; ") + c;
+    return text;
+}
+
+void writeCheckpoint(const std::string& path, const Film& film, const Json& identity) {
     std::string bytes(kMagic, sizeof kMagic);
-    put(bytes, identity);
+    const std::string id = dumpJson(identity);
+    put(bytes, uint32_t(id.size()));
+    bytes += id;
     put(bytes, int32_t(film.width));
     put(bytes, int32_t(film.height));
     put(bytes, uint32_t(film.sumSq.empty() ? 0 : kHasSumSq));
@@ -45,22 +120,31 @@ void writeCheckpoint(const std::string& path, const Film& film, uint64_t identit
     writeTextAtomically(path, bytes);
 }
 
-Film readCheckpoint(const std::string& path, uint64_t identity) {
+Film readCheckpoint(const std::string& path, const Json& identity) {
     if (const std::string problem = inputFileProblem(path); !problem.empty())
         fail(path, "", problem);  // (a directory opens, and fails only when read)
     std::ifstream f(path, std::ios::binary);
     if (!f) fail(path, "", "cannot open checkpoint");
     const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-    const size_t header = sizeof kMagic + 8 + 4 + 4 + 4;
-    if (bytes.size() < header + 8 || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    if (bytes.size() >= sizeof kMagic1 && std::memcmp(bytes.data(), kMagic1, sizeof kMagic1) == 0)
+        fail(path, "",
+             "a checkpoint of an earlier shvol (checkpoint format 1), which this build "
+             "cannot resume: start afresh");
+    uint32_t n = 0;
+    if (bytes.size() >= sizeof kMagic + 4) std::memcpy(&n, bytes.data() + sizeof kMagic, 4);
+    const size_t header = sizeof kMagic + 4 + size_t(n) + 4 + 4 + 4;
+    if (bytes.size() < sizeof kMagic + 4 || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
         fail(path, "", "not a shvol checkpoint");
-    uint64_t id, sum;
+    if (bytes.size() < header + 8)
+        fail(path, "header",
+             std::to_string(bytes.size()) + " bytes, too few for its header (an identity of " +
+                 std::to_string(n) + " bytes): truncated or corrupt");
+    uint64_t sum;
     int32_t w, h;
     uint32_t flags;
-    std::memcpy(&id, bytes.data() + 8, 8);
-    std::memcpy(&w, bytes.data() + 16, 4);
-    std::memcpy(&h, bytes.data() + 20, 4);
-    std::memcpy(&flags, bytes.data() + 24, 4);
+    std::memcpy(&w, bytes.data() + header - 12, 4);
+    std::memcpy(&h, bytes.data() + header - 8, 4);
+    std::memcpy(&flags, bytes.data() + header - 4, 4);
     if (flags & ~kHasSumSq) fail(path, "header", "unknown flags " + std::to_string(flags));
     const bool hasSumSq = flags & kHasSumSq;
     if (w <= 0 || h <= 0 || w > (1 << 16) || h > (1 << 16))
@@ -75,16 +159,20 @@ Film readCheckpoint(const std::string& path, uint64_t identity) {
     std::memcpy(&sum, bytes.data() + expected - 8, 8);
     if (fnv1a(bytes.data(), expected - 8) != sum)
         fail(path, "", "checksum mismatch (corrupt file)");
-    if (id != identity)
+    const Json saved = Json::parse(bytes.begin() + sizeof kMagic + 4,
+                                   bytes.begin() + sizeof kMagic + 4 + n, nullptr, false);
+    if (saved.is_discarded()) fail(path, "header", "its identity is not JSON (corrupt file)");
+    if (const std::string difference = identityDifference(saved, identity); !difference.empty())
         fail(path, "",
-             "written for a different render (scene, --set values, seed, resolution, input "
-             "files or shvol build differ; only the sample count may change)");
+             "written for a different render: " + difference +
+                 " (only the sample count may change)");
     Film film(w, h);
-    std::memcpy(film.count.data(), bytes.data() + header, pixels * 4);
-    std::memcpy(film.sum.data(), bytes.data() + header + pixels * 4, pixels * 3 * 8);
+    const char* data = bytes.data() + header;
+    std::memcpy(film.count.data(), data, pixels * 4);
+    std::memcpy(film.sum.data(), data + pixels * 4, pixels * 3 * 8);
     if (hasSumSq) {
         film.sumSq.resize(pixels * 3);
-        std::memcpy(film.sumSq.data(), bytes.data() + header + pixels * 28, pixels * 3 * 8);
+        std::memcpy(film.sumSq.data(), data + pixels * 28, pixels * 3 * 8);
     }
     return film;
 }

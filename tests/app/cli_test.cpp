@@ -701,8 +701,9 @@ TEST_F(Cli, BadMeshFiles) {
         "open.json",
         scene(R"({"type": "homogeneous", "boundary": 0})",
               R"(, "surfaces": [{"type": "mesh", "file": "open.obj", "bsdf": {"type": "null"}}])"));
-    expectOneLineError("open.json", "media[0].boundary: surfaces[0]: edge (1, 2) of face 0 has no "
-                                    "opposite edge: the mesh is not closed");
+    expectOneLineError("open.json",
+                       "media[0].boundary: surfaces[0]: edge (1, 2) of face 0 has no "
+                       "opposite edge: the mesh is not closed");
 }
 
 TEST_F(Cli, SurfaceSceneSameImageAnyThreadsAndStats) {
@@ -958,7 +959,10 @@ TEST_F(Cli, TimeLimitCheckpointAndResume) {
     // A checkpoint belongs to one render: another seed is refused.
     r = run(s + "-o " + path("x.exr") + " --seed 9 --checkpoint " + path("ck.bin") + " --resume");
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find("written for a different render"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("written for a different render: scene values render.seed differs "
+                         "(scene file or --set) (only the sample count may change)"),
+              std::string::npos)
+        << r.err;
     // Fewer samples than the checkpoint holds: refused, naming the checkpoint.
     r = run("render " + path("s.json") + " --spp 100 --quiet -o " + path("x.exr") +
             " --checkpoint " + path("ck.bin") + " --resume");
@@ -1104,7 +1108,11 @@ TEST_F(Cli, ResumeRefusesChangedInputFiles) {
     write("t.csv", "angle_deg,value\n0,3\n180,1\n");
     r = run(s + " --resume");
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find(path("ck.bin") + ": written for a different render"), std::string::npos)
+    EXPECT_NE(r.err.find(path("ck.bin") +
+                         ": written for a different render: the file named by "
+                         "media[0].phase.file differs in contents (only the sample count may "
+                         "change)"),
+              std::string::npos)
         << r.err;
     EXPECT_FALSE(fs::exists(path("r.exr")));
     write("t.csv", "angle_deg,value\n0,2\n180,1\n");

@@ -19,6 +19,12 @@ std::string tempPath(const std::string& name) {
     return testing::TempDir() + "ckpt_" + name;
 }
 
+/// The identity of a small scene, rendered by build "abc".
+Json sampleIdentity() {
+    return renderIdentity(Json{{"camera", {{"fov", 30}}}, {"render", {{"seed", 1}}}}, Json::array(),
+                          "abc");
+}
+
 Film sampleFilm() {
     Film f(3, 2);
     for (size_t i = 0; i < f.pixels(); ++i) {
@@ -33,8 +39,8 @@ Film sampleFilm() {
 TEST(Checkpoint, RoundTripIsExact) {
     const std::string p = tempPath("round.bin");
     const Film f = sampleFilm();
-    writeCheckpoint(p, f, 42);
-    const Film g = readCheckpoint(p, 42);
+    writeCheckpoint(p, f, sampleIdentity());
+    const Film g = readCheckpoint(p, sampleIdentity());
     EXPECT_EQ(g.width, 3);
     EXPECT_EQ(g.height, 2);
     EXPECT_EQ(g.count, f.count);
@@ -43,34 +49,50 @@ TEST(Checkpoint, RoundTripIsExact) {
     Film v = sampleFilm();  // with sums of squares (--variance)
     v.sumSq.assign(v.sum.size(), 0.25);
     v.sumSq[5] = 7.5;
-    writeCheckpoint(p, v, 42);
-    EXPECT_EQ(readCheckpoint(p, 42).sumSq, v.sumSq);
+    writeCheckpoint(p, v, sampleIdentity());
+    EXPECT_EQ(readCheckpoint(p, sampleIdentity()).sumSq, v.sumSq);
 }
 
 TEST(Checkpoint, DamagedOrForeignFilesAreRefused) {
     const std::string p = tempPath("bad.bin");
-    writeCheckpoint(p, sampleFilm(), 42);
-    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, 43); }),
-              p + ": written for a different render (scene, --set values, seed, resolution, input "
-                  "files or shvol build differ; only the sample count may change)");
+    const Json id = sampleIdentity();
+    writeCheckpoint(p, sampleFilm(), id);
+    Json other = id;
+    other["build"] = "abd";
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, other); }),
+              p + ": written for a different render: it was saved by shvol build abc, this is abd "
+                  "(only the sample count may change)");
+    // (the layout of checkpoint.h: magic and identity length, the identity, width, height and
+    // flags, 4 + 3·8 bytes per pixel, a checksum of 8)
+    const size_t header = 8 + 4 + dumpJson(id).size() + 12;
+    ASSERT_EQ(std::filesystem::file_size(p), header + 6 * (4 + 3 * 8) + 8);
     {  // flip one byte of the sums
         std::fstream f(p, std::ios::in | std::ios::out | std::ios::binary);
-        f.seekp(60);
+        f.seekp(std::streamoff(header + 6 * 4 + 5));
         f.put('\x7f');
     }
-    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, 42); }),
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
               p + ": checksum mismatch (corrupt file)");
-    std::filesystem::resize_file(p, 50);
-    // (the layout of checkpoint.h: a header of 28 bytes, 4 + 3·8 per pixel, a checksum of 8)
-    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, 42); }),
-              p + ": 50 bytes where its header (3x2) needs " +
-                  std::to_string(28 + 6 * (4 + 3 * 8) + 8) + ": truncated, padded or corrupt");
+    std::filesystem::resize_file(p, header + 10);
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
+              p + ": " + std::to_string(header + 10) + " bytes where its header (3x2) needs " +
+                  std::to_string(header + 6 * (4 + 3 * 8) + 8) + ": truncated, padded or corrupt");
+    std::filesystem::resize_file(p, 40);
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
+              p + ": header: 40 bytes, too few for its header (an identity of " +
+                  std::to_string(dumpJson(id).size()) + " bytes): truncated or corrupt");
+    std::ofstream(p) << "SHVOLCK1" << std::string(100, '\0');  // format 1
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
+              p + ": a checkpoint of an earlier shvol (checkpoint format 1), which this build "
+                  "cannot resume: start afresh");
     std::ofstream(p) << "{\"not\": \"a checkpoint\"}";
-    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, 42); }), p + ": not a shvol checkpoint");
-    EXPECT_EQ(test::messageOf([&] { readCheckpoint(tempPath("missing.bin"), 42); }),
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }), p + ": not a shvol checkpoint");
+    std::ofstream(p) << "SHVOLCK";
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }), p + ": not a shvol checkpoint");
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(tempPath("missing.bin"), id); }),
               tempPath("missing.bin") + ": no such file");
     // A directory opens as a stream and fails only when read: named as what it is.
-    EXPECT_EQ(test::messageOf([&] { readCheckpoint(testing::TempDir(), 42); }),
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(testing::TempDir(), id); }),
               testing::TempDir() + ": not a regular file");
 }
 
@@ -85,15 +107,42 @@ TEST(Checkpoint, IdentityIgnoresOnlyTheSampleCount) {
     std::ofstream(table) << "angle_deg,value\n0,2\n180,1\n";
     auto id = [&](const std::vector<std::string>& sets, const std::string& build = "abc") {
         const Json doc = sceneDocument(scene, sets);
-        return renderIdentity(doc, namedFileContents(inputFiles(doc, scene)), build);
+        return renderIdentity(doc, inputFiles(doc, scene), build);
     };
-    const uint64_t id0 = id({});
+    const Json id0 = id({});
     EXPECT_EQ(id({"render.spp=100"}), id0);
-    EXPECT_NE(id({"render.seed=2"}), id0);
-    EXPECT_NE(id({"camera.fov=31"}), id0);
-    EXPECT_NE(id({}, "abd"), id0);                            // another build of shvol
+    EXPECT_EQ(identityDifference(id0, id({"render.spp=100"})), "");
+    EXPECT_EQ(identityDifference(id0, id({"render.seed=2"})),
+              "scene values render.seed differs (scene file or --set)");
+    EXPECT_EQ(identityDifference(id0, id({"camera.fov=31", "media[0].phase.type=hg"})),
+              "scene values camera.fov and media[0].phase differ (scene file or --set)");
+    // A value only one of them has differs too.
+    EXPECT_EQ(identityDifference(id0, id({"camera.up=[0,0,1]"})),
+              "scene values camera.up differs (scene file or --set)");
+    EXPECT_EQ(identityDifference(id0, id({}, "abd")),
+              "it was saved by shvol build abc, this is abd");
     std::ofstream(table) << "angle_deg,value\n0,3\n180,1\n";  // same name, other contents
-    EXPECT_NE(id({}), id0);
+    EXPECT_EQ(identityDifference(id0, id({"render.seed=2"}, "abd")),
+              "scene values render.seed differs (scene file or --set); the file named by "
+              "media[0].phase.file differs in contents; it was saved by shvol build abc, this is "
+              "abd");
+}
+
+// An object the sample count leaves empty sets nothing: it is no part of the identity.
+TEST(Checkpoint, IdentityLeavesOutEmptiedObjects) {
+    EXPECT_EQ(renderIdentity(Json{{"render", {{"spp", 4}}}}, Json::array(), "x"),
+              renderIdentity(Json::object(), Json::array(), "x"));
+    EXPECT_NE(renderIdentity(Json{{"render", {{"seed", 4}}}}, Json::array(), "x"),
+              renderIdentity(Json::object(), Json::array(), "x"));
+}
+
+// Many differing parts are listed up to six, then counted.
+TEST(Checkpoint, IdentityDifferenceListsAtMostSixParts) {
+    Json a = Json::object(), b = Json::object();
+    for (int i = 0; i < 9; ++i) a["k" + std::to_string(i)] = i, b["k" + std::to_string(i)] = -i;
+    EXPECT_EQ(identityDifference(renderIdentity(a, Json::array(), "x"),
+                                 renderIdentity(b, Json::array(), "x")),
+              "scene values k1, k2, k3, k4, k5, k6 and 2 more differ (scene file or --set)");
 }
 
 }  // namespace shvol

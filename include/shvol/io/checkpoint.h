@@ -4,8 +4,11 @@
 /// that render.
 ///
 /// Binary layout (little-endian, as the machines shvol runs on):
-///   "SHVOLCK1" | u64 identity | i32 width | i32 height | u32 flags | u32 count[w·h] |
-///   f64 sum[3·w·h] | (flags bit 0: f64 sumSq[3·w·h]) | u64 FNV-1a checksum of all before it.
+///   "SHVOLCK2" | u32 n | identity (renderIdentity as compact JSON, n bytes) | i32 width |
+///   i32 height | u32 flags | u32 count[w·h] | f64 sum[3·w·h] | (flags bit 0: f64 sumSq[3·w·h]) |
+///   u64 FNV-1a checksum of all before it.
+/// Format 1 ("SHVOLCK1") held one 64-bit hash of the identity, so a mismatch could not say what
+/// differed; its files are recognised and refused (the build they name is not this one anyway).
 /// Files are written atomically (temporary + rename), so a kill during a write leaves the previous
 /// checkpoint intact.
 #include <cstdint>
@@ -17,18 +20,25 @@
 
 namespace shvol {
 
-/// Identity of a render for checkpoints: FNV-1a of its scene document (sceneDocument, after the
-/// overrides) with render.spp removed (a checkpoint may be continued to more samples), of
-/// `files`, the contents of the files it names (namedFileContents: grids, skies, tables), and of
-/// `build`, the shvol that renders (its git revision). Everything else — camera, media, seed,
-/// render settings, input files, program — must match: a resumed render is then an
-/// uninterrupted one, bit for bit.
-uint64_t renderIdentity(Json sceneDoc, const std::string& files, const std::string& build);
+/// Identity of a render for checkpoints, part by part, so that a mismatch can name what differs:
+///   {"scene": {part: hash}, "inputs": {key: hash}, "build": revision}.
+/// "scene" holds FNV-1a hashes of the scene document (sceneDocument, after the overrides) cut
+/// into parts named like the loader's messages ("camera.fov", "media[0].phase"): objects, and
+/// arrays of objects, are cut down to three levels, other values are whole parts. render.spp is
+/// left out (a checkpoint may be continued to more samples). "inputs" holds the contents' hashes
+/// of the files the scene names (inputFiles: grids, skies, tables; the scene file itself left
+/// out), by the key that names them. "build" is the shvol that renders (its git revision).
+/// Everything else must match: a resumed render is then an uninterrupted one, bit for bit.
+Json renderIdentity(const Json& sceneDoc, const Json& inputFiles, const std::string& build);
 
-void writeCheckpoint(const std::string& path, const Film& film, uint64_t identity);
+/// What differs between the identity a checkpoint was saved with and the current one, as one
+/// clause for a message ("" when they match): the scene parts, the input files, the build.
+std::string identityDifference(const Json& saved, const Json& current);
 
-/// Reads a checkpoint; errors (missing, truncated, corrupt, or written for another render) are
-/// one line naming the file.
-Film readCheckpoint(const std::string& path, uint64_t identity);
+void writeCheckpoint(const std::string& path, const Film& film, const Json& identity);
+
+/// Reads a checkpoint; errors (missing, truncated, corrupt, of an older format, or written for
+/// another render, saying what differs) are one line naming the file.
+Film readCheckpoint(const std::string& path, const Json& identity);
 
 }  // namespace shvol
