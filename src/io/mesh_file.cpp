@@ -645,11 +645,17 @@ std::string objCornerDefect(std::string_view w) {
     return parts > 2 ? quote(w) + form : "";
 }
 
+/// The line numbers of an OBJ file's f and v lines: the k-th face tinyobjloader reports is on
+/// line f[k], its k-th position on line v[k].
+struct ObjLines {
+    std::vector<size_t> f, v;
+};
+
 /// Checks the numbers of the v, vn and vt lines and the corners of the f lines, which
-/// tinyobjloader does not, and returns the number of every f line (the k-th face tinyobjloader
-/// reports is on line fLines[k]). Lines end at "\n", "\r\n" or "\r", as in tinyobjloader.
-std::vector<size_t> scanObj(std::string_view text, const std::string& path) {
-    std::vector<size_t> fLines;
+/// tinyobjloader does not, and returns the numbers of the f and v lines. Lines end at "\n",
+/// "\r\n" or "\r", as in tinyobjloader.
+ObjLines scanObj(std::string_view text, const std::string& path) {
+    ObjLines lines;
     size_t pos = 0, lineNo = 0;
     while (pos < text.size()) {
         size_t end = pos;
@@ -666,7 +672,7 @@ std::vector<size_t> scanObj(std::string_view text, const std::string& path) {
                    (line[k.size()] == ' ' || line[k.size()] == '\t');
         };
         if (keyword("f")) {
-            fLines.push_back(lineNo);
+            lines.f.push_back(lineNo);
             size_t corners = 0;
             for (std::string_view w : splitWords(line.substr(1))) {
                 if (w[0] == '#')
@@ -687,6 +693,7 @@ std::vector<size_t> scanObj(std::string_view text, const std::string& path) {
         size_t least, most;
         const char* what;
         if (keyword("v")) {
+            lines.v.push_back(lineNo);
             least = 3, most = 7, what = "v (x y z [w or r g b])";
         } else if (keyword("vn")) {
             least = 3, most = 3, what = "vn (x y z)";
@@ -704,13 +711,19 @@ std::vector<size_t> scanObj(std::string_view text, const std::string& path) {
                 fail(path, "line " + std::to_string(lineNo),
                      quote(w) + (nonFinite ? " is not a finite number" : " is not a number"));
             }
+            // tinyobjloader reads floats: from 2¹²⁸ − 2¹⁰³ on, a number rounds to infinity.
+            if (std::fabs(std::strtod(std::string(w).c_str(), nullptr)) >= 0x1.ffffffp127)
+                fail(path, "line " + std::to_string(lineNo),
+                     quote(w) +
+                         " is beyond the range of a float (±3.4e38), in which OBJ "
+                         "numbers are read");
             ++count;
         }
         if (count < least || count > most)
             fail(path, "line " + std::to_string(lineNo),
                  std::to_string(count) + " numbers; expected " + what);
     }
-    return fLines;
+    return lines;
 }
 
 /// tinyobjloader's error text as one line, with "line N" as the place when it names one.
@@ -777,7 +790,7 @@ TriangleMesh readPly(const std::string& path) {
 
 TriangleMesh readObj(const std::string& path) {
     const std::string text = readWhole(path);
-    const std::vector<size_t> fLines = scanObj(text, path);
+    const ObjLines lines = scanObj(text, path);
     tinyobj::ObjReaderConfig config;
     config.triangulate = false;   // our own fan keeps the winding
     config.vertex_color = false;  // no default colours
@@ -789,6 +802,16 @@ TriangleMesh readObj(const std::string& path) {
     const tinyobj::attrib_t& a = reader.GetAttrib();
     const int nv = int(a.vertices.size() / 3), nvt = int(a.texcoords.size() / 2),
               nvn = int(a.normals.size() / 3);
+    // What scanObj let through and tinyobjloader still misreads ("0e999" is 0·∞ = NaN to it),
+    // at its line (validateMesh knows only the vertex it became).
+    for (int i = 0; i < nv; ++i)
+        if (const Vec3 p(a.vertices[3 * i], a.vertices[3 * i + 1], a.vertices[3 * i + 2]);
+            !p.allFinite())
+            fail(path,
+                 lines.v.size() == size_t(nv) ? "line " + std::to_string(lines.v[i])
+                                              : "v line " + std::to_string(i + 1),
+                 "a coordinate is not finite as tinyobjloader reads it (a number it misreads, "
+                 "such as 0e999 for 0)");
 
     // num_face_vertices is an unsigned char: the count of a face of 256 or more vertices wraps
     // around, and the corners no longer add up.
@@ -801,8 +824,8 @@ TriangleMesh readObj(const std::string& path) {
     if (corners != allIndices)
         fail(path, "", "a face has more than 255 vertices (tinyobjloader's limit)");
     const auto faceLine = [&](size_t f) {
-        return fLines.size() == faces ? "line " + std::to_string(fLines[f])
-                                      : "face " + std::to_string(f);
+        return lines.f.size() == faces ? "line " + std::to_string(lines.f[f])
+                                       : "face " + std::to_string(f);
     };
 
     TriangleMesh mesh;

@@ -504,12 +504,28 @@ TEST(MeshFile, ObjErrors) {
               tmp("word.obj") + ": line 3: \"zero\" is not a number");
     EXPECT_EQ(errorOf("two.obj", "v 0 0 0\nv 1 0\n"),
               tmp("two.obj") + ": line 2: 2 numbers; expected v (x y z [w or r g b])");
-    // Beyond float range: tinyobjloader reads it as infinity, and validateMesh says so.
+    // Beyond float range (tinyobjloader would read infinity), at the line and number; the
+    // largest float and what rounds down to it pass.
     EXPECT_EQ(errorOf("big.obj", tet + "v 1e39 0 0\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 5\n"),
-              tmp("big.obj") + ": vertex 4: position (inf, 0, 0) is not finite");
-    // tinyobjloader reads "0e999" as 0 · 5^999 · 2^999 = 0 · ∞ = NaN.
+              tmp("big.obj") +
+                  ": line 5: \"1e39\" is beyond the range of a float (±3.4e38), in "
+                  "which OBJ numbers are read");
+    EXPECT_EQ(errorOf("big2.obj", "v 0 0 0\nvn 0 -3.4028235677973366e38 0\n"),
+              tmp("big2.obj") +
+                  ": line 2: \"-3.4028235677973366e38\" is beyond the range of a "
+                  "float (±3.4e38), in which OBJ numbers are read");
+    EXPECT_NEAR(readObj(write("max.obj", "v 0 0 0\nv 3.4e38 0 0\nv 0 1 0\nf 1 2 3\n")).p[1].x(),
+                3.4e38, 3.4e38 * 1e-6);
+    // tinyobjloader's own rounding takes the largest float, 3.4028235677973362e38, to infinity.
+    EXPECT_EQ(errorOf("max2.obj", "v 0 0 0\nv 3.4028235677973362e38 0 0\nv 0 1 0\nf 1 2 3\n"),
+              tmp("max2.obj") +
+                  ": line 2: a coordinate is not finite as tinyobjloader reads it "
+                  "(a number it misreads, such as 0e999 for 0)");
+    // tinyobjloader reads "0e999" as 0 · 5^999 · 2^999 = 0 · ∞ = NaN: named at its line.
     EXPECT_EQ(errorOf("nan2.obj", tet + "v 0e999 0 0\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 5\n"),
-              tmp("nan2.obj") + ": vertex 4: position (nan, 0, 0) is not finite");
+              tmp("nan2.obj") +
+                  ": line 5: a coordinate is not finite as tinyobjloader reads it "
+                  "(a number it misreads, such as 0e999 for 0)");
     std::string polygon, face = "f";  // 300 vertices: more than tinyobjloader can count
     for (int i = 0; i < 300; ++i) {
         polygon += "v " + std::to_string(std::cos(i * TwoPi / 300)) + " " +
