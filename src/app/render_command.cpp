@@ -470,10 +470,11 @@ int runRender(const RenderArgs& a) {
     for (const std::string& w : renderWarnings(scene, r.stats))
         std::fprintf(stderr, "shvol: warning: %s: %s\n", a.scene.c_str(), w.c_str());
     if (!a.quiet)
-        std::fprintf(
-            stderr, "wrote %s and %s (%.2f s, %.3g paths/s, %s%d threads)\n", final.image.c_str(),
-            final.stats.c_str(), r.stats.wallSeconds, r.stats.pathsPerSecond(),
-            spread ? (std::to_string(world.size()) + " ranks of ").c_str() : "", r.stats.threads);
+        std::fprintf(stderr, "wrote %s and %s (%.2f s, %.3g paths/s, %s%d thread%s)\n",
+                     final.image.c_str(), final.stats.c_str(), r.stats.wallSeconds,
+                     r.stats.pathsPerSecond(),
+                     spread ? (std::to_string(world.size()) + " ranks of ").c_str() : "",
+                     r.stats.threads, r.stats.threads == 1 ? "" : "s");
     return interrupted ? 130 : 0;
 }
 

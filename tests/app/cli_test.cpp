@@ -538,6 +538,14 @@ TEST_F(Cli, RenderWritesExrAndStats) {
                                     "multiple-scattering", "roulette-survival-weight"])"));
     EXPECT_EQ(stats["roulette_threshold"], 0.25);  // render.rr_threshold "auto" without NEE
     EXPECT_EQ(stats["sampler"], "sobol");
+    // Without --quiet, one summary line.
+    const Result one =
+        run("render " + path("s.json") + " -o " + path("img.exr") + " --spp 1 --threads 1");
+    ASSERT_EQ(one.code, 0) << one.err;
+    EXPECT_EQ(
+        one.err.rfind("wrote " + path("img.exr") + " and " + path("img.stats.json") + " (", 0), 0u)
+        << one.err;
+    EXPECT_NE(one.err.find(" paths/s, 1 thread)\n"), std::string::npos) << one.err;
 }
 
 // A render whose SH-sampled phase function is unreliable says so on stderr and in its stats, with
