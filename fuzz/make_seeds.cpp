@@ -1,4 +1,5 @@
-// Writes the binary seed files of the EXR and VDB fuzz targets (tests/fuzz/exr/, tests/fuzz/vdb/):
+// Writes the binary seed files of the EXR, VDB and checkpoint fuzz targets (tests/fuzz/exr/,
+// tests/fuzz/vdb/, tests/fuzz/checkpoint/):
 // tiny valid files in the formats' main variants (compressions, pixel types, tiles, luminance
 // only, offset data window; VDB codecs, tiles, several grids) and a few slightly broken ones (a
 // truncated file, a NaN or negative value, a wrong grid type). Every file is well under 20 KB.
@@ -20,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "fuzz_checkpoint.h"
 #include "shvol/core/error.h"
 #include "shvol/io/exr.h"
 #include "shvol/io/procedural.h"
@@ -67,6 +69,17 @@ void writeExrVariant(const std::string& path, const std::vector<std::string>& ch
     }
 }
 
+/// A checkpoint seed (fuzz_checkpoint.h): the file writeCheckpoint writes, without its checksum.
+void writeCheckpointSeed(const std::string& path, const shvol::Film& film,
+                         const shvol::Json& identity) {
+    shvol::writeCheckpoint(path, film, identity);
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    in.close();
+    bytes.resize(bytes.size() - sizeof(uint64_t));
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
 void truncateCopy(const std::string& from, const std::string& to, double fraction) {
     std::ifstream in(from, std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(in)), {});
@@ -108,9 +121,9 @@ int main(int argc, char** argv) {
         return 2;
     }
     const fs::path root = argv[1];
-    const std::string exr = (root / "exr").string() + "/", vdb = (root / "vdb").string() + "/";
-    fs::create_directories(exr);
-    fs::create_directories(vdb);
+    const std::string exr = (root / "exr").string() + "/", vdb = (root / "vdb").string() + "/",
+                      ckpt = (root / "checkpoint").string() + "/";
+    for (const std::string& dir : {exr, vdb, ckpt}) fs::create_directories(dir);
     try {
         // EXR: what shvol writes (float RGB, ZIP), then the other layouts readExr accepts.
         shvol::Image img(W, H);
@@ -186,6 +199,22 @@ int main(int argc, char** argv) {
             writeVdbVariant(vdb + "bad_background.vdb", {g}, openvdb::io::COMPRESS_ACTIVE_MASK);
         }
         truncateCopy(vdb + "sphere8.vdb", vdb + "bad_truncated.vdb", 0.6);
+
+        // Checkpoints of the fuzzer's render (4x3), without and with sums of squares; one of
+        // another render (the seed and a file's contents differ).
+        const shvol::Json identity = shvol::fuzz::checkpointIdentity();
+        shvol::Film film(4, 3);
+        for (size_t i = 0; i < film.pixels(); ++i) {
+            film.count[i] = uint32_t(i % 5);
+            for (int c = 0; c < 3; ++c) film.sum[3 * i + c] = 0.25 * double(i + c);
+        }
+        writeCheckpointSeed(ckpt + "film.ckpt", film, identity);
+        film.sumSq = film.sum;
+        writeCheckpointSeed(ckpt + "variance.ckpt", film, identity);
+        shvol::Json other = identity;
+        other["scene"]["render.seed"] = "0";
+        other["inputs"]["media[0].file"] = "0";
+        writeCheckpointSeed(ckpt + "other_render.ckpt", film, other);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "fuzz_seeds: %s\n", e.what());
         return 1;

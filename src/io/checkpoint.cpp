@@ -1,6 +1,7 @@
 #include "shvol/io/checkpoint.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -55,6 +56,18 @@ std::vector<std::string> differingKeys(const Json& a, const Json& b, bool shared
     return keys;
 }
 
+/// Whether `id` has the form renderIdentity gives: {"scene": {name: hash}, "inputs": {key: hash},
+/// "build": revision}, hashes and revision strings.
+bool isIdentity(const Json& id) {
+    const auto ofStrings = [&](const char* key) {
+        if (!id.contains(key) || !id.at(key).is_object()) return false;
+        return std::all_of(id.at(key).begin(), id.at(key).end(),
+                           [](const Json& v) { return v.is_string(); });
+    };
+    return id.is_object() && ofStrings("scene") && ofStrings("inputs") && id.contains("build") &&
+           id.at("build").is_string();
+}
+
 /// "a", "a and b", "a, b and c"; past 6 names, "a, …, f and N more".
 std::string listed(const std::vector<std::string>& names) {
     const size_t shown = names.size() > 6 ? 6 : names.size();
@@ -80,11 +93,12 @@ Json renderIdentity(const Json& sceneDoc, const Json& inputFiles, const std::str
 std::string identityDifference(const Json& saved, const Json& current) {
     std::vector<std::string> clauses;
     const auto part = [](const Json& id, const char* key) {
-        return id.is_object() && id.contains(key) ? id.at(key) : Json::object();
+        return id.is_object() && id.contains(key) && id.at(key).is_object() ? id.at(key)
+                                                                            : Json::object();
     };
     if (const auto keys = differingKeys(part(saved, "scene"), part(current, "scene"), false);
         !keys.empty())
-        clauses.push_back("scene values " + listed(keys) +
+        clauses.push_back((keys.size() > 1 ? "scene values " : "scene value ") + listed(keys) +
                           (keys.size() > 1 ? " differ" : " differs") + " (scene file or --set)");
     // (A file only one of them reads follows from a scene value, named above.)
     if (const auto keys = differingKeys(part(saved, "inputs"), part(current, "inputs"), true);
@@ -92,7 +106,10 @@ std::string identityDifference(const Json& saved, const Json& current) {
         clauses.push_back("the file" + std::string(keys.size() > 1 ? "s" : "") + " named by " +
                           listed(keys) + (keys.size() > 1 ? " differ" : " differs") +
                           " in contents");
-    const Json savedBuild = part(saved, "build"), build = part(current, "build");
+    const auto buildOf = [](const Json& id) {
+        return id.is_object() && id.contains("build") ? id.at("build") : Json();
+    };
+    const Json savedBuild = buildOf(saved), build = buildOf(current);
     if (savedBuild != build)
         clauses.push_back("it was saved by shvol build " +
                           (savedBuild.is_string() ? savedBuild.get<std::string>() : "(unknown)") +
@@ -162,6 +179,8 @@ Film readCheckpoint(const std::string& path, const Json& identity) {
     const Json saved = Json::parse(bytes.begin() + sizeof kMagic + 4,
                                    bytes.begin() + sizeof kMagic + 4 + n, nullptr, false);
     if (saved.is_discarded()) fail(path, "header", "its identity is not JSON (corrupt file)");
+    if (!isIdentity(saved))
+        fail(path, "header", "its identity is not of the form shvol writes (corrupt file)");
     if (const std::string difference = identityDifference(saved, identity); !difference.empty())
         fail(path, "",
              "written for a different render: " + difference +
@@ -174,6 +193,18 @@ Film readCheckpoint(const std::string& path, const Json& identity) {
         film.sumSq.resize(pixels * 3);
         std::memcpy(film.sumSq.data(), data + pixels * 28, pixels * 3 * 8);
     }
+    // A render never accumulates a NaN or infinite sample (it counts and drops them), so such a
+    // sum is damage that would reach the image.
+    for (size_t i = 0; i < pixels; ++i)
+        for (int c = 0; c < 3; ++c)
+            if (!std::isfinite(film.sum[3 * i + c]) ||
+                (hasSumSq && !(std::isfinite(film.sumSq[3 * i + c]) && film.sumSq[3 * i + c] >= 0)))
+                fail(
+                    path,
+                    "pixel (" + std::to_string(i % size_t(w)) + ", " +
+                        std::to_string(i / size_t(w)) + ")",
+                    std::string(std::isfinite(film.sum[3 * i + c]) ? "a sum of squares" : "a sum") +
+                        " that is negative or not finite (corrupt file)");
     return film;
 }
 

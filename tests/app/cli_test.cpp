@@ -967,7 +967,7 @@ TEST_F(Cli, TimeLimitCheckpointAndResume) {
     // A checkpoint belongs to one render: another seed is refused.
     r = run(s + "-o " + path("x.exr") + " --seed 9 --checkpoint " + path("ck.bin") + " --resume");
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find("written for a different render: scene values render.seed differs "
+    EXPECT_NE(r.err.find("written for a different render: scene value render.seed differs "
                          "(scene file or --set) (only the sample count may change)"),
               std::string::npos)
         << r.err;

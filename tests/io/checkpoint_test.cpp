@@ -5,10 +5,15 @@
 #include "shvol/io/provenance.h"
 #include "shvol/io/scene_loader.h"
 
+#include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <iterator>
 
 #include "shvol/core/error.h"
+#include "shvol/core/hash.h"
 #include "test_util.h"
 
 namespace shvol {
@@ -32,6 +37,19 @@ Film sampleFilm() {
         for (int c = 0; c < 3; ++c) f.sum[3 * i + c] = 0.1 * double(i) + c + 1e-17 * double(i);
     }
     return f;
+}
+
+/// Rewrites checkpoint `p` through `edit` (given the bytes before the checksum) and gives it the
+/// right checksum again (checkpoint.h: FNV-1a of all before it).
+void rewriteWithChecksum(const std::string& p, const std::function<void(std::string&)>& edit) {
+    std::ifstream in(p, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    in.close();
+    bytes.resize(bytes.size() - 8);
+    edit(bytes);
+    const uint64_t sum = fnv1a(bytes.data(), bytes.size());
+    bytes.append(reinterpret_cast<const char*>(&sum), 8);
+    std::ofstream(p, std::ios::binary | std::ios::trunc) << bytes;
 }
 
 }  // namespace
@@ -99,6 +117,56 @@ TEST(Checkpoint, DamagedOrForeignFilesAreRefused) {
 // The identity ignores render.spp (a render may be continued to more samples) and follows the
 // rest of the scene document, the contents of the files it names (not their names' spelling
 // alone) and the program's build.
+// Damage the checksum does not catch (a file edited and re-summed, or shvol's own bug): a sum that
+// is not finite would reach the image, and an identity of another form could not be compared.
+TEST(Checkpoint, DamageBehindAValidChecksumIsRefused) {
+    const std::string p = tempPath("resummed.bin");
+    const Json id = sampleIdentity();
+    const size_t header = 8 + 4 + dumpJson(id).size() + 12, sums = header + 6 * 4;
+    const auto withValue = [&](size_t offset, double v) {
+        writeCheckpoint(p, sampleFilm(), id);
+        rewriteWithChecksum(p, [&](std::string& b) { std::memcpy(&b[offset], &v, 8); });
+    };
+    withValue(sums + (3 * 4 + 1) * 8, std::nan(""));  // pixel 4 = (1, 1), green
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
+              p + ": pixel (1, 1): a sum that is negative or not finite (corrupt file)");
+    withValue(sums + 2 * 8, -HUGE_VAL);  // pixel (0, 0), blue
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
+              p + ": pixel (0, 0): a sum that is negative or not finite (corrupt file)");
+    withValue(sums, 1e300);  // finite: read back as it is
+    EXPECT_EQ(readCheckpoint(p, id).sum[0], 1e300);
+
+    Film variance = sampleFilm();
+    variance.sumSq = variance.sum;
+    writeCheckpoint(p, variance, id);
+    rewriteWithChecksum(p, [&](std::string& b) {
+        const double v = -0.5;
+        std::memcpy(&b[sums + 6 * 3 * 8 + (3 * 5) * 8], &v, 8);  // pixel 5 = (2, 1)
+    });
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
+              p + ": pixel (2, 1): a sum of squares that is negative or not finite (corrupt file)");
+
+    for (const char* identity : {R"({"scene": 5, "inputs": {}, "build": "abc"})",
+                                 R"({"scene": {"a": 1}, "inputs": {}, "build": "abc"})",
+                                 R"({"scene": {}, "inputs": {}})", "[1, 2]"}) {
+        writeCheckpoint(p, sampleFilm(), id);
+        rewriteWithChecksum(p, [&](std::string& b) {
+            const std::string text = identity;
+            const uint32_t n = uint32_t(text.size());
+            b = b.substr(0, 8) + std::string(reinterpret_cast<const char*>(&n), 4) + text +
+                b.substr(12 + dumpJson(id).size());
+        });
+        EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
+                  p + ": header: its identity is not of the form shvol writes (corrupt file)")
+            << identity;
+    }
+    // The comparison itself takes any JSON without throwing (parts of another form count as empty).
+    EXPECT_EQ(identityDifference(Json::parse(R"({"scene": [1], "inputs": 2, "build": 3})"), id),
+              "scene values camera.fov and render.seed differ (scene file or --set); it was saved "
+              "by shvol build (unknown), this is abc");
+    EXPECT_EQ(identityDifference(Json(7), Json(7)), "");
+}
+
 TEST(Checkpoint, IdentityIgnoresOnlyTheSampleCount) {
     const std::string scene = tempPath("scene.json"), table = tempPath("table.csv");
     std::ofstream(scene) << R"({"render": {"spp": 4, "seed": 1}, "camera": {"fov": 30},
@@ -113,17 +181,17 @@ TEST(Checkpoint, IdentityIgnoresOnlyTheSampleCount) {
     EXPECT_EQ(id({"render.spp=100"}), id0);
     EXPECT_EQ(identityDifference(id0, id({"render.spp=100"})), "");
     EXPECT_EQ(identityDifference(id0, id({"render.seed=2"})),
-              "scene values render.seed differs (scene file or --set)");
+              "scene value render.seed differs (scene file or --set)");
     EXPECT_EQ(identityDifference(id0, id({"camera.fov=31", "media[0].phase.type=hg"})),
               "scene values camera.fov and media[0].phase differ (scene file or --set)");
     // A value only one of them has differs too.
     EXPECT_EQ(identityDifference(id0, id({"camera.up=[0,0,1]"})),
-              "scene values camera.up differs (scene file or --set)");
+              "scene value camera.up differs (scene file or --set)");
     EXPECT_EQ(identityDifference(id0, id({}, "abd")),
               "it was saved by shvol build abc, this is abd");
     std::ofstream(table) << "angle_deg,value\n0,3\n180,1\n";  // same name, other contents
     EXPECT_EQ(identityDifference(id0, id({"render.seed=2"}, "abd")),
-              "scene values render.seed differs (scene file or --set); the file named by "
+              "scene value render.seed differs (scene file or --set); the file named by "
               "media[0].phase.file differs in contents; it was saved by shvol build abc, this is "
               "abd");
 }
