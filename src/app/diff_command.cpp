@@ -9,33 +9,57 @@
 
 namespace shvol::app {
 
+namespace {
+
+struct DiffArgs {
+    std::string image, reference;
+    bool json = false;
+    /// Thresholds (--max-rmse, --max-relative-rmse, --max-abs-error); negative: not given.
+    double maxRmse = -1, maxRelRmse = -1, maxAbs = -1;
+    bool anyThreshold() const { return maxRmse >= 0 || maxRelRmse >= 0 || maxAbs >= 0; }
+};
+
+}  // namespace
+
 void addDiffCommand(CLI::App& app, std::function<int()>& run) {
-    auto files = std::make_shared<std::pair<std::string, std::string>>();
-    auto json = std::make_shared<bool>(false);
+    auto args = std::make_shared<DiffArgs>();
     CLI::App* c = app.add_subcommand(
         "diff", "Compare an image with a reference: RMSE, relative RMSE, mean and max error");
-    c->add_option("image", files->first, "Image (EXR)")->required();
-    c->add_option("reference", files->second, "Reference image (EXR)")->required();
-    c->add_flag("--json", *json, "JSON output");
-    c->callback([&run, files, json] {
-        run = [files, json] {
+    c->add_option("image", args->image, "Image (EXR)")->required();
+    c->add_option("reference", args->reference, "Reference image (EXR)")->required();
+    c->add_flag("--json", args->json, "JSON output");
+    const auto threshold = [&](const char* name, double& v, const char* metric) {
+        c->add_option(name, v,
+                      std::string("Exit with code 2 when ") + metric +
+                          " is above this (or a value is infinite in one image only)")
+            ->check(numberIn(0, 1e300))
+            ->default_str("none");
+    };
+    threshold("--max-rmse", args->maxRmse, "rmse");
+    threshold("--max-relative-rmse", args->maxRelRmse, "relative_rmse");
+    threshold("--max-abs-error", args->maxAbs, "max_abs_error");
+    c->callback([&run, args] {
+        run = [args] {
             // Any value but NaN: shvol's own standard-error images hold +inf (unknown), and
             // another renderer's filter can ring below 0.
-            const Image a = readExr(files->first, ExrValues::Compared),
-                        b = readExr(files->second, ExrValues::Compared);
+            const Image a = readExr(args->image, ExrValues::Compared),
+                        b = readExr(args->reference, ExrValues::Compared);
             if (a.width != b.width || a.height != b.height)
-                fail(files->first, "",
+                fail(args->image, "",
                      "size " + std::to_string(a.width) + "x" + std::to_string(a.height) +
                          " differs from the reference's " + std::to_string(b.width) + "x" +
                          std::to_string(b.height));
             // Over the channel values finite in both images: RMSE = √(mean (a−b)²); relative
             // RMSE = √(mean ((a−b)/(|b|+0.01))²) (the 0.01 keeps dark reference pixels from
             // dominating); mean of a and b. Values infinite in either image are counted apart.
+            // Of those, the ones infinite in one image only (or of opposite signs) are a
+            // difference no metric shows, counted again apart.
             double se = 0, rel = 0, maxAbs = 0, meanA = 0, meanB = 0;
-            size_t n = 0, infinite = 0;
+            size_t n = 0, infinite = 0, oneSided = 0;
             for (size_t i = 0; i < a.rgb.size(); ++i) {
                 if (!std::isfinite(a.rgb[i]) || !std::isfinite(b.rgb[i])) {
                     ++infinite;
+                    oneSided += a.rgb[i] != b.rgb[i];
                     continue;
                 }
                 const double d = double(a.rgb[i]) - b.rgb[i];
@@ -45,22 +69,46 @@ void addDiffCommand(CLI::App& app, std::function<int()>& run) {
                 meanA += a.rgb[i], meanB += b.rgb[i], ++n;
             }
             if (n == 0)
-                fail(files->first, "",
+                fail(args->image, "",
                      "no channel value is finite in both images: nothing to compare");
             const double rmse = std::sqrt(se / double(n)), relRmse = std::sqrt(rel / double(n));
             meanA /= double(n), meanB /= double(n);
-            if (*json) {
-                nlohmann::json j{
-                    {"rmse", rmse},  {"relative_rmse", relRmse}, {"max_abs_error", maxAbs},
-                    {"mean", meanA}, {"reference_mean", meanB},  {"infinite_values", infinite}};
+            if (args->json) {
+                nlohmann::json j{{"rmse", rmse},
+                                 {"relative_rmse", relRmse},
+                                 {"max_abs_error", maxAbs},
+                                 {"mean", meanA},
+                                 {"reference_mean", meanB},
+                                 {"infinite_values", infinite},
+                                 {"infinite_in_one_image", oneSided}};
                 std::printf("%s\n", j.dump(2).c_str());
             } else {
                 std::printf(
                     "rmse %.6g\nrelative_rmse %.6g\nmax_abs_error %.6g\nmean %.6g\n"
-                    "reference_mean %.6g\ninfinite_values %zu\n",
-                    rmse, relRmse, maxAbs, meanA, meanB, infinite);
+                    "reference_mean %.6g\ninfinite_values %zu\ninfinite_in_one_image %zu\n",
+                    rmse, relRmse, maxAbs, meanA, meanB, infinite, oneSided);
             }
-            return 0;
+            if (!args->anyThreshold()) return 0;
+            // One line on stderr naming every threshold passed, and exit code 2 (1 is an error).
+            std::string above;
+            const auto check = [&](const char* metric, double v, double limit, const char* opt) {
+                if (limit >= 0 && v > limit) {
+                    char text[160];
+                    std::snprintf(text, sizeof text, "%s%s %.6g is above %s %.6g",
+                                  above.empty() ? "" : "; ", metric, v, opt, limit);
+                    above += text;
+                }
+            };
+            check("rmse", rmse, args->maxRmse, "--max-rmse");
+            check("relative_rmse", relRmse, args->maxRelRmse, "--max-relative-rmse");
+            check("max_abs_error", maxAbs, args->maxAbs, "--max-abs-error");
+            if (oneSided > 0)
+                above += (above.empty() ? "" : "; ") + std::to_string(oneSided) +
+                         (oneSided == 1 ? " value is" : " values are") +
+                         " infinite in one image only";
+            if (above.empty()) return 0;
+            std::fprintf(stderr, "shvol: diff: %s: %s\n", args->image.c_str(), above.c_str());
+            return 2;
         };
     });
 }

@@ -1083,9 +1083,11 @@ TEST_F(Cli, DiffComparesTheValuesFiniteInBoth) {
     EXPECT_NEAR(j["mean"].get<double>(), 7.5 / 5, 1e-12);
     EXPECT_NEAR(j["reference_mean"].get<double>(), 3.5 / 5, 1e-12);
     EXPECT_EQ(j["infinite_values"].get<int>(), 1);
+    EXPECT_EQ(j["infinite_in_one_image"].get<int>(), 1);
     r = run("diff " + path("a.exr") + " " + path("b.exr"));
     EXPECT_EQ(r.code, 0) << r.err;
-    EXPECT_NE(r.out.find("\ninfinite_values 1\n"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("\ninfinite_values 1\ninfinite_in_one_image 1\n"), std::string::npos)
+        << r.out;
 
     Image inf(2, 1);
     inf.rgb.assign(inf.rgb.size(), INFINITY);
@@ -1099,6 +1101,47 @@ TEST_F(Cli, DiffComparesTheValuesFiniteInBoth) {
     r = run("diff " + path("a.exr") + " " + path("nan.exr"));
     EXPECT_EQ(r.code, 1);
     EXPECT_EQ(r.err, "shvol: error: " + path("nan.exr") + ": pixel (1, 0): NaN value\n");
+}
+
+// diff's thresholds: exit code 2 and one line naming every metric above its threshold, and any
+// value infinite in one image only (which no metric shows); equal to a threshold passes; infinite
+// in both alike passes; a threshold's range is checked as options are.
+TEST_F(Cli, DiffThresholdsExitWithCode2) {
+    Image a(2, 1), b(2, 1);
+    a.set(0, 0, Spectrum(1, 2, 4)), a.set(1, 0, Spectrum(0.5, 3, INFINITY));
+    b.set(0, 0, Spectrum(1, 1, 2)), b.set(1, 0, Spectrum(-0.5, 3, INFINITY));
+    writeExr(path("a.exr"), a);
+    writeExr(path("b.exr"), b);
+    const std::string images = " " + path("a.exr") + " " + path("b.exr");
+    // Differences 0, 1, 2, 1, 0 over five values: rmse √(6/5), max 2; +inf in both is left out.
+    Result r = run("diff" + images + " --max-abs-error 2 --max-relative-rmse 2");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    r = run("diff" + images + " --max-rmse 1 --max-abs-error 1.5 --max-relative-rmse 2");
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_EQ(r.err, "shvol: diff: " + path("a.exr") +
+                         ": rmse 1.09545 is above --max-rmse 1; max_abs_error 2 is above "
+                         "--max-abs-error 1.5\n");
+    EXPECT_NE(r.out.find("rmse 1.09545\n"), std::string::npos) << r.out;  // metrics as always
+    r = run("diff" + images + " --max-rmse 0 --json");
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["max_abs_error"].get<double>(), 2);
+
+    b.set(1, 0, Spectrum(-0.5, INFINITY, -INFINITY));  // one-sided, then of opposite signs
+    writeExr(path("b.exr"), b);
+    r = run("diff" + images + " --max-rmse 10");
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_EQ(r.err,
+              "shvol: diff: " + path("a.exr") + ": 2 values are infinite in one image only\n");
+    r = run("diff" + images);  // without a threshold: counted, exit 0
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("\ninfinite_values 2\ninfinite_in_one_image 2\n"), std::string::npos)
+        << r.out;
+
+    r = run("diff" + images + " --max-rmse -1");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("--max-rmse"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("must be in [0, "), std::string::npos) << r.err;
 }
 
 // A checkpoint is refused when a file the scene names has changed since it was written (the
