@@ -361,8 +361,8 @@ int runBatch(BatchArgs a) {
     Sweep s;
     collectively([&] {
         if (world.parallel() && a.jobs > 1)
-            fail("", "--jobs",
-                 "under mpirun each rank renders one run at a time; start more ranks");
+            failOption("--jobs",
+                       "under mpirun each rank renders one run at a time; start more ranks");
         s = readSweep(a.sweep);
         if (world.root()) checkRunScenes(s);
     });

@@ -139,8 +139,8 @@ void addMakeSkyCommand(CLI::App& app, std::function<int()>& run) {
             p.model = skyModelFromName(a->model);
             p.mapping = latLongMappingFromName(a->mapping);
             if (p.width % 2)
-                fail("", "--width",
-                     "must be even (the height is width/2), got " + std::to_string(p.width));
+                failOption("--width",
+                           "must be even (the height is width/2), got " + std::to_string(p.width));
             p.height = p.width / 2;
             if (radianceGiven) p.sunRadiance = a->sunRadiance;
             if (radiusGiven) p.sunAngularRadius = a->sunRadius;

@@ -49,10 +49,11 @@ SHSampledPhase shPhase(const PhaseArgs& a) {
     }
     if (a.tolerance > 0) {
         if (j.contains("order") && j["order"].is_number())
-            throw Error("--tolerance: only valid with --order auto (" +
-                        (a.order.empty() ? "the spec's order is " + j["order"].dump()
-                                         : "got --order " + a.order) +
-                        ")");
+            failOption("--tolerance",
+                       "only valid with --order auto (" +
+                           (a.order.empty() ? "the spec's order is " + j["order"].dump()
+                                            : "got --order " + a.order) +
+                           ")");
         j["tolerance"] = a.tolerance;
     } else if (!a.order.empty() && a.order != "auto") {
         j.erase("tolerance");  // the spec's, for its "order": "auto", which --order replaced
@@ -156,14 +157,14 @@ struct WeightStats {
 int runSample(const PhaseArgs& a) {
     const bool general = a.sampler == "general";
     if (general && a.depth > kGeneralMaxDepth)
-        fail("", "--depth", "the general sampler supports depths up to 10");
+        failOption("--depth", "the general sampler supports depths up to 10");
     if (general && a.order != "auto" && !a.order.empty() && std::stoi(a.order) > 128)
-        fail("", "--order", "the general sampler supports orders up to 128");
+        failOption("--order", "the general sampler supports orders up to 128");
     const SHSampledPhase sh = shPhase(a);
     const PhaseFunction phase(sh);
     const int order = int(sh.fit().p.size());
     if (general && order > 128)
-        fail("", "--order", "the general sampler supports orders up to 128");
+        failOption("--order", "the general sampler supports orders up to 128");
     // The samples must not replace the table they are drawn from.
     const Json spec = phaseSpecToJson(a.spec);
     if (spec.contains("file") && spec["file"].is_string() &&

@@ -274,18 +274,19 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
     });
 }
 
-/// --spp: "N" or increasing "N1,N2,…,N" (each Ni an image of its own).
-std::vector<uint32_t> parseSppList(const std::string& text) {
+/// --spp: "N" or increasing "N1,N2,…,N" (each Ni an image of its own). Gives the list, or
+/// leaves it short and says why in `problem`.
+std::vector<uint32_t> parseSppList(const std::string& text, std::string& problem) {
     std::vector<uint32_t> list;
+    if (text.empty()) problem = "expected N or N1,N2,...,N, got \"\"";
     // Every item between commas, empty ones too ("16," is refused like ",16").
-    for (size_t from = 0, to = 0; to != std::string::npos; from = to + 1) {
+    for (size_t from = 0, to = 0; problem.empty() && to != std::string::npos; from = to + 1) {
         to = text.find(',', from);
-        const std::string item = text.substr(from, to == std::string::npos ? to : to - from);
-        const std::string err = integerIn(1, 1 << 24)(item);
-        if (!err.empty()) fail("", "--spp", err);
+        std::string item = text.substr(from, to == std::string::npos ? to : to - from);
+        problem = integerIn(1, 1 << 24)(item);
+        if (!problem.empty()) break;
         const uint32_t n = uint32_t(std::stoul(item));
-        if (!list.empty() && n <= list.back())
-            fail("", "--spp", "sample counts must increase, got " + text);
+        if (!list.empty() && n <= list.back()) problem = "sample counts must increase, got " + text;
         list.push_back(n);
     }
     return list;
@@ -310,12 +311,14 @@ int runRender(const RenderArgs& a) {
         [&] {  // every rank reads the scene; a bad one fails on all of them alike
             if (spread) {
                 if (a.timeLimit > 0 || !a.checkpoint.empty() || a.resume)
-                    fail("", a.timeLimit > 0 ? "--time-limit" : "--checkpoint",
-                         "not available in a render over several MPI ranks (README.md, \"MPI\")");
+                    failOption(
+                        a.timeLimit > 0 ? "--time-limit" : "--checkpoint",
+                        "not available in a render over several MPI ranks (README.md, \"MPI\")");
             }
             std::vector<std::string> sets = a.sets;
+            std::string refused;  // (already, by --spp's validator)
             const std::vector<uint32_t> sppList =
-                a.spp.empty() ? std::vector<uint32_t>{} : parseSppList(a.spp);
+                a.spp.empty() ? std::vector<uint32_t>{} : parseSppList(a.spp, refused);
             if (!sppList.empty()) sets.push_back("render.spp=" + std::to_string(sppList.back()));
             if (a.seed >= 0) sets.push_back("render.seed=" + std::to_string(a.seed));
             nlohmann::json resolved;
@@ -400,9 +403,10 @@ int runRender(const RenderArgs& a) {
             }
             if (a.variance &&
                 std::min(stops.empty() ? 2 : stops.front(), uint32_t(scene.settings.spp)) < 2)
-                fail("", "--variance",
-                     "a standard error needs at least 2 samples per pixel, and the render would "
-                     "write an image of 1");
+                failOption(
+                    "--variance",
+                    "a standard error needs at least 2 samples per pixel, and the render would "
+                    "write an image of 1");
         },
         spread);
     if (speaks)
@@ -490,7 +494,9 @@ void addRenderCommand(CLI::App& app, std::function<int()>& run) {
                   "at each Ni as <output>.sppNi.exr, identical to a render of Ni spp")
         ->check(CLI::Validator(
             [](std::string& text) {
-                return text.empty() ? "expected N or N1,N2,...,N, got \"\"" : "";
+                std::string problem;
+                parseSppList(text, problem);
+                return problem;
             },
             "N|N1,N2,..."))
         ->default_str("the scene's render.spp");

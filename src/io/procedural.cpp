@@ -280,14 +280,14 @@ SkySummary describeSky(const SkyParams& s) {
     if (!(out.sunRadiance.maxCoeff() <= 1e30)) {
         const std::string radiance = num(out.sunRadiance.maxCoeff());
         if (s.sunRadiance)
-            fail("", "--sun-radiance",
-                 "gives the sun disc a radiance of " + radiance +
-                     " (largest channel), above the "
-                     "limit of 1e30");
-        fail("", "--sun-radius",
-             "a sun of radius " + num(out.sunAngularRadius) + " rad would need a radiance of " +
-                 radiance +
-                 " for the physical illuminance, above the limit of 1e30; give a larger radius");
+            failOption("--sun-radiance", "gives the sun disc a radiance of " + radiance +
+                                             " (largest channel), above the "
+                                             "limit of 1e30");
+        failOption(
+            "--sun-radius",
+            "a sun of radius " + num(out.sunAngularRadius) + " rad would need a radiance of " +
+                radiance +
+                " for the physical illuminance, above the limit of 1e30; give a larger radius");
     }
     return out;
 }

@@ -148,6 +148,15 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
         {"make-medium cloud -o " + path("m.vdb") + " --grid ''", "--grid: a grid needs a name"},
         {"render " + path("s.json") + " --spp abc",
          "--spp: expected an integer in [1, 16777216], got \"abc\""},
+        {"render " + path("s.json") + " --spp 16,4",
+         "--spp: sample counts must increase, got 16,4"},
+        // Found as the command runs, not as the options are read: the same form.
+        {"render " + path("s.json") + " --spp 1 --variance -o " + path("v.exr"),
+         "--variance: a standard error needs at least 2 samples per pixel"},
+        {"phase fit hg:g=0.5 --order 4 --tolerance 1e-3",
+         "--tolerance: only valid with --order auto (got --order 4)"},
+        {"phase sample hg:g=0.6 --order 8 --sampler general --depth 22 --out " + path("m.csv"),
+         "--depth: the general sampler supports depths up to 10"},
         {"render " + path("s.json") + " --seed -1",
          "--seed: must be an integer in [0, 9007199254740992], got -1"},
         {"render " + path("s.json") + " --threads -2",
@@ -187,6 +196,12 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
         EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << ": " << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
         EXPECT_LT(r.err.size(), 200u) << r.err;
+        // An option's error points to the help, as README says (--spp's list is checked as the
+        // option is read, as the others are).
+        if (c.message.rfind("--", 0) == 0)
+            EXPECT_EQ(r.err.substr(r.err.size() - std::min<size_t>(r.err.size(), 13)),
+                      "(see --help)\n")
+                << r.err;
     }
     for (const char* file : {"m.vdb", "m.png", "m.csv", "m.txt"})
         EXPECT_FALSE(fs::exists(path(file))) << file;

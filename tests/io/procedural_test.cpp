@@ -444,7 +444,7 @@ TEST(ProceduralSky, DefaultsAndValidation) {
     simple.sunRadiance = 2e30;
     EXPECT_EQ(test::messageOf([&] { describeSky(simple); }),
               "--sun-radiance: gives the sun disc a radiance of 2e+30 (largest channel), above "
-              "the limit of 1e30");
+              "the limit of 1e30 (see --help)");
     SkyParams tiny;
     tiny.model = SkyModel::Preetham;
     tiny.sunAngularRadius = 1e-19;

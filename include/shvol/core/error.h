@@ -20,4 +20,10 @@ std::string errorLine(const std::string& file, const std::string& place, const s
     throw Error(errorLine(file, place, msg));
 }
 
+/// An error in command-line option `option` found when a command runs rather than as the options
+/// are read: "OPTION: message (see --help)", the form of the option errors the parser reports.
+[[noreturn]] inline void failOption(const std::string& option, const std::string& msg) {
+    fail("", option, msg + " (see --help)");
+}
+
 }  // namespace shvol
