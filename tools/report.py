@@ -97,6 +97,11 @@ def label(row, axes):
     return ", ".join(parts) if parts else "(all runs)"
 
 
+def counted(n, noun):
+    """'1 run', '16 runs'."""
+    return f"{n} {noun}" + ("" if n == 1 else "s")
+
+
 def mean_sd(xs):
     m = sum(xs) / len(xs)
     sd = math.sqrt(sum((x - m) ** 2 for x in xs) / (len(xs) - 1)) if len(xs) > 1 else 0.0
@@ -205,7 +210,8 @@ def main():
         table.append([c, str(spp), str(n), (f"{e:.4g} ± {sd:.2g}" if n > 1 else f"{e:.4g}") if error else "",
                       f"{t:.3g}", f"{eff:.4g}" if not math.isnan(eff) else ""])
     md = [f"# Batch report: {directory}", "",
-          f"{len(rows)} runs, {len(configs)} configurations; error metric: {error or 'none'}.", ""]
+          f"{counted(len(rows), 'run')}, {counted(len(configs), 'configuration')}; "
+          f"error metric: {error or 'none'}.", ""]
     for f, caption in figures:
         md += [f"![{caption}]({f})", "", f"*{caption}*", ""]
     md.append("| " + " | ".join(head) + " |")
@@ -213,8 +219,8 @@ def main():
     md += ["| " + " | ".join(r) + " |" for r in table[1:]]
     write(os.path.join(directory, "report.md"), "\n".join(md) + "\n")
 
-    body = [f"<h1>Batch report</h1><p>{html.escape(directory)}: {len(rows)} runs, "
-            f"{len(configs)} configurations; error metric: {error or 'none'}.</p>"]
+    body = [f"<h1>Batch report</h1><p>{html.escape(directory)}: {counted(len(rows), 'run')}, "
+            f"{counted(len(configs), 'configuration')}; error metric: {error or 'none'}.</p>"]
     for f, caption in figures:
         body.append(f'<figure><img src="{f}"><figcaption>{html.escape(caption)}</figcaption>'
                     "</figure>")

@@ -411,7 +411,8 @@ int runBatch(BatchArgs a) {
             finished += has;
             std::printf("%s%s\n", describe(run).c_str(), has ? " (finished)" : "");
         }
-        std::printf("%zu runs into %s", s.runs.size(), s.output.c_str());
+        std::printf("%zu run%s into %s", s.runs.size(), s.runs.size() == 1 ? "" : "s",
+                    s.output.c_str());
         if (finished > 0)
             std::printf(", %zu of them finished (the start checks that they match this sweep)",
                         finished);

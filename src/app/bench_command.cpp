@@ -255,9 +255,8 @@ int runBench(BenchArgs& a) {
         std::error_code ec;
         std::filesystem::create_directories(a.cache, ec);
         if (ec || !std::filesystem::is_directory(a.cache))
-            fail(a.cache, "",
-                 "cannot make the --cache directory" +
-                     (ec ? " (" + ec.message() + ")" : std::string()));
+            failOption("--cache", a.cache + ": cannot make the directory" +
+                                      (ec ? " (" + ec.message() + ")" : std::string()));
     }
     const std::vector<std::string> vdbLookups = withVdbKey(doc, a.sets, "lookup", "\"openvdb\"");
     std::vector<Config> configs = {
@@ -361,17 +360,22 @@ void addBenchCommand(CLI::App& app, std::function<int()>& run) {
         ->check(integerIn(1, 1000));
     c->add_option("--set", a->sets, "Override a scene value: key.path=value (repeatable)")
         ->default_str("");
-    c->add_flag("--accuracy", a->accuracy,
-                "Also measure RMSE against a converged reference (rendered once, cached)");
+    CLI::Option* accuracy =
+        c->add_flag("--accuracy", a->accuracy,
+                    "Also measure RMSE against a converged reference (rendered once, cached)");
     c->add_flag(
         "--cell-sweep", a->cellSweep,
         "Also measure majorant cells of 1, 2, 4, 8 and 16 voxels and split ns per path into a "
         "shared part and costs per density lookup and per majorant segment");
+    // (Options of --accuracy only: without it they would be silently ignored.)
     c->add_option("--reference-spp", a->referenceSpp, "Samples per pixel of the reference")
-        ->check(integerIn(1, 1 << 24));
+        ->check(integerIn(1, 1 << 24))
+        ->needs(accuracy);
     c->add_option("--epsilon", a->epsilon, "The RMSE whose time is reported")
-        ->check(numberIn(0, 1e30, true));
-    c->add_option("--cache", a->cache, "Directory of cached references (made if missing)");
+        ->check(numberIn(0, 1e30, true))
+        ->needs(accuracy);
+    c->add_option("--cache", a->cache, "Directory of cached references (made if missing)")
+        ->needs(accuracy);
     c->callback([&run, a, c] {
         run = [a, c] {
             if (c->count("scene") == 0) a->scene = defaultBenchScene();

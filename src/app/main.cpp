@@ -54,7 +54,14 @@ int runMain(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         // Like every other error: one line and exit code 1 (CLI11 would print two lines and use
         // its own codes).
-        if (speaks) std::fprintf(stderr, "shvol: error: %s (see --help)\n", e.what());
+        // (CLI11's words for an option given twice, "--spp: At Most 1 required but received 2",
+        // said plainly.)
+        std::string what = e.what();
+        const std::string twice = "At Most 1 required but received ";
+        if (const size_t at = what.find(twice); at != std::string::npos)
+            what = what.substr(0, at) + "given " + what.substr(at + twice.size()) +
+                   " times; give it once";
+        if (speaks) std::fprintf(stderr, "shvol: error: %s (see --help)\n", what.c_str());
         return 1;
     }
     const std::string command = app.get_subcommands().front()->get_name();

@@ -196,6 +196,7 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
             l["product_depth"] = ls.productDepth;
         }
     }
+    j["media"] = nlohmann::json::array(), j["phase"] = nlohmann::json::array();  // [] without media
     for (const auto& m : scene.media) {
         j["media"].push_back(m->describe());
         j["phase"].push_back(phaseJson(m->phase()));

@@ -99,7 +99,8 @@ std::string identityDifference(const Json& saved, const Json& current) {
     if (const auto keys = differingKeys(part(saved, "scene"), part(current, "scene"), false);
         !keys.empty())
         clauses.push_back((keys.size() > 1 ? "scene values " : "scene value ") + listed(keys) +
-                          (keys.size() > 1 ? " differ" : " differs") + " (scene file or --set)");
+                          (keys.size() > 1 ? " differ" : " differs") +
+                          " (scene file, --set or --seed)");
     // (A file only one of them reads follows from a scene value, named above.)
     if (const auto keys = differingKeys(part(saved, "inputs"), part(current, "inputs"), true);
         !keys.empty())

@@ -144,13 +144,12 @@ Image readExr(const std::string& path, ExrValues values) {
             const Spectrum v = img.at(x, y);
             const std::string where =
                 "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")";
-            if (values == ExrValues::Compared) {
-                if (v.hasNaN()) fail(path, where, "NaN value");
-                continue;
-            }
-            if (!v.allFinite() && !(values == ExrValues::Preview && !v.hasNaN() && (v > 0).all()))
-                fail(path, where, "NaN or infinite value");
-            if ((v < 0).any()) fail(path, where, "negative value");
+            if (v.hasNaN()) fail(path, where, "NaN value");
+            if (values == ExrValues::Compared) continue;
+            if ((v < 0).any())
+                fail(path, where,
+                     (v == -INFINITY).any() ? "negative infinite value" : "negative value");
+            if (!v.allFinite() && values != ExrValues::Preview) fail(path, where, "infinite value");
         }
     return img;
 }

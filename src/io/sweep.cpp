@@ -217,7 +217,12 @@ Sweep readSweep(const std::string& path) {
     if (r.has("reference")) {
         JsonReader ref = r.object("reference");
         SweepReference sr;
-        if (ref.has("file") && !(ref.has("spp") || ref.has("set") || ref.has("seed"))) {
+        const bool renderSpec = ref.has("spp") || ref.has("set") || ref.has("seed");
+        if (ref.has("file") && renderSpec)
+            ref.error("file",
+                      "a reference is either a file or a render spec (spp, set, seed), "
+                      "not both");
+        if (ref.has("file")) {
             // Checked here, so that --dry-run finds a missing reference too.
             sr.file = ref.inputFile("file", fs::path(path).parent_path().string());
         } else {

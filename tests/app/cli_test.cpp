@@ -150,6 +150,7 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
          "--spp: expected an integer in [1, 16777216], got \"abc\""},
         {"render " + path("s.json") + " --spp 16,4",
          "--spp: sample counts must increase, got 16,4"},
+        {"render " + path("s.json") + " --spp 2 --spp 4", "--spp: given 2 times; give it once"},
         // Found as the command runs, not as the options are read: the same form.
         {"render " + path("s.json") + " --spp 1 --variance -o " + path("v.exr"),
          "--variance: a standard error needs at least 2 samples per pixel"},
@@ -157,6 +158,9 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
          "--tolerance: only valid with --order auto (got --order 4)"},
         {"phase sample hg:g=0.6 --order 8 --sampler general --depth 22 --out " + path("m.csv"),
          "--depth: the general sampler supports depths up to 10"},
+        {"phase sample hg:g=0.999 --sampler general --out " + path("m.csv"),
+         "--sampler: the general sampler supports orders up to 128, and the automatic order of "
+         "hg:g=0.999 is 256; give --order 128 or less"},
         {"render " + path("s.json") + " --seed -1",
          "--seed: must be an integer in [0, 9007199254740992], got -1"},
         {"render " + path("s.json") + " --threads -2",
@@ -330,11 +334,19 @@ TEST_F(Cli, BenchAccuracyCachesItsReference) {
     EXPECT_TRUE(fs::is_directory(path("new/deeper")));
     r = run(small + " --cache " + path("s.json/sub"));
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(
-        r.err.find("shvol: error: " + path("s.json/sub") + ": cannot make the --cache directory"),
-        std::string::npos)
+    EXPECT_NE(r.err.find("shvol: error: --cache: " + path("s.json/sub") +
+                         ": cannot make the directory (Not a directory) (see --help)"),
+              std::string::npos)
         << r.err;
     EXPECT_EQ(r.err.find("paths/s"), std::string::npos) << r.err;  // nothing measured
+    // Without --accuracy its options are refused, not ignored.
+    for (const char* option : {"--cache ", "--reference-spp 4", "--epsilon 0.1"}) {
+        r = run("bench " + path("s.json") + " --spp 1 " + option +
+                (std::string(option) == "--cache " ? path("unused") : ""));
+        EXPECT_EQ(r.code, 1) << option;
+        EXPECT_NE(r.err.find(" requires --accuracy"), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(path("unused")));
+    }
 }
 
 // The cached reference is keyed by the contents of the files the scene names too: a .vdb
@@ -757,6 +769,15 @@ TEST_F(Cli, SurfaceSceneSameImageAnyThreadsAndStats) {
     for (const char* e : {"surfaces", "bounded-media", "nee-area-lights"})
         EXPECT_NE(std::find(fx.begin(), fx.end(), e), fx.end()) << e;
     EXPECT_EQ(st["scene_resolved"]["surfaces"][1]["bsdf"]["type"], "lambert");
+    EXPECT_EQ(st["media"].size(), 1u);
+    // Without media, the per-medium lists are there and empty (README's stats keys).
+    ASSERT_EQ(run("render " + path("s.json") + " -o " + path("c.exr") +
+                  " --threads 1 --quiet --spp 1 --set media=null")
+                  .code,
+              0);
+    const nlohmann::json none = nlohmann::json::parse(test::fileBytes(path("c.stats.json")));
+    EXPECT_EQ(none["media"], nlohmann::json::array());
+    EXPECT_EQ(none["phase"], nlohmann::json::array());
 }
 
 TEST_F(Cli, BadExrFiles) {
@@ -775,7 +796,7 @@ TEST_F(Cli, BadExrFiles) {
     img.set(1, 1, Spectrum(1, NAN, 1));
     writeExr(path("nan.exr"), img);
     write("nan.json", sceneWithSky("nan.exr"));
-    expectOneLineError("nan.json", path("nan.exr") + ": pixel (1, 1): NaN or infinite value");
+    expectOneLineError("nan.json", path("nan.exr") + ": pixel (1, 1): NaN value");
 }
 
 TEST_F(Cli, BadOverridesAndOutputs) {
@@ -983,7 +1004,7 @@ TEST_F(Cli, TimeLimitCheckpointAndResume) {
     r = run(s + "-o " + path("x.exr") + " --seed 9 --checkpoint " + path("ck.bin") + " --resume");
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("written for a different render: scene value render.seed differs "
-                         "(scene file or --set) (only the sample count may change)"),
+                         "(scene file, --set or --seed) (only the sample count may change)"),
               std::string::npos)
         << r.err;
     // Fewer samples than the checkpoint holds: refused, naming the checkpoint.
@@ -1693,6 +1714,11 @@ TEST_F(Cli, BatchReport) {
     for (std::string line; std::getline(md, line);)
         rows += line.rfind("| media[0].albedo=", 0) == 0;
     EXPECT_EQ(rows, 4);
+    EXPECT_NE(test::fileBytes(path("o/report.md")).find("\n8 runs, 2 configurations; "),
+              std::string::npos);
+    write("one.json", R"({"scene": "s.json", "axes": {"spp": [2]}})");  // counted in the singular
+    const Result one = run("batch " + path("one.json") + " --dry-run --output " + path("one"));
+    EXPECT_NE(one.out.find("\n1 run into " + path("one") + "\n"), std::string::npos) << one.out;
     EXPECT_EQ(run("report " + path("nothing")).code, 1);
     // A copy of the program outside its build tree finds tools/report.py in the source tree it
     // was built from.

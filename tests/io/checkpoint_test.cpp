@@ -162,7 +162,8 @@ TEST(Checkpoint, DamageBehindAValidChecksumIsRefused) {
     }
     // The comparison itself takes any JSON without throwing (parts of another form count as empty).
     EXPECT_EQ(identityDifference(Json::parse(R"({"scene": [1], "inputs": 2, "build": 3})"), id),
-              "scene values camera.fov and render.seed differ (scene file or --set); it was saved "
+              "scene values camera.fov and render.seed differ (scene file, --set or --seed); it "
+              "was saved "
               "by shvol build (unknown), this is abc");
     EXPECT_EQ(identityDifference(Json(7), Json(7)), "");
 }
@@ -181,17 +182,17 @@ TEST(Checkpoint, IdentityIgnoresOnlyTheSampleCount) {
     EXPECT_EQ(id({"render.spp=100"}), id0);
     EXPECT_EQ(identityDifference(id0, id({"render.spp=100"})), "");
     EXPECT_EQ(identityDifference(id0, id({"render.seed=2"})),
-              "scene value render.seed differs (scene file or --set)");
+              "scene value render.seed differs (scene file, --set or --seed)");
     EXPECT_EQ(identityDifference(id0, id({"camera.fov=31", "media[0].phase.type=hg"})),
-              "scene values camera.fov and media[0].phase differ (scene file or --set)");
+              "scene values camera.fov and media[0].phase differ (scene file, --set or --seed)");
     // A value only one of them has differs too.
     EXPECT_EQ(identityDifference(id0, id({"camera.up=[0,0,1]"})),
-              "scene value camera.up differs (scene file or --set)");
+              "scene value camera.up differs (scene file, --set or --seed)");
     EXPECT_EQ(identityDifference(id0, id({}, "abd")),
               "it was saved by shvol build abc, this is abd");
     std::ofstream(table) << "angle_deg,value\n0,3\n180,1\n";  // same name, other contents
     EXPECT_EQ(identityDifference(id0, id({"render.seed=2"}, "abd")),
-              "scene value render.seed differs (scene file or --set); the file named by "
+              "scene value render.seed differs (scene file, --set or --seed); the file named by "
               "media[0].phase.file differs in contents; it was saved by shvol build abc, this is "
               "abd");
 }
@@ -208,9 +209,10 @@ TEST(Checkpoint, IdentityLeavesOutEmptiedObjects) {
 TEST(Checkpoint, IdentityDifferenceListsAtMostSixParts) {
     Json a = Json::object(), b = Json::object();
     for (int i = 0; i < 9; ++i) a["k" + std::to_string(i)] = i, b["k" + std::to_string(i)] = -i;
-    EXPECT_EQ(identityDifference(renderIdentity(a, Json::array(), "x"),
-                                 renderIdentity(b, Json::array(), "x")),
-              "scene values k1, k2, k3, k4, k5, k6 and 2 more differ (scene file or --set)");
+    EXPECT_EQ(
+        identityDifference(renderIdentity(a, Json::array(), "x"),
+                           renderIdentity(b, Json::array(), "x")),
+        "scene values k1, k2, k3, k4, k5, k6 and 2 more differ (scene file, --set or --seed)");
 }
 
 }  // namespace shvol

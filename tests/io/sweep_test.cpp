@@ -224,6 +224,9 @@ TEST(Sweep, ErrorsNameFileAndKey) {
     // A reference file is looked for when the sweep is read (so --dry-run finds it missing too).
     const std::string e7 = err("e7", R"({"scene": "scene.json", "reference": {"file": "r.exr"}})");
     EXPECT_EQ(e7.rfind(": reference.file: no such file: ", 0), 0u) << e7;
+    EXPECT_EQ(err("e10", R"({"scene": "scene.json", "reference": {"file": "r.exr", "spp": 4}})"),
+              ": reference.file: a reference is either a file or a render spec (spp, set, seed), "
+              "not both");
 }
 
 }  // namespace shvol
