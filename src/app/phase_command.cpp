@@ -165,8 +165,7 @@ int runSample(const PhaseArgs& a) {
     const int order = int(sh.fit().p.size());
     if (general && order > 128)  // an automatic order (of --order auto, or the spec's own)
         failOption("--sampler",
-                   "the general sampler supports orders up to 128, and the "
-                   "automatic order of " +
+                   "the general sampler supports orders up to 128, and the automatic order of " +
                        a.spec + " is " + std::to_string(order) +
                        "; give --order 128 or less, or a larger --tolerance");
     // The samples must not replace the table they are drawn from.

@@ -281,8 +281,7 @@ SkySummary describeSky(const SkyParams& s) {
         const std::string radiance = num(out.sunRadiance.maxCoeff());
         if (s.sunRadiance)
             failOption("--sun-radiance", "gives the sun disc a radiance of " + radiance +
-                                             " (largest channel), above the "
-                                             "limit of 1e30");
+                                             " (largest channel), above the limit of 1e30");
         failOption(
             "--sun-radius",
             "a sun of radius " + num(out.sunAngularRadius) + " rad would need a radiance of " +
