@@ -107,6 +107,9 @@ TEST(Exr, InfinityOnlyWhenAllowed) {
     EXPECT_EQ(messageOf([] { readExr(tmp("inf.exr")); }),
               tmp("inf.exr") + ": pixel (1, 0): infinite value");
     EXPECT_EQ(readExr(tmp("inf.exr"), ExrValues::Preview).at(1, 0)[0], INFINITY);
+    img.set(1, 0, Spectrum(INFINITY, 0, 0));  // one channel beyond the float range, one dark
+    writeExr(tmp("inf0.exr"), img);
+    EXPECT_EQ(readExr(tmp("inf0.exr"), ExrValues::Preview).at(1, 0)[1], 0);
     img.set(1, 0, Spectrum(NAN, 1, 1));
     writeExr(tmp("nan2.exr"), img);
     EXPECT_EQ(messageOf([] { readExr(tmp("nan2.exr"), ExrValues::Preview); }),
