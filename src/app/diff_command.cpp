@@ -31,7 +31,7 @@ void addDiffCommand(CLI::App& app, std::function<int()>& run) {
     const auto threshold = [&](const char* name, double& v, const char* metric) {
         c->add_option(name, v,
                       std::string("Exit with code 2 when ") + metric +
-                          " is above this (or a value is infinite in one image only)")
+                          " is above this (or an infinite value is not matched in the other image)")
             ->check(numberIn(0, 1e300))
             ->default_str("none");
     };
@@ -52,14 +52,14 @@ void addDiffCommand(CLI::App& app, std::function<int()>& run) {
             // Over the channel values finite in both images: RMSE = √(mean (a−b)²); relative
             // RMSE = √(mean ((a−b)/(|b|+0.01))²) (the 0.01 keeps dark reference pixels from
             // dominating); mean of a and b. Values infinite in either image are counted apart.
-            // Of those, the ones infinite in one image only (or of opposite signs) are a
-            // difference no metric shows, counted again apart.
+            // Of those, the ones the other image does not match (finite there, or infinite of the
+            // other sign) are a difference no metric shows, counted again apart.
             double se = 0, rel = 0, maxAbs = 0, meanA = 0, meanB = 0;
-            size_t n = 0, infinite = 0, oneSided = 0;
+            size_t n = 0, infinite = 0, mismatched = 0;
             for (size_t i = 0; i < a.rgb.size(); ++i) {
                 if (!std::isfinite(a.rgb[i]) || !std::isfinite(b.rgb[i])) {
                     ++infinite;
-                    oneSided += a.rgb[i] != b.rgb[i];
+                    mismatched += a.rgb[i] != b.rgb[i];
                     continue;
                 }
                 const double d = double(a.rgb[i]) - b.rgb[i];
@@ -80,13 +80,13 @@ void addDiffCommand(CLI::App& app, std::function<int()>& run) {
                                  {"mean", meanA},
                                  {"reference_mean", meanB},
                                  {"infinite_values", infinite},
-                                 {"infinite_in_one_image", oneSided}};
+                                 {"infinite_mismatched", mismatched}};
                 std::printf("%s\n", j.dump(2).c_str());
             } else {
                 std::printf(
                     "rmse %.6g\nrelative_rmse %.6g\nmax_abs_error %.6g\nmean %.6g\n"
-                    "reference_mean %.6g\ninfinite_values %zu\ninfinite_in_one_image %zu\n",
-                    rmse, relRmse, maxAbs, meanA, meanB, infinite, oneSided);
+                    "reference_mean %.6g\ninfinite_values %zu\ninfinite_mismatched %zu\n",
+                    rmse, relRmse, maxAbs, meanA, meanB, infinite, mismatched);
             }
             if (!args->anyThreshold()) return 0;
             // One line on stderr naming every threshold passed, and exit code 2 (1 is an error).
@@ -102,10 +102,10 @@ void addDiffCommand(CLI::App& app, std::function<int()>& run) {
             check("rmse", rmse, args->maxRmse, "--max-rmse");
             check("relative_rmse", relRmse, args->maxRelRmse, "--max-relative-rmse");
             check("max_abs_error", maxAbs, args->maxAbs, "--max-abs-error");
-            if (oneSided > 0)
-                above += (above.empty() ? "" : "; ") + std::to_string(oneSided) +
-                         (oneSided == 1 ? " value is" : " values are") +
-                         " infinite in one image only";
+            if (mismatched > 0)
+                above += (above.empty() ? "" : "; ") + std::to_string(mismatched) +
+                         (mismatched == 1 ? " infinite value is" : " infinite values are") +
+                         " not matched in the other image (finite there, or of the other sign)";
             if (above.empty()) return 0;
             std::fprintf(stderr, "shvol: diff: %s: %s\n", args->image.c_str(), above.c_str());
             return 2;

@@ -163,13 +163,18 @@ int runSample(const PhaseArgs& a) {
     const SHSampledPhase sh = shPhase(a);
     const PhaseFunction phase(sh);
     const int order = int(sh.fit().p.size());
-    if (general && order > 128)  // an automatic order (of --order auto, or the spec's own)
-        failOption("--sampler",
-                   "the general sampler supports orders up to 128, and the automatic order of " +
-                       a.spec + " is " + std::to_string(order) +
-                       "; give --order 128 or less, or a larger --tolerance");
-    // The samples must not replace the table they are drawn from.
     const Json spec = phaseSpecToJson(a.spec);
+    if (general && order > 128) {  // the spec's own order, or an automatic one
+        const bool specOrder =
+            a.order.empty() && spec.contains("order") && spec["order"].is_number();
+        failOption("--sampler",
+                   "the general sampler supports orders up to 128, and " +
+                       std::string(specOrder ? "the spec's order" : "the automatic order of ") +
+                       (specOrder ? "" : a.spec) + " is " + std::to_string(order) +
+                       "; give --order 128 or less" +
+                       (specOrder ? "" : ", or a larger --tolerance"));
+    }
+    // The samples must not replace the table they are drawn from.
     if (spec.contains("file") && spec["file"].is_string() &&
         sameFile(a.out, spec["file"].get<std::string>()))
         fail(a.out, "",

@@ -275,8 +275,8 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
     });
 }
 
-/// --spp: "N" or increasing "N1,N2,…,N" (each Ni an image of its own). Gives the list, or
-/// leaves it short and says why in `problem`.
+/// --spp: "N" or increasing "N1,N2,…,N" (each Ni an image of its own). Gives the list; when the
+/// text is not one, says why in `problem` (and the list is not to be used).
 std::vector<uint32_t> parseSppList(const std::string& text, std::string& problem) {
     std::vector<uint32_t> list;
     if (text.empty()) problem = "expected N or N1,N2,...,N, got \"\"";
@@ -317,9 +317,10 @@ int runRender(const RenderArgs& a) {
                         "not available in a render over several MPI ranks (README.md, \"MPI\")");
             }
             std::vector<std::string> sets = a.sets;
-            std::string refused;  // (already, by --spp's validator)
+            std::string refused;  // (by --spp's validator already, for the command line)
             const std::vector<uint32_t> sppList =
                 a.spp.empty() ? std::vector<uint32_t>{} : parseSppList(a.spp, refused);
+            if (!refused.empty()) failOption("--spp", refused);
             if (!sppList.empty()) sets.push_back("render.spp=" + std::to_string(sppList.back()));
             if (a.seed >= 0) sets.push_back("render.seed=" + std::to_string(a.seed));
             nlohmann::json resolved;

@@ -194,18 +194,19 @@ Film readCheckpoint(const std::string& path, const Json& identity) {
         film.sumSq.resize(pixels * 3);
         std::memcpy(film.sumSq.data(), data + pixels * 28, pixels * 3 * 8);
     }
-    // A render never accumulates a NaN or infinite sample (it counts and drops them), so such a
-    // sum is damage that would reach the image.
-    for (size_t i = 0; i < pixels; ++i)
-        for (int c = 0; c < 3; ++c)
-            if (!std::isfinite(film.sum[3 * i + c]) ||
-                (hasSumSq && !(std::isfinite(film.sumSq[3 * i + c]) && film.sumSq[3 * i + c] >= 0)))
-                fail(
-                    path,
-                    "pixel (" + std::to_string(i % size_t(w)) + ", " +
-                        std::to_string(i / size_t(w)) + ")",
-                    std::string(std::isfinite(film.sum[3 * i + c]) ? "a sum of squares" : "a sum") +
-                        " that is negative or not finite (corrupt file)");
+    // A render's sums are finite (it drops NaN and infinite samples, and radiance is capped at
+    // 10³⁰), so a sum that is not is damage that would reach the image.
+    for (size_t i = 0; i < 3 * pixels; ++i) {
+        const char* bad = !std::isfinite(film.sum[i]) ? "a sum that is not finite"
+                          : hasSumSq && !(std::isfinite(film.sumSq[i]) && film.sumSq[i] >= 0)
+                              ? "a sum of squares that is negative or not finite"
+                              : nullptr;
+        if (bad)
+            fail(path,
+                 "pixel (" + std::to_string(i / 3 % size_t(w)) + ", " +
+                     std::to_string(i / 3 / size_t(w)) + ")",
+                 std::string(bad) + " (corrupt file)");
+    }
     return film;
 }
 

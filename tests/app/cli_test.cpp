@@ -161,6 +161,10 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
         {"phase sample hg:g=0.999 --sampler general --out " + path("m.csv"),
          "--sampler: the general sampler supports orders up to 128, and the automatic order of "
          "hg:g=0.999 is 256; give --order 128 or less"},
+        {"phase sample '{\"type\": \"hg\", \"g\": 0.5, \"order\": 200}' --sampler general --out " +
+             path("m.csv"),
+         "--sampler: the general sampler supports orders up to 128, and the spec's order is 200; "
+         "give --order 128 or less (see"},
         {"render " + path("s.json") + " --seed -1",
          "--seed: must be an integer in [0, 9007199254740992], got -1"},
         {"render " + path("s.json") + " --threads -2",
@@ -1119,10 +1123,10 @@ TEST_F(Cli, DiffComparesTheValuesFiniteInBoth) {
     EXPECT_NEAR(j["mean"].get<double>(), 7.5 / 5, 1e-12);
     EXPECT_NEAR(j["reference_mean"].get<double>(), 3.5 / 5, 1e-12);
     EXPECT_EQ(j["infinite_values"].get<int>(), 1);
-    EXPECT_EQ(j["infinite_in_one_image"].get<int>(), 1);
+    EXPECT_EQ(j["infinite_mismatched"].get<int>(), 1);
     r = run("diff " + path("a.exr") + " " + path("b.exr"));
     EXPECT_EQ(r.code, 0) << r.err;
-    EXPECT_NE(r.out.find("\ninfinite_values 1\ninfinite_in_one_image 1\n"), std::string::npos)
+    EXPECT_NE(r.out.find("\ninfinite_values 1\ninfinite_mismatched 1\n"), std::string::npos)
         << r.out;
 
     Image inf(2, 1);
@@ -1140,7 +1144,8 @@ TEST_F(Cli, DiffComparesTheValuesFiniteInBoth) {
 }
 
 // diff's thresholds: exit code 2 and one line naming every metric above its threshold, and any
-// value infinite in one image only (which no metric shows); equal to a threshold passes; infinite
+// infinite value the other image does not match (which no metric shows); equal to a threshold
+// passes; infinite
 // in both alike passes; a threshold's range is checked as options are.
 TEST_F(Cli, DiffThresholdsExitWithCode2) {
     Image a(2, 1), b(2, 1);
@@ -1168,10 +1173,12 @@ TEST_F(Cli, DiffThresholdsExitWithCode2) {
     r = run("diff" + images + " --max-rmse 10");
     EXPECT_EQ(r.code, 2) << r.err;
     EXPECT_EQ(r.err,
-              "shvol: diff: " + path("a.exr") + ": 2 values are infinite in one image only\n");
+              "shvol: diff: " + path("a.exr") +
+                  ": 2 infinite values are not matched in the other image (finite there, or of the "
+                  "other sign)\n");
     r = run("diff" + images);  // without a threshold: counted, exit 0
     EXPECT_EQ(r.code, 0) << r.err;
-    EXPECT_NE(r.out.find("\ninfinite_values 2\ninfinite_in_one_image 2\n"), std::string::npos)
+    EXPECT_NE(r.out.find("\ninfinite_values 2\ninfinite_mismatched 2\n"), std::string::npos)
         << r.out;
 
     r = run("diff" + images + " --max-rmse -1");

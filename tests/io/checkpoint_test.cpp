@@ -114,9 +114,6 @@ TEST(Checkpoint, DamagedOrForeignFilesAreRefused) {
               testing::TempDir() + ": not a regular file");
 }
 
-// The identity ignores render.spp (a render may be continued to more samples) and follows the
-// rest of the scene document, the contents of the files it names (not their names' spelling
-// alone) and the program's build.
 // Damage the checksum does not catch (a file edited and re-summed, or shvol's own bug): a sum that
 // is not finite would reach the image, and an identity of another form could not be compared.
 TEST(Checkpoint, DamageBehindAValidChecksumIsRefused) {
@@ -129,12 +126,12 @@ TEST(Checkpoint, DamageBehindAValidChecksumIsRefused) {
     };
     withValue(sums + (3 * 4 + 1) * 8, std::nan(""));  // pixel 4 = (1, 1), green
     EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
-              p + ": pixel (1, 1): a sum that is negative or not finite (corrupt file)");
+              p + ": pixel (1, 1): a sum that is not finite (corrupt file)");
     withValue(sums + 2 * 8, -HUGE_VAL);  // pixel (0, 0), blue
     EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
-              p + ": pixel (0, 0): a sum that is negative or not finite (corrupt file)");
-    withValue(sums, 1e300);  // finite: read back as it is
-    EXPECT_EQ(readCheckpoint(p, id).sum[0], 1e300);
+              p + ": pixel (0, 0): a sum that is not finite (corrupt file)");
+    withValue(sums, -1e300);  // finite, whatever its sign: read back as it is
+    EXPECT_EQ(readCheckpoint(p, id).sum[0], -1e300);
 
     Film variance = sampleFilm();
     variance.sumSq = variance.sum;
@@ -168,6 +165,9 @@ TEST(Checkpoint, DamageBehindAValidChecksumIsRefused) {
     EXPECT_EQ(identityDifference(Json(7), Json(7)), "");
 }
 
+// The identity ignores render.spp (a render may be continued to more samples) and follows the
+// rest of the scene document, the contents of the files it names (not their names' spelling
+// alone) and the program's build.
 TEST(Checkpoint, IdentityIgnoresOnlyTheSampleCount) {
     const std::string scene = tempPath("scene.json"), table = tempPath("table.csv");
     std::ofstream(scene) << R"({"render": {"spp": 4, "seed": 1}, "camera": {"fov": 30},
