@@ -73,11 +73,7 @@ void writeExrVariant(const std::string& path, const std::vector<std::string>& ch
 void writeCheckpointSeed(const std::string& path, const shvol::Film& film,
                          const shvol::Json& identity) {
     shvol::writeCheckpoint(path, film, identity);
-    std::ifstream in(path, std::ios::binary);
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    in.close();
-    bytes.resize(bytes.size() - sizeof(uint64_t));
-    std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+    fs::resize_file(path, fs::file_size(path) - sizeof(uint64_t));
 }
 
 void truncateCopy(const std::string& from, const std::string& to, double fraction) {

@@ -209,9 +209,9 @@ def main():
     for c, spp, n, e, sd, t, eff in summary:
         table.append([c, str(spp), str(n), (f"{e:.4g} ± {sd:.2g}" if n > 1 else f"{e:.4g}") if error else "",
                       f"{t:.3g}", f"{eff:.4g}" if not math.isnan(eff) else ""])
-    md = [f"# Batch report: {directory}", "",
-          f"{counted(len(rows), 'run')}, {counted(len(configs), 'configuration')}; "
-          f"error metric: {error or 'none'}.", ""]
+    summary = (f"{counted(len(rows), 'run')}, {counted(len(configs), 'configuration')}; "
+               f"error metric: {error or 'none'}.")
+    md = [f"# Batch report: {directory}", "", summary, ""]
     for f, caption in figures:
         md += [f"![{caption}]({f})", "", f"*{caption}*", ""]
     md.append("| " + " | ".join(head) + " |")
@@ -219,8 +219,7 @@ def main():
     md += ["| " + " | ".join(r) + " |" for r in table[1:]]
     write(os.path.join(directory, "report.md"), "\n".join(md) + "\n")
 
-    body = [f"<h1>Batch report</h1><p>{html.escape(directory)}: {counted(len(rows), 'run')}, "
-            f"{counted(len(configs), 'configuration')}; error metric: {error or 'none'}.</p>"]
+    body = [f"<h1>Batch report</h1><p>{html.escape(directory)}: {html.escape(summary)}</p>"]
     for f, caption in figures:
         body.append(f'<figure><img src="{f}"><figcaption>{html.escape(caption)}</figcaption>'
                     "</figure>")

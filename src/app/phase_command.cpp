@@ -167,12 +167,13 @@ int runSample(const PhaseArgs& a) {
     if (general && order > 128) {  // the spec's own order, or an automatic one
         const bool specOrder =
             a.order.empty() && spec.contains("order") && spec["order"].is_number();
-        failOption("--sampler",
-                   "the general sampler supports orders up to 128, and " +
-                       std::string(specOrder ? "the spec's order" : "the automatic order of ") +
-                       (specOrder ? "" : a.spec) + " is " + std::to_string(order) +
-                       "; give --order 128 or less" +
-                       (specOrder ? "" : ", or a larger --tolerance"));
+        failOption(
+            "--sampler",
+            "the general sampler supports orders up to 128, and " +
+                (specOrder
+                     ? "the spec's order is " + std::to_string(order) + "; give --order 128 or less"
+                     : "the automatic order of " + a.spec + " is " + std::to_string(order) +
+                           "; give --order 128 or less, or a larger --tolerance"));
     }
     // The samples must not replace the table they are drawn from.
     if (spec.contains("file") && spec["file"].is_string() &&

@@ -279,15 +279,20 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
 /// text is not one, says why in `problem` (and the list is not to be used).
 std::vector<uint32_t> parseSppList(const std::string& text, std::string& problem) {
     std::vector<uint32_t> list;
-    if (text.empty()) problem = "expected N or N1,N2,...,N, got \"\"";
+    if (text.empty()) {
+        problem = "expected N or N1,N2,...,N, got \"\"";
+        return list;
+    }
     // Every item between commas, empty ones too ("16," is refused like ",16").
-    for (size_t from = 0, to = 0; problem.empty() && to != std::string::npos; from = to + 1) {
+    for (size_t from = 0, to = 0; to != std::string::npos; from = to + 1) {
         to = text.find(',', from);
         std::string item = text.substr(from, to == std::string::npos ? to : to - from);
-        problem = integerIn(1, 1 << 24)(item);
-        if (!problem.empty()) break;
+        if (problem = integerIn(1, 1 << 24)(item); !problem.empty()) return list;
         const uint32_t n = uint32_t(std::stoul(item));
-        if (!list.empty() && n <= list.back()) problem = "sample counts must increase, got " + text;
+        if (!list.empty() && n <= list.back()) {
+            problem = "sample counts must increase, got " + text;
+            return list;
+        }
         list.push_back(n);
     }
     return list;

@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <iterator>
 
 #include "shvol/core/error.h"
 #include "shvol/core/hash.h"
@@ -42,9 +41,7 @@ Film sampleFilm() {
 /// Rewrites checkpoint `p` through `edit` (given the bytes before the checksum) and gives it the
 /// right checksum again (checkpoint.h: FNV-1a of all before it).
 void rewriteWithChecksum(const std::string& p, const std::function<void(std::string&)>& edit) {
-    std::ifstream in(p, std::ios::binary);
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    in.close();
+    std::string bytes = test::fileBytes(p);
     bytes.resize(bytes.size() - 8);
     edit(bytes);
     const uint64_t sum = fnv1a(bytes.data(), bytes.size());
@@ -160,8 +157,7 @@ TEST(Checkpoint, DamageBehindAValidChecksumIsRefused) {
     // The comparison itself takes any JSON without throwing (parts of another form count as empty).
     EXPECT_EQ(identityDifference(Json::parse(R"({"scene": [1], "inputs": 2, "build": 3})"), id),
               "scene values camera.fov and render.seed differ (scene file, --set or --seed); it "
-              "was saved "
-              "by shvol build (unknown), this is abc");
+              "was saved by shvol build (unknown), this is abc");
     EXPECT_EQ(identityDifference(Json(7), Json(7)), "");
 }
 
