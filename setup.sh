@@ -64,7 +64,7 @@ sanitizers() {
   mkdir -p "$artifacts"
   # Each fuzzer is one process on one core, so nproc of them run side by side, each for the full
   # time. An input taking 60 s is a hang; the slowest seen took 2.3 s in a fast hour (README).
-  local names=(scene phase_spec phase_csv exr vdb ply obj checkpoint) jobs i k name failed=()
+  local names=(scene phase_spec phase_csv exr vdb ply obj checkpoint sweep) jobs i k name failed=()
   jobs=$(nproc)
   for ((i = 0; i < ${#names[@]}; i += jobs)); do
     local batch=("${names[@]:i:jobs}") pids=()

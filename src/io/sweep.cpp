@@ -86,7 +86,7 @@ Json runDocument(Json doc, const std::string& scene, const std::vector<std::stri
     return doc;
 }
 
-Sweep readSweep(const std::string& path) {
+Sweep readSweep(const std::string& path, double maxRuns) {
     const Json doc = parseJsonFile(path);
     JsonReader r(doc, path, "");
     Sweep s;
@@ -159,12 +159,13 @@ Sweep readSweep(const std::string& path) {
         shape += (shape.empty() ? "" : " × ") + std::to_string(values[a].size());
     }
     const double runs = pointCount * repeats;
-    if (!(runs <= kMaxSweepRuns))
-        fail(path, "axes",  // (without axes the runs are the repeats, at most 10^6)
+    if (!(runs <= maxRuns))
+        fail(path, values.empty() ? "repeats" : "axes",
              (runs < 1e18 ? std::to_string((long long)runs) : std::string("more than 10^18")) +
-                 " runs (" + (shape.empty() ? "1" : shape) + (zip ? " zipped" : "") + " points, " +
-                 std::to_string(repeats) + (repeats == 1 ? " repeat" : " repeats") +
-                 " each); a sweep has at most " + std::to_string((long long)kMaxSweepRuns));
+                 " runs (" + (shape.empty() ? "1" : shape) + (zip ? " zipped" : "") +
+                 (pointCount == 1 ? " point, " : " points, ") + std::to_string(repeats) +
+                 (repeats == 1 ? " repeat" : " repeats") + " each); a sweep has at most " +
+                 std::to_string((long long)maxRuns));
 
     s.sceneDoc = sceneDocument(s.scene);  // read once, not once per run
     // Points: grid (first axis slowest) or zip.

@@ -211,6 +211,17 @@ TEST(Sweep, ErrorsNameFileAndKey) {
               "1000000");
     EXPECT_EQ(err("e5l", R"({"scene": "scene.json", "repeats": 1000000, "axes": {"spp": [1, 2]}})"),
               ": axes: 2000000 runs (2 points, 1000000 repeats each); a sweep has at most 1000000");
+    // A lower limit (the sweep fuzzer's): at it the sweep is read, above it refused.
+    const std::string six = writeSweep("e5o", R"({"scene": "scene.json", "repeats": 3,
+                                                  "axes": {"spp": [1, 2]}})");
+    EXPECT_EQ(readSweep(six, 6).runs.size(), 6u);
+    const std::string over = test::messageOf([&] { readSweep(six, 5); });
+    EXPECT_EQ(over.substr(over.find("sweep.json") + 10),
+              ": axes: 6 runs (2 points, 3 repeats each); a sweep has at most 5");
+    const std::string repeats = test::messageOf(
+        [&] { readSweep(writeSweep("e5p", R"({"scene": "scene.json", "repeats": 6})"), 5); });
+    EXPECT_EQ(repeats.substr(repeats.find("sweep.json") + 10),
+              ": repeats: 6 runs (1 point, 6 repeats each); a sweep has at most 5");
     EXPECT_EQ(err("e6", R"({"scene": "scene.json", "axis": {}})"), ": axis: unknown key");
     // The z-test's standard errors need 2 samples per pixel, in every run and in the reference.
     EXPECT_EQ(err("e8", R"({"scene": "scene.json", "axes": {"spp": [1, 4]},

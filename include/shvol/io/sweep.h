@@ -49,8 +49,9 @@ struct Sweep {
 };
 
 /// Reads and expands a sweep file; errors are one line naming the file and the key. Relative
-/// "scene", "output" and reference "file" paths are relative to the sweep file.
-Sweep readSweep(const std::string& path);
+/// "scene", "output" and reference "file" paths are relative to the sweep file. A sweep of more
+/// than `maxRuns` runs is refused (the sweep fuzzer lowers it to bound the time per input).
+Sweep readSweep(const std::string& path, double maxRuns = kMaxSweepRuns);
 
 /// The scene document `doc` (Sweep::sceneDoc) after a run's or the reference's assignments, as
 /// --set applies them; `scene` names the scene file in errors.
