@@ -178,6 +178,13 @@ TEST(JsonReader, OverrideSemantics) {
     EXPECT_EQ(j["media"][0]["phase"]["file"], expected);
     applyOverride(j, "media.0.phase.file=/abs/mie.csv", "s.json");
     EXPECT_EQ(j["media"][0]["phase"]["file"], "/abs/mie.csv");
+    // type=null is the null BSDF's type, not a deletion (which left the default BSDF).
+    Json surface =
+        Json::parse(R"({"surfaces": [{"bsdf": {"type": "lambert", "reflectance": 1}}]})");
+    applyOverride(surface, "surfaces.0.bsdf.type=null", "s.json");
+    EXPECT_EQ(surface["surfaces"][0]["bsdf"], Json::parse(R"({"type": "null"})"));
+    applyOverride(surface, "surfaces.0.bsdf=null", "s.json");
+    EXPECT_FALSE(surface["surfaces"][0].contains("bsdf"));
     EXPECT_EQ(messageOf([&] { applyOverride(j, "media.0=null", "s.json"); }),
               "s.json: media: --set: array elements cannot be deleted");
     EXPECT_EQ(messageOf([&] { applyOverride(j, "media.=1", "s.json"); }),
