@@ -321,15 +321,19 @@ int runRender(const RenderArgs& a) {
                         a.timeLimit > 0 ? "--time-limit" : "--checkpoint",
                         "not available in a render over several MPI ranks (README.md, \"MPI\")");
             }
-            std::vector<std::string> sets = a.sets;
             std::string refused;  // (by --spp's validator already, for the command line)
             const std::vector<uint32_t> sppList =
                 a.spp.empty() ? std::vector<uint32_t>{} : parseSppList(a.spp, refused);
             if (!refused.empty()) failOption("--spp", refused);
-            if (!sppList.empty()) sets.push_back("render.spp=" + std::to_string(sppList.back()));
-            if (a.seed >= 0) sets.push_back("render.seed=" + std::to_string(a.seed));
             nlohmann::json resolved;
-            doc = sceneDocument(a.scene, sets);  // read once: scene, identity, inputs
+            doc = sceneDocument(a.scene, a.sets);  // read once: scene, identity, inputs
+            // --spp and --seed after the overrides, into a "render" object only: a scene or a
+            // --set whose "render" is something else is refused by the reader as such, not
+            // blamed on these options.
+            if (doc.is_object() && (!doc.contains("render") || doc["render"].is_object())) {
+                if (!sppList.empty()) doc["render"]["spp"] = sppList.back();
+                if (a.seed >= 0) doc["render"]["seed"] = a.seed;
+            }
             scene = sceneFromJson(doc, a.scene, &resolved);
             out = a.output;
             if (out.empty()) out = std::filesystem::path(a.scene).stem().string() + ".exr";

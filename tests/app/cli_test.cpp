@@ -825,6 +825,18 @@ TEST_F(Cli, BadOverridesAndOutputs) {
     r = run("render " + path("s.json") + " -o " + path(".exr") + " --quiet");
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find(".exr: the output needs a name before .exr"), std::string::npos) << r.err;
+    // A "render" that a --set made something else than an object is refused as such, also with
+    // --spp and --seed, which set keys inside it (they were blamed as a --set that could not
+    // descend into it).
+    for (const char* options : {"", " --spp 1", " --seed 3"}) {
+        r = run("render " + path("s.json") + " -o " + path("out.exr") + " --set render=[]" +
+                options + " --quiet");
+        EXPECT_EQ(r.code, 1);
+        EXPECT_EQ(r.err,
+                  "shvol: error: " + path("s.json") + ": render: expected an object, got array\n")
+            << options;
+    }
+    EXPECT_FALSE(fs::exists(path("out.exr")));
 }
 
 // A radiance cache that cannot be used, or whose BRDF table holds a sharp lobe poorly (the cached
