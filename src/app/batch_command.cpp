@@ -1,9 +1,11 @@
 // shvol batch SWEEP.json: runs every point of a sweep, with metrics against a reference, into a
 // resumable ledger (io/sweep.h, io/ledger.h).
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -149,12 +151,26 @@ void checkRunScenes(const Sweep& s) {
     }
 }
 
+/// The columns of a ledger row besides the run's axis values and repeat (runOne, WorkQueue), and
+/// those each metric adds (tools/report.py's META lists them all).
+const std::set<std::string> kRunColumns = {
+    "run",   "seed",        "spp",          "wall_time_s",          "paths_per_second",
+    "image", "fingerprint", "git_revision", "reference_fingerprint"};
+const std::map<std::string, std::vector<std::string>> kMetricColumns = {
+    {"rmse", {"rmse"}},
+    {"relmse", {"relmse"}},
+    {"mae", {"mae"}},
+    {"bias", {"bias", "bias_ci95"}},
+    {"ztest", {"ztest_min_p", "ztest_threshold", "ztest_passed"}}};
+
 /// Refuses a ledger whose finished rows the batch cannot resume, naming the run: a finished run
-/// must be the run the sweep describes now, rendered by this build (another may render the same
-/// scene differently: a changed default, a fix), and measured against the reference the sweep
-/// gives now (`reference`, its fingerprint), or resuming would mix experiments. Without
-/// `reference` (--dry-run, which hashes no input files) the run's fingerprint and reference are
-/// not compared.
+/// must be the run the sweep describes now, recorded under the same axes with the same values
+/// and measured by the same metrics (an axis renamed, added or dropped, or another list of
+/// metrics, would leave the report columns of nulls and configurations split in two), rendered
+/// by this build (another may render the same scene differently: a changed default, a fix), and
+/// measured against the reference the sweep gives now (`reference`, its fingerprint), or
+/// resuming would mix experiments. Without `reference` (--dry-run, which hashes no input files)
+/// the run's fingerprint and reference are not compared.
 void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string* reference) {
     std::unordered_map<std::string, const SweepRun*> runs;  // (a search each: O(n²) rows)
     for (const SweepRun& r : s.runs) runs.emplace(r.id, &r);
@@ -164,6 +180,29 @@ void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string* 
         if (it == runs.end())
             fail(ledger.jsonlPath(), "run " + id,
                  "finished, but the sweep no longer has it; use another output directory");
+        const Json& values = it->second->values;
+        for (const auto& [key, value] : values.items())
+            if (!row.contains(key) || row[key] != value)
+                fail(ledger.jsonlPath(), "run " + id,
+                     "finished with " +
+                         (row.contains(key) ? key + "=" + dumpJson(row[key]) : "no " + key) +
+                         ", the sweep now gives " + key + "=" + dumpJson(value) +
+                         "; use another output directory");
+        std::set<std::string> known = kRunColumns;
+        for (const auto& [metric, columns] : kMetricColumns) {
+            const bool asked = std::count(s.metrics.begin(), s.metrics.end(), metric) > 0;
+            if (asked != row.contains(columns[0]))
+                fail(ledger.jsonlPath(), "run " + id,
+                     std::string(asked ? "finished without " : "finished with ") + metric +
+                         ", which the sweep now " + (asked ? "asks for" : "does not ask for") +
+                         "; use another output directory");
+            known.insert(columns.begin(), columns.end());
+        }
+        for (const auto& [key, value] : row.items())
+            if (!values.contains(key) && !known.count(key))
+                fail(ledger.jsonlPath(), "run " + id,
+                     "finished with " + key + "=" + dumpJson(value) +
+                         ", an axis the sweep no longer has; use another output directory");
         if (reference && row.value("fingerprint", "") != it->second->fingerprint)
             fail(ledger.jsonlPath(), "run " + id,
                  "finished with other settings or another scene than the sweep now gives; use "
@@ -397,14 +436,14 @@ int runBatch(BatchArgs a) {
     });
     if (a.dryRun) {
         if (!world.root()) return 0;
-        if (s.reference)
-            std::printf("reference %s%s\n", s.reference->file.c_str(),
-                        s.reference->render ? " (rendered once, cached)" : "");
         // Runs an earlier start finished, as its ledger has them (read, not repaired: a dry run
         // writes nothing). What a start would refuse without hashing input files is refused
         // here too; whether their scenes and reference still match is checked when it starts.
         const Ledger done(s.output, Ledger::Open::ReadOnly);
         checkFinishedRows(done, s, nullptr);
+        if (s.reference)
+            std::printf("reference %s%s\n", s.reference->file.c_str(),
+                        s.reference->render ? " (rendered once, cached)" : "");
         size_t finished = 0;
         for (const SweepRun& run : s.runs) {
             const bool has = done.find(run.id);

@@ -209,7 +209,9 @@ std::string keyPathProblem(const std::string& key, std::vector<std::string>* par
     return "";
 }
 
-void applyOverride(Json& doc, const std::string& assignment, const std::string& file) {
+void applyOverride(Json& doc, const std::string& assignment, const std::string& file,
+                   const std::string& source) {
+    const std::string by = source.empty() ? "" : source + ": ";
     const auto eq = assignment.find('=');
     if (eq == std::string::npos || eq == 0)
         fail(file, "--set " + assignment, "expected key.path=value");
@@ -223,18 +225,18 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
     std::string walked;
     const auto cannotDescend = [&] {
         fail(file, walked,
-             "--set: cannot descend into " + std::string(node->is_array() ? "an " : "a ") +
+             by + "cannot descend into " + std::string(node->is_array() ? "an " : "a ") +
                  typeName(*node));
     };
     // The element of the array *node that `part` names.
     const auto element = [&](const std::string& part) {
-        const std::string size = std::to_string(node->size());
+        const std::string size =
+            std::to_string(node->size()) + (node->size() == 1 ? " element" : " elements");
         if (part.find_first_not_of("0123456789") != std::string::npos)
-            fail(file, walked,
-                 "--set: \"" + part + "\" is not an index of the array (" + size + " elements)");
+            fail(file, walked, by + "\"" + part + "\" is not an index of the array (" + size + ")");
         const size_t i = part.size() > 9 ? node->size() : std::stoul(part);
         if (i >= node->size())
-            fail(file, walked, "--set: index " + part + " out of range (" + size + " elements)");
+            fail(file, walked, by + "index " + part + " out of range (" + size + ")");
         return i;
     };
     for (size_t k = 0; k + 1 < parts.size(); ++k) {
@@ -255,7 +257,7 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
         assignment.substr(eq + 1),
         node->is_array() ? walked + "[" + last + "]" : (walked.empty() ? "" : walked + ".") + last);
     if (node->is_array()) {
-        if (value.is_null()) fail(file, walked, "--set: array elements cannot be deleted");
+        if (value.is_null()) fail(file, walked, by + "array elements cannot be deleted");
         (*node)[element(last)] = std::move(value);
         return;
     }

@@ -129,6 +129,11 @@ void Ledger::read(Open open) {
         if (!rows_.back().is_object() || !rows_.back().contains("run") ||
             !rows_.back()["run"].is_string())
             fail(jsonlPath(), "line " + std::to_string(line), "a row without \"run\"");
+        // (the batch compares these with its own; read as strings)
+        for (const char* key : {"fingerprint", "git_revision", "reference_fingerprint"})
+            if (rows_.back().contains(key) && !rows_.back()[key].is_string())
+                fail(jsonlPath(), "line " + std::to_string(line),
+                     std::string("\"") + key + "\" is not a string");
         const std::string id = rows_.back()["run"].get<std::string>();
         lineOf.push_back(line);
         if (const auto [it, added] = index_.emplace(id, rows_.size() - 1); !added)

@@ -39,10 +39,21 @@ std::string assignment(const std::string& sweepFile, const std::string& key, Jso
 
 constexpr const char* kSeedIsTheSweeps =
     "the sweep sets render.seed: use its \"seed\" key (or a \"seed\" axis)";
+constexpr const char* kSppIsTheReferences =
+    "the reference's samples per pixel are its \"spp\" key (default 4096)";
+
+/// Whether assigning `value` to the key path `key` sets render.<name>: the key itself, or a
+/// render object that holds it.
+bool setsRenderKey(const std::string& key, const Json& value, const std::string& name) {
+    const std::string k = canonicalKeyPath(key);
+    return k == "render." + name || (k == "render" && value.is_object() && value.contains(name));
+}
 
 /// The "key=value" strings of `key`, file values made relative to the sweep file (assignment).
+/// render.seed is refused (the sweep's seeds come last and would silently replace it), and so is
+/// render.spp in the reference's (`reference`) list, which its "spp" would replace.
 std::vector<std::string> stringList(JsonReader& r, const std::string& key,
-                                    const std::string& sweepFile) {
+                                    const std::string& sweepFile, bool reference = false) {
     std::vector<std::string> out;
     if (!r.has(key)) return out;
     const Json& j = r.raw(key);
@@ -55,13 +66,13 @@ std::vector<std::string> stringList(JsonReader& r, const std::string& key,
         const std::string path = a.substr(0, eq);
         if (const std::string problem = keyPathProblem(path); !problem.empty())
             r.error(place, problem);
-        // The sweep's seeds come last and would silently replace it.
-        if (path == "render.seed") r.error(place, kSeedIsTheSweeps);
-        if (!namesFile(path)) {
-            out.push_back(a);
-            continue;
-        }
-        out.push_back(assignment(sweepFile, path, overrideValue(a.substr(eq + 1), path)));
+        const bool render = canonicalKeyPath(path).rfind("render", 0) == 0;
+        const Json value =
+            namesFile(path) || render ? overrideValue(a.substr(eq + 1), path) : Json();
+        if (render && setsRenderKey(path, value, "seed")) r.error(place, kSeedIsTheSweeps);
+        if (render && reference && setsRenderKey(path, value, "spp"))
+            r.error(place, kSppIsTheReferences);
+        out.push_back(namesFile(path) ? assignment(sweepFile, path, value) : a);
     }
     return out;
 }
@@ -79,6 +90,20 @@ std::string hashText(const std::string& text) {
     return hexHash(fnv1a(text.data(), text.size()));
 }
 
+/// runDocument(s.sceneDoc, s.scene, sets), with an assignment the scene cannot take (an index
+/// beyond an array, a key inside a number) refused at the sweep's key that gave it, places[i]
+/// (axes.media[3].albedo), naming `what` ("run r0002").
+Json sweepDocument(const Sweep& s, const std::vector<std::string>& sets,
+                   const std::vector<std::string>& places, const std::string& what) {
+    Json doc = s.sceneDoc;
+    for (size_t i = 0; i < sets.size(); ++i) try {
+            applyOverride(doc, sets[i], s.scene, "");
+        } catch (const Error& e) {
+            fail(s.path, places[i], std::string(e.what()) + " (in " + what + ")");
+        }
+    return doc;
+}
+
 }  // namespace
 
 Json runDocument(Json doc, const std::string& scene, const std::vector<std::string>& sets) {
@@ -93,6 +118,8 @@ Sweep readSweep(const std::string& path, double maxRuns) {
     s.path = path;
     s.scene = r.inputFile("scene", fs::path(path).parent_path().string());
     const std::vector<std::string> base = stringList(r, "set", path);
+    std::vector<std::string> basePlaces;
+    for (size_t i = 0; i < base.size(); ++i) basePlaces.push_back("set[" + std::to_string(i) + "]");
     s.output = relativeTo(path, r.string("output", fs::path(path).stem().string() + "_results"));
     const bool zip = r.choice("combine", "grid", {"grid", "zip"}) == "zip";
     const int repeats = r.integer("repeats", 1, 1, 1000000);
@@ -137,12 +164,15 @@ Sweep readSweep(const std::string& path, double maxRuns) {
     }
     for (size_t a = 0; a < s.axes.size(); ++a) {
         const std::string& k = s.axes[a];
-        if (k == "render.seed") fail(path, "axes." + k, kSeedIsTheSweeps);
         if (k == "seed" && repeats > 1)
             fail(path, "axes.seed", "give either a seed axis or repeats, not both");
+        if (k == "seed" && r.has("seed"))
+            fail(path, "axes.seed", "give either a seed axis or a \"seed\", not both");
         for (const Json& v : values[a])
-            if ((k == "spp" || k == "seed") &&
-                !(v.is_number_integer() && v.get<long long>() >= (k == "spp" ? 1 : 0)))
+            if (setsRenderKey(k, v, "seed"))
+                fail(path, "axes." + k, kSeedIsTheSweeps);
+            else if ((k == "spp" || k == "seed") &&
+                     !(v.is_number_integer() && v.get<long long>() >= (k == "spp" ? 1 : 0)))
                 fail(path, "axes." + k,
                      k == "spp" ? "expected integers ≥ 1" : "expected non-negative integers");
         if (zip && values[a].size() != values[0].size())
@@ -194,6 +224,7 @@ Sweep readSweep(const std::string& path, double maxRuns) {
             std::snprintf(id, sizeof id, "r%04d", run.index);
             run.id = id;
             run.sets = base;
+            std::vector<std::string> places = basePlaces;  // the sweep's key of each of run.sets
             bool seedAxis = false;
             for (size_t a = 0; a < s.axes.size(); ++a) {
                 const std::string& key = s.axes[a];
@@ -201,12 +232,15 @@ Sweep readSweep(const std::string& path, double maxRuns) {
                 run.values[key] = v;
                 run.sets.push_back(
                     assignment(path, key == "spp" || key == "seed" ? "render." + key : key, v));
+                places.push_back("axes." + key);
                 seedAxis = seedAxis || key == "seed";
             }
             run.values["repeat"] = k;
-            if (!seedAxis)
+            if (!seedAxis) {
                 run.sets.push_back("render.seed=" + std::to_string((long long)seed0 + k));
-            const Json doc = runDocument(s.sceneDoc, s.scene, run.sets);
+                places.push_back("seed");
+            }
+            const Json doc = sweepDocument(s, run.sets, places, "run " + run.id);
             run.fingerprint = hashText(dumpJson(doc));
             runSpp.push_back(sppOf(doc));
             if (const Json* seed = doc.contains("render") ? &doc["render"] : nullptr;
@@ -215,6 +249,7 @@ Sweep readSweep(const std::string& path, double maxRuns) {
             s.runs.push_back(run);
         }
 
+    double referenceSpp = 0;  // a rendered reference's samples per pixel
     if (r.has("reference")) {
         JsonReader ref = r.object("reference");
         SweepReference sr;
@@ -229,8 +264,14 @@ Sweep readSweep(const std::string& path, double maxRuns) {
         } else {
             sr.render = true;
             sr.sets = base;
-            for (const std::string& a : stringList(ref, "set", path)) sr.sets.push_back(a);
+            std::vector<std::string> places = basePlaces;  // as a run's (sweepDocument)
+            for (const std::string& a : stringList(ref, "set", path, true)) {
+                places.push_back("reference.set[" + std::to_string(places.size() - base.size()) +
+                                 "]");
+                sr.sets.push_back(a);
+            }
             sr.sets.push_back("render.spp=" + std::to_string(ref.integer("spp", 4096, 1, 1 << 24)));
+            places.push_back("reference.spp");
             // A seed no run uses by default, so the reference's noise is independent: a run of
             // the same seed would repeat the reference's first samples, and its error would look
             // smaller than it is.
@@ -244,6 +285,8 @@ Sweep readSweep(const std::string& path, double maxRuns) {
                                          why + "give the reference a \"seed\" of its own");
             }
             sr.sets.push_back("render.seed=" + std::to_string((long long)seed));
+            places.push_back("reference.seed");
+            referenceSpp = sppOf(sweepDocument(s, sr.sets, places, "the reference"));
             sr.file = (fs::path(s.output) / "reference.exr").string();
         }
         ref.finish();
@@ -270,9 +313,7 @@ Sweep readSweep(const std::string& path, double maxRuns) {
         std::vector<std::pair<std::string, double>> renders;
         for (size_t i = 0; i < s.runs.size(); ++i)
             renders.push_back({"run " + s.runs[i].id, runSpp[i]});
-        if (s.reference->render)
-            renders.push_back(
-                {"the reference", sppOf(runDocument(s.sceneDoc, s.scene, s.reference->sets))});
+        if (s.reference->render) renders.push_back({"the reference", referenceSpp});
         for (const auto& [what, spp] : renders)
             if (spp < 2)
                 r.error("metrics",

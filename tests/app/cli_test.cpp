@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -1354,13 +1355,22 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
     r = run("batch " + path("sweep.json") + " --output " + path("clean"));
     EXPECT_EQ(r.code, 0);
     EXPECT_NE(r.err.find("9 of 9 runs already finished"), std::string::npos) << r.err;
-    // Changing what a finished run renders is refused.
+    // Changing what a finished run renders is refused: its axis values, or the settings of all.
     std::string changed = sweep;
     changed.replace(changed.find("9000"), 4, "9500");
     write("sweep.json", changed);
     r = run("batch " + path("sweep.json") + " --quiet --output " + path("clean"));
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find("results.jsonl: run r0003: finished with other settings"),
+    EXPECT_NE(r.err.find("results.jsonl: run r0003: finished with spp=9000, the sweep now gives "
+                         "spp=9500; use another output directory"),
+              std::string::npos)
+        << r.err;
+    changed = sweep;
+    changed.replace(changed.find("\"axes\""), 0, R"("set": ["render.max_depth=7"], )");
+    write("sweep.json", changed);
+    r = run("batch " + path("sweep.json") + " --quiet --output " + path("clean"));
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("results.jsonl: run r0000: finished with other settings"),
               std::string::npos)
         << r.err;
     EXPECT_EQ(run("batch " + path("sweep.json") + " --dry-run").out.substr(0, 10), "reference ");
@@ -1380,6 +1390,48 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
         ++marked;
     EXPECT_EQ(marked, 2u) << r.out;
     EXPECT_EQ(test::fileBytes(ledger), firstTwo + "{\"run\": \"r00");
+}
+
+// A finished row must be the run as the sweep names and measures it now: an axis renamed
+// (media.0.albedo for media[0].albedo), added or dropped, or another list of metrics, renders the
+// same images but would leave the report columns of nulls and configurations split in two (they
+// were resumed into the same ledger). --dry-run refuses them too, printing nothing.
+TEST_F(Cli, BatchRefusesRowsOfOtherAxesOrMetrics) {
+    write("s.json", scene(Homogeneous));
+    const auto sweep = [&](const std::string& axes, const std::string& metrics) {
+        write("sweep.json", R"({"scene": "s.json", "set": ["render.spp=2"], )" +
+                                (axes.empty() ? "" : R"("axes": {)" + axes + "}, ") +
+                                R"("reference": {"spp": 8, "seed": 99}, "metrics": [)" + metrics +
+                                R"(], "output": "out"})");
+    };
+    sweep(R"("media[0].albedo": [0.5, 0.9])", R"("rmse")");
+    const std::string batch = "batch " + path("sweep.json") + " --quiet";
+    Result r = run(batch);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string rows = test::fileBytes(path("out/results.jsonl"));
+    const std::vector<std::array<std::string, 3>> cases = {
+        {R"("media.0.albedo": [0.5, 0.9])", R"("rmse")",
+         "finished with no media.0.albedo, the sweep now gives media.0.albedo=0.5"},
+        {R"("media[0].albedo": [0.5, 0.9], "render.max_depth": [64])", R"("rmse")",
+         "finished with no render.max_depth, the sweep now gives render.max_depth=64"},
+        {"", R"("rmse")", "finished with media[0].albedo=0.5, an axis the sweep no longer has"},
+        {R"("media[0].albedo": [0.5, 0.9])", R"("mae")",
+         "finished without mae, which the sweep now asks for"},
+        {R"("media[0].albedo": [0.5, 0.9])", R"("rmse", "ztest")",
+         "finished without ztest, which the sweep now asks for"},
+    };
+    for (const auto& [axes, metrics, message] : cases) {
+        sweep(axes, metrics);
+        for (const char* dry : {"", " --dry-run"}) {
+            r = run(batch + dry);
+            EXPECT_EQ(r.code, 1) << axes << metrics << dry;
+            EXPECT_EQ(r.err, "shvol: error: " + path("out/results.jsonl") +
+                                 ": run r0000: " + message + "; use another output directory\n")
+                << axes << metrics << dry;
+            EXPECT_EQ(r.out, "") << dry;
+        }
+    }
+    EXPECT_EQ(test::fileBytes(path("out/results.jsonl")), rows);
 }
 
 // A batch belongs to one build: rows finished by another shvol build are refused (a changed

@@ -131,13 +131,13 @@ TEST(JsonReader, Overrides) {
     EXPECT_EQ(j["camera"]["type"], "orthographic");
     EXPECT_EQ(j["render"]["tag"], Json::parse("[1,2]"));
     EXPECT_EQ(messageOf([&] { applyOverride(j, "media.3.g=1", "s.json"); }),
-              "s.json: media: --set: index 3 out of range (1 elements)");
+              "s.json: media: --set: index 3 out of range (1 element)");
     EXPECT_EQ(messageOf([&] { applyOverride(j, "render.spp.x=1", "s.json"); }),
               "s.json: render.spp: --set: cannot descend into a number");
     EXPECT_EQ(messageOf([&] { applyOverride(j, "media.-1.g=1", "s.json"); }),
-              "s.json: media: --set: \"-1\" is not an index of the array (1 elements)");
+              "s.json: media: --set: \"-1\" is not an index of the array (1 element)");
     EXPECT_EQ(messageOf([&] { applyOverride(j, "media.x=1", "s.json"); }),
-              "s.json: media: --set: \"x\" is not an index of the array (1 elements)");
+              "s.json: media: --set: \"x\" is not an index of the array (1 element)");
     // A document that is no object is refused as such, as it is without overrides (a scene of
     // `null` would otherwise become one of defaults).
     Json list = Json::array(), null;

@@ -186,6 +186,13 @@ TEST(Ledger, MalformedRowIsAnError) {
     // The refused Ledger released its lock (a constructor that throws runs no destructor).
     std::ofstream(dir / "results.jsonl") << "{\"run\": \"r0\"}\n";
     EXPECT_EQ(Ledger(dir.string()).rows().size(), 1u);
+    // The columns the batch compares are strings (a number was an internal error in the batch).
+    for (const char* key : {"fingerprint", "git_revision", "reference_fingerprint"}) {
+        std::ofstream(dir / "results.jsonl")
+            << "{\"run\": \"r0\"}\n{\"run\": \"r1\", \"" << key << "\": 5}\n";
+        EXPECT_EQ(test::messageOf([&] { Ledger l(dir.string(), Ledger::Open::ReadOnly); }),
+                  (dir / "results.jsonl").string() + ": line 2: \"" + key + "\" is not a string");
+    }
 }
 
 }  // namespace shvol

@@ -175,6 +175,42 @@ TEST(Sweep, ErrorsNameFileAndKey) {
               ": axes.render.seed: " + seedIsTheSweeps);
     EXPECT_EQ(err("e5i", R"({"scene": "scene.json", "reference": {"set": ["render.seed=5"]}})"),
               ": reference.set[0]: " + seedIsTheSweeps);
+    // ... also inside a render object (the sweep's seed replaced it, and the ledger recorded the
+    // object's seed, never rendered), and with a seed axis beside the sweep's "seed".
+    EXPECT_EQ(err("e5s", R"({"scene": "scene.json", "set": ["render={\"seed\": 77}"]})"),
+              ": set[0]: " + seedIsTheSweeps);
+    EXPECT_EQ(err("e5t", R"({"scene": "scene.json",
+                            "axes": {"render": [{"spp": 2}, {"spp": 2, "seed": 6}]}})"),
+              ": axes.render: " + seedIsTheSweeps);
+    EXPECT_EQ(
+        err("e5u", R"({"scene": "scene.json", "reference": {"set": ["render={\"seed\": 1}"]}})"),
+        ": reference.set[0]: " + seedIsTheSweeps);
+    EXPECT_EQ(err("e5v", R"({"scene": "scene.json", "seed": 7, "axes": {"seed": [1, 2]}})"),
+              ": axes.seed: give either a seed axis or a \"seed\", not both");
+    // The reference's samples per pixel are its "spp" (which replaced render.spp in its "set").
+    for (const char* set : {"render.spp=8", "render={\"spp\": 8}"})
+        EXPECT_EQ(err("e5w", std::string(R"({"scene": "scene.json", "reference": {"set": [)") +
+                                 dumpJson(set) + "]}}"),
+                  ": reference.set[0]: the reference's samples per pixel are its \"spp\" key "
+                  "(default 4096)");
+    // The runs' samples per pixel may come from "set" (without an spp axis).
+    EXPECT_EQ(test::messageOf([] {
+                  readSweep(writeSweep(
+                      "e5x", R"({"scene": "scene.json", "set": ["render={\"spp\": 8}"]})"));
+              }),
+              "(no error)");
+    // An assignment the scene cannot take is named at the sweep's key that gave it, with the
+    // scene's place and the run (it named only the scene, and a --set nobody gave).
+    const std::string scene =
+        (fs::path(testing::TempDir()) / "shvol_sweep_e5y" / "scene.json").string();
+    EXPECT_EQ(err("e5y", R"({"scene": "scene.json", "axes": {"render.spp.x": [1]}})"),
+              ": axes.render.spp.x: " + scene +
+                  ": render.spp: cannot descend into a number (in run r0000)");
+    EXPECT_EQ(err("e5y", R"({"scene": "scene.json", "set": ["render=5"]})"),
+              ": seed: " + scene + ": render: cannot descend into a number (in run r0000)");
+    EXPECT_EQ(err("e5y", R"({"scene": "scene.json", "reference": {"set": ["render.spp.x=1"]}})"),
+              ": reference.set[0]: " + scene +
+                  ": render.spp: cannot descend into a number (in the reference)");
     // Two axes for one key: the later would overwrite the earlier, whose values the ledger
     // would record although they were never rendered.
     EXPECT_EQ(err("e5j", R"({"scene": "scene.json",

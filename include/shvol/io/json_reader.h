@@ -31,8 +31,11 @@ Json parseJsonText(const std::string& text, const std::string& file, const std::
 /// `key=null` deletes the key, so its default applies again. Setting `type` to a different value
 /// replaces the object by {"type": value}, so no key of the old type survives; later overrides
 /// add the new type's keys. A relative path assigned to a key named `file` is made absolute
-/// against the current directory.
-void applyOverride(Json& doc, const std::string& assignment, const std::string& file);
+/// against the current directory. Errors where the scene cannot take the assignment (an index
+/// beyond an array, a key inside a number) say `source` ("--set: index 3 out of range …"); an
+/// empty `source` leaves it out (a sweep names its own key instead).
+void applyOverride(Json& doc, const std::string& assignment, const std::string& file,
+                   const std::string& source = "--set");
 /// A key path as applyOverride walks it: media[0].albedo (the notation of error messages) is
 /// media.0.albedo.
 std::string canonicalKeyPath(const std::string& key);
