@@ -65,6 +65,12 @@ bool referenceCached(const Sweep& s, const std::string& stamp) {
     return have == stamp;
 }
 
+/// The standard errors beside a reference file ref.exr (ref.stderr.exr, as render --variance
+/// names them), which the z-test reads when they exist.
+std::string standardErrorsOf(const std::string& exr) {
+    return fs::path(exr).replace_extension("").string() + ".stderr.exr";
+}
+
 /// What a ledger row keeps of the reference its metrics were measured against: the hash of a
 /// rendered reference's stamp, or of a given reference file's contents (and its standard errors',
 /// for the z-test, when there are any). A row whose reference is not the sweep's now cannot be
@@ -73,7 +79,7 @@ std::string referenceFingerprint(const Sweep& s, const std::string& stamp, bool 
     if (s.reference->render) return hexHash(fnv1a(stamp.data(), stamp.size()));
     const std::string& file = s.reference->file;
     std::string id = fileFingerprint(file)["fnv1a64"].get<std::string>();
-    const std::string se = fs::path(file).replace_extension("").string() + ".stderr.exr";
+    const std::string se = standardErrorsOf(file);
     if (ztest && fs::exists(se)) id += "+" + fileFingerprint(se)["fnv1a64"].get<std::string>();
     return id;
 }
@@ -117,7 +123,8 @@ std::string errorText(const std::exception& e, const SweepRun* run = nullptr) {
 /// names the run, as one from its render does. Runs that differ only in the seed the sweep gave
 /// them (repeats; readSweep has checked those seeds) are checked once: a phase function's SH fit
 /// at order 256 takes about half a second. Each run's image must have the reference's size (a
-/// reference file's, read here, or the rendered reference's camera).
+/// reference file's, read here, or the rendered reference's camera), and so must the standard
+/// errors beside a reference file that the z-test reads.
 void checkRunScenes(const Sweep& s) {
     std::optional<std::pair<int, int>> refSize;
     std::string refName;
@@ -132,6 +139,13 @@ void checkRunScenes(const Sweep& s) {
     } else if (s.reference) {
         const Image ref = readExr(s.reference->file);
         refSize = {ref.width, ref.height}, refName = s.reference->file;
+        const std::string se = standardErrorsOf(s.reference->file);
+        if (std::count(s.metrics.begin(), s.metrics.end(), "ztest") && fs::exists(se))
+            if (const Image e = readExr(se); e.width != ref.width || e.height != ref.height)
+                fail(se, "",
+                     "the reference's standard errors are " + std::to_string(e.width) + "x" +
+                         std::to_string(e.height) + ", the reference " + s.reference->file +
+                         " is " + std::to_string(ref.width) + "x" + std::to_string(ref.height));
     }
     std::set<std::string> checked;
     for (const SweepRun& run : s.runs) {
@@ -487,8 +501,7 @@ int runBatch(BatchArgs a) {
         collectively([&] {
             c.reference = readExr(s.reference->file);
             if (c.ztest) {
-                const std::string se =
-                    fs::path(s.reference->file).replace_extension("").string() + ".stderr.exr";
+                const std::string se = standardErrorsOf(s.reference->file);
                 c.referenceSe =
                     fs::exists(se) ? readExr(se) : Image(c.reference.width, c.reference.height);
             }
@@ -535,7 +548,11 @@ void addBatchCommand(CLI::App& app, std::function<int()>& run) {
         "Run a sweep of renders into a resumable ledger, with metrics against a reference");
     c->add_option("sweep", a->sweep, "Sweep file (JSON; README.md, \"Batch experiments\")")
         ->required();
-    c->add_option("--output", a->output, "Output directory")->default_str("the sweep's output");
+    c->add_option("--output", a->output, "Output directory")
+        ->default_str("the sweep's output")
+        ->check(CLI::Validator(
+            [](std::string& dir) { return dir.empty() ? "expected a directory name" : ""; },
+            "DIR"));
     c->add_option("--threads", a->threads,
                   "Worker threads per render (0: the cores shared between the jobs and ranks)")
         ->check(integerIn(0, 4096));

@@ -179,6 +179,10 @@ std::string canonicalKeyPath(const std::string& key) {
 }
 
 std::string keyPathProblem(const std::string& key, std::vector<std::string>* parts) {
+    // (no scene key has one; a NUL would cut short every message that names the key)
+    for (const char c : key)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+            return "a control character in key path";
     size_t i = 0;
     // Reads the run of characters `allowed` accepts from i (into parts); false if it is empty.
     const auto run = [&](auto&& allowed) {

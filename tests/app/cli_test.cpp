@@ -1572,7 +1572,16 @@ TEST_F(Cli, BatchOutputMustBeADirectory) {
                 << dry;
         }
     EXPECT_EQ(test::fileBytes(path("afile")), "");
-    const Result r = run("batch " + path("sweep.json") + " --quiet --output " + path("new/runs"));
+    // An empty name is refused where it is given (it named no file; --output "" was ignored).
+    Result r = run("batch " + path("sweep.json") + " --quiet --dry-run --output ''");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "shvol: error: --output: expected a directory name (see --help)\n");
+    write("empty.json", R"({"scene": "s.json", "output": ""})");
+    r = run("batch " + path("empty.json") + " --quiet --dry-run");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "shvol: error: " + path("empty.json") +
+                         ": output: expected a directory name, got an empty string\n");
+    r = run("batch " + path("sweep.json") + " --quiet --output " + path("new/runs"));
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_TRUE(fs::is_directory(path("new/runs")));
 }
@@ -1646,6 +1655,21 @@ TEST_F(Cli, BatchChecksEveryRunsSceneFirst) {
                              " is 16x16, the run's image 8x6 (in run r0000 repeat=0 spp=4)"),
                   std::string::npos)
             << flags << ": " << r.err;
+        EXPECT_FALSE(fs::exists(path("out/r0000.exr"))) << flags;
+    }
+    // The standard errors beside a reference file, which the z-test reads, likewise (they were
+    // found once the first run had rendered, in a message naming no file).
+    writeExr(path("ref.exr"), Image(8, 6));
+    writeExr(path("ref.stderr.exr"), Image(16, 16));
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [4]},
+        "reference": {"file": "ref.exr"}, "metrics": ["ztest"]})");
+    for (const std::string flags : {" --dry-run", ""}) {
+        r = run("batch " + path("sweep.json") + flags + " --quiet --output " + path("out"));
+        EXPECT_EQ(r.code, 1) << flags;
+        EXPECT_EQ(r.err, "shvol: error: " + path("ref.stderr.exr") +
+                             ": the reference's standard errors are 16x16, the reference " +
+                             path("ref.exr") + " is 8x6\n")
+            << flags;
         EXPECT_FALSE(fs::exists(path("out/r0000.exr"))) << flags;
     }
     write("sweep.json", R"({"scene": "s.json", "axes": {"camera.resolution": [[8, 6], [4, 4]]},

@@ -214,7 +214,12 @@ TEST(JsonReader, OverrideRefusesMalformedKeyPathsAndNumbers) {
                   "s.json: --set " + c.first + ": " + c.second);
         EXPECT_EQ(j, before) << c.first;
     }
+    // A control character (no scene key has one), written escaped in the message.
     Json j = Json::parse(R"({"media": [{"albedo": 1, "phase": {"g": 0}}]})");
+    EXPECT_EQ(messageOf([&] { applyOverride(j, std::string("media\0.albedo=1", 15), "s.json"); }),
+              "s.json: --set media\\u0000.albedo=1: a control character in key path");
+    EXPECT_EQ(messageOf([&] { applyOverride(j, "camera.\tfov=1", "s.json"); }),
+              "s.json: --set camera.\\u0009fov=1: a control character in key path");
     applyOverride(j, "media[0].phase.g=0.5", "s.json");  // both notations, and nested indices
     applyOverride(j, "media.0.albedo=0.25", "s.json");
     EXPECT_EQ(j["media"][0]["phase"]["g"], 0.5);

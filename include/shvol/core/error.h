@@ -12,7 +12,8 @@ class Error : public std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-/// Builds "file: place: message", leaving out empty parts.
+/// Builds "file: place: message", leaving out empty parts, with control characters written as
+/// JSON writes them (\u0000, \u000a), so that the line stays one whole line.
 std::string errorLine(const std::string& file, const std::string& place, const std::string& msg);
 
 [[noreturn]] inline void fail(const std::string& file, const std::string& place,
