@@ -76,6 +76,9 @@ def load(directory):
                 if not is_number(row[key]) or row[key] < 0 and key != "bias":
                     fail(f"{path}: line {n}: {key}: expected a finite number"
                          f"{'' if key == 'bias' else ' >= 0'}, got {json.dumps(row[key])}")
+            if not (isinstance(row["spp"], int) and row["spp"] >= 1):  # (a log axis)
+                fail(f"{path}: line {n}: spp: expected an integer >= 1, got "
+                     f"{json.dumps(row['spp'])}")
             # (A run in two rows would be counted twice; shvol batch refuses such a ledger too.)
             run = row.get("run")
             if isinstance(run, str):
@@ -147,12 +150,16 @@ def main():
         summary.append((c, spp, len(rs), e, sd, t, eff))
 
     figures = []
-    if error:
+    # The error plots have log axes: an error of 0 (a run equal to the reference) or a time of 0
+    # has no place on them; the table still shows it.
+    plotted = [s for s in summary if s[3] > 0 and s[5] > 0]
+    left_out = len(summary) - len(plotted) if error else 0
+    if error and plotted:
         fig, ax = plt.subplots(figsize=(7, 5))
-        pts = [(s[5], s[3]) for s in summary]
+        pts = [(s[5], s[3]) for s in plotted]
         for c in configs:
-            xs = [s[5] for s in summary if s[0] == c]
-            ys = [s[3] for s in summary if s[0] == c]
+            xs = [s[5] for s in plotted if s[0] == c]
+            ys = [s[3] for s in plotted if s[0] == c]
             ax.plot(xs, ys, "o-", label=c)
         front = pareto(pts)
         ax.plot([pts[i][0] for i in front], [pts[i][1] for i in front], "k--", lw=1,
@@ -169,12 +176,12 @@ def main():
 
         fig, ax = plt.subplots(figsize=(7, 5))
         for c in configs:
-            ss = [s for s in summary if s[0] == c and s[1]]
+            ss = [s for s in plotted if s[0] == c]
             ax.errorbar([s[1] for s in ss], [s[3] for s in ss], yerr=[s[4] for s in ss],
                         fmt="o-", capsize=3, label=c)
-        spps = sorted({s[1] for s in summary if s[1]})
+        spps = sorted({s[1] for s in plotted})
         if len(spps) > 1:
-            e0 = min(s[3] for s in summary if s[1] == spps[0])
+            e0 = min(s[3] for s in plotted if s[1] == spps[0])
             ax.plot(spps, [e0 * math.sqrt(spps[0] / n) for n in spps], "k:", label="∝ 1/√spp")
         ax.set_xscale("log"), ax.set_yscale("log")
         ax.set_xlabel("samples per pixel"), ax.set_ylabel(error)
@@ -211,6 +218,9 @@ def main():
                       f"{t:.3g}", f"{eff:.4g}" if not math.isnan(eff) else ""])
     summary = (f"{counted(len(rows), 'run')}, {counted(len(configs), 'configuration')}; "
                f"error metric: {error or 'none'}.")
+    if left_out:
+        summary += (f" Left out of the error plots (log axes): {counted(left_out, 'row')} of "
+                    f"the table with an error or a time of 0.")
     md = [f"# Batch report: {directory}", "", summary, ""]
     for f, caption in figures:
         md += [f"![{caption}]({f})", "", f"*{caption}*", ""]
@@ -235,10 +245,17 @@ def main():
 
 
 def replace_atomically(path, write_to):
-    """write_to(tmp), then rename tmp to path: no half-written file."""
+    """write_to(tmp), then rename tmp to path: no half-written file, and no temporary left when
+    it fails or is interrupted."""
     tmp = path + ".tmp"
-    write_to(tmp)
-    os.replace(tmp, path)
+    try:
+        write_to(tmp)
+        os.replace(tmp, path)
+    except OSError as e:
+        fail(f"{path}: cannot write ({e.strerror or e})")
+    finally:
+        if os.path.lexists(tmp) and not os.path.isdir(tmp):
+            os.remove(tmp)
 
 
 def write(path, text):
@@ -254,4 +271,7 @@ def save(fig, path):
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except KeyboardInterrupt:  # Ctrl-C: no traceback, and 130 as shvol's commands exit with
+        sys.exit(130)

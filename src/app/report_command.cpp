@@ -1,6 +1,7 @@
 // shvol report DIR: plots and tables of a batch's ledger, made by tools/report.py.
 #include <sys/wait.h>
 
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 
@@ -30,7 +31,10 @@ int runReport(const std::string& dir) {
         fail("/usr/bin/python3", "", "not installed (apt-get install python3-matplotlib)");
     const int status =
         std::system(("/usr/bin/python3 " + shellQuote(script) + " " + shellQuote(dir)).c_str());
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+    if (WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) return 130;
+    if (!WIFEXITED(status))
+        fail(script, "", "ended without an exit code (status " + std::to_string(status) + ")");
+    return WEXITSTATUS(status);
 }
 
 void addReportCommand(CLI::App& app, std::function<int()>& run) {

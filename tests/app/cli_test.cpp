@@ -1865,6 +1865,36 @@ TEST_F(Cli, BatchReport) {
     const std::string table = test::fileBytes(path("o/report.md"));
     EXPECT_NE(table.find("| g=1 | 8 | 2 | 2 ± 1.4 | 1 | 0.2 |"), std::string::npos) << table;
     EXPECT_NE(table.find("| g=2 | 8 | 1 | 1 | 2 | 0.5 |"), std::string::npos) << table;
+    // An error of 0 (runs equal to the reference) stays in the table but not on the log axes,
+    // which said so in matplotlib's warnings on stderr; an spp of 0 cannot be on them either.
+    std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "g": 1, "wall_time_s": 1, "rmse": 0})"
+                          << "\n"
+                          << R"({"run": "r0001", "spp": 16, "g": 1, "wall_time_s": 2, "rmse": 1})"
+                          << "\n";
+    c = run("report " + path("o"));
+    EXPECT_EQ(c.code, 0);
+    EXPECT_EQ(c.err, "");
+    EXPECT_NE(test::fileBytes(path("o/report.md"))
+                  .find("Left out of the error plots (log axes): 1 row of the table with an "
+                        "error or a time of 0."),
+              std::string::npos);
+    std::ofstream(ledger) << R"({"run": "r0000", "spp": 0, "wall_time_s": 1, "rmse": 1})"
+                          << "\n";
+    c = run("report " + path("o"));
+    EXPECT_EQ(c.code, 1);
+    EXPECT_EQ(c.err,
+              "shvol: error: " + ledger + ": line 1: spp: expected an integer >= 1, got 0\n");
+    // An output that cannot be written: one line, and no temporary left.
+    std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "wall_time_s": 1, "rmse": 1})"
+                          << "\n";
+    fs::remove(path("o/report.md"));
+    fs::create_directory(path("o/report.md"));
+    c = run("report " + path("o"));
+    EXPECT_EQ(c.code, 1);
+    EXPECT_EQ(c.err.rfind("shvol: error: " + path("o/report.md") + ": cannot write (", 0), 0u)
+        << c.err;
+    EXPECT_EQ(std::count(c.err.begin(), c.err.end(), '\n'), 1) << c.err;
+    EXPECT_FALSE(fs::exists(path("o/report.md.tmp")));
 }
 
 // A scene whose file name is not valid UTF-8 renders, and its stats are valid JSON (the name is
