@@ -494,7 +494,12 @@ int runBatch(BatchArgs a) {
     RunContext c(s);
     c.ztest = ztest;
     c.threads = a.threads > 0 ? a.threads : threadsPerRender(a.jobs);
-    if (s.reference) {
+    // With every run finished the reference is not needed: one deleted since is not rendered
+    // again for nothing (its fingerprint was checked with the rows above).
+    const bool allFinished = world.broadcast(
+        world.root() && std::all_of(s.runs.begin(), s.runs.end(),
+                                    [&](const SweepRun& run) { return ledger->find(run.id); }));
+    if (s.reference && !allFinished) {
         // The ranks render the reference together (an MPI render), once.
         if (s.reference->render && world.broadcast(world.root() && !referenceCached(s, stamp)))
             if (const int code = renderReference(s, a, c.ztest, stamp)) return code;

@@ -1471,6 +1471,15 @@ TEST_F(Cli, BatchRefusesAnotherBuildAndRenewsAStaleReference) {
     r = run(batch);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("rendering the reference"), std::string::npos) << r.err;
+    // Every run finished: a reference deleted since is not rendered again for nothing.
+    const std::string ledgerBefore = test::fileBytes(jsonl);
+    fs::remove(path("out/reference.exr"));
+    r = run(batch);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err.find("rendering the reference"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("2 of 2 runs already finished"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("out/reference.exr")));
+    EXPECT_EQ(test::fileBytes(jsonl), ledgerBefore);
 }
 
 // A given reference that is one of the batch's own outputs (a run's image, its stats, the ledger)
