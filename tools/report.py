@@ -136,7 +136,9 @@ def main():
     groups = {}
     for r in rows:
         groups.setdefault((label(r, axes), r.get("spp")), []).append(r)
-    configs = sorted({c for c, _ in groups})
+    # Configurations in the sweep's order: as their first runs come (r0000, …, r9999, r10000).
+    by_run = sorted(rows, key=lambda r: (len(str(r.get("run", ""))), str(r.get("run", ""))))
+    configs = list(dict.fromkeys(label(r, axes) for r in by_run))
     summary = []  # (config, spp, n, err mean, err sd, time mean, efficiency)
     for (c, spp), rs in sorted(groups.items(), key=lambda kv: (configs.index(kv[0][0]), kv[0][1])):
         t, _ = mean_sd([r["wall_time_s"] for r in rs])

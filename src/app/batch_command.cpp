@@ -65,6 +65,11 @@ bool referenceCached(const Sweep& s, const std::string& stamp) {
     return have == stamp;
 }
 
+/// "1 run", "2 runs".
+std::string runsCounted(size_t n) {
+    return std::to_string(n) + (n == 1 ? " run" : " runs");
+}
+
 /// The standard errors beside a reference file ref.exr (ref.stderr.exr, as render --variance
 /// names them), which the z-test reads when they exist.
 std::string standardErrorsOf(const std::string& exr) {
@@ -464,8 +469,7 @@ int runBatch(BatchArgs a) {
             finished += has;
             std::printf("%s%s\n", describe(run).c_str(), has ? " (finished)" : "");
         }
-        std::printf("%zu run%s into %s", s.runs.size(), s.runs.size() == 1 ? "" : "s",
-                    s.output.c_str());
+        std::printf("%s into %s", runsCounted(s.runs.size()).c_str(), s.output.c_str());
         if (finished > 0)
             std::printf(", %zu of them finished (the start checks that they match this sweep)",
                         finished);
@@ -534,12 +538,13 @@ int runBatch(BatchArgs a) {
         if (ledger->rows().empty())
             std::fprintf(stderr, "batch: stopped before a run finished; run again to finish\n");
         else
-            std::fprintf(stderr, "batch: stopped; %zu runs are in %s, run again to finish\n",
-                         ledger->rows().size(), ledger->jsonlPath().c_str());
+            std::fprintf(stderr, "batch: stopped; %s %s in %s, run again to finish\n",
+                         runsCounted(ledger->rows().size()).c_str(),
+                         ledger->rows().size() == 1 ? "is" : "are", ledger->jsonlPath().c_str());
         return queue.code();
     }
     if (!a.quiet)
-        std::fprintf(stderr, "batch: %zu runs in %s and %s\n", ledger->rows().size(),
+        std::fprintf(stderr, "batch: %s in %s and %s\n", runsCounted(ledger->rows().size()).c_str(),
                      ledger->jsonlPath().c_str(), ledger->csvPath().c_str());
     return a.report ? runReport(s.output) : 0;
 }

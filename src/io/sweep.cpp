@@ -216,7 +216,8 @@ Sweep readSweep(const std::string& path, double maxRuns) {
         }
     }
     std::vector<double> runSpp;  // each run's samples per pixel, for the z-test's check below
-    std::map<double, std::string> runOfSeed;  // a run of each seed, for the reference's check
+    std::map<double, std::string> runOfSeed;        // a run of each seed, for the reference's check
+    std::map<std::string, std::string> runOfScene;  // a run of each fingerprint
     for (const auto& p : points)
         for (int k = 0; k < repeats; ++k) {
             SweepRun run;
@@ -243,6 +244,12 @@ Sweep readSweep(const std::string& path, double maxRuns) {
             }
             const Json doc = sweepDocument(s, run.sets, places, "run " + run.id);
             run.fingerprint = hashText(dumpJson(doc));
+            // The same point twice (an axis value given twice, or a seed): the same render,
+            // which the report would count as a repeat of no spread.
+            if (const auto [same, added] = runOfScene.emplace(run.fingerprint, run.id); !added)
+                fail(path, "axes",
+                     "runs " + same->second + " and " + run.id + " would be the same render (" +
+                         dumpJson(run.values) + "); give each value once");
             runSpp.push_back(sppOf(doc));
             if (const Json* seed = doc.contains("render") ? &doc["render"] : nullptr;
                 seed && seed->contains("seed") && (*seed)["seed"].is_number())

@@ -187,6 +187,17 @@ TEST(Sweep, ErrorsNameFileAndKey) {
         ": reference.set[0]: " + seedIsTheSweeps);
     EXPECT_EQ(err("e5v", R"({"scene": "scene.json", "seed": 7, "axes": {"seed": [1, 2]}})"),
               ": axes.seed: give either a seed axis or a \"seed\", not both");
+    // The same point twice is the same render (the report counted it as a repeat of no spread).
+    EXPECT_EQ(err("e5z", R"({"scene": "scene.json", "axes": {"spp": [16, 4, 16]}})"),
+              ": axes: runs r0000 and r0002 would be the same render "
+              "({\"repeat\":0,\"spp\":16}); give each value once");
+    EXPECT_EQ(err("e5z", R"({"scene": "scene.json", "axes": {"seed": [5, 5]}})"),
+              ": axes: runs r0000 and r0001 would be the same render "
+              "({\"repeat\":0,\"seed\":5}); give each value once");
+    EXPECT_EQ(err("e5z", R"({"scene": "scene.json", "combine": "zip",
+                            "axes": {"spp": [2, 4, 2], "render.max_depth": [1, 1, 1]}})"),
+              ": axes: runs r0000 and r0002 would be the same render "
+              "({\"render.max_depth\":1,\"repeat\":0,\"spp\":2}); give each value once");
     // The reference's samples per pixel are its "spp" (which replaced render.spp in its "set").
     for (const char* set : {"render.spp=8", "render={\"spp\": 8}"})
         EXPECT_EQ(err("e5w", std::string(R"({"scene": "scene.json", "reference": {"set": [)") +
