@@ -6,8 +6,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include "commands.h"
@@ -277,6 +279,16 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
 
 /// --spp: "N" or increasing "N1,N2,…,N" (each Ni an image of its own). Gives the list; when the
 /// text is not one, says why in `problem` (and the list is not to be used).
+/// Whether this process has not printed `line` before: a batch's renders of one scene (repeats,
+/// other sample counts) give it the same warnings, which each run's stats keep, and stderr says
+/// once.
+bool saidFirst(const std::string& line) {
+    static std::mutex mutex;
+    static std::set<std::string> said;
+    const std::lock_guard<std::mutex> lock(mutex);
+    return said.insert(line).second;
+}
+
 std::vector<uint32_t> parseSppList(const std::string& text, std::string& problem) {
     std::vector<uint32_t> list;
     if (text.empty()) {
@@ -422,7 +434,8 @@ int runRender(const RenderArgs& a) {
         spread);
     if (speaks)
         for (const std::string& w : warnings)
-            std::fprintf(stderr, "shvol: warning: %s: %s\n", a.scene.c_str(), w.c_str());
+            if (const std::string line = "shvol: warning: " + a.scene + ": " + w; saidFirst(line))
+                std::fprintf(stderr, "%s\n", line.c_str());
 
     const uint32_t spp = uint32_t(scene.settings.spp);
     RenderOptions opt;

@@ -608,6 +608,19 @@ TEST_F(Cli, RenderWarnsOfUnreliablePhaseFits) {
     r = run(render + " --set media[0].phase.g=0.5");  // auto meets the tolerance
     EXPECT_EQ(r.code, 0);
     EXPECT_EQ(r.err, "");
+    // A batch says a warning its runs share once (it said it for every run); each run's stats
+    // keep it.
+    write("sweep.json", R"({"scene": "s.json", "set": ["media[0].phase.order=100"],
+        "axes": {"spp": [1, 2]}, "repeats": 2})");
+    r = run("batch " + path("sweep.json") + " --quiet --jobs 2 --output " + path("b"));
+    EXPECT_EQ(r.code, 0) << r.err;
+    size_t said = 0;
+    for (size_t at = r.err.find("order-100 SH fit"); at != std::string::npos;
+         at = r.err.find("order-100 SH fit", at + 1))
+        ++said;
+    EXPECT_EQ(said, 1u) << r.err;
+    const auto run3 = nlohmann::json::parse(std::ifstream(path("b/r0003.stats.json")));
+    EXPECT_EQ(run3["warnings"].size(), 1u);
 }
 
 // Product light sampling names itself in the stats with what it built and drew; a wrong
