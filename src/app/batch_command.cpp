@@ -206,6 +206,9 @@ void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string* 
                      "finished with " +
                          (row.contains(key) ? key + "=" + dumpJson(row[key]) : "no " + key) +
                          ", the sweep now gives " + key + "=" + dumpJson(value) +
+                         (row.contains(key) ? " (runs are numbered in the sweep's order: a value "
+                                              "or a repeat added renumbers them)"
+                                            : "") +
                          "; use another output directory");
         std::set<std::string> known = kRunColumns;
         for (const auto& [metric, columns] : kMetricColumns) {

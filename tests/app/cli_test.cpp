@@ -1375,7 +1375,8 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
     r = run("batch " + path("sweep.json") + " --quiet --output " + path("clean"));
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("results.jsonl: run r0003: finished with spp=9000, the sweep now gives "
-                         "spp=9500; use another output directory"),
+                         "spp=9500 (runs are numbered in the sweep's order: a value or a repeat "
+                         "added renumbers them); use another output directory"),
               std::string::npos)
         << r.err;
     changed = sweep;
