@@ -277,8 +277,6 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
     });
 }
 
-/// --spp: "N" or increasing "N1,N2,…,N" (each Ni an image of its own). Gives the list; when the
-/// text is not one, says why in `problem` (and the list is not to be used).
 /// Whether this process has not printed `line` before: a batch's renders of one scene (repeats,
 /// other sample counts) give it the same warnings, which each run's stats keep, and stderr says
 /// once.
@@ -289,6 +287,8 @@ bool saidFirst(const std::string& line) {
     return said.insert(line).second;
 }
 
+/// --spp: "N" or increasing "N1,N2,…,N" (each Ni an image of its own). Gives the list; when the
+/// text is not one, says why in `problem` (and the list is not to be used).
 std::vector<uint32_t> parseSppList(const std::string& text, std::string& problem) {
     std::vector<uint32_t> list;
     if (text.empty()) {
