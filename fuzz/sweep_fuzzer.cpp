@@ -47,19 +47,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                                           {"phase_csv/hg.csv", "phase.csv"}});
     const std::string path = dir + "/sweep.json";
     shvol::fuzz::writeFile(path, data, size);
-    shvol::Sweep s;
     try {
-        s = shvol::readSweep(path, kRuns);
-    } catch (const shvol::Error& e) {  // the expected outcome of bad input
-        shvol::fuzz::expected(e);
-        return 0;
-    }
-    if (s.runs.empty() || double(s.runs.size()) > kRuns)
-        shvol::fuzz::bug("an accepted sweep has no runs or more than it may");
-    std::set<std::string> ids;
-    std::set<double> seeds;
-    std::set<std::string> checked;  // the scene documents checked, as text
-    try {
+        shvol::Sweep s = shvol::readSweep(path, kRuns);
+        if (s.runs.empty() || double(s.runs.size()) > kRuns)
+            shvol::fuzz::bug("an accepted sweep has no runs or more than it may");
+        std::set<std::string> ids;
+        std::set<double> seeds;
+        std::set<std::string> checked;  // the scene documents checked, as text
         for (size_t i = 0; i < s.runs.size(); ++i) {
             const shvol::SweepRun& run = s.runs[i];
             if (run.index != int(i) || !ids.insert(run.id).second)
@@ -74,7 +68,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             shvol::fuzz::bug("a rendered reference has the seed of a run");
         std::map<std::string, shvol::Json> memo;
         shvol::fingerprintInputs(s, memo);
-    } catch (const shvol::Error& e) {  // a run's scene refused, as the batch would refuse it
+    } catch (const shvol::Error& e) {  // bad input, or a run's scene the batch would refuse
         shvol::fuzz::expected(e);
     }
     return 0;
