@@ -231,7 +231,7 @@ Outputs outputsFor(const std::string& out, const std::string& tag) {
 
 /// Writes an image with its statistics (and standard errors). The statistics appear only once
 /// the images are in place: the EXRs are written (atomically) while the stats file is still a
-/// temporary.
+/// temporary, and the image while the standard errors' file is.
 void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const RenderStats& st,
                   const std::vector<std::string>& warnings, const nlohmann::json& provenance,
                   bool variance) {
@@ -272,8 +272,13 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
         f << dumpJson(j, 2) << "\n";
         f.close();
         if (!f) failWriting(o.stats, 0);
-        writeExr(o.image, image);
-        if (variance) writeExr(o.stderrImage, film.standardError());
+        if (!variance) return writeExr(o.image, image);
+        // The standard errors are written into their temporary first and renamed only once the
+        // image is in place: a failure to write either leaves none of the three files.
+        writeAtomically(o.stderrImage, [&](const std::string& tmpSe) {
+            writeExrTo(tmpSe, film.standardError(), o.stderrImage);
+            writeExr(o.image, image);
+        });
     });
 }
 
@@ -476,12 +481,12 @@ int runRender(const RenderArgs& a) {
             lastCheckpoint = now;
         }
     };
-    RenderResult r;
-    {
-        std::optional<InterruptGuard> guard;
-        if (!spread) guard.emplace();
-        r = render(scene, opt, std::move(film));
-    }
+    // The guard lives until the outputs are written: a first signal while they are written is
+    // taken as one during the render (the outputs complete, exit code 130), not as the default
+    // action that ended the process with none of them.
+    std::optional<InterruptGuard> guard;
+    if (!spread) guard.emplace();
+    RenderResult r = render(scene, opt, std::move(film));
     if (spread) world.reduceToRoot(r.film, r.stats);
     if (!speaks) return 0;
     const bool interrupted = r.stats.stop == RenderStop::Cancelled;
@@ -503,6 +508,12 @@ int runRender(const RenderArgs& a) {
                      r.stats.pathsPerSecond(),
                      spread ? (std::to_string(world.size()) + " ranks of ").c_str() : "",
                      r.stats.threads, r.stats.threads == 1 ? "" : "s");
+    if (!interrupted && guard && InterruptGuard::interrupted()) {
+        std::fprintf(stderr,
+                     "shvol: interrupted once the render had finished; its outputs are "
+                     "written\n");
+        return 130;
+    }
     return interrupted ? 130 : 0;
 }
 

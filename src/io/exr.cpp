@@ -154,25 +154,26 @@ Image readExr(const std::string& path, ExrValues values) {
     return img;
 }
 
+void writeExrTo(const std::string& tmp, const Image& image, const std::string& path) {
+    try {
+        Imf::Header header(image.width, image.height);
+        for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+        Imf::OutputFile file(tmp.c_str(), header);
+        Imf::FrameBuffer fb;
+        const size_t xs = 3 * sizeof(float), ys = xs * image.width;
+        char* base = reinterpret_cast<char*>(const_cast<float*>(image.rgb.data()));
+        for (int c = 0; c < 3; ++c)
+            fb.insert(std::string(1, "RGB"[c]),
+                      Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xs, ys));
+        file.setFrameBuffer(fb);
+        file.writePixels(image.height);
+    } catch (const std::exception& e) {
+        fail(path, "", std::string("cannot write EXR (") + e.what() + ")");
+    }
+}
+
 void writeExr(const std::string& path, const Image& image) {
-    writeAtomically(path, [&](const std::string& tmp) {
-        try {
-            Imf::Header header(image.width, image.height);
-            for (const char* c : {"R", "G", "B"})
-                header.channels().insert(c, Imf::Channel(Imf::FLOAT));
-            Imf::OutputFile file(tmp.c_str(), header);
-            Imf::FrameBuffer fb;
-            const size_t xs = 3 * sizeof(float), ys = xs * image.width;
-            char* base = reinterpret_cast<char*>(const_cast<float*>(image.rgb.data()));
-            for (int c = 0; c < 3; ++c)
-                fb.insert(std::string(1, "RGB"[c]),
-                          Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xs, ys));
-            file.setFrameBuffer(fb);
-            file.writePixels(image.height);
-        } catch (const std::exception& e) {
-            fail(path, "", std::string("cannot write EXR (") + e.what() + ")");
-        }
-    });
+    writeAtomically(path, [&](const std::string& tmp) { writeExrTo(tmp, image, path); });
 }
 
 }  // namespace shvol

@@ -95,9 +95,32 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
     if (threads > tbb::this_task_arena::max_concurrency())
         limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
     tbb::task_arena arena(threads);
-    // Built inside the arena: the radiance cache's first pass runs parallel loops.
+    // A stop (cancel, or the time limit, which counts from here: the integrator's set-up, a
+    // radiance cache's fill above all, is part of the render's time) stays a stop.
+    const auto begin = std::chrono::steady_clock::now();
+    std::atomic<bool> stopped{false};
+    std::atomic<int> stopReason{int(RenderStop::Completed)};
+    auto shouldStop = [&] {
+        if (stopped.load(std::memory_order_relaxed)) return true;
+        RenderStop why = RenderStop::Completed;
+        if (options.cancel && options.cancel->load(std::memory_order_relaxed))
+            why = RenderStop::Cancelled;
+        else if (options.timeLimitSeconds > 0 &&
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count() >
+                     options.timeLimitSeconds)
+            why = RenderStop::TimeLimit;
+        if (why == RenderStop::Completed) return false;
+        int expected = int(RenderStop::Completed);
+        stopReason.compare_exchange_strong(expected, int(why));
+        stopped = true;
+        return true;
+    };
+    // Built inside the arena: the radiance cache's first pass runs parallel loops. A stop during
+    // its fill leaves the cache part-filled; shouldStop() stays true, so no sample uses it.
     std::unique_ptr<const VolumePathIntegrator> built;
-    arena.execute([&] { built = std::make_unique<const VolumePathIntegrator>(scene); });
+    arena.execute([&] {
+        built = std::make_unique<const VolumePathIntegrator>(scene, [&] { return shouldStop(); });
+    });
     const VolumePathIntegrator& integrator = *built;
     RenderResult result;
     const uint32_t resumedFrom = film.minCount();
@@ -118,24 +141,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
         film.sumSq.assign(film.sum.size(), 0.0);
     }
     Progress progress("render", (long long)ends.size() * tiles, options.progress);
-    const auto start = std::chrono::steady_clock::now();
-    std::atomic<bool> stopped{false};
-    std::atomic<int> stopReason{int(RenderStop::Completed)};
-    auto shouldStop = [&] {
-        if (stopped.load(std::memory_order_relaxed)) return true;
-        RenderStop why = RenderStop::Completed;
-        if (options.cancel && options.cancel->load(std::memory_order_relaxed))
-            why = RenderStop::Cancelled;
-        else if (options.timeLimitSeconds > 0 &&
-                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
-                     options.timeLimitSeconds)
-            why = RenderStop::TimeLimit;
-        if (why == RenderStop::Completed) return false;
-        int expected = int(RenderStop::Completed);
-        stopReason.compare_exchange_strong(expected, int(why));
-        stopped = true;
-        return true;
-    };
+    const auto start = std::chrono::steady_clock::now();  // of the passes: wall_time_s
 
     // The statistics so far (between passes, when no thread is working).
     auto snapshot = [&] {

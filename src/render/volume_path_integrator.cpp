@@ -32,7 +32,7 @@ void PathCounters::add(const PathCounters& o) {
     tracking.exactCells += o.tracking.exactCells;
 }
 
-VolumePathIntegrator::VolumePathIntegrator(const Scene& scene)
+VolumePathIntegrator::VolumePathIntegrator(const Scene& scene, std::function<bool()> stop)
     : scene_(scene),
       effects_(Effects::of(scene)),
       mediumBit_(scene.media.size(), -1),
@@ -52,7 +52,8 @@ VolumePathIntegrator::VolumePathIntegrator(const Scene& scene)
         cameraInside_ = insideOf(scene.camera.position);
     }
     buildLightSamplers();
-    if (effects_.radianceCache) buildRadianceCache();  // record paths use the light samplers
+    if (!stop) stop = [] { return false; };
+    if (effects_.radianceCache) buildRadianceCache(stop);  // record paths use the light samplers
 }
 
 void VolumePathIntegrator::buildLightSamplers() {
@@ -469,11 +470,12 @@ bool firstNonNullHit(const SurfaceScene& surf, Ray ray, SurfaceHit* hit) {
 }
 }  // namespace
 
-void VolumePathIntegrator::buildRadianceCache() {
+void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop) {
     const RadianceCacheSettings& rc = scene_.settings.radianceCache;
     const SurfaceScene& surf = *scene_.surfaces;
     auto start = std::chrono::steady_clock::now();
     for (const Surface& s : surf.surfaces()) {
+        if (stop()) return;
         const bool cached = HshBrdfTable::supports(s.bsdf);
         tables_.push_back(cached ? std::make_unique<const HshBrdfTable>(s.bsdf, rc.hshOrder)
                                  : nullptr);
@@ -494,49 +496,54 @@ void VolumePathIntegrator::buildRadianceCache() {
     std::vector<IncomingSample> samples(N);
     std::vector<PathCounters> counters(N);
     // Pixel centres coarse to fine: every 16th pixel, then the new ones of every 8th, ….
-    for (int stride = 16; stride >= 1 && int(cache_->size()) < rc.maxRecords; stride /= 2)
-        for (int y = 0; y < scene_.camera.height; y += stride)
-            for (int x = 0; x < scene_.camera.width; x += stride) {
-                if (stride < 16 && x % (2 * stride) == 0 && y % (2 * stride) == 0) continue;
-                if (int(cache_->size()) >= rc.maxRecords) break;
-                // The first surface seen through the pixel centre, past null surfaces.
-                const Ray ray = camera.generateRay(x + 0.5, y + 0.5);
-                SurfaceHit hit;
-                if (!firstNonNullHit(surf, ray, &hit) || !tables_[hit.surface]) continue;
-                const double cosOg = -ray.d.dot(hit.ng);
-                const auto [n, ng] = cacheNormals(hit, -ray.d);
-                if (cosOg == 0 || cache_->covers(hit.p, n, ng)) continue;
-                const uint64_t index = cache_->size();
-                Rng jitterRng = Rng::forSample(seed, (uint64_t(1) << 40) + index, 0);
-                std::vector<Vec2> jitter(N);
-                for (Vec2& u : jitter) u = jitterRng.uniform2();
-                const std::vector<Vec3> dirs = RadianceCache::directions(N, jitter);
-                const Frame frame(n);
-                tbb::parallel_for(0, N, [&](int k) {
-                    const Vec3 w = frame.toWorld(dirs[k]);
-                    counters[k] = PathCounters{};
-                    IncomingSample& sample = samples[k];
-                    sample = IncomingSample{};
-                    sample.w = dirs[k];
-                    // Where the shading hemisphere dips below the surface: no light, as the
-                    // path tracer's rule that reflection stays on the side it came from gives.
-                    if (!(w.dot(hit.ng) * cosOg > 0)) {
-                        sample.L = Spectrum::Zero();
-                        sample.below = true;
-                        return;
-                    }
-                    const Ray r = surf.spawn(hit.p, hit.ng, w);
-                    Rng rng = Rng::forSample(seed, (uint64_t(1) << 40) + index, uint32_t(k + 1));
-                    sample.L = Li(r, rng, counters[k], PathKind::CacheRecord);
-                    if (!sample.L.allFinite()) sample.L = Spectrum::Zero();
-                    // The first surface met that is not a null boundary (for R and gradients).
-                    SurfaceHit h;
-                    sample.hit = firstNonNullHit(surf, r, &h);
-                    if (sample.hit) sample.W = h.p, sample.nW = h.ng;
-                });
-                for (const PathCounters& pc : counters) cacheBuild_.counters.add(pc);
-                cache_->add(hit.p, n, ng, samples);
-            }
+    const auto fill = [&] {
+        for (int stride = 16; stride >= 1 && int(cache_->size()) < rc.maxRecords; stride /= 2)
+            for (int y = 0; y < scene_.camera.height; y += stride)
+                for (int x = 0; x < scene_.camera.width; x += stride) {
+                    if (stride < 16 && x % (2 * stride) == 0 && y % (2 * stride) == 0) continue;
+                    if (int(cache_->size()) >= rc.maxRecords) break;
+                    // The first surface seen through the pixel centre, past null surfaces.
+                    const Ray ray = camera.generateRay(x + 0.5, y + 0.5);
+                    SurfaceHit hit;
+                    if (!firstNonNullHit(surf, ray, &hit) || !tables_[hit.surface]) continue;
+                    const double cosOg = -ray.d.dot(hit.ng);
+                    const auto [n, ng] = cacheNormals(hit, -ray.d);
+                    if (cosOg == 0 || cache_->covers(hit.p, n, ng)) continue;
+                    const uint64_t index = cache_->size();
+                    Rng jitterRng = Rng::forSample(seed, (uint64_t(1) << 40) + index, 0);
+                    std::vector<Vec2> jitter(N);
+                    for (Vec2& u : jitter) u = jitterRng.uniform2();
+                    const std::vector<Vec3> dirs = RadianceCache::directions(N, jitter);
+                    const Frame frame(n);
+                    if (stop()) return;  // (a record of 2^20 paths can take seconds)
+                    tbb::parallel_for(0, N, [&](int k) {
+                        const Vec3 w = frame.toWorld(dirs[k]);
+                        counters[k] = PathCounters{};
+                        IncomingSample& sample = samples[k];
+                        sample = IncomingSample{};
+                        sample.w = dirs[k];
+                        // Where the shading hemisphere dips below the surface: no light, as the
+                        // path tracer's rule that reflection stays on the side it came from gives.
+                        if (!(w.dot(hit.ng) * cosOg > 0)) {
+                            sample.L = Spectrum::Zero();
+                            sample.below = true;
+                            return;
+                        }
+                        const Ray r = surf.spawn(hit.p, hit.ng, w);
+                        Rng rng =
+                            Rng::forSample(seed, (uint64_t(1) << 40) + index, uint32_t(k + 1));
+                        sample.L = Li(r, rng, counters[k], PathKind::CacheRecord);
+                        if (!sample.L.allFinite()) sample.L = Spectrum::Zero();
+                        // The first surface met that is not a null boundary (for R and gradients).
+                        SurfaceHit h;
+                        sample.hit = firstNonNullHit(surf, r, &h);
+                        if (sample.hit) sample.W = h.p, sample.nW = h.ng;
+                    });
+                    for (const PathCounters& pc : counters) cacheBuild_.counters.add(pc);
+                    cache_->add(hit.p, n, ng, samples);
+                }
+    };
+    fill();
     cacheBuild_.fillSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

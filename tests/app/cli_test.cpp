@@ -981,6 +981,59 @@ TEST_F(Cli, MakeMediumAndSkyRoundTrip) {
 
 // SIGINT and SIGTERM during a render: the samples finished so far are written (image and stats
 // with "interrupted": true) and the exit code is 130. The render is far too long to finish.
+// A signal that comes once the render has finished, while its outputs are written, lets them be
+// written whole and exits 130 (it ended the process with none of them: the guard was gone). The
+// signal is sent once the stats file's temporary appears, which is before the EXRs are written.
+TEST_F(Cli, SignalWhileWritingStillWritesEverything) {
+    write("s.json", scene(Homogeneous));
+    const std::string out = path("w.exr");
+    const Result r = runCommand(
+        "env --default-signal=INT " + std::string(SHVOL_BINARY) + " render " + path("s.json") +
+        " -o " + out + " --spp 2 --variance --quiet --set camera.resolution=[2048,2048] 2>" +
+        path("bg.txt") + " & p=$!; i=0; while ! ls " + path("w.stats.json.tmp") +
+        "* >/dev/null 2>&1 && [ $i -lt 20000 ]; do sleep 0.001; i=$((i+1)); done; kill -INT $p; "
+        "wait $p");
+    const std::string err = test::fileBytes(path("bg.txt"));
+    EXPECT_EQ(r.code, 130) << err;
+    EXPECT_EQ(err, "shvol: interrupted once the render had finished; its outputs are written\n");
+    for (const char* f : {"w.exr", "w.stderr.exr", "w.stats.json"})
+        EXPECT_TRUE(fs::exists(path(f))) << f;
+    EXPECT_EQ(readExr(out).width, 2048);
+    EXPECT_EQ(readExr(path("w.stderr.exr"), ExrValues::Preview).width, 2048);
+    const auto stats = nlohmann::json::parse(std::ifstream(path("w.stats.json")));
+    EXPECT_EQ(stats["stopped_by"], "completed");
+    for (const auto& e : fs::directory_iterator(dir_))
+        EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+}
+
+// A time limit counts the radiance cache's fill, and a signal stops it: both waited for the
+// whole fill (with 2^20 paths per record this scene's 58 records take about 12 s here), and the
+// time limit then stopped only the passes.
+TEST_F(Cli, TimeLimitAndSignalsStopTheRadianceCacheFill) {
+    write("s.json", R"({"camera": {"resolution": [32, 32], "position": [0, -3, 1],
+        "target": [0, 0, 0]}, "render": {"spp": 2, "radiance_cache": {"enabled": true,
+        "max_records": 1000, "rays_per_record": 1048576}},
+        "environment": {"type": "constant", "radiance": 1},
+        "surfaces": [{"type": "rectangle", "bsdf": {"type": "lambert", "reflectance": 0.5}}]})");
+    const auto stats = [&](const std::string& name) {
+        return nlohmann::json::parse(std::ifstream(path(name + ".stats.json")));
+    };
+    Result r = run("render " + path("s.json") + " -o " + path("t.exr") + " --time-limit 0.05");
+    EXPECT_EQ(r.code, 0) << r.err;
+    const auto t = stats("t");
+    EXPECT_EQ(t["stopped_by"], "time-limit");
+    EXPECT_EQ(t["samples_per_pixel_max"], 0);  // no sample sees a part-filled cache
+    EXPECT_LT(t["radiance_cache"]["records"].get<int>(), 10);
+    r = runCommand("env --default-signal=INT " + std::string(SHVOL_BINARY) + " render " +
+                   path("s.json") + " -o " + path("i.exr") + " --quiet 2>" + path("bg.txt") +
+                   " & p=$!; sleep 0.3; kill -INT $p; wait $p");
+    EXPECT_EQ(r.code, 130) << test::fileBytes(path("bg.txt"));
+    const auto i = stats("i");
+    EXPECT_EQ(i["stopped_by"], "cancelled");
+    EXPECT_EQ(i["samples_per_pixel_max"], 0);
+    EXPECT_LT(i.value("radiance_cache", nlohmann::json{{"records", 0}})["records"].get<int>(), 10);
+}
+
 TEST_F(Cli, InterruptedRenderWritesWhatItHas) {
     write("s.json", scene(Homogeneous));
     for (const char* sig : {"INT", "TERM"}) {

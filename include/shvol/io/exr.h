@@ -22,5 +22,8 @@ Image readExr(const std::string& path, ExrValues values = ExrValues::Radiance);
 
 /// Writes float32 R, G, B atomically (temporary file, then rename).
 void writeExr(const std::string& path, const Image& image);
+/// Writes float32 R, G, B into `tmp` itself, a temporary of writeAtomically for `path`, which
+/// errors name.
+void writeExrTo(const std::string& tmp, const Image& image, const std::string& path);
 
 }  // namespace shvol

@@ -46,6 +46,7 @@
 /// area lights, and the environment when it is light-sampled, met before any scattering). The
 /// order is fixed and each ray has its own numbers, so the cache, and the image, do not depend
 /// on the thread count.
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -86,8 +87,11 @@ class VolumePathIntegrator {
     /// between coincident null surfaces).
     static constexpr int kMaxNullCrossings = 1024;
     /// Builds what the scene's effects need: the sky hierarchy for the wavelet and product
-    /// strategies, and for product sampling each medium's zonal phase lobe.
-    explicit VolumePathIntegrator(const Scene& scene);
+    /// strategies, for product sampling each medium's zonal phase lobe, and the radiance cache
+    /// (BRDF tables, then records). `stop`, when given, is asked between BRDF tables and during
+    /// the cache's fill (a render's Ctrl-C or time limit): once it says true the cache is left
+    /// part-filled, and must not be rendered with (the renderer then takes no sample).
+    explicit VolumePathIntegrator(const Scene& scene, std::function<bool()> stop = {});
     /// Radiance arriving along −ray.d at ray.o (i.e. seen looking along ray.d). `Sampler` is
     /// a sample stream, Rng (independent numbers) or SobolSampler (sampling/sobol_sampler.h):
     /// per flight through active media a 2D pair for the free flight's first two numbers (its first
@@ -199,7 +203,7 @@ class VolumePathIntegrator {
     /// The sky hierarchy, product sampler and phase lobes the light-sampling strategy needs.
     void buildLightSamplers();
     /// The cache's first pass (constructor): records at visible cacheable points.
-    void buildRadianceCache();
+    void buildRadianceCache(const std::function<bool()>& stop);
     /// Outgoing radiance from the cache at a camera path's first surface vertex; false if no record
     /// is valid there.
     bool cachedRadiance(const SurfaceHit& hit, const Vec3& wo, Spectrum* L, PathCounters& c) const;
