@@ -370,8 +370,10 @@ int runRender(const RenderArgs& a) {
                           {"command_line", commandLine()},
                           {"machine", machineDescription()},
                           {"mpi_ranks", spread ? world.size() : 1}};
+            // The scene as the loader read it, defaults written out: a value given as its default
+            // (--seed 1, render.rr_depth=3) is the same render as one left out.
             if (!a.checkpoint.empty())
-                identity = renderIdentity(doc, provenance.at("inputs"), SHVOL_GIT_REVISION);
+                identity = renderIdentity(resolved, provenance.at("inputs"), SHVOL_GIT_REVISION);
             if (a.resume) film = readCheckpoint(a.checkpoint, identity);
             if (a.variance && film.maxCount() > 0 && film.sumSq.empty())
                 fail(a.checkpoint, "",

@@ -1090,6 +1090,11 @@ TEST_F(Cli, TimeLimitCheckpointAndResume) {
                          "(scene file, --set or --seed) (only the sample count may change)"),
               std::string::npos)
         << r.err;
+    // ... but a value given as its default is the same render (it was refused as the seed).
+    r = run(s + "-o " + path("d.exr") + " --seed 1 --set render.rr_depth=3 --checkpoint " +
+            path("ck.bin") + " --resume");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(readExr(path("d.exr")).rgb, b.rgb);
     // Fewer samples than the checkpoint holds: refused, naming the checkpoint.
     r = run("render " + path("s.json") + " --spp 100 --quiet -o " + path("x.exr") +
             " --checkpoint " + path("ck.bin") + " --resume");

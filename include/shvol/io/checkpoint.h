@@ -22,7 +22,9 @@ namespace shvol {
 
 /// Identity of a render for checkpoints, part by part, so that a mismatch can name what differs:
 ///   {"scene": {part: hash}, "inputs": {key: hash}, "build": revision}.
-/// "scene" holds FNV-1a hashes of the scene document (sceneDocument, after the overrides) cut
+/// "scene" holds FNV-1a hashes of the scene document (render passes the scene as the loader read
+/// it, scene_resolved, after the overrides and with the defaults written out, so that a value
+/// given as its default matches one left out) cut
 /// into parts named like the loader's messages ("camera.fov", "media[0].phase"): objects, and
 /// arrays of objects, are cut down to three levels, other values are whole parts. render.spp is
 /// left out (a checkpoint may be continued to more samples). "inputs" holds the contents' hashes
