@@ -335,10 +335,14 @@ int runBench(BenchArgs& a) {
         std::printf("| %s | %.2f | %.4g | %.4g | %.1f s |\n", r.name.c_str(), 1e3 * r.secondsPerSpp,
                     rmse, k, timeTo[i]);
     }
-    std::printf(
-        "time to equal RMSE, before / now: %.2fx (the reference's own noise, %d spp, is "
-        "in every RMSE)\n",
-        timeTo[0] / timeTo[1], a.referenceSpp);
+    // (An RMSE of 0, a scene the reference matches exactly, gives no time to compare.)
+    if (timeTo[1] > 0)
+        std::printf(
+            "time to equal RMSE, before / now: %.2fx (the reference's own noise, %d spp, is "
+            "in every RMSE)\n",
+            timeTo[0] / timeTo[1], a.referenceSpp);
+    else
+        std::printf("time to equal RMSE, before / now: n/a (an RMSE of 0 against the reference)\n");
     return 0;
 }
 }  // namespace

@@ -35,15 +35,27 @@ void addMakeMediumCommand(CLI::App& app, std::function<int()>& run) {
     c->add_option("--grid", a->grid, "Grid name")
         ->check(CLI::Validator(
             [](std::string& name) { return name.empty() ? "a grid needs a name" : ""; }, "NAME"));
-    c->add_option("--seed", a->seed, "Noise seed (cloud, plume)")->check(integerIn(0, kMaxSeed));
-    c->add_option("--octaves", a->octaves, "fBm octaves (cloud)")->check(integerIn(1, 12));
-    c->add_option("--frequency", a->frequency, "Base noise frequency (cloud)")
-        ->check(numberIn(0, 1000, true));
-    c->add_option("--coverage", a->coverage, "Cloud coverage offset (cloud)")
-        ->check(numberIn(-1, 1));
-    c->add_option("--radius", a->radius, "Radius in the unit cube (sphere)")
-        ->check(numberIn(0.0, 0.5));
-    c->callback([&run, a] {
+    // Each kind's own options, and which kinds take them (a note says when one has no effect).
+    const std::vector<std::pair<CLI::Option*, std::string>> kindOptions = {
+        {c->add_option("--seed", a->seed, "Noise seed (cloud, plume)")
+             ->check(integerIn(0, kMaxSeed)),
+         "cloud plume"},
+        {c->add_option("--octaves", a->octaves, "fBm octaves (cloud)")->check(integerIn(1, 12)),
+         "cloud"},
+        {c->add_option("--frequency", a->frequency, "Base noise frequency (cloud)")
+             ->check(numberIn(0, 1000, true)),
+         "cloud"},
+        {c->add_option("--coverage", a->coverage, "Cloud coverage offset (cloud)")
+             ->check(numberIn(-1, 1)),
+         "cloud"},
+        {c->add_option("--radius", a->radius, "Radius in the unit cube (sphere)")
+             ->check(numberIn(0.0, 0.5)),
+         "sphere"}};
+    c->callback([&run, a, kindOptions] {
+        for (const auto& [option, kinds] : kindOptions)
+            if (option->count() > 0 && kinds.find(a->kind) == std::string::npos)
+                std::fprintf(stderr, "note: %s has no effect with %s\n", option->get_name().c_str(),
+                             a->kind.c_str());
         run = [a] {
             VdbGridSpec s;
             s.name = a->grid;
@@ -76,8 +88,10 @@ void addMakeMediumCommand(CLI::App& app, std::function<int()>& run) {
                         }
             if (count == 0)
                 fail(a->output, "",
-                     "the grid would be empty (no voxel has density > 0); raise --coverage or "
-                     "--radius");
+                     std::string("the grid would be empty (no voxel has density > 0); raise ") +
+                         (a->kind == "cloud"    ? "--coverage"
+                          : a->kind == "sphere" ? "--radius"
+                                                : "--resolution"));
             const size_t n = writeVdb(a->output, {s});
             const double box = (hi - lo + Eigen::Vector3i::Ones()).cast<double>().prod();
             std::fprintf(stderr,

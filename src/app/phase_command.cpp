@@ -119,7 +119,9 @@ int runFit(const PhaseArgs& a) {
         std::printf("%s\n", dumpJson(j, 2).c_str());
         return 0;
     }
-    std::printf("# zonal SH fit of %s: p(mu) ~ sum_l p_l y_l^0(mu)\n", a.spec.c_str());
+    // (a spec of several lines stays on the comment's line)
+    std::printf("# zonal SH fit of %s: p(mu) ~ sum_l p_l y_l^0(mu)\n",
+                escapeControlCharacters(a.spec).c_str());
     std::printf(
         "order              %d\nwindow             %s\nevaluate           %s\n"
         "sh_depth           %d\n",

@@ -344,6 +344,18 @@ TEST_F(Cli, BenchAccuracyCachesItsReference) {
               std::string::npos)
         << r.err;
     EXPECT_EQ(r.err.find("paths/s"), std::string::npos) << r.err;  // nothing measured
+    // A scene the reference matches exactly (no medium under a constant sky) has no time to
+    // compare: said, not printed as NaN.
+    write("empty.json", R"({"camera": {"resolution": [4, 4]}, "render": {"spp": 1},
+        "environment": {"type": "constant", "radiance": 1}})");
+    r = run("bench " + path("empty.json") + " --accuracy --spp 1 --reference-spp 1 --cache " +
+            path("cache"));
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("time to equal RMSE, before / now: n/a (an RMSE of 0 against the "
+                         "reference)"),
+              std::string::npos)
+        << r.out;
+    EXPECT_EQ(r.out.find("nan"), std::string::npos) << r.out;
     // Without --accuracy its options are refused, not ignored.
     for (const char* option : {"--cache ", "--reference-spp 4", "--epsilon 0.1"}) {
         r = run("bench " + path("s.json") + " --spp 1 " + option +
@@ -400,6 +412,12 @@ TEST_F(Cli, NumberOverflowIsAnInputError) {
     const Result q = run("phase fit hg:g=0.999999");
     EXPECT_EQ(q.code, 0) << q.err;
     EXPECT_NE(q.out.find("(evaluate exact; ^100 = 10^"), std::string::npos) << q.out;
+    // A spec of several lines stays in its comment line (its second line broke the output).
+    write("spec.txt", "{\"type\": \"hg\",\n\"g\": 0.5}");
+    const Result m = run("phase fit \"$(cat " + path("spec.txt") + ")\" --order 3");
+    EXPECT_EQ(m.code, 0) << m.err;
+    EXPECT_EQ(m.out.rfind("# zonal SH fit of {\"type\": \"hg\",\\u000a\"g\": 0.5}: ", 0), 0u)
+        << m.out;
     EXPECT_EQ(q.out.find("inf"), std::string::npos) << q.out;
     const Result p = run("phase fit hg:g=1e999 --order 4");
     EXPECT_EQ(p.code, 1);
@@ -977,6 +995,19 @@ TEST_F(Cli, MakeMediumAndSkyRoundTrip) {
     EXPECT_GE(loadVdbMedium(d)->sigmaT(Vec3::Zero()), 0.0);
     r = run("make-medium torus -o " + path("x.vdb"));
     EXPECT_NE(r.code, 0);
+    // Another kind's options are said to have no effect (they were silently ignored), and an
+    // empty grid names the option of its own kind.
+    r = run("make-medium sphere --resolution 8 --seed 3 --coverage 0.5 -o " + path("s8.vdb"));
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err.rfind("note: --seed has no effect with sphere\n"
+                          "note: --coverage has no effect with sphere\nwrote ",
+                          0),
+              0u)
+        << r.err;
+    r = run("make-medium sphere --radius 0 -o " + path("s0.vdb"));
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "shvol: error: " + path("s0.vdb") +
+                         ": the grid would be empty (no voxel has density > 0); raise --radius\n");
 }
 
 // SIGINT and SIGTERM during a render: the samples finished so far are written (image and stats
@@ -1184,6 +1215,14 @@ TEST_F(Cli, RenderChecksEveryOutputFirst) {
             << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     }
+    // tonemap's PNG that is its EXR through a link would replace it (it was written over).
+    writeExr(path("in.exr"), Image(2, 2));
+    fs::create_symlink(path("in.exr"), path("in.png"));
+    const Result t = run("tonemap " + path("in.exr") + " -o " + path("in.png"));
+    EXPECT_EQ(t.code, 1);
+    EXPECT_EQ(t.err, "shvol: error: " + path("in.png") +
+                         ": is the image being tonemapped; write the PNG elsewhere\n");
+    EXPECT_EQ(readExr(path("in.exr")).width, 2);
 }
 
 // diff's metrics over two small images, against the formulas of README worked by hand; values

@@ -12,9 +12,13 @@ class Error : public std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-/// Builds "file: place: message", leaving out empty parts, with control characters written as
-/// JSON writes them (\u0000, \u000a), so that the line stays one whole line.
+/// Builds "file: place: message", leaving out empty parts, with control characters escaped
+/// (escapeControlCharacters), so that the line stays one whole line.
 std::string errorLine(const std::string& file, const std::string& place, const std::string& msg);
+
+/// `text` with its control characters (below U+0020, and DEL) written as JSON writes them:
+/// \u0000, \u000a; the rest, UTF-8 included, unchanged.
+std::string escapeControlCharacters(const std::string& text);
 
 [[noreturn]] inline void fail(const std::string& file, const std::string& place,
                               const std::string& msg) {
