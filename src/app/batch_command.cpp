@@ -560,7 +560,8 @@ void addBatchCommand(CLI::App& app, std::function<int()>& run) {
         "batch",
         "Run a sweep of renders into a resumable ledger, with metrics against a reference");
     c->add_option("sweep", a->sweep, "Sweep file (JSON; README.md, \"Batch experiments\")")
-        ->required();
+        ->required()
+        ->check(nonEmptyName());
     c->add_option("--output", a->output, "Output directory")
         ->default_str("the sweep's output")
         ->check(CLI::Validator(

@@ -355,7 +355,8 @@ void addBenchCommand(CLI::App& app, std::function<int()>& run) {
         "time to an RMSE before and after issue 11");
     c->add_option("scene", a->scene,
                   "Scene file (default: media/default.json here, else in the source tree of this "
-                  "shvol program)");
+                  "shvol program)")
+        ->check(nonEmptyName());
     c->add_option("--spp", a->spp, "Samples per pixel per measurement")
         ->check(integerIn(1, 1 << 24));
     c->add_option("--repeats", a->repeats,

@@ -66,6 +66,9 @@ bool hasExtension(const std::string& path, const std::string& ext);
 /// (".exr", "dir/.exr"); empty when it is fine. `what` says what the command writes.
 std::string outputNameProblem(const std::string& path, const std::string& ext,
                               const std::string& what);
+/// A CLI11 check that a file or directory argument is not an empty string ("scene: an empty
+/// name"; the empty name reached the file's reader, whose error could name no file).
+CLI::Validator nonEmptyName();
 /// outputFileProblem as a CLI11 check of an output option, checked as the options are parsed,
 /// before any work: "--output: x.exr: cannot write: directory x does not exist".
 CLI::Validator writableOutput();

@@ -25,8 +25,10 @@ void addDiffCommand(CLI::App& app, std::function<int()>& run) {
     auto args = std::make_shared<DiffArgs>();
     CLI::App* c = app.add_subcommand(
         "diff", "Compare an image with a reference: RMSE, relative RMSE, mean and max error");
-    c->add_option("image", args->image, "Image (EXR)")->required();
-    c->add_option("reference", args->reference, "Reference image (EXR)")->required();
+    c->add_option("image", args->image, "Image (EXR)")->required()->check(nonEmptyName());
+    c->add_option("reference", args->reference, "Reference image (EXR)")
+        ->required()
+        ->check(nonEmptyName());
     c->add_flag("--json", args->json, "JSON output");
     const auto threshold = [&](const char* name, double& v, const char* metric) {
         c->add_option(name, v,

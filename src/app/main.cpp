@@ -61,6 +61,13 @@ int runMain(int argc, char** argv) {
         if (const size_t at = what.find(twice); at != std::string::npos)
             what = what.substr(0, at) + "given " + what.substr(at + twice.size()) +
                    " times; give it once";
+        // (and "Could not convert: --width = 8.5", a value the option's type cannot hold, in
+        // the form of the other option errors)
+        const std::string convert = "Could not convert: ";
+        if (const size_t eq = what.find(" = ");
+            what.rfind(convert, 0) == 0 && eq != std::string::npos)
+            what = what.substr(convert.size(), eq - convert.size()) + ": cannot read \"" +
+                   what.substr(eq + 3) + "\" as a value of this option";
         if (speaks) std::fprintf(stderr, "shvol: error: %s (see --help)\n", what.c_str());
         return 1;
     }

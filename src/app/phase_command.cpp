@@ -277,6 +277,7 @@ void addPhaseCommand(CLI::App& app, std::function<int()>& run) {
     sample->add_option("--seed", a->seed, "Random seed")->check(integerIn(0, kMaxSeed));
     sample->add_option("--out", a->out, "Output CSV (x,y,z,pdf,weight)")
         ->required()
+        ->check(nonEmptyName())
         ->check(writableOutput());
     sample
         ->add_option("--sampler", a->sampler,

@@ -522,7 +522,7 @@ int runRender(const RenderArgs& a) {
 void addRenderCommand(CLI::App& app, std::function<int()>& run) {
     auto args = std::make_shared<RenderArgs>();
     CLI::App* c = app.add_subcommand("render", "Render a scene to a float32 EXR and a stats JSON");
-    c->add_option("scene", args->scene, "Scene file (JSON)")->required();
+    c->add_option("scene", args->scene, "Scene file (JSON)")->required()->check(nonEmptyName());
     c->add_option("-o,--output", args->output,
                   "Output EXR (default: <scene name>.exr); statistics go to <output>.stats.json")
         ->check(outputNamed(".exr", kRenderWritesExr));

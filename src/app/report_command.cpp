@@ -41,7 +41,9 @@ void addReportCommand(CLI::App& app, std::function<int()>& run) {
     auto dir = std::make_shared<std::string>();
     CLI::App* c = app.add_subcommand(
         "report", "Plots and tables (report.md, report.html) of a batch's output directory");
-    c->add_option("dir", *dir, "Output directory of shvol batch (with results.jsonl)")->required();
+    c->add_option("dir", *dir, "Output directory of shvol batch (with results.jsonl)")
+        ->required()
+        ->check(nonEmptyName());
     c->callback([&run, dir] { run = [dir] { return runReport(*dir); }; });
 }
 

@@ -17,7 +17,7 @@ void addTonemapCommand(CLI::App& app, std::function<int()>& run) {
     auto a = std::make_shared<Args>();
     CLI::App* c = app.add_subcommand(
         "tonemap", "Write an sRGB PNG preview of an EXR: clamp(2^exposure * v), sRGB-encoded");
-    c->add_option("image", a->input, "Input EXR")->required();
+    c->add_option("image", a->input, "Input EXR")->required()->check(nonEmptyName());
     c->add_option("-o,--output", a->output, "Output PNG")
         ->required()
         ->check(outputNamed(".png", "tonemap writes PNG"));

@@ -40,6 +40,14 @@ std::string outputNameProblem(const std::string& path, const std::string& ext,
     return "";
 }
 
+CLI::Validator nonEmptyName() {
+    return CLI::Validator(
+        [](std::string& name) {
+            return name.empty() ? std::string("an empty name") : std::string();
+        },
+        "");
+}
+
 CLI::Validator writableOutput() {
     return CLI::Validator(
         [](std::string& path) {

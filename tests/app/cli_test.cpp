@@ -152,6 +152,15 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
         {"render " + path("s.json") + " --spp 16,4",
          "--spp: sample counts must increase, got 16,4"},
         {"render " + path("s.json") + " --spp 2 --spp 4", "--spp: given 2 times; give it once"},
+        // CLI11's "Could not convert: --width = 8.5", and empty names (which named no file).
+        {"make-sky -o " + path("k.exr") + " --width 8.5",
+         "--width: cannot read \"8.5\" as a value of this option"},
+        {"render ''", "scene: an empty name"},
+        {"diff " + path("s.json") + " ''", "reference: an empty name"},
+        {"tonemap '' -o " + path("t.png"), "image: an empty name"},
+        {"phase sample hg:g=0.5 --out ''", "--out: an empty name"},
+        {"batch ''", "sweep: an empty name"},
+        {"report ''", "dir: an empty name"},
         // Found as the command runs, not as the options are read: the same form.
         {"render " + path("s.json") + " --spp 1 --variance -o " + path("v.exr"),
          "--variance: a standard error needs at least 2 samples per pixel"},
