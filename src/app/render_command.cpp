@@ -496,12 +496,20 @@ int runRender(const RenderArgs& a) {
     if (!a.checkpoint.empty() && r.stats.stop != RenderStop::Completed)
         writeCheckpoint(a.checkpoint, r.film, identity);
     writeOutputs(final, scene, r.film, r.stats, warnings, provenance, a.variance);
-    if (r.stats.stop != RenderStop::Completed)
+    if (r.stats.stop != RenderStop::Completed) {
         std::fprintf(stderr,
                      "shvol: %s: wrote the samples finished so far (%u to %u per pixel of %d)%s\n",
                      interrupted ? "interrupted" : "time limit reached", r.stats.minSamples,
                      r.stats.maxSamples, scene.settings.spp,
                      a.checkpoint.empty() ? "" : "; continue with --resume");
+        // The images of --spp N1,… that the stop came before (each is written at its pass's end).
+        for (const uint32_t n : stops)
+            if (n > r.stats.passEnd && n < spp)
+                std::fprintf(stderr,
+                             "shvol: warning: --spp %u: the render stopped before %u samples per "
+                             "pixel; that image is not written\n",
+                             n, n);
+    }
     for (const std::string& w : renderWarnings(scene, r.stats))
         std::fprintf(stderr, "shvol: warning: %s: %s\n", a.scene.c_str(), w.c_str());
     if (!a.quiet)
@@ -524,7 +532,8 @@ void addRenderCommand(CLI::App& app, std::function<int()>& run) {
     CLI::App* c = app.add_subcommand("render", "Render a scene to a float32 EXR and a stats JSON");
     c->add_option("scene", args->scene, "Scene file (JSON)")->required()->check(nonEmptyName());
     c->add_option("-o,--output", args->output,
-                  "Output EXR (default: <scene name>.exr); statistics go to <output>.stats.json")
+                  "Output EXR (default: <scene name>.exr); statistics go to NAME.stats.json for -o "
+                  "NAME.exr")
         ->check(outputNamed(".exr", kRenderWritesExr));
     c->add_option("--spp", args->spp,
                   "Samples per pixel (overrides render.spp); N1,N2,...,N also writes the image "

@@ -194,8 +194,9 @@ Film readCheckpoint(const std::string& path, const Json& identity) {
         film.sumSq.resize(pixels * 3);
         std::memcpy(film.sumSq.data(), data + pixels * 28, pixels * 3 * 8);
     }
-    // A render's sums are finite (it drops NaN and infinite samples, and radiance is capped at
-    // 10³⁰), so a sum that is not is damage that would reach the image.
+    // A render's sums are finite (it drops NaN and infinite samples, and the light it reads,
+    // at most 10³⁰ times a float's range, is far within a double's), so a sum that is not is
+    // damage that would reach the image.
     for (size_t i = 0; i < 3 * pixels; ++i) {
         const char* bad = !std::isfinite(film.sum[i]) ? "a sum that is not finite"
                           : hasSumSq && !(std::isfinite(film.sumSq[i]) && film.sumSq[i] >= 0)
