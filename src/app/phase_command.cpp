@@ -177,6 +177,16 @@ int runSample(const PhaseArgs& a) {
                      : "the automatic order of " + a.spec + " is " + std::to_string(order) +
                            "; give --order 128 or less, or a larger --tolerance"));
     }
+    // The general sampler's depth: --depth, else the spec's sh_depth as for the zonal one (it
+    // was ignored), else its own limit.
+    const int generalDepth = a.depth > 0                 ? a.depth
+                             : spec.contains("sh_depth") ? sh.sampler().depth()
+                                                         : kGeneralMaxDepth;
+    if (general && generalDepth > kGeneralMaxDepth)
+        failOption("--sampler",
+                   "the general sampler supports depths up to 10, and the spec's "
+                   "sh_depth is " +
+                       std::to_string(generalDepth) + "; give --depth 10 or less");
     // The samples must not replace the table they are drawn from.
     if (spec.contains("file") && spec["file"].is_string() &&
         sameFile(a.out, spec["file"].get<std::string>()))
@@ -204,8 +214,7 @@ int runSample(const PhaseArgs& a) {
         } else {
             std::vector<double> c(size_t(order) * order, 0.0);
             for (int l = 0; l < order; ++l) c[size_t(l) * (l + 1)] = sh.fit().p[l];
-            const int depth = a.depth > 0 ? a.depth : kGeneralMaxDepth;
-            const SHSampler s(order, c.data(), SHSampler::Mode::Tables, depth);
+            const SHSampler s(order, c.data(), SHSampler::Mode::Tables, generalDepth);
             for (long long i = 0; i < a.count; ++i) {
                 const WarpSample x = s.warp(rng.uniform2());
                 row(x.direction(), phase.eval(z, x.direction()), x.pdf);

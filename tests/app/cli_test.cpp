@@ -514,6 +514,23 @@ TEST_F(Cli, PhaseToolsUseTheSpecsKeys) {
     r = run("phase fit " + autoSpec + " --order 5 --json");
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(nlohmann::json::parse(r.out)["order"], 5);
+    // The general sampler takes the spec's sh_depth as --depth (it used its own 10 instead).
+    const std::string general = " --sampler general --count 2000 --out ";
+    ASSERT_EQ(run("phase sample " + spec + " --depth 8" + general + path("a.csv")).code, 0);
+    ASSERT_EQ(run("phase sample " + spec + general + path("b.csv")).code, 0);
+    ASSERT_EQ(run("phase sample hg:g=0.6 --order 5 --window none --evaluate exact" + general +
+                  path("c.csv"))
+                  .code,
+              0);
+    EXPECT_EQ(test::fileBytes(path("a.csv")), test::fileBytes(path("b.csv")));
+    EXPECT_NE(test::fileBytes(path("a.csv")), test::fileBytes(path("c.csv")));  // depth 10
+    r = run(R"(phase sample '{"type": "hg", "g": 0.5, "sampling": "sh", "sh_depth": 12}')" +
+            general + path("d.csv"));
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("--sampler: the general sampler supports depths up to 10, and the "
+                         "spec's sh_depth is 12; give --depth 10 or less"),
+              std::string::npos)
+        << r.err;
 }
 
 // phase sample reports the renderer's pdf: with evaluate exact and a fit that rings (HG 0.99,
