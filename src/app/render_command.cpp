@@ -109,6 +109,12 @@ std::vector<std::string> renderWarnings(const Scene& scene, const RenderStats& s
                       st.radianceCache.tableProjectionError, scene.settings.radianceCache.hshOrder);
         w.push_back(msg);
     }
+    if (const int cap = scene.settings.radianceCache.maxRecords;
+        st.radianceCache.used && st.radianceCache.records >= size_t(cap))
+        w.push_back("render.radiance_cache: the fill stopped at max_records (" +
+                    std::to_string(cap) +
+                    "): lookups beyond the records' reach are traced instead (the stats' "
+                    "lookups_answered); raise max_records to cache more");
     if (st.counters.nonFiniteSamples > 0)
         w.push_back(std::to_string(st.counters.nonFiniteSamples) +
                     " samples were NaN or infinite and were dropped");

@@ -902,7 +902,7 @@ TEST_F(Cli, BadOverridesAndOutputs) {
 TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
     auto sceneWith = [](const std::string& bsdf) {
         return R"({"camera": {"resolution": [4, 4], "position": [0, -3, 1], "target": [0, 0, 0]},
-                   "render": {"spp": 2, "radiance_cache": {"enabled": true, "max_records": 4,
+                   "render": {"spp": 2, "radiance_cache": {"enabled": true, "max_records": 64,
                                                            "rays_per_record": 16}},
                    "environment": {"type": "constant", "radiance": 1},
                    "surfaces": [{"type": "rectangle", "bsdf": )" +
@@ -933,6 +933,14 @@ TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
         << r.err;
     stats = nlohmann::json::parse(std::ifstream(path("c.stats.json")));
     EXPECT_EQ(stats["warnings"].size(), 1u) << stats["warnings"];
+    // A fill that stops at max_records is said (its lookups beyond the records are traced).
+    r = run("render " + path("lambert.json") + " -o " + path("d.exr") +
+            " --quiet --set render.radiance_cache.max_records=1");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "shvol: warning: " + path("lambert.json") +
+                         ": render.radiance_cache: the fill stopped at max_records (1): lookups "
+                         "beyond the records' reach are traced instead (the stats' "
+                         "lookups_answered); raise max_records to cache more\n");
 }
 
 // No output may replace a file the scene reads: a sky written over by its own render, also as an
