@@ -87,9 +87,11 @@ Image readExr(const std::string& path, ExrValues values) {
     });
     checkExrAttributeSizes(path, bytes);
     Image img;
+    int x0 = 0, y0 = 0;  // the data window's corner: errors name pixels as the file does
     try {
         Imf::InputFile file(path.c_str());
         const Imath::Box2i dw = file.header().dataWindow();
+        x0 = dw.min.x, y0 = dw.min.y;
         const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
         if (w < 1 || h < 1 || w > kMaxExrSide || h > kMaxExrSide)
             fail(path, "data window",
@@ -142,8 +144,8 @@ Image readExr(const std::string& path, ExrValues values) {
     for (int y = 0; y < img.height; ++y)
         for (int x = 0; x < img.width; ++x) {
             const Spectrum v = img.at(x, y);
-            const std::string where =
-                "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")";
+            const std::string where = "pixel (" + std::to_string(int64_t(x0) + x) + ", " +
+                                      std::to_string(int64_t(y0) + y) + ")";
             if (v.hasNaN()) fail(path, where, "NaN value");
             if (values == ExrValues::Compared) continue;
             if ((v < 0).any())

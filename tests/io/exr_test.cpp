@@ -58,6 +58,24 @@ TEST(Exr, LuminanceOnlyFileIsGrey) {
     EXPECT_EQ(img.rgb, std::vector<float>({0.5f, 0.5f, 0.5f, 2.f, 2.f, 2.f}));
 }
 
+// A pixel in an error is named in the file's coordinates, from its data window's corner (it was
+// counted from the image's own first pixel).
+TEST(Exr, BadPixelIsNamedInTheFilesCoordinates) {
+    const std::string path = tmp("offset.exr");
+    {
+        const Imath::Box2i data(Imath::V2i(-10, 5), Imath::V2i(-9, 5));  // 2 x 1 pixels
+        Imf::Header header(Imath::Box2i(Imath::V2i(-10, 0), Imath::V2i(0, 10)), data);
+        header.channels().insert("Y", Imf::Channel(Imf::FLOAT));
+        Imf::OutputFile file(path.c_str(), header);
+        float y[2] = {0.5f, NAN};
+        Imf::FrameBuffer fb;
+        fb.insert("Y", Imf::Slice::Make(Imf::FLOAT, y, data, sizeof(float), 0));
+        file.setFrameBuffer(fb);
+        file.writePixels(1);
+    }
+    EXPECT_EQ(messageOf([&] { readExr(path); }), path + ": pixel (-9, 5): NaN value");
+}
+
 // A file without colour channels names those it has (it said only "no R,G,B or Y channel",
 // which read the same for a file with R and G as for one with none).
 TEST(Exr, MissingColourChannelsAreNamed) {
