@@ -103,6 +103,7 @@ int renderReference(const Sweep& s, const BatchArgs& a, bool variance, const std
     r.threads = a.threads;
     r.quiet = a.quiet;
     r.variance = variance;
+    r.lateSignalStops = false;
     // The stamp of the reference being replaced goes first: a render interrupted after writing
     // its partial image must not leave that image passing for the old, finished one.
     collectively([&] {  // (rank 0 removes it; the others wait, and fail with it)
@@ -262,6 +263,7 @@ Json runOne(const RunContext& c, const SweepRun& run, int& code) {
     r.quiet = true;
     r.variance = c.ztest;
     r.oneRank = true;
+    r.lateSignalStops = false;
     code = runRender(r);
     if (code) return nullptr;
     const std::string stem = fs::path(r.output).replace_extension("").string();
@@ -284,7 +286,8 @@ Json runOne(const RunContext& c, const SweepRun& run, int& code) {
         if (k == "mae") row["mae"] = m.mae;
         if (k == "bias") row["bias"] = m.bias, row["bias_ci95"] = m.biasHalfWidth95;
         if (k == "ztest") {
-            const ZTest z = zTest(img, readExr(stem + ".stderr.exr"), c.reference, c.referenceSe);
+            const ZTest z =
+                zTest(img, readExr(standardErrorsOf(r.output)), c.reference, c.referenceSe);
             row["ztest_min_p"] = z.minP;
             row["ztest_threshold"] = z.threshold;
             row["ztest_passed"] = z.passed;

@@ -35,6 +35,10 @@ struct RenderArgs {
     /// Render in this process alone even under mpirun (one run of a batch); otherwise the ranks
     /// of an MPI job share the render (README.md, "MPI").
     bool oneRank = false;
+    /// A first signal that comes once the render has finished, while its outputs are written,
+    /// makes the exit code 130 (a command's own render). A batch's renders clear it: their
+    /// outputs are whole, and the batch stops at the signal itself.
+    bool lateSignalStops = true;
 };
 /// Renders as `shvol render` does (images, stats, checkpoints); returns the exit code (130 when
 /// interrupted). Errors are shvol::Error. Under mpirun (and without oneRank) every rank must

@@ -517,17 +517,17 @@ int runRender(const RenderArgs& a) {
                              n, n);
     }
     for (const std::string& w : renderWarnings(scene, r.stats))
-        std::fprintf(stderr, "shvol: warning: %s: %s\n", a.scene.c_str(), w.c_str());
+        if (const std::string line = "shvol: warning: " + a.scene + ": " + w; saidFirst(line))
+            std::fprintf(stderr, "%s\n", line.c_str());
     if (!a.quiet)
         std::fprintf(stderr, "wrote %s and %s (%.2f s, %.3g paths/s, %s%d thread%s)\n",
                      final.image.c_str(), final.stats.c_str(), r.stats.wallSeconds,
                      r.stats.pathsPerSecond(),
                      spread ? (std::to_string(world.size()) + " ranks of ").c_str() : "",
                      r.stats.threads, r.stats.threads == 1 ? "" : "s");
-    if (!interrupted && guard && InterruptGuard::interrupted()) {
+    if (!interrupted && guard && InterruptGuard::interrupted() && a.lateSignalStops) {
         std::fprintf(stderr,
-                     "shvol: interrupted once the render had finished; its outputs are "
-                     "written\n");
+                     "shvol: interrupted while the outputs were written; they are written whole\n");
         return 130;
     }
     return interrupted ? 130 : 0;

@@ -266,9 +266,10 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
         return;
     }
     if (!node->is_object() && !node->is_null()) cannotDescend();
-    // type=null names the null BSDF, which is what `--set surfaces.0.bsdf.type=null` means; a
-    // type is never deleted alone (deleting the object, bsdf=null, restores its default).
-    if (value.is_null() && last == "type") value = "null";
+    // A BSDF's type=null names the null BSDF, which is what `--set surfaces.0.bsdf.type=null`
+    // means (deleting the object, bsdf=null, restores its default); other types are deleted.
+    const bool bsdf = parts.size() >= 2 && parts[parts.size() - 2] == "bsdf";
+    if (value.is_null() && last == "type" && bsdf) value = "null";
     if (value.is_null()) {  // key=null deletes the key (its default applies again)
         if (node->is_object()) node->erase(last);
         return;

@@ -240,7 +240,7 @@ Sweep readSweep(const std::string& path, double maxRuns) {
             run.values["repeat"] = k;
             if (!seedAxis) {
                 run.sets.push_back("render.seed=" + std::to_string((long long)seed0 + k));
-                places.push_back("seed");
+                places.push_back("render.seed (set by the sweep)");
             }
             const Json doc = sweepDocument(s, run.sets, places, "run " + run.id);
             run.fingerprint = hashText(dumpJson(doc));

@@ -95,15 +95,25 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
     if (threads > tbb::this_task_arena::max_concurrency())
         limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
     tbb::task_arena arena(threads);
-    // A stop (cancel, or the time limit, which counts from here: the integrator's set-up, a
-    // radiance cache's fill above all, is part of the render's time) stays a stop.
+    // Built inside the arena: the radiance cache's first pass runs parallel loops. A cancel
+    // stops its fill (a fill of 2^20 paths per record can take minutes); the time limit does
+    // not: it counts the passes, and a resumed render, which fills the cache again, would stop
+    // in the fill every time. A cancelled fill leaves the cache part-filled, and shouldStop()
+    // below is then true from the first sample on, so no sample uses it.
+    const auto cancelled = [&] {
+        return options.cancel && options.cancel->load(std::memory_order_relaxed);
+    };
+    std::unique_ptr<const VolumePathIntegrator> built;
+    arena.execute([&] { built = std::make_unique<const VolumePathIntegrator>(scene, cancelled); });
+    const VolumePathIntegrator& integrator = *built;
+    // A stop (cancel, or the time limit, counted from here) stays a stop.
     const auto begin = std::chrono::steady_clock::now();
     std::atomic<bool> stopped{false};
     std::atomic<int> stopReason{int(RenderStop::Completed)};
     auto shouldStop = [&] {
         if (stopped.load(std::memory_order_relaxed)) return true;
         RenderStop why = RenderStop::Completed;
-        if (options.cancel && options.cancel->load(std::memory_order_relaxed))
+        if (cancelled())
             why = RenderStop::Cancelled;
         else if (options.timeLimitSeconds > 0 &&
                  std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count() >
@@ -115,13 +125,6 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
         stopped = true;
         return true;
     };
-    // Built inside the arena: the radiance cache's first pass runs parallel loops. A stop during
-    // its fill leaves the cache part-filled; shouldStop() stays true, so no sample uses it.
-    std::unique_ptr<const VolumePathIntegrator> built;
-    arena.execute([&] {
-        built = std::make_unique<const VolumePathIntegrator>(scene, [&] { return shouldStop(); });
-    });
-    const VolumePathIntegrator& integrator = *built;
     RenderResult result;
     const uint32_t resumedFrom = film.minCount();
 

@@ -475,8 +475,8 @@ void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop)
     const SurfaceScene& surf = *scene_.surfaces;
     auto start = std::chrono::steady_clock::now();
     for (const Surface& s : surf.surfaces()) {
-        if (stop()) return;
-        const bool cached = HshBrdfTable::supports(s.bsdf);
+        // (stopped: the rest get no table, and the fill below makes no record)
+        const bool cached = HshBrdfTable::supports(s.bsdf) && !stop();
         tables_.push_back(cached ? std::make_unique<const HshBrdfTable>(s.bsdf, rc.hshOrder)
                                  : nullptr);
         if (cached) {
@@ -500,6 +500,7 @@ void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop)
         for (int stride = 16; stride >= 1 && int(cache_->size()) < rc.maxRecords; stride /= 2)
             for (int y = 0; y < scene_.camera.height; y += stride)
                 for (int x = 0; x < scene_.camera.width; x += stride) {
+                    if (stop()) return;
                     if (stride < 16 && x % (2 * stride) == 0 && y % (2 * stride) == 0) continue;
                     if (int(cache_->size()) >= rc.maxRecords) break;
                     // The first surface seen through the pixel centre, past null surfaces.
@@ -515,7 +516,6 @@ void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop)
                     for (Vec2& u : jitter) u = jitterRng.uniform2();
                     const std::vector<Vec3> dirs = RadianceCache::directions(N, jitter);
                     const Frame frame(n);
-                    if (stop()) return;  // (a record of 2^20 paths can take seconds)
                     tbb::parallel_for(0, N, [&](int k) {
                         const Vec3 w = frame.toWorld(dirs[k]);
                         counters[k] = PathCounters{};

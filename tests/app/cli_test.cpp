@@ -1056,11 +1056,11 @@ TEST_F(Cli, SignalWhileWritingStillWritesEverything) {
         "env --default-signal=INT " + std::string(SHVOL_BINARY) + " render " + path("s.json") +
         " -o " + out + " --spp 2 --variance --quiet --set camera.resolution=[2048,2048] 2>" +
         path("bg.txt") + " & p=$!; i=0; while ! ls " + path("w.stats.json.tmp") +
-        "* >/dev/null 2>&1 && [ $i -lt 20000 ]; do sleep 0.001; i=$((i+1)); done; kill -INT $p; "
+        "* >/dev/null 2>&1 && [ $i -lt 60000 ]; do sleep 0.001; i=$((i+1)); done; kill -INT $p; "
         "wait $p");
     const std::string err = test::fileBytes(path("bg.txt"));
     EXPECT_EQ(r.code, 130) << err;
-    EXPECT_EQ(err, "shvol: interrupted once the render had finished; its outputs are written\n");
+    EXPECT_EQ(err, "shvol: interrupted while the outputs were written; they are written whole\n");
     for (const char* f : {"w.exr", "w.stderr.exr", "w.stats.json"})
         EXPECT_TRUE(fs::exists(path(f))) << f;
     EXPECT_EQ(readExr(out).width, 2048);
@@ -1071,32 +1071,25 @@ TEST_F(Cli, SignalWhileWritingStillWritesEverything) {
         EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
 }
 
-// A time limit counts the radiance cache's fill, and a signal stops it: both waited for the
-// whole fill (with 2^20 paths per record this scene's 58 records take about 12 s here), and the
-// time limit then stopped only the passes.
-TEST_F(Cli, TimeLimitAndSignalsStopTheRadianceCacheFill) {
+// A signal stops the radiance cache's fill: it waited for the whole fill (with 2^20 paths per
+// record this scene's 58 records take about 12 s here), and no sample sees the part-filled cache.
+// (The time limit counts the passes only: a resumed render fills the cache again.)
+TEST_F(Cli, SignalsStopTheRadianceCacheFill) {
     write("s.json", R"({"camera": {"resolution": [32, 32], "position": [0, -3, 1],
         "target": [0, 0, 0]}, "render": {"spp": 2, "radiance_cache": {"enabled": true,
         "max_records": 1000, "rays_per_record": 1048576}},
         "environment": {"type": "constant", "radiance": 1},
         "surfaces": [{"type": "rectangle", "bsdf": {"type": "lambert", "reflectance": 0.5}}]})");
-    const auto stats = [&](const std::string& name) {
-        return nlohmann::json::parse(std::ifstream(path(name + ".stats.json")));
-    };
-    Result r = run("render " + path("s.json") + " -o " + path("t.exr") + " --time-limit 0.05");
-    EXPECT_EQ(r.code, 0) << r.err;
-    const auto t = stats("t");
-    EXPECT_EQ(t["stopped_by"], "time-limit");
-    EXPECT_EQ(t["samples_per_pixel_max"], 0);  // no sample sees a part-filled cache
-    EXPECT_LT(t["radiance_cache"]["records"].get<int>(), 10);
-    r = runCommand("env --default-signal=INT " + std::string(SHVOL_BINARY) + " render " +
+    const Result r =
+        runCommand("env --default-signal=INT " + std::string(SHVOL_BINARY) + " render " +
                    path("s.json") + " -o " + path("i.exr") + " --quiet 2>" + path("bg.txt") +
-                   " & p=$!; sleep 0.3; kill -INT $p; wait $p");
+                   " & p=$!; sleep 1; kill -INT $p; wait $p");
     EXPECT_EQ(r.code, 130) << test::fileBytes(path("bg.txt"));
-    const auto i = stats("i");
-    EXPECT_EQ(i["stopped_by"], "cancelled");
-    EXPECT_EQ(i["samples_per_pixel_max"], 0);
-    EXPECT_LT(i.value("radiance_cache", nlohmann::json{{"records", 0}})["records"].get<int>(), 10);
+    ASSERT_TRUE(fs::exists(path("i.stats.json"))) << test::fileBytes(path("bg.txt"));
+    const auto stats = nlohmann::json::parse(std::ifstream(path("i.stats.json")));
+    EXPECT_EQ(stats["stopped_by"], "cancelled");
+    EXPECT_EQ(stats["samples_per_pixel_max"], 0);
+    EXPECT_LT(stats["radiance_cache"]["records"].get<int>(), 20);
 }
 
 TEST_F(Cli, InterruptedRenderWritesWhatItHas) {

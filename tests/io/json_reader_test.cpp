@@ -185,6 +185,10 @@ TEST(JsonReader, OverrideSemantics) {
     EXPECT_EQ(surface["surfaces"][0]["bsdf"], Json::parse(R"({"type": "null"})"));
     applyOverride(surface, "surfaces.0.bsdf=null", "s.json");
     EXPECT_FALSE(surface["surfaces"][0].contains("bsdf"));
+    // Other types are deleted, so that their default applies again (there is no null camera).
+    Json camera = Json::parse(R"({"camera": {"type": "orthographic"}})");
+    applyOverride(camera, "camera.type=null", "s.json");
+    EXPECT_FALSE(camera["camera"].contains("type"));
     EXPECT_EQ(messageOf([&] { applyOverride(j, "media.0=null", "s.json"); }),
               "s.json: media: --set: array elements cannot be deleted");
     EXPECT_EQ(messageOf([&] { applyOverride(j, "media.=1", "s.json"); }),

@@ -218,7 +218,8 @@ TEST(Sweep, ErrorsNameFileAndKey) {
               ": axes.render.spp.x: " + scene +
                   ": render.spp: cannot descend into a number (in run r0000)");
     EXPECT_EQ(err("e5y", R"({"scene": "scene.json", "set": ["render=5"]})"),
-              ": seed: " + scene + ": render: cannot descend into a number (in run r0000)");
+              ": render.seed (set by the sweep): " + scene +
+                  ": render: cannot descend into a number (in run r0000)");
     EXPECT_EQ(err("e5y", R"({"scene": "scene.json", "reference": {"set": ["render.spp.x=1"]}})"),
               ": reference.set[0]: " + scene +
                   ": render.spp: cannot descend into a number (in the reference)");

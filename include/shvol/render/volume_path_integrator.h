@@ -88,9 +88,9 @@ class VolumePathIntegrator {
     static constexpr int kMaxNullCrossings = 1024;
     /// Builds what the scene's effects need: the sky hierarchy for the wavelet and product
     /// strategies, for product sampling each medium's zonal phase lobe, and the radiance cache
-    /// (BRDF tables, then records). `stop`, when given, is asked between BRDF tables and during
-    /// the cache's fill (a render's Ctrl-C or time limit): once it says true the cache is left
-    /// part-filled, and must not be rendered with (the renderer then takes no sample).
+    /// (BRDF tables, then records). `stop`, when given, is asked before each BRDF table and
+    /// each record (a render's Ctrl-C): once it says true the cache is left part-filled, and
+    /// must not be rendered with (the renderer then takes no sample).
     explicit VolumePathIntegrator(const Scene& scene, std::function<bool()> stop = {});
     /// Radiance arriving along −ray.d at ray.o (i.e. seen looking along ray.d). `Sampler` is
     /// a sample stream, Rng (independent numbers) or SobolSampler (sampling/sobol_sampler.h):
