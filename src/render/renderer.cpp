@@ -106,25 +106,6 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
     std::unique_ptr<const VolumePathIntegrator> built;
     arena.execute([&] { built = std::make_unique<const VolumePathIntegrator>(scene, cancelled); });
     const VolumePathIntegrator& integrator = *built;
-    // A stop (cancel, or the time limit, counted from here) stays a stop.
-    const auto begin = std::chrono::steady_clock::now();
-    std::atomic<bool> stopped{false};
-    std::atomic<int> stopReason{int(RenderStop::Completed)};
-    auto shouldStop = [&] {
-        if (stopped.load(std::memory_order_relaxed)) return true;
-        RenderStop why = RenderStop::Completed;
-        if (cancelled())
-            why = RenderStop::Cancelled;
-        else if (options.timeLimitSeconds > 0 &&
-                 std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count() >
-                     options.timeLimitSeconds)
-            why = RenderStop::TimeLimit;
-        if (why == RenderStop::Completed) return false;
-        int expected = int(RenderStop::Completed);
-        stopReason.compare_exchange_strong(expected, int(why));
-        stopped = true;
-        return true;
-    };
     RenderResult result;
     const uint32_t resumedFrom = film.minCount();
 
@@ -144,7 +125,24 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
         film.sumSq.assign(film.sum.size(), 0.0);
     }
     Progress progress("render", (long long)ends.size() * tiles, options.progress);
-    const auto start = std::chrono::steady_clock::now();  // of the passes: wall_time_s
+    const auto start = std::chrono::steady_clock::now();
+    std::atomic<bool> stopped{false};
+    std::atomic<int> stopReason{int(RenderStop::Completed)};
+    auto shouldStop = [&] {
+        if (stopped.load(std::memory_order_relaxed)) return true;
+        RenderStop why = RenderStop::Completed;
+        if (cancelled())
+            why = RenderStop::Cancelled;
+        else if (options.timeLimitSeconds > 0 &&
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
+                     options.timeLimitSeconds)
+            why = RenderStop::TimeLimit;
+        if (why == RenderStop::Completed) return false;
+        int expected = int(RenderStop::Completed);
+        stopReason.compare_exchange_strong(expected, int(why));
+        stopped = true;
+        return true;
+    };
 
     // The statistics so far (between passes, when no thread is working).
     auto snapshot = [&] {
