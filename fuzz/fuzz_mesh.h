@@ -5,12 +5,16 @@
 
 #include "fuzz_util.h"
 #include "shvol/io/mesh_file.h"
+#include "shvol/surfaces/triangle_mesh.h"
 
 namespace shvol::fuzz {
 
 /// Aborts (a finding) unless `m`, accepted by `reader`, has whole triangles, indices in range,
 /// attributes matching its vertices, finite positions, normals and texture coordinates, and a
-/// non-degenerate normal per triangle; then runs closedMeshDefect on it.
+/// non-degenerate normal per triangle, computed at its widest angle as validateMesh promises and
+/// the renderer computes it (widestAngleFirst: at another vertex a sliver's normal can round to
+/// zero, as for a triangle with one vertex at 3·10³⁸ and two a unit apart near the origin); then
+/// runs closedMeshDefect on it.
 inline void checkAcceptedMesh(const TriangleMesh& m, const std::string& reader) {
     const auto fail = [&](const char* what) { bug((reader + " accepted " + what).c_str()); };
     if (m.triangleCount() == 0 || m.indices.size() % 3 != 0) fail("a mesh without whole triangles");
@@ -25,8 +29,10 @@ inline void checkAcceptedMesh(const TriangleMesh& m, const std::string& reader) 
     for (const auto& uv : m.uv)
         if (!uv.allFinite()) fail("non-finite texture coordinates");
     for (size_t f = 0; f < m.triangleCount(); ++f) {
-        const Vec3& p0 = m.p[m.indices[3 * f]];
-        const Vec3 n = (m.p[m.indices[3 * f + 1]] - p0).cross(m.p[m.indices[3 * f + 2]] - p0);
+        const uint32_t* t = &m.indices[3 * f];
+        const int w = widestAngle(m, f);
+        const Vec3& p0 = m.p[t[w]];
+        const Vec3 n = (m.p[t[(w + 1) % 3]] - p0).cross(m.p[t[(w + 2) % 3]] - p0);
         if (!n.allFinite() || n.squaredNorm() == 0) fail("a triangle without a normal");
     }
     (void)closedMeshDefect(m);
