@@ -201,16 +201,17 @@ void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string* 
             fail(ledger.jsonlPath(), "run " + id,
                  "finished, but the sweep no longer has it; use another output directory");
         const Json& values = it->second->values;
-        for (const auto& [key, value] : values.items())
-            if (!row.contains(key) || row[key] != value)
+        for (const auto& [key, value] : values.items()) {
+            const bool has = row.contains(key);
+            if (!has || row[key] != value)
                 fail(ledger.jsonlPath(), "run " + id,
-                     "finished with " +
-                         (row.contains(key) ? key + "=" + dumpJson(row[key]) : "no " + key) +
+                     "finished with " + (has ? key + "=" + dumpJson(row[key]) : "no " + key) +
                          ", the sweep now gives " + key + "=" + dumpJson(value) +
-                         (row.contains(key) ? " (runs are numbered in the sweep's order: a value "
-                                              "or a repeat added renumbers them)"
-                                            : "") +
+                         (has ? " (runs are numbered in the sweep's order: a value or a repeat "
+                                "added renumbers them)"
+                              : "") +
                          "; use another output directory");
+        }
         std::set<std::string> known = kRunColumns;
         for (const auto& [metric, columns] : kMetricColumns) {
             const bool asked = std::count(s.metrics.begin(), s.metrics.end(), metric) > 0;
@@ -567,9 +568,7 @@ void addBatchCommand(CLI::App& app, std::function<int()>& run) {
         ->check(nonEmptyName());
     c->add_option("--output", a->output, "Output directory")
         ->default_str("the sweep's output")
-        ->check(CLI::Validator(
-            [](std::string& dir) { return dir.empty() ? "expected a directory name" : ""; },
-            "DIR"));
+        ->check(nonEmptyName());
     c->add_option("--threads", a->threads,
                   "Worker threads per render (0: the cores shared between the jobs and ranks)")
         ->check(integerIn(0, 4096));

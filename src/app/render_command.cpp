@@ -288,14 +288,15 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
     });
 }
 
-/// Whether this process has not printed `line` before: a batch's renders of one scene (repeats,
-/// other sample counts) give it the same warnings, which each run's stats keep, and stderr says
-/// once.
-bool saidFirst(const std::string& line) {
+/// Prints "shvol: warning: SCENE: TEXT" unless this process printed it before: a batch's renders
+/// of one scene (repeats, other sample counts) give it the same warnings, which each run's stats
+/// keep, and stderr says once.
+void warnOnce(const std::string& scene, const std::string& text) {
     static std::mutex mutex;
     static std::set<std::string> said;
+    const std::string line = "shvol: warning: " + scene + ": " + text;
     const std::lock_guard<std::mutex> lock(mutex);
-    return said.insert(line).second;
+    if (said.insert(line).second) std::fprintf(stderr, "%s\n", line.c_str());
 }
 
 /// --spp: "N" or increasing "N1,N2,…,N" (each Ni an image of its own). Gives the list; when the
@@ -446,9 +447,7 @@ int runRender(const RenderArgs& a) {
         },
         spread);
     if (speaks)
-        for (const std::string& w : warnings)
-            if (const std::string line = "shvol: warning: " + a.scene + ": " + w; saidFirst(line))
-                std::fprintf(stderr, "%s\n", line.c_str());
+        for (const std::string& w : warnings) warnOnce(a.scene, w);
 
     const uint32_t spp = uint32_t(scene.settings.spp);
     RenderOptions opt;
@@ -516,9 +515,7 @@ int runRender(const RenderArgs& a) {
                              "pixel; that image is not written\n",
                              n, n);
     }
-    for (const std::string& w : renderWarnings(scene, r.stats))
-        if (const std::string line = "shvol: warning: " + a.scene + ": " + w; saidFirst(line))
-            std::fprintf(stderr, "%s\n", line.c_str());
+    for (const std::string& w : renderWarnings(scene, r.stats)) warnOnce(a.scene, w);
     if (!a.quiet)
         std::fprintf(stderr, "wrote %s and %s (%.2f s, %.3g paths/s, %s%d thread%s)\n",
                      final.image.c_str(), final.stats.c_str(), r.stats.wallSeconds,

@@ -1731,7 +1731,7 @@ TEST_F(Cli, BatchOutputMustBeADirectory) {
     // An empty name is refused where it is given (it named no file; --output "" was ignored).
     Result r = run("batch " + path("sweep.json") + " --quiet --dry-run --output ''");
     EXPECT_EQ(r.code, 1);
-    EXPECT_EQ(r.err, "shvol: error: --output: expected a directory name (see --help)\n");
+    EXPECT_EQ(r.err, "shvol: error: --output: an empty name (see --help)\n");
     write("empty.json", R"({"scene": "s.json", "output": ""})");
     r = run("batch " + path("empty.json") + " --quiet --dry-run");
     EXPECT_EQ(r.code, 1);
