@@ -97,17 +97,19 @@ std::vector<std::string> phaseWarnings(const Scene& scene) {
 }
 
 /// Warnings only the render can give: a radiance cache whose BRDF tables hold the BRDF poorly (a
-/// sharp lobe at a low HSH order: the cached light is then too dark or blurred).
+/// sharp lobe at a low HSH order: the cached light is then too dark or blurred), naming each
+/// such surface.
 std::vector<std::string> renderWarnings(const Scene& scene, const RenderStats& st) {
     std::vector<std::string> w;
-    if (st.radianceCache.used && st.radianceCache.tableProjectionError > kLooseFit) {
-        char msg[300];
+    for (const auto& [surface, error] : st.radianceCache.tableErrors) {
+        if (!(error > kLooseFit)) continue;
+        char msg[200];
         std::snprintf(msg, sizeof msg,
-                      "render.radiance_cache: a BRDF table holds its BRDF with relative projection "
-                      "error %.3g at HSH order %d: cached light on that surface is biased; raise "
-                      "hsh_order, or leave such sharp lobes uncached",
-                      st.radianceCache.tableProjectionError, scene.settings.radianceCache.hshOrder);
-        w.push_back(msg);
+                      ": its BRDF table holds the BRDF with relative projection error %.3g at HSH "
+                      "order %d: cached light on it is biased; raise "
+                      "render.radiance_cache.hsh_order, or leave such sharp lobes uncached",
+                      error, scene.settings.radianceCache.hshOrder);
+        w.push_back(surface + msg);
     }
     if (const int cap = scene.settings.radianceCache.maxRecords;
         cap > 0 && st.radianceCache.used && st.radianceCache.records >= size_t(cap))
@@ -176,7 +178,12 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
         cj["memory_bytes"] = rc.memoryBytes;
         cj["brdf_table_bytes"] = rc.tableBytes;
         cj["brdf_table_s"] = rc.tableSeconds;
-        cj["brdf_table_projection_error"] = rc.tableProjectionError;
+        double largest = 0;
+        for (const auto& [surface, error] : rc.tableErrors) {
+            cj["brdf_table_projection_errors"][surface] = error;
+            largest = std::max(largest, error);
+        }
+        cj["brdf_table_projection_error"] = largest;
         cj["fill_s"] = rc.fillSeconds;
         cj["record_paths"] = rc.recordPaths;
         cj["lookups"] = c.cacheLookups;
@@ -242,6 +249,7 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
                   const std::vector<std::string>& warnings, const nlohmann::json& provenance,
                   bool variance) {
     const Image image = film.image();
+    const Image se = variance ? film.standardError() : Image();
     std::vector<std::string> all = warnings;
     for (const std::string& w : renderWarnings(scene, st)) all.push_back(w);
     // Warnings about this image's files: on stderr, naming the file, and in its statistics.
@@ -261,6 +269,15 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
         return size_t(
             std::count_if(film.count.begin(), film.count.end(), [n](uint32_t c) { return c < n; }));
     };
+    // Standard errors that overflow, of pixels that have the two samples an estimate needs (the
+    // others are +inf as unknown, said below).
+    size_t seOverflows = 0;
+    for (size_t i = 0; i < se.rgb.size(); ++i)
+        seOverflows += film.count[i / 3] >= 2 && !std::isfinite(se.rgb[i]);
+    if (seOverflows > 0)
+        warn(o.stderrImage, std::to_string(seOverflows) +
+                                " standard errors exceed the float32 range of OpenEXR (3.4e38), or "
+                                "their samples' squares the double range, and are written as inf");
     const std::string of = " of " + std::to_string(film.pixels()) + " pixels have ";
     if (const size_t empty = pixelsBelow(1); empty > 0)
         warn(o.image, std::to_string(empty) + of +
@@ -282,7 +299,7 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
         // The standard errors are written into their temporary first and renamed only once the
         // image is in place: a failure to write either leaves none of the three files.
         writeAtomically(o.stderrImage, [&](const std::string& tmpSe) {
-            writeExrTo(tmpSe, film.standardError(), o.stderrImage);
+            writeExrTo(tmpSe, se, o.stderrImage);
             writeExr(o.image, image);
         });
     });
@@ -517,9 +534,9 @@ int runRender(const RenderArgs& a) {
     }
     for (const std::string& w : renderWarnings(scene, r.stats)) warnOnce(a.scene, w);
     if (!a.quiet)
-        std::fprintf(stderr, "wrote %s and %s (%.2f s, %.3g paths/s, %s%d thread%s)\n",
-                     final.image.c_str(), final.stats.c_str(), r.stats.wallSeconds,
-                     r.stats.pathsPerSecond(),
+        std::fprintf(stderr, "wrote %s%s and %s (%.2f s, %.3g paths/s, %s%d thread%s)\n",
+                     final.image.c_str(), a.variance ? (", " + final.stderrImage).c_str() : "",
+                     final.stats.c_str(), r.stats.wallSeconds, r.stats.pathsPerSecond(),
                      spread ? (std::to_string(world.size()) + " ranks of ").c_str() : "",
                      r.stats.threads, r.stats.threads == 1 ? "" : "s");
     if (!interrupted && guard && InterruptGuard::interrupted() && a.lateSignalStops) {

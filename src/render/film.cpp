@@ -23,8 +23,13 @@ Image Film::standardError() const {
             continue;
         }
         for (int c = 0; c < 3; ++c) {
-            const double mean = sum[3 * i + c] / n;
-            const double var = std::max(0.0, sumSq[3 * i + c] / n - mean * mean) * n / (n - 1);
+            const double mean = sum[3 * i + c] / n, m2 = sumSq[3 * i + c] / n;
+            // Samples beyond 10¹⁵⁴ overflow Σx² (inf − inf would make the variance 0): unknown.
+            if (!std::isfinite(m2)) {
+                img.rgb[3 * i + c] = INFINITY;
+                continue;
+            }
+            const double var = std::max(0.0, m2 - mean * mean) * n / (n - 1);
             img.rgb[3 * i + c] = float(std::sqrt(var / n));
         }
     }

@@ -481,8 +481,7 @@ void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop)
                                  : nullptr);
         if (cached) {
             cacheBuild_.tableBytes += tables_.back()->memoryBytes();
-            cacheBuild_.tableProjectionError =
-                std::max(cacheBuild_.tableProjectionError, tables_.back()->projectionError());
+            cacheBuild_.tableErrors.emplace_back(s.name, tables_.back()->projectionError());
         }
     }
     auto now = std::chrono::steady_clock::now();

@@ -622,6 +622,15 @@ TEST_F(Cli, RenderWritesExrAndStats) {
         one.err.rfind("wrote " + path("img.exr") + " and " + path("img.stats.json") + " (", 0), 0u)
         << one.err;
     EXPECT_NE(one.err.find(" paths/s, 1 thread)\n"), std::string::npos) << one.err;
+    // With --variance it names the standard errors' file too.
+    const Result se = run("render " + path("s.json") + " -o " + path("img.exr") +
+                          " --spp 2 --threads 1 --variance");
+    ASSERT_EQ(se.code, 0) << se.err;
+    EXPECT_EQ(se.err.rfind("wrote " + path("img.exr") + ", " + path("img.stderr.exr") + " and " +
+                               path("img.stats.json") + " (",
+                           0),
+              0u)
+        << se.err;
 }
 
 // A render whose SH-sampled phase function is unreliable says so on stderr and in its stats, with
@@ -908,18 +917,30 @@ TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
                    "surfaces": [{"type": "rectangle", "bsdf": )" +
                bsdf + "}]}";
     };
-    write("sharp.json", sceneWith(R"({"type": "phong", "diffuse": 0, "specular": 1,
-                                      "exponent": 1e6})"));
+    // The sharp lobe's surface is named; a Lambert wall beside it, held well, is not.
+    write("sharp.json", R"({"camera": {"resolution": [4, 4], "position": [0, -3, 1],
+                                       "target": [0, 0, 0]},
+        "render": {"spp": 2, "radiance_cache": {"enabled": true, "max_records": 64,
+                                                "rays_per_record": 16}},
+        "environment": {"type": "constant", "radiance": 1},
+        "surfaces": [{"type": "rectangle", "name": "wall", "bsdf": {"type": "lambert"},
+                      "transform": {"translate": [0, 2, 0]}},
+                     {"type": "rectangle", "name": "floor",
+                      "bsdf": {"type": "phong", "diffuse": 0, "specular": 1, "exponent": 1e6}}]})");
     Result r = run("render " + path("sharp.json") + " -o " + path("a.exr") + " --quiet");
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("shvol: warning: " + path("sharp.json") +
-                         ": render.radiance_cache: a BRDF table holds its BRDF with relative "
-                         "projection error 0.99"),
+                         ": floor: its BRDF table holds the BRDF with relative projection error "
+                         "0.99"),
               std::string::npos)
         << r.err;
+    EXPECT_EQ(r.err.find("wall"), std::string::npos) << r.err;
     auto stats = nlohmann::json::parse(std::ifstream(path("a.stats.json")));
     ASSERT_EQ(stats["warnings"].size(), 1u) << stats["warnings"];
-    EXPECT_GT(stats["radiance_cache"]["brdf_table_projection_error"].get<double>(), 0.9);
+    const nlohmann::json& cache = stats["radiance_cache"];
+    EXPECT_GT(cache["brdf_table_projection_error"].get<double>(), 0.9);
+    EXPECT_EQ(cache["brdf_table_projection_errors"]["floor"], cache["brdf_table_projection_error"]);
+    EXPECT_LT(cache["brdf_table_projection_errors"]["wall"].get<double>(), 0.1);
     write("lambert.json", sceneWith(R"({"type": "lambert"})"));
     r = run("render " + path("lambert.json") + " -o " + path("b.exr") + " --quiet");
     EXPECT_EQ(r.code, 0) << r.err;
@@ -1004,6 +1025,23 @@ TEST_F(Cli, RenderSaysWhenAPixelOverflowsFloat) {
     EXPECT_NE(stats["warnings"][0].get<std::string>().find("are written as inf"),
               std::string::npos);
     EXPECT_EQ(stats["image"]["non_finite"], 36);
+    // A checkerboard of 3·10⁶⁸ (scaled by 10³⁰) and 0: standard errors beyond float32 are said
+    // too, on the file they are written to.
+    Image board(64, 32);
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 64; ++x) board.set(x, y, Spectrum::Constant((x + y) % 2 ? 3e38 : 0));
+    writeExr(path("board.exr"), board);
+    write("s.json", R"({"camera": {"resolution": [4, 3]}, "render": {"spp": 16},
+                        "environment": {"type": "image", "file": "board.exr", "scale": 1e30}})");
+    r = run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet --variance");
+    EXPECT_EQ(r.code, 0) << r.err;
+    const Image se = readExr(path("out.stderr.exr"), ExrValues::Preview);
+    const auto infinite = std::count(se.rgb.begin(), se.rgb.end(), INFINITY);
+    EXPECT_GT(infinite, 0);
+    EXPECT_NE(r.err.find("shvol: warning: " + path("out.stderr.exr") + ": " +
+                         std::to_string(infinite) + " standard errors exceed the float32 range"),
+              std::string::npos)
+        << r.err;
     // In range: no warning.
     write("s.json", R"({"camera": {"resolution": [4, 3]}, "render": {"spp": 2},
                         "environment": {"type": "image", "file": "huge.exr", "scale": 1}})");

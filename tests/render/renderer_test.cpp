@@ -203,6 +203,9 @@ TEST(Renderer, StandardErrorOfFewerThanTwoSamplesIsUnknown) {
     }
     EXPECT_FLOAT_EQ(se.rgb[6], 0.25f);  // √((0.625 − 0.5625)·2/1/2) = 0.25
     EXPECT_EQ(se.rgb[7], 0.f);
+    // Two samples of 10²⁰⁰: Σx² overflows, and inf − inf must not make the spread 0.
+    film.sum[7] = 2e200, film.sumSq[7] = INFINITY;
+    EXPECT_EQ(film.standardError().rgb[7], INFINITY);
 }
 
 TEST(Renderer, RefusesAFilmThatDoesNotFit) {

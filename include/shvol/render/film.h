@@ -25,7 +25,7 @@ struct Film {
     Image image() const;
     /// Standard error of each pixel's mean per channel, √(s²/n) with s² = (Σx²/n − x̄²)·n/(n − 1)
     /// the unbiased sample variance, i.e. √((Σx²/n − x̄²)/(n − 1)), from the sample moments; +∞
-    /// (unknown) where fewer than 2 samples were taken. Needs sumSq.
+    /// (unknown) where fewer than 2 samples were taken or Σx² overflowed. Needs sumSq.
     Image standardError() const;
     uint32_t minCount() const;
     uint32_t maxCount() const;

@@ -10,6 +10,7 @@
 #include <atomic>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "shvol/core/image.h"
@@ -59,8 +60,10 @@ struct RadianceCacheStats {
     bool used = false;
     size_t records = 0, memoryBytes = 0, tableBytes = 0;
     double tableSeconds = 0, fillSeconds = 0;
-    double tableProjectionError = 0;  ///< largest over the BRDF tables (1 − Gautron eq. 15)
-    uint64_t recordPaths = 0;         ///< paths traced to fill the records
+    /// Each BRDF table's projection error (1 − Gautron eq. 15), by surface name, in the scene's
+    /// order.
+    std::vector<std::pair<std::string, double>> tableErrors;
+    uint64_t recordPaths = 0;  ///< paths traced to fill the records
 };
 
 struct RenderStats {

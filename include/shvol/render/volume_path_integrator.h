@@ -48,6 +48,8 @@
 /// on the thread count.
 #include <functional>
 #include <memory>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "shvol/cache/hsh_brdf_table.h"
@@ -113,7 +115,8 @@ class VolumePathIntegrator {
     const RadianceCache* radianceCache() const { return cache_.get(); }
     struct CacheBuild {
         double tableSeconds = 0, fillSeconds = 0;
-        double tableProjectionError = 0;  ///< largest over the surfaces' BRDF tables
+        /// Each BRDF table's projection error, by surface name, in the scene's order.
+        std::vector<std::pair<std::string, double>> tableErrors;
         size_t tableBytes = 0;
         PathCounters counters;  ///< of the record paths
     };
