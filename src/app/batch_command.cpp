@@ -207,8 +207,9 @@ void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string* 
                 fail(ledger.jsonlPath(), "run " + id,
                      "finished with " + (has ? key + "=" + dumpJson(row[key]) : "no " + key) +
                          ", the sweep now gives " + key + "=" + dumpJson(value) +
-                         (has ? " (runs are numbered in the sweep's order: a value or a repeat "
-                                "added renumbers them)"
+                         (has ? " (runs are numbered in the sweep's order, repeats slowest: "
+                                "repeats added keep the numbers, a value added to an axis "
+                                "renumbers the runs after it)"
                               : "") +
                          "; use another output directory");
         }

@@ -218,8 +218,10 @@ Sweep readSweep(const std::string& path, double maxRuns) {
     std::vector<double> runSpp;  // each run's samples per pixel, for the z-test's check below
     std::map<double, std::string> runOfSeed;        // a run of each seed, for the reference's check
     std::map<std::string, std::string> runOfScene;  // a run of each fingerprint
-    for (const auto& p : points)
-        for (int k = 0; k < repeats; ++k) {
+    // Repeats are the slowest loop, so that a batch resumed with more repeats (or, with one
+    // repeat, with values appended to the first axis) finds its finished runs under their ids.
+    for (int k = 0; k < repeats; ++k)
+        for (const auto& p : points) {
             SweepRun run;
             run.index = int(s.runs.size());
             char id[16];

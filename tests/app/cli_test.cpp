@@ -1534,20 +1534,35 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
         expectSameRows(path("clean"), out, 9);
     }
     const auto clean = ledgerRows(path("clean"));
-    EXPECT_NE(clean.at("r0000")["seed"], clean.at("r0001")["seed"]);  // repeats differ
+    EXPECT_EQ(clean.at("r0003")["spp"], clean.at("r0000")["spp"]);    // repeats slowest:
+    EXPECT_NE(clean.at("r0003")["seed"], clean.at("r0000")["seed"]);  // repeats differ
     // The same sweep again: nothing to do.
     r = run("batch " + path("sweep.json") + " --output " + path("clean"));
     EXPECT_EQ(r.code, 0);
     EXPECT_NE(r.err.find("9 of 9 runs already finished"), std::string::npos) << r.err;
+    // More repeats: the finished runs keep their ids, and only the new repeat renders, as a
+    // batch of four repeats from the start would have.
+    fs::copy(path("clean"), path("more"), fs::copy_options::recursive);
+    std::string more = sweep;
+    more.replace(more.find("\"repeats\": 3"), 12, "\"repeats\": 4");
+    write("sweep.json", more);
+    r = run("batch " + path("sweep.json") + " --output " + path("more"));
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("9 of 12 runs already finished"), std::string::npos) << r.err;
+    r = run("batch " + path("sweep.json") + " --quiet --output " + path("more4"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    expectSameRows(path("more4"), path("more"), 12);
+    write("sweep.json", sweep);
     // Changing what a finished run renders is refused: its axis values, or the settings of all.
     std::string changed = sweep;
     changed.replace(changed.find("9000"), 4, "9500");
     write("sweep.json", changed);
     r = run("batch " + path("sweep.json") + " --quiet --output " + path("clean"));
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find("results.jsonl: run r0003: finished with spp=9000, the sweep now gives "
-                         "spp=9500 (runs are numbered in the sweep's order: a value or a repeat "
-                         "added renumbers them); use another output directory"),
+    EXPECT_NE(r.err.find("results.jsonl: run r0001: finished with spp=9000, the sweep now gives "
+                         "spp=9500 (runs are numbered in the sweep's order, repeats slowest: "
+                         "repeats added keep the numbers, a value added to an axis renumbers the "
+                         "runs after it); use another output directory"),
               std::string::npos)
         << r.err;
     changed = sweep;
@@ -1824,7 +1839,7 @@ TEST_F(Cli, BatchChecksEveryRunsSceneFirst) {
           R"({"scene": "s.json", "axes": {"media[0].albedo": [0.5, 2]}, "repeats": 2})");
     Result r = run("batch " + path("sweep.json") + " --dry-run");
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find("(in run r0002 media[0].albedo=2 repeat=0)"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("(in run r0001 media[0].albedo=2 repeat=0)"), std::string::npos) << r.err;
     // A grid or a sky named by a run must exist, though neither is read before its render.
     write("sweep.json", R"({"scene": "s.json", "set": ["media[0].type=\"vdb\""],
         "axes": {"media[0].file": ["nosuch.vdb"]}})");

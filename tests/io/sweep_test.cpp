@@ -25,7 +25,8 @@ std::string writeSweep(const std::string& name, const std::string& sweep) {
 
 }  // namespace
 
-TEST(Sweep, GridExpandsFirstAxisSlowestWithRepeats) {
+// Repeats are the slowest loop, then the axes, the first slowest: more repeats append runs.
+TEST(Sweep, GridExpandsRepeatsSlowestThenFirstAxis) {
     const Sweep s =
         readSweep(writeSweep("grid", R"({"scene": "scene.json", "set": ["camera.fov=20"],
         "axes": {"media": [[], [{"type": "homogeneous"}]], "spp": [1, 2, 3]}, "repeats": 2,
@@ -33,14 +34,31 @@ TEST(Sweep, GridExpandsFirstAxisSlowestWithRepeats) {
     ASSERT_EQ(s.runs.size(), 2u * 3u * 2u);
     EXPECT_EQ(s.axes, (std::vector<std::string>{"media", "spp"}));
     EXPECT_EQ(s.runs[0].values["spp"], 1);
-    EXPECT_EQ(s.runs[1].values["repeat"], 1);
-    EXPECT_EQ(s.runs[2].values["spp"], 2);
-    EXPECT_EQ(s.runs[6].values["media"].size(), 1u);
+    EXPECT_EQ(s.runs[1].values["spp"], 2);
+    EXPECT_EQ(s.runs[1].values["repeat"], 0);
+    EXPECT_EQ(s.runs[2].values["media"].size(), 0u);
+    EXPECT_EQ(s.runs[3].values["media"].size(), 1u);
+    EXPECT_EQ(s.runs[3].values["spp"], 1);
     EXPECT_EQ(s.runs[3].id, "r0003");
+    Json second = s.runs[0].values;  // the first point's second repeat
+    second["repeat"] = 1;
+    EXPECT_EQ(s.runs[6].values, second);
     EXPECT_EQ(s.runs[0].sets, (std::vector<std::string>{"camera.fov=20", "media=[]", "render.spp=1",
                                                         "render.seed=5"}));
-    EXPECT_EQ(s.runs[1].sets.back(), "render.seed=6");  // each repeat its own seed
-    EXPECT_NE(s.runs[0].fingerprint, s.runs[1].fingerprint);
+    EXPECT_EQ(s.runs[6].sets.back(), "render.seed=6");  // each repeat its own seed
+    EXPECT_EQ(s.runs[11].sets.back(), "render.seed=6");
+    EXPECT_NE(s.runs[0].fingerprint, s.runs[6].fingerprint);
+    // With more repeats the first runs are the same runs, under the same ids.
+    const Sweep more =
+        readSweep(writeSweep("grid3", R"({"scene": "scene.json", "set": ["camera.fov=20"],
+        "axes": {"media": [[], [{"type": "homogeneous"}]], "spp": [1, 2, 3]}, "repeats": 3,
+        "seed": 5})"));
+    ASSERT_EQ(more.runs.size(), 18u);
+    for (size_t i = 0; i < s.runs.size(); ++i) {
+        EXPECT_EQ(more.runs[i].id, s.runs[i].id);
+        EXPECT_EQ(more.runs[i].values, s.runs[i].values);
+        EXPECT_EQ(more.runs[i].fingerprint, s.runs[i].fingerprint);
+    }
     EXPECT_EQ(fs::path(s.scene).filename(), "scene.json");
     EXPECT_EQ(fs::path(s.output).filename(), "sweep_results");
     EXPECT_FALSE(s.reference.has_value());
@@ -120,7 +138,7 @@ TEST(Sweep, ErrorsNameFileAndKey) {
     // A reference rendered with a run's seed would share that run's first samples.
     EXPECT_EQ(err("e1s", R"({"scene": "scene.json", "axes": {"spp": [1, 2]}, "repeats": 2,
                             "reference": {"spp": 8, "seed": 2}})"),
-              ": reference.seed: is also the seed of run r0001, which would repeat the "
+              ": reference.seed: is also the seed of run r0002, which would repeat the "
               "reference's first samples; give the reference another seed");
     EXPECT_EQ(err("e1t", R"({"scene": "scene.json", "axes": {"seed": [5, 6]},
                             "reference": {"spp": 8, "seed": 6}})"),

@@ -8,7 +8,8 @@
 ///    "metrics": ["rmse", "relmse", "mae", "bias", "ztest"], "output": "out/dir"}
 /// Axes combine as a grid (every combination, the first axis slowest) or zipped (equal lengths,
 /// taken together). An axis key is a scene key path as for --set, or "spp" or "seed". Each
-/// repeat has its own seed (seed + repeat index) unless "seed" is an axis.
+/// repeat has its own seed (seed + repeat index) unless "seed" is an axis. Runs are in the order
+/// repeat (slowest), then the points: more repeats append runs and keep the others' ids.
 #include <map>
 #include <optional>
 #include <string>
