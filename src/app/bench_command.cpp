@@ -226,8 +226,20 @@ Image reference(const BenchArgs& a, std::vector<std::string> sets) {
          ("shvol_bench_reference_" + hexHash(fnv1a(text.data(), text.size())) + ".exr"))
             .string();
     if (std::filesystem::exists(file)) {
-        std::fprintf(stderr, "  reference: %s (cached)\n", file.c_str());
-        return readExr(file);
+        // A cached reference that cannot be read (damaged, of another size) is rendered again.
+        try {
+            Image ref = readExr(file);
+            const Camera camera = checkScene(doc, a.scene);
+            if (ref.width == camera.width && ref.height == camera.height) {
+                std::fprintf(stderr, "  reference: %s (cached)\n", file.c_str());
+                return ref;
+            }
+            std::fprintf(stderr, "shvol: warning: %s: %d x %d pixels, not the scene's\n",
+                         file.c_str(), ref.width, ref.height);
+        } catch (const Error& e) {
+            std::fprintf(stderr, "shvol: warning: %s\n", e.what());
+        }
+        std::fprintf(stderr, "shvol: the cached reference is rendered again\n");
     }
     std::fprintf(stderr, "  reference: rendering %d spp into %s\n", a.referenceSpp, file.c_str());
     const RenderResult r = render(loadScene(a.scene, sets), RenderOptions{});
@@ -251,12 +263,14 @@ int runBench(BenchArgs& a) {
     checkScene(doc, a.scene);  // a bad value fails now, not after the table is printed
     std::fprintf(stderr, "shvol bench %s (%d spp)\n", a.scene.c_str(), a.spp);
     if (a.cache.empty()) a.cache = ".";
-    if (a.accuracy) {  // made now, not after minutes of rendering the reference
+    Image ref;  // with --accuracy: read or rendered now, not after minutes of timings
+    if (a.accuracy) {
         std::error_code ec;
         std::filesystem::create_directories(a.cache, ec);
         if (ec || !std::filesystem::is_directory(a.cache))
             failOption("--cache", a.cache + ": cannot make the directory" +
                                       (ec ? " (" + ec.message() + ")" : std::string()));
+        ref = reference(a, a.sets);
     }
     const std::vector<std::string> vdbLookups = withVdbKey(doc, a.sets, "lookup", "\"openvdb\"");
     std::vector<Config> configs = {
@@ -311,7 +325,6 @@ int runBench(BenchArgs& a) {
 
     // Before issue 11: NEE toward every sky, independent numbers, OpenVDB lookups, plain delta
     // and ratio tracking, Russian roulette on the throughput.
-    const Image ref = reference(a, a.sets);
     std::vector<std::string> before = withVdbKey(
         doc, withVdbKey(doc, vdbLookups, "decomposition", "false"), "regular_tracking", "false");
     before.push_back("render.nee=true");

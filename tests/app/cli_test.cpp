@@ -340,6 +340,29 @@ TEST_F(Cli, BenchAccuracyCachesItsReference) {
     r = run(args);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("(cached)"), std::string::npos) << r.err;
+    // A damaged cached reference is said and rendered again (it failed the bench after the
+    // timings); so is one of another size.
+    std::string cached;
+    for (const auto& e : fs::directory_iterator(path("")))
+        if (e.path().filename().string().rfind("shvol_bench_reference_", 0) == 0)
+            cached = e.path().string();
+    for (const bool damaged : {true, false}) {
+        if (damaged)
+            fs::resize_file(cached, fs::file_size(cached) / 2);
+        else
+            writeExr(cached, Image(3, 2));
+        r = run(args);
+        ASSERT_EQ(r.code, 0) << r.err;
+        EXPECT_NE(r.err.find("shvol: warning: " + cached +
+                             (damaged ? ": " : ": 3 x 2 pixels, not the scene's\n")),
+                  std::string::npos)
+            << r.err;
+        EXPECT_NE(r.err.find("shvol: the cached reference is rendered again\n  reference: "
+                             "rendering 64 spp"),
+                  std::string::npos)
+            << r.err;
+        EXPECT_EQ(readExr(cached).width, 8);
+    }
 
     // A missing cache directory is made; one that cannot be is refused before anything renders.
     const std::string small = "bench " + path("s.json") + " --accuracy --spp 1 --reference-spp 4";
