@@ -48,6 +48,16 @@ TEST(Sweep, GridExpandsRepeatsSlowestThenFirstAxis) {
     EXPECT_EQ(s.runs[6].sets.back(), "render.seed=6");  // each repeat its own seed
     EXPECT_EQ(s.runs[11].sets.back(), "render.seed=6");
     EXPECT_NE(s.runs[0].fingerprint, s.runs[6].fingerprint);
+    // With one repeat, values appended to the first axis keep the ids too.
+    const Sweep one = readSweep(writeSweep("grid1", R"({"scene": "scene.json",
+        "axes": {"spp": [1, 2], "media": [[], [{"type": "homogeneous"}]]}})"));
+    const Sweep appended = readSweep(writeSweep("grid1", R"({"scene": "scene.json",
+        "axes": {"spp": [1, 2, 5], "media": [[], [{"type": "homogeneous"}]]}})"));
+    ASSERT_EQ(appended.runs.size(), 6u);
+    for (size_t i = 0; i < one.runs.size(); ++i) {
+        EXPECT_EQ(appended.runs[i].id, one.runs[i].id);
+        EXPECT_EQ(appended.runs[i].fingerprint, one.runs[i].fingerprint);
+    }
     // With more repeats the first runs are the same runs, under the same ids.
     const Sweep more =
         readSweep(writeSweep("grid3", R"({"scene": "scene.json", "set": ["camera.fov=20"],
