@@ -229,7 +229,7 @@ std::optional<BsdfSample> Bsdf::sample(const Vec3& wo, const Vec2& u) const {
             // Radiance: L_o/η_o² = (1 − F) L_i/η_i², so f|cos θ_i| = (1 − F)(η_o/η_i)².
             const double T = 1.0 - F;
             return BsdfSample{wi.normalized(), Spectrum::Constant(T / (etap * etap * cosI)), T,
-                              true};
+                              true, etap};
         }
         case BsdfType::Null:
             return BsdfSample{-wo, Spectrum::Constant(1.0 / cosO), 1.0, true};

@@ -6,7 +6,9 @@
 /// always continues (q = 1). E[β′] = q·β/q = β: unbiased for any θ > 0. This is the weight
 /// cutoff of Monte Carlo particle transport: roulette below a cutoff weight, survivors carry a
 /// survival weight. Each time the roulette plays, a survivor's largest component is set to θ,
-/// so the weight cannot compound over bounces. θ = 1 is roulette on the throughput itself
+/// so the weight cannot compound over bounces. The path tracer passes m of β·Π η² over its
+/// refractions (pbrt-v4's etaScale), as refraction scales radiance by 1/η² without losing any
+/// of it. θ = 1 is roulette on the throughput itself
 /// (q = m, as pbrt-v4 plays it); Blender Cycles survives with q = min(1, √m)
 /// (integrator/path_state.h, path_state_continuation_probability). Ratio tracking plays the
 /// same rule on its transmittance estimate (media/tracking.h).

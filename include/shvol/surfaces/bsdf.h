@@ -27,6 +27,10 @@ struct BsdfSample {
     Spectrum f;
     double pdf;
     bool delta;
+    /// Refraction: η(wi side)/η(wo side), by whose square f|cos θ_i|/pdf scales radiance
+    /// (L/η² is what is conserved); 1 otherwise. The path tracer's roulette undoes that scaling
+    /// (pbrt-v4's etaScale), which is not a loss of throughput.
+    double eta = 1;
 };
 
 // ---- formulas ---------------------------------------------------------------------------------
