@@ -96,6 +96,29 @@ std::vector<std::string> phaseWarnings(const Scene& scene) {
     return w;
 }
 
+/// Warnings about surfaces too small for the scene's ray offset ε (SurfaceScene: 2⁻¹⁶ of the
+/// surfaces' extent from the centre of their box, set by float intersection): rays leaving such a
+/// surface skip more than 1% of it, and hits near it are unreliable (a glass sphere of radius 1
+/// beside a floor 10⁵ wide: ε = 1.5 ended paths inside it).
+std::vector<std::string> surfaceWarnings(const Scene& scene) {
+    std::vector<std::string> w;
+    if (!scene.surfaces) return w;
+    const double eps = scene.surfaces->epsilon();
+    for (const Surface& s : scene.surfaces->surfaces()) {
+        const Bounds3 b = s.bounds();
+        const double size = (b.hi - b.lo).maxCoeff();
+        if (!(eps > 0.01 * size)) continue;
+        char msg[300];
+        std::snprintf(msg, sizeof msg,
+                      ": %.3g across, and the ray offset is %.3g (2^-16 of the surfaces' extent): "
+                      "rays leaving it skip more than 1%% of it, and light near it is unreliable; "
+                      "bring the scene's surfaces closer together",
+                      size, eps);
+        w.push_back(s.name + msg);
+    }
+    return w;
+}
+
 /// Warnings only the render can give: a radiance cache whose BRDF tables hold the BRDF poorly (a
 /// sharp lobe at a low HSH order: the cached light is then too dark or blurred), naming each
 /// such surface.
@@ -384,6 +407,7 @@ int runRender(const RenderArgs& a) {
                 fail(out, "", problem);
             final = outputsFor(out, "");
             warnings = phaseWarnings(scene);
+            for (std::string& w : surfaceWarnings(scene)) warnings.push_back(std::move(w));
             if (scene.settings.radianceCache.enabled && !Effects::of(scene).radianceCache)
                 warnings.push_back(
                     "render.radiance_cache: enabled, but no surface has a BSDF the cache holds "

@@ -25,38 +25,42 @@ double sphereRoot(const Vec3& o, const Vec3& d, const Vec3& c, double r, double 
     return std::numeric_limits<double>::quiet_NaN();
 }
 
-/// t ∈ (t0, t1) where the ray meets the disk, or NaN.
-double diskRoot(const Vec3& o, const Vec3& d, const Surface& s, double t0, double t1) {
+/// t ∈ (t0, t1) where the ray meets the disk of centre c, or NaN.
+double diskRoot(const Vec3& o, const Vec3& d, const Surface& s, const Vec3& c, double t0,
+                double t1) {
     const double dn = d.dot(s.normal);
     if (dn == 0) return std::numeric_limits<double>::quiet_NaN();
-    const double t = (s.center - o).dot(s.normal) / dn;
+    const double t = (c - o).dot(s.normal) / dn;
     if (!(t > t0 && t < t1)) return std::numeric_limits<double>::quiet_NaN();
-    if ((o + t * d - s.center).squaredNorm() > s.radius * s.radius)
+    if ((o + t * d - c).squaredNorm() > s.radius * s.radius)
         return std::numeric_limits<double>::quiet_NaN();
     return t;
 }
 
-double analyticRoot(const Surface& s, const Vec3& o, const Vec3& d, double t0, double t1) {
-    return s.kind == Surface::Kind::Sphere ? sphereRoot(o, d, s.center, s.radius, t0, t1)
-                                           : diskRoot(o, d, s, t0, t1);
-}
-
-/// A sphere or disk as Embree user geometry, and the scale of Embree's space (below).
+/// A sphere or disk as Embree user geometry: its centre in Embree's space divided by the scale
+/// (the scene's minus the origin of Embree's space, below), and the scale.
 struct AnalyticGeometry {
     const Surface* surface;
+    Vec3 center;
     double scale;
 };
 
-// Embree user geometry for spheres and disks, intersected in double precision in the scene's
-// space (Embree's divided by the scale, exactly: a power of 2). Only rtcIntersect1 and
-// rtcOccluded1 are used, so every callback sees one ray (N == 1).
+double analyticRoot(const AnalyticGeometry& g, const Vec3& o, const Vec3& d, double t0, double t1) {
+    const Surface& s = *g.surface;
+    return s.kind == Surface::Kind::Sphere ? sphereRoot(o, d, g.center, s.radius, t0, t1)
+                                           : diskRoot(o, d, s, g.center, t0, t1);
+}
+
+// Embree user geometry for spheres and disks, intersected in double precision in Embree's space
+// divided by its scale (exactly: a power of 2). Only rtcIntersect1 and rtcOccluded1 are used,
+// so every callback sees one ray (N == 1).
 void analyticBounds(const RTCBoundsFunctionArguments* a) {
-    const auto& [surface, scale] = *static_cast<const AnalyticGeometry*>(a->geometryUserPtr);
-    const Surface& s = *surface;
+    const AnalyticGeometry& g = *static_cast<const AnalyticGeometry*>(a->geometryUserPtr);
+    const Surface& s = *g.surface;
     Vec3 half = Vec3::Constant(s.radius);
     if (s.kind == Surface::Kind::Disk)  // extent of a disk along axis i: r √(1 − n_i²)
         for (int i = 0; i < 3; ++i) half[i] = s.radius * safeSqrt(1 - s.normal[i] * s.normal[i]);
-    const Vec3 lo = (s.center - half) * scale, hi = (s.center + half) * scale;
+    const Vec3 lo = (g.center - half) * g.scale, hi = (g.center + half) * g.scale;
     const float inf = std::numeric_limits<float>::infinity();
     // Rounded outwards, so the float box contains the double shape.
     a->bounds_o->lower_x = std::nextafter(float(lo.x()), -inf);
@@ -70,12 +74,12 @@ void analyticBounds(const RTCBoundsFunctionArguments* a) {
 void analyticIntersect(const RTCIntersectFunctionNArguments* a) {
     if (!a->valid[0]) return;
     RTCRayHit& rh = *reinterpret_cast<RTCRayHit*>(a->rayhit);
-    const auto& [s, scale] = *static_cast<const AnalyticGeometry*>(a->geometryUserPtr);
-    const Vec3 o = Vec3(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z) / scale;
+    const AnalyticGeometry& g = *static_cast<const AnalyticGeometry*>(a->geometryUserPtr);
+    const Vec3 o = Vec3(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z) / g.scale;
     const Vec3 d = Vec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z).normalized();
-    const double t = analyticRoot(*s, o, d, rh.ray.tnear / scale, rh.ray.tfar / scale);
+    const double t = analyticRoot(g, o, d, rh.ray.tnear / g.scale, rh.ray.tfar / g.scale);
     if (std::isnan(t)) return;
-    rh.ray.tfar = float(t * scale);
+    rh.ray.tfar = float(t * g.scale);
     rh.hit.u = rh.hit.v = 0;
     rh.hit.Ng_x = rh.hit.Ng_y = rh.hit.Ng_z = 0;  // recomputed in double by intersect()
     rh.hit.primID = a->primID;
@@ -86,17 +90,18 @@ void analyticIntersect(const RTCIntersectFunctionNArguments* a) {
 void analyticOccluded(const RTCOccludedFunctionNArguments* a) {
     if (!a->valid[0]) return;
     RTCRay& ray = *reinterpret_cast<RTCRay*>(a->ray);
-    const auto& [s, scale] = *static_cast<const AnalyticGeometry*>(a->geometryUserPtr);
-    const Vec3 o = Vec3(ray.org_x, ray.org_y, ray.org_z) / scale;
+    const AnalyticGeometry& g = *static_cast<const AnalyticGeometry*>(a->geometryUserPtr);
+    const Vec3 o = Vec3(ray.org_x, ray.org_y, ray.org_z) / g.scale;
     const Vec3 d = Vec3(ray.dir_x, ray.dir_y, ray.dir_z).normalized();
-    if (!std::isnan(analyticRoot(*s, o, d, ray.tnear / scale, ray.tfar / scale)))
+    if (!std::isnan(analyticRoot(g, o, d, ray.tnear / g.scale, ray.tfar / g.scale)))
         ray.tfar = -std::numeric_limits<float>::infinity();
 }
 
-/// The ray in Embree's space: positions and distances times `scale` (its direction unscaled).
-RTCRay toRtc(const Ray& ray, double tMax, double scale) {
+/// The ray in Embree's space: positions less `origin`, and distances, times `scale` (its
+/// direction unscaled).
+RTCRay toRtc(const Ray& ray, double tMax, const Vec3& origin, double scale) {
     RTCRay r;
-    const Vec3 o = ray.o * scale;
+    const Vec3 o = (ray.o - origin) * scale;
     r.org_x = float(o.x()), r.org_y = float(o.y()), r.org_z = float(o.z());
     r.dir_x = float(ray.d.x()), r.dir_y = float(ray.d.y()), r.dir_z = float(ray.d.z());
     r.tnear = 0;
@@ -115,11 +120,15 @@ RTCRay toRtc(const Ray& ray, double tMax, double scale) {
 struct SurfaceScene::Embree {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
-    /// Embree's space is the scene's times `scale`, the power of 2 that brings the surfaces'
-    /// largest coordinate magnitude R into [1, 2). Its float triangle test multiplies three
-    /// lengths, which overflowed (3.4·10³⁸) once edges and distances reached about 10¹³, and
-    /// then missed triangles; scaled by a power of 2 every float operation is exact as before,
-    /// so a scene gets the hits it would get at R ≈ 1, whatever its size.
+    /// Embree's space is the scene's less `origin`, the centre of the surfaces' box, times
+    /// `scale`, the power of 2 that brings the largest coordinate magnitude R of the surfaces
+    /// there into [1, 2). Its float triangle test multiplies three lengths, which overflowed
+    /// (3.4·10³⁸) once edges and distances reached about 10¹³, and then missed triangles;
+    /// scaled by a power of 2 every float operation is exact as before, so a scene gets the hits
+    /// it would get at R ≈ 1, whatever its size. Centred, a scene far from the scene's origin
+    /// is as precise as at it: the floats, and ε, follow its extent, not its distance (a glass
+    /// sphere of radius 1 at 10⁶ had ε = 15 and trapped its paths).
+    Vec3 origin{0, 0, 0};
     double scale = 1;
     std::vector<AnalyticGeometry> analytic;  ///< user data of the spheres and disks
     ~Embree() {
@@ -151,8 +160,10 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
         const Bounds3 b = s.bounds();
         lo_ = lo_.cwiseMin(b.lo), hi_ = hi_.cwiseMax(b.hi);
     }
-    const double R =
-        surfaces_.empty() ? 0 : std::max(lo_.cwiseAbs().maxCoeff(), hi_.cwiseAbs().maxCoeff());
+    const Vec3 origin = rtc_->origin = surfaces_.empty() ? Vec3::Zero() : Vec3(0.5 * (lo_ + hi_));
+    const double R = surfaces_.empty() ? 0
+                                       : std::max((lo_ - origin).cwiseAbs().maxCoeff(),
+                                                  (hi_ - origin).cwiseAbs().maxCoeff());
     const double scale = rtc_->scale = R > 0 ? std::ldexp(1.0, -std::ilogb(R)) : 1.0;
     rtc_->analytic.reserve(surfaces_.size());  // (their addresses are Embree's user data)
     for (size_t i = 0; i < surfaces_.size(); ++i) {
@@ -168,13 +179,13 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
                                         3 * sizeof(unsigned), m.triangleCount()));
             if (!v || !idx) rtc_->fail("could not allocate a mesh buffer");
             for (size_t k = 0; k < m.p.size(); ++k)
-                for (int j = 0; j < 3; ++j) v[3 * k + j] = float(m.p[k][j] * scale);
+                for (int j = 0; j < 3; ++j) v[3 * k + j] = float((m.p[k][j] - origin[j]) * scale);
             std::copy(m.indices.begin(), m.indices.end(), idx);
             triangles_ += m.triangleCount();
         } else {
             g = rtcNewGeometry(rtc_->device, RTC_GEOMETRY_TYPE_USER);
             rtcSetGeometryUserPrimitiveCount(g, 1);
-            rtc_->analytic.push_back({&s, scale});
+            rtc_->analytic.push_back({&s, s.center - origin, scale});
             rtcSetGeometryUserData(g, &rtc_->analytic.back());
             rtcSetGeometryBoundsFunction(g, analyticBounds, nullptr);
             rtcSetGeometryIntersectFunction(g, analyticIntersect);
@@ -195,17 +206,19 @@ SurfaceScene::~SurfaceScene() = default;
 
 /// Embree intersects triangles in float, relative to the ray's origin: from a distance D its
 /// error is about 2⁻²⁴·D, which exceeds ε = 2⁻¹⁶·R (R the surfaces' largest coordinate
-/// magnitude) beyond D ≈ 2⁸·R, and beyond ±FLT_LARGE = 1.844·10¹⁸ it refuses the ray (an
-/// assertion). A ray from farther than 2⁸·R = 2²⁴·ε (≤ 2.56·10¹⁷; a distant camera, a point
-/// of a medium placed far off) can meet the surfaces only inside their box: it is traced from
-/// where it enters the box, widened so that the new origin lies off every surface (*tEntry ≥ 0
-/// the distance to it), or not at all (false) if it misses the box or is NaN. The entry point's
-/// coordinate across the face it enters by is set to that face: o + t·d there would lose all
-/// digits below the origin's magnitude (2⁸ at 2·10¹⁸), enough to start inside a small surface.
+/// magnitude from the centre of their box) beyond D ≈ 2⁸·R, and beyond ±FLT_LARGE = 1.844·10¹⁸ it
+/// refuses the ray (an assertion). A ray from farther than 2⁸·R = 2²⁴·ε (≤ 2.56·10¹⁷; a distant
+/// camera, a point of a medium placed far off) can meet the surfaces only inside their box: it is
+/// traced from where it enters the box, widened so that the new origin lies off every surface
+/// (*tEntry ≥ 0 the distance to it), or not at all (false) if it misses the box or is NaN. The
+/// entry point's coordinate across the face it enters by is set to that face: o + t·d there would
+/// lose all digits below the origin's magnitude (2⁸ at 2·10¹⁸), enough to start inside a small
+/// surface.
 bool SurfaceScene::startNear(const Ray& ray, double tMax, Ray* moved, double* tEntry) const {
     *moved = ray, *tEntry = 0;
-    const double farOrigin = std::ldexp(epsilon_, 24);          // 2⁸·R
-    if ((ray.o.array().abs() <= farOrigin).all()) return true;  // (false for NaN too)
+    const double farOrigin = std::ldexp(epsilon_, 24);  // 2⁸·R
+    if (((ray.o - rtc_->origin).array().abs() <= farOrigin).all())
+        return true;  // (false for NaN too)
     const Vec3 pad = Vec3::Constant(std::max(16 * epsilon_, 1e-3 * (hi_ - lo_).maxCoeff()));
     const Vec3 lo = lo_ - pad, hi = hi_ + pad;
     int face;  // the origin is outside the box (farther than 2⁸·R): the ray enters by a face
@@ -213,7 +226,7 @@ bool SurfaceScene::startNear(const Ray& ray, double tMax, Ray* moved, double* tE
     if (i.empty()) return false;
     *moved = Ray{ray(i.t0), ray.d}, *tEntry = i.t0;
     if (face >= 0) moved->o[face] = ray.d[face] > 0 ? lo[face] : hi[face];
-    return (moved->o.array().abs() <= farOrigin).all();
+    return ((moved->o - rtc_->origin).array().abs() <= farOrigin).all();
 }
 
 bool SurfaceScene::intersect(const Ray& ray, double tMax, SurfaceHit* hit) const {
@@ -229,7 +242,7 @@ bool SurfaceScene::intersectInRange(const Ray& ray, double tMax, SurfaceHit* hit
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
-    rh.ray = toRtc(ray, tMax, rtc_->scale);
+    rh.ray = toRtc(ray, tMax, rtc_->origin, rtc_->scale);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(rtc_->scene, &ctx, &rh);
@@ -293,7 +306,7 @@ bool SurfaceScene::occluded(const Ray& ray, double tMax) const {
     if (!startNear(ray, tMax, &moved, &tEntry)) return false;
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
-    RTCRay r = toRtc(moved, tMax - tEntry, rtc_->scale);
+    RTCRay r = toRtc(moved, tMax - tEntry, rtc_->origin, rtc_->scale);
     rtcOccluded1(rtc_->scene, &ctx, &r);
     return r.tfar < 0;
 }

@@ -1028,6 +1028,31 @@ TEST_F(Cli, RenderRefusesToOverwriteItsInputs) {
     EXPECT_EQ(r.code, 0) << r.err;
 }
 
+// A surface small against the ray offset (2^-16 of the surfaces' extent, set by Embree's float
+// intersection) is named in a warning: rays leaving it skip a part of it.
+TEST_F(Cli, RenderWarnsOfSurfacesSmallForTheRayOffset) {
+    const auto sceneWith = [](double floor) {
+        return R"({"camera": {"resolution": [4, 4], "position": [0, -4, 0.5]},
+                   "render": {"spp": 1}, "environment": {"type": "constant", "radiance": 1},
+                   "surfaces": [{"type": "rectangle", "name": "floor",
+                                 "transform": {"translate": [0, 0, -1], "scale": )" +
+               std::to_string(floor) + R"(}},
+                                {"type": "sphere", "name": "bead", "radius": 1,
+                                 "bsdf": {"type": "dielectric"}}]})";
+    };
+    write("s.json", sceneWith(1e5));
+    Result r = run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "shvol: warning: " + path("s.json") +
+                         ": bead: 2 across, and the ray offset is 1.53 (2^-16 of the surfaces' "
+                         "extent): rays leaving it skip more than 1% of it, and light near it is "
+                         "unreliable; bring the scene's surfaces closer together\n");
+    write("s.json", sceneWith(100));
+    r = run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+}
+
 // A pixel whose mean exceeds the float32 range is written as inf, and said so (on stderr and in
 // the stats' warnings), not passed silently.
 TEST_F(Cli, RenderSaysWhenAPixelOverflowsFloat) {

@@ -186,11 +186,34 @@ TEST(SurfaceScene, NoSelfIntersectionAtScale1em12) {
     checkNoSelfIntersection(1e-12);
 }
 
-TEST(SurfaceScene, EpsilonFollowsTheSceneScale) {
+// ε follows the extent of the surfaces, measured from the centre of their box: a small scene far
+// from the origin is as precise as at it (a sphere of radius 1 at 10⁶ had ε = 15).
+TEST(SurfaceScene, EpsilonFollowsTheSurfacesExtentNotTheirDistance) {
     const SurfaceScene a(one(Surface::sphere(Vec3(0, 0, 0), 1e-4)));
-    const SurfaceScene b(one(Surface::sphere(Vec3(1e4, 0, 0), 1)));
+    const SurfaceScene b(one(Surface::sphere(Vec3(1e6, 0, 0), 1)));
+    std::vector<Surface> v;
+    v.push_back(Surface::sphere(Vec3(-1e4, 0, 0), 1));
+    v.push_back(Surface::sphere(Vec3(1e4, 0, 0), 1));
+    const SurfaceScene c(std::move(v));
     EXPECT_NEAR(a.epsilon(), 1e-4 * std::ldexp(1.0, -16), 1e-20);
-    EXPECT_NEAR(b.epsilon(), (1e4 + 1) * std::ldexp(1.0, -16), 1e-9);
+    EXPECT_NEAR(b.epsilon(), std::ldexp(1.0, -16), 1e-20);
+    EXPECT_NEAR(c.epsilon(), (1e4 + 1) * std::ldexp(1.0, -16), 1e-9);
+    // Far off, a ray in and out of the sphere meets it where it does at the origin, to double
+    // rounding of 10⁶.
+    const SurfaceScene atOrigin(one(Surface::sphere(Vec3(0, 0, 0), 1)));
+    Vec3 p[2][2];
+    for (int k = 0; k < 2; ++k) {
+        const SurfaceScene& scene = k ? b : atOrigin;
+        const Vec3 c(k ? 1e6 : 0, 0, 0);
+        SurfaceHit hit;
+        ASSERT_TRUE(scene.intersect(Ray{c + Vec3(0.3, -5, 0.2), Vec3(0, 1, 0)}, NoHit, &hit));
+        p[k][0] = hit.p - c;
+        ASSERT_TRUE(scene.intersect(scene.spawn(hit.p, hit.ng, Vec3(0, 1, 0)), NoHit, &hit));
+        p[k][1] = hit.p - c;
+    }
+    EXPECT_NEAR(p[0][0].y(), -std::sqrt(1 - 0.09 - 0.04), 1e-7);
+    EXPECT_NEAR(p[0][1].y(), std::sqrt(1 - 0.09 - 0.04), 1e-5);  // (ε moved the exit ray)
+    for (int i = 0; i < 2; ++i) EXPECT_LT((p[1][i] - p[0][i]).norm(), 1e-9) << i;
 }
 
 // Embree aborts on a ray whose origin lies beyond ±1.8·10¹⁸ (a camera far away, a point of a

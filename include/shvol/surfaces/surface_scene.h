@@ -6,11 +6,13 @@
 /// the hit point is then recomputed in double from the shape (barycentric combination of the
 /// triangle's vertices, projection onto the sphere, the disk's plane), so it lies on the surface
 /// to double rounding, and rays leaving a surface start at p ± ε n_g on the side they leave by.
-/// ε = 2⁻¹⁶ · (largest coordinate magnitude of the scene's surfaces), which exceeds the error of
-/// Embree's float vertices (2⁻²⁴ relative) by 2⁸, at every scene scale (tests at 1e−4 and 1e4).
+/// ε = 2⁻¹⁶ · (largest coordinate magnitude of the scene's surfaces, measured from the centre of
+/// their box, where Embree's space has its origin), which exceeds the error of Embree's float
+/// vertices (2⁻²⁴ relative) by 2⁸, at every scene scale (tests at 1e−4 and 1e4) and distance
+/// from the scene's origin.
 /// Surfaces must lie within ±kMaxSurfaceCoordinate (surface.h); rays may start anywhere (a ray
-/// from far away, beyond 2⁸ times that magnitude, is traced from where it enters the surfaces'
-/// box, where Embree's float intersection keeps its precision).
+/// from far away, beyond 2⁸ times that magnitude from the centre, is traced from where it enters the
+/// surfaces' box, where Embree's float intersection keeps its precision).
 #include <cstdint>
 #include <limits>
 #include <memory>
