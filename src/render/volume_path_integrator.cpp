@@ -273,7 +273,8 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
     // Π η² over the refractions so far: β·etaScale is the throughput the roulette judges, as β
     // alone falls by 1/η² on entering glass (radiance, not energy, is scaled) and rises again
     // on leaving it. Judged on β, the roulette killed paths inside glass for a loss that is not
-    // one (a white furnace of albedo-1 fog in a glass sphere gave pixels 0, 1 and 2.25).
+    // one (in a white furnace of albedo-1 fog in a glass sphere, samples of 0 and 2.25 among
+    // the 1s).
     double etaScale = 1;
     int nullCrossings = 0;
     // Record paths of the radiance cache leave out, before their first scattering event, what

@@ -11,8 +11,8 @@
 /// vertices (2⁻²⁴ relative) by 2⁸, at every scene scale (tests at 1e−4 and 1e4) and distance
 /// from the scene's origin.
 /// Surfaces must lie within ±kMaxSurfaceCoordinate (surface.h); rays may start anywhere (a ray
-/// from far away, beyond 2⁸ times that magnitude from the centre, is traced from where it enters the
-/// surfaces' box, where Embree's float intersection keeps its precision).
+/// from far away, beyond 2⁸ times that magnitude from the centre, is traced from where it
+/// enters the surfaces' box, where Embree's float intersection keeps its precision).
 #include <cstdint>
 #include <limits>
 #include <memory>
