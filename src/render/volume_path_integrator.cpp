@@ -369,15 +369,9 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             // of interpolated normals the two disagree, and the 1/η² of entering glass went
             // unpaired with the η² of leaving it (albedo-1 fog in a smooth-shaded glass mesh under
             // a constant sky: samples of 0.44 and 2.25 among the 1s, a mean 10σ below 1). The
-            // radiance scale is the geometric crossing's.
-            double eta = bs->eta;
-            if (bsdf.type == BsdfType::Dielectric) {
-                const double crossing = !transmitted            ? 1.0
-                                        : ray.d.dot(hit.ng) < 0 ? bsdf.ior
-                                                                : 1 / bsdf.ior;
-                beta *= (eta / crossing) * (eta / crossing);
-                eta = crossing;
-            }
+            // radiance scale is the geometric crossing's (ior is 1 for all but dielectrics).
+            const double eta = !transmitted ? 1.0 : ray.d.dot(hit.ng) < 0 ? bsdf.ior : 1 / bsdf.ior;
+            beta *= (bs->eta / eta) * (bs->eta / eta);
             etaScale *= eta * eta;
             prevPdf = bs->delta ? 0 : bs->pdf;
             prevP = hit.p;

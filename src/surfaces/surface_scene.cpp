@@ -97,24 +97,6 @@ void analyticOccluded(const RTCOccludedFunctionNArguments* a) {
         ray.tfar = -std::numeric_limits<float>::infinity();
 }
 
-/// The ray in Embree's space: positions less `origin`, and distances, times `scale` (its
-/// direction unscaled).
-RTCRay toRtc(const Ray& ray, double tMax, const Vec3& origin, double scale) {
-    RTCRay r;
-    const Vec3 o = (ray.o - origin) * scale;
-    r.org_x = float(o.x()), r.org_y = float(o.y()), r.org_z = float(o.z());
-    r.dir_x = float(ray.d.x()), r.dir_y = float(ray.d.y()), r.dir_z = float(ray.d.z());
-    r.tnear = 0;
-    r.tfar = tMax * scale < double(std::numeric_limits<float>::max())
-                 ? float(tMax * scale)
-                 : std::numeric_limits<float>::infinity();
-    r.time = 0;
-    r.mask = 0xFFFFFFFFu;
-    r.id = 0;
-    r.flags = 0;
-    return r;
-}
-
 }  // namespace
 
 struct SurfaceScene::Embree {
@@ -131,6 +113,23 @@ struct SurfaceScene::Embree {
     Vec3 origin{0, 0, 0};
     double scale = 1;
     std::vector<AnalyticGeometry> analytic;  ///< user data of the spheres and disks
+    /// The ray in Embree's space: positions less `origin`, and distances, times `scale` (its
+    /// direction unscaled).
+    RTCRay toRtc(const Ray& ray, double tMax) const {
+        RTCRay r;
+        const Vec3 o = (ray.o - origin) * scale;
+        r.org_x = float(o.x()), r.org_y = float(o.y()), r.org_z = float(o.z());
+        r.dir_x = float(ray.d.x()), r.dir_y = float(ray.d.y()), r.dir_z = float(ray.d.z());
+        r.tnear = 0;
+        r.tfar = tMax * scale < double(std::numeric_limits<float>::max())
+                     ? float(tMax * scale)
+                     : std::numeric_limits<float>::infinity();
+        r.time = 0;
+        r.mask = 0xFFFFFFFFu;
+        r.id = 0;
+        r.flags = 0;
+        return r;
+    }
     ~Embree() {
         if (scene) rtcReleaseScene(scene);
         if (device) rtcReleaseDevice(device);
@@ -161,9 +160,7 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
         lo_ = lo_.cwiseMin(b.lo), hi_ = hi_.cwiseMax(b.hi);
     }
     const Vec3 origin = rtc_->origin = surfaces_.empty() ? Vec3::Zero() : Vec3(0.5 * (lo_ + hi_));
-    const double R = surfaces_.empty() ? 0
-                                       : std::max((lo_ - origin).cwiseAbs().maxCoeff(),
-                                                  (hi_ - origin).cwiseAbs().maxCoeff());
+    const double R = surfaces_.empty() ? 0 : 0.5 * (hi_ - lo_).maxCoeff();
     const double scale = rtc_->scale = R > 0 ? std::ldexp(1.0, -std::ilogb(R)) : 1.0;
     rtc_->analytic.reserve(surfaces_.size());  // (their addresses are Embree's user data)
     for (size_t i = 0; i < surfaces_.size(); ++i) {
@@ -242,7 +239,7 @@ bool SurfaceScene::intersectInRange(const Ray& ray, double tMax, SurfaceHit* hit
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
-    rh.ray = toRtc(ray, tMax, rtc_->origin, rtc_->scale);
+    rh.ray = rtc_->toRtc(ray, tMax);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(rtc_->scene, &ctx, &rh);
@@ -306,7 +303,7 @@ bool SurfaceScene::occluded(const Ray& ray, double tMax) const {
     if (!startNear(ray, tMax, &moved, &tEntry)) return false;
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
-    RTCRay r = toRtc(moved, tMax - tEntry, rtc_->origin, rtc_->scale);
+    RTCRay r = rtc_->toRtc(moved, tMax - tEntry);
     rtcOccluded1(rtc_->scene, &ctx, &r);
     return r.tfar < 0;
 }

@@ -194,10 +194,10 @@ TEST(SurfaceScene, EpsilonFollowsTheSurfacesExtentNotTheirDistance) {
     std::vector<Surface> v;
     v.push_back(Surface::sphere(Vec3(-1e4, 0, 0), 1));
     v.push_back(Surface::sphere(Vec3(1e4, 0, 0), 1));
-    const SurfaceScene c(std::move(v));
+    const SurfaceScene apart(std::move(v));
     EXPECT_NEAR(a.epsilon(), 1e-4 * std::ldexp(1.0, -16), 1e-20);
     EXPECT_NEAR(b.epsilon(), std::ldexp(1.0, -16), 1e-20);
-    EXPECT_NEAR(c.epsilon(), (1e4 + 1) * std::ldexp(1.0, -16), 1e-9);
+    EXPECT_NEAR(apart.epsilon(), (1e4 + 1) * std::ldexp(1.0, -16), 1e-9);
     // Far off, a ray in and out of the sphere meets it where it does at the origin, to double
     // rounding of 10⁶.
     const SurfaceScene atOrigin(one(Surface::sphere(Vec3(0, 0, 0), 1)));
