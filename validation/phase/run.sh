@@ -3,7 +3,7 @@
 #   validation/phase/run.sh            (BUILD_DIR defaults to build/)
 # 1. configures build/ if needed (clang++, Ninja, Release) and builds validate_phase and shvol with
 #    one job (the machine is shared);
-# 2. runs validate_phase (fit quality, chi², estimator variance, ns/sample; ~3 min, one core);
+# 2. runs validate_phase (fit quality, chi², estimator variance, ns/sample; ~5 min, one core);
 # 3. runs render_compare.py (default cloud at 160×106: reference + 27 renders; ~4-5 min, 2 cores);
 # 4. installs python3-matplotlib / python3-numpy with apt-get if they are missing, and plots with
 #    Debian's /usr/bin/python3 (not a pyenv python that may be first on PATH).
