@@ -4,9 +4,15 @@
 # references; each sweep of media/sweeps/cache/ writes its ledger and runs into a folder here, and
 # analyze.py turns them into tables and plots. Run it on an idle machine (about 10 minutes on two
 # cores).
+# validate_cache (hsh_vs_sh.cpp: HSH against SH on hemispherical fields) writes hsh_vs_sh.txt.
 set -euo pipefail
-cd "$(dirname "$0")"
-shvol=../../build/shvol
+cd "$(dirname "$0")/../.."
+BUILD_DIR="${BUILD_DIR:-build}"
+source validation/configure.sh validate_cache
+ninja -C "$BUILD_DIR" -j1 shvol validate_cache >/dev/null
+shvol="$(cd "$BUILD_DIR" && pwd)/shvol"
+"$BUILD_DIR/validate_cache" > validation/cache/hsh_vs_sh.txt
+cd validation/cache
 for s in cornell_pt cornell_cache cornell_cache_light cornell_cache_rays cornell_fog_pt \
          cornell_fog_cache; do
   # A fresh run of the sweep: the runs of the last one go (batch refuses to mix versions); the
