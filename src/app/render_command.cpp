@@ -499,6 +499,8 @@ int runRender(const RenderArgs& a) {
     opt.timeLimitSeconds = a.timeLimit;
     opt.variance = a.variance;
     opt.stops = stops;
+    // Passes double, so the last would hold half a long render's time without a checkpoint.
+    if (!a.checkpoint.empty()) opt.maxPassSeconds = a.checkpointInterval;
     opt.part = spread ? world.rank() : 0;
     opt.parts = spread ? world.size() : 1;
     auto lastCheckpoint = std::chrono::steady_clock::now();
@@ -615,7 +617,8 @@ void addRenderCommand(CLI::App& app, std::function<int()>& run) {
                 },
                 "FILE"));
     c->add_option("--checkpoint-interval", args->checkpointInterval,
-                  "Seconds between checkpoints (written at the end of a pass)")
+                  "Seconds between checkpoints (written at the end of a pass; passes are "
+                  "kept about this long)")
         ->check(numberIn(0, 1e9))
         ->needs(checkpoint);
     c->add_flag("--resume", args->resume,

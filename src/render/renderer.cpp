@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <optional>
 
 #include "shvol/core/error.h"
@@ -28,20 +29,18 @@ const char* renderStopName(RenderStop s) {
 
 namespace {
 
-/// Ends of the passes: 1, 2, 4, … (doubling) up to spp, and the requested stops, without those
-/// the film already has.
-std::vector<uint32_t> passEnds(uint32_t spp, uint32_t have, const std::vector<uint32_t>& stops) {
-    std::vector<uint32_t> ends;
-    for (uint64_t e = 1;; e *= 2) {
-        const uint32_t end = uint32_t(std::min<uint64_t>(e, spp));
-        if (end > have) ends.push_back(end);
-        if (end == spp) break;
-    }
-    for (uint32_t stop : stops)
-        if (stop > have && stop < spp) ends.push_back(stop);
-    std::sort(ends.begin(), ends.end());
-    ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
-    return ends;
+/// The end of the pass after one that ended at `have` samples per pixel: the next power of two
+/// (passes double), spp or the next requested stop, whichever comes first, and at most `cap`
+/// (≥ 1) samples past `have`.
+uint32_t nextPassEnd(uint32_t have, uint32_t spp, const std::vector<uint32_t>& stops,
+                     uint64_t cap) {
+    uint64_t end = 1;
+    while (end <= have) end *= 2;
+    end = std::min<uint64_t>(end, spp);
+    if (end - have > cap) end = have + cap;
+    for (const uint32_t stop : stops)
+        if (stop > have) end = std::min<uint64_t>(end, stop);
+    return uint32_t(end);
 }
 
 /// What the integrator decided and built: the effects and the light sampler.
@@ -117,13 +116,13 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
         throw Error("render part " + std::to_string(options.part) + " of " + std::to_string(parts) +
                     " does not exist");
     uint32_t passEnd = film.minCount();
-    const std::vector<uint32_t> ends = passEnds(spp, film.minCount(), options.stops);
     if (options.variance && film.sumSq.empty()) {
         if (film.minCount() > 0)
             throw Error("the film to continue has no variance (it was rendered without it)");
         film.sumSq.assign(film.sum.size(), 0.0);
     }
-    Progress progress("render", (long long)ends.size() * tiles, options.progress);
+    Progress progress("render", (long long)(spp - std::min(spp, passEnd)) * tiles,
+                      options.progress);
     const auto start = std::chrono::steady_clock::now();
     std::atomic<bool> stopped{false};
     std::atomic<int> stopReason{int(RenderStop::Completed)};
@@ -167,7 +166,11 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
         return integrator.Li(frame.generateRay(x + u.x(), y + u.y()), sampler, c);
     };
 
-    for (const uint32_t end : ends) {
+    // Passes double, unless one would outlast options.maxPassSeconds at the last pass's pace.
+    uint64_t cap = std::numeric_limits<uint64_t>::max();
+    while (passEnd < spp) {
+        const uint32_t end = nextPassEnd(passEnd, spp, options.stops, cap);
+        const auto passStart = std::chrono::steady_clock::now();
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 1), [&](const auto& r) {
                 PathCounters& c = counters.local();
@@ -197,11 +200,16 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
                             }
                         }
                     }
-                    progress.advance();
+                    progress.advance(end - passEnd);
                 }
             });
         });
         if (stopped) break;
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - passStart).count();
+        if (options.maxPassSeconds > 0 && seconds > 0)
+            cap =
+                uint64_t(std::clamp(options.maxPassSeconds / seconds * (end - passEnd), 1.0, 1e18));
         passEnd = end;
         if (options.afterPass) options.afterPass(film, snapshot());
     }

@@ -110,6 +110,32 @@ TEST(Renderer, AfterPassSeesEveryPassAndStop) {
     EXPECT_EQ(at3.sum, render(smallScene(3), RenderOptions{}).film.sum);
 }
 
+// Passes that would outlast maxPassSeconds stop doubling (a long render's last pass would hold half
+// its time, with no checkpoint in it): at a limit no pass can meet, every pass after the first is
+// one sample, stops included; at one every pass meets, they double as before. The image is the
+// same bit for bit.
+TEST(Renderer, MaxPassSecondsKeepsPassesShortWithoutChangingTheImage) {
+    const auto passes = [](double maxPassSeconds, Image* image) {
+        std::vector<uint32_t> seen;
+        RenderOptions opt;
+        opt.threads = 2;
+        opt.stops = {6};
+        opt.maxPassSeconds = maxPassSeconds;
+        opt.afterPass = [&](const Film& f, const RenderStats& st) {
+            EXPECT_EQ(f.minCount(), st.passEnd);
+            seen.push_back(st.passEnd);
+        };
+        *image = render(smallScene(11), opt).image;
+        return seen;
+    };
+    Image doubling, capped, unlimited;
+    EXPECT_EQ(passes(0, &doubling), (std::vector<uint32_t>{1, 2, 4, 6, 8, 11}));
+    EXPECT_EQ(passes(1e9, &unlimited), (std::vector<uint32_t>{1, 2, 4, 6, 8, 11}));
+    EXPECT_EQ(passes(1e-12, &capped), (std::vector<uint32_t>{1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11}));
+    expectSameImage(capped, doubling);
+    expectSameImage(unlimited, doubling);
+}
+
 // The parts of a render split by pixel rows (the ranks of an MPI render) add up to the whole
 // film exactly, sums of squares and stop films included, and each part leaves the others' pixels
 // alone; a part that does not exist is refused.
