@@ -11,7 +11,8 @@ BUILD_DIR="${BUILD_DIR:-build}"
 source validation/configure.sh validate_cache
 ninja -C "$BUILD_DIR" -j1 shvol validate_cache >/dev/null
 shvol="$(cd "$BUILD_DIR" && pwd)/shvol"
-"$BUILD_DIR/validate_cache" > validation/cache/hsh_vs_sh.txt
+"$BUILD_DIR/validate_cache" > validation/cache/hsh_vs_sh.txt.tmp  # (a failed run leaves the old one)
+mv validation/cache/hsh_vs_sh.txt.tmp validation/cache/hsh_vs_sh.txt
 cd validation/cache
 for s in cornell_pt cornell_cache cornell_cache_light cornell_cache_rays cornell_fog_pt \
          cornell_fog_cache; do
