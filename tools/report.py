@@ -136,7 +136,8 @@ def main():
     groups = {}
     for r in rows:
         groups.setdefault((label(r, axes), r.get("spp")), []).append(r)
-    # Configurations in the sweep's order: as their first runs come (r0000, …, r9999, r10000).
+    # Configurations as their first runs come (r0000, …, r9999, r10000): the sweep's order, with
+    # configurations added to a finished batch after those it had (shvol batch keeps the ids).
     by_run = sorted(rows, key=lambda r: (len(str(r.get("run", ""))), str(r.get("run", ""))))
     configs = list(dict.fromkeys(label(r, axes) for r in by_run))
     summary = []  # (config, spp, n, err mean, err sd, time mean, efficiency)

@@ -9,6 +9,7 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <regex>
 #include <set>
 #include <thread>
 #include <unordered_map>
@@ -192,12 +193,15 @@ const std::map<std::string, std::vector<std::string>> kMetricColumns = {
 /// resuming would mix experiments. Without `reference` (--dry-run, which hashes no input files)
 /// the run's fingerprint and reference are not compared.
 void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string* reference) {
-    std::unordered_map<std::string, const SweepRun*> runs;  // (a search each: O(n²) rows)
-    for (const SweepRun& r : s.runs) runs.emplace(r.id, &r);
+    // Runs by id, and by the id a fresh sweep gives them: a row that holds no run (whose values
+    // adoptFinishedIds found in none) is compared with the run at its place in the sweep.
+    std::unordered_map<std::string, const SweepRun*> runs, atPlace;  // (a search each: O(n²))
+    for (const SweepRun& r : s.runs)
+        runs.emplace(r.id, &r), atPlace.emplace(sweepRunId(r.index), &r);
     for (const Json& row : ledger.rows()) {
         const std::string id = row["run"].get<std::string>();
-        const auto it = runs.find(id);
-        if (it == runs.end())
+        auto it = runs.find(id);
+        if (it == runs.end() && (it = atPlace.find(id)) == atPlace.end())
             fail(ledger.jsonlPath(), "run " + id,
                  "finished, but the sweep no longer has it; use another output directory");
         const Json& values = it->second->values;
@@ -207,9 +211,8 @@ void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string* 
                 fail(ledger.jsonlPath(), "run " + id,
                      "finished with " + (has ? key + "=" + dumpJson(row[key]) : "no " + key) +
                          ", the sweep now gives " + key + "=" + dumpJson(value) +
-                         (has ? " (runs are numbered in the sweep's order, repeats slowest: "
-                                "repeats added keep the numbers, a value added to an axis "
-                                "renumbers the runs after it)"
+                         (has ? " (a finished run must stay in the sweep: values may be added "
+                                "to its axes, and repeats, but not changed or removed)"
                               : "") +
                          "; use another output directory");
         }
@@ -380,7 +383,8 @@ class WorkQueue {
             if (report.rfind("code ", 0) == 0) fail(std::stoi(report.substr(5)), "");
             if (report.rfind("error ", 0) == 0) fail(1, report.substr(6));
             const SweepRun* run = next();
-            world.send(from, kReply, run ? std::to_string(run->index) : "stop");
+            // (The id too: rank 0 alone has the ledger whose ids the runs take.)
+            world.send(from, kReply, run ? std::to_string(run->index) + " " + run->id : "stop");
             active -= run == nullptr;
         }
     }
@@ -392,7 +396,9 @@ class WorkQueue {
             int from = 0;
             const std::string reply = world.recv(kReply, from);
             if (reply == "stop") return;
-            const SweepRun& run = c.sweep.runs.at(size_t(std::stoi(reply)));
+            const size_t space = reply.find(' ');
+            SweepRun run = c.sweep.runs.at(size_t(std::stoi(reply.substr(0, space))));
+            run.id = reply.substr(space + 1);
             try {
                 int code = 0;
                 const Json row = runOne(c, run, code);
@@ -449,14 +455,14 @@ int runBatch(BatchArgs a) {
                        out = fs::weakly_canonical(fs::absolute(s.output, ec), ec);
         if (ec || ref.parent_path() != out) return;
         const std::string name = ref.filename().string();
-        std::vector<std::string> written = {"results.jsonl", "results.csv", "report.md",
-                                            "report.html"};
-        for (const SweepRun& run : s.runs)
-            if (name.rfind(run.id + ".", 0) == 0)
-                for (const char* ext : {".exr", ".stats.json", ".stderr.exr"})
-                    written.push_back(run.id + ext);
-        // (report's plots are PNG files, which no reference can be: readExr refuses them.)
-        if (std::find(written.begin(), written.end(), name) != written.end())
+        const std::vector<std::string> written = {"results.jsonl", "results.csv", "report.md",
+                                                  "report.html"};
+        // Any run's image, stats or standard errors: the ids of a resumed batch's runs depend on
+        // its ledger (adoptFinishedIds). (report's plots are PNG files, which no reference can
+        // be: readExr refuses them.)
+        static const std::regex runOutput(R"(r[0-9]{4,}\.(exr|stats\.json|stderr\.exr))");
+        if (std::find(written.begin(), written.end(), name) != written.end() ||
+            std::regex_match(name, runOutput))
             fail(s.reference->file, "",
                  "the reference would be written over by the batch's own " + name +
                      "; keep it outside the output directory " + s.output);
@@ -467,6 +473,7 @@ int runBatch(BatchArgs a) {
         // writes nothing). What a start would refuse without hashing input files is refused
         // here too; whether their scenes and reference still match is checked when it starts.
         const Ledger done(s.output, Ledger::Open::ReadOnly);
+        adoptFinishedIds(s, done.rows());
         checkFinishedRows(done, s, nullptr);
         if (s.reference)
             std::printf("reference %s%s\n", s.reference->file.c_str(),
@@ -501,6 +508,7 @@ int runBatch(BatchArgs a) {
         if (std::error_code ec; !fs::create_directories(s.output, ec) && ec)
             fail(s.output, "", "cannot make the directory (" + ec.message() + ")");
         ledger.emplace(s.output);
+        adoptFinishedIds(s, ledger->rows());
         checkFinishedRows(*ledger, s, &reference);
     });
     RunContext c(s);

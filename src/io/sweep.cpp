@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 
 #include "shvol/core/error.h"
 #include "shvol/core/hash.h"
@@ -218,15 +219,13 @@ Sweep readSweep(const std::string& path, double maxRuns) {
     std::vector<double> runSpp;  // each run's samples per pixel, for the z-test's check below
     std::map<double, std::string> runOfSeed;        // a run of each seed, for the reference's check
     std::map<std::string, std::string> runOfScene;  // a run of each fingerprint
-    // Repeats are the slowest loop, so that a batch resumed with more repeats (or, with one
-    // repeat, with values appended to the first axis) finds its finished runs under their ids.
+    // Repeats are the slowest loop: the runs of one repeat come together (a resumed batch finds
+    // its finished runs by their values, whatever their place: adoptFinishedIds).
     for (int k = 0; k < repeats; ++k)
         for (const auto& p : points) {
             SweepRun run;
             run.index = int(s.runs.size());
-            char id[16];
-            std::snprintf(id, sizeof id, "r%04d", run.index);
-            run.id = id;
+            run.id = sweepRunId(run.index);
             run.sets = base;
             std::vector<std::string> places = basePlaces;  // the sweep's key of each of run.sets
             bool seedAxis = false;
@@ -341,6 +340,51 @@ void fingerprintInputs(Sweep& s, std::map<std::string, Json>& memo) {
         run.fingerprint =
             hashText(run.fingerprint + "\n" + namedFileContents(inputFiles(doc, s.scene, &memo)));
     }
+}
+
+std::string sweepRunId(int index) {
+    char id[16];
+    std::snprintf(id, sizeof id, "r%04d", index);
+    return id;
+}
+
+size_t adoptFinishedIds(Sweep& s, const std::vector<Json>& rows) {
+    // A run's values as text (nlohmann's objects keep their keys sorted: one text per value set),
+    // and a row's the same way, restricted to the run's keys.
+    const auto key = [](const Json& values) { return dumpJson(values); };
+    std::map<std::string, std::string> rowOfValues;  // values → the id of the row holding them
+    std::set<std::string> taken;                     // ids of rows, then of runs given one
+    for (const Json& row : rows) {
+        const std::string id = row["run"].get<std::string>();
+        taken.insert(id);
+        if (s.runs.empty()) continue;
+        Json values = Json::object();
+        bool complete = true;
+        for (const auto& [k, v] : s.runs.front().values.items())
+            if (row.contains(k))
+                values[k] = row[k];
+            else
+                complete = false;
+        if (complete) rowOfValues.emplace(key(values), id);
+    }
+    size_t finished = 0;
+    std::vector<SweepRun*> unplaced;  // new runs whose own id a row has
+    for (SweepRun& run : s.runs) {
+        const std::string own = sweepRunId(run.index);
+        if (const auto it = rowOfValues.find(key(run.values)); it != rowOfValues.end())
+            run.id = it->second, ++finished;
+        else if (!taken.count(own))
+            run.id = own;
+        else
+            unplaced.push_back(&run);
+    }
+    for (const SweepRun& run : s.runs) taken.insert(run.id);
+    int next = 0;
+    for (SweepRun* run : unplaced) {
+        while (taken.count(sweepRunId(next))) ++next;
+        taken.insert(run->id = sweepRunId(next));
+    }
+    return finished;
 }
 
 }  // namespace shvol

@@ -1558,6 +1558,31 @@ void expectSameRows(const std::string& dirA, const std::string& dirB, size_t run
     }
 }
 
+// A ledger's rows by their point: the values of `keys` (axes and repeat), as JSON text.
+std::map<std::string, nlohmann::json> rowsByPoint(const std::string& dir,
+                                                  const std::vector<std::string>& keys) {
+    std::map<std::string, nlohmann::json> m;
+    for (const auto& [id, row] : ledgerRows(dir)) {
+        nlohmann::json point = nlohmann::json::object();
+        for (const std::string& k : keys) point[k] = row.value(k, nlohmann::json());
+        EXPECT_TRUE(m.emplace(point.dump(), row).second) << dir << ": " << point.dump() << " twice";
+    }
+    return m;
+}
+
+// Two ledgers hold the same points with the same seeds and errors, whatever their runs' ids.
+void expectSamePoints(const std::string& dirA, const std::string& dirB,
+                      const std::vector<std::string>& keys, size_t runs) {
+    const auto a = rowsByPoint(dirA, keys), b = rowsByPoint(dirB, keys);
+    ASSERT_EQ(a.size(), runs) << dirA;
+    ASSERT_EQ(b.size(), runs) << dirB;
+    for (const auto& [point, row] : a) {
+        ASSERT_TRUE(b.count(point)) << point;
+        EXPECT_EQ(b.at(point)["rmse"], row["rmse"]) << point;
+        EXPECT_EQ(b.at(point)["seed"], row["seed"]) << point;
+    }
+}
+
 }  // namespace
 
 TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
@@ -1608,9 +1633,9 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
     r = run("batch " + path("sweep.json") + " --quiet --output " + path("clean"));
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("results.jsonl: run r0001: finished with spp=9000, the sweep now gives "
-                         "spp=9500 (runs are numbered in the sweep's order, repeats slowest: "
-                         "repeats added keep the numbers, a value added to an axis renumbers the "
-                         "runs after it); use another output directory"),
+                         "spp=9500 (a finished run must stay in the sweep: values may be added "
+                         "to its axes, and repeats, but not changed or removed); use another "
+                         "output directory"),
               std::string::npos)
         << r.err;
     changed = sweep;
@@ -1638,6 +1663,65 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
         ++marked;
     EXPECT_EQ(marked, 2u) << r.out;
     EXPECT_EQ(test::fileBytes(ledger), firstTwo + "{\"run\": \"r00");
+}
+
+// Values added anywhere in a sweep's axes (and repeats raised) resume into the same output: the
+// finished runs are found by their values and keep their ids, rows and images, and only the new
+// points render, each the same render as in a batch of the new sweep from the start.
+TEST_F(Cli, BatchResumesASweepWithValuesAddedAnywhere) {
+    write("s.json", scene(Homogeneous));
+    const auto sweep = [&](const std::string& albedos, const std::string& spps, int repeats) {
+        write("sweep.json", R"({"scene": "s.json", "axes": {"media[0].albedo": [)" + albedos +
+                                R"(], "spp": [)" + spps + R"(]}, "repeats": )" +
+                                std::to_string(repeats) +
+                                R"(, "reference": {"spp": 64, "seed": 99}, "metrics": ["rmse"]})");
+    };
+    sweep("0.5, 0.9", "2, 8", 1);
+    const std::string batch = "batch " + path("sweep.json") + " --output ";
+    Result r = run(batch + path("out") + " --quiet");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string ledger = test::fileBytes(path("out/results.jsonl"));
+    std::map<std::string, std::string> images;  // of the finished runs, by id
+    for (const auto& [id, row] : ledgerRows(path("out")))
+        images[id] = test::fileBytes(path("out/" + id + ".exr"));
+    ASSERT_EQ(images.size(), 4u);
+
+    sweep("0.5, 0.7, 0.9", "2, 4, 8", 2);  // 18 runs, 4 of them finished
+    r = run(batch + path("out") + " --dry-run");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("18 runs into " + path("out") + ", 4 of them finished"), std::string::npos)
+        << r.out;
+    // (0.9, 2) was r0002 and stays so; the new (0.5, 4) would have been r0001, (0.9, 8)'s.
+    EXPECT_NE(r.out.find("r0002 media[0].albedo=0.9 repeat=0 spp=2 (finished)\n"),
+              std::string::npos)
+        << r.out;
+    EXPECT_NE(r.out.find("r0003 media[0].albedo=0.9 repeat=0 spp=8 (finished)\n"),
+              std::string::npos)
+        << r.out;
+    EXPECT_EQ(r.out.find("r0001 media[0].albedo=0.5 repeat=0 spp=4"), std::string::npos) << r.out;
+    r = run(batch + path("out"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("4 of 18 runs already finished"), std::string::npos) << r.err;
+    EXPECT_EQ(test::fileBytes(path("out/results.jsonl")).substr(0, ledger.size()), ledger);
+    for (const auto& [id, bytes] : images)
+        EXPECT_EQ(test::fileBytes(path("out/" + id + ".exr")), bytes) << id;
+    for (const auto& [id, row] : ledgerRows(path("out"))) {
+        EXPECT_EQ(row["image"], id + ".exr");
+        EXPECT_TRUE(fs::exists(path("out/" + id + ".exr"))) << id;
+    }
+    ASSERT_EQ(run(batch + path("fresh") + " --quiet").code, 0);
+    expectSamePoints(path("out"), path("fresh"), {"media[0].albedo", "spp", "repeat"}, 18);
+    r = run(batch + path("out"));
+    EXPECT_EQ(r.code, 0);
+    EXPECT_NE(r.err.find("18 of 18 runs already finished"), std::string::npos) << r.err;
+    // A finished value taken out is refused, naming the run that holds it.
+    sweep("0.5, 0.7", "2, 4, 8", 2);
+    r = run(batch + path("out") + " --quiet");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("run r0002: finished with media[0].albedo=0.9, the sweep now gives "
+                         "media[0].albedo=0.5"),
+              std::string::npos)
+        << r.err;
 }
 
 // A finished row must be the run as the sweep names and measures it now: an axis renamed
@@ -1740,7 +1824,10 @@ TEST_F(Cli, BatchRefusesAReferenceAmongItsOutputs) {
     const std::string before = test::fileBytes(path("out/r0001.exr"));
     fs::copy_file(path("out/r0001.exr"), path("out/report.md"));
     fs::copy_file(path("out/r0001.exr"), path("out/report.html"));
-    for (const std::string& reference : {"out/r0001.exr", "out/report.md", "out/report.html"}) {
+    // (r0005 is no run of this sweep's, but a resumed batch gives its new runs free ids.)
+    fs::copy_file(path("out/r0001.exr"), path("out/r0005.exr"));
+    for (const std::string& reference :
+         {"out/r0001.exr", "out/report.md", "out/report.html", "out/r0005.exr"}) {
         write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [1, 2]}, "metrics": ["rmse"],
                                 "reference": {"file": ")" +
                                 reference + R"("}, "output": "out"})");
@@ -2025,6 +2112,22 @@ TEST_F(Cli, MpiBatchEqualsOneProcess) {
     r = runCommand(mpi + "batch " + path("sweep.json") + " --output " + path("two"));
     EXPECT_EQ(r.code, 0);
     EXPECT_NE(r.err.find("12 of 12 runs already finished"), std::string::npos) << r.err;
+    // A value added in the middle of an axis: rank 0 gives the new runs their ids (the finished
+    // ones keep theirs), the other rank renders under them.
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [64, 96, 128, 256],
+        "media[0].albedo": [0.5, 0.8]}, "repeats": 2, "reference": {"spp": 2048},
+        "metrics": ["rmse", "ztest"]})");
+    r = runCommand(mpi + "batch " + path("sweep.json") + " --output " + path("two"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("12 of 16 runs already finished"), std::string::npos) << r.err;
+    ASSERT_EQ(run("batch " + path("sweep.json") + " --quiet --output " + path("one")).code, 0);
+    const std::vector<std::string> point = {"spp", "media[0].albedo", "repeat"};
+    expectSamePoints(path("one"), path("two"), point, 16);
+    const auto onePoints = rowsByPoint(path("one"), point);
+    for (const auto& [p, row] : rowsByPoint(path("two"), point))  // the images, under their ids
+        EXPECT_EQ(readExr(path("two/" + row["image"].get<std::string>())).rgb,
+                  readExr(path("one/" + onePoints.at(p)["image"].get<std::string>())).rgb)
+            << p;
     // Killed (SIGKILL to mpirun and both ranks, found by their command lines in /proc) once the
     // first row is in, and started again: the rows of one process.
     write("slow.json", R"({"scene": "s.json", "axes": {"spp": [6000, 9000, 12000]},

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "test_util.h"
 
@@ -72,6 +73,59 @@ TEST(Sweep, GridExpandsRepeatsSlowestThenFirstAxis) {
     EXPECT_EQ(fs::path(s.scene).filename(), "scene.json");
     EXPECT_EQ(fs::path(s.output).filename(), "sweep_results");
     EXPECT_FALSE(s.reference.has_value());
+}
+
+// A resumed batch finds its finished runs by their values (axis values and repeat), wherever a
+// changed sweep puts them; new runs keep their own ids where no row has them, else take the
+// lowest free ones. A row that holds no run (its values gone, or an axis renamed) keeps its id out
+// of use and holds nothing.
+TEST(Sweep, AdoptFinishedIdsFindsRunsByTheirValues) {
+    const std::string old =
+        R"({"scene": "scene.json", "axes": {"spp": [1, 4], "camera.fov": [20, 40]}})";
+    const Sweep before = readSweep(writeSweep("adopt", old));
+    std::vector<Json> rows;
+    for (const SweepRun& r : before.runs) {
+        Json row = r.values;
+        row["run"] = r.id, row["wall_time_s"] = 1.0;  // and columns that are no axis
+        rows.push_back(row);
+    }
+    // Unchanged: every run is finished under its own id.
+    Sweep same = readSweep(writeSweep("adopt", old));
+    EXPECT_EQ(adoptFinishedIds(same, rows), 4u);
+    for (size_t i = 0; i < same.runs.size(); ++i) EXPECT_EQ(same.runs[i].id, before.runs[i].id);
+    // A value inserted into each axis, and a second repeat: 3 × 3 × 2 runs.
+    Sweep grown = readSweep(writeSweep("adopt", R"({"scene": "scene.json",
+        "axes": {"spp": [1, 2, 4], "camera.fov": [20, 30, 40]}, "repeats": 2})"));
+    ASSERT_EQ(grown.runs.size(), 18u);
+    EXPECT_EQ(adoptFinishedIds(grown, rows), 4u);
+    std::set<std::string> ids;
+    for (const SweepRun& r : grown.runs) {
+        EXPECT_TRUE(ids.insert(r.id).second) << r.id << " twice";
+        for (const SweepRun& b : before.runs)  // a finished run: its row's id, else none's
+            EXPECT_EQ(r.values == b.values, r.id == b.id) << dumpJson(r.values);
+    }
+    // Finished: (1, 20) r0000, (1, 40) r0001, (4, 20) r0002, (4, 40) r0003, at places 0, 2, 6, 8.
+    // New runs whose own id is free keep it: (2, 30) at place 4. Those whose own id a row has,
+    // (1, 30) at 1 and (2, 20) at 3, take the lowest ids no row and no run has: r0006 (place 6
+    // is the finished (4, 20), r0002), then r0008.
+    EXPECT_EQ(grown.runs[0].id, "r0000");
+    EXPECT_EQ(grown.runs[2].id, "r0001");
+    EXPECT_EQ(grown.runs[6].id, "r0002");
+    EXPECT_EQ(grown.runs[4].id, "r0004");
+    EXPECT_EQ(grown.runs[1].id, "r0006");
+    EXPECT_EQ(grown.runs[3].id, "r0008");
+    EXPECT_EQ(grown.runs[17].id, "r0017");
+    // Rows that hold no run: a value changed (spp 4 → 5) and an axis renamed. Their ids stay out
+    // of use, and the runs they would have held are new.
+    Sweep changed = readSweep(writeSweep("adopt", R"({"scene": "scene.json",
+        "axes": {"spp": [1, 5], "camera.fov": [20, 40]}})"));
+    EXPECT_EQ(adoptFinishedIds(changed, rows), 2u);
+    EXPECT_EQ(changed.runs[2].id, "r0004");
+    EXPECT_EQ(changed.runs[3].id, "r0005");
+    Sweep renamed = readSweep(writeSweep("adopt", R"({"scene": "scene.json",
+        "axes": {"render.spp": [1, 4], "camera.fov": [20, 40]}})"));
+    EXPECT_EQ(adoptFinishedIds(renamed, rows), 0u);
+    EXPECT_EQ(renamed.runs[0].id, "r0004");
 }
 
 TEST(Sweep, ZipAndReference) {

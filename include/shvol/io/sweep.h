@@ -9,7 +9,8 @@
 /// Axes combine as a grid (every combination, the first axis slowest) or zipped (equal lengths,
 /// taken together). An axis key is a scene key path as for --set, or "spp" or "seed". Each
 /// repeat has its own seed (seed + repeat index) unless "seed" is an axis. Runs are in the order
-/// repeat (slowest), then the points: more repeats append runs and keep the others' ids.
+/// repeat (slowest), then the points, and numbered so (r0000, r0001, …) until adoptFinishedIds
+/// gives the runs a ledger has finished their ledger ids.
 #include <map>
 #include <optional>
 #include <string>
@@ -24,9 +25,9 @@ namespace shvol {
 inline constexpr double kMaxSweepRuns = 1e6;
 
 struct SweepRun {
-    int index = 0;
-    std::string id;                 ///< "r0007"
-    Json values;                    ///< {axis key: value, …, "repeat": k}
+    int index = 0;   ///< the place in Sweep::runs
+    std::string id;  ///< "r0007": sweepRunId(index), or a ledger's (adoptFinishedIds)
+    Json values;     ///< {axis key: value, …, "repeat": k}
     std::vector<std::string> sets;  ///< --set assignments: base, axes, render.seed, render.spp
     /// FNV-1a of the scene document after `sets` (spp included), and after fingerprintInputs
     /// also of the contents of the files it names (grids, skies, tables): a finished run whose
@@ -53,6 +54,18 @@ struct Sweep {
 /// "scene", "output" and reference "file" paths are relative to the sweep file. A sweep of more
 /// than `maxRuns` runs is refused (the sweep fuzzer lowers it to bound the time per input).
 Sweep readSweep(const std::string& path, double maxRuns = kMaxSweepRuns);
+
+/// The id of the run at `index` of a freshly read sweep: "r0007" (four digits at least).
+std::string sweepRunId(int index);
+
+/// Gives the runs the ids under which `rows` (a batch ledger's finished rows, each with a unique
+/// "run") hold them, so that a sweep changed by adding values anywhere in its axes, or more
+/// repeats, resumes into the same output: a row holds a run when it records the run's `values`
+/// (every axis key and "repeat" with the same JSON values). Each other run keeps its own id when
+/// no row has it, else takes the lowest id that neither a row nor another run has. Rows that hold
+/// no run are left for the caller to refuse (their ids stay out of use). Returns how many runs
+/// were found finished.
+size_t adoptFinishedIds(Sweep& s, const std::vector<Json>& rows);
 
 /// The scene document `doc` (Sweep::sceneDoc) after a run's or the reference's assignments, as
 /// --set applies them; `scene` names the scene file in errors.
