@@ -127,7 +127,7 @@ void addMakeSkyCommand(CLI::App& app, std::function<int()>& run) {
                   "Lat-long convention: blender (default) or shvol (mirrored)")
         ->check(CLI::IsMember({"blender", "shvol"}));
     c->add_option("--width", p.width, "Width in pixels (height = width/2)")
-        ->check(numberIn(8, 16384, false, ""));
+        ->check(integerIn(8, 16384));
     c->add_option("--sun-elevation", p.sunElevationDegrees, "Sun elevation in degrees")
         ->check(numberIn(-90, 90, false, " degrees"));
     c->add_option("--sun-azimuth", p.sunAzimuthDegrees,

@@ -152,9 +152,12 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
         {"render " + path("s.json") + " --spp 16,4",
          "--spp: sample counts must increase, got 16,4"},
         {"render " + path("s.json") + " --spp 2 --spp 4", "--spp: given 2 times; give it once"},
-        // CLI11's "Could not convert: --width = 8.5", and empty names (which named no file).
+        // A width is a decimal integer (as a number, "0x10" was 16 and "8.5" CLI11's "Could not
+        // convert"), and empty names named no file.
         {"make-sky -o " + path("k.exr") + " --width 8.5",
-         "--width: cannot read \"8.5\" as a value of this option"},
+         "--width: expected an integer in [8, 16384], got \"8.5\""},
+        {"make-sky -o " + path("k.exr") + " --width 0x10",
+         "--width: expected an integer in [8, 16384], got \"0x10\""},
         {"render ''", "scene: an empty name"},
         {"diff " + path("s.json") + " ''", "reference: an empty name"},
         {"tonemap '' -o " + path("t.png"), "image: an empty name"},
