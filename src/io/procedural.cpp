@@ -1,5 +1,7 @@
 #include "shvol/io/procedural.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -207,6 +209,17 @@ Spectrum preethamSkyRadiance(const Vec3& w, const Vec3& sun, double turbidity) {
     return PreethamSky(turbidity, sun).radiance(w);
 }
 
+double capProjectedSolidAngleAboveHorizon(double r, double e) {
+    const double sinR = std::sin(r), cosT = std::sin(e), sinT = std::cos(e);
+    if (cosT >= sinR) return Pi * sinR * sinR * cosT;
+    if (cosT <= -sinR) return 0;
+    // |cos θ| < sin r < 1, so sin θ > 0 and |y| < 1.
+    const double x = std::cos(r) / sinR, y = std::clamp(-x * cosT / sinT, -1.0, 1.0);
+    const double sinTRootY = sinT * std::sqrt(1 - y * y);
+    return std::max(0.0,
+                    sinR * sinR * (cosT * std::acos(y) - x * sinTRootY) + std::atan(sinTRootY / x));
+}
+
 namespace {
 std::string num(double v) {
     char b[32];
@@ -270,8 +283,11 @@ SkySummary describeSky(const SkyParams& s) {
                 phys * (capSolidAngle(TrueSunAngularRadius) / capSolidAngle(out.sunAngularRadius));
         const PreethamSky sky(s.turbidity, out.sunDirection);
         out.zenithLuminance = sky.xyY(Vec3(0, 0, 1))[2];
-        const Spectrum sunE = out.sunRadiance * capSolidAngle(out.sunAngularRadius) *
-                              std::max(0.0, std::sin(elevation));
+        // The disc's part above the horizon, as the image shows it (a point sun at the disc's
+        // centre gave 6.5% more for a high disc of 0.5 rad, 13.6% less at 10° and nothing below
+        // 0°).
+        const Spectrum sunE =
+            out.sunRadiance * capProjectedSolidAngleAboveHorizon(out.sunAngularRadius, elevation);
         out.groundRadiance = (skyIlluminance(sky) + sunE) * (s.groundAlbedo * InvPi);
     }
     out.sunLuminance = rec709Luminance(out.sunRadiance);

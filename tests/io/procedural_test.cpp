@@ -363,30 +363,79 @@ TEST(ProceduralSky, SimpleModelIsTheOldGradient) {
 }
 
 // Below the horizon the Preetham sky has a grey Lambertian ground, L = ρ E_h / π; E_h is
-// recomputed here from the image itself (Σ L cos θ Ω over the upper half, sun included).
+// recomputed here from the image itself (Σ L cos θ Ω over the upper half, sun included): with the
+// true sun high, and with a disc of 0.5 rad high, setting (10°: its lower part hidden) and
+// below the horizon but for its top (−10°), where a point sun at the disc's centre gave the
+// ground 6.5% more, 13.6% less and none of the sun's light.
 TEST(ProceduralSky, PreethamGroundIsLambertianUnderTheSkyAndSun) {
-    SkyParams p;
-    p.model = SkyModel::Preetham;
-    p.width = 1024, p.height = 512;
-    p.sunElevationDegrees = 40;
-    const Image img = makeSky(p);
-    Spectrum E = Spectrum::Zero();
-    for (int y = 0; y < p.height / 2; ++y) {
-        const double c0 = std::cos(Pi * y / p.height), c1 = std::cos(Pi * (y + 1) / p.height);
-        const double meanCos = 0.5 * (c0 + c1);  // exact mean of cos θ over the row's solid angle
-        for (int x = 0; x < p.width; ++x)
-            E += img.at(x, y).cast<double>() * meanCos * pixelSolidAngle(y, p.width, p.height);
-    }
-    const Spectrum expected = 0.2 * E / Pi;
-    for (int y : {p.height / 2, p.height - 1})
-        for (int x : {0, 300, 1023}) {
-            const Spectrum g = img.at(x, y);
-            for (int k = 0; k < 3; ++k) EXPECT_NEAR(g[k], expected[k], 0.02 * expected[k]);
+    const std::vector<std::pair<double, std::optional<double>>> suns = {
+        {40, std::nullopt}, {60, 0.5}, {10, 0.5}, {-10, 0.5}};
+    for (const auto& [elevation, radius] : suns) {
+        SkyParams p;
+        p.model = SkyModel::Preetham;
+        p.width = 1024, p.height = 512;
+        p.sunElevationDegrees = elevation;
+        p.sunAngularRadius = radius;
+        const Image img = makeSky(p);
+        Spectrum E = Spectrum::Zero();
+        for (int y = 0; y < p.height / 2; ++y) {
+            const double c0 = std::cos(Pi * y / p.height), c1 = std::cos(Pi * (y + 1) / p.height);
+            const double meanCos = 0.5 * (c0 + c1);  // exact mean of cos θ over the row's cells
+            for (int x = 0; x < p.width; ++x)
+                E += img.at(x, y).cast<double>() * meanCos * pixelSolidAngle(y, p.width, p.height);
         }
-    // The sun's share: L_sun Ω sin h over the sky's.
-    const SkySummary s = describeSky(p);
-    EXPECT_GT(s.sunLuminance * capSolidAngle(TrueSunAngularRadius) * std::sin(40 * Deg),
-              lum(E) * 0.5);
+        const Spectrum expected = 0.2 * E / Pi;
+        for (int y : {p.height / 2, p.height - 1})
+            for (int x : {0, 300, 1023}) {
+                const Spectrum g = img.at(x, y);
+                for (int k = 0; k < 3; ++k)
+                    EXPECT_NEAR(g[k], expected[k], 0.02 * expected[k]) << elevation << "°";
+            }
+        // The high sun's share is most of it.
+        const SkySummary s = describeSky(p);
+        if (elevation >= 40)
+            EXPECT_GT(s.sunLuminance *
+                          capProjectedSolidAngleAboveHorizon(s.sunAngularRadius, elevation * Deg),
+                      lum(E) * 0.5)
+                << elevation;
+    }
+}
+
+// The disc's projected solid angle above the horizon against a midpoint rule over the disc in
+// its own polar coordinates (α from the centre, β around it), of max(0, ω_z) sin α; wholly above,
+// π sin²r sin e; wholly below, 0.
+TEST(ProceduralSky, CapProjectedSolidAngleAboveHorizonIsTheIntegral) {
+    for (const double r : {0.004625, 0.1, 0.5, 1.2})
+        for (const double e : {-1.4, -0.6, -0.3, -0.05, 0.0, 0.02, 0.3, 0.8, Pi / 2}) {
+            const Vec3 c(std::cos(e), 0, std::sin(e));  // the centre; u, v span its tangent plane
+            const Vec3 u(-std::sin(e), 0, std::cos(e)), v(0, 1, 0);
+            const int nA = 600, nB = 600;
+            double sum = 0;
+            for (int i = 0; i < nA; ++i) {
+                const double a = r * (i + 0.5) / nA;
+                double ring = 0;
+                for (int j = 0; j < nB; ++j) {
+                    const double b = TwoPi * (j + 0.5) / nB;
+                    const Vec3 w =
+                        std::cos(a) * c + std::sin(a) * (std::cos(b) * u + std::sin(b) * v);
+                    ring += std::max(0.0, w.z());
+                }
+                sum += ring * std::sin(a);
+            }
+            const double quadrature = sum * (r / nA) * (TwoPi / nB);
+            const double whole = Pi * std::sin(r) * std::sin(r);
+            const double got = capProjectedSolidAngleAboveHorizon(r, e);
+            EXPECT_NEAR(got, quadrature, 2e-6 * whole) << "r " << r << ", e " << e;
+            if (e >= r) EXPECT_NEAR(got, whole * std::sin(e), 1e-14 * whole);
+            if (e <= -r) EXPECT_EQ(got, 0.0);
+        }
+    // Continuous where the disc touches the horizon from either side.
+    for (const double r : {0.01, 0.5}) {
+        const double whole = Pi * std::sin(r) * std::sin(r);
+        EXPECT_NEAR(capProjectedSolidAngleAboveHorizon(r, r - 1e-9),
+                    capProjectedSolidAngleAboveHorizon(r, r + 1e-9), 1e-7 * whole);
+        EXPECT_NEAR(capProjectedSolidAngleAboveHorizon(r, -r + 1e-9), 0.0, 1e-7 * whole);
+    }
 }
 
 TEST(ProceduralSky, DefaultsAndValidation) {

@@ -61,6 +61,16 @@ inline double capSolidAngle(double r) {
     const double s = std::sin(0.5 * r);
     return FourPi * s * s;
 }
+/// Projected solid angle above the horizon, ∫ max(0, ω_z) dω, of a disc (spherical cap) of
+/// angular radius r ∈ (0, π/2) whose centre has elevation e: the horizontal irradiance under the
+/// disc at unit radiance, its part below the horizon hidden. With θ = π/2 − e, the centre's
+/// zenith angle: π sin²r cos θ when the disc is wholly above (cos θ ≥ sin r), 0 wholly below
+/// (cos θ ≤ −sin r), and in between, with x = cot r and y = −x cot θ ∈ (−1, 1),
+///   sin²r (cos θ arccos y − x sin θ √(1 − y²)) + arctan(sin θ √(1 − y²) / x)
+/// (the form factor of a sphere cut by the horizon: Snyder 1996, "Area light sources for
+/// real-time graphics", MSR-TR-96-11; as written in Lagarde & de Rousiers 2014, "Moving
+/// Frostbite to PBR", §4.7.2). The two ends meet the whole-disc values continuously.
+double capProjectedSolidAngleAboveHorizon(double r, double e);
 /// Mean luminance of the solar disc outside the atmosphere at the mean Sun–Earth distance, in
 /// kcd/m²: 193 000 ± 4000 cd/cm² = 1.93·10⁹ cd/m² ("Luminance of the Sun", J. Opt. Soc. Am.
 /// 45(6):483–488, 1955, doi:10.1364/JOSA.45.000483, extrapolated to zero air mass and averaged
