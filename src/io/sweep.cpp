@@ -351,7 +351,6 @@ std::string sweepRunId(int index) {
 size_t adoptFinishedIds(Sweep& s, const std::vector<Json>& rows) {
     // A run's values as text (nlohmann's objects keep their keys sorted: one text per value set),
     // and a row's the same way, restricted to the run's keys.
-    const auto key = [](const Json& values) { return dumpJson(values); };
     std::map<std::string, std::string> rowOfValues;  // values → the id of the row holding them
     std::set<std::string> taken;                     // ids of rows, then of runs given one
     for (const Json& row : rows) {
@@ -365,13 +364,13 @@ size_t adoptFinishedIds(Sweep& s, const std::vector<Json>& rows) {
                 values[k] = row[k];
             else
                 complete = false;
-        if (complete) rowOfValues.emplace(key(values), id);
+        if (complete) rowOfValues.emplace(dumpJson(values), id);
     }
     size_t finished = 0;
     std::vector<SweepRun*> unplaced;  // new runs whose own id a row has
     for (SweepRun& run : s.runs) {
         const std::string own = sweepRunId(run.index);
-        if (const auto it = rowOfValues.find(key(run.values)); it != rowOfValues.end())
+        if (const auto it = rowOfValues.find(dumpJson(run.values)); it != rowOfValues.end())
             run.id = it->second, ++finished;
         else if (!taken.count(own))
             run.id = own;
