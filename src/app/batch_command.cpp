@@ -193,29 +193,16 @@ const std::map<std::string, std::vector<std::string>> kMetricColumns = {
 /// resuming would mix experiments. Without `reference` (--dry-run, which hashes no input files)
 /// the run's fingerprint and reference are not compared.
 void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string* reference) {
-    // Runs by id, and by the id a fresh sweep gives them: a row that holds no run (whose values
-    // adoptFinishedIds found in none) is compared with the run at its place in the sweep.
-    std::unordered_map<std::string, const SweepRun*> runs, atPlace;  // (a search each: O(n²))
-    for (const SweepRun& r : s.runs)
-        runs.emplace(r.id, &r), atPlace.emplace(sweepRunId(r.index), &r);
+    // Runs by id: a row holds the run adoptFinishedIds gave its id, whose values are the row's.
+    std::unordered_map<std::string, const SweepRun*> runs;  // (a search each: O(n²))
+    for (const SweepRun& r : s.runs) runs.emplace(r.id, &r);
     for (const Json& row : ledger.rows()) {
         const std::string id = row["run"].get<std::string>();
-        auto it = runs.find(id);
-        if (it == runs.end() && (it = atPlace.find(id)) == atPlace.end())
+        const auto it = runs.find(id);
+        if (it == runs.end())
             fail(ledger.jsonlPath(), "run " + id,
-                 "finished, but the sweep no longer has it; use another output directory");
+                 unheldRowReason(s, row) + "; use another output directory");
         const Json& values = it->second->values;
-        for (const auto& [key, value] : values.items()) {
-            const bool has = row.contains(key);
-            if (!has || row[key] != value)
-                fail(ledger.jsonlPath(), "run " + id,
-                     "finished with " + (has ? key + "=" + dumpJson(row[key]) : "no " + key) +
-                         ", the sweep now gives " + key + "=" + dumpJson(value) +
-                         (has ? " (a finished run must stay in the sweep: values may be added "
-                                "to its axes, and repeats, but not changed or removed)"
-                              : "") +
-                         "; use another output directory");
-        }
         std::set<std::string> known = kRunColumns;
         for (const auto& [metric, columns] : kMetricColumns) {
             const bool asked = std::count(s.metrics.begin(), s.metrics.end(), metric) > 0;
@@ -454,18 +441,23 @@ int runBatch(BatchArgs a) {
         const fs::path ref = fs::weakly_canonical(fs::absolute(s.reference->file, ec), ec),
                        out = fs::weakly_canonical(fs::absolute(s.output, ec), ec);
         if (ec || ref.parent_path() != out) return;
-        const std::string name = ref.filename().string();
         const std::vector<std::string> written = {"results.jsonl", "results.csv", "report.md",
                                                   "report.html"};
         // Any run's image, stats or standard errors: the ids of a resumed batch's runs depend on
         // its ledger (adoptFinishedIds). (report's plots are PNG files, which no reference can
-        // be: readExr refuses them.)
+        // be: readExr refuses them.) The z-test also reads the reference's standard errors.
         static const std::regex runOutput(R"(r[0-9]{4,}\.(exr|stats\.json|stderr\.exr))");
-        if (std::find(written.begin(), written.end(), name) != written.end() ||
-            std::regex_match(name, runOutput))
-            fail(s.reference->file, "",
-                 "the reference would be written over by the batch's own " + name +
-                     "; keep it outside the output directory " + s.output);
+        std::vector<std::string> read = {ref.string()};
+        if (std::count(s.metrics.begin(), s.metrics.end(), "ztest"))
+            read.push_back(standardErrorsOf(ref.string()));
+        for (const std::string& file : read)
+            if (const std::string name = fs::path(file).filename().string();
+                std::find(written.begin(), written.end(), name) != written.end() ||
+                std::regex_match(name, runOutput))
+                fail(s.reference->file, "",
+                     std::string(file == read[0] ? "the reference" : "its standard errors") +
+                         " would be written over by the batch's own " + name +
+                         "; keep it outside the output directory " + s.output);
     });
     if (a.dryRun) {
         if (!world.root()) return 0;

@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -70,7 +71,26 @@ size_t findNumberToken(const std::string& text, const std::string& token) {
     }
     return std::string::npos;
 }
+/// j with every number of integral value below 2^63 in magnitude stored as an integer
+/// (canonicalJson); larger ones stay doubles, as no int64 holds them.
+Json integralAsInteger(const Json& j) {
+    if (j.is_number_float()) {
+        const double x = j.get<double>();
+        return std::trunc(x) == x && std::abs(x) < 9223372036854775808.0
+                   ? Json(static_cast<std::int64_t>(x))
+                   : j;
+    }
+    if (!j.is_structured()) return j;
+    Json out = j;
+    for (auto& v : out) v = integralAsInteger(v);
+    return out;
+}
+
 }  // namespace
+
+std::string canonicalJson(const Json& j) {
+    return dumpJson(integralAsInteger(j));
+}
 
 Json parseJsonFile(const std::string& path) {
     if (const std::string problem = inputFileProblem(path); !problem.empty())

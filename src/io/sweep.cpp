@@ -244,7 +244,7 @@ Sweep readSweep(const std::string& path, double maxRuns) {
                 places.push_back("render.seed (set by the sweep)");
             }
             const Json doc = sweepDocument(s, run.sets, places, "run " + run.id);
-            run.fingerprint = hashText(dumpJson(doc));
+            run.fingerprint = hashText(canonicalJson(doc));
             // The same point twice (an axis value given twice, or a seed): the same render,
             // which the report would count as a repeat of no spread.
             if (const auto [same, added] = runOfScene.emplace(run.fingerprint, run.id); !added)
@@ -349,8 +349,8 @@ std::string sweepRunId(int index) {
 }
 
 size_t adoptFinishedIds(Sweep& s, const std::vector<Json>& rows) {
-    // A run's values as text (nlohmann's objects keep their keys sorted: one text per value set),
-    // and a row's the same way, restricted to the run's keys.
+    // A run's values as canonical text (one text per value set), and a row's the same way,
+    // restricted to the run's keys.
     std::map<std::string, std::string> rowOfValues;  // values → the id of the row holding them
     std::set<std::string> taken;                     // ids of rows, then of runs given one
     for (const Json& row : rows) {
@@ -364,13 +364,13 @@ size_t adoptFinishedIds(Sweep& s, const std::vector<Json>& rows) {
                 values[k] = row[k];
             else
                 complete = false;
-        if (complete) rowOfValues.emplace(dumpJson(values), id);
+        if (complete) rowOfValues.emplace(canonicalJson(values), id);
     }
     size_t finished = 0;
     std::vector<SweepRun*> unplaced;  // new runs whose own id a row has
     for (SweepRun& run : s.runs) {
         const std::string own = sweepRunId(run.index);
-        if (const auto it = rowOfValues.find(dumpJson(run.values)); it != rowOfValues.end())
+        if (const auto it = rowOfValues.find(canonicalJson(run.values)); it != rowOfValues.end())
             run.id = it->second, ++finished;
         else if (!taken.count(own))
             run.id = own;
@@ -384,6 +384,37 @@ size_t adoptFinishedIds(Sweep& s, const std::vector<Json>& rows) {
         taken.insert(run->id = sweepRunId(next));
     }
     return finished;
+}
+
+std::string unheldRowReason(const Sweep& s, const Json& row) {
+    constexpr const char* kStay =
+        " (a finished run must stay in the sweep: values may be added to its axes, and repeats, "
+        "but not changed or removed)";
+    std::vector<std::string> keys = s.axes;  // what each run's values hold, in the sweep's order
+    keys.push_back("repeat");
+    for (const std::string& key : keys)
+        if (!row.contains(key)) return "finished with no " + key + ", an axis the sweep now has";
+    std::string point;  // "key=value …" of the row
+    Json values = Json::object();
+    for (const std::string& key : keys) {
+        std::set<std::string> given;  // the values the sweep gives `key` now
+        for (const SweepRun& run : s.runs) given.insert(canonicalJson(run.values[key]));
+        const std::string text = dumpJson(row[key]);
+        if (!given.count(canonicalJson(row[key])))
+            return key == "repeat" ? "finished as repeat " + text + ", and the sweep now has " +
+                                         std::to_string(given.size()) +
+                                         (given.size() == 1 ? " repeat" : " repeats") + kStay
+                                   : "finished with " + key + "=" + text + ", a value axes." + key +
+                                         " no longer has" + kStay;
+        values[key] = row[key];
+        point += (point.empty() ? "" : " ") + key + "=" + text;
+    }
+    // Every value is given, but not together (zipped axes), or together but held by another row.
+    for (const SweepRun& run : s.runs)
+        if (canonicalJson(run.values) == canonicalJson(values))
+            return "finished at " + point + ", the point of run " + run.id +
+                   ", which another row holds";
+    return "finished at " + point + ", a combination the zipped axes no longer give" + kStay;
 }
 
 }  // namespace shvol

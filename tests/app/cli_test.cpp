@@ -1635,8 +1635,8 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
     write("sweep.json", changed);
     r = run("batch " + path("sweep.json") + " --quiet --output " + path("clean"));
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find("results.jsonl: run r0001: finished with spp=9000, the sweep now gives "
-                         "spp=9500 (a finished run must stay in the sweep: values may be added "
+    EXPECT_NE(r.err.find("results.jsonl: run r0001: finished with spp=9000, a value axes.spp no "
+                         "longer has (a finished run must stay in the sweep: values may be added "
                          "to its axes, and repeats, but not changed or removed); use another "
                          "output directory"),
               std::string::npos)
@@ -1717,14 +1717,36 @@ TEST_F(Cli, BatchResumesASweepWithValuesAddedAnywhere) {
     r = run(batch + path("out"));
     EXPECT_EQ(r.code, 0);
     EXPECT_NE(r.err.find("18 of 18 runs already finished"), std::string::npos) << r.err;
-    // A finished value taken out is refused, naming the run that holds it.
+    // A finished value taken out is refused, naming the run that holds it and the value.
     sweep("0.5, 0.7", "2, 4, 8", 2);
     r = run(batch + path("out") + " --quiet");
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find("run r0002: finished with media[0].albedo=0.9, the sweep now gives "
-                         "media[0].albedo=0.5"),
+    EXPECT_NE(r.err.find("run r0002: finished with media[0].albedo=0.9, a value "
+                         "axes.media[0].albedo no longer has (a finished run must stay"),
               std::string::npos)
         << r.err;
+}
+
+// A finished value written otherwise but equal (1.0 for 1) is the same value, the same render:
+// --dry-run and the start agree that the runs are finished.
+TEST_F(Cli, BatchResumesValuesWrittenOtherwise) {
+    write("s.json", scene(Homogeneous));
+    const auto sweep = [&](const std::string& albedos) {
+        write("sweep.json", R"({"scene": "s.json", "set": ["render.spp=2"], "axes":
+                                {"media[0].albedo": [)" +
+                                albedos + R"(]}, "output": "out"})");
+    };
+    sweep("0, 1");
+    const std::string batch = "batch " + path("sweep.json");
+    ASSERT_EQ(run(batch + " --quiet").code, 0);
+    sweep("0.0, 0.5, 1.0");
+    Result r = run(batch + " --dry-run");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("3 runs into " + path("out") + ", 2 of them finished"), std::string::npos)
+        << r.out;
+    r = run(batch);
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("2 of 3 runs already finished"), std::string::npos) << r.err;
 }
 
 // A finished row must be the run as the sweep names and measures it now: an axis renamed
@@ -1746,9 +1768,9 @@ TEST_F(Cli, BatchRefusesRowsOfOtherAxesOrMetrics) {
     const std::string rows = test::fileBytes(path("out/results.jsonl"));
     const std::vector<std::array<std::string, 3>> cases = {
         {R"("media.0.albedo": [0.5, 0.9])", R"("rmse")",
-         "finished with no media.0.albedo, the sweep now gives media.0.albedo=0.5"},
+         "finished with no media.0.albedo, an axis the sweep now has"},
         {R"("media[0].albedo": [0.5, 0.9], "render.max_depth": [64])", R"("rmse")",
-         "finished with no render.max_depth, the sweep now gives render.max_depth=64"},
+         "finished with no render.max_depth, an axis the sweep now has"},
         {"", R"("rmse")", "finished with media[0].albedo=0.5, an axis the sweep no longer has"},
         {R"("media[0].albedo": [0.5, 0.9])", R"("mae")",
          "finished without mae, which the sweep now asks for"},
@@ -1842,6 +1864,22 @@ TEST_F(Cli, BatchRefusesAReferenceAmongItsOutputs) {
                       std::string::npos)
                 << r.err;
         }
+    }
+    // The z-test reads the reference's standard errors (r0001.stderr.exr beside r0001.ref),
+    // which run r0001 would write over; without the z-test they are not read.
+    fs::copy_file(path("out/r0001.exr"), path("out/r0001.ref"));
+    for (const std::string metric : {"ztest", "rmse"}) {
+        write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [2, 4]}, "metrics": [")" +
+                                metric + R"("], "reference": {"file": "out/r0001.ref"},
+                                "output": "out"})");
+        const Result r = run("batch " + path("sweep.json") + " --dry-run");
+        EXPECT_EQ(r.code, metric == "ztest" ? 1 : 0) << r.err;
+        EXPECT_EQ(r.err, metric == "ztest"
+                             ? "shvol: error: " + path("out/r0001.ref") +
+                                   ": its standard errors would be written over by the batch's "
+                                   "own r0001.stderr.exr; keep it outside the output directory " +
+                                   path("out") + "\n"
+                             : "");
     }
     EXPECT_EQ(test::fileBytes(path("out/r0001.exr")), before);
     EXPECT_FALSE(fs::exists(path("out/results.jsonl")));

@@ -16,6 +16,16 @@ namespace {
 using shvol::test::messageOf;
 }  // namespace
 
+// canonicalJson: one text for equal values, another for different ones.
+TEST(JsonReader, CanonicalJsonWritesIntegralNumbersAsIntegers) {
+    EXPECT_EQ(canonicalJson(Json::parse(R"({"b": [1.0, -0.0, 2.5], "a": {"c": 1e3}})")),
+              R"({"a":{"c":1000},"b":[1,0,2.5]})");
+    EXPECT_EQ(canonicalJson(Json::parse("1e300")), "1e+300");  // no int64 holds it
+    EXPECT_EQ(canonicalJson(Json::parse("18446744073709551615")), "18446744073709551615");
+    EXPECT_NE(canonicalJson(Json::parse("[1]")), canonicalJson(Json::parse("[1.5]")));
+    EXPECT_NE(canonicalJson(Json::parse(R"("1")")), canonicalJson(Json::parse("1")));
+}
+
 TEST(JsonReader, TypedAccessAndDefaults) {
     const Json j = Json::parse(R"({"a": 2.5, "n": 3, "s": "x", "v": [1, 2, 3], "b": true})");
     JsonReader r(j, "f.json", "");

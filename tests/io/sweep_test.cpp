@@ -128,6 +128,51 @@ TEST(Sweep, AdoptFinishedIdsFindsRunsByTheirValues) {
     EXPECT_EQ(renamed.runs[0].id, "r0004");
 }
 
+// A value written otherwise but equal (20.0 for 20) is the same value: its run stays finished.
+TEST(Sweep, AdoptFinishedIdsComparesNumbersAsNumbers) {
+    const Sweep before = readSweep(
+        writeSweep("adopt-num", R"({"scene": "scene.json", "axes": {"camera.fov": [20, 40.5]}})"));
+    std::vector<Json> rows;
+    for (const SweepRun& r : before.runs) rows.push_back(r.values), rows.back()["run"] = r.id;
+    Sweep after = readSweep(writeSweep(
+        "adopt-num", R"({"scene": "scene.json", "axes": {"camera.fov": [30, 20.0, 4.05e1]}})"));
+    EXPECT_EQ(adoptFinishedIds(after, rows), 2u);
+    EXPECT_EQ(after.runs[1].id, "r0000");
+    EXPECT_EQ(after.runs[2].id, "r0001");
+    EXPECT_EQ(after.runs[1].fingerprint, before.runs[0].fingerprint);  // the same render
+}
+
+// A finished row no run holds is refused with what the sweep no longer has: not compared with
+// whichever run is now at the row's place, which after an insertion is an unrelated point.
+TEST(Sweep, UnheldRowReasonNamesWhatTheSweepNoLongerHas) {
+    const std::string stay =
+        " (a finished run must stay in the sweep: values may be added to its axes, and repeats, "
+        "but not changed or removed)";
+    const auto reason = [](const std::string& sweep, const std::string& row) {
+        return unheldRowReason(readSweep(writeSweep("unheld", sweep)), Json::parse(row));
+    };
+    const std::string grid =
+        R"({"scene": "scene.json", "axes": {"spp": [1, 4, 8], "camera.fov": [20, 40]},
+            "repeats": 2})";
+    EXPECT_EQ(reason(grid, R"({"run": "r0001", "spp": 2, "camera.fov": 40, "repeat": 0})"),
+              "finished with spp=2, a value axes.spp no longer has" + stay);
+    EXPECT_EQ(reason(grid, R"({"run": "r0001", "spp": 4, "camera.fov": 30, "repeat": 1})"),
+              "finished with camera.fov=30, a value axes.camera.fov no longer has" + stay);
+    EXPECT_EQ(reason(grid, R"({"run": "r0013", "spp": 4, "camera.fov": 40, "repeat": 2})"),
+              "finished as repeat 2, and the sweep now has 2 repeats" + stay);
+    EXPECT_EQ(reason(grid, R"({"run": "r0001", "spp": 4, "repeat": 0})"),
+              "finished with no camera.fov, an axis the sweep now has");
+    EXPECT_EQ(reason(grid, R"({"run": "r0009", "spp": 4, "camera.fov": 20.0, "repeat": 0})"),
+              "finished at spp=4 camera.fov=20.0 repeat=0, the point of run r0002, which another "
+              "row holds");
+    const std::string zip =
+        R"({"scene": "scene.json", "combine": "zip", "axes": {"spp": [1, 4], "camera.fov": [20, 40]}})";
+    EXPECT_EQ(reason(zip, R"({"run": "r0000", "spp": 1, "camera.fov": 40, "repeat": 0})"),
+              "finished at spp=1 camera.fov=40 repeat=0, a combination the zipped axes no longer "
+              "give" +
+                  stay);
+}
+
 TEST(Sweep, ZipAndReference) {
     const Sweep s = readSweep(writeSweep("zip", R"({"scene": "scene.json", "combine": "zip",
         "axes": {"spp": [1, 2], "seed": [7, 8]}, "reference": {"spp": 64, "set": ["camera.fov=10"]},
@@ -280,6 +325,10 @@ TEST(Sweep, ErrorsNameFileAndKey) {
                             "axes": {"spp": [2, 4, 2], "render.max_depth": [1, 1, 1]}})"),
               ": axes: runs r0000 and r0002 would be the same render "
               "({\"render.max_depth\":1,\"repeat\":0,\"spp\":2}); give each value once");
+    // ... also when one of them is written as a float (numbers compare as numbers).
+    EXPECT_EQ(err("e5z", R"({"scene": "scene.json", "axes": {"camera.fov": [20, 30, 20.0]}})"),
+              ": axes: runs r0000 and r0002 would be the same render "
+              "({\"camera.fov\":20.0,\"repeat\":0}); give each value once");
     // The reference's samples per pixel are its "spp" (which replaced render.spp in its "set").
     for (const char* set : {"render.spp=8", "render={\"spp\": 8}"})
         EXPECT_EQ(err("e5w", std::string(R"({"scene": "scene.json", "reference": {"set": [)") +

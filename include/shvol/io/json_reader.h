@@ -18,6 +18,12 @@ inline std::string dumpJson(const Json& j, int indent = -1) {
     return j.dump(indent, ' ', false, Json::error_handler_t::replace);
 }
 
+/// j as one line of JSON text in which equal values read the same: a number with an integral
+/// value is written as an integer (1.0 and -0.0 as 1 and 0; nlohmann already sorts object keys).
+/// Where a sweep asks whether two values are the same (a finished run's, an axis given a value
+/// twice) it compares these texts, so that 1 and 1.0 are one value, as they are one render.
+std::string canonicalJson(const Json& j);
+
 /// Parses a whole file; errors name the file and the line/column.
 Json parseJsonFile(const std::string& path);
 /// Parses JSON text from `file` (a file name, or what names the text in errors): a malformed text

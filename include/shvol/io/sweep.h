@@ -61,11 +61,16 @@ std::string sweepRunId(int index);
 /// Gives the runs the ids under which `rows` (a batch ledger's finished rows, each with a unique
 /// "run") hold them, so that a sweep changed by adding values anywhere in its axes, or more
 /// repeats, resumes into the same output: a row holds a run when it records the run's `values`
-/// (every axis key and "repeat" with the same JSON values). Each other run keeps its own id when
-/// no row has it, else takes the lowest id that neither a row nor another run has. Rows that hold
-/// no run are left for the caller to refuse (their ids stay out of use). Returns how many runs
-/// were found finished.
+/// (every axis key and "repeat" with the same values: canonicalJson). Each other run keeps its own
+/// id when no row has it, else takes the lowest id that neither a row nor another run has. Rows
+/// that hold no run are left for the caller to refuse (their ids stay out of use). Returns how many
+/// runs were found finished.
 size_t adoptFinishedIds(Sweep& s, const std::vector<Json>& rows);
+
+/// Why `row`, a finished row to which adoptFinishedIds gave no run, holds none, as the refusal
+/// says it after "run r0003: ": an axis the row lacks, a value its axis no longer has, a repeat
+/// beyond the repeats, a combination zipped axes no longer give, or a point another row holds.
+std::string unheldRowReason(const Sweep& s, const Json& row);
 
 /// The scene document `doc` (Sweep::sceneDoc) after a run's or the reference's assignments, as
 /// --set applies them; `scene` names the scene file in errors.
