@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """shvol report: plots and tables of a batch's ledger (DIR/results.jsonl).
 
-Usage: report.py DIR   (shvol report DIR runs this with Debian's /usr/bin/python3)
+Usage: report.py DIR COLUMNS   (shvol report DIR runs this with Debian's /usr/bin/python3;
+COLUMNS are the ledger's columns that are no axes, comma-separated: shvol's list, kept in one
+place, io/ledger.h)
 
 Writes DIR/report.md and DIR/report.html with:
   - error vs time per configuration, log-log, the Pareto front over all points marked;
@@ -26,9 +28,6 @@ except ImportError:
     sys.exit("shvol: error: report.py: needs matplotlib for /usr/bin/python3: apt-get install "
              "python3-matplotlib (./setup.sh installs it)")
 
-META = {"run", "seed", "spp", "repeat", "wall_time_s", "paths_per_second", "image", "fingerprint",
-        "git_revision", "reference_fingerprint", "rmse", "relmse", "mae", "bias", "bias_ci95",
-        "ztest_min_p", "ztest_threshold", "ztest_passed"}
 ERRORS = ["rmse", "relmse", "mae"]
 
 
@@ -123,13 +122,14 @@ def pareto(points):
 
 
 def main():
-    if len(sys.argv) != 2:
-        fail("usage: report.py DIR")
-    directory = sys.argv[1]
+    if len(sys.argv) != 3:
+        fail("usage: report.py DIR COLUMNS (run by shvol report, which passes the ledger's "
+             "columns that are no axes, comma-separated)")
+    directory, meta = sys.argv[1], set(sys.argv[2].split(","))
     rows = load(directory)
-    axes = [k for k in rows[0] if k not in META]
+    axes = [k for k in rows[0] if k not in meta]
     for r in rows[1:]:
-        axes += [k for k in r if k not in META and k not in axes]
+        axes += [k for k in r if k not in meta and k not in axes]
     error = next((e for e in ERRORS if all(e in r for r in rows)), None)
 
     # groups[(config, spp)] -> rows (the repeats)

@@ -172,18 +172,6 @@ void checkRunScenes(const Sweep& s) {
     }
 }
 
-/// The columns of a ledger row besides the run's axis values and repeat (runOne, WorkQueue), and
-/// those each metric adds (tools/report.py's META lists them all).
-const std::set<std::string> kRunColumns = {
-    "run",   "seed",        "spp",          "wall_time_s",          "paths_per_second",
-    "image", "fingerprint", "git_revision", "reference_fingerprint"};
-const std::map<std::string, std::vector<std::string>> kMetricColumns = {
-    {"rmse", {"rmse"}},
-    {"relmse", {"relmse"}},
-    {"mae", {"mae"}},
-    {"bias", {"bias", "bias_ci95"}},
-    {"ztest", {"ztest_min_p", "ztest_threshold", "ztest_passed"}}};
-
 /// Refuses a ledger whose finished rows the batch cannot resume, naming the run: a finished run
 /// must be the run the sweep describes now, recorded under the same axes with the same values
 /// and measured by the same metrics (an axis renamed, added or dropped, or another list of
@@ -203,8 +191,8 @@ void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string* 
             fail(ledger.jsonlPath(), "run " + id,
                  unheldRowReason(s, row) + "; use another output directory");
         const Json& values = it->second->values;
-        std::set<std::string> known = kRunColumns;
-        for (const auto& [metric, columns] : kMetricColumns) {
+        std::set<std::string> known = kLedgerRunColumns;
+        for (const auto& [metric, columns] : kLedgerMetricColumns) {
             const bool asked = std::count(s.metrics.begin(), s.metrics.end(), metric) > 0;
             if (asked != row.contains(columns[0]))
                 fail(ledger.jsonlPath(), "run " + id,

@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "shvol/core/error.h"
+#include "shvol/io/ledger.h"
 
 namespace shvol::app {
 
@@ -29,8 +30,12 @@ int runReport(const std::string& dir) {
         fail("tools/report.py", "", "not found in the source tree of this shvol program");
     if (!fs::exists("/usr/bin/python3"))
         fail("/usr/bin/python3", "", "not installed (apt-get install python3-matplotlib)");
-    const int status =
-        std::system(("/usr/bin/python3 " + shellQuote(script) + " " + shellQuote(dir)).c_str());
+    std::string columns;  // the ledger's columns that are no axes, for report.py
+    for (const std::string& c : ledgerColumnsBesideAxes())
+        columns += (columns.empty() ? "" : ",") + c;
+    const int status = std::system(("/usr/bin/python3 " + shellQuote(script) + " " +
+                                    shellQuote(dir) + " " + shellQuote(columns))
+                                       .c_str());
     if (WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) return 130;
     if (!WIFEXITED(status))
         fail(script, "", "ended without an exit code (status " + std::to_string(status) + ")");

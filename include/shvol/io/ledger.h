@@ -10,6 +10,8 @@
 /// refuses more rows. A Ledger that may write (Open::Repair) holds an exclusive flock(2) on DIR
 /// while it lives: a second one, in this process or another, is refused; so is a file naming a
 /// run twice.
+#include <map>
+#include <set>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -18,6 +20,29 @@
 #include "shvol/io/json_reader.h"
 
 namespace shvol {
+
+/// The columns of a batch's ledger row besides the run's axis values and "repeat": those of
+/// every run, and those each metric adds. tools/report.py takes the columns that are no axes
+/// from `shvol report` (ledgerColumnsBesideAxes), not from a list of its own.
+inline const std::set<std::string> kLedgerRunColumns = {
+    "run",   "seed",        "spp",          "wall_time_s",          "paths_per_second",
+    "image", "fingerprint", "git_revision", "reference_fingerprint"};
+inline const std::map<std::string, std::vector<std::string>> kLedgerMetricColumns = {
+    {"rmse", {"rmse"}},
+    {"relmse", {"relmse"}},
+    {"mae", {"mae"}},
+    {"bias", {"bias", "bias_ci95"}},
+    {"ztest", {"ztest_min_p", "ztest_threshold", "ztest_passed"}}};
+
+/// Every column a ledger row may have that is not an axis: kLedgerRunColumns, every metric's
+/// columns and "repeat".
+inline std::set<std::string> ledgerColumnsBesideAxes() {
+    std::set<std::string> columns = kLedgerRunColumns;
+    for (const auto& [metric, added] : kLedgerMetricColumns)
+        columns.insert(added.begin(), added.end());
+    columns.insert("repeat");
+    return columns;
+}
 
 class Ledger {
   public:
