@@ -179,7 +179,7 @@ void checkRunScenes(const Sweep& s) {
 /// by this build (another may render the same scene differently: a changed default, a fix), and
 /// measured against the reference the sweep gives now (`reference`, its fingerprint), or
 /// resuming would mix experiments. Without `reference` (--dry-run, which hashes no input files)
-/// the run's fingerprint and reference are not compared.
+/// the contents of the files the run's scene names, and the reference, are not compared.
 void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string* reference) {
     // Runs by id: a row holds the run adoptFinishedIds gave its id, whose values are the row's.
     std::unordered_map<std::string, const SweepRun*> runs;  // (a search each: O(n²))
@@ -206,10 +206,14 @@ void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string* 
                 fail(ledger.jsonlPath(), "run " + id,
                      "finished with " + key + "=" + dumpJson(value) +
                          ", an axis the sweep no longer has; use another output directory");
-        if (reference && row.value("fingerprint", "") != it->second->fingerprint)
+        if (row.value("settings_fingerprint", "") != it->second->settingsFingerprint)
             fail(ledger.jsonlPath(), "run " + id,
                  "finished with other settings or another scene than the sweep now gives; use "
                  "another output directory");
+        if (reference && row.value("fingerprint", "") != it->second->fingerprint)
+            fail(ledger.jsonlPath(), "run " + id,
+                 "finished with other contents of the files its scene names (grids, skies, "
+                 "tables, meshes) than they have now; use another output directory");
         const std::string build = row.value("git_revision", "(none)");
         if (build != SHVOL_GIT_REVISION)
             fail(ledger.jsonlPath(), "run " + id,
@@ -256,6 +260,7 @@ Json runOne(const RunContext& c, const SweepRun& run, int& code) {
     row["paths_per_second"] = stats["paths_per_second"];
     row["image"] = run.id + ".exr";
     row["fingerprint"] = run.fingerprint;
+    row["settings_fingerprint"] = run.settingsFingerprint;
     row["git_revision"] = stats["git_revision"];
     if (!s.reference) return row;
     const Image img = readExr(r.output);

@@ -130,7 +130,8 @@ void Ledger::read(Open open) {
             !rows_.back()["run"].is_string())
             fail(jsonlPath(), "line " + std::to_string(line), "a row without \"run\"");
         // (the batch compares these with its own; read as strings)
-        for (const char* key : {"fingerprint", "git_revision", "reference_fingerprint"})
+        for (const char* key :
+             {"fingerprint", "settings_fingerprint", "git_revision", "reference_fingerprint"})
             if (rows_.back().contains(key) && !rows_.back()[key].is_string())
                 fail(jsonlPath(), "line " + std::to_string(line),
                      std::string("\"") + key + "\" is not a string");

@@ -244,7 +244,7 @@ Sweep readSweep(const std::string& path, double maxRuns) {
                 places.push_back("render.seed (set by the sweep)");
             }
             const Json doc = sweepDocument(s, run.sets, places, "run " + run.id);
-            run.fingerprint = hashText(canonicalJson(doc));
+            run.fingerprint = run.settingsFingerprint = hashText(canonicalJson(doc));
             // The same point twice (an axis value given twice, or a seed): the same render,
             // which the report would count as a repeat of no spread.
             if (const auto [same, added] = runOfScene.emplace(run.fingerprint, run.id); !added)
@@ -337,8 +337,8 @@ Sweep readSweep(const std::string& path, double maxRuns) {
 void fingerprintInputs(Sweep& s, std::map<std::string, Json>& memo) {
     for (SweepRun& run : s.runs) {
         const Json doc = runDocument(s.sceneDoc, s.scene, run.sets);
-        run.fingerprint =
-            hashText(run.fingerprint + "\n" + namedFileContents(inputFiles(doc, s.scene, &memo)));
+        run.fingerprint = hashText(run.settingsFingerprint + "\n" +
+                                   namedFileContents(inputFiles(doc, s.scene, &memo)));
     }
 }
 

@@ -1649,9 +1649,18 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
     EXPECT_NE(r.err.find("results.jsonl: run r0000: finished with other settings"),
               std::string::npos)
         << r.err;
+    // --dry-run, which reads no grid, refuses changed settings too (it listed the runs as
+    // finished, which the start then refused).
+    r = run("batch " + path("sweep.json") + " --dry-run --output " + path("clean"));
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("results.jsonl: run r0000: finished with other settings"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.out, "");
     EXPECT_EQ(run("batch " + path("sweep.json") + " --dry-run").out.substr(0, 10), "reference ");
     // --dry-run marks the runs a ledger holds, and writes nothing (a last line cut short by a
     // kill stays as it is: only a start repairs it).
+    write("sweep.json", sweep);
     const std::string ledger = path("clean/results.jsonl"), rows = test::fileBytes(ledger);
     const std::string firstTwo = rows.substr(0, rows.find('\n', rows.find('\n') + 1) + 1);
     std::ofstream(ledger, std::ios::binary) << firstTwo << "{\"run\": \"r00";
@@ -1747,6 +1756,28 @@ TEST_F(Cli, BatchResumesValuesWrittenOtherwise) {
     r = run(batch);
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("2 of 3 runs already finished"), std::string::npos) << r.err;
+}
+
+// A file the scene names (here a phase table) changed since a run finished: the start refuses
+// the run, naming the files; --dry-run, which reads no input file, cannot tell and lists it.
+TEST_F(Cli, BatchRefusesRunsWhoseInputFilesChanged) {
+    write("t.csv", "angle_deg,value\n0,2\n180,1\n");
+    write("s.json", scene(R"({"type": "homogeneous", "sigma_t": 2, "albedo": 0.8,
+                              "shape": {"type": "sphere"},
+                              "phase": {"type": "tabulated", "file": "t.csv"}})"));
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [2]}, "output": "out"})");
+    const std::string batch = "batch " + path("sweep.json") + " --quiet";
+    ASSERT_EQ(run(batch).code, 0);
+    write("t.csv", "angle_deg,value\n0,3\n180,1\n");
+    Result r = run(batch + " --dry-run");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("1 of them finished"), std::string::npos) << r.out;
+    r = run(batch);
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "shvol: error: " + path("out/results.jsonl") +
+                         ": run r0000: finished with other contents of the files its scene names "
+                         "(grids, skies, tables, meshes) than they have now; use another output "
+                         "directory\n");
 }
 
 // A finished row must be the run as the sweep names and measures it now: an axis renamed

@@ -187,7 +187,8 @@ TEST(Ledger, MalformedRowIsAnError) {
     std::ofstream(dir / "results.jsonl") << "{\"run\": \"r0\"}\n";
     EXPECT_EQ(Ledger(dir.string()).rows().size(), 1u);
     // The columns the batch compares are strings (a number was an internal error in the batch).
-    for (const char* key : {"fingerprint", "git_revision", "reference_fingerprint"}) {
+    for (const char* key :
+         {"fingerprint", "settings_fingerprint", "git_revision", "reference_fingerprint"}) {
         std::ofstream(dir / "results.jsonl")
             << "{\"run\": \"r0\"}\n{\"run\": \"r1\", \"" << key << "\": 5}\n";
         EXPECT_EQ(test::messageOf([&] { Ledger l(dir.string(), Ledger::Open::ReadOnly); }),

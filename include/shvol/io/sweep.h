@@ -29,9 +29,12 @@ struct SweepRun {
     std::string id;  ///< "r0007": sweepRunId(index), or a ledger's (adoptFinishedIds)
     Json values;     ///< {axis key: value, …, "repeat": k}
     std::vector<std::string> sets;  ///< --set assignments: base, axes, render.seed, render.spp
-    /// FNV-1a of the scene document after `sets` (spp included), and after fingerprintInputs
-    /// also of the contents of the files it names (grids, skies, tables): a finished run whose
-    /// fingerprint changed would be a different render.
+    /// FNV-1a of the scene document after `sets` (spp included; canonicalJson): what the run
+    /// renders, but for the contents of the files it names. A finished run whose settings
+    /// changed would be a different render; --dry-run, which reads no grid, can tell.
+    std::string settingsFingerprint;
+    /// settingsFingerprint, and after fingerprintInputs also the contents of the files the scene
+    /// names (grids, skies, tables).
     std::string fingerprint;
 };
 
