@@ -11,6 +11,7 @@
 #include <limits>
 #include <optional>
 
+#include "shvol/core/deadline.h"
 #include "shvol/core/error.h"
 #include "shvol/core/progress.h"
 
@@ -124,6 +125,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
     Progress progress("render", (long long)(spp - std::min(spp, passEnd)) * tiles,
                       options.progress);
     const auto start = std::chrono::steady_clock::now();
+    const Deadline deadline(start, options.timeLimitSeconds);  // polled before every sample
     std::atomic<bool> stopped{false};
     std::atomic<int> stopReason{int(RenderStop::Completed)};
     auto shouldStop = [&] {
@@ -131,9 +133,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
         RenderStop why = RenderStop::Completed;
         if (cancelled())
             why = RenderStop::Cancelled;
-        else if (options.timeLimitSeconds > 0 &&
-                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
-                     options.timeLimitSeconds)
+        else if (deadline.passed())
             why = RenderStop::TimeLimit;
         if (why == RenderStop::Completed) return false;
         int expected = int(RenderStop::Completed);
