@@ -71,6 +71,7 @@ size_t findNumberToken(const std::string& text, const std::string& token) {
     }
     return std::string::npos;
 }
+
 /// j with every number of integral value below 2^63 in magnitude stored as an integer
 /// (canonicalJson); larger ones stay doubles, as no int64 holds them.
 Json integralAsInteger(const Json& j) {
