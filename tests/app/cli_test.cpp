@@ -54,6 +54,13 @@ class Cli : public testing::Test {
             std::system((command + " >" + out + " 2>" + err + " </dev/null").c_str());
         return {WEXITSTATUS(status), test::fileBytes(out), test::fileBytes(err)};
     }
+    // s.json: the homogeneous sphere with the phase table t.csv, a file its render reads.
+    void writeTabulatedScene() const {
+        write("t.csv", "angle_deg,value\n0,2\n180,1\n");
+        write("s.json", scene(R"({"type": "homogeneous", "sigma_t": 2, "albedo": 0.8,
+                                  "shape": {"type": "sphere"},
+                                  "phase": {"type": "tabulated", "file": "t.csv"}})"));
+    }
     // A bad scene must fail with exit code 1, exactly one line on stderr containing `expected`, and
     // leave no output (nor temporaries) behind.
     void expectOneLineError(const std::string& scene, const std::string& expected) const {
@@ -1429,10 +1436,7 @@ TEST_F(Cli, DiffThresholdsExitWithCode2) {
 // A checkpoint is refused when a file the scene names has changed since it was written (the
 // resumed image would mix two renders), and accepted again once the file is as it was.
 TEST_F(Cli, ResumeRefusesChangedInputFiles) {
-    write("t.csv", "angle_deg,value\n0,2\n180,1\n");
-    write("s.json", scene(R"({"type": "homogeneous", "sigma_t": 2, "albedo": 0.8,
-                              "shape": {"type": "sphere"},
-                              "phase": {"type": "tabulated", "file": "t.csv"}})"));
+    writeTabulatedScene();
     const std::string s = "render " + path("s.json") + " --spp 20000 --quiet --checkpoint " +
                           path("ck.bin") + " -o " + path("r.exr");
     Result r = run(s + " --time-limit 0.002 --threads 1");
@@ -1761,10 +1765,7 @@ TEST_F(Cli, BatchResumesValuesWrittenOtherwise) {
 // A file the scene names (here a phase table) changed since a run finished: the start refuses
 // the run, naming the files; --dry-run, which reads no input file, cannot tell and lists it.
 TEST_F(Cli, BatchRefusesRunsWhoseInputFilesChanged) {
-    write("t.csv", "angle_deg,value\n0,2\n180,1\n");
-    write("s.json", scene(R"({"type": "homogeneous", "sigma_t": 2, "albedo": 0.8,
-                              "shape": {"type": "sphere"},
-                              "phase": {"type": "tabulated", "file": "t.csv"}})"));
+    writeTabulatedScene();
     write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [2]}, "output": "out"})");
     const std::string batch = "batch " + path("sweep.json") + " --quiet";
     ASSERT_EQ(run(batch).code, 0);
