@@ -134,6 +134,14 @@ std::vector<std::string> renderWarnings(const Scene& scene, const RenderStats& s
                       error, scene.settings.radianceCache.hshOrder);
         w.push_back(surface + msg);
     }
+    for (const auto& [surface, error] : st.radianceCache.uncached) {
+        char msg[240];
+        std::snprintf(msg, sizeof msg,
+                      ": its BRDF lobe is too narrow for the radiance cache's BRDF table (the "
+                      "table's albedo is off by %.3g%%): the surface is path traced, not cached",
+                      100 * error);
+        w.push_back(surface + msg);
+    }
     if (const int cap = scene.settings.radianceCache.maxRecords;
         cap > 0 && st.radianceCache.used && st.radianceCache.records >= size_t(cap))
         w.push_back("render.radiance_cache: the fill stopped at max_records (" +
@@ -207,6 +215,8 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
             largest = std::max(largest, error);
         }
         cj["brdf_table_projection_error"] = largest;
+        cj["uncached_surfaces"] = nlohmann::json::object();  // name → the table's albedo error
+        for (const auto& [surface, error] : rc.uncached) cj["uncached_surfaces"][surface] = error;
         cj["fill_s"] = rc.fillSeconds;
         cj["record_paths"] = rc.recordPaths;
         cj["lookups"] = c.cacheLookups;

@@ -2,6 +2,9 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "shvol/core/error.h"
 #include "shvol/sh/hsh.h"
 
@@ -41,6 +44,29 @@ double project(const Bsdf& shape, const Vec3& wo, int n, const sh::SphereQuadrat
     return g2 > 0 ? std::max(0.0, 1 - c2 / g2) : 0.0;
 }
 
+/// The directional albedo ∫ f(ω_o, ω_i) cos θ_i dω_i of the (single-channel) `shape`, by
+/// importance sampling its own lobe on a fixed 16 × 16 stratified grid: unlike the quadrature,
+/// it finds a lobe of any width.
+double sampledAlbedo(const Bsdf& shape, const Vec3& wo) {
+    constexpr int k = 16;
+    double sum = 0;
+    for (int i = 0; i < k; ++i)
+        for (int j = 0; j < k; ++j)
+            if (const auto s = shape.sample(wo, Vec2((i + 0.5) / k, (j + 0.5) / k));
+                s && s->pdf > 0 && s->wi.z() > 0)
+                sum += s->f[0] * s->wi.z() / s->pdf;
+    return sum / (k * k);
+}
+
+/// The relative error of the albedo the coefficients c give, under uniform radiance 1
+/// (λ = ∫ H, of which only λ_0 = 2π H_0 is not 0), against the lobe's own (sampledAlbedo).
+double tableAlbedoError(const Bsdf& shape, const Vec3& wo, int n, const double* c) {
+    std::vector<double> h(n * n);
+    sh::hshEval(n, Vec3(0, 0, 1), h.data());  // (H_0 is constant)
+    const double table = TwoPi * h[0] * c[0], sampled = sampledAlbedo(shape, wo);
+    return sampled > 0 ? std::abs(table - sampled) / sampled : table > 0 ? 1.0 : 0.0;
+}
+
 }  // namespace
 
 HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
@@ -64,7 +90,7 @@ HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
     shape.reflectance = Spectrum::Zero();
     shape.specular = Spectrum::Ones();
     specular_.assign(size_t(res_) * res_ * n_ * n_, 0.0);
-    std::vector<double> err(size_t(res_) * res_);
+    std::vector<double> err(size_t(res_) * res_), albedoErr(err.size());
     tbb::parallel_for(0, res_ * res_, [&](int k) {  // nodes are independent: any thread count
         const int x = k % res_, y = k / res_;
         const Vec2 uv(-1 + 2.0 * x / (res_ - 1), -1 + 2.0 * y / (res_ - 1));
@@ -72,8 +98,11 @@ HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
         wo.z() = std::max(wo.z(), 1e-4);  // the rim: just above the horizon
         wo.normalize();
         err[k] = project(shape, wo, n_, q, &specular_[size_t(k) * n_ * n_]);
+        if (wo.z() >= kAlbedoCheckCos)
+            albedoErr[k] = tableAlbedoError(shape, wo, n_, &specular_[size_t(k) * n_ * n_]);
     });
     for (double e : err) projectionError_ += e / err.size();
+    albedoError_ = *std::max_element(albedoErr.begin(), albedoErr.end());
 }
 
 void HshBrdfTable::coefficients(const Vec3& wo, double* out) const {

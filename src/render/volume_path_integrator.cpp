@@ -495,10 +495,16 @@ void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop)
         const bool cached = HshBrdfTable::supports(s.bsdf) && !stop();
         tables_.push_back(cached ? std::make_unique<const HshBrdfTable>(s.bsdf, rc.hshOrder)
                                  : nullptr);
-        if (cached) {
-            cacheBuild_.tableBytes += tables_.back()->memoryBytes();
-            cacheBuild_.tableErrors.emplace_back(s.name, tables_.back()->projectionError());
+        if (!cached) continue;
+        // A lobe the table does not hold is path traced: cached, it came out black or several
+        // times too bright.
+        if (const double e = tables_.back()->albedoError(); e > kMaxTableAlbedoError) {
+            cacheBuild_.uncached.emplace_back(s.name, e);
+            tables_.back() = nullptr;
+            continue;
         }
+        cacheBuild_.tableBytes += tables_.back()->memoryBytes();
+        cacheBuild_.tableErrors.emplace_back(s.name, tables_.back()->projectionError());
     }
     auto now = std::chrono::steady_clock::now();
     cacheBuild_.tableSeconds = std::chrono::duration<double>(now - start).count();

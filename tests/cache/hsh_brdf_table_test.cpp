@@ -78,6 +78,24 @@ TEST(HshBrdfTable, ProjectionErrorFallsWithOrder) {
     EXPECT_LT(HshBrdfTable(Bsdf::lambert(Spectrum::Ones()), 2, 9).projectionError(), 0.01);
 }
 
+// The albedo check finds the lobes the table's quadrature misses (a projection error does not:
+// Ward α = 10⁻⁴ projects with error 0.008 onto a table that reflects nothing) and passes those
+// it holds.
+TEST(HshBrdfTable, AlbedoErrorFindsLobesTheQuadratureMisses) {
+    const auto ward = [](double a) {
+        return HshBrdfTable(Bsdf::ward(Spectrum::Zero(), Spectrum::Ones(), a, a), 8);
+    };
+    const auto phong = [](double e) {
+        return HshBrdfTable(Bsdf::phong(Spectrum::Zero(), Spectrum::Ones(), e), 8);
+    };
+    for (const double a : {1e-4, 3e-3, 0.01}) EXPECT_GT(ward(a).albedoError(), 0.5) << a;
+    EXPECT_LT(ward(1e-4).projectionError(), 0.01);
+    EXPECT_GT(phong(1e4).albedoError(), 0.5);
+    for (const double a : {0.1, 0.2, 0.5}) EXPECT_LT(ward(a).albedoError(), 0.02) << a;
+    for (const double e : {1.0, 22.0, 1000.0}) EXPECT_LT(phong(e).albedoError(), 0.02) << e;
+    EXPECT_EQ(HshBrdfTable(Bsdf::lambert(Spectrum::Ones()), 8).albedoError(), 0);
+}
+
 TEST(HshBrdfTable, RefusesDeltaBsdfs) {
     EXPECT_THROW(HshBrdfTable(Bsdf::mirror(Spectrum::Ones()), 4), Error);
     EXPECT_THROW(HshBrdfTable(Bsdf::dielectric(1.5), 4), Error);

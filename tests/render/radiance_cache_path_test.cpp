@@ -81,6 +81,26 @@ TEST(RadianceCachePath, FurnaceRenderIsLeOverOneMinusRho) {
     }
 }
 
+// A lobe the BRDF table cannot hold (Ward α = 10⁻⁴: the table reflected nothing, and said so
+// only by a projection error of 0.008) leaves its surface path traced, so the furnace stays
+// L_e/(1 − ρ); cached, its indirect light was black (the image L_e).
+TEST(RadianceCachePath, SurfacesWhoseLobeTheTableMissesArePathTraced) {
+    const double rho = 0.6, Le = 0.5;
+    Scene scene = furnaceBox(rho, Le);
+    std::vector<Surface> v;
+    v.push_back(scene.surfaces->surfaces()[0]);
+    v[0].bsdf = Bsdf::ward(Spectrum::Zero(), Spectrum::Constant(rho), 1e-4, 1e-4);
+    scene.surfaces = std::make_unique<const SurfaceScene>(std::move(v));
+    const RenderResult r = render(scene, RenderOptions{});
+    const Image img = r.film.image();
+    double sum = 0;
+    for (float x : img.rgb) sum += x;
+    EXPECT_NEAR(sum / img.rgb.size(), Le / (1 - rho), 0.03 * Le / (1 - rho));
+    ASSERT_EQ(r.stats.radianceCache.uncached.size(), 1u);
+    EXPECT_GT(r.stats.radianceCache.uncached[0].second, 0.5);
+    EXPECT_EQ(r.stats.counters.cacheLookups, 0u);
+}
+
 // A white furnace with an occluder: a white sphere on a white floor under a constant sky of 1,
 // where every path returns exactly 1. The cache must too, up to its records' Monte Carlo error:
 // its gradients, taken of the radiance itself, were those of the occlusion's parallax, and put

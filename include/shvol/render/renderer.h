@@ -67,6 +67,8 @@ struct RadianceCacheStats {
     /// Each BRDF table's projection error (1 − Gautron eq. 15), by surface name, in the scene's
     /// order.
     std::vector<std::pair<std::string, double>> tableErrors;
+    /// Surfaces left uncached (their lobe's albedo error, HshBrdfTable::albedoError), by name.
+    std::vector<std::pair<std::string, double>> uncached;
     uint64_t recordPaths = 0;  ///< paths traced to fill the records
 };
 

@@ -88,6 +88,9 @@ class VolumePathIntegrator {
     /// At most this many `null` surfaces are crossed per ray (a guard against rays caught
     /// between coincident null surfaces).
     static constexpr int kMaxNullCrossings = 1024;
+    /// A surface whose BRDF table gets its lobe's albedo wrong by more than this fraction
+    /// (HshBrdfTable::albedoError) is path traced, not cached.
+    static constexpr double kMaxTableAlbedoError = 0.1;
     /// Builds what the scene's effects need: the sky hierarchy for the wavelet and product
     /// strategies, for product sampling each medium's zonal phase lobe, and the radiance cache
     /// (BRDF tables, then records). `stop`, when given, is asked before each BRDF table and
@@ -117,6 +120,9 @@ class VolumePathIntegrator {
         double tableSeconds = 0, fillSeconds = 0;
         /// Each BRDF table's projection error, by surface name, in the scene's order.
         std::vector<std::pair<std::string, double>> tableErrors;
+        /// Surfaces whose lobe their BRDF table does not hold (HshBrdfTable::albedoError above
+        /// kMaxTableAlbedoError): path traced, not cached; with that error, in the scene's order.
+        std::vector<std::pair<std::string, double>> uncached;
         size_t tableBytes = 0;
         PathCounters counters;  ///< of the record paths
     };
