@@ -165,10 +165,12 @@ Eigen::Affine3d readTransform(JsonReader r) {
     if (r.has("rotate")) {
         JsonReader rot = r.object("rotate");
         const Vec3 axis = rot.vec3("axis", Vec3(0, 0, 1));
-        if (axis.norm() == 0) rot.error("axis", "must not be zero");
+        // (scaled by its largest component first: the norm of [0, 0, 1e200] overflowed and that
+        // of [0, 0, 1e-300] underflowed, which shrank the object to nothing or refused the axis)
+        if (axis.cwiseAbs().maxCoeff() == 0) rot.error("axis", "must not be zero");
         const double deg = rot.number("degrees", 0.0);
         rot.finish();
-        m.rotate(Eigen::AngleAxisd(deg * Pi / 180, axis.normalized()));
+        m.rotate(Eigen::AngleAxisd(deg * Pi / 180, axis.stableNormalized()));
     }
     m.scale(s);
     r.finish();
@@ -217,9 +219,10 @@ Surface readSurface(JsonReader r, size_t index, Contents contents) {
         if (contents == Contents::Load) {
             s.mesh = readMesh(file);
             for (Vec3& p : s.mesh.p) p = toWorld * p;
-            // Normals transform by the inverse transpose (and stay unit length).
+            // Normals transform by the inverse transpose (and stay unit length; normalised first
+            // too, so that a file's normal of length 1e300 neither overflows nor reads as zero).
             const Eigen::Matrix3d nm = toWorld.linear().inverse().transpose();
-            for (Vec3& n : s.mesh.n) n = (nm * n).normalized();
+            for (Vec3& n : s.mesh.n) n = (nm * n.stableNormalized()).stableNormalized();
             validateMesh(s.mesh, file);
             widestAngleFirst(s.mesh);
         }

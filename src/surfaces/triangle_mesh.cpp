@@ -75,7 +75,7 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file) {
         if (!mesh.n.empty()) {
             if (!mesh.n[k].allFinite())
                 fail(file, place, "normal " + str(mesh.n[k]) + " is not finite");
-            if (mesh.n[k].squaredNorm() == 0) fail(file, place, "normal is zero");
+            if (mesh.n[k].cwiseAbs().maxCoeff() == 0) fail(file, place, "normal is zero");
         }
         if (!mesh.uv.empty() && !mesh.uv[k].allFinite())
             fail(file, place, "texture coordinates " + str(mesh.uv[k]) + " are not finite");

@@ -239,6 +239,37 @@ struct SurfaceFiles {
 
 }  // namespace
 
+// A rotation axis is a direction at any scale (the norm of [0, 0, 1e200] overflowed and shrank
+// the mesh to nothing; that of [0, 0, 1e-300] underflowed and was refused), and a file's normal
+// of any length is a direction too (1e300 read as "normal is zero").
+TEST(SceneLoader, AxesAndNormalsOfAnyScale) {
+    const SurfaceFiles f;
+    const auto points = [&](const std::string& axis) {
+        return f
+            .load(R"({"surfaces": [{"type": "mesh", "file": "box.obj", "transform": {"rotate":
+                     {"axis": )" +
+                  axis + R"(, "degrees": 90}}}]})")
+            .surfaces->surfaces()[0]
+            .mesh.p;
+    };
+    const std::vector<Vec3> unit = points("[0, 0, 1]");
+    for (const char* axis : {"[0, 0, 1e200]", "[0, 0, 1e-300]", "[0, 0, 5e-324]"}) {
+        const std::vector<Vec3> p = points(axis);
+        ASSERT_EQ(p.size(), unit.size());
+        for (size_t i = 0; i < p.size(); ++i)
+            EXPECT_NEAR((p[i] - unit[i]).norm(), 0, 1e-12) << axis;
+    }
+    std::ofstream(f.dir + "/normals.ply")
+        << "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\n"
+           "property double z\nproperty double nx\nproperty double ny\nproperty double nz\n"
+           "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+           "0 0 0 0 0 1e300\n1 0 0 0 0 1e-300\n0 1 0 0 0 1\n3 0 1 2\n";
+    const Scene s = f.load(R"({"surfaces": [{"type": "mesh", "file": "normals.ply",
+                                             "transform": {"scale": 1e12}}]})");
+    for (const Vec3& n : s.surfaces->surfaces()[0].mesh.n)
+        EXPECT_NEAR((n - Vec3(0, 0, 1)).norm(), 0, 1e-12) << n.transpose();
+}
+
 TEST(SceneLoader, SurfacesAndTheirBsdfs) {
     const SurfaceFiles f;
     const Scene s = f.load(R"({
