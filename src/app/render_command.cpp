@@ -143,7 +143,7 @@ std::vector<std::string> renderWarnings(const Scene& scene, const RenderStats& s
         w.push_back(surface + msg);
     }
     if (const int cap = scene.settings.radianceCache.maxRecords;
-        cap > 0 && st.radianceCache.used && st.radianceCache.records >= size_t(cap))
+        st.radianceCache.used && st.radianceCache.records >= size_t(cap))
         w.push_back("render.radiance_cache: the fill stopped at max_records (" +
                     std::to_string(cap) +
                     "): lookups beyond the records' reach are traced instead (the stats' "
