@@ -688,6 +688,12 @@ ObjLines scanObj(std::string_view text, const std::string& path) {
                 fail(path, "line " + std::to_string(lineNo),
                      "a face of " + std::to_string(corners) +
                          (corners == 1 ? " corner" : " corners") + "; a face needs at least 3");
+            // (tinyobjloader counts corners in an unsigned char; refused below too, without
+            // the line, should the count of words here ever differ from its own)
+            if (corners > 255)
+                fail(path, "line " + std::to_string(lineNo),
+                     "a face of " + std::to_string(corners) +
+                         " corners; at most 255 (tinyobjloader's limit)");
             continue;
         }
         size_t least, most;

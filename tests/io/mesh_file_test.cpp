@@ -526,14 +526,18 @@ TEST(MeshFile, ObjErrors) {
               tmp("nan2.obj") +
                   ": line 5: a coordinate is not finite as tinyobjloader reads it "
                   "(a number it misreads, such as 0e999 for 0)");
-    std::string polygon, face = "f";  // 300 vertices: more than tinyobjloader can count
-    for (int i = 0; i < 300; ++i) {
-        polygon += "v " + std::to_string(std::cos(i * TwoPi / 300)) + " " +
-                   std::to_string(std::sin(i * TwoPi / 300)) + " 0\n";
-        face += " " + std::to_string(i + 1);
+    // More corners than tinyobjloader can count (in an unsigned char), at the face's line.
+    for (const int n : {256, 300}) {
+        std::string polygon, face = "f";
+        for (int i = 0; i < n; ++i) {
+            polygon += "v " + std::to_string(std::cos(i * TwoPi / n)) + " " +
+                       std::to_string(std::sin(i * TwoPi / n)) + " 0\n";
+            face += " " + std::to_string(i + 1);
+        }
+        EXPECT_EQ(errorOf("polygon.obj", polygon + face + "\n"),
+                  tmp("polygon.obj") + ": line " + std::to_string(n + 1) + ": a face of " +
+                      std::to_string(n) + " corners; at most 255 (tinyobjloader's limit)");
     }
-    EXPECT_EQ(errorOf("polygon.obj", polygon + face + "\n"),
-              tmp("polygon.obj") + ": a face has more than 255 vertices (tinyobjloader's limit)");
     EXPECT_EQ(errorOf("range.obj", tet + "f 1 3 2\nf 1 2 4\n\nf 1 4 5\n"),
               tmp("range.obj") + ": line 8: v index 5 out of range (4 v lines)");
     EXPECT_EQ(errorOf("relative.obj", tet + "f -1 -2 -5\n"),
