@@ -536,7 +536,8 @@ uint64_t listLength(Body& body, const Property& p, const Element& e, uint64_t k,
 }
 
 template <typename Body>
-void readBody(Body& body, const Header& h, TriangleMesh& mesh, const std::string& file) {
+void readBody(Body& body, const Header& h, TriangleMesh& mesh, const std::string& file,
+              std::vector<uint32_t>& faceOfTriangle) {
     const Element& vertex = h.elements[h.vertex];
     const uint64_t nv = vertex.count;
     bool normals = false, uvs = false;
@@ -582,8 +583,10 @@ void readBody(Body& body, const Header& h, TriangleMesh& mesh, const std::string
                                  " vertices)");
                     poly[i] = uint32_t(x);
                 }
-                for (uint64_t i = 1; i + 1 < n; ++i)  // fan (v0, v_i, v_i+1)
+                for (uint64_t i = 1; i + 1 < n; ++i) {  // fan (v0, v_i, v_i+1)
                     mesh.indices.insert(mesh.indices.end(), {poly[0], poly[i], poly[i + 1]});
+                    faceOfTriangle.push_back(uint32_t(k));
+                }
             }
             body.endRecord();
             if (isVertex) {
@@ -778,14 +781,15 @@ struct CornerHash {
 TriangleMesh parsePly(std::string_view bytes, const std::string& name) {
     const Header h = HeaderParser(bytes, name).parse();
     TriangleMesh mesh;
+    MeshPlaces places;  // the file's face of each triangle
     if (h.format == Format::Ascii) {
         AsciiBody body(bytes, h.bodyOffset, h.bodyLine, name);
-        readBody(body, h, mesh, name);
+        readBody(body, h, mesh, name, places.faceOfTriangle);
     } else {
         BinaryBody body(bytes, h.bodyOffset, h.format == Format::BinaryBE, name);
-        readBody(body, h, mesh, name);
+        readBody(body, h, mesh, name, places.faceOfTriangle);
     }
-    validateMesh(mesh, name);
+    validateMesh(mesh, name, places);
     return mesh;
 }
 
@@ -838,6 +842,9 @@ TriangleMesh readObj(const std::string& path) {
     std::unordered_map<Corner, uint32_t, CornerHash> vertexOf;
     vertexOf.reserve(corners);
     std::vector<uint32_t> poly;
+    MeshPlaces places;  // faces by their f lines, vertices by the f line that first names them
+    std::vector<size_t> firstFaceOf;
+    places.fileIndices = false;
     bool first = true, withUV = false, withN = false;
     size_t f = 0;
     for (const tinyobj::shape_t& s : reader.GetShapes()) {
@@ -875,6 +882,7 @@ TriangleMesh readObj(const std::string& path) {
                          "some face corners have normals (vn) and others do not");
                 const auto [it, added] = vertexOf.try_emplace(k, uint32_t(mesh.p.size()));
                 if (added) {
+                    firstFaceOf.push_back(f);
                     mesh.p.emplace_back(a.vertices[3 * k.v], a.vertices[3 * k.v + 1],
                                         a.vertices[3 * k.v + 2]);
                     if (withUV)
@@ -885,13 +893,17 @@ TriangleMesh readObj(const std::string& path) {
                 }
                 poly.push_back(it->second);
             }
-            for (size_t i = 1; i + 1 < poly.size(); ++i)  // fan (v0, v_i, v_i+1)
+            for (size_t i = 1; i + 1 < poly.size(); ++i) {  // fan (v0, v_i, v_i+1)
                 mesh.indices.insert(mesh.indices.end(), {poly[0], poly[i], poly[i + 1]});
+                places.faceOfTriangle.push_back(uint32_t(f));
+            }
             c += n;
             ++f;
         }
     }
-    validateMesh(mesh, path);
+    places.face = faceLine;
+    places.vertex = [&](size_t k) { return faceLine(firstFaceOf[k]); };
+    validateMesh(mesh, path, places);
     return mesh;
 }
 

@@ -55,7 +55,7 @@ void widestAngleFirst(TriangleMesh& mesh) {
     }
 }
 
-void validateMesh(const TriangleMesh& mesh, const std::string& file) {
+void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshPlaces& places) {
     const size_t nv = mesh.p.size();
     if (mesh.indices.size() % 3 != 0)
         fail(file, "",
@@ -69,7 +69,7 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file) {
                  " vertices");
     if (mesh.triangleCount() == 0) fail(file, "", "the mesh has no triangles");
     for (size_t k = 0; k < nv; ++k) {
-        const std::string place = "vertex " + std::to_string(k);
+        const std::string place = places.vertex ? places.vertex(k) : "vertex " + std::to_string(k);
         if (!mesh.p[k].allFinite())
             fail(file, place, "position " + str(mesh.p[k]) + " is not finite");
         if (!mesh.n.empty()) {
@@ -81,7 +81,8 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file) {
             fail(file, place, "texture coordinates " + str(mesh.uv[k]) + " are not finite");
     }
     for (size_t f = 0; f < mesh.triangleCount(); ++f) {
-        const std::string place = "face " + std::to_string(f);
+        const size_t face = places.faceOfTriangle.empty() ? f : places.faceOfTriangle[f];
+        const std::string place = places.face ? places.face(face) : "face " + std::to_string(face);
         const uint32_t* t = &mesh.indices[3 * f];
         for (int j = 0; j < 3; ++j)
             if (t[j] >= nv)
@@ -90,8 +91,11 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file) {
                          std::to_string(nv) + " vertices)");
         if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0])
             fail(file, place,
-                 "repeated vertex index in (" + std::to_string(t[0]) + ", " + std::to_string(t[1]) +
-                     ", " + std::to_string(t[2]) + "): degenerate triangle");
+                 places.fileIndices
+                     ? "repeated vertex index in (" + std::to_string(t[0]) + ", " +
+                           std::to_string(t[1]) + ", " + std::to_string(t[2]) +
+                           "): degenerate triangle"
+                     : std::string("a vertex repeated in a triangle: degenerate triangle"));
         // Zero area, up to rounding: the widest angle within 1e-12 of π (its sine below 1e-12),
         // the three vertices on a line. Such a triangle has no reliable geometric normal; any
         // other has one, computed at that angle (widestAngleFirst). A needle, whose narrowest

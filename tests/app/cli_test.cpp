@@ -833,7 +833,7 @@ TEST_F(Cli, BadMeshFiles) {
 
     write("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
     write("flat.json", surfaceScene("flat.obj"));
-    expectOneLineError("flat.json", path("flat.obj") + ": face 0");
+    expectOneLineError("flat.json", path("flat.obj") + ": line 4: zero area");
 
     write("open.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n");
     write(

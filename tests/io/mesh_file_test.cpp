@@ -415,6 +415,11 @@ TEST(MeshFile, PlyValidationErrors) {
                                                      "3 0 1 3\n3 0 3 3\n3 1 2 3\n"),
               tmp("degenerate.ply") +
                   ": face 2: repeated vertex index in (0, 3, 3): degenerate triangle");
+    // A polygon counts as one face of the file, not as the triangles it is fanned into.
+    EXPECT_EQ(
+        errorOf("polygon.ply", kAsciiHead + "0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n"
+                                            "3 0 1 1\n3 0 2 3\n3 1 2 3\n"),
+        tmp("polygon.ply") + ": face 1: repeated vertex index in (0, 1, 1): degenerate triangle");
     EXPECT_EQ(
         errorOf("collinear.ply", kAsciiHead + "0 0 0\n1 0 0\n2 0 0\n0 0 1\n3 0 2 1\n"
                                               "3 0 1 3\n3 0 3 2\n3 1 2 3\n"),
@@ -577,12 +582,17 @@ TEST(MeshFile, ObjErrors) {
               tmp("line.obj") + ": line 6: a face of 2 corners; a face needs at least 3");
     EXPECT_EQ(errorOf("point.obj", tet + "f 1\nf 1 3 2\n"),
               tmp("point.obj") + ": line 5: a face of 1 corner; a face needs at least 3");
-    EXPECT_EQ(errorOf("degenerate.obj", tet + "f 1 3 2\nf 1 2 2\n"),
-              tmp("degenerate.obj") +
-                  ": face 1: repeated vertex index in (0, 2, 2): degenerate triangle");
+    // Faces by their lines, vertices by the line of the first face that names them (the mesh's
+    // vertex numbers, de-duplicated corners, are not the file's).
+    EXPECT_EQ(
+        errorOf("degenerate.obj", tet + "f 1 3 2\nf 1 2 2\n"),
+        tmp("degenerate.obj") + ": line 6: a vertex repeated in a triangle: degenerate triangle");
+    EXPECT_EQ(
+        errorOf("degenerate4.obj", tet + "f 1 3 2 4\nf 4 2 3\nf 1 2 2\n"),
+        tmp("degenerate4.obj") + ": line 7: a vertex repeated in a triangle: degenerate triangle");
     EXPECT_EQ(errorOf("empty.obj", tet), tmp("empty.obj") + ": the mesh has no triangles");
     EXPECT_EQ(errorOf("normal.obj", tet + "vn 0 0 0\nf 1//1 3//1 2//1\n"),
-              tmp("normal.obj") + ": vertex 0: normal is zero");
+              tmp("normal.obj") + ": line 6: normal is zero");
 }
 
 }  // namespace

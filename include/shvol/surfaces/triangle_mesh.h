@@ -5,6 +5,7 @@
 /// triangle (p0, p1, p2) is n_g = (p1 − p0) × (p2 − p0) / |…|; a closed mesh whose triangles all
 /// face outwards has a positive signed volume V = (1/6) Σ p0 · (p1 × p2).
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -20,12 +21,24 @@ struct TriangleMesh {
     size_t triangleCount() const { return indices.size() / 3; }
 };
 
+/// Where a mesh's triangles and vertices are in its file, for validateMesh's messages: the file's
+/// face of each triangle (a polygon is fanned into several), how the file's faces and the
+/// mesh's vertices are named ("line 9"), and whether the mesh's vertex numbers are the file's
+/// (PLY) or not (OBJ, whose corners are de-duplicated into vertices). Left empty: triangle f is
+/// "face f", vertex k "vertex k".
+struct MeshPlaces {
+    std::vector<uint32_t> faceOfTriangle;
+    std::function<std::string(size_t face)> face;
+    std::function<std::string(size_t vertex)> vertex;
+    bool fileIndices = true;
+};
+
 /// Throws shvol::Error "FILE: vertex K: …" or "FILE: face K: …" (K counted from 0) for a
 /// non-finite position, normal or texture coordinate, a zero normal, an index out of range, a
 /// triangle of zero area (repeated vertices, or collinear: the sine of its widest angle below
 /// 10⁻¹², whichever vertex comes first), or a mesh without triangles. Indices must be in range
 /// for the functions below.
-void validateMesh(const TriangleMesh& mesh, const std::string& file);
+void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshPlaces& places = {});
 
 /// The corner (0, 1 or 2) of triangle f with the widest angle, the one opposite its longest edge
 /// (the first of equals).
