@@ -90,6 +90,19 @@ std::string referenceFingerprint(const Sweep& s, const std::string& stamp, bool 
     return id;
 }
 
+/// The sweep's reference as it is now: a rendered reference's stamp (empty for a reference
+/// file) and the fingerprint finished rows must carry (empty without a reference).
+struct CurrentReference {
+    std::string stamp, fingerprint;
+};
+CurrentReference currentReference(const Sweep& s, bool ztest, std::map<std::string, Json>& memo) {
+    CurrentReference r;
+    if (!s.reference) return r;
+    if (s.reference->render) r.stamp = referenceStamp(s, ztest, memo);
+    r.fingerprint = referenceFingerprint(s, r.stamp, ztest);
+    return r;
+}
+
 /// Renders the reference (quietly; under mpirun every rank takes part) and stamps it with
 /// `stamp` (rank 0's). Returns the exit code of the render (130: interrupted).
 int renderReference(const Sweep& s, const BatchArgs& a, bool variance, const std::string& stamp) {
@@ -178,9 +191,8 @@ void checkRunScenes(const Sweep& s) {
 /// metrics, would leave the report columns of nulls and configurations split in two), rendered
 /// by this build (another may render the same scene differently: a changed default, a fix), and
 /// measured against the reference the sweep gives now (`reference`, its fingerprint), or
-/// resuming would mix experiments. Without `reference` (--dry-run, which hashes no input files)
-/// the contents of the files the run's scene names, and the reference, are not compared.
-void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string* reference) {
+/// resuming would mix experiments.
+void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string& reference) {
     // Runs by id: a row holds the run adoptFinishedIds gave its id, whose values are the row's.
     std::unordered_map<std::string, const SweepRun*> runs;  // (a search each: O(n²))
     for (const SweepRun& r : s.runs) runs.emplace(r.id, &r);
@@ -210,7 +222,7 @@ void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string* 
             fail(ledger.jsonlPath(), "run " + id,
                  "finished with other settings or another scene than the sweep now gives; use "
                  "another output directory");
-        if (reference && row.value("fingerprint", "") != it->second->fingerprint)
+        if (row.value("fingerprint", "") != it->second->fingerprint)
             fail(ledger.jsonlPath(), "run " + id,
                  "finished with other contents of the files its scene names (grids, skies, "
                  "tables, meshes) than they have now; use another output directory");
@@ -219,7 +231,7 @@ void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string* 
             fail(ledger.jsonlPath(), "run " + id,
                  "finished by shvol " + build + ", this is " + SHVOL_GIT_REVISION +
                      "; use another output directory");
-        if (reference && row.value("reference_fingerprint", "") != *reference)
+        if (row.value("reference_fingerprint", "") != reference)
             fail(ledger.jsonlPath(), "run " + id,
                  "measured against another reference than the sweep now gives (its settings, "
                  "scene or file changed); use another output directory");
@@ -452,14 +464,20 @@ int runBatch(BatchArgs a) {
                          " would be written over by the batch's own " + name +
                          "; keep it outside the output directory " + s.output);
     });
+    const bool ztest = std::find(s.metrics.begin(), s.metrics.end(), "ztest") != s.metrics.end();
     if (a.dryRun) {
         if (!world.root()) return 0;
         // Runs an earlier start finished, as its ledger has them (read, not repaired: a dry run
-        // writes nothing). What a start would refuse without hashing input files is refused
-        // here too; whether their scenes and reference still match is checked when it starts.
+        // writes nothing), checked as the start checks them: the files their scenes name and
+        // the reference are hashed when there are finished runs to compare them with.
         const Ledger done(s.output, Ledger::Open::ReadOnly);
         adoptFinishedIds(s, done.rows());
-        checkFinishedRows(done, s, nullptr);
+        if (!done.rows().empty()) {
+            std::map<std::string, Json> inputs;
+            fingerprintInputs(s, inputs);
+            const std::string reference = currentReference(s, ztest, inputs).fingerprint;
+            checkFinishedRows(done, s, reference);
+        }
         if (s.reference)
             std::printf("reference %s%s\n", s.reference->file.c_str(),
                         s.reference->render ? " (rendered once, cached)" : "");
@@ -479,22 +497,19 @@ int runBatch(BatchArgs a) {
     // Every rank stamps the runs it may render (it reads their files to render them anyway).
     std::map<std::string, Json> inputs;  // each named file hashed once per batch
     collectively([&] { fingerprintInputs(s, inputs); });
-    const bool ztest = std::find(s.metrics.begin(), s.metrics.end(), "ztest") != s.metrics.end();
     // Rank 0 stamps the reference (reading the files its scene names) and keeps the ledger,
     // whose finished rows must belong to this sweep, build and reference.
     std::string stamp, reference;
     std::optional<Ledger> ledger;
     collectively([&] {
         if (!world.root()) return;
-        if (s.reference) {
-            if (s.reference->render) stamp = referenceStamp(s, ztest, inputs);
-            reference = referenceFingerprint(s, stamp, ztest);
-        }
+        const CurrentReference now = currentReference(s, ztest, inputs);
+        stamp = now.stamp, reference = now.fingerprint;
         if (std::error_code ec; !fs::create_directories(s.output, ec) && ec)
             fail(s.output, "", "cannot make the directory (" + ec.message() + ")");
         ledger.emplace(s.output);
         adoptFinishedIds(s, ledger->rows());
-        checkFinishedRows(*ledger, s, &reference);
+        checkFinishedRows(*ledger, s, reference);
     });
     RunContext c(s);
     c.ztest = ztest;

@@ -1787,16 +1787,20 @@ TEST_F(Cli, BatchRefusesRunsWhoseInputFilesChanged) {
     write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [2]}, "output": "out"})");
     const std::string batch = "batch " + path("sweep.json") + " --quiet";
     ASSERT_EQ(run(batch).code, 0);
-    write("t.csv", "angle_deg,value\n0,3\n180,1\n");
     Result r = run(batch + " --dry-run");
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("1 of them finished"), std::string::npos) << r.out;
-    r = run(batch);
-    EXPECT_EQ(r.code, 1);
-    EXPECT_EQ(r.err, "shvol: error: " + path("out/results.jsonl") +
-                         ": run r0000: finished with other contents of the files its scene names "
-                         "(grids, skies, tables, meshes) than they have now; use another output "
-                         "directory\n");
+    write("t.csv", "angle_deg,value\n0,3\n180,1\n");
+    for (const std::string flags : {" --dry-run", ""}) {  // the dry run refuses what the start does
+        r = run(batch + flags);
+        EXPECT_EQ(r.code, 1) << flags;
+        EXPECT_EQ(r.out, "") << flags;
+        EXPECT_EQ(r.err, "shvol: error: " + path("out/results.jsonl") +
+                             ": run r0000: finished with other contents of the files its scene "
+                             "names (grids, skies, tables, meshes) than they have now; use another "
+                             "output directory\n")
+            << flags;
+    }
 }
 
 // A finished row must be the run as the sweep names and measures it now: an axis renamed
@@ -2129,13 +2133,16 @@ TEST_F(Cli, BatchRefusesRowsOfAnotherReference) {
         EXPECT_FALSE(row.value("reference_fingerprint", "").empty()) << id;
     write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [4, 8, 16]},
         "reference": {"spp": 128}, "metrics": ["rmse"]})");
-    Result r = run(batch + path("out"));
-    EXPECT_EQ(r.code, 1);
-    EXPECT_NE(
-        r.err.find(path("out/results.jsonl") + ": run r0000: measured against another reference"),
-        std::string::npos)
-        << r.err;
+    for (const std::string flags : {" --dry-run", ""}) {  // the dry run refuses what the start does
+        const Result r = run(batch + path("out") + flags);
+        EXPECT_EQ(r.code, 1) << flags;
+        EXPECT_NE(r.err.find(path("out/results.jsonl") +
+                             ": run r0000: measured against another reference"),
+                  std::string::npos)
+            << flags << r.err;
+    }
     EXPECT_EQ(ledgerRows(path("out")).size(), 2u);  // nothing was added
+    EXPECT_FALSE(fs::exists(path("out/r0002.exr")));
 
     // A reference file: the same contents continue, other contents are refused.
     ASSERT_EQ(run("render " + path("s.json") + " --spp 32 --quiet -o " + path("ref.exr")).code, 0);
@@ -2143,11 +2150,14 @@ TEST_F(Cli, BatchRefusesRowsOfAnotherReference) {
         "reference": {"file": "ref.exr"}, "metrics": ["rmse"]})");
     ASSERT_EQ(run(batch + path("file")).code, 0);
     ASSERT_EQ(run(batch + path("file")).code, 0) << "the same reference continues";
+    ASSERT_EQ(run(batch + path("file") + " --dry-run").code, 0);
     ASSERT_EQ(run("render " + path("s.json") + " --spp 33 --quiet -o " + path("ref.exr")).code, 0);
-    r = run(batch + path("file"));
-    EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find(": run r0000: measured against another reference"), std::string::npos)
-        << r.err;
+    for (const std::string flags : {" --dry-run", ""}) {
+        const Result r = run(batch + path("file") + flags);
+        EXPECT_EQ(r.code, 1) << flags;
+        EXPECT_NE(r.err.find(": run r0000: measured against another reference"), std::string::npos)
+            << flags << r.err;
+    }
 }
 
 #ifdef SHVOL_MPIEXEC
