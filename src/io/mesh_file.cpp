@@ -776,9 +776,23 @@ struct CornerHash {
     }
 };
 
+/// validateMesh as the file has the mesh, then, given toWorld, moved by it (its normals made unit
+/// length) and validated again there if that moved it (every place noted as after the
+/// transform).
+void validateAndPlace(TriangleMesh& mesh, const std::string& file, MeshPlaces& places,
+                      const Eigen::Affine3d* toWorld) {
+    validateMesh(mesh, file, places);
+    if (!toWorld) return;
+    transformMesh(mesh, *toWorld);
+    if (toWorld->matrix() == Eigen::Matrix4d::Identity()) return;
+    places.note = ", after the surface's transform";
+    validateMesh(mesh, file, places);
+}
+
 }  // namespace
 
-TriangleMesh parsePly(std::string_view bytes, const std::string& name) {
+TriangleMesh parsePly(std::string_view bytes, const std::string& name,
+                      const Eigen::Affine3d* toWorld) {
     const Header h = HeaderParser(bytes, name).parse();
     TriangleMesh mesh;
     MeshPlaces places;  // the file's face of each triangle
@@ -789,16 +803,16 @@ TriangleMesh parsePly(std::string_view bytes, const std::string& name) {
         BinaryBody body(bytes, h.bodyOffset, h.format == Format::BinaryBE, name);
         readBody(body, h, mesh, name, places.faceOfTriangle);
     }
-    validateMesh(mesh, name, places);
+    validateAndPlace(mesh, name, places, toWorld);
     return mesh;
 }
 
-TriangleMesh readPly(const std::string& path) {
+TriangleMesh readPly(const std::string& path, const Eigen::Affine3d* toWorld) {
     const std::string data = readWhole(path);
-    return parsePly(data, path);
+    return parsePly(data, path, toWorld);
 }
 
-TriangleMesh readObj(const std::string& path) {
+TriangleMesh readObj(const std::string& path, const Eigen::Affine3d* toWorld) {
     const std::string text = readWhole(path);
     const ObjLines lines = scanObj(text, path);
     tinyobj::ObjReaderConfig config;
@@ -903,16 +917,16 @@ TriangleMesh readObj(const std::string& path) {
     }
     places.face = faceLine;
     places.vertex = [&](size_t k) { return faceLine(firstFaceOf[k]); };
-    validateMesh(mesh, path, places);
+    validateAndPlace(mesh, path, places, toWorld);
     return mesh;
 }
 
-TriangleMesh readMesh(const std::string& path) {
+TriangleMesh readMesh(const std::string& path, const Eigen::Affine3d* toWorld) {
     const size_t dot = path.find_last_of("./");
     std::string ext = dot != std::string::npos && path[dot] == '.' ? path.substr(dot) : "";
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (ext == ".obj") return readObj(path);
-    if (ext == ".ply") return readPly(path);
+    if (ext == ".obj") return readObj(path, toWorld);
+    if (ext == ".ply") return readPly(path, toWorld);
     fail(path, "", "unknown mesh file extension " + quote(ext) + " (expected .obj or .ply)");
 }
 

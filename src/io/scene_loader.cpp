@@ -217,13 +217,7 @@ Surface readSurface(JsonReader r, size_t index, Contents contents) {
         const std::string file = r.inputFile("file", sceneDir(r));
         s.kind = Surface::Kind::Mesh;
         if (contents == Contents::Load) {
-            s.mesh = readMesh(file);
-            for (Vec3& p : s.mesh.p) p = toWorld * p;
-            // Normals transform by the inverse transpose (and stay unit length; normalised first
-            // too, so that a file's normal of length 1e300 neither overflows nor reads as zero).
-            const Eigen::Matrix3d nm = toWorld.linear().inverse().transpose();
-            for (Vec3& n : s.mesh.n) n = (nm * n.stableNormalized()).stableNormalized();
-            validateMesh(s.mesh, file);
+            s.mesh = readMesh(file, &toWorld);
             widestAngleFirst(s.mesh);
         }
     } else if (type == "rectangle") {

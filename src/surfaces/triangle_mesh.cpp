@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "shvol/core/error.h"
@@ -55,6 +56,12 @@ void widestAngleFirst(TriangleMesh& mesh) {
     }
 }
 
+void transformMesh(TriangleMesh& mesh, const Eigen::Affine3d& toWorld) {
+    for (Vec3& p : mesh.p) p = toWorld * p;
+    const Eigen::Matrix3d m = toWorld.linear().inverse().transpose();
+    for (Vec3& n : mesh.n) n = (m * n.stableNormalized()).stableNormalized();
+}
+
 void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshPlaces& places) {
     const size_t nv = mesh.p.size();
     if (mesh.indices.size() % 3 != 0)
@@ -69,7 +76,8 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshP
                  " vertices");
     if (mesh.triangleCount() == 0) fail(file, "", "the mesh has no triangles");
     for (size_t k = 0; k < nv; ++k) {
-        const std::string place = places.vertex ? places.vertex(k) : "vertex " + std::to_string(k);
+        const std::string place =
+            (places.vertex ? places.vertex(k) : "vertex " + std::to_string(k)) + places.note;
         if (!mesh.p[k].allFinite())
             fail(file, place, "position " + str(mesh.p[k]) + " is not finite");
         if (!mesh.n.empty()) {
@@ -82,7 +90,8 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshP
     }
     for (size_t f = 0; f < mesh.triangleCount(); ++f) {
         const size_t face = places.faceOfTriangle.empty() ? f : places.faceOfTriangle[f];
-        const std::string place = places.face ? places.face(face) : "face " + std::to_string(face);
+        const std::string place =
+            (places.face ? places.face(face) : "face " + std::to_string(face)) + places.note;
         const uint32_t* t = &mesh.indices[3 * f];
         for (int j = 0; j < 3; ++j)
             if (t[j] >= nv)
@@ -105,8 +114,17 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshP
         const Vec3 e1 = mesh.p[t[(w + 1) % 3]] - p0, e2 = mesh.p[t[(w + 2) % 3]] - p0;
         const double c = e1.cross(e2).norm();
         if (!std::isfinite(c)) fail(file, place, "area is not finite (coordinates too large)");
-        if (!(c > 1e-12 * e1.norm() * e2.norm()))
+        // The angle's sine on the edges scaled by a power of 2 (exactly) to a largest component
+        // in [1, 2): tiny edges, whose products underflow, are judged as any other.
+        const double s = std::ldexp(
+            1.0, -std::ilogb(std::max(e1.cwiseAbs().maxCoeff(), e2.cwiseAbs().maxCoeff())));
+        const Vec3 f1 = s * e1, f2 = s * e2;
+        if (!(f1.cross(f2).norm() > 1e-12 * f1.norm() * f2.norm()))
             fail(file, place, "zero area (collinear vertices): degenerate triangle");
+        // The normal is the cross product normalised: its squared length must not underflow.
+        if (!(c * c >= std::numeric_limits<double>::min()))
+            fail(file, place,
+                 "area below 1e-154, too small for double precision: scale the mesh up");
     }
 }
 

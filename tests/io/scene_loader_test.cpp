@@ -423,6 +423,13 @@ TEST(SceneLoader, BadSurfacesGiveOneLineNamingThePlace) {
     expectIn(message(R"({"surfaces": [{"file": "box.obj", "transform": {"scale": 1e12,
                                                                    "translate": [1e15, 0, 0]}}]})"),
              "scene.json: surfaces[0].file: coordinates reach 1.001e+15, beyond ±1e15");
+    // A triangle the transform flattens is named at the file's place (it was "face 0").
+    std::ofstream(f.dir + "/thin.obj") << "v 0 0 0\nv 2 0 0\nv 1 0 0.1\nf 1 2 3\n";
+    const std::string thin = R"({"surfaces": [{"file": "thin.obj", "transform": {"scale": )";
+    EXPECT_EQ(message(thin + "[1, 1, 1e-3]}}]}"), "(no error)");
+    expectIn(message(thin + "[1, 1, 1e-12]}}]}"),
+             "/thin.obj: line 4, after the surface's transform: zero area (collinear vertices): "
+             "degenerate triangle");
     expectIn(message(R"({"surfaces": [{"type": "rectangle", "transform": {"scale": 1e12,
                                        "translate": [0, -1e15, 0]}}]})"),
              "scene.json: surfaces[0]: coordinates reach 1.001e+15, beyond ±1e15");

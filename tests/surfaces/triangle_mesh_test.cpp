@@ -189,6 +189,21 @@ TEST(TriangleMesh, ValidateNamesTheFace) {
     m.p[2].y() = 1e300;
     EXPECT_EQ(messageOf([&] { validateMesh(m, "big.ply"); }),
               "big.ply: face 0: area is not finite (coordinates too large)");
+    // Tiny triangles are judged by their shape (the products of edges of 1e-90 underflow, and
+    // were called collinear); below an area of 1e-154 the normal's squared length underflows.
+    for (const double scale : {1e-70, 1e-90, 1e-300}) {
+        m = tetrahedron();
+        for (Vec3& p : m.p) p *= scale;
+        EXPECT_EQ(messageOf([&] { validateMesh(m, "tiny.ply"); }),
+                  scale > 1e-77 ? "(no error)"
+                                : "tiny.ply: face 0: area below 1e-154, too small for double "
+                                  "precision: scale the mesh up")
+            << scale;
+        m.p[2] = m.p[0] + 2 * (m.p[1] - m.p[0]);  // collinear at any scale
+        EXPECT_EQ(messageOf([&] { validateMesh(m, "tiny.ply"); }),
+                  "tiny.ply: face 0: zero area (collinear vertices): degenerate triangle")
+            << scale;
+    }
 }
 
 // Whether a triangle is degenerate does not depend on which vertex is listed first: a needle

@@ -18,14 +18,20 @@ namespace shvol {
 /// s, t or texture_u, texture_v); `face` with a list property vertex_indices (or vertex_index).
 /// Other elements and properties are skipped, lists included. Anything else is an error: a missing
 /// header line, an unknown type, a truncated body, trailing bytes, an index out of range.
-TriangleMesh parsePly(std::string_view bytes, const std::string& name);
-TriangleMesh readPly(const std::string& path);
+///
+/// Each reader validates the mesh as the file has it. Given a transform (a scene's surface), it
+/// then moves the mesh there (transformMesh, which also makes the normals unit length) and, if
+/// that moved it, validates it again: a triangle the transform makes degenerate or too large is
+/// named at the file's place too ("FILE: line 9, after the surface's transform: …").
+TriangleMesh parsePly(std::string_view bytes, const std::string& name,
+                      const Eigen::Affine3d* toWorld = nullptr);
+TriangleMesh readPly(const std::string& path, const Eigen::Affine3d* toWorld = nullptr);
 
 /// Wavefront OBJ: v, vn, vt and f (all shapes, groups and objects merged; materials ignored).
 /// A vertex of the mesh is one distinct (v, vt, vn) triple of the faces.
-TriangleMesh readObj(const std::string& path);
+TriangleMesh readObj(const std::string& path, const Eigen::Affine3d* toWorld = nullptr);
 
 /// readObj or readPly by the file's extension (.obj, .ply; case-insensitive).
-TriangleMesh readMesh(const std::string& path);
+TriangleMesh readMesh(const std::string& path, const Eigen::Affine3d* toWorld = nullptr);
 
 }  // namespace shvol

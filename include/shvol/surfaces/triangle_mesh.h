@@ -31,6 +31,7 @@ struct MeshPlaces {
     std::function<std::string(size_t face)> face;
     std::function<std::string(size_t vertex)> vertex;
     bool fileIndices = true;
+    std::string note;  ///< after every place (", after the surface's transform")
 };
 
 /// Throws shvol::Error "FILE: vertex K: …" or "FILE: face K: …" (K counted from 0) for a
@@ -39,6 +40,11 @@ struct MeshPlaces {
 /// 10⁻¹², whichever vertex comes first), or a mesh without triangles. Indices must be in range
 /// for the functions below.
 void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshPlaces& places = {});
+
+/// Moves the mesh by toWorld: positions p ↦ toWorld·p, normals n ↦ M⁻ᵀ n / |M⁻ᵀ n| with M its
+/// linear part (each normal normalised first too, so that one of length 10³⁰⁰ neither
+/// overflows nor reads as zero).
+void transformMesh(TriangleMesh& mesh, const Eigen::Affine3d& toWorld);
 
 /// The corner (0, 1 or 2) of triangle f with the widest angle, the one opposite its longest edge
 /// (the first of equals).
