@@ -20,6 +20,7 @@
 #include "shvol/core/error.h"
 #include "shvol/core/hash.h"
 #include "shvol/core/image_metrics.h"
+#include "shvol/core/interrupt.h"
 #include "shvol/core/progress.h"
 #include "shvol/io/exr.h"
 #include "shvol/io/ledger.h"
@@ -308,9 +309,13 @@ class WorkQueue {
           quiet_(quiet),
           progress_("batch", (long long)todo_.size(), !quiet && Progress::stderrIsTerminal()) {}
 
-    /// The next run, or null when all are handed out or the batch stopped.
+    /// The next run, or null when all are handed out or the batch stopped. A signal that came
+    /// while a run wrote its outputs (its render clears lateSignalStops: they are whole, and its
+    /// row goes in) stops the batch here, exit code 130, rather than start a run that the signal
+    /// would cancel at once into an image of no samples.
     const SweepRun* next() {
         const std::lock_guard<std::mutex> lock(mutex_);
+        if (InterruptGuard::interrupted() && !stopped_) stopped_ = true, code_ = 130;
         return stopped_ || next_ == todo_.size() ? nullptr : todo_[next_++];
     }
     void finished(Json row) {
@@ -551,7 +556,12 @@ int runBatch(BatchArgs a) {
     queue.done();
     if (!queue.error().empty()) throw Error(queue.error());
     if (queue.code()) {
-        if (ledger->rows().empty())
+        const size_t n = ledger->rows().size();
+        if (n == s.runs.size())  // (a signal while the last run wrote its outputs)
+            std::fprintf(stderr, "batch: interrupted as its last run finished; all %s %s in %s\n",
+                         runsCounted(n).c_str(), n == 1 ? "is" : "are",
+                         ledger->jsonlPath().c_str());
+        else if (ledger->rows().empty())
             std::fprintf(stderr, "batch: stopped before a run finished; run again to finish\n");
         else
             std::fprintf(stderr, "batch: stopped; %s %s in %s, run again to finish\n",

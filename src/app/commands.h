@@ -37,7 +37,7 @@ struct RenderArgs {
     bool oneRank = false;
     /// A first signal that comes once the render has finished, while its outputs are written,
     /// makes the exit code 130 (a command's own render). A batch's renders clear it: their
-    /// outputs are whole, and the batch stops at the signal itself.
+    /// outputs are whole and their rows go in; the batch then stops before its next run.
     bool lateSignalStops = true;
 };
 /// Renders as `shvol render` does (images, stats, checkpoints); returns the exit code (130 when

@@ -1803,6 +1803,41 @@ TEST_F(Cli, BatchRefusesRunsWhoseInputFilesChanged) {
     }
 }
 
+// A signal while a batch's run writes its outputs: they are written whole and its row goes in,
+// and the batch stops before its next run, exit code 130 (it started the next run, which the
+// signal cancelled at once into an image of no samples). The same signal during the last run's
+// writing says that every run is in.
+TEST_F(Cli, BatchStopsBeforeItsNextRunAtASignalWhileARunWrites) {
+    write("s.json", R"({"camera": {"resolution": [2048, 2048], "position": [0, -3, 0]},
+        "render": {"spp": 2}, "environment": {"type": "constant", "radiance": 1},
+        "media": [)" + Homogeneous +
+                        "]}");
+    for (const int runs : {2, 1}) {
+        SCOPED_TRACE(runs);
+        const std::string out = path("out" + std::to_string(runs));
+        write("sweep.json", R"({"scene": "s.json", "axes": {"seed": )" +
+                                std::string(runs == 2 ? "[1, 2]" : "[1]") + "}}");
+        const Result r = runCommand(
+            "env --default-signal=INT " + std::string(SHVOL_BINARY) + " batch " +
+            path("sweep.json") + " --quiet --output " + out + " 2>" + path("bg.txt") +
+            " & p=$!; i=0; while ! ls " + out +
+            "/r0000.stats.json.tmp* >/dev/null 2>&1 && [ $i -lt 60000 ]; do sleep 0.001; "
+            "i=$((i+1)); done; kill -INT $p; wait $p");
+        const std::string err = test::fileBytes(path("bg.txt"));
+        EXPECT_EQ(r.code, 130) << err;
+        EXPECT_EQ(err, runs == 2 ? "batch: stopped; 1 run is in " + out +
+                                       "/results.jsonl, run again to finish\n"
+                                 : "batch: interrupted as its last run finished; all 1 run is "
+                                   "in " +
+                                       out + "/results.jsonl\n");
+        EXPECT_EQ(ledgerRows(out).size(), 1u);
+        EXPECT_EQ(readExr(out + "/r0000.exr").width, 2048);
+        EXPECT_FALSE(fs::exists(out + "/r0001.exr"));
+        for (const auto& e : fs::directory_iterator(out))
+            EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+    }
+}
+
 // A finished row must be the run as the sweep names and measures it now: an axis renamed
 // (media.0.albedo for media[0].albedo), added or dropped, or another list of metrics, renders the
 // same images but would leave the report columns of nulls and configurations split in two (they
