@@ -115,11 +115,12 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshP
         const double c = e1.cross(e2).norm();
         if (!std::isfinite(c)) fail(file, place, "area is not finite (coordinates too large)");
         // The angle's sine on the edges scaled by a power of 2 (exactly) to a largest component
-        // in [1, 2): tiny edges, whose products underflow, are judged as any other.
-        const double s = std::ldexp(
-            1.0, -std::ilogb(std::max(e1.cwiseAbs().maxCoeff(), e2.cwiseAbs().maxCoeff())));
+        // in [1, 2) (subnormal ones at most by 2¹⁰⁰⁰): tiny edges, whose products underflow, are
+        // judged as any other. Edges of 0 (three vertices at one point) are refused as a line.
+        const double m = std::max(e1.cwiseAbs().maxCoeff(), e2.cwiseAbs().maxCoeff());
+        const double s = m > 0 ? std::ldexp(1.0, std::min(-std::ilogb(m), 1000)) : 0;
         const Vec3 f1 = s * e1, f2 = s * e2;
-        if (!(f1.cross(f2).norm() > 1e-12 * f1.norm() * f2.norm()))
+        if (!(m > 0) || !(f1.cross(f2).norm() > 1e-12 * f1.norm() * f2.norm()))
             fail(file, place, "zero area (collinear vertices): degenerate triangle");
         // The normal is the cross product normalised: its squared length must not underflow.
         if (!(c * c >= std::numeric_limits<double>::min()))

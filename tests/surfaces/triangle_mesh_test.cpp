@@ -191,7 +191,7 @@ TEST(TriangleMesh, ValidateNamesTheFace) {
               "big.ply: face 0: area is not finite (coordinates too large)");
     // Tiny triangles are judged by their shape (the products of edges of 1e-90 underflow, and
     // were called collinear); below an area of 1e-154 the normal's squared length underflows.
-    for (const double scale : {1e-70, 1e-90, 1e-300}) {
+    for (const double scale : {1e-70, 1e-90, 1e-300, 1e-310}) {  // (1e-310: subnormal)
         m = tetrahedron();
         for (Vec3& p : m.p) p *= scale;
         EXPECT_EQ(messageOf([&] { validateMesh(m, "tiny.ply"); }),
@@ -204,6 +204,10 @@ TEST(TriangleMesh, ValidateNamesTheFace) {
                   "tiny.ply: face 0: zero area (collinear vertices): degenerate triangle")
             << scale;
     }
+    m = tetrahedron();         // three vertices at one point (found by the OBJ fuzzer: the scale's
+    m.p[1] = m.p[2] = m.p[0];  // exponent was −ilogb(0), a negated INT_MIN)
+    EXPECT_EQ(messageOf([&] { validateMesh(m, "point.ply"); }),
+              "point.ply: face 0: zero area (collinear vertices): degenerate triangle");
 }
 
 // Whether a triangle is degenerate does not depend on which vertex is listed first: a needle
