@@ -92,10 +92,8 @@ RenderSettings readSettings(JsonReader r) {
             : mis == "none" ? MisHeuristic::None
                             : MisHeuristic::Balance;
     s.productOrder = r.integer("product_order", s.productOrder, 1, ProductSampler::kMaxOrder);
-    if (r.has("product_depth"))
-        s.productDepth = r.integer("product_depth", 0, 0, 12);
-    else
-        r.note("product_depth", "auto");  // ⌈log₂ order⌉ + 2 in [3, 9], chosen by the sampler
+    // "auto", the default: ⌈log₂ order⌉ + 2 in [3, 9], chosen by the sampler (−1).
+    s.productDepth = r.integerOrAuto("product_depth", 0, 12).value_or(-1);
     JsonReader rc = r.objectOrEmpty("radiance_cache");
     RadianceCacheSettings& c = s.radianceCache;
     c.enabled = rc.boolean("enabled", c.enabled);
@@ -366,7 +364,10 @@ Scene readScene(const Json& doc, const std::string& path, Json* resolved, Conten
     if (r.has("environment"))
         scene.environment = readEnvironment(r.object("environment"), scene.settings, contents);
     else
-        r.note("environment", {{"type", "constant"}, {"radiance", 0}});  // none: black
+        r.note("environment", {{"type", "constant"},  // none: black, as readEnvironment has it
+                               {"lower_hemisphere_black", false},
+                               {"wavelet_coefficients", 0},
+                               {"radiance", 0}});
     std::vector<Surface> surfaces;
     std::map<std::string, size_t> names;
     readArray(r, "surfaces", resolved, [&](JsonReader& sr, size_t i) {

@@ -173,6 +173,30 @@ TEST(SceneLoader, RouletteThreshold) {
     EXPECT_EQ(resolved["render"]["rr_threshold"], "auto");
 }
 
+// The resolved scene of the stats file loads back as the scene it resolves: every shipped scene,
+// and with the keys the defaults leave out or at "auto" set (render.product_depth was written as
+// "auto", which the loader refused).
+TEST(SceneLoader, ResolvedSceneLoadsBackAsItself) {
+    const std::string media = std::string(SHVOL_SOURCE_DIR) + "/media/";
+    const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
+        {"default.json", {}},
+        {"plume.json", {"render.light_sampling=\"product\"", "media[0].majorant_cell=2"}},
+        {"sunlit_cloud.json", {"render.light_sampling=\"product\"", "render.product_depth=4"}},
+        {"cloud_ground.json", {}},
+        {"cornell.json", {"render.radiance_cache.enabled=true"}},
+        {"cornell_fog.json", {}},
+        {"milk_glass.json", {}},
+    };
+    for (const auto& [file, sets] : cases) {
+        SCOPED_TRACE(file);
+        const std::string path = media + file;
+        Json resolved, again;
+        loadScene(path, sets, &resolved);
+        EXPECT_EQ(test::messageOf([&] { sceneFromJson(resolved, path, &again); }), "(no error)");
+        EXPECT_EQ(dumpJson(again), dumpJson(resolved));
+    }
+}
+
 // The resolved scene holds every value the loader read, defaults filled in.
 TEST(SceneLoader, ResolvedSceneFillsInDefaults) {
     const Json doc = Json::parse(R"({"render": {"spp": 3},
@@ -189,7 +213,10 @@ TEST(SceneLoader, ResolvedSceneFillsInDefaults) {
     // A vector default's integral components are integers too, as a reader writes them.
     EXPECT_EQ(dumpJson(resolved["camera"]["position"]), "[0,-4,0]");
     EXPECT_EQ(dumpJson(resolved["media"][0]["albedo"]), "[1,1,1]");
-    EXPECT_EQ(resolved["environment"], Json({{"type", "constant"}, {"radiance", 0}}));
+    EXPECT_EQ(resolved["environment"], Json({{"type", "constant"},
+                                             {"lower_hemisphere_black", false},
+                                             {"wavelet_coefficients", 0},
+                                             {"radiance", 0}}));
     const Json& m = resolved["media"][0];
     EXPECT_EQ(m["sigma_t"], 1.0);
     EXPECT_EQ(m["shape"]["type"], "box");
