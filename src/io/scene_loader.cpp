@@ -192,9 +192,15 @@ Bsdf readBsdf(JsonReader r) {
             // One roughness or two: with both, which one wins would be a guess.
             if (r.has("alpha") && (r.has("alpha_x") || r.has("alpha_y")))
                 r.error("alpha", "give alpha (isotropic) or alpha_x and alpha_y, not both");
-            const double a = r.number("alpha", 0.1, 1e-4, 10);
-            b = Bsdf::ward(rd, rs, r.number("alpha_x", a, 1e-4, 10),
-                           r.number("alpha_y", a, 1e-4, 10));
+            // Only the keys of the form given are read (and resolved): the resolved scene of an
+            // isotropic lobe with alpha_x and alpha_y filled in too was refused on reload.
+            if (r.has("alpha_x") || r.has("alpha_y")) {
+                b = Bsdf::ward(rd, rs, r.number("alpha_x", 0.1, 1e-4, 10),
+                               r.number("alpha_y", 0.1, 1e-4, 10));
+            } else {
+                const double a = r.number("alpha", 0.1, 1e-4, 10);
+                b = Bsdf::ward(rd, rs, a, a);
+            }
         }
     } else if (type == "mirror") {
         b = Bsdf::mirror(spectrum(r, "reflectance", 1, 0, 1));

@@ -178,7 +178,7 @@ TEST(SceneLoader, RouletteThreshold) {
 // "auto", which the loader refused).
 TEST(SceneLoader, ResolvedSceneLoadsBackAsItself) {
     const std::string media = std::string(SHVOL_SOURCE_DIR) + "/media/";
-    const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
+    std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
         {"default.json", {}},
         {"plume.json", {"render.light_sampling=\"product\"", "media[0].majorant_cell=2"}},
         {"sunlit_cloud.json", {"render.light_sampling=\"product\"", "render.product_depth=4"}},
@@ -187,9 +187,31 @@ TEST(SceneLoader, ResolvedSceneLoadsBackAsItself) {
         {"cornell_fog.json", {}},
         {"milk_glass.json", {}},
     };
+    // And a scene of every surface, BSDF, medium and phase function type, its keys at their
+    // defaults (the loader fills them in) or given.
+    const std::string every = test::privateTempPath("resolved_every") + ".json";
+    std::ofstream(every) << R"({"environment": {"type": "constant", "radiance": 0.5},
+      "surfaces": [
+        {"type": "rectangle", "bsdf": {"type": "ward", "alpha": 0.2}},
+        {"type": "rectangle", "bsdf": {"type": "ward", "alpha_x": 0.1, "alpha_y": 0.3}},
+        {"type": "disk", "bsdf": {"type": "phong"}},
+        {"type": "sphere", "center": [0, 0, 3], "bsdf": {"type": "dielectric"}},
+        {"type": "rectangle", "bsdf": {"type": "mirror"}, "emission": 1},
+        {"type": "sphere", "center": [0, 0, 6], "bsdf": {"type": "null"}}],
+      "media": [
+        {"type": "homogeneous", "shape": {"type": "sphere"}, "phase": {"type": "isotropic"}},
+        {"type": "homogeneous", "shape": {}, "phase": {"type": "two_term_hg", "g1": 0.5,
+         "g2": -0.3, "w": 0.7}},
+        {"type": "homogeneous", "shape": {}, "phase": {"type": "rayleigh", "sampling": "sh"}},
+        {"type": "homogeneous", "shape": {}, "phase": {"type": "schlick", "k": 0.4}},
+        {"type": "homogeneous", "shape": {}, "phase": {"type": "cornette_shanks", "g": 0.8,
+         "sampling": "sh", "order": 12, "evaluate": "exact"}},
+        {"type": "homogeneous", "boundary": 5, "phase": {"type": "tabulated",
+         "file": ")" + media + R"(phase/mie_like.csv"}}]})";
+    cases.push_back({every, {}});
     for (const auto& [file, sets] : cases) {
         SCOPED_TRACE(file);
-        const std::string path = media + file;
+        const std::string path = file.front() == '/' ? file : media + file;
         Json resolved, again;
         loadScene(path, sets, &resolved);
         EXPECT_EQ(test::messageOf([&] { sceneFromJson(resolved, path, &again); }), "(no error)");
