@@ -545,6 +545,9 @@ std::string JsonReader::inputFile(const std::string& key, const std::string& dir
     namespace fs = std::filesystem;
     const std::string name = string(key);
     if (name.empty()) error(key, "expected a file name, got an empty string");
+    // (JSON allows \u0000; the system's calls would read the name only up to it.)
+    if (name.find('\0') != std::string::npos)
+        error(key, "the file name contains a NUL character (\\u0000)");
     const std::string path = fs::path(name).is_absolute() || dir.empty()
                                  ? name
                                  : (fs::path(dir) / name).lexically_normal().string();

@@ -2055,6 +2055,11 @@ TEST_F(Cli, BatchOutputMustBeADirectory) {
     EXPECT_EQ(r.code, 1);
     EXPECT_EQ(r.err, "shvol: error: " + path("empty.json") +
                          ": output: expected a directory name, got an empty string\n");
+    write("nul.json", R"({"scene": "s.json", "output": "runs\u0000x"})");
+    r = run("batch " + path("nul.json") + " --quiet --dry-run");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "shvol: error: " + path("nul.json") +
+                         ": output: the directory name contains a NUL character (\\u0000)\n");
     r = run("batch " + path("sweep.json") + " --quiet --output " + path("new/runs"));
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_TRUE(fs::is_directory(path("new/runs")));

@@ -130,6 +130,19 @@ TEST(JsonReader, DuplicateKeysAndNulBytesAreRefused) {
               "(no error)");
 }
 
+// A file name with an escaped NUL (\u0000, valid JSON) is refused: the system's calls would read
+// the name up to it, and a scene naming "sky.exr\u0000x" rendered sky.exr with exit code 0 while
+// its stats recorded a path that names no file (helper 54).
+TEST(JsonReader, FileNamesWithANulCharacterAreRefused) {
+    const std::string dir = testing::TempDir();
+    std::ofstream(dir + "/sky.exr") << "x";
+    const Json doc = Json::parse(R"({"file": "sky.exr\u0000x", "ok": "sky.exr"})");
+    JsonReader r(doc, "scene.json", "environment");
+    EXPECT_EQ(messageOf([&] { r.inputFile("file", dir); }),
+              "scene.json: environment.file: the file name contains a NUL character (\\u0000)");
+    EXPECT_EQ(r.inputFile("ok", dir), (std::filesystem::path(dir) / "sky.exr").lexically_normal());
+}
+
 TEST(JsonReader, Overrides) {
     Json j = Json::parse(R"({"render": {"spp": 4}, "media": [{"g": 0}]})");
     applyOverride(j, "render.spp=64", "s.json");
