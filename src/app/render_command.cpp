@@ -119,6 +119,24 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
     return w;
 }
 
+/// A light sampler other than the default asked for (render.light_sampling) where next-event
+/// estimation, which draws its samples, is off: it would go unused without a word (the stats'
+/// effects alone showed it). "" when it is used, or not asked for.
+std::string unusedLightSamplingWarning(const Scene& scene, const Effects& effects) {
+    const RenderSettings& s = scene.settings;
+    if (s.lightSampling == LightSampling::Environment || effects.nextEvent) return "";
+    const Environment& env = scene.environment;
+    const std::string why =
+        s.nee == false     ? "render.nee is false"
+        : !effects.bounces ? "no path scatters or reflects"
+        : env.isConstant() && env.constantRadiance().maxCoeff() <= 0
+            ? "the environment is black"
+            : "render.nee \"auto\" leaves it off under a constant sky, where phase sampling "
+              "does better; set render.nee to true to use it";
+    return std::string("render.light_sampling: \"") + lightSamplingName(s.lightSampling) +
+           "\" is not used: next-event estimation, which draws its samples, is off (" + why + ")";
+}
+
 /// Warnings only the render can give: a radiance cache whose BRDF tables hold the BRDF poorly (a
 /// sharp lobe at a low HSH order: the cached light is then too dark or blurred), naming each
 /// such surface.
@@ -418,10 +436,13 @@ int runRender(const RenderArgs& a) {
             final = outputsFor(out, "");
             warnings = phaseWarnings(scene);
             for (std::string& w : surfaceWarnings(scene)) warnings.push_back(std::move(w));
-            if (scene.settings.radianceCache.enabled && !Effects::of(scene).radianceCache)
+            const Effects effects = Effects::of(scene);
+            if (scene.settings.radianceCache.enabled && !effects.radianceCache)
                 warnings.push_back(
                     "render.radiance_cache: enabled, but no surface has a BSDF the cache holds "
                     "(lambert, phong, ward), or max_depth is 0: the render runs without it");
+            if (const std::string w = unusedLightSamplingWarning(scene, effects); !w.empty())
+                warnings.push_back(w);
             provenance = {{"scene_resolved", resolved},
                           {"inputs", inputFiles(doc, a.scene)},
                           {"overrides", a.sets},

@@ -941,6 +941,33 @@ TEST_F(Cli, BadOverridesAndOutputs) {
 
 // A radiance cache that cannot be used, or whose BRDF table holds a sharp lobe poorly (the cached
 // light then comes out too dark), is said, on stderr and in the stats.
+// A light sampler asked for where next-event estimation is off goes unused: the render says so
+// and why, once (it said nothing; only the stats' effects showed it; helper 54). Where NEE is on,
+// or the default sampler is left, nothing is said.
+TEST_F(Cli, RenderWarnsOfAnUnusedLightSampler) {
+    write("s.json", scene(Homogeneous));
+    const std::string warning = "shvol: warning: " + path("s.json") +
+                                ": render.light_sampling: \"product\" is not used: next-event "
+                                "estimation, which draws its samples, is off (";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"",
+         "render.nee \"auto\" leaves it off under a constant sky, where phase sampling does "
+         "better; set render.nee to true to use it)\n"},
+        {" --set render.nee=false", "render.nee is false)\n"},
+        {" --set environment.radiance=0", "the environment is black)\n"},
+        {" --set media[0].albedo=0", "no path scatters or reflects)\n"},
+        {" --set render.nee=true", ""},
+    };
+    for (const auto& [sets, why] : cases) {
+        const Result r = run("render " + path("s.json") + " -o " + path("a.exr") +
+                             " --quiet --set render.light_sampling=\"product\"" + sets);
+        EXPECT_EQ(r.code, 0) << r.err;
+        EXPECT_EQ(r.err, why.empty() ? "" : warning + why) << sets;
+    }
+    const Result r = run("render " + path("s.json") + " -o " + path("a.exr") + " --quiet");
+    EXPECT_EQ(r.err, "");
+}
+
 TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
     auto sceneWith = [](const std::string& bsdf) {
         return R"({"camera": {"resolution": [4, 4], "position": [0, -3, 1], "target": [0, 0, 0]},
