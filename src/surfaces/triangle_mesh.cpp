@@ -122,10 +122,11 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshP
         const Vec3 f1 = s * e1, f2 = s * e2;
         if (!(m > 0) || !(f1.cross(f2).norm() > 1e-12 * f1.norm() * f2.norm()))
             fail(file, place, "zero area (collinear vertices): degenerate triangle");
-        // The normal is the cross product normalised: its squared length must not underflow.
+        // The normal is the cross product normalised: its squared length must not underflow
+        // (c ≥ √DBL_MIN = 1.49·10⁻¹⁵⁴, an area of 7.5·10⁻¹⁵⁵).
         if (!(c * c >= std::numeric_limits<double>::min()))
             fail(file, place,
-                 "area below 1e-154, too small for double precision: scale the mesh up");
+                 "area below 7.5e-155, too small for double precision: scale the mesh up");
     }
 }
 

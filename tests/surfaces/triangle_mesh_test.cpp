@@ -190,14 +190,16 @@ TEST(TriangleMesh, ValidateNamesTheFace) {
     EXPECT_EQ(messageOf([&] { validateMesh(m, "big.ply"); }),
               "big.ply: face 0: area is not finite (coordinates too large)");
     // Tiny triangles are judged by their shape (the products of edges of 1e-90 underflow, and
-    // were called collinear); below an area of 1e-154 the normal's squared length underflows.
-    for (const double scale : {1e-70, 1e-90, 1e-300, 1e-310}) {  // (1e-310: subnormal)
+    // were called collinear); below an area of 7.5e-155 the normal's squared length underflows:
+    // face 0 is a right triangle with legs `scale`, of area scale²/2 (1.3e-77: 8.5e-155; 1.2e-77:
+    // 7.2e-155).
+    for (const double scale : {1e-70, 1.3e-77, 1.2e-77, 1e-90, 1e-300, 1e-310}) {
         m = tetrahedron();
         for (Vec3& p : m.p) p *= scale;
         EXPECT_EQ(messageOf([&] { validateMesh(m, "tiny.ply"); }),
-                  scale > 1e-77 ? "(no error)"
-                                : "tiny.ply: face 0: area below 1e-154, too small for double "
-                                  "precision: scale the mesh up")
+                  scale > 1.25e-77 ? "(no error)"
+                                   : "tiny.ply: face 0: area below 7.5e-155, too small for double "
+                                     "precision: scale the mesh up")
             << scale;
         m.p[2] = m.p[0] + 2 * (m.p[1] - m.p[0]);  // collinear at any scale
         EXPECT_EQ(messageOf([&] { validateMesh(m, "tiny.ply"); }),
