@@ -714,17 +714,21 @@ std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc) {
     if (grid->background() != 0.f)
         fail(path, where, "background value must be 0, is " + std::to_string(grid->background()));
 
-    // Index → grid world (OpenVDB multiplies row vectors: w = [i j k 1]·M), then → scene.
-    openvdb::Mat4d m;
-    try {  // OpenVDB throws ArithmeticError for a (nearly) singular map
-        m = grid->transform().baseMap()->getAffineMap()->getMat4();
-    } catch (const std::exception& e) {
-        fail(path, where, std::string("bad transform (") + e.what() + ")");
+    // Index → grid world, x ↦ J·x + t: the linear base map's Jacobian (its matrix without the
+    // translation) on the unit vectors, and its image of the origin. (Through getAffineMap(), a
+    // voxel smaller than about 1.5·10⁻⁵ was refused: AffineMap calls a matrix of determinant below
+    // about 10⁻¹⁵ nearly singular. The scene's transform below may scale it back up.)
+    Eigen::Affine3d gridToWorld = Eigen::Affine3d::Identity();
+    const openvdb::math::MapBase& map = *grid->transform().baseMap();
+    for (int c = 0; c < 3; ++c) {
+        openvdb::Vec3d unit(0, 0, 0);
+        unit[c] = 1;
+        const openvdb::Vec3d col = map.applyJacobian(unit);
+        gridToWorld.linear().col(c) = Vec3(col.x(), col.y(), col.z());
     }
-    Eigen::Matrix4d a;
-    for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) a(r, c) = m(c, r);
-    const Eigen::Affine3d indexToWorld = desc.toWorld * Eigen::Affine3d(a);
+    const openvdb::Vec3d t = map.applyMap(openvdb::Vec3d(0, 0, 0));
+    gridToWorld.translation() = Vec3(t.x(), t.y(), t.z());
+    const Eigen::Affine3d indexToWorld = desc.toWorld * gridToWorld;
     const Eigen::Affine3d worldToIndex = indexToWorld.inverse();
     if (!indexToWorld.matrix().allFinite() || !worldToIndex.matrix().allFinite() ||
         !(std::abs(indexToWorld.linear().determinant()) > 0))

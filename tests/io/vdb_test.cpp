@@ -525,19 +525,56 @@ TEST(Vdb, DamagedFilesAreRefusedBeforeOpenVdbReadsThem) {
         << m;
 
     // A scale of 0 in the grid's transform: OpenVDB's getAffineMap threw
-    // openvdb::ArithmeticError, which escaped loadVdbMedium.
+    // openvdb::ArithmeticError, which escaped loadVdbMedium; the map's Jacobian is now read.
     b = sphere;
     const size_t map = treeStart(sphere, "UniformScaleTranslateMap", 0);
     for (int i = 0; i < 3; ++i) put<double>(b, map + 24 + 8 * i, 0.0);
     m = loadMessage("damaged.vdb", b);
     EXPECT_EQ(m, tmp("damaged.vdb") +
-                     ": grid 'density': bad transform (ArithmeticError: Tried to initialize an "
-                     "affine transform from a nearly singular matrix)");
+                     ": grid 'density': the transform (with the scene's) is singular or not "
+                     "finite");
 
     // Truncated: the descriptor's offsets point past the end.
     m = loadMessage("damaged.vdb", seedBytes("bad_truncated.vdb"));
     EXPECT_EQ(m.rfind(prefix + "inconsistent offsets in the descriptor of grid 'density'", 0), 0u)
         << m;
+}
+
+// A grid's voxels can be of any size the scene's transform brings back: voxels below about
+// 1.5·10⁻⁵ were refused as "bad transform (… nearly singular matrix)", OpenVDB's getAffineMap
+// refusing a determinant below about 10⁻¹⁵ (helper 55). The seed sphere with its map (translation,
+// then scale) multiplied by k, seen through a scene scale of 1/k, is the same medium for voxels of
+// 1.25·10⁻⁶, 1.25·10⁻⁹ and 1.25·10⁹. (OpenVDB's own writer refuses such small voxels, so the
+// file's map is changed in place.)
+TEST(Vdb, VoxelsOfAnySize) {
+    const std::string sphere = seedBytes("sphere8_blosc.vdb");
+    const size_t map = treeStart(sphere, "UniformScaleTranslateMap", 0);
+    ASSERT_GT(map, 0u);
+    const auto scaled = [&](double k) {
+        std::string b = sphere;
+        for (int i = 0; i < 6; ++i) {
+            double v;
+            std::memcpy(&v, &b[map + 8 * i], 8);
+            put<double>(b, map + 8 * i, k * v);
+        }
+        VdbMediumDesc d;
+        d.file = tmp("voxels.vdb");
+        std::ofstream(d.file, std::ios::binary) << b;
+        d.densityScale = 3;
+        d.toWorld = Eigen::Affine3d(Eigen::Scaling(1 / k));
+        return loadVdbMedium(d);
+    };
+    const auto unit = scaled(1);
+    for (const double k : {1e-5, 1e-8, 1e10}) {
+        std::unique_ptr<Medium> m;
+        ASSERT_EQ(messageOf([&] { m = scaled(k); }), "(no error)") << k;
+        for (const Vec3& p : {Vec3(0, 0, 0), Vec3(0.1, -0.2, 0.05), Vec3(0.2, 0.1, 0.1)}) {
+            ASSERT_GT(unit->sigmaT(p), 0) << p.transpose();
+            EXPECT_NEAR(m->sigmaT(p), unit->sigmaT(p), 1e-6 * unit->sigmaT(p)) << k;
+        }
+        const Ray r{{-2, 0.05, 0}, {1, 0, 0}};
+        EXPECT_NEAR(opticalDepth(*m, r, 4, 4000), opticalDepth(*unit, r, 4, 4000), 1e-6) << k;
+    }
 }
 
 // One root tile of a 586-byte file covers 4096³ voxels. Its majorant grid at 8-voxel cells would
