@@ -32,7 +32,8 @@ void addParts(const Json& v, const std::string& name, int depth, Json& parts) {
     const bool ofObjects = v.is_array() && std::any_of(v.begin(), v.end(),
                                                        [](const Json& e) { return e.is_object(); });
     if (depth >= 3 || !(v.is_object() || ofObjects)) {
-        const std::string text = dumpJson(v);
+        // As numbers, not as written: 40.0 and 40 are one value (canonicalJson).
+        const std::string text = canonicalJson(v);
         parts[name] = hexHash(fnv1a(text.data(), text.size()));
     } else if (v.is_object()) {
         for (auto it = v.begin(); it != v.end(); ++it)

@@ -419,11 +419,17 @@ int JsonReader::integer(const std::string& key, int def, int lo, int hi) {
         return def;
     }
     const Json& v = j_.at(key);
-    if (!v.is_number_integer())
-        error(key, "expected an integer, got " + typeName(v) + " " + brief(v));
+    // An integral number written with a fraction or an exponent (4.0, 4e0) is that integer: JSON
+    // numbers have no kind, and a sweep's values compare as numbers (canonicalJson).
+    const bool integral =
+        v.is_number_integer() || (v.is_number_float() && std::isfinite(v.get<double>()) &&
+                                  v.get<double>() == std::floor(v.get<double>()));
+    if (!integral) error(key, "expected an integer, got " + typeName(v) + " " + brief(v));
+    if (v.is_number_float() && !(v.get<double>() >= lo && v.get<double>() <= hi))
+        rangeError(key, "value", dumpJson(v), lo, hi);
     if (v.is_number_unsigned() && v.get<unsigned long long>() > (unsigned long long)hi)
         rangeError(key, "value", dumpJson(v), lo, hi);
-    const long long x = v.get<long long>();
+    const long long x = v.is_number_float() ? (long long)v.get<double>() : v.get<long long>();
     if (x < lo || x > hi) rangeError(key, "value", dumpJson(v), lo, hi);
     note(key, x);
     return int(x);

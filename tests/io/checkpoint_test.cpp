@@ -181,6 +181,8 @@ TEST(Checkpoint, IdentityIgnoresOnlyTheSampleCount) {
               "scene value render.seed differs (scene file, --set or --seed)");
     EXPECT_EQ(identityDifference(id0, id({"camera.fov=31", "media[0].phase.type=hg"})),
               "scene values camera.fov and media[0].phase differ (scene file, --set or --seed)");
+    // Numbers compare as numbers, however written (40.0 was refused against 40; helper 55).
+    EXPECT_EQ(identityDifference(id0, id({"camera.fov=30.0", "render.seed=1e0"})), "");
     // A value only one of them has differs too.
     EXPECT_EQ(identityDifference(id0, id({"camera.up=[0,0,1]"})),
               "scene value camera.up differs (scene file, --set or --seed)");

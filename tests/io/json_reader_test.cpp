@@ -46,6 +46,16 @@ TEST(JsonReader, ErrorsNameFileAndPath) {
               "scene.json: media[0].phase.g: expected a number, got string \"high\"");
     EXPECT_EQ(messageOf([&] { r.integer("n", 0, 0, 10); }),
               "scene.json: media[0].n: expected an integer, got number 1.5");
+    // An integral number written otherwise is that integer, range-checked as one.
+    const Json k = Json::parse(R"({"a": 4.0, "b": 4e0, "c": -0.0, "d": 1e300, "e": 11.0})");
+    JsonReader rk(k, "scene.json", "render");
+    EXPECT_EQ(rk.integer("a", 0, 0, 10), 4);
+    EXPECT_EQ(rk.integer("b", 0, 0, 10), 4);
+    EXPECT_EQ(rk.integer("c", 1, 0, 10), 0);
+    EXPECT_EQ(messageOf([&] { rk.integer("d", 0, 0, 10); }),
+              "scene.json: render.d: value 1e+300 out of range [0, 10]");
+    EXPECT_EQ(messageOf([&] { rk.integer("e", 0, 0, 10); }),
+              "scene.json: render.e: value 11.0 out of range [0, 10]");
     EXPECT_EQ(messageOf([&] { r.vec3("v"); }),
               "scene.json: media[0].v[1]: expected a number, got string");
     EXPECT_EQ(messageOf([&] { r.number("absent"); }),
