@@ -175,6 +175,20 @@ int main(int argc, char** argv) {
             g->setName("density");
             writeVdbVariant(vdb + "root_tile.vdb", {g}, openvdb::io::COMPRESS_ACTIVE_MASK);
         }
+        {
+            // Values at every level: 32 × 32 root tiles in a slab (OpenVDB's tree iterator took
+            // time quadratic in their number), a 128³ and an 8³ tile, and a sphere's voxels;
+            // tile (i, j) holds 1 + ((i + 3j) mod 7)/4.
+            auto g = sphereGrid(4, "density");
+            for (int i = 0; i < 32; ++i)
+                for (int j = 0; j < 32; ++j)
+                    g->tree().addTile(3, openvdb::Coord(4096 * (i + 1), 4096 * j, 0),
+                                      1 + float((i + 3 * j) % 7) / 4, true);
+            g->tree().addTile(2, openvdb::Coord(0, 0, 128), 0.75f, true);
+            g->tree().addTile(1, openvdb::Coord(64, 0, 0), 0.5f, true);
+            g->setTransform(openvdb::math::Transform::createLinearTransform(1.0));
+            writeVdbVariant(vdb + "every_level.vdb", {g}, openvdb::io::COMPRESS_ACTIVE_MASK);
+        }
         writeVdbVariant(vdb + "bad_named_smoke.vdb", {sphereGrid(4, "smoke")},
                         openvdb::io::COMPRESS_ACTIVE_MASK);
         {
