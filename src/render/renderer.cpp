@@ -208,7 +208,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
         if (stopped) break;
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - passStart).count();
-        if (options.maxPassSeconds > 0 && seconds > 0)
+        if (options.maxPassSeconds >= 0 && seconds > 0)
             cap =
                 uint64_t(std::clamp(options.maxPassSeconds / seconds * (end - passEnd), 1.0, 1e18));
         passEnd = end;

@@ -111,9 +111,10 @@ TEST(Renderer, AfterPassSeesEveryPassAndStop) {
 }
 
 // Passes that would outlast maxPassSeconds stop doubling (a long render's last pass would hold half
-// its time, with no checkpoint in it): at a limit no pass can meet, every pass after the first is
-// one sample, stops included; at one every pass meets, they double as before. The image is the
-// same bit for bit.
+// its time, with no checkpoint in it): at a limit no pass can meet, 0 included (--checkpoint-
+// interval 0 left them doubling; helper 55), every pass after the first is one sample, stops
+// included; at one every pass meets, they double as without a limit. The image is the same bit
+// for bit.
 TEST(Renderer, MaxPassSecondsKeepsPassesShortWithoutChangingTheImage) {
     const auto passes = [](double maxPassSeconds, Image* image) {
         std::vector<uint32_t> seen;
@@ -128,11 +129,14 @@ TEST(Renderer, MaxPassSecondsKeepsPassesShortWithoutChangingTheImage) {
         *image = render(smallScene(11), opt).image;
         return seen;
     };
-    Image doubling, capped, unlimited;
-    EXPECT_EQ(passes(0, &doubling), (std::vector<uint32_t>{1, 2, 4, 6, 8, 11}));
+    Image doubling, capped, zero, unlimited;
+    EXPECT_EQ(passes(-1, &doubling), (std::vector<uint32_t>{1, 2, 4, 6, 8, 11}));
     EXPECT_EQ(passes(1e9, &unlimited), (std::vector<uint32_t>{1, 2, 4, 6, 8, 11}));
-    EXPECT_EQ(passes(1e-12, &capped), (std::vector<uint32_t>{1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11}));
+    const std::vector<uint32_t> everySample = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
+    EXPECT_EQ(passes(1e-12, &capped), everySample);
+    EXPECT_EQ(passes(0, &zero), everySample);
     expectSameImage(capped, doubling);
+    expectSameImage(zero, doubling);
     expectSameImage(unlimited, doubling);
 }
 

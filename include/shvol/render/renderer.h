@@ -31,10 +31,11 @@ struct RenderOptions {
     /// Extra pass ends (samples per pixel below spp): after each the film is exactly the film of
     /// a render with that many samples (progressive checkpoints, --spp 16,64,256).
     std::vector<uint32_t> stops;
-    /// > 0: passes stop doubling where the next would take longer than this many seconds at the
-    /// pace of the last one, and then take the samples that fit (at least 1). The image does not
-    /// depend on the passes; only how often afterPass comes does (--checkpoint-interval).
-    double maxPassSeconds = 0;
+    /// ≥ 0: passes stop doubling where the next would take longer than this many seconds at the
+    /// pace of the last one, and then take the samples that fit (at least 1; 0: every pass after
+    /// the first is one sample). < 0: passes double. The image does not depend on the passes;
+    /// only how often afterPass comes does (--checkpoint-interval).
+    double maxPassSeconds = -1;
     /// Accumulate per-pixel sums of squares too (Film::standardError).
     bool variance = false;
     /// Render only the pixel rows y with y mod parts = part (every sample of them, in the order
