@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iterator>
 
 #include "shvol/core/atomic_file.h"
@@ -85,6 +86,16 @@ Json renderIdentity(const Json& sceneDoc, const Json& inputFiles, const std::str
     Json scene = Json::object(), inputs = Json::object();
     Json doc = sceneDoc;
     if (doc.contains("render") && doc["render"].is_object()) doc["render"].erase("spp");
+    // The files' names: their contents are the inputs' part.
+    const std::function<void(Json&)> dropFileNames = [&](Json& v) {
+        if (v.is_object()) {
+            if (v.contains("file") && v["file"].is_string()) v.erase("file");
+            for (auto& [k, e] : v.items()) dropFileNames(e);
+        } else if (v.is_array()) {
+            for (Json& e : v) dropFileNames(e);
+        }
+    };
+    dropFileNames(doc);
     addParts(doc, "", 0, scene);
     for (const Json& f : inputFiles)
         if (f.at("key") != "(scene)") inputs[f.at("key").get<std::string>()] = f.at("fnv1a64");

@@ -181,6 +181,11 @@ TEST(Checkpoint, IdentityIgnoresOnlyTheSampleCount) {
               "scene value render.seed differs (scene file, --set or --seed)");
     EXPECT_EQ(identityDifference(id0, id({"camera.fov=31", "media[0].phase.type=hg"})),
               "scene values camera.fov and media[0].phase differ (scene file, --set or --seed)");
+    // One file named otherwise is the same input (its name was compared as text; helper 55).
+    EXPECT_EQ(identityDifference(id0, id({"media[0].phase.file=\"" + table + "\""})), "");
+    EXPECT_EQ(identityDifference(
+                  id0, id({"media[0].phase.file=\"" + testing::TempDir() + "./ckpt_table.csv\""})),
+              "");
     // Numbers compare as numbers, however written (40.0 was refused against 40; helper 55).
     EXPECT_EQ(identityDifference(id0, id({"camera.fov=30.0", "render.seed=1e0"})), "");
     // A value only one of them has differs too.

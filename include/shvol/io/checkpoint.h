@@ -27,9 +27,10 @@ namespace shvol {
 /// given as its default matches one left out) cut
 /// into parts named like the loader's messages ("camera.fov", "media[0].phase"): objects, and
 /// arrays of objects, are cut down to three levels, other values are whole parts. render.spp is
-/// left out (a checkpoint may be continued to more samples). "inputs" holds the contents' hashes
-/// of the files the scene names (inputFiles: grids, skies, tables; the scene file itself left
-/// out), by the key that names them. "build" is the shvol that renders (its git revision).
+/// left out (a checkpoint may be continued to more samples), and so are the names the `file` keys
+/// give: "inputs" holds the contents' hashes of the files the scene names (inputFiles: grids,
+/// skies, tables, meshes; the scene file itself left out), by the key that names them, so that
+/// one file named otherwise (another relative path, an absolute one) is the same render. "build" is the shvol that renders (its git revision).
 /// Everything else must match: a resumed render is then an uninterrupted one, bit for bit.
 Json renderIdentity(const Json& sceneDoc, const Json& inputFiles, const std::string& build);
 
