@@ -21,10 +21,11 @@ std::string trim(const std::string& s) {
     return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
 }
 
-/// The whole cell as a number (strtod also accepts "nan" and "inf", and turns 1e999 into inf:
-/// the caller rejects them; 1e-320 is the subnormal it is, though strtod sets ERANGE for it).
+/// The whole cell as a decimal number (strtod also accepts "nan" and "inf", and turns 1e999 into
+/// inf: the caller rejects them; 1e-320 is the subnormal it is, though strtod sets ERANGE for
+/// it). Hexadecimal (0x10), which strtod reads too, is not a number here, as in phase specs.
 bool parseNumber(const std::string& cell, double* x) {
-    if (cell.empty()) return false;
+    if (cell.empty() || cell.find_first_of("xX") != std::string::npos) return false;
     char* end = nullptr;
     *x = std::strtod(cell.c_str(), &end);
     return end == cell.c_str() + cell.size();

@@ -133,6 +133,9 @@ TEST(TabulatedCsv, OneLineErrors) {
     EXPECT_EQ(err("nonnum.csv", "angle,value\n0,1\n10,abc\n"),
               "line 3: value \"abc\" is not a number");
     EXPECT_EQ(err("nonnum_angle.csv", "0,1\nten,1\n"), "line 2: angle \"ten\" is not a number");
+    // Hexadecimal, which strtod reads, is refused as in phase specs (it was read; helper 55).
+    EXPECT_EQ(err("hex.csv", "0,1\n90,0x10\n180,1\n"), "line 2: value \"0x10\" is not a number");
+    EXPECT_EQ(err("hexangle.csv", "0,1\n0xB4,1\n"), "line 2: angle \"0xB4\" is not a number");
     EXPECT_EQ(err("neg.csv", "0,1\n# c\n90,-0.5\n180,1\n"), "line 3: negative value -0.5");
     EXPECT_EQ(err("nan.csv", "0,1\n90,nan\n180,1\n"), "line 2: value is not finite");
     EXPECT_EQ(err("order.csv", "0,1\n90,1\n90,2\n180,1\n"),
