@@ -88,12 +88,9 @@ Json renderIdentity(const Json& sceneDoc, const Json& inputFiles, const std::str
     if (doc.contains("render") && doc["render"].is_object()) doc["render"].erase("spp");
     // The files' names: their contents are the inputs' part.
     const std::function<void(Json&)> dropFileNames = [&](Json& v) {
-        if (v.is_object()) {
-            if (v.contains("file") && v["file"].is_string()) v.erase("file");
-            for (auto& [k, e] : v.items()) dropFileNames(e);
-        } else if (v.is_array()) {
+        if (v.is_object() && v.contains("file") && v["file"].is_string()) v.erase("file");
+        if (v.is_structured())
             for (Json& e : v) dropFileNames(e);
-        }
     };
     dropFileNames(doc);
     addParts(doc, "", 0, scene);

@@ -30,7 +30,8 @@ namespace shvol {
 /// left out (a checkpoint may be continued to more samples), and so are the names the `file` keys
 /// give: "inputs" holds the contents' hashes of the files the scene names (inputFiles: grids,
 /// skies, tables, meshes; the scene file itself left out), by the key that names them, so that
-/// one file named otherwise (another relative path, an absolute one) is the same render. "build" is the shvol that renders (its git revision).
+/// one file named otherwise (another relative path, an absolute one) is the same render.
+/// "build" is the shvol that renders (its git revision).
 /// Everything else must match: a resumed render is then an uninterrupted one, bit for bit.
 Json renderIdentity(const Json& sceneDoc, const Json& inputFiles, const std::string& build);
 
