@@ -174,8 +174,10 @@ TEST(SceneLoader, RouletteThreshold) {
 }
 
 // The resolved scene of the stats file loads back as the scene it resolves: every shipped scene,
-// and with the keys the defaults leave out or at "auto" set (render.product_depth was written as
-// "auto", which the loader refused).
+// some with keys the defaults leave out or at "auto" set, and one of every type. It did not:
+// render.product_depth was written as "auto", which the loader refused; a Ward lobe was written
+// with alpha, alpha_x and alpha_y together, which it refuses; an absent environment resolved to
+// fewer keys than the constant environment it stands for.
 TEST(SceneLoader, ResolvedSceneLoadsBackAsItself) {
     const std::string media = std::string(SHVOL_SOURCE_DIR) + "/media/";
     std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
