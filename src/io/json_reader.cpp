@@ -421,15 +421,14 @@ int JsonReader::integer(const std::string& key, int def, int lo, int hi) {
     const Json& v = j_.at(key);
     // An integral number written with a fraction or an exponent (4.0, 4e0) is that integer: JSON
     // numbers have no kind, and a sweep's values compare as numbers (canonicalJson).
-    const bool integral =
-        v.is_number_integer() || (v.is_number_float() && std::isfinite(v.get<double>()) &&
-                                  v.get<double>() == std::floor(v.get<double>()));
-    if (!integral) error(key, "expected an integer, got " + typeName(v) + " " + brief(v));
-    if (v.is_number_float() && !(v.get<double>() >= lo && v.get<double>() <= hi))
+    const double d = v.is_number_float() ? v.get<double>() : 0;
+    if (!v.is_number_integer() && !(v.is_number_float() && std::isfinite(d) && d == std::floor(d)))
+        error(key, "expected an integer, got " + typeName(v) + " " + brief(v));
+    // (Out of range before the conversion to an integer: 1e300 or 2^64 would not fit.)
+    if ((v.is_number_float() && !(d >= lo && d <= hi)) ||
+        (v.is_number_unsigned() && v.get<unsigned long long>() > (unsigned long long)hi))
         rangeError(key, "value", dumpJson(v), lo, hi);
-    if (v.is_number_unsigned() && v.get<unsigned long long>() > (unsigned long long)hi)
-        rangeError(key, "value", dumpJson(v), lo, hi);
-    const long long x = v.is_number_float() ? (long long)v.get<double>() : v.get<long long>();
+    const long long x = v.is_number_float() ? (long long)d : v.get<long long>();
     if (x < lo || x > hi) rangeError(key, "value", dumpJson(v), lo, hi);
     note(key, x);
     return int(x);
@@ -547,13 +546,18 @@ const Json& JsonReader::raw(const std::string& key) {
     return v;
 }
 
+std::string JsonReader::pathName(const std::string& key, const std::string& what,
+                                 std::optional<std::string> def) {
+    const std::string name = string(key, std::move(def));
+    if (name.empty()) error(key, "expected a " + what + " name, got an empty string");
+    if (name.find('\0') != std::string::npos)
+        error(key, "the " + what + " name contains a NUL character (\\u0000)");
+    return name;
+}
+
 std::string JsonReader::inputFile(const std::string& key, const std::string& dir) {
     namespace fs = std::filesystem;
-    const std::string name = string(key);
-    if (name.empty()) error(key, "expected a file name, got an empty string");
-    // (JSON allows \u0000; the system's calls would read the name only up to it.)
-    if (name.find('\0') != std::string::npos)
-        error(key, "the file name contains a NUL character (\\u0000)");
+    const std::string name = pathName(key, "file");
     const std::string path = fs::path(name).is_absolute() || dir.empty()
                                  ? name
                                  : (fs::path(dir) / name).lexically_normal().string();

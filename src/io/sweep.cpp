@@ -121,10 +121,8 @@ Sweep readSweep(const std::string& path, double maxRuns) {
     const std::vector<std::string> base = stringList(r, "set", path);
     std::vector<std::string> basePlaces;
     for (size_t i = 0; i < base.size(); ++i) basePlaces.push_back("set[" + std::to_string(i) + "]");
-    s.output = relativeTo(path, r.string("output", fs::path(path).stem().string() + "_results"));
-    if (s.output.empty()) r.error("output", "expected a directory name, got an empty string");
-    if (s.output.find('\0') != std::string::npos)
-        r.error("output", "the directory name contains a NUL character (\\u0000)");
+    s.output = relativeTo(
+        path, r.pathName("output", "directory", fs::path(path).stem().string() + "_results"));
     const bool zip = r.choice("combine", "grid", {"grid", "zip"}) == "zip";
     const int repeats = r.integer("repeats", 1, 1, 1000000);
     const double seed0 = r.wholeNumber("seed", 1, 0, 9007199254740992.0);

@@ -953,8 +953,6 @@ TEST_F(Cli, BadOverridesAndOutputs) {
     EXPECT_FALSE(fs::exists(path("out.exr")));
 }
 
-// A radiance cache that cannot be used, or whose BRDF table holds a sharp lobe poorly (the cached
-// light then comes out too dark), is said, on stderr and in the stats.
 // A light sampler asked for where next-event estimation is off goes unused: the render says so
 // and why, once (it said nothing; only the stats' effects showed it; helper 54). Where NEE is on,
 // or the default sampler is left, nothing is said.
@@ -982,6 +980,8 @@ TEST_F(Cli, RenderWarnsOfAnUnusedLightSampler) {
     EXPECT_EQ(r.err, "");
 }
 
+// A radiance cache that cannot be used, or whose BRDF table holds a sharp lobe poorly (the cached
+// light then comes out too dark), is said, on stderr and in the stats.
 TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
     auto sceneWith = [](const std::string& bsdf) {
         return R"({"camera": {"resolution": [4, 4], "position": [0, -3, 1], "target": [0, 0, 0]},

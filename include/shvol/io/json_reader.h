@@ -82,6 +82,11 @@ class JsonReader {
     /// relative (dir empty: as given), and an existing regular file; otherwise an error naming
     /// the key and the resolved path ("s.json: media[0].file: no such file: /data/c.vdb").
     std::string inputFile(const std::string& key, const std::string& dir);
+    /// string(key, def) as the name of a file or directory (`what`: "file", "directory"): an
+    /// empty name is refused, and so is one with a NUL character (JSON allows \u0000; the
+    /// system's calls would read the name only up to it).
+    std::string pathName(const std::string& key, const std::string& what,
+                         std::optional<std::string> def = {});
     /// One of the listed strings.
     std::string choice(const std::string& key, const std::string& def,
                        std::initializer_list<const char*> choices);
