@@ -10,13 +10,21 @@
 
 namespace shvol::app {
 
+namespace {
+/// Leading blanks, which strtoll and CLI11's number parsing skip (trailing ones they refuse):
+/// refused too, so that " 4" and "4 " get the same answer.
+bool startsBlank(const std::string& text) {
+    return !text.empty() && std::isspace(static_cast<unsigned char>(text.front()));
+}
+}  // namespace
+
 CLI::Validator numberIn(double lo, double hi, bool loOpen, const std::string& unit) {
     const std::string range = std::string(loOpen ? "(" : "[") + CLI::detail::to_string(lo) + ", " +
                               CLI::detail::to_string(hi) + "]" + unit;
     return CLI::Validator(
         [=](std::string& text) -> std::string {
             double v = 0;
-            if (!CLI::detail::lexical_cast(text, v) || !std::isfinite(v))
+            if (startsBlank(text) || !CLI::detail::lexical_cast(text, v) || !std::isfinite(v))
                 return "expected a number, got \"" + text + "\"";
             if (v < lo || v > hi || (loOpen && v <= lo))
                 return "must be in " + range + ", got " + text;
@@ -90,7 +98,7 @@ CLI::Validator integerIn(long long lo, long long hi) {
             errno = 0;
             char* end = nullptr;
             const long long v = std::strtoll(text.c_str(), &end, 10);
-            if (text.empty() || *end != '\0' || errno == ERANGE)
+            if (text.empty() || startsBlank(text) || *end != '\0' || errno == ERANGE)
                 return "expected an integer in " + range + ", got \"" + text + "\"";
             if (v < lo || v > hi) return "must be an integer in " + range + ", got " + text;
             return {};

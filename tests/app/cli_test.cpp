@@ -156,6 +156,13 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
         {"make-medium cloud -o " + path("m.vdb") + " --grid ''", "--grid: a grid needs a name"},
         {"render " + path("s.json") + " --spp abc",
          "--spp: expected an integer in [1, 16777216], got \"abc\""},
+        // Blanks around a number are refused on either side (" 4" was read as 4, "4 " not).
+        {"render " + path("s.json") + " --spp ' 4'",
+         "--spp: expected an integer in [1, 16777216], got \" 4\""},
+        {"render " + path("s.json") + " --spp '4, 16'",
+         "--spp: expected an integer in [1, 16777216], got \" 16\""},
+        {"render " + path("s.json") + " --time-limit ' 5'",
+         "--time-limit: expected a number, got \" 5\""},
         {"render " + path("s.json") + " --spp 16,4",
          "--spp: sample counts must increase, got 16,4"},
         {"render " + path("s.json") + " --spp 2 --spp 4", "--spp: given 2 times; give it once"},
