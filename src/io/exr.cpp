@@ -132,7 +132,23 @@ Image readExr(const std::string& path, ExrValues values) {
             fb.insert(rgb ? std::string(1, "RGB"[c]) : std::string("Y"),
                       Imf::Slice::Make(Imf::FLOAT, img.rgb.data() + c, dw, xs, ys));
         file.setFrameBuffer(fb);
-        file.readPixels(dw.min.y, dw.max.y);
+        try {
+            file.readPixels(dw.min.y, dw.max.y);
+        } catch (const std::exception& e) {
+            // OpenEXR's message names no row: the first one that cannot be read is found again,
+            // row by row in a fresh reader (OpenEXR keeps the chunk it decoded last, so this
+            // costs about one more read of the rows before it).
+            const std::string why = e.what();
+            Imf::InputFile again(path.c_str());
+            again.setFrameBuffer(fb);
+            int row = dw.min.y;
+            try {
+                for (; row <= dw.max.y; ++row) again.readPixels(row, row);
+            } catch (const std::exception&) {
+                fail(path, "scanline " + std::to_string(row), "not readable (" + why + ")");
+            }
+            throw;
+        }
         if (!rgb)
             for (size_t i = 0; i < img.rgb.size(); i += 3)
                 img.rgb[i + 1] = img.rgb[i + 2] = img.rgb[i];

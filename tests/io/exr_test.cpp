@@ -115,6 +115,24 @@ TEST(Exr, BadFilesGiveOneClearLine) {
               tmp("neg.exr") + ": pixel (2, 1): negative value");
 }
 
+// Pixel data that cannot be decoded is named by the first scanline that fails: OpenEXR's message
+// names no row. The last 16-row ZIP chunk of a smooth image (compressed, so its zlib stream has a
+// checksum) is damaged at its end; the rows before it read.
+TEST(Exr, DamagedPixelDataNamesTheScanline) {
+    Image img(8, 64);
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 8; ++x) img.set(x, y, Spectrum::Constant(0.25 * (x + y)));
+    writeExr(tmp("damaged.exr"), img);
+    std::string bytes = fileBytes(tmp("damaged.exr"));
+    for (size_t i = bytes.size() - 6; i < bytes.size(); ++i) bytes[i] = char(bytes[i] ^ 0x5a);
+    std::ofstream(tmp("damaged.exr"), std::ios::binary).write(bytes.data(), bytes.size());
+    EXPECT_EQ(messageOf([] {
+                  readExr(tmp("damaged.exr"));
+              }).rfind(tmp("damaged.exr") + ": scanline 48: not readable (", 0),
+              0u)
+        << messageOf([] { readExr(tmp("damaged.exr")); });
+}
+
 // +inf (what a render writes for a mean beyond the float range) is accepted only when asked for
 // (tonemap's previews); NaN and −inf never. Images to compare (diff) may hold ±inf and negative
 // values, never NaN.
