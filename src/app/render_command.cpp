@@ -20,6 +20,7 @@
 #include "shvol/core/progress.h"
 #include "shvol/io/checkpoint.h"
 #include "shvol/io/exr.h"
+#include "shvol/io/json_reader.h"
 #include "shvol/io/provenance.h"
 #include "shvol/io/scene_loader.h"
 #include "shvol/render/renderer.h"
@@ -417,6 +418,14 @@ int runRender(const RenderArgs& a) {
             const std::vector<uint32_t> sppList =
                 a.spp.empty() ? std::vector<uint32_t>{} : parseSppList(a.spp, refused);
             if (!refused.empty()) failOption("--spp", refused);
+            // --spp and --seed are applied after every --set: one that sets the same key too
+            // would have no effect, yet be recorded among the stats' overrides.
+            for (const std::string& set : a.sets) {
+                const std::string key = canonicalKeyPath(set.substr(0, set.find('=')));
+                const std::string twice = "--set " + set + " sets the same value; give it once";
+                if (!sppList.empty() && key == "render.spp") failOption("--spp", twice);
+                if (a.seed >= 0 && key == "render.seed") failOption("--seed", twice);
+            }
             nlohmann::json resolved;
             doc = sceneDocument(a.scene, a.sets);  // read once: scene, identity, inputs
             // --spp and --seed after the overrides, into a "render" object only: a scene or a

@@ -163,6 +163,12 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
          "--spp: expected an integer in [1, 16777216], got \" 16\""},
         {"render " + path("s.json") + " --time-limit ' 5'",
          "--time-limit: expected a number, got \" 5\""},
+        // --spp and --seed are applied after every --set: one that sets the same key too would
+        // have had no effect, yet be listed among the stats' overrides.
+        {"render " + path("s.json") + " --spp 2 --set render.spp=3",
+         "--spp: --set render.spp=3 sets the same value; give it once"},
+        {"render " + path("s.json") + " --set media[0].albedo=0.5 --set render.seed=3 --seed 7",
+         "--seed: --set render.seed=3 sets the same value; give it once"},
         {"render " + path("s.json") + " --spp 16,4",
          "--spp: sample counts must increase, got 16,4"},
         {"render " + path("s.json") + " --spp 2 --spp 4", "--spp: given 2 times; give it once"},
