@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <tuple>
 
 #include "shvol/core/error.h"
 
@@ -29,10 +30,6 @@ std::string str(const V& v) {
 /// Directed edge (a, b) as one sortable key.
 uint64_t edgeKey(uint32_t a, uint32_t b) {
     return (uint64_t(a) << 32) | b;
-}
-
-std::string edgeName(uint32_t a, uint32_t b) {
-    return "edge (" + std::to_string(a) + ", " + std::to_string(b) + ")";
 }
 
 }  // namespace
@@ -133,17 +130,30 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshP
 std::string closedMeshDefect(const TriangleMesh& mesh) {
     const size_t nt = mesh.triangleCount();
     if (nt == 0) return "the mesh has no triangles";
-    const std::vector<uint32_t>& ix = mesh.indices;
+    // Vertices welded by position: a file gives a vertex per distinct corner (an OBJ's v/vt/vn, a
+    // PLY's seams), so the faces of a flat-shaded cube share positions, not vertices. Each vertex
+    // stands for the first one at an equal position.
+    std::vector<uint32_t> order(mesh.p.size()), weld(mesh.p.size());
+    for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    const auto less = [&](uint32_t a, uint32_t b) {
+        const Vec3 &p = mesh.p[a], &q = mesh.p[b];
+        return std::tie(p.x(), p.y(), p.z(), a) < std::tie(q.x(), q.y(), q.z(), b);
+    };
+    std::sort(order.begin(), order.end(), less);
+    for (size_t k = 0; k < order.size(); ++k)
+        weld[order[k]] =
+            k > 0 && mesh.p[order[k]] == mesh.p[order[k - 1]] ? weld[order[k - 1]] : order[k];
+    const auto corner = [&](size_t f, int j) { return weld[mesh.indices[3 * f + j % 3]]; };
     for (size_t f = 0; f < nt; ++f)
-        if (ix[3 * f] == ix[3 * f + 1] || ix[3 * f + 1] == ix[3 * f + 2] ||
-            ix[3 * f + 2] == ix[3 * f])
+        if (corner(f, 0) == corner(f, 1) || corner(f, 1) == corner(f, 2) ||
+            corner(f, 2) == corner(f, 0))
             return "face " + std::to_string(f) + " repeats a vertex: degenerate triangle";
     // All directed edges, sorted: O(T log T). A closed oriented manifold has every key once and
     // the reverse of every key.
+    const auto edgeOf = [&](size_t f, int j) { return edgeKey(corner(f, j), corner(f, j + 1)); };
     std::vector<uint64_t> keys(3 * nt);
     for (size_t f = 0; f < nt; ++f)
-        for (int j = 0; j < 3; ++j)
-            keys[3 * f + j] = edgeKey(ix[3 * f + j], ix[3 * f + (j + 1) % 3]);
+        for (int j = 0; j < 3; ++j) keys[3 * f + j] = edgeOf(f, j);
     std::sort(keys.begin(), keys.end());
     const auto has = [&](uint64_t k) { return std::binary_search(keys.begin(), keys.end(), k); };
     const auto reverse = [](uint64_t k) { return (k << 32) | (k >> 32); };
@@ -155,9 +165,10 @@ std::string closedMeshDefect(const TriangleMesh& mesh) {
     }
     if (!twice && !open) return "";
     // A defect exists: name the first face that shows it, duplicates first (they explain the
-    // missing opposite edges that inconsistent winding also causes).
-    const auto edgeOf = [&](size_t f, int j) {
-        return edgeKey(ix[3 * f + j], ix[3 * f + (j + 1) % 3]);
+    // missing opposite edges that inconsistent winding also causes). Edges are named by their
+    // end points: the vertex numbers are the loader's, not the file's.
+    const auto edgeName = [&](uint64_t k) {
+        return "edge from " + str(mesh.p[k >> 32]) + " to " + str(mesh.p[uint32_t(k)]);
     };
     for (size_t f = 0; f < nt && twice; ++f)
         for (int j = 0; j < 3; ++j) {
@@ -168,15 +179,14 @@ std::string closedMeshDefect(const TriangleMesh& mesh) {
             while (other < nt && edgeOf(other, 0) != k && edgeOf(other, 1) != k &&
                    edgeOf(other, 2) != k)
                 ++other;
-            return edgeName(uint32_t(k >> 32), uint32_t(k)) + " of face " + std::to_string(f) +
-                   " appears twice (also in face " + std::to_string(other) +
-                   "): inconsistent winding or non-manifold";
+            return edgeName(k) + " of face " + std::to_string(f) + " appears twice (also in face " +
+                   std::to_string(other) + "): inconsistent winding or non-manifold";
         }
     for (size_t f = 0; f < nt; ++f)
         for (int j = 0; j < 3; ++j) {
             const uint64_t k = edgeOf(f, j);
             if (!has(reverse(k)))
-                return edgeName(uint32_t(k >> 32), uint32_t(k)) + " of face " + std::to_string(f) +
+                return edgeName(k) + " of face " + std::to_string(f) +
                        " has no opposite edge: the mesh is not closed";
         }
     return "";  // not reached

@@ -282,6 +282,12 @@ struct SurfaceFiles {
         // Inward-facing: the loader turns a boundary mesh outwards.
         std::ofstream(dir + "/inward.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
                                               "f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n";
+        // The same, flat-shaded: a normal per face, so no two faces share a vertex of the mesh
+        // (one per distinct v/vn corner), only positions.
+        std::ofstream(dir + "/inward_flat.obj")
+            << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+               "vn 0 0 1\nvn 0 1 0\nvn 1 0 0\nvn -1 -1 -1\n"
+               "f 1//1 2//1 3//1\nf 1//2 4//2 2//2\nf 1//3 3//3 4//3\nf 2//4 4//4 3//4\n";
     }
     Scene load(const std::string& json) const {
         return sceneFromJson(Json::parse(json), dir + "/scene.json");
@@ -399,12 +405,25 @@ TEST(SceneLoader, MediumBoundedByAClosedSurface) {
     EXPECT_GT(signedVolume(glass.mesh), 0);  // turned outwards
     EXPECT_TRUE(Effects::of(s).boundedMedia);
     EXPECT_EQ(s.media[0]->describe(), "homogeneous (inside its boundary)");
-    // A closed glass mesh without a medium faces outwards too.
-    EXPECT_GT(signedVolume(f.load(R"({"surfaces": [{"type": "mesh", "file": "inward.obj",
-                                                     "bsdf": {"type": "dielectric"}}]})")
-                               .surfaces->surfaces()[0]
-                               .mesh),
-              0);
+    // A closed glass mesh without a medium faces outwards too, flat-shaded or not (its faces
+    // meet at positions, not at shared vertices: it was refused as a boundary, "not closed", and
+    // left facing inwards as glass).
+    for (const char* file : {"inward.obj", "inward_flat.obj"}) {
+        EXPECT_GT(signedVolume(f.load(R"({"surfaces": [{"type": "mesh", "file": ")" +
+                                      std::string(file) + R"(", "bsdf": {"type": "dielectric"}}]})")
+                                   .surfaces->surfaces()[0]
+                                   .mesh),
+                  0)
+            << file;
+        EXPECT_GT(signedVolume(f.load(R"({"surfaces": [{"type": "mesh", "file": ")" +
+                                      std::string(file) + R"(", "name": "glass",
+                    "bsdf": {"type": "dielectric"}}],
+                    "media": [{"type": "homogeneous", "boundary": "glass"}]})")
+                                   .surfaces->surfaces()[0]
+                                   .mesh),
+                  0)
+            << file;
+    }
     // By index too.
     EXPECT_EQ(f.load(R"({"surfaces": [{"type": "sphere", "bsdf": {"type": "null"}}],
                          "media": [{"type": "homogeneous", "boundary": 0}]})")

@@ -74,7 +74,8 @@ TEST(TriangleMesh, OpenBoxIsDetected) {
     EXPECT_NO_THROW(validateMesh(m, "box.obj"));
     // Face 0 = (0, 4, 6): edge (4, 6) lay against the top triangle (4, 7, 6).
     EXPECT_EQ(closedMeshDefect(m),
-              "edge (4, 6) of face 0 has no opposite edge: the mesh is not closed");
+              "edge from (-1, -1, 1) to (-1, 1, 1) of face 0 has no opposite "
+              "edge: the mesh is not closed");
 }
 
 TEST(TriangleMesh, NonManifoldEdgeIsDetected) {
@@ -83,8 +84,8 @@ TEST(TriangleMesh, NonManifoldEdgeIsDetected) {
     m.indices.insert(m.indices.end(), {0, 1, 8});  // a fin on the cube's edge (0, 1)
     EXPECT_NO_THROW(validateMesh(m, "fin.obj"));
     EXPECT_EQ(closedMeshDefect(m),
-              "edge (0, 1) of face 4 appears twice (also in face 12): inconsistent winding or "
-              "non-manifold");
+              "edge from (-1, -1, -1) to (1, -1, -1) of face 4 appears twice (also in face 12): "
+              "inconsistent winding or non-manifold");
 }
 
 TEST(TriangleMesh, InconsistentWindingIsDetected) {
@@ -98,6 +99,40 @@ TEST(TriangleMesh, InconsistentWindingIsDetected) {
     m = cube();
     m.indices[4] = m.indices[3];
     EXPECT_EQ(closedMeshDefect(m), "face 1 repeats a vertex: degenerate triangle");
+}
+
+/// The cube with a vertex per corner of each face (24), as a file with a normal per face gives it.
+TriangleMesh cubeOfSeparateFaces() {
+    const TriangleMesh c = cube();
+    TriangleMesh m;
+    for (size_t k = 0; k < c.indices.size(); ++k) {
+        if (k % 6 == 3 || k % 6 == 4) continue;  // a quad's q0 q1 q2 (k % 6 = 0, 1, 2), q3 (5)
+        m.p.push_back(c.p[c.indices[k]]);
+    }
+    for (uint32_t q = 0; q < 6; ++q)
+        m.indices.insert(m.indices.end(),
+                         {4 * q, 4 * q + 1, 4 * q + 2, 4 * q, 4 * q + 2, 4 * q + 3});
+    return m;
+}
+
+// Closed is a property of positions: faces that meet at a position are joined whether or not
+// they share a vertex (the flat-shaded cube of any exporter was "not closed", and, wound
+// inwards, not turned outwards as a glass boundary).
+TEST(TriangleMesh, FacesMeetAtPositionsNotVertexNumbers) {
+    TriangleMesh m = cubeOfSeparateFaces();
+    ASSERT_EQ(m.p.size(), 24u);
+    ASSERT_EQ(m.triangleCount(), 12u);
+    EXPECT_EQ(signedVolume(m), 8.0);
+    EXPECT_EQ(closedMeshDefect(m), "");
+    flipWinding(m);
+    EXPECT_EQ(closedMeshDefect(m), "");
+    flip(m, 0);
+    EXPECT_NE(closedMeshDefect(m).find("inconsistent winding or non-manifold"), std::string::npos)
+        << closedMeshDefect(m);
+    m = cubeOfSeparateFaces();
+    m.p[0].x() = -1.0 + 1e-12;  // a crack: that corner of one face no longer meets the others
+    EXPECT_NE(closedMeshDefect(m).find("the mesh is not closed"), std::string::npos)
+        << closedMeshDefect(m);
 }
 
 /// A torus of nu × nv quads, two triangles each, facing outwards.

@@ -59,7 +59,9 @@ void widestAngleFirst(TriangleMesh& mesh);
 
 /// Why the mesh is not the closed, consistently oriented surface of a solid, or "" if it is:
 /// every directed edge (a, b) of a triangle must appear exactly once, and its reverse (b, a)
-/// exactly once in another triangle (an oriented 2-manifold without boundary).
+/// exactly once in another triangle (an oriented 2-manifold without boundary). Vertices at equal
+/// positions are one vertex here (a file's corners with different normals or texture
+/// coordinates are distinct vertices of the mesh); an edge is named by its end points.
 std::string closedMeshDefect(const TriangleMesh& mesh);
 
 /// Signed enclosed volume (1/6) Σ p0 · (p1 × p2): positive when a closed mesh faces outwards.
