@@ -120,7 +120,9 @@ Json parseJsonText(const std::string& text, const std::string& path, const std::
         fail(path, lineColumn(nul), "malformed JSON: a NUL byte");
     // A key given twice in one object: the parser keeps the last silently, so a scene's first
     // value would be ignored without a word. The place is the object's JSON path (the parser's
-    // callback gives no position).
+    // callback gives no position). Said once the whole text has parsed: the callback sees a key
+    // before the parser checks the ':' after it, and a syntax error there ("fov" 40) is the
+    // mistake to name.
     struct Frame {
         bool array;
         long index = -1;  ///< of the array's element being read
@@ -128,6 +130,7 @@ Json parseJsonText(const std::string& text, const std::string& path, const std::
         std::set<std::string> keys;
     };
     std::vector<Frame> frames;
+    std::string repeatedAt, repeated;  // the first key given twice, and its place
     const auto where = [&](size_t depth) {
         std::string at = root;
         for (size_t k = 0; k < depth; ++k)
@@ -147,14 +150,17 @@ Json parseJsonText(const std::string& text, const std::string& path, const std::
         else if (event == E::key) {
             Frame& f = frames.back();
             f.key = parsed.get<std::string>();
-            if (!f.keys.insert(f.key).second)
-                fail(path, where(frames.size() - 1),
-                     "key \"" + f.key + "\" appears twice (the last would replace the first)");
+            if (!f.keys.insert(f.key).second && repeated.empty())
+                repeatedAt = where(frames.size() - 1), repeated = f.key;
         }
         return true;
     };
     try {
-        return Json::parse(text, checkKeys);
+        Json parsed = Json::parse(text, checkKeys);
+        if (!repeated.empty())
+            fail(path, repeatedAt,
+                 "key \"" + repeated + "\" appears twice (the last would replace the first)");
+        return parsed;
     } catch (const Json::out_of_range& e) {  // e.g. a number such as 1e999
         // e.what() is "[json.exception…] number overflow parsing '1e999'", without a position:
         // the place is where that number first occurs.

@@ -133,6 +133,15 @@ TEST(JsonReader, DuplicateKeysAndNulBytesAreRefused) {
               path + ": camera: key \"fov\" appears twice (the last would replace the first)");
     EXPECT_EQ(refusal(R"({"x": [[1, {"k": 1}], {"k": 1, "j": {"k": 2}, "k": 3}]})"),
               path + ": x[1]: key \"k\" appears twice (the last would replace the first)");
+    // A syntax error after a repeated key is the error named (the parser shows the key before
+    // it checks the ':' that follows).
+    EXPECT_EQ(
+        refusal("{\"camera\": {\"fov\": 30,\n \"fov\" 40}}")
+            .rfind(path + ": line 2, column 9: malformed JSON: syntax error while parsing object "
+                          "separator",
+                   0),
+        0u)
+        << refusal("{\"camera\": {\"fov\": 30,\n \"fov\" 40}}");
     EXPECT_EQ(refusal(std::string("{\"a\": 1}\n\0{\"b\"", 13)),
               path + ": line 2, column 1: malformed JSON: a NUL byte");
     // The same key in different objects, and equal values in an array, are fine.
