@@ -95,10 +95,17 @@ void addDiffCommand(CLI::App& app, std::function<int()>& run) {
             std::string above;
             const auto check = [&](const char* metric, double v, double limit, const char* opt) {
                 if (limit >= 0 && v > limit) {
-                    char text[160];
-                    std::snprintf(text, sizeof text, "%s%s %.6g is above %s %.6g",
-                                  above.empty() ? "" : "; ", metric, v, opt, limit);
-                    above += text;
+                    // Six digits, or as many more as tell the two apart (a float image's
+                    // 0.30000001 would read "0.3 is above 0.3").
+                    int digits = 6;
+                    const auto text = [&](double x) {
+                        char b[40];
+                        std::snprintf(b, sizeof b, "%.*g", digits, x);
+                        return std::string(b);
+                    };
+                    while (digits < 17 && text(v) == text(limit)) ++digits;
+                    above += (above.empty() ? "" : "; ") + std::string(metric) + " " + text(v) +
+                             " is above " + opt + " " + text(limit);
                 }
             };
             check("rmse", rmse, args->maxRmse, "--max-rmse");

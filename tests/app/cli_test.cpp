@@ -1482,6 +1482,18 @@ TEST_F(Cli, DiffThresholdsExitWithCode2) {
                          ": rmse 1.09545 is above --max-rmse 1; max_abs_error 2 is above "
                          "--max-abs-error 1.5\n");
     EXPECT_NE(r.out.find("rmse 1.09545\n"), std::string::npos) << r.out;  // metrics as always
+    // A value just above its threshold gets the digits that tell them apart: the float 1.1 is
+    // 1.10000002384, 0.100000024 above 1 (it read "0.1 is above --max-abs-error 0.1").
+    {
+        Image c(1, 1), d(1, 1);
+        c.set(0, 0, Spectrum::Constant(1.1f)), d.set(0, 0, Spectrum::Constant(1));
+        writeExr(path("c.exr"), c), writeExr(path("d.exr"), d);
+        const Result near =
+            run("diff " + path("c.exr") + " " + path("d.exr") + " --max-abs-error 0.1");
+        EXPECT_EQ(near.code, 2) << near.err;
+        EXPECT_EQ(near.err, "shvol: diff: " + path("c.exr") +
+                                ": max_abs_error 0.10000002 is above --max-abs-error 0.1\n");
+    }
     r = run("diff" + images + " --max-rmse 0 --json");
     EXPECT_EQ(r.code, 2) << r.err;
     EXPECT_EQ(nlohmann::json::parse(r.out)["max_abs_error"].get<double>(), 2);
