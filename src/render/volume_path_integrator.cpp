@@ -324,6 +324,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
                 continue;
             }
             if (++depth > s.maxDepth) break;
+            nullCrossings = 0;  // (the guard is per ray)
             ++c.surfaceEvents;
             const Frame frame(hit.ns);
             const Vec3 wo = frame.toLocal(-ray.d);
@@ -380,6 +381,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             ray = surf->spawn(hit.p, hit.ng, wi);
         } else {  // a real collision in media[mi]
             if (++depth > s.maxDepth) break;
+            nullCrossings = 0;
             ++c.scatteringEvents;
             const Medium& medium = *scene_.media[mi];
             beta *= medium.albedo();
