@@ -24,6 +24,8 @@ try:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
+    plt.rcParams["figure.max_open_warning"] = 0  # (all figures stay open until written)
 except ImportError:
     sys.exit("shvol: error: report.py: needs matplotlib for /usr/bin/python3: apt-get install "
              "python3-matplotlib (./setup.sh installs it)")
@@ -211,7 +213,6 @@ def main():
         name = "time_vs_" + "".join(ch if ch.isalnum() else "_" for ch in a) + ".png"
         save(fig, os.path.join(directory, name))
         figures.append((name, f"mean wall time for each value of {a} (all other axes pooled)"))
-    plt.close("all")
 
     head = ["configuration", "spp", "runs", f"{error or 'error'} (mean ± sd)", "time (s)",
             "1/(MSE·time)"]
@@ -244,7 +245,32 @@ def main():
     write(os.path.join(directory, "report.html"),
           "<!doctype html><meta charset=utf-8><title>shvol batch report</title>\n"
           + "\n".join(body) + "\n")
+    # Every file checked before the first is written: a directory named report.md was found
+    # after the plots had been written.
+    for path, _ in pending:
+        problem = output_problem(path)
+        if problem:
+            fail(f"{path}: cannot write: {problem}")
+    for path, write_to in pending:
+        replace_atomically(path, write_to)
+    plt.close("all")
     print(os.path.join(directory, "report.md"))
+
+
+pending = []  # (path, write_to(tmp)) of every output, written once all are made
+
+
+def output_problem(path):
+    """Why path cannot be written, as far as can be told before writing it (shvol's
+    outputFileProblem, in short), or None."""
+    if os.path.isdir(path):
+        return "is a directory"
+    if os.path.lexists(path) and not os.path.isfile(path):
+        return "is not a regular file"
+    parent = os.path.dirname(path) or "."
+    if not os.access(parent, os.W_OK):
+        return f"directory {parent} is not writable"
+    return None
 
 
 def replace_atomically(path, write_to):
@@ -265,12 +291,12 @@ def write(path, text):
     def to(tmp):
         with open(tmp, "w") as f:
             f.write(text)
-    replace_atomically(path, to)
+    pending.append((path, to))
 
 
 def save(fig, path):
     """A figure as a PNG."""
-    replace_atomically(path, lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
+    pending.append((path, lambda tmp: fig.savefig(tmp, dpi=110, format="png")))
 
 
 if __name__ == "__main__":

@@ -186,6 +186,23 @@ void checkRunScenes(const Sweep& s) {
     }
 }
 
+/// Refuses, before anything renders, a run's output that cannot be written (a directory or a
+/// FIFO named rNNNN.exr, say): found after the reference's render and the runs before it, it
+/// wasted them. Runs the ledger has finished are not written again.
+void checkRunOutputs(const Sweep& s, const Ledger& ledger, bool ztest) {
+    if (!fs::is_directory(s.output)) return;  // (made for the runs: nothing in it yet)
+    for (const SweepRun& run : s.runs) {
+        if (ledger.find(run.id)) continue;
+        const std::string image = (fs::path(s.output) / (run.id + ".exr")).string();
+        std::vector<std::string> files = {image,
+                                          (fs::path(s.output) / (run.id + ".stats.json")).string()};
+        if (ztest) files.push_back(standardErrorsOf(image));
+        for (const std::string& file : files)
+            if (const std::string problem = outputFileProblem(file); !problem.empty())
+                fail(file, "", "cannot write: " + problem + " (the output of run " + run.id + ")");
+    }
+}
+
 /// Refuses a ledger whose finished rows the batch cannot resume, naming the run: a finished run
 /// must be the run the sweep describes now, recorded under the same axes with the same values
 /// and measured by the same metrics (an axis renamed, added or dropped, or another list of
@@ -445,6 +462,26 @@ int runBatch(BatchArgs a) {
     collectively([&] {
         if (const std::string problem = outputDirectoryProblem(s.output); !problem.empty())
             fail(s.output, "", problem + " (batch writes a directory of runs there)");
+        // The files it writes there whatever its runs' ids: the ledger, the reference it
+        // renders, and with --report the report (runs' own outputs: checkRunOutputs).
+        if (fs::is_directory(s.output)) {
+            std::vector<std::string> names = {"results.jsonl", "results.csv"};
+            if (s.reference && s.reference->render) {
+                const std::string ref = fs::path(s.reference->file).filename().string();
+                names.insert(names.end(),
+                             {ref, fs::path(ref).replace_extension("").string() + ".stats.json",
+                              ref + ".fingerprint"});
+                if (std::count(s.metrics.begin(), s.metrics.end(), "ztest"))
+                    names.push_back(standardErrorsOf(ref));
+            }
+            if (a.report)
+                for (std::string& name : reportOutputs(s.axes)) names.push_back(std::move(name));
+            for (const std::string& name : names)
+                if (const std::string file = (fs::path(s.output) / name).string(),
+                    problem = outputFileProblem(file);
+                    !problem.empty())
+                    fail(file, "", "cannot write: " + problem);
+        }
         // A reference file among the batch's own outputs would be written over by a run.
         if (!s.reference || s.reference->render) return;
         std::error_code ec;
@@ -483,6 +520,7 @@ int runBatch(BatchArgs a) {
             const std::string reference = currentReference(s, ztest, inputs).fingerprint;
             checkFinishedRows(done, s, reference);
         }
+        checkRunOutputs(s, done, ztest);
         if (s.reference)
             std::printf("reference %s%s\n", s.reference->file.c_str(),
                         s.reference->render ? " (rendered once, cached)" : "");
@@ -515,6 +553,7 @@ int runBatch(BatchArgs a) {
         ledger.emplace(s.output);
         adoptFinishedIds(s, ledger->rows());
         checkFinishedRows(*ledger, s, reference);
+        checkRunOutputs(s, *ledger, ztest);
     });
     RunContext c(s);
     c.ztest = ztest;

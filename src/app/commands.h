@@ -53,6 +53,9 @@ std::string sourceTreePath(const std::string& relative);
 /// Writes DIR/report.md and DIR/report.html with plots from DIR/results.jsonl (tools/report.py
 /// run by /usr/bin/python3); returns its exit code.
 int runReport(const std::string& dir);
+/// The files tools/report.py writes into a batch's directory for a sweep of these axes: report.md,
+/// report.html and its plots (error vs time and spp, time vs each axis and spp).
+std::vector<std::string> reportOutputs(const std::vector<std::string>& axes);
 
 /// Peak resident memory of this process in MiB.
 double peakMemoryMiB();

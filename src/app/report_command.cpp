@@ -1,6 +1,7 @@
 // shvol report DIR: plots and tables of a batch's ledger, made by tools/report.py.
 #include <sys/wait.h>
 
+#include <cctype>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
@@ -20,6 +21,22 @@ std::string shellQuote(const std::string& s) {
 }
 
 }  // namespace
+
+std::vector<std::string> reportOutputs(const std::vector<std::string>& axes) {
+    std::vector<std::string> names = {"report.md", "report.html", "error_vs_time.png",
+                                      "error_vs_spp.png"};
+    std::vector<std::string> timed = axes;
+    timed.push_back("spp");
+    for (const std::string& a : timed) {
+        // As report.py names them: every character but a letter or digit as '_' (one per UTF-8
+        // character: continuation bytes are skipped).
+        std::string name = "time_vs_";
+        for (const unsigned char ch : a)
+            if ((ch & 0xC0) != 0x80) name += ch < 0x80 && std::isalnum(ch) ? char(ch) : '_';
+        names.push_back(name + ".png");
+    }
+    return names;
+}
 
 int runReport(const std::string& dir) {
     namespace fs = std::filesystem;

@@ -2131,6 +2131,35 @@ TEST_F(Cli, BatchOutputMustBeADirectory) {
     EXPECT_TRUE(fs::is_directory(path("new/runs")));
 }
 
+// The files a batch writes into its directory are checked before anything renders, by --dry-run
+// too: the ledger, the reference, the runs' outputs and the report. A directory named
+// results.csv was found after the reference and the first run had rendered (their files left
+// without a ledger row); one named report.md after every run.
+TEST_F(Cli, BatchChecksTheFilesItWritesBeforeItRenders) {
+    write("s.json", scene(Homogeneous));
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [2, 4], "media.0.albedo": [0.5]},
+                           "reference": {"spp": 4}, "metrics": ["rmse", "ztest"],
+                           "output": "out"})");
+    for (const char* name :
+         {"results.jsonl", "results.csv", "reference.exr", "reference.stats.json",
+          "reference.stderr.exr", "r0001.exr", "r0000.stats.json", "r0001.stderr.exr", "report.md",
+          "time_vs_media_0_albedo.png"}) {
+        fs::remove_all(path("out"));
+        fs::create_directories(path("out/") + name);
+        for (const std::string dry : {"", " --dry-run"}) {
+            const Result r = run("batch " + path("sweep.json") + " --quiet --report" + dry);
+            EXPECT_EQ(r.code, 1) << name << dry;
+            EXPECT_EQ(
+                r.err.rfind(
+                    "shvol: error: " + path("out/") + name + ": cannot write: is a directory", 0),
+                0u)
+                << name << dry << ": " << r.err;
+            // Nothing rendered, nothing written but the directory that was there.
+            EXPECT_EQ(std::distance(fs::directory_iterator(path("out")), {}), 1) << name << dry;
+        }
+    }
+}
+
 // A second batch into a directory another batch is writing into (held here by the test's own
 // flock, as a running batch holds it) is refused before it renders its reference or a run: the
 // two appended the same runs to one ledger, which report then counted twice.
@@ -2455,16 +2484,18 @@ TEST_F(Cli, BatchReport) {
     EXPECT_EQ(c.code, 1);
     EXPECT_EQ(c.err,
               "shvol: error: " + ledger + ": line 1: spp: expected an integer >= 1, got 0\n");
-    // An output that cannot be written: one line, and no temporary left.
+    // An output that cannot be written: one line, and nothing written, no temporary left: every
+    // output is checked before the first is written (the plots were written, then report.md
+    // refused).
     std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "wall_time_s": 1, "rmse": 1})"
                           << "\n";
     fs::remove(path("o/report.md"));
+    fs::remove(path("o/error_vs_spp.png"));
     fs::create_directory(path("o/report.md"));
     c = run("report " + path("o"));
     EXPECT_EQ(c.code, 1);
-    EXPECT_EQ(c.err.rfind("shvol: error: " + path("o/report.md") + ": cannot write (", 0), 0u)
-        << c.err;
-    EXPECT_EQ(std::count(c.err.begin(), c.err.end(), '\n'), 1) << c.err;
+    EXPECT_EQ(c.err, "shvol: error: " + path("o/report.md") + ": cannot write: is a directory\n");
+    EXPECT_FALSE(fs::exists(path("o/error_vs_spp.png")));
     EXPECT_FALSE(fs::exists(path("o/report.md.tmp")));
 }
 
