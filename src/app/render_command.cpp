@@ -100,21 +100,32 @@ std::vector<std::string> phaseWarnings(const Scene& scene) {
 /// Warnings about surfaces too small for the scene's ray offset ε (SurfaceScene: 2⁻¹⁶ of the
 /// surfaces' extent from the centre of their box, set by float intersection): rays leaving such a
 /// surface skip more than 1% of it, and hits near it are unreliable (a glass sphere of radius 1
-/// beside a floor 10⁵ wide: ε = 1.5 ended paths inside it).
+/// beside a floor 10⁵ wide: ε = 1.5 ended paths inside it). A surface's size is its largest
+/// extent, or for a closed mesh that rays pass through (glass, a medium's boundary) its thickness
+/// 2V/A where that is less.
 std::vector<std::string> surfaceWarnings(const Scene& scene) {
     std::vector<std::string> w;
     if (!scene.surfaces) return w;
     const double eps = scene.surfaces->epsilon();
     for (const Surface& s : scene.surfaces->surfaces()) {
         const Bounds3 b = s.bounds();
-        const double size = (b.hi - b.lo).maxCoeff();
+        double size = (b.hi - b.lo).maxCoeff();
+        // A closed mesh that rays pass through is judged by its thickness, 2V/A (a slab's: a pane
+        // 2 wide and 0.0002 thick, under an offset beyond 0.0002, kept every refracted ray inside
+        // it, and its 1/η² radiance scale: the wall behind it 0.44 where 0.95 is right).
+        bool thick = false;
+        if (s.kind == Surface::Kind::Mesh && (s.bsdf.transmits() || s.interiorMedium >= 0) &&
+            closedMeshDefect(s.mesh).empty()) {
+            const double t = 2 * std::abs(signedVolume(s.mesh)) / surfaceArea(s.mesh);
+            if (t < size) size = t, thick = true;
+        }
         if (!(eps > 0.01 * size)) continue;
         char msg[300];
         std::snprintf(msg, sizeof msg,
-                      ": %.3g across, and the ray offset is %.3g (2^-16 of the surfaces' extent): "
+                      ": %.3g %s, and the ray offset is %.3g (2^-16 of the surfaces' extent): "
                       "rays leaving it skip more than 1%% of it, and light near it is unreliable; "
                       "bring the scene's surfaces closer together",
-                      size, eps);
+                      size, thick ? "thick" : "across", eps);
         w.push_back(s.name + msg);
     }
     return w;

@@ -1133,6 +1133,24 @@ TEST_F(Cli, RenderWarnsOfSurfacesSmallForTheRayOffset) {
     r = run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet");
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(r.err, "");
+    // A glass pane 2 wide and 0.0002 thick (a closed box mesh) is judged by its thickness: the
+    // offset of a floor 60 wide (4.6e-4) passes through it, 2 across or not.
+    write("pane.obj",
+          "v -1 -0.0001 -1\nv 1 -0.0001 -1\nv -1 0.0001 -1\nv 1 0.0001 -1\n"
+          "v -1 -0.0001 1\nv 1 -0.0001 1\nv -1 0.0001 1\nv 1 0.0001 1\n"
+          "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n");
+    write("s.json", R"({"camera": {"resolution": [4, 4], "position": [0, -4, 0.5]},
+                   "render": {"spp": 1}, "environment": {"type": "constant", "radiance": 1},
+                   "surfaces": [{"type": "rectangle", "name": "floor",
+                                 "transform": {"translate": [0, 0, -1], "scale": 30}},
+                                {"type": "mesh", "file": "pane.obj", "name": "pane",
+                                 "bsdf": {"type": "dielectric"}}]})");
+    r = run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "shvol: warning: " + path("s.json") +
+                         ": pane: 0.0002 thick, and the ray offset is 0.000458 (2^-16 of the "
+                         "surfaces' extent): rays leaving it skip more than 1% of it, and light "
+                         "near it is unreliable; bring the scene's surfaces closer together\n");
 }
 
 // A pixel whose mean exceeds the float32 range is written as inf, and said so (on stderr and in
