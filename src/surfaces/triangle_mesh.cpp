@@ -32,6 +32,40 @@ uint64_t edgeKey(uint32_t a, uint32_t b) {
     return (uint64_t(a) << 32) | b;
 }
 
+/// For a closed mesh whose triangle f has corners corner(f, 0..2) (welded vertex numbers): why a
+/// connected part of it encloses no volume, or "". Such a part is both sides of a sheet (a
+/// triangle given in both windings, say): every edge has its opposite, yet which side of it is
+/// inside depends on which of two coincident triangles a ray hits (a medium bounded by one
+/// filled the half-space beyond it). Parts are judged by |V| ≤ 10⁻⁹ A^{3/2}.
+template <typename Corner>
+std::string emptyPart(const TriangleMesh& mesh, const Corner& corner) {
+    // Parts: union-find over the vertices, joined along every triangle's edges.
+    std::vector<uint32_t> parent(mesh.p.size());
+    for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+    const auto root = [&](uint32_t i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    const size_t nt = mesh.triangleCount();
+    for (size_t f = 0; f < nt; ++f)
+        for (int j = 1; j < 3; ++j) parent[root(corner(f, j))] = root(corner(f, 0));
+    std::vector<double> volume(mesh.p.size(), 0), area(mesh.p.size(), 0);
+    for (size_t f = 0; f < nt; ++f) {
+        const Vec3 &p0 = mesh.p[corner(f, 0)], &p1 = mesh.p[corner(f, 1)],
+                   &p2 = mesh.p[corner(f, 2)];
+        const uint32_t r = root(corner(f, 0));
+        volume[r] += p0.dot(p1.cross(p2)) / 6;
+        area[r] += 0.5 * (p1 - p0).cross(p2 - p0).norm();
+    }
+    for (size_t f = 0; f < nt; ++f) {
+        const uint32_t r = root(corner(f, 0));
+        if (std::abs(volume[r]) <= 1e-9 * area[r] * std::sqrt(area[r]))
+            return "the part of face " + std::to_string(f) +
+                   " encloses no volume: both sides of one sheet, not the surface of a solid";
+    }
+    return "";
+}
+
 }  // namespace
 
 int widestAngle(const TriangleMesh& mesh, size_t f) {
@@ -163,7 +197,7 @@ std::string closedMeshDefect(const TriangleMesh& mesh) {
         if (!has(reverse(keys[i]))) open = true;
         if (twice) break;
     }
-    if (!twice && !open) return "";
+    if (!twice && !open) return emptyPart(mesh, corner);
     // A defect exists: name the first face that shows it, duplicates first (they explain the
     // missing opposite edges that inconsistent winding also causes). Edges are named by their
     // end points: the vertex numbers are the loader's, not the file's.

@@ -135,6 +135,35 @@ TEST(TriangleMesh, FacesMeetAtPositionsNotVertexNumbers) {
         << closedMeshDefect(m);
 }
 
+// A part that encloses no volume is no solid's surface, though every edge has its opposite: a
+// triangle in both windings was accepted, and as a boundary it let its medium fill the
+// half-space beyond it.
+TEST(TriangleMesh, APartWithoutVolumeIsNotClosed) {
+    TriangleMesh sheet = tetrahedron();
+    sheet.indices = {1, 2, 3, 1, 3, 2};
+    EXPECT_EQ(closedMeshDefect(sheet),
+              "the part of face 0 encloses no volume: both sides of one sheet, not the surface of "
+              "a solid");
+    // Beside a cube, as a part of its own (the cube's volume would hide it in a sum).
+    TriangleMesh both = cube();
+    const uint32_t n = uint32_t(both.p.size());
+    for (const Vec3& p : {Vec3(5, 0, 0), Vec3(6, 0, 0), Vec3(5, 1, 0)}) both.p.push_back(p);
+    both.indices.insert(both.indices.end(), {n, n + 1, n + 2, n, n + 2, n + 1});
+    EXPECT_EQ(closedMeshDefect(both),
+              "the part of face 12 encloses no volume: both sides of one sheet, not the surface "
+              "of a solid");
+    // A square covered on both sides by different diagonals: no triangle repeats.
+    TriangleMesh square;
+    square.p = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
+    square.indices = {0, 1, 2, 0, 2, 3, 0, 3, 1, 1, 3, 2};
+    EXPECT_NE(closedMeshDefect(square).find("encloses no volume"), std::string::npos)
+        << closedMeshDefect(square);
+    // A thin slab is a solid.
+    TriangleMesh slab = cube();
+    for (Vec3& p : slab.p) p.y() *= 1e-4;
+    EXPECT_EQ(closedMeshDefect(slab), "");
+}
+
 /// A torus of nu × nv quads, two triangles each, facing outwards.
 TriangleMesh torus(uint32_t nu, uint32_t nv) {
     TriangleMesh m;

@@ -61,7 +61,8 @@ void widestAngleFirst(TriangleMesh& mesh);
 /// every directed edge (a, b) of a triangle must appear exactly once, and its reverse (b, a)
 /// exactly once in another triangle (an oriented 2-manifold without boundary). Vertices at equal
 /// positions are one vertex here (a file's corners with different normals or texture
-/// coordinates are distinct vertices of the mesh); an edge is named by its end points.
+/// coordinates are distinct vertices of the mesh); an edge is named by its end points. A connected
+/// part that encloses no volume (|V| ≤ 10⁻⁹ A^{3/2}: both sides of one sheet) is refused too.
 std::string closedMeshDefect(const TriangleMesh& mesh);
 
 /// Signed enclosed volume (1/6) Σ p0 · (p1 × p2): positive when a closed mesh faces outwards.
