@@ -75,6 +75,7 @@ HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
         throw Error(std::string("HSH BRDF table: a ") + bsdf.name() +
                     " BSDF is not cached (lambert, phong and ward are)");
     rhoD_ = bsdf.reflectance;
+    anisotropic_ = bsdf.anisotropic();
     rhoS_ = bsdf.type == BsdfType::Lambert ? Spectrum::Zero() : bsdf.specular;
     // At least 64 × 128 nodes: tests/cache checks Phong 22 and Ward α = 0.2/0.4 against a rule
     // of 400 × 800 to 2e-4 (HshBrdfTable.ReflectsBandLimitedRadianceExactlyAtANode).
@@ -124,6 +125,15 @@ void HshBrdfTable::coefficients(const Vec3& wo, double* out) const {
         const double s = w[0] * c[0][i] + w[1] * c[1][i] + w[2] * c[2][i] + w[3] * c[3][i];
         for (int k = 0; k < 3; ++k) out[k * nn + i] += rhoS_[k] * s;
     }
+}
+
+void HshBrdfTable::coefficients(const Frame& base, const Vec3& tangent, const Vec3& wo,
+                                double* out) const {
+    if (!anisotropic_) return coefficients(base.toLocal(wo), out);
+    const Frame own(base.n, tangent);
+    coefficients(own.toLocal(wo), out);
+    const double phi = std::atan2(own.s.dot(base.t), own.s.dot(base.s));
+    for (int k = 0; k < 3; ++k) sh::hshRotateZ(n_, phi, out + k * n_ * n_);
 }
 
 size_t HshBrdfTable::memoryBytes() const {

@@ -239,6 +239,7 @@ Surface readSurface(JsonReader r, size_t index, Contents contents) {
             r.error("transform", "a sphere needs a uniform scale");
         s = Surface::sphere(toWorld * r.vec3("center", Vec3::Zero()), radius * scale[0]);
     }
+    s.orient(toWorld);  // (meshes and spheres; rectangles and disks are made oriented)
     // (A mesh that Check mode did not read has no vertices: reach 0.)
     if (!(s.reach() <= kMaxSurfaceCoordinate))
         r.error(type == "mesh" ? "file" : "", surfaceReachMessage(s.reach()));

@@ -37,6 +37,19 @@ void hshEval(int n, const Vec3& w, double* out) {
     });
 }
 
+void hshRotateZ(int n, double phi, double* h) {
+    for (int m = 1; m < n; ++m) {
+        const double c = std::cos(m * phi), s = std::sin(m * phi);
+        for (int l = m; l < n; ++l) {
+            double& a = h[l * (l + 1) + m];  // cos mφ
+            double& b = h[l * (l + 1) - m];  // sin mφ
+            const double a2 = a * c - b * s;
+            b = a * s + b * c;
+            a = a2;
+        }
+    }
+}
+
 Eigen::VectorXd hshEval(int n, const Vec3& w) {
     Eigen::VectorXd v(n * n);
     hshEval(n, w, v.data());

@@ -245,6 +245,10 @@ bool Bsdf::transmits() const {
     return type == BsdfType::Dielectric || type == BsdfType::Null;
 }
 
+bool Bsdf::anisotropic() const {
+    return type == BsdfType::Ward && alphaX != alphaY;
+}
+
 const char* Bsdf::name() const {
     switch (type) {
         case BsdfType::Lambert:

@@ -55,6 +55,7 @@ Surface Surface::rectangle(const Eigen::Affine3d& toWorld) {
         s.mesh.p.push_back(toWorld * c);
     s.mesh.uv = {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)};
     s.mesh.indices = {0, 1, 2, 0, 2, 3};  // counter-clockwise seen from +z
+    s.orient(toWorld);
     return s;
 }
 
@@ -65,7 +66,13 @@ Surface Surface::disk(const Eigen::Affine3d& toWorld) {
     s.normal =
         (toWorld.linear() * Vec3::UnitX()).cross(toWorld.linear() * Vec3::UnitY()).normalized();
     s.radius = (toWorld.linear() * Vec3::UnitX()).norm();
+    s.orient(toWorld);
     return s;
+}
+
+void Surface::orient(const Eigen::Affine3d& toWorld) {
+    if (const Vec3 x = toWorld.linear() * Vec3::UnitX(); x.allFinite() && x.norm() > 0)
+        tangent = x.normalized();
 }
 
 Surface Surface::sphere(const Vec3& center, double radius) {

@@ -104,4 +104,26 @@ TEST(Frame, IsOrthonormalForAllHemispheres) {
     }
 }
 
+// The frame of a surface's tangent: x along the tangent's projection, at any angle to the normal
+// and whatever the sign of n_z (Frame(n) alone turns by up to 90° where n_z changes sign).
+TEST(Frame, FollowsTheTangentItIsGiven) {
+    const Vec3 tangent(1, 0.2, 0.3);
+    for (Vec3 n : {Vec3(0.6, 0.8, 1e-17), Vec3(0.6, 0.8, -1e-17), Vec3(0, 0, 1), Vec3(0, 0, -1),
+                   Vec3(-0.3, 0.1, 0.9).normalized()}) {
+        const Frame f(n, tangent);
+        const Vec3 p = (tangent - n * n.dot(tangent)).normalized();
+        EXPECT_NEAR((f.s - p).norm(), 0, 1e-12) << n.transpose();
+        EXPECT_NEAR(f.s.dot(f.n), 0, 1e-12);
+        EXPECT_NEAR(f.t.norm(), 1, 1e-12);
+        EXPECT_NEAR(f.s.cross(f.t).dot(f.n), 1, 1e-12);  // right-handed
+    }
+    // The two normals either side of z = 0 give (nearly) one frame.
+    const Frame a(Vec3(0.6, 0.8, 1e-17), tangent), b(Vec3(0.6, 0.8, -1e-17), tangent);
+    EXPECT_NEAR((a.s - b.s).norm(), 0, 1e-12);
+    // A tangent along the normal: Frame(n).
+    const Frame along(Vec3(0, 0, 1), Vec3(0, 0, 2)), plain(Vec3(0, 0, 1));
+    EXPECT_EQ(along.s, plain.s);
+    EXPECT_EQ(along.t, plain.t);
+}
+
 }  // namespace shvol

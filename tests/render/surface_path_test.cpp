@@ -146,6 +146,33 @@ TEST(SurfacePath, NullSurfacesCrossedOverManyBouncesDoNotEndThePath) {
     EXPECT_LT(e.stdErr[0], 0.01 * Le / (1 - rho));
 }
 
+// An anisotropic lobe is oriented by its surface: its x axis is the surface's own (its
+// transform's x axis), not one Frame(n) picks from the normal alone. So turning a Ward rectangle by
+// 90° about its normal changes what a fixed viewer sees, and turning it with α_x and α_y swapped
+// does not. (The lobe ignored the turn: bit-identical images, and a seam at n_z = 0 on spheres.)
+TEST(SurfacePath, AnisotropicLobesTurnWithTheirSurface) {
+    const auto mean = [](double degrees, double ax, double ay) {
+        Scene scene;
+        scene.environment = Environment::constant(Spectrum::Ones(), false);
+        std::vector<Surface> v;
+        Eigen::Affine3d toWorld = Eigen::Affine3d::Identity();
+        toWorld.rotate(Eigen::AngleAxisd(degrees * Pi / 180, Vec3::UnitZ()));
+        v.push_back(Surface::rectangle(toWorld));
+        v.back().bsdf = Bsdf::ward(Spectrum::Zero(), Spectrum::Ones(), ax, ay);
+        scene.surfaces = surfaces(std::move(v));
+        const Vec3 eye(0, -1.7320508, 1);  // 60° from the normal, in the y–z plane
+        const Estimate e = estimate(scene, 20000, [&](const Vec2& u) {
+            return Ray{eye, (Vec3(0.2 * u.x() - 0.1, 0.2 * u.y() - 0.1, 0) - eye).normalized()};
+        });
+        return std::pair{e.mean[0], e.stdErr[0]};
+    };
+    const auto [a, sa] = mean(0, 0.05, 0.5);
+    const auto [turned, st] = mean(90, 0.05, 0.5);
+    const auto [swapped, ss] = mean(90, 0.5, 0.05);
+    EXPECT_NEAR(swapped, a, 5 * std::hypot(sa, ss));
+    EXPECT_GT(std::abs(turned - a), 10 * std::hypot(sa, st)) << a << " " << turned;
+}
+
 /// A white furnace: constant environment 1, a white Lambertian block, a scattering medium of
 /// albedo 1 around it and one bounded by a dielectric sphere: every path returns 1.
 TEST(SurfacePath, FurnaceWithSurfacesAndMediaIsOne) {

@@ -107,6 +107,24 @@ TEST(Hsh, ConversionMatrixMatchesIndependentQuadrature) {
     EXPECT_NEAR(C3.dense()(2, 0), 0.0, 1e-15);  // (H_1^0, Y_0^0): ∫(2z−1)dz = 0; printed 0.82
 }
 
+// hshRotateZ(φ) turns a function about the normal: h′ evaluated at R_z(φ)ω is h at ω, for every
+// band and order; φ = 2π is the identity.
+TEST(Hsh, RotationAboutTheNormal) {
+    const int n = 6;
+    std::vector<double> h(n * n), turned;
+    for (int i = 0; i < n * n; ++i) h[i] = std::sin(1.3 * i + 0.4);
+    for (double phi : {0.3, -2.1, 2 * Pi}) {
+        turned = h;
+        hshRotateZ(n, phi, turned.data());
+        for (double z : {0.05, 0.5, 0.97})
+            for (double az : {0.1, 2.5, 5.0})
+                EXPECT_NEAR(hshReconstruct(n, turned.data(), sphericalDirection(z, az + phi)),
+                            hshReconstruct(n, h.data(), sphericalDirection(z, az)), 1e-13)
+                    << phi << " " << z << " " << az;
+    }
+    for (int i = 0; i < n * n; ++i) EXPECT_NEAR(turned[i], h[i], 1e-13);  // (after φ = 2π)
+}
+
 TEST(Hsh, ConversionRoundTripOfAnShFunctionRestricted) {
     // A zonal SH function of order 3 is a polynomial of degree 2 in z; on the hemisphere the m = 0
     // HSH of order 3 span the same polynomials (P_l(2z−1)), so toHsh reproduces it exactly.

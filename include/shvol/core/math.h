@@ -167,6 +167,15 @@ struct Frame {
         s = Vec3(1.0 + sign * n.x() * n.x() * a, sign * b, -sign * n.x());
         t = Vec3(b, sign + n.y() * n.y() * a, -n.y());
     }
+    /// The frame whose x axis is `tangent` projected onto the plane ⟂ normal (s = normalised
+    /// tangent − n (n·tangent), t = n × s): a surface's own axes, continuous wherever its tangent
+    /// is. Where the tangent is (nearly) parallel to the normal, Frame(normal).
+    Frame(const Vec3& normal, const Vec3& tangent) : Frame(normal) {
+        const Vec3 p = tangent - normal * normal.dot(tangent);
+        if (!(p.squaredNorm() > 1e-12 * tangent.squaredNorm())) return;
+        s = p.normalized();
+        t = n.cross(s);
+    }
     Vec3 toLocal(const Vec3& v) const { return {v.dot(s), v.dot(t), v.dot(n)}; }
     Vec3 toWorld(const Vec3& v) const { return s * v.x() + t * v.y() + n * v.z(); }
 };

@@ -21,6 +21,10 @@ void hshEval(int n, const Vec3& w, double* out);
 Eigen::VectorXd hshEval(int n, const Vec3& w);
 /// Σ_i h_i H_i(ω) for z ≥ 0 (0 below the horizon).
 double hshReconstruct(int n, const double* h, const Vec3& w);
+/// Rotates the HSH function h (n² coefficients, in place) by the angle φ about z: afterwards it
+/// is f(R_z(−φ) ω). Exact, as the rotation only moves each band's cos mφ and sin mφ pair:
+///   h′_{l,m} = h_{l,m} cos mφ − h_{l,−m} sin mφ,  h′_{l,−m} = h_{l,m} sin mφ + h_{l,−m} cos mφ.
+void hshRotateZ(int n, double phi, double* h);
 
 /// nz Gauss–Legendre points in z ∈ [0, 1] × nphi uniform points in φ. Products H_i H_j of order
 /// n are polynomials of degree ≤ 2n−2 in z, so nz ≥ n, nphi ≥ 2n is exact for them.

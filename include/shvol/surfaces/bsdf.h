@@ -122,6 +122,9 @@ struct Bsdf {
     std::optional<BsdfSample> sample(const Vec3& wo, const Vec2& u) const;
     bool isDelta() const;    ///< mirror, dielectric, null
     bool transmits() const;  ///< dielectric, null
+    /// Ward with α_x ≠ α_y: the lobe depends on the azimuth, measured from the surface's
+    /// tangent (Surface::tangent); every other BSDF is the same in any frame about the normal.
+    bool anisotropic() const;
     const char* name() const;
 };
 

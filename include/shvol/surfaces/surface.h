@@ -28,7 +28,10 @@ struct Surface {
     TriangleMesh mesh;     ///< Mesh and Rectangle: the triangles, in world space
     Vec3 center{0, 0, 0};  ///< Disk, Sphere
     Vec3 normal{0, 0, 1};  ///< Disk: unit normal (its front side)
-    double radius = 1;     ///< Disk, Sphere
+    /// The shape's local x axis in world space (its transform's, unit length): an anisotropic
+    /// BSDF's x axis is this direction projected onto the tangent plane (Frame(n, tangent)).
+    Vec3 tangent{1, 0, 0};
+    double radius = 1;  ///< Disk, Sphere
     Bsdf bsdf = Bsdf::lambert(Spectrum::Constant(0.5));
     Spectrum emission = Spectrum::Zero();  ///< radiance L_e leaving the front side
     bool twoSidedEmission = false;         ///< emit from the back side too
@@ -51,6 +54,8 @@ struct Surface {
         const double c = ng.dot(w);
         return (c > 0 || (twoSidedEmission && c < 0)) ? emission : Spectrum::Zero();
     }
+    /// Sets `tangent` to toWorld's x axis (kept where that is zero or not finite).
+    void orient(const Eigen::Affine3d& toWorld);
     /// The unit rectangle [−1, 1]² in the z = 0 plane facing +z, or the unit disk, placed by
     /// toWorld (as the rectangle and disk of Mitsuba and pbrt).
     static Surface rectangle(const Eigen::Affine3d& toWorld);
