@@ -32,6 +32,16 @@ uint64_t edgeKey(uint32_t a, uint32_t b) {
     return (uint64_t(a) << 32) | b;
 }
 
+/// The centre of the mesh's bounding box: volumes are summed about it, not about the origin,
+/// whose terms p0 · (p1 × p2) far from the mesh cancel (a glass mesh of size 1 at 10⁶ from the
+/// origin got a volume of random sign, and was turned inside out).
+Vec3 meshCentre(const TriangleMesh& mesh) {
+    if (mesh.p.empty()) return Vec3::Zero();
+    Vec3 lo = mesh.p[0], hi = mesh.p[0];
+    for (const Vec3& p : mesh.p) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    return 0.5 * (lo + hi);
+}
+
 /// For a closed mesh whose triangle f has corners corner(f, 0..2) (welded vertex numbers): why a
 /// connected part of it encloses no volume, or "". Such a part is both sides of a sheet (a
 /// triangle given in both windings, say): every edge has its opposite, yet which side of it is
@@ -50,9 +60,10 @@ std::string emptyPart(const TriangleMesh& mesh, const Corner& corner) {
     for (size_t f = 0; f < nt; ++f)
         for (int j = 1; j < 3; ++j) parent[root(corner(f, j))] = root(corner(f, 0));
     std::vector<double> volume(mesh.p.size(), 0), area(mesh.p.size(), 0);
+    const Vec3 c = meshCentre(mesh);  // (see signedVolume)
     for (size_t f = 0; f < nt; ++f) {
-        const Vec3 &p0 = mesh.p[corner(f, 0)], &p1 = mesh.p[corner(f, 1)],
-                   &p2 = mesh.p[corner(f, 2)];
+        const Vec3 p0 = mesh.p[corner(f, 0)] - c, p1 = mesh.p[corner(f, 1)] - c,
+                   p2 = mesh.p[corner(f, 2)] - c;
         const uint32_t r = root(corner(f, 0));
         volume[r] += p0.dot(p1.cross(p2)) / 6;
         area[r] += 0.5 * (p1 - p0).cross(p2 - p0).norm();
@@ -227,10 +238,11 @@ std::string closedMeshDefect(const TriangleMesh& mesh) {
 }
 
 double signedVolume(const TriangleMesh& mesh) {
+    const Vec3 c = meshCentre(mesh);
     double v = 0;
     for (size_t f = 0; f < mesh.triangleCount(); ++f) {
         const uint32_t* t = &mesh.indices[3 * f];
-        v += mesh.p[t[0]].dot(mesh.p[t[1]].cross(mesh.p[t[2]]));
+        v += (mesh.p[t[0]] - c).dot((mesh.p[t[1]] - c).cross(mesh.p[t[2]] - c));
     }
     return v / 6;
 }

@@ -135,6 +135,19 @@ TEST(TriangleMesh, FacesMeetAtPositionsNotVertexNumbers) {
         << closedMeshDefect(m);
 }
 
+// Volumes are summed about the mesh, not the origin: 10⁶ away from it a unit cube's volume
+// had a random sign, and a glass mesh there was turned inside out.
+TEST(TriangleMesh, VolumeFarFromTheOrigin) {
+    for (const double far : {1e6, 1e9, -3e12}) {
+        TriangleMesh m = cube();
+        for (Vec3& p : m.p) p = 0.5 * p + Vec3(far, 0.7 * far, -far);
+        EXPECT_NEAR(signedVolume(m), 1.0, 1e-9) << far;
+        flipWinding(m);
+        EXPECT_NEAR(signedVolume(m), -1.0, 1e-9) << far;
+        EXPECT_EQ(closedMeshDefect(m), "") << far;
+    }
+}
+
 // A part that encloses no volume is no solid's surface, though every edge has its opposite: a
 // triangle in both windings was accepted, and as a boundary it let its medium fill the
 // half-space beyond it.

@@ -66,6 +66,8 @@ void widestAngleFirst(TriangleMesh& mesh);
 std::string closedMeshDefect(const TriangleMesh& mesh);
 
 /// Signed enclosed volume (1/6) Σ p0 · (p1 × p2): positive when a closed mesh faces outwards.
+/// Summed about the centre of the mesh's box (the same for a closed mesh, and without the
+/// cancellation of terms about a far origin).
 double signedVolume(const TriangleMesh& mesh);
 
 /// Reverses every triangle's winding (its normal flips; normals and uvs stay with the vertices).
