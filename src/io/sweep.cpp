@@ -134,7 +134,6 @@ Sweep readSweep(const std::string& path, double maxRuns) {
     if (r.has("axes")) {
         const Json& axes = r.raw("axes");
         if (!axes.is_object()) r.error("axes", "expected an object {\"key.path\": [values], …}");
-        if (axes.empty()) r.error("axes", "needs at least one axis {\"key.path\": [values]}");
         std::ifstream f(path);
         const auto ordered = nlohmann::ordered_json::parse(f)["axes"];
         for (auto it = ordered.begin(); it != ordered.end(); ++it) {
@@ -170,13 +169,18 @@ Sweep readSweep(const std::string& path, double maxRuns) {
             fail(path, "axes.seed", "give either a seed axis or repeats, not both");
         if (k == "seed" && r.has("seed"))
             fail(path, "axes.seed", "give either a seed axis or a \"seed\", not both");
-        for (const Json& v : values[a])
-            if (setsRenderKey(k, v, "seed"))
-                fail(path, "axes." + k, kSeedIsTheSweeps);
-            else if ((k == "spp" || k == "seed") &&
-                     !(v.is_number_integer() && v.get<long long>() >= (k == "spp" ? 1 : 0)))
+        for (Json& v : values[a]) {
+            if (setsRenderKey(k, v, "seed")) fail(path, "axes." + k, kSeedIsTheSweeps);
+            if (k != "spp" && k != "seed") continue;
+            // An integral number however written (2.0, 2e0), as every integer key takes it:
+            // kept as the integer, so that runs and rows hold one spelling of it.
+            if (const double d = v.is_number_float() ? v.get<double>() : 0.5;
+                d == std::floor(d) && std::abs(d) <= 9007199254740992.0)
+                v = (long long)d;
+            if (!(v.is_number_integer() && v.get<long long>() >= (k == "spp" ? 1 : 0)))
                 fail(path, "axes." + k,
                      k == "spp" ? "expected integers ≥ 1" : "expected non-negative integers");
+        }
         if (zip && values[a].size() != values[0].size())
             fail(path, "axes." + k,
                  "zipped axes need equal lengths (" + std::to_string(values[a].size()) + " vs " +

@@ -259,8 +259,21 @@ TEST(Sweep, ErrorsNameFileAndKey) {
               ": reference: its default seed 1000000000 is also the seed of run r0000, which "
               "would repeat the reference's first samples; give the reference a \"seed\" of "
               "its own");
-    EXPECT_EQ(err("e1a", R"({"scene": "scene.json", "axes": {}})"),
-              ": axes: needs at least one axis {\"key.path\": [values]}");
+    // No axes, as {} or left out, is one configuration (repeated by "repeats").
+    EXPECT_EQ(readSweep(writeSweep("e1a", R"({"scene": "scene.json", "axes": {}, "repeats": 3})"))
+                  .runs.size(),
+              3u);
+    // The spp and seed axes take integral numbers however written, as every integer key does
+    // (2.0 and 4e0 were refused here, and taken by render.spp), and keep them as integers.
+    {
+        const Sweep w =
+            readSweep(writeSweep("e3i", R"({"scene": "scene.json", "axes": {"spp": [2.0, 4e0]}})"));
+        ASSERT_EQ(w.runs.size(), 2u);
+        EXPECT_EQ(w.runs[1].values.at("spp"), Json(4));
+        EXPECT_TRUE(w.runs[1].values.at("spp").is_number_integer());
+    }
+    EXPECT_EQ(err("e3j", R"({"scene": "scene.json", "axes": {"spp": [2.5]}})"),
+              ": axes.spp: expected integers ≥ 1");
     EXPECT_EQ(err("e1b", R"({"scene": "scene.json", "axes": [1]})"),
               ": axes: expected an object {\"key.path\": [values], …}");
     EXPECT_EQ(
