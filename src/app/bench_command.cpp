@@ -258,7 +258,29 @@ std::string defaultBenchScene() {
     return p;
 }
 
+/// A --set of what the bench sets itself: the sample count (its --spp, applied after the sets),
+/// or a VDB medium's key that its rows vary. Taken, it was replaced without a word, or it made
+/// both sides of a named ratio one configuration ("majorant grid / global majorant: 0.95x" with
+/// majorant_grid false on both).
+void refuseSetsTheBenchMakes(const BenchArgs& a) {
+    for (const std::string& set : a.sets) {
+        const std::string key = canonicalKeyPath(set.substr(0, set.find('=')));
+        if (key == "render.spp")
+            failOption("--set", set + ": the bench renders at --spp; give the sample count there");
+        std::vector<std::string> parts;
+        if (!keyPathProblem(key, &parts).empty() || parts.size() != 3 || parts[0] != "media")
+            continue;
+        std::vector<std::string> varied = {"lookup", "decomposition", "regular_tracking",
+                                           "majorant_grid"};
+        if (a.cellSweep) varied.push_back("majorant_cell");
+        if (std::count(varied.begin(), varied.end(), parts[2]))
+            failOption("--set", set + ": the bench varies " + parts[2] +
+                                    " itself (README.md, \"bench\"); leave it to the scene");
+    }
+}
+
 int runBench(BenchArgs& a) {
+    refuseSetsTheBenchMakes(a);
     const Json doc = sceneDocument(a.scene, a.sets);
     checkScene(doc, a.scene);  // a bad value fails now, not after the table is printed
     std::fprintf(stderr, "shvol bench %s (%d spp)\n", a.scene.c_str(), a.spp);

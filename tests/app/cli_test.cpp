@@ -274,10 +274,24 @@ TEST_F(Cli, BenchFindsTheDefaultScene) {
               std::string::npos)
         << r.out;
     // A bad value fails before anything is measured or printed.
-    const Result bad = run("bench --spp 1 --set camera.resolution=[8,6] --set render.spp=0");
+    const Result bad = run("bench --spp 1 --set camera.resolution=[8,6] --set camera.fov=0");
     EXPECT_EQ(bad.code, 1);
     EXPECT_EQ(bad.out, "");
-    EXPECT_NE(bad.err.find("render.spp: value 0 out of range"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("camera.fov: value 0 out of range"), std::string::npos) << bad.err;
+    // So does a --set of what the bench sets itself: the sample count (replaced by --spp without
+    // a word) and the keys its rows vary (both sides of a ratio were one configuration).
+    for (const auto& [set, message] : std::vector<std::pair<std::string, std::string>>{
+             {"render.spp=1",
+              "--set: render.spp=1: the bench renders at --spp; give the sample "
+              "count there (see --help)\n"},
+             {"media[0].majorant_grid=false",
+              "--set: media[0].majorant_grid=false: the bench varies majorant_grid itself "
+              "(README.md, \"bench\"); leave it to the scene (see --help)\n"}}) {
+        const Result r2 = run("bench --spp 1 --set camera.resolution=[8,6] --set " + set);
+        EXPECT_EQ(r2.code, 1) << set;
+        EXPECT_EQ(r2.out, "");
+        EXPECT_EQ(r2.err, "shvol: error: " + message);
+    }
 }
 
 // With more than one round, each same-run ratio shows the range of its round-by-round ratios,
