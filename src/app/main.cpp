@@ -28,20 +28,27 @@ int runMain(int argc, char** argv) {
     shvol::app::addReportCommand(app, run);
     // An unknown first word is a wrong subcommand, not a missing one (CLI11 would say "A
     // subcommand is required", and print the main help with exit 0 for `shvol typo --help`).
-    if (argc >= 2 && argv[1][0] != '-') {
+    // The same one level down (`shvol phase foo`: CLI11 said "A subcommand is required").
+    CLI::App* parent = &app;
+    for (int level = 1; level < argc && argv[level][0] != '-'; ++level) {
+        const std::vector<CLI::App*> subs =
+            parent->get_subcommands([](const CLI::App*) { return true; });
+        if (subs.empty()) break;
         std::string names;
-        bool known = false;
-        for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
-            known |= sub->get_name() == argv[1];
+        CLI::App* known = nullptr;
+        for (CLI::App* sub : subs) {
+            if (sub->get_name() == argv[level]) known = sub;
             names += (names.empty() ? "" : ", ") + sub->get_name();
         }
         if (!known) {
             if (speaks)
                 std::fprintf(stderr,
-                             "shvol: error: unknown subcommand \"%s\"; expected one of %s\n",
-                             argv[1], names.c_str());
+                             "shvol: error: unknown subcommand \"%s\"%s; expected one of %s\n",
+                             argv[level], level == 1 ? "" : (" of " + parent->get_name()).c_str(),
+                             names.c_str());
             return 1;
         }
+        parent = known;
     }
     try {
         app.parse(argc, argv);

@@ -215,6 +215,8 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
         {"make-medium cloud -o " + path("m.vdb") + " --resolution 16 --coverage -1",
          "the grid would be empty"},
         {"frobnicate --help", "unknown subcommand \"frobnicate\""},
+        // One level down too (it said "A subcommand is required", one being given).
+        {"phase hg:g=0.9", "unknown subcommand \"hg:g=0.9\" of phase; expected one of fit, sample"},
         // Seeds are range-checked everywhere, not wrapped modulo 2^64.
         {"make-medium cloud -o " + path("m.vdb") + " --seed -1",
          "--seed: must be an integer in [0, 9007199254740992], got -1"},
