@@ -283,17 +283,17 @@ int runBench(BenchArgs& a) {
     refuseSetsTheBenchMakes(a);
     const Json doc = sceneDocument(a.scene, a.sets);
     checkScene(doc, a.scene);  // a bad value fails now, not after the table is printed
-    std::fprintf(stderr, "shvol bench %s (%d spp)\n", a.scene.c_str(), a.spp);
     if (a.cache.empty()) a.cache = ".";
-    Image ref;  // with --accuracy: read or rendered now, not after minutes of timings
-    if (a.accuracy) {
+    if (a.accuracy) {  // (before the first line is printed: an error is one line)
         std::error_code ec;
         std::filesystem::create_directories(a.cache, ec);
         if (ec || !std::filesystem::is_directory(a.cache))
             failOption("--cache", a.cache + ": cannot make the directory" +
                                       (ec ? " (" + ec.message() + ")" : std::string()));
-        ref = reference(a, a.sets);
     }
+    std::fprintf(stderr, "shvol bench %s (%d spp)\n", a.scene.c_str(), a.spp);
+    // With --accuracy: read or rendered now, not after minutes of timings.
+    const Image ref = a.accuracy ? reference(a, a.sets) : Image();
     const std::vector<std::string> vdbLookups = withVdbKey(doc, a.sets, "lookup", "\"openvdb\"");
     std::vector<Config> configs = {
         {"defaults, 1 thread", a.sets, 1},

@@ -512,23 +512,27 @@ int runRender(const RenderArgs& a) {
             // Fail before rendering, not after, if an output cannot be written, would replace a
             // file the render reads (a sky written over by its render) or another output (a
             // checkpoint named as the image).
+            // Named by the option that names the file: --checkpoint, or --output (the image and
+            // the files named after it).
             for (size_t i = 0; i < writes.size(); ++i) {
                 const std::string& w = writes[i].first;
+                const char* option =
+                    !a.checkpoint.empty() && i + 1 == writes.size() ? "--checkpoint" : "--output";
                 if (const std::string problem = outputFileProblem(w); !problem.empty())
-                    fail(w, "", "cannot write: " + problem);
+                    failOption(option, w + ": cannot write: " + problem);
                 for (const Json& in : provenance.at("inputs"))
                     if (sameFile(w, in.at("path").get<std::string>())) {
                         const std::string key = in.at("key").get<std::string>();
-                        fail(w, "",
-                             (key == "(scene)" ? std::string("is the scene file")
-                                               : "is an input of the scene (" + key + ")") +
-                                 "; write the output elsewhere");
+                        failOption(option, w + ": " +
+                                               (key == "(scene)"
+                                                    ? std::string("is the scene file")
+                                                    : "is an input of the scene (" + key + ")") +
+                                               "; write the output elsewhere");
                     }
                 for (size_t k = 0; k < i; ++k)
                     if (sameFile(w, writes[k].first))
-                        fail(w, "",
-                             writes[i].second + " would be written over " + writes[k].second +
-                                 "; give each a file of its own");
+                        failOption(option, w + ": " + writes[i].second + " would be written over " +
+                                               writes[k].second + "; give each a file of its own");
             }
             if (a.variance &&
                 std::min(stops.empty() ? 2 : stops.front(), uint32_t(scene.settings.spp)) < 2)
