@@ -624,7 +624,7 @@ void addBatchCommand(CLI::App& app, std::function<int()>& run) {
     c->add_option("sweep", a->sweep, "Sweep file (JSON; README.md, \"Batch experiments\")")
         ->required()
         ->check(nonEmptyName());
-    c->add_option("--output", a->output, "Output directory")
+    c->add_option("-o,--output", a->output, "Output directory")
         ->default_str("the sweep's output")
         ->check(nonEmptyName());
     c->add_option("--threads", a->threads,

@@ -302,7 +302,7 @@ void addPhaseCommand(CLI::App& app, std::function<int()>& run) {
     commonOptions(sample, *a);
     sample->add_option("--count", a->count, "Number of samples")->check(integerIn(1, 1LL << 32));
     sample->add_option("--seed", a->seed, "Random seed")->check(integerIn(0, kMaxSeed));
-    sample->add_option("--out", a->out, "Output CSV (x,y,z,pdf,weight)")
+    sample->add_option("-o,--out,--output", a->out, "Output CSV (x,y,z,pdf,weight)")
         ->required()
         ->check(nonEmptyName())
         ->check(writableOutput());

@@ -2201,6 +2201,22 @@ TEST_F(Cli, BatchChecksTheFilesItWritesBeforeItRenders) {
     }
 }
 
+// Every command that writes takes -o and --output (batch took --output only, phase sample --out
+// only).
+TEST_F(Cli, OutputOptionsAreSpelledAlike) {
+    for (const char* option : {"-o", "--output", "--out"}) {
+        const std::string csv = path(std::string("p") + option + ".csv");
+        const Result r = run(std::string("phase sample hg:g=0.5 --count 10 ") + option + " " + csv);
+        EXPECT_EQ(r.code, 0) << option << ": " << r.err;
+        EXPECT_TRUE(fs::exists(csv)) << option;
+    }
+    write("s.json", scene(Homogeneous));
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [1]}})");
+    const Result r = run("batch " + path("sweep.json") + " --dry-run -o " + path("runs"));
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("1 run into " + path("runs")), std::string::npos) << r.out;
+}
+
 // A second batch into a directory another batch is writing into (held here by the test's own
 // flock, as a running batch holds it) is refused before it renders its reference or a run: the
 // two appended the same runs to one ledger, which report then counted twice.
