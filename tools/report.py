@@ -80,6 +80,16 @@ def load(directory):
             if not (isinstance(row["spp"], int) and row["spp"] >= 1):  # (a log axis)
                 fail(f"{path}: line {n}: spp: expected an integer >= 1, got "
                      f"{json.dumps(row['spp'])}")
+            # One error metric for the whole report: rows measured by other metrics than the
+            # first row's would switch it (a row without rmse turned every row's to relmse, and
+            # dropped the efficiency column). shvol batch writes rows of one list of metrics.
+            measured = [k for k in ERRORS if k in row]
+            if not rows:
+                first_measured = measured
+            elif measured != first_measured:
+                fail(f"{path}: line {n}: measured by {', '.join(measured) or 'no error metric'}, "
+                     f"the first row by {', '.join(first_measured) or 'none'}: not the rows of "
+                     "one batch")
             # (A run in two rows would be counted twice; shvol batch refuses such a ledger too.)
             run = row.get("run")
             if isinstance(run, str):

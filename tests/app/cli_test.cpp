@@ -2509,6 +2509,17 @@ TEST_F(Cli, BatchReport) {
     EXPECT_EQ(c.err, "shvol: error: " + ledger +
                          ": line 3: run r0000 again (first at line 1): two batches wrote into "
                          "this directory\n");
+    // Rows of other metrics than the first row's: refused (the report's one error metric, the
+    // first of rmse, relmse and mae that every row had, switched without a word).
+    std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "wall_time_s": 1, "rmse": 1, "mae": 1})"
+                          << "\n"
+                          << R"({"run": "r0001", "spp": 8, "wall_time_s": 1, "mae": 1})"
+                          << "\n";
+    c = run("report " + path("o"));
+    EXPECT_EQ(c.code, 1);
+    EXPECT_EQ(c.err, "shvol: error: " + ledger +
+                         ": line 2: measured by mae, the first row by rmse, mae: not the rows of "
+                         "one batch\n");
     // Efficiency is 1/(MSE·time) with the MSE's mean over the repeats, (1 + 9)/2 here, not the
     // mean RMSE squared (4); a configuration of one run has no spread to show.
     std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "g": 1, "wall_time_s": 1, "rmse": 1})"
