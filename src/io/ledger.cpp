@@ -196,18 +196,33 @@ void Ledger::append(const Json& row) {
     index_.emplace(id, rows_.size() - 1);
     // The CSV first: the JSONL is the record that a run finished. A row with a new column (the
     // first rows, mostly) rewrites the table; the others add one line to each file, so a batch
-    // of n runs writes O(n) bytes, not O(n²). A failed write leaves the row out (a CSV row more
-    // than the JSONL holds is made again on the next open) and the ledger refuses more rows.
+    // of n runs writes O(n) bytes, not O(n²). A failed write leaves the row out of both files
+    // (the CSV is cut back or rewritten as it was; were that to fail too, the next open makes
+    // it again from the JSONL) and the ledger refuses more rows.
+    const std::vector<std::string> columnsBefore = columns_;
+    std::error_code ec;
+    const uintmax_t csvBefore = std::filesystem::file_size(csvPath(), ec);
+    const bool csvExisted = !ec;
+    enum { None, Appended, Rewritten } csv = None;
     try {
         if (addColumns(row) || rows_.size() == 1)
-            writeCsv();
+            writeCsv(), csv = Rewritten;
         else
-            appendToFile(csvPath(), csvRow(row));
+            appendToFile(csvPath(), csvRow(row)), csv = Appended;
         appendToFile(jsonlPath(), dumpJson(row) + "\n");
     } catch (...) {
         failed_ = true;
         index_.erase(id);
         rows_.pop_back();
+        for (size_t c = columnsBefore.size(); c < columns_.size(); ++c)
+            columnSet_.erase(columns_[c]);
+        columns_ = columnsBefore;
+        try {
+            if (csv == Appended) std::filesystem::resize_file(csvPath(), csvBefore);
+            if (csv == Rewritten && csvExisted) writeCsv();
+            if (csv == Rewritten && !csvExisted) std::filesystem::remove(csvPath());
+        } catch (...) {  // (the error to report is the first)
+        }
         throw;
     }
 }

@@ -105,43 +105,49 @@ TEST(Ledger, KeepsAWholeLastRowAndSkipsBlankLines) {
 // the JSONL is as it was, the row is not in the ledger, and later rows are refused (before,
 // the row stayed in memory and the next job's row followed a half line no restart could mend).
 TEST(Ledger, AFailedWriteLeavesTheFileAsItWas) {
-    const fs::path dir = fs::path(testing::TempDir()) / "shvol_ledger_full";
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    const std::string jsonl = (dir / "results.jsonl").string();
-    {
-        Ledger l(dir.string());
-        l.append({{"run", "r0000"}, {"rmse", 0.5}});
-        l.append({{"run", "r0001"}, {"rmse", 0.25}});
-        const std::string before = test::fileBytes(jsonl);
-        ASSERT_LT(test::fileBytes(l.csvPath()).size() + 12, before.size() + 5);  // the CSV fits
-        std::string message;
+    // The failing row adds a line to the CSV, or (a new column) rewrites it.
+    for (const Json& failing : {Json{{"run", "r0002"}, {"rmse", 0.125}},
+                                Json{{"run", "r0002"}, {"rmse", 0.125}, {"mae", 1}}}) {
+        const fs::path dir = fs::path(testing::TempDir()) / "shvol_ledger_full";
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+        const std::string jsonl = (dir / "results.jsonl").string();
         {
-            // Room for 5 more bytes in any file; past them write(2) fails with EFBIG (the
-            // SIGXFSZ that would end the process is ignored meanwhile).
-            rlimit old{};
-            ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
-            rlimit small = old;
-            small.rlim_cur = before.size() + 5;
-            const auto handler = std::signal(SIGXFSZ, SIG_IGN);
-            ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
-            message = test::messageOf([&] { l.append({{"run", "r0002"}, {"rmse", 0.125}}); });
-            ::setrlimit(RLIMIT_FSIZE, &old);
-            std::signal(SIGXFSZ, handler);
+            Ledger l(dir.string());
+            l.append({{"run", "r0000"}, {"rmse", 0.5}});
+            l.append({{"run", "r0001"}, {"rmse", 0.25}});
+            const std::string before = test::fileBytes(jsonl);
+            ASSERT_LT(test::fileBytes(l.csvPath()).size() + 16, before.size() + 5);  // CSV fits
+            std::string message;
+            {
+                // Room for 5 more bytes in any file; past them write(2) fails with EFBIG (the
+                // SIGXFSZ that would end the process is ignored meanwhile).
+                rlimit old{};
+                ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
+                rlimit small = old;
+                small.rlim_cur = before.size() + 5;
+                const auto handler = std::signal(SIGXFSZ, SIG_IGN);
+                ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
+                message = test::messageOf([&] { l.append(failing); });
+                ::setrlimit(RLIMIT_FSIZE, &old);
+                std::signal(SIGXFSZ, handler);
+            }
+            EXPECT_EQ(message, jsonl + ": cannot write file (File too large)") << failing;
+            EXPECT_EQ(test::fileBytes(jsonl), before);
+            // The CSV too (its row had been written: it kept a run the JSONL does not count).
+            EXPECT_EQ(test::fileBytes(l.csvPath()), "rmse,run\n0.5,r0000\n0.25,r0001\n") << failing;
+            EXPECT_EQ(l.rows().size(), 2u);
+            EXPECT_EQ(l.find("r0002"), nullptr);
+            EXPECT_EQ(test::messageOf([&] {
+                          l.append({{"run", "r0003"}});
+                      }),
+                      jsonl + ": run r0003: not added: an earlier write to the ledger failed");
+            EXPECT_EQ(test::fileBytes(jsonl), before);
         }
-        EXPECT_EQ(message, jsonl + ": cannot write file (File too large)");
-        EXPECT_EQ(test::fileBytes(jsonl), before);
+        const Ledger l(dir.string());
         EXPECT_EQ(l.rows().size(), 2u);
-        EXPECT_EQ(l.find("r0002"), nullptr);
-        EXPECT_EQ(test::messageOf([&] {
-                      l.append({{"run", "r0003"}});
-                  }),
-                  jsonl + ": run r0003: not added: an earlier write to the ledger failed");
-        EXPECT_EQ(test::fileBytes(jsonl), before);
+        EXPECT_EQ(test::fileBytes(l.csvPath()), "rmse,run\n0.5,r0000\n0.25,r0001\n");
     }
-    const Ledger l(dir.string());  // the CSV's extra row goes on the next open
-    EXPECT_EQ(l.rows().size(), 2u);
-    EXPECT_EQ(test::fileBytes(l.csvPath()), "rmse,run\n0.5,r0000\n0.25,r0001\n");
 }
 
 // One writer per directory: a second Ledger that may write is refused while the first lives (in
