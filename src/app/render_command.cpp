@@ -438,7 +438,8 @@ int runRender(const RenderArgs& a) {
                 if (a.seed >= 0 && key == "render.seed") failOption("--seed", twice);
             }
             nlohmann::json resolved;
-            doc = sceneDocument(a.scene, a.sets);  // read once: scene, identity, inputs
+            std::vector<std::string> unchanged;  // (key=null of a key the scene does not have)
+            doc = sceneDocument(a.scene, a.sets, &unchanged);  // read once: scene, identity, inputs
             // --spp and --seed after the overrides, into a "render" object only: a scene or a
             // --set whose "render" is something else is refused by the reader as such, not
             // blamed on these options.
@@ -455,6 +456,9 @@ int runRender(const RenderArgs& a) {
                 fail(out, "", problem);
             final = outputsFor(out, "");
             warnings = phaseWarnings(scene);
+            for (const std::string& set : unchanged)
+                warnings.push_back("--set " + set +
+                                   ": the scene has no such key; nothing was deleted");
             for (std::string& w : surfaceWarnings(scene)) warnings.push_back(std::move(w));
             const Effects effects = Effects::of(scene);
             if (scene.settings.radianceCache.enabled && !effects.radianceCache)

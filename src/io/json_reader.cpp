@@ -240,7 +240,7 @@ std::string keyPathProblem(const std::string& key, std::vector<std::string>* par
     return "";
 }
 
-void applyOverride(Json& doc, const std::string& assignment, const std::string& file,
+bool applyOverride(Json& doc, const std::string& assignment, const std::string& file,
                    const std::string& source) {
     const std::string by = source.empty() ? "" : source + ": ";
     const auto eq = assignment.find('=');
@@ -290,17 +290,15 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
     if (node->is_array()) {
         if (value.is_null()) fail(file, walked, by + "array elements cannot be deleted");
         (*node)[element(last)] = std::move(value);
-        return;
+        return true;
     }
     if (!node->is_object() && !node->is_null()) cannotDescend();
     // A BSDF's type=null names the null BSDF, which is what `--set surfaces.0.bsdf.type=null`
     // means (deleting the object, bsdf=null, restores its default); other types are deleted.
     const bool bsdf = parts.size() >= 2 && parts[parts.size() - 2] == "bsdf";
     if (value.is_null() && last == "type" && bsdf) value = "null";
-    if (value.is_null()) {  // key=null deletes the key (its default applies again)
-        if (node->is_object()) node->erase(last);
-        return;
-    }
+    if (value.is_null())  // key=null deletes the key (its default applies again)
+        return node->is_object() && node->erase(last) > 0;
     // A new type starts a fresh object: keys of the old type would be unknown to the new one.
     if (last == "type" && node->is_object() && node->contains("type") && (*node)["type"] != value)
         *node = Json::object();
@@ -314,6 +312,7 @@ void applyOverride(Json& doc, const std::string& assignment, const std::string& 
         value = abs.lexically_normal().string();
     }
     (*node)[last] = std::move(value);
+    return true;
 }
 
 JsonReader::JsonReader(const Json& j, std::string file, std::string path)

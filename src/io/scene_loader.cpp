@@ -411,9 +411,11 @@ Scene loadScene(const std::string& path, const std::vector<std::string>& overrid
     return sceneFromJson(sceneDocument(path, overrides), path, resolved);
 }
 
-Json sceneDocument(const std::string& path, const std::vector<std::string>& overrides) {
+Json sceneDocument(const std::string& path, const std::vector<std::string>& overrides,
+                   std::vector<std::string>* unchanged) {
     Json doc = parseJsonFile(path);
-    for (const std::string& o : overrides) applyOverride(doc, o, path);
+    for (const std::string& o : overrides)
+        if (!applyOverride(doc, o, path) && unchanged) unchanged->push_back(o);
     return doc;
 }
 

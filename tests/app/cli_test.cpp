@@ -983,6 +983,20 @@ TEST_F(Cli, BadOverridesAndOutputs) {
 // A light sampler asked for where next-event estimation is off goes unused: the render says so
 // and why, once (it said nothing; only the stats' effects showed it; helper 54). Where NEE is on,
 // or the default sampler is left, nothing is said.
+// --set key=null of a key the scene does not have changes nothing, which is said: a typo in a
+// reset (media.0.phase.gg=null for g) went by without a word. A key the scene has is deleted
+// quietly.
+TEST_F(Cli, RenderWarnsOfADeletionThatDeletesNothing) {
+    write("s.json", scene(Homogeneous));
+    const Result r = run("render " + path("s.json") + " -o " + path("d.exr") +
+                         " --quiet --set camera.nosuch=null --set camera.position=null");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "shvol: warning: " + path("s.json") +
+                         ": --set camera.nosuch=null: the scene has no such key; nothing was "
+                         "deleted\n");
+    EXPECT_NE(test::fileBytes(path("d.stats.json")).find("nothing was deleted"), std::string::npos);
+}
+
 TEST_F(Cli, RenderWarnsOfAnUnusedLightSampler) {
     write("s.json", scene(Homogeneous));
     const std::string warning = "shvol: warning: " + path("s.json") +

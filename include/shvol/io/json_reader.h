@@ -39,8 +39,9 @@ Json parseJsonText(const std::string& text, const std::string& file, const std::
 /// add the new type's keys. A relative path assigned to a key named `file` is made absolute
 /// against the current directory. Errors where the scene cannot take the assignment (an index
 /// beyond an array, a key inside a number) say `source` ("--set: index 3 out of range …"); an
-/// empty `source` leaves it out (a sweep names its own key instead).
-void applyOverride(Json& doc, const std::string& assignment, const std::string& file,
+/// empty `source` leaves it out (a sweep names its own key instead). False when it changed
+/// nothing: `key=null` where the document has no such key (a typo, or a key already absent).
+bool applyOverride(Json& doc, const std::string& assignment, const std::string& file,
                    const std::string& source = "--set");
 /// A key path as applyOverride walks it: media[0].albedo (the notation of error messages) is
 /// media.0.albedo.
