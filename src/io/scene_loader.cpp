@@ -248,7 +248,7 @@ Surface readSurface(JsonReader r, size_t index, Contents contents) {
     // outside is the side its normal points to.
     if (s.kind == Surface::Kind::Mesh && s.bsdf.type == BsdfType::Dielectric &&
         signedVolume(s.mesh) < 0 && closedMeshDefect(s.mesh).empty())
-        flipWinding(s.mesh);
+        s.turnInsideOut();
     s.emission = spectrum(r, "emission", 0, 0, JsonReader::kUnbounded);
     s.twoSidedEmission = r.boolean("emission_two_sided", false);
     s.name = r.string("name", "surfaces[" + std::to_string(index) + "]");
@@ -292,7 +292,7 @@ std::unique_ptr<Medium> readMedium(JsonReader r, std::vector<Surface>& surfaces,
         surfaces[b].interiorMedium = index;
         // Outwards, so that crossing against the normal enters the medium.
         if (surfaces[b].kind == Surface::Kind::Mesh && signedVolume(surfaces[b].mesh) < 0)
-            flipWinding(surfaces[b].mesh);
+            surfaces[b].turnInsideOut();
     }
     const Spectrum albedo = spectrum(r, "albedo", 1, 0, 1);
     // Absent: isotropic, the phase type's default (and so recorded in scene_resolved).

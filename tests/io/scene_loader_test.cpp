@@ -424,6 +424,22 @@ TEST(SceneLoader, MediumBoundedByAClosedSurface) {
                   0)
             << file;
     }
+    // A one-sided emitter turned outwards still emits from the side its file's winding gave
+    // (inwards here): turned with its winding, a camera inside saw it dark.
+    for (const char* media : {"", R"(, "media": [{"type": "homogeneous", "boundary": 0}])"}) {
+        const Scene lit = f.load(R"({"surfaces": [{"type": "mesh", "file": "inward.obj",
+            "bsdf": {"type": ")" +
+                                 std::string(*media ? "null" : "dielectric") +
+                                 R"("}, "emission": 1}])" + media + "}");
+        const Surface& sf = lit.surfaces->surfaces()[0];
+        ASSERT_GT(signedVolume(sf.mesh), 0) << media;
+        const uint32_t* t = &sf.mesh.indices[0];
+        const Vec3 ng = (sf.mesh.p[t[1]] - sf.mesh.p[t[0]])
+                            .cross(sf.mesh.p[t[2]] - sf.mesh.p[t[0]])
+                            .normalized();         // outwards now
+        EXPECT_EQ(sf.Le(ng, -ng)[0], 1) << media;  // towards the inside
+        EXPECT_EQ(sf.Le(ng, ng)[0], 0) << media;
+    }
     // By index too.
     EXPECT_EQ(f.load(R"({"surfaces": [{"type": "sphere", "bsdf": {"type": "null"}}],
                          "media": [{"type": "homogeneous", "boundary": 0}]})")

@@ -35,6 +35,10 @@ struct Surface {
     Bsdf bsdf = Bsdf::lambert(Spectrum::Constant(0.5));
     Spectrum emission = Spectrum::Zero();  ///< radiance L_e leaving the front side
     bool twoSidedEmission = false;         ///< emit from the back side too
+    /// The side that emits is the back, not the front: a one-sided emitter whose winding the
+    /// loader turned outwards (a closed glass mesh or a medium's boundary) still emits from the
+    /// side its file's winding gave.
+    bool emitsFromBack = false;
     int interiorMedium = -1;  ///< the medium filling the inside of a closed surface, or −1
     std::string name;         ///< for messages and statistics, e.g. "surfaces[2]" or its "name"
 
@@ -49,10 +53,16 @@ struct Surface {
     /// and spheres; 0 for a mesh without vertices), NaN if a coordinate is NaN.
     double reach() const;
     /// Radiance leaving the surface towards w (unit, pointing away from it) at a point with
-    /// geometric normal ng: L_e if w is on the front side (or twoSidedEmission), else 0.
+    /// geometric normal ng: L_e if w is on the front side (the back with emitsFromBack; either
+    /// with twoSidedEmission), else 0.
     Spectrum Le(const Vec3& ng, const Vec3& w) const {
-        const double c = ng.dot(w);
+        const double c = emitsFromBack ? -ng.dot(w) : ng.dot(w);
         return (c > 0 || (twoSidedEmission && c < 0)) ? emission : Spectrum::Zero();
+    }
+    /// Reverses the mesh's winding (flipWinding), its emission staying on the side it was.
+    void turnInsideOut() {
+        flipWinding(mesh);
+        emitsFromBack = !emitsFromBack;
     }
     /// Sets `tangent` to toWorld's x axis (kept where that is zero or not finite).
     void orient(const Eigen::Affine3d& toWorld);
