@@ -152,9 +152,7 @@ double VolumePathIntegrator::visibility(const Vec3& x, const Vec3& ng, const Lig
         if (!surf->hasNullSurfaces()) {
             if (surf->occluded(ray, tMax)) return 0;
         } else if (surf->intersect(ray, tMax, &hit)) {
-            if (surf->surfaces()[hit.surface].bsdf.type != BsdfType::Null ||
-                crossings >= kMaxNullCrossings)
-                return 0;
+            if (surf->preferSolid(ray, tMax, &hit) || crossings >= kMaxNullCrossings) return 0;
             if (effects_.volumes) T *= transmittance(ray, hit.t, inside, rng, c);
             if (T <= 0) return 0;
             inside = crossed(hit, ray.d, inside);
@@ -286,6 +284,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
     for (int depth = record ? 1 : 0;;) {
         SurfaceHit hit;
         const bool hitSurface = surf && surf->intersect(ray, NoHit, &hit);
+        if (hitSurface && surf->hasNullSurfaces()) surf->preferSolid(ray, NoHit, &hit);
         int mi = -1;
         double t = NoCollision;
         if (effects_.volumes && anyActive(inside)) {

@@ -37,6 +37,21 @@ double diskRoot(const Vec3& o, const Vec3& d, const Surface& s, const Vec3& c, d
     return t;
 }
 
+/// An Embree intersect context that can hide the null surfaces (SurfaceScene::preferSolid):
+/// Embree hands the callbacks the address of `rtc`, its first member.
+struct QueryContext {
+    RTCIntersectContext rtc;
+    bool solidOnly = false;
+    QueryContext(bool solid) : solidOnly(solid) { rtcInitIntersectContext(&rtc); }
+};
+bool solidOnly(const RTCIntersectContext* c) {
+    return reinterpret_cast<const QueryContext*>(c)->solidOnly;
+}
+/// The filter of a null surface's triangles: no hit where only solid surfaces count.
+void hideWhenSolidOnly(const RTCFilterFunctionNArguments* a) {
+    if (solidOnly(a->context)) a->valid[0] = 0;  // (N == 1: rtcIntersect1 only)
+}
+
 /// A sphere or disk as Embree user geometry: its centre in Embree's space divided by the scale
 /// (the scene's minus the origin of Embree's space, below), and the scale.
 struct AnalyticGeometry {
@@ -75,6 +90,7 @@ void analyticIntersect(const RTCIntersectFunctionNArguments* a) {
     if (!a->valid[0]) return;
     RTCRayHit& rh = *reinterpret_cast<RTCRayHit*>(a->rayhit);
     const AnalyticGeometry& g = *static_cast<const AnalyticGeometry*>(a->geometryUserPtr);
+    if (solidOnly(a->context) && g.surface->bsdf.type == BsdfType::Null) return;
     const Vec3 o = Vec3(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z) / g.scale;
     const Vec3 d = Vec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z).normalized();
     const double t = analyticRoot(g, o, d, rh.ray.tnear / g.scale, rh.ray.tfar / g.scale);
@@ -179,6 +195,8 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
                 for (int j = 0; j < 3; ++j) v[3 * k + j] = float((m.p[k][j] - origin[j]) * scale);
             std::copy(m.indices.begin(), m.indices.end(), idx);
             triangles_ += m.triangleCount();
+            if (s.bsdf.type == BsdfType::Null)
+                rtcSetGeometryIntersectFilterFunction(g, hideWhenSolidOnly);
         } else {
             g = rtcNewGeometry(rtc_->device, RTC_GEOMETRY_TYPE_USER);
             rtcSetGeometryUserPrimitiveCount(g, 1);
@@ -226,23 +244,36 @@ bool SurfaceScene::startNear(const Ray& ray, double tMax, Ray* moved, double* tE
     return ((moved->o - rtc_->origin).array().abs() <= farOrigin).all();
 }
 
-bool SurfaceScene::intersect(const Ray& ray, double tMax, SurfaceHit* hit) const {
+bool SurfaceScene::intersect(const Ray& ray, double tMax, SurfaceHit* hit, bool solidOnly) const {
     Ray moved;
     double tEntry;
-    if (!startNear(ray, tMax, &moved, &tEntry) || !intersectInRange(moved, tMax - tEntry, hit))
+    if (!startNear(ray, tMax, &moved, &tEntry) ||
+        !intersectInRange(moved, tMax - tEntry, hit, solidOnly))
         return false;
     hit->t += tEntry;
     return true;
 }
 
-bool SurfaceScene::intersectInRange(const Ray& ray, double tMax, SurfaceHit* hit) const {
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
+bool SurfaceScene::preferSolid(const Ray& ray, double tMax, SurfaceHit* hit) const {
+    if (surfaces_[hit->surface].bsdf.type != BsdfType::Null) return true;
+    // The slab of thickness ε beyond the null surface that spawn() jumps, along the ray (at
+    // most 10³ ε, at grazing angles).
+    const double cos = std::abs(ray.d.dot(hit->ng));
+    const double reach = hit->t + epsilon_ * (1 + 1 / std::max(cos, 1e-3));
+    SurfaceHit solid;
+    if (!intersect(ray, std::min(reach, tMax), &solid, true)) return false;
+    *hit = solid;
+    return true;
+}
+
+bool SurfaceScene::intersectInRange(const Ray& ray, double tMax, SurfaceHit* hit,
+                                    bool solidOnly) const {
+    QueryContext ctx(solidOnly);
     RTCRayHit rh;
     rh.ray = rtc_->toRtc(ray, tMax);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(rtc_->scene, &ctx, &rh);
+    rtcIntersect1(rtc_->scene, &ctx.rtc, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     const Surface& s = surfaces_[rh.hit.geomID];
     hit->surface = int(rh.hit.geomID);

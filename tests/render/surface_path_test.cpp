@@ -336,6 +336,49 @@ TEST(SurfacePath, NullBoundedMediumEqualsAHomogeneousBox) {
     }
 }
 
+/// A fog's null box standing on a floor, its bottom face in the floor's plane (or `gap` above),
+/// under a sky of 1 in every direction (below the floor too), seen from above.
+Scene fogOnAFloor(double floorReflectance, double sigmaT, double gap) {
+    Scene scene;
+    scene.settings.maxDepth = 200;
+    scene.settings.nee = true;  // (auto leaves it off under a constant sky: the shadow rays too)
+    scene.environment = Environment::constant(Spectrum::Ones(), false);
+    std::vector<Surface> v;
+    Eigen::Affine3d floor = Eigen::Affine3d::Identity();
+    floor.scale(3);
+    v.push_back(Surface::rectangle(floor));
+    v.back().bsdf = Bsdf::lambert(Spectrum::Constant(floorReflectance));
+    v.push_back(
+        meshSurface(testing::boxMesh(Vec3(-1, -1, gap), Vec3(1, 1, 2 + gap)), Bsdf::null()));
+    v.back().interiorMedium = 0;
+    scene.surfaces = surfaces(std::move(v));
+    MediumShape everywhere;
+    everywhere.type = MediumShape::Type::Everywhere;
+    scene.media.push_back(std::make_unique<HomogeneousMedium>(
+        everywhere, sigmaT, Spectrum::Constant(0.8), PhaseFunction(HenyeyGreensteinPhase(0))));
+    return scene;
+}
+
+auto raysAtTheFootprint(const Vec2& u) {
+    const Vec3 eye(0.3, -0.2, 5);
+    return Ray{eye, (Vec3(1.6 * u.x() - 0.8, 1.6 * u.y() - 0.8, 0) - eye).normalized()};
+}
+
+// A floor coincident with a null boundary is hit, not jumped: crossing the null face moved the
+// ray ε beyond it, below the floor, and the sky under the floor shone through (the floor under a
+// fog box read 0.70–0.79 where 0.47 is right). Without fog, a black floor seen through the box
+// is exactly black; with fog, the floor under the box (shadow rays from the fog towards the sky
+// below are blocked by it too) looks as under a box lifted by 10⁻⁴, more than ε, off it.
+TEST(SurfacePath, AFloorUnderANullBoundaryIsNotJumped) {
+    const Estimate black = estimate(fogOnAFloor(0, 0, 0), 4000, raysAtTheFootprint);
+    EXPECT_EQ(black.mean[0], 0);
+    EXPECT_GT(black.counters.surfaceHits, 0u);
+    const Estimate on = estimate(fogOnAFloor(0.5, 0.7, 0), 20000, raysAtTheFootprint);
+    const Estimate lifted = estimate(fogOnAFloor(0.5, 0.7, 1e-4), 20000, raysAtTheFootprint);
+    EXPECT_NEAR(on.mean[0], lifted.mean[0], 5 * std::hypot(on.stdErr[0], lifted.stdErr[0]));
+    EXPECT_GT(on.counters.shadowRays, 0u);
+}
+
 TEST(SurfacePath, SceneWithoutSurfacesRunsNoSurfaceCode) {
     Scene scene;
     scene.environment = Environment::constant(Spectrum::Ones(), false);
