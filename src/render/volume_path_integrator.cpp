@@ -282,9 +282,10 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
     // A record path continues a camera path from its first vertex: it starts one bounce deep,
     // so that cached pixels see at most max_depth bounces too.
     for (int depth = record ? 1 : 0;;) {
-        SurfaceHit hit;
+        SurfaceHit hit, jumped;  // (jumped: a null surface the hit is within ε beyond)
+        jumped.surface = -1;
         const bool hitSurface = surf && surf->intersect(ray, NoHit, &hit);
-        if (hitSurface && surf->hasNullSurfaces()) surf->preferSolid(ray, NoHit, &hit);
+        if (hitSurface && surf->hasNullSurfaces()) surf->preferSolid(ray, NoHit, &hit, &jumped);
         int mi = -1;
         double t = NoCollision;
         if (effects_.volumes && anyActive(inside)) {
@@ -377,6 +378,13 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             prevP = hit.p;
             prevVertex = Vertex::Surface;
             if (transmitted) inside = crossed(hit, wi, inside);
+            // Through a null surface met at the same place, within ε (fog in a glass tank, its
+            // null box on the tank's inner wall): its medium is entered or left too (it stayed
+            // outside). Reflected, the path stays on the side it came from.
+            if (transmitted && jumped.surface < 0 && surf->hasNullSurfaces())
+                surf->nullAt(ray, hit, &jumped);
+            if (jumped.surface >= 0 && wi.dot(jumped.ng) * ray.d.dot(jumped.ng) > 0)
+                inside = crossed(jumped, ray.d, inside);
             ray = surf->spawn(hit.p, hit.ng, wi);
         } else {  // a real collision in media[mi]
             if (++depth > s.maxDepth) break;
@@ -481,7 +489,7 @@ namespace {
 bool firstNonNullHit(const SurfaceScene& surf, Ray ray, SurfaceHit* hit) {
     for (int k = 0; k < VolumePathIntegrator::kMaxNullCrossings && surf.intersect(ray, NoHit, hit);
          ++k) {
-        if (surf.surfaces()[hit->surface].bsdf.type != BsdfType::Null) return true;
+        if (surf.preferSolid(ray, NoHit, hit)) return true;  // (as Li finds it)
         ray = surf.spawn(hit->p, hit->ng, ray.d);
     }
     return false;

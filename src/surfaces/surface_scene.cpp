@@ -37,19 +37,12 @@ double diskRoot(const Vec3& o, const Vec3& d, const Surface& s, const Vec3& c, d
     return t;
 }
 
-/// An Embree intersect context that can hide the null surfaces (SurfaceScene::preferSolid):
-/// Embree hands the callbacks the address of `rtc`, its first member.
-struct QueryContext {
-    RTCIntersectContext rtc;
-    bool solidOnly = false;
-    QueryContext(bool solid) : solidOnly(solid) { rtcInitIntersectContext(&rtc); }
-};
-bool solidOnly(const RTCIntersectContext* c) {
-    return reinterpret_cast<const QueryContext*>(c)->solidOnly;
-}
-/// The filter of a null surface's triangles: no hit where only solid surfaces count.
-void hideWhenSolidOnly(const RTCFilterFunctionNArguments* a) {
-    if (solidOnly(a->context)) a->valid[0] = 0;  // (N == 1: rtcIntersect1 only)
+/// Embree geometry masks (Debian's Embree is built with EMBREE_RAY_MASK, which CMakeLists.txt
+/// checks): a ray sees the geometries whose mask shares a bit with its own.
+unsigned maskOf(SurfaceScene::Sees sees) {
+    return sees == SurfaceScene::Sees::All     ? 0xFFFFFFFFu
+           : sees == SurfaceScene::Sees::Solid ? 1u
+                                               : 2u;
 }
 
 /// A sphere or disk as Embree user geometry: its centre in Embree's space divided by the scale
@@ -90,7 +83,6 @@ void analyticIntersect(const RTCIntersectFunctionNArguments* a) {
     if (!a->valid[0]) return;
     RTCRayHit& rh = *reinterpret_cast<RTCRayHit*>(a->rayhit);
     const AnalyticGeometry& g = *static_cast<const AnalyticGeometry*>(a->geometryUserPtr);
-    if (solidOnly(a->context) && g.surface->bsdf.type == BsdfType::Null) return;
     const Vec3 o = Vec3(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z) / g.scale;
     const Vec3 d = Vec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z).normalized();
     const double t = analyticRoot(g, o, d, rh.ray.tnear / g.scale, rh.ray.tfar / g.scale);
@@ -195,8 +187,6 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
                 for (int j = 0; j < 3; ++j) v[3 * k + j] = float((m.p[k][j] - origin[j]) * scale);
             std::copy(m.indices.begin(), m.indices.end(), idx);
             triangles_ += m.triangleCount();
-            if (s.bsdf.type == BsdfType::Null)
-                rtcSetGeometryIntersectFilterFunction(g, hideWhenSolidOnly);
         } else {
             g = rtcNewGeometry(rtc_->device, RTC_GEOMETRY_TYPE_USER);
             rtcSetGeometryUserPrimitiveCount(g, 1);
@@ -206,6 +196,7 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
             rtcSetGeometryIntersectFunction(g, analyticIntersect);
             rtcSetGeometryOccludedFunction(g, analyticOccluded);
         }
+        rtcSetGeometryMask(g, maskOf(s.bsdf.type == BsdfType::Null ? Sees::Null : Sees::Solid));
         rtcCommitGeometry(g);
         rtcAttachGeometryByID(rtc_->scene, g, unsigned(i));
         rtcReleaseGeometry(g);
@@ -244,36 +235,44 @@ bool SurfaceScene::startNear(const Ray& ray, double tMax, Ray* moved, double* tE
     return ((moved->o - rtc_->origin).array().abs() <= farOrigin).all();
 }
 
-bool SurfaceScene::intersect(const Ray& ray, double tMax, SurfaceHit* hit, bool solidOnly) const {
+bool SurfaceScene::intersect(const Ray& ray, double tMax, SurfaceHit* hit, Sees sees) const {
     Ray moved;
     double tEntry;
     if (!startNear(ray, tMax, &moved, &tEntry) ||
-        !intersectInRange(moved, tMax - tEntry, hit, solidOnly))
+        !intersectInRange(moved, tMax - tEntry, hit, sees))
         return false;
     hit->t += tEntry;
     return true;
 }
 
-bool SurfaceScene::preferSolid(const Ray& ray, double tMax, SurfaceHit* hit) const {
+bool SurfaceScene::preferSolid(const Ray& ray, double tMax, SurfaceHit* hit,
+                               SurfaceHit* jumped) const {
+    if (jumped) jumped->surface = -1;
     if (surfaces_[hit->surface].bsdf.type != BsdfType::Null) return true;
-    // The slab of thickness ε beyond the null surface that spawn() jumps, along the ray (at
-    // most 10³ ε, at grazing angles).
-    const double cos = std::abs(ray.d.dot(hit->ng));
-    const double reach = hit->t + epsilon_ * (1 + 1 / std::max(cos, 1e-3));
     SurfaceHit solid;
-    if (!intersect(ray, std::min(reach, tMax), &solid, true)) return false;
+    if (!intersect(ray, std::min(hit->t + jump(ray, *hit), tMax), &solid, Sees::Solid))
+        return false;
+    if (jumped) *jumped = *hit;
     *hit = solid;
     return true;
 }
 
-bool SurfaceScene::intersectInRange(const Ray& ray, double tMax, SurfaceHit* hit,
-                                    bool solidOnly) const {
-    QueryContext ctx(solidOnly);
+bool SurfaceScene::nullAt(const Ray& ray, const SurfaceHit& hit, SurfaceHit* null) const {
+    const double d = jump(ray, hit), from = std::max(0.0, hit.t - d);
+    if (!intersect(Ray{ray(from), ray.d}, hit.t + d - from, null, Sees::Null)) return false;
+    null->t += from;
+    return true;
+}
+
+bool SurfaceScene::intersectInRange(const Ray& ray, double tMax, SurfaceHit* hit, Sees sees) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
     rh.ray = rtc_->toRtc(ray, tMax);
+    rh.ray.mask = maskOf(sees);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(rtc_->scene, &ctx.rtc, &rh);
+    rtcIntersect1(rtc_->scene, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     const Surface& s = surfaces_[rh.hit.geomID];
     hit->surface = int(rh.hit.geomID);

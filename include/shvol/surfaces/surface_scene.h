@@ -45,14 +45,24 @@ class SurfaceScene {
     SurfaceScene(const SurfaceScene&) = delete;
     SurfaceScene& operator=(const SurfaceScene&) = delete;
 
-    /// Nearest hit with t ∈ (0, tMax); false if none. With solidOnly, null surfaces are not hit.
-    bool intersect(const Ray& ray, double tMax, SurfaceHit* hit, bool solidOnly = false) const;
+    /// The surfaces a query sees: all, all but the null ones, or the null ones only.
+    enum class Sees { All, Solid, Null };
+    /// Nearest hit with t ∈ (0, tMax) of a surface the query sees; false if none.
+    bool intersect(const Ray& ray, double tMax, SurfaceHit* hit, Sees sees = Sees::All) const;
     /// Given the nearest hit of `ray`, a null surface's: replaces it by the hit of a surface that
     /// is not null within ε beyond it (along the ray, up to tMax), and says whether it did (true
     /// for a hit that was not null). Such a surface is coincident with the null one, or so near
     /// that the crossing's spawn() would start beyond it: a fog's null box standing on a floor
     /// let rays through the floor (its part under the box 0.70–0.79 where 0.47 is right).
-    bool preferSolid(const Ray& ray, double tMax, SurfaceHit* hit) const;
+    /// `jumped` (optional) gets the null hit replaced; its surface index is −1 if none was. A
+    /// path that goes on through the solid surface (glass) crosses that null one too.
+    bool preferSolid(const Ray& ray, double tMax, SurfaceHit* hit,
+                     SurfaceHit* jumped = nullptr) const;
+    /// A null surface the ray meets within ε of its hit (of a surface that is not null), before
+    /// or beyond it: a path spawned off the hit, through it, would jump that one's crossing
+    /// (fog in a glass tank, its null box on the glass: the glass hit first, its medium was
+    /// never entered). The nearest such one; false if none.
+    bool nullAt(const Ray& ray, const SurfaceHit& hit, SurfaceHit* null) const;
     /// Whether any surface is hit with t ∈ (0, tMax).
     bool occluded(const Ray& ray, double tMax) const;
     /// A ray from the surface point p (geometric normal ng) along the unit direction d, its
@@ -89,7 +99,12 @@ class SurfaceScene {
 
   private:
     bool startNear(const Ray& ray, double tMax, Ray* moved, double* tEntry) const;
-    bool intersectInRange(const Ray& ray, double tMax, SurfaceHit* hit, bool solidOnly) const;
+    bool intersectInRange(const Ray& ray, double tMax, SurfaceHit* hit, Sees sees) const;
+    /// How far along the ray the slab of thickness ε on either side of hit's surface reaches:
+    /// what spawn() can jump (at most 10³ ε, at grazing angles).
+    double jump(const Ray& ray, const SurfaceHit& hit) const {
+        return epsilon_ * (1 + 1 / std::max(std::abs(ray.d.dot(hit.ng)), 1e-3));
+    }
     struct Embree;  ///< the RTCDevice and RTCScene (Embree headers stay in the .cpp)
     std::unique_ptr<Embree> rtc_;
     std::vector<Surface> surfaces_;
