@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <sstream>
 #include <tuple>
@@ -12,16 +14,23 @@ namespace shvol {
 
 namespace {
 
-/// "(x, y, …)", with any NaN written "nan" (the C library writes "-nan" for some).
+/// "(x, y, …)", with any NaN written "nan" (the C library writes "-nan" for some). `exact`:
+/// each coordinate with as many digits as tell it from its neighbours (at least 6).
 template <typename V>
-std::string str(const V& v) {
+std::string str(const V& v, bool exact = false) {
     std::ostringstream s;
     for (int i = 0; i < v.size(); ++i) {
         s << (i ? ", " : "(");
-        if (std::isnan(v[i]))
+        if (std::isnan(v[i])) {
             s << "nan";
-        else
-            s << v[i];
+            continue;
+        }
+        char b[32];
+        for (int digits = 6; digits <= 17; ++digits) {
+            std::snprintf(b, sizeof b, "%.*g", digits, double(v[i]));
+            if (!exact || std::strtod(b, nullptr) == double(v[i])) break;
+        }
+        s << b;
     }
     s << ")";
     return s.str();
@@ -32,45 +41,76 @@ uint64_t edgeKey(uint32_t a, uint32_t b) {
     return (uint64_t(a) << 32) | b;
 }
 
-/// The centre of the mesh's bounding box: volumes are summed about it, not about the origin,
-/// whose terms p0 · (p1 × p2) far from the mesh cancel (a glass mesh of size 1 at 10⁶ from the
-/// origin got a volume of random sign, and was turned inside out).
-Vec3 meshCentre(const TriangleMesh& mesh) {
-    if (mesh.p.empty()) return Vec3::Zero();
-    Vec3 lo = mesh.p[0], hi = mesh.p[0];
-    for (const Vec3& p : mesh.p) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-    return 0.5 * (lo + hi);
+/// Each vertex's stand-in at its position: the first vertex of an equal position. A file gives
+/// a vertex per distinct corner (an OBJ's v/vt/vn, a PLY's seams), so the faces of a
+/// flat-shaded cube share positions, not vertices. (Positions must be finite: validateMesh.)
+std::vector<uint32_t> weldByPosition(const TriangleMesh& mesh) {
+    std::vector<uint32_t> order(mesh.p.size()), weld(mesh.p.size());
+    for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+        const Vec3 &p = mesh.p[a], &q = mesh.p[b];
+        return std::tie(p.x(), p.y(), p.z(), a) < std::tie(q.x(), q.y(), q.z(), b);
+    });
+    for (size_t k = 0; k < order.size(); ++k)
+        weld[order[k]] =
+            k > 0 && mesh.p[order[k]] == mesh.p[order[k - 1]] ? weld[order[k - 1]] : order[k];
+    return weld;
 }
 
-/// For a closed mesh whose triangle f has corners corner(f, 0..2) (welded vertex numbers): why a
-/// connected part of it encloses no volume, or "". Such a part is both sides of a sheet (a
-/// triangle given in both windings, say): every edge has its opposite, yet which side of it is
-/// inside depends on which of two coincident triangles a ray hits (a medium bounded by one
-/// filled the half-space beyond it). Parts are judged by |V| ≤ 10⁻⁹ A^{3/2}.
-template <typename Corner>
-std::string emptyPart(const TriangleMesh& mesh, const Corner& corner) {
-    // Parts: union-find over the vertices, joined along every triangle's edges.
-    std::vector<uint32_t> parent(mesh.p.size());
-    for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
-    const auto root = [&](uint32_t i) {
-        while (parent[i] != i) i = parent[i] = parent[parent[i]];
-        return i;
-    };
+/// The shells of a mesh: its faces joined across the edges they share (of welded vertices),
+/// each with its signed volume and its area. A shell's volume is summed about its own first
+/// corner, not an origin whose terms p0 · (p1 × p2) cancel far from the shell (a glass mesh of
+/// size 1 at 10⁶ from the origin got a volume of random sign, and was turned inside out).
+struct Shells {
+    std::vector<uint32_t> ofFace;      ///< per face, its shell's first face
+    std::vector<double> volume, area;  ///< per shell, indexed by its first face
+};
+Shells shellsOf(const TriangleMesh& mesh, const std::vector<uint32_t>& weld) {
     const size_t nt = mesh.triangleCount();
+    const auto corner = [&](size_t f, int j) { return weld[mesh.indices[3 * f + j % 3]]; };
+    // Undirected edges with their faces, sorted; faces that share one are one shell.
+    std::vector<std::pair<uint64_t, uint32_t>> edges;
+    edges.reserve(3 * nt);
     for (size_t f = 0; f < nt; ++f)
-        for (int j = 1; j < 3; ++j) parent[root(corner(f, j))] = root(corner(f, 0));
-    std::vector<double> volume(mesh.p.size(), 0), area(mesh.p.size(), 0);
-    const Vec3 c = meshCentre(mesh);  // (see signedVolume)
+        for (int j = 0; j < 3; ++j) {
+            const uint32_t a = corner(f, j), b = corner(f, j + 1);
+            edges.emplace_back(edgeKey(std::min(a, b), std::max(a, b)), uint32_t(f));
+        }
+    std::sort(edges.begin(), edges.end());
+    Shells s;
+    s.ofFace.resize(nt);
+    for (uint32_t f = 0; f < nt; ++f) s.ofFace[f] = f;
+    const auto root = [&](uint32_t f) {
+        while (s.ofFace[f] != f) f = s.ofFace[f] = s.ofFace[s.ofFace[f]];
+        return f;
+    };
+    for (size_t i = 1; i < edges.size(); ++i)
+        if (edges[i].first == edges[i - 1].first) {
+            const uint32_t a = root(edges[i].second), b = root(edges[i - 1].second);
+            s.ofFace[std::max(a, b)] = std::min(a, b);  // (the first face stays the root)
+        }
+    for (uint32_t f = 0; f < nt; ++f) s.ofFace[f] = root(f);
+    s.volume.assign(nt, 0), s.area.assign(nt, 0);
     for (size_t f = 0; f < nt; ++f) {
-        const Vec3 p0 = mesh.p[corner(f, 0)] - c, p1 = mesh.p[corner(f, 1)] - c,
-                   p2 = mesh.p[corner(f, 2)] - c;
-        const uint32_t r = root(corner(f, 0));
-        volume[r] += p0.dot(p1.cross(p2)) / 6;
-        area[r] += 0.5 * (p1 - p0).cross(p2 - p0).norm();
+        const uint32_t r = s.ofFace[f];
+        const Vec3& o = mesh.p[corner(r, 0)];
+        const Vec3 p0 = mesh.p[corner(f, 0)] - o, p1 = mesh.p[corner(f, 1)] - o,
+                   p2 = mesh.p[corner(f, 2)] - o;
+        s.volume[r] += p0.dot(p1.cross(p2));  // (6 V until the end: one rounding less)
+        s.area[r] += 0.5 * (p1 - p0).cross(p2 - p0).norm();
     }
-    for (size_t f = 0; f < nt; ++f) {
-        const uint32_t r = root(corner(f, 0));
-        if (std::abs(volume[r]) <= 1e-9 * area[r] * std::sqrt(area[r]))
+    for (double& v : s.volume) v /= 6;
+    return s;
+}
+
+/// Why a shell of a closed mesh encloses no volume, or "". Such a shell is both sides of a
+/// sheet (a triangle given in both windings, say): every edge has its opposite, yet which side
+/// of it is inside depends on which of two coincident triangles a ray hits (a medium bounded by
+/// one filled the half-space beyond it). Shells are judged by |V| ≤ 10⁻⁹ A^{3/2}.
+std::string emptyShell(const Shells& s) {
+    for (size_t f = 0; f < s.ofFace.size(); ++f) {
+        const uint32_t r = s.ofFace[f];
+        if (std::abs(s.volume[r]) <= 1e-9 * s.area[r] * std::sqrt(s.area[r]))
             return "the part of face " + std::to_string(f) +
                    " encloses no volume: both sides of one sheet, not the surface of a solid";
     }
@@ -175,19 +215,9 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshP
 std::string closedMeshDefect(const TriangleMesh& mesh) {
     const size_t nt = mesh.triangleCount();
     if (nt == 0) return "the mesh has no triangles";
-    // Vertices welded by position: a file gives a vertex per distinct corner (an OBJ's v/vt/vn, a
-    // PLY's seams), so the faces of a flat-shaded cube share positions, not vertices. Each vertex
-    // stands for the first one at an equal position.
-    std::vector<uint32_t> order(mesh.p.size()), weld(mesh.p.size());
-    for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
-    const auto less = [&](uint32_t a, uint32_t b) {
-        const Vec3 &p = mesh.p[a], &q = mesh.p[b];
-        return std::tie(p.x(), p.y(), p.z(), a) < std::tie(q.x(), q.y(), q.z(), b);
-    };
-    std::sort(order.begin(), order.end(), less);
-    for (size_t k = 0; k < order.size(); ++k)
-        weld[order[k]] =
-            k > 0 && mesh.p[order[k]] == mesh.p[order[k - 1]] ? weld[order[k - 1]] : order[k];
+    for (const Vec3& p : mesh.p)
+        if (!p.allFinite()) return "a vertex position is not finite";
+    const std::vector<uint32_t> weld = weldByPosition(mesh);  // (faces meet at positions)
     const auto corner = [&](size_t f, int j) { return weld[mesh.indices[3 * f + j % 3]]; };
     for (size_t f = 0; f < nt; ++f)
         if (corner(f, 0) == corner(f, 1) || corner(f, 1) == corner(f, 2) ||
@@ -208,12 +238,12 @@ std::string closedMeshDefect(const TriangleMesh& mesh) {
         if (!has(reverse(keys[i]))) open = true;
         if (twice) break;
     }
-    if (!twice && !open) return emptyPart(mesh, corner);
+    if (!twice && !open) return emptyShell(shellsOf(mesh, weld));
     // A defect exists: name the first face that shows it, duplicates first (they explain the
     // missing opposite edges that inconsistent winding also causes). Edges are named by their
     // end points: the vertex numbers are the loader's, not the file's.
     const auto edgeName = [&](uint64_t k) {
-        return "edge from " + str(mesh.p[k >> 32]) + " to " + str(mesh.p[uint32_t(k)]);
+        return "edge from " + str(mesh.p[k >> 32], true) + " to " + str(mesh.p[uint32_t(k)], true);
     };
     for (size_t f = 0; f < nt && twice; ++f)
         for (int j = 0; j < 3; ++j) {
@@ -238,13 +268,13 @@ std::string closedMeshDefect(const TriangleMesh& mesh) {
 }
 
 double signedVolume(const TriangleMesh& mesh) {
-    const Vec3 c = meshCentre(mesh);
+    for (const Vec3& p : mesh.p)
+        if (!p.allFinite()) return std::numeric_limits<double>::quiet_NaN();
+    const Shells s = shellsOf(mesh, weldByPosition(mesh));
     double v = 0;
-    for (size_t f = 0; f < mesh.triangleCount(); ++f) {
-        const uint32_t* t = &mesh.indices[3 * f];
-        v += (mesh.p[t[0]] - c).dot((mesh.p[t[1]] - c).cross(mesh.p[t[2]] - c));
-    }
-    return v / 6;
+    for (size_t f = 0; f < s.ofFace.size(); ++f)
+        if (s.ofFace[f] == f) v += s.volume[f];
+    return v;
 }
 
 double triangleArea(const TriangleMesh& mesh, size_t f) {

@@ -133,6 +133,9 @@ TEST(TriangleMesh, FacesMeetAtPositionsNotVertexNumbers) {
     m.p[0].x() = -1.0 + 1e-12;  // a crack: that corner of one face no longer meets the others
     EXPECT_NE(closedMeshDefect(m).find("the mesh is not closed"), std::string::npos)
         << closedMeshDefect(m);
+    // named with the digits that tell the corner from the others' (-1 at six digits)
+    EXPECT_NE(closedMeshDefect(m).find("(-0.999999999999, -1, -1)"), std::string::npos)
+        << closedMeshDefect(m);
 }
 
 // Volumes are summed about the mesh, not the origin: 10⁶ away from it a unit cube's volume
@@ -146,6 +149,16 @@ TEST(TriangleMesh, VolumeFarFromTheOrigin) {
         EXPECT_NEAR(signedVolume(m), -1.0, 1e-9) << far;
         EXPECT_EQ(closedMeshDefect(m), "") << far;
     }
+    // Two parts far apart: each summed about itself (about the centre of both, part 1's volume
+    // came out negative at a distance of 10⁶).
+    TriangleMesh two = cube();
+    const uint32_t n = uint32_t(two.p.size());
+    for (size_t k = 0; k < n; ++k) two.p.push_back(two.p[k] + Vec3(1e7, 3e6, 0));
+    for (size_t k = 0, m = two.indices.size(); k < m; ++k)
+        two.indices.push_back(two.indices[k] + n);
+    for (Vec3& p : two.p) p *= 0.5;
+    EXPECT_NEAR(signedVolume(two), 2.0, 1e-9);
+    EXPECT_EQ(closedMeshDefect(two), "");
 }
 
 // A part that encloses no volume is no solid's surface, though every edge has its opposite: a
@@ -163,6 +176,15 @@ TEST(TriangleMesh, APartWithoutVolumeIsNotClosed) {
     for (const Vec3& p : {Vec3(5, 0, 0), Vec3(6, 0, 0), Vec3(5, 1, 0)}) both.p.push_back(p);
     both.indices.insert(both.indices.end(), {n, n + 1, n + 2, n, n + 2, n + 1});
     EXPECT_EQ(closedMeshDefect(both),
+              "the part of face 12 encloses no volume: both sides of one sheet, not the surface "
+              "of a solid");
+    // Touching the cube at one vertex: a shell of its own still (faces join across edges; joined
+    // at vertices, the cube's volume hid the sheet's).
+    TriangleMesh touching = cube();
+    const uint32_t t = uint32_t(touching.p.size());
+    for (const Vec3& p : {Vec3(3, 1, 1), Vec3(3, 3, 1)}) touching.p.push_back(p);
+    touching.indices.insert(touching.indices.end(), {7, t, t + 1, 7, t + 1, t});
+    EXPECT_EQ(closedMeshDefect(touching),
               "the part of face 12 encloses no volume: both sides of one sheet, not the surface "
               "of a solid");
     // A square covered on both sides by different diagonals: no triangle repeats.

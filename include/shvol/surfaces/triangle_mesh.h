@@ -61,13 +61,16 @@ void widestAngleFirst(TriangleMesh& mesh);
 /// every directed edge (a, b) of a triangle must appear exactly once, and its reverse (b, a)
 /// exactly once in another triangle (an oriented 2-manifold without boundary). Vertices at equal
 /// positions are one vertex here (a file's corners with different normals or texture
-/// coordinates are distinct vertices of the mesh); an edge is named by its end points. A connected
-/// part that encloses no volume (|V| ≤ 10⁻⁹ A^{3/2}: both sides of one sheet) is refused too.
+/// coordinates are distinct vertices of the mesh); an edge is named by its end points (with the
+/// digits that tell them apart). A shell (faces joined across shared edges) that encloses no
+/// volume (|V| ≤ 10⁻⁹ A^{3/2}: both sides of one sheet) is refused too, and so are positions
+/// that are not finite.
 std::string closedMeshDefect(const TriangleMesh& mesh);
 
 /// Signed enclosed volume (1/6) Σ p0 · (p1 × p2): positive when a closed mesh faces outwards.
-/// Summed about the centre of the mesh's box (the same for a closed mesh, and without the
-/// cancellation of terms about a far origin).
+/// Summed per shell (faces joined across edges, vertices welded by position) about a corner of
+/// the shell: the same for closed shells, without the cancellation of terms about a far origin.
+/// NaN if a position is not finite.
 double signedVolume(const TriangleMesh& mesh);
 
 /// Reverses every triangle's winding (its normal flips; normals and uvs stay with the vertices).
