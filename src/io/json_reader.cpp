@@ -270,8 +270,16 @@ bool applyOverride(Json& doc, const std::string& assignment, const std::string& 
             fail(file, walked, by + "index " + part + " out of range (" + size + ")");
         return i;
     };
+    // A deletion under a key the document lacks deletes nothing, and adds nothing either (the
+    // walk would make each missing key null on its way, which the loader then refused).
+    // (`bsdf.type=null` is no deletion: it names the null BSDF, below.)
+    const bool bsdfType =
+        parts.size() >= 2 && parts.back() == "type" && parts[parts.size() - 2] == "bsdf";
+    const bool deleting = assignment.compare(eq + 1, std::string::npos, "null") == 0 && !bsdfType;
     for (size_t k = 0; k + 1 < parts.size(); ++k) {
         const std::string& part = parts[k];
+        if (deleting && !(node->is_object() && node->contains(part)) && !node->is_array())
+            return false;
         if (node->is_array()) {
             node = &(*node)[element(part)];
             walked += "[" + part + "]";
@@ -295,8 +303,7 @@ bool applyOverride(Json& doc, const std::string& assignment, const std::string& 
     if (!node->is_object() && !node->is_null()) cannotDescend();
     // A BSDF's type=null names the null BSDF, which is what `--set surfaces.0.bsdf.type=null`
     // means (deleting the object, bsdf=null, restores its default); other types are deleted.
-    const bool bsdf = parts.size() >= 2 && parts[parts.size() - 2] == "bsdf";
-    if (value.is_null() && last == "type" && bsdf) value = "null";
+    if (value.is_null() && bsdfType) value = "null";
     if (value.is_null())  // key=null deletes the key (its default applies again)
         return node->is_object() && node->erase(last) > 0;
     // A new type starts a fresh object: keys of the old type would be unknown to the new one.

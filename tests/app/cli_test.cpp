@@ -989,10 +989,16 @@ TEST_F(Cli, BadOverridesAndOutputs) {
 TEST_F(Cli, RenderWarnsOfADeletionThatDeletesNothing) {
     write("s.json", scene(Homogeneous));
     const Result r = run("render " + path("s.json") + " -o " + path("d.exr") +
-                         " --quiet --set camera.nosuch=null --set camera.position=null");
+                         " --quiet --set camera.nosuch=null --set camera.position=null"
+                         " --set media.0.phase.g=null");
     EXPECT_EQ(r.code, 0) << r.err;
+    // (The last under a key the scene lacks: media[0] has no phase. The walk made it null, which
+    // the loader refused.)
     EXPECT_EQ(r.err, "shvol: warning: " + path("s.json") +
                          ": --set camera.nosuch=null: the scene has no such key; nothing was "
+                         "deleted\nshvol: warning: " +
+                         path("s.json") +
+                         ": --set media.0.phase.g=null: the scene has no such key; nothing was "
                          "deleted\n");
     EXPECT_NE(test::fileBytes(path("d.stats.json")).find("nothing was deleted"), std::string::npos);
 }

@@ -225,8 +225,17 @@ TEST(JsonReader, OverrideSemantics) {
         Json::parse(R"({"surfaces": [{"bsdf": {"type": "lambert", "reflectance": 1}}]})");
     applyOverride(surface, "surfaces.0.bsdf.type=null", "s.json");
     EXPECT_EQ(surface["surfaces"][0]["bsdf"], Json::parse(R"({"type": "null"})"));
-    applyOverride(surface, "surfaces.0.bsdf=null", "s.json");
+    EXPECT_TRUE(applyOverride(surface, "surfaces.0.bsdf=null", "s.json"));
     EXPECT_FALSE(surface["surfaces"][0].contains("bsdf"));
+    // ... also where the surface has no bsdf yet.
+    EXPECT_TRUE(applyOverride(surface, "surfaces.0.bsdf.type=null", "s.json"));
+    EXPECT_EQ(surface["surfaces"][0]["bsdf"], Json::parse(R"({"type": "null"})"));
+    // A deletion that finds nothing says so and leaves the document as it was, under a missing
+    // key too (the walk made it null, which the loader refused).
+    const Json before = surface;
+    EXPECT_FALSE(applyOverride(surface, "surfaces.0.nosuch=null", "s.json"));
+    EXPECT_FALSE(applyOverride(surface, "surfaces.0.nosuch.deeper=null", "s.json"));
+    EXPECT_EQ(surface, before);
     // Other types are deleted, so that their default applies again (there is no null camera).
     Json camera = Json::parse(R"({"camera": {"type": "orthographic"}})");
     applyOverride(camera, "camera.type=null", "s.json");
