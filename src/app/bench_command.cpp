@@ -263,19 +263,20 @@ std::string defaultBenchScene() {
 /// both sides of a named ratio one configuration ("majorant grid / global majorant: 0.95x" with
 /// majorant_grid false on both).
 void refuseSetsTheBenchMakes(const BenchArgs& a) {
+    std::vector<std::string> varied = {"lookup", "decomposition", "regular_tracking",
+                                       "majorant_grid"};
+    if (a.cellSweep) varied.push_back("majorant_cell");
     for (const std::string& set : a.sets) {
-        const std::string key = canonicalKeyPath(set.substr(0, set.find('=')));
-        if (key == "render.spp")
+        const size_t eq = set.find('=');
+        if (eq == std::string::npos) continue;  // (refused as the scene is read)
+        const std::string key = set.substr(0, eq);
+        const Json value = overrideValue(set.substr(eq + 1), key);
+        if (overrideSets(key, value, {"render", "spp"}))
             failOption("--set", set + ": the bench renders at --spp; give the sample count there");
-        std::vector<std::string> parts;
-        if (!keyPathProblem(key, &parts).empty() || parts.size() != 3 || parts[0] != "media")
-            continue;
-        std::vector<std::string> varied = {"lookup", "decomposition", "regular_tracking",
-                                           "majorant_grid"};
-        if (a.cellSweep) varied.push_back("majorant_cell");
-        if (std::count(varied.begin(), varied.end(), parts[2]))
-            failOption("--set", set + ": the bench varies " + parts[2] +
-                                    " itself (README.md, \"bench\"); leave it to the scene");
+        for (const std::string& name : varied)
+            if (overrideSets(key, value, {"media", "*", name}))
+                failOption("--set", set + ": the bench varies " + name +
+                                        " itself (README.md, \"bench\"); leave it to the scene");
     }
 }
 

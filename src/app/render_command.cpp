@@ -432,10 +432,15 @@ int runRender(const RenderArgs& a) {
             // --spp and --seed are applied after every --set: one that sets the same key too
             // would have no effect, yet be recorded among the stats' overrides.
             for (const std::string& set : a.sets) {
-                const std::string key = canonicalKeyPath(set.substr(0, set.find('=')));
+                const size_t eq = set.find('=');
+                if (eq == std::string::npos) continue;  // (refused as the scene is read)
+                const std::string key = set.substr(0, eq);
+                const Json value = overrideValue(set.substr(eq + 1), key);
                 const std::string twice = "--set " + set + " sets the same value; give it once";
-                if (!sppList.empty() && key == "render.spp") failOption("--spp", twice);
-                if (a.seed >= 0 && key == "render.seed") failOption("--seed", twice);
+                if (!sppList.empty() && overrideSets(key, value, {"render", "spp"}))
+                    failOption("--spp", twice);
+                if (a.seed >= 0 && overrideSets(key, value, {"render", "seed"}))
+                    failOption("--seed", twice);
             }
             nlohmann::json resolved;
             std::vector<std::string> unchanged;  // (key=null of a key the scene does not have)

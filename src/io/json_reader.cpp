@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <set>
 #include <sstream>
 #include <vector>
@@ -179,6 +180,33 @@ Json parseJsonText(const std::string& text, const std::string& path, const std::
         if (colon != std::string::npos) msg = msg.substr(colon + 2);
         fail(path, lineColumn(e.byte > 0 ? e.byte - 1 : 0), "malformed JSON: " + msg);
     }
+}
+
+bool overrideSets(const std::string& key, const Json& value,
+                  const std::vector<std::string>& target) {
+    std::vector<std::string> parts;
+    if (!keyPathProblem(key, &parts).empty()) return false;
+    size_t i = 0;
+    for (; i < parts.size() && i < target.size(); ++i)
+        if (target[i] != "*" && parts[i] != target[i]) return false;
+    // The key itself (a key inside it fails as the scene is read: the targets hold numbers and
+    // names).
+    if (i == target.size()) return parts.size() == target.size();
+    // The rest of the target inside the value.
+    const std::function<bool(const Json&, size_t)> holds = [&](const Json& v, size_t k) {
+        if (k == target.size()) return true;
+        if (v.is_object()) {
+            if (target[k] != "*") return v.contains(target[k]) && holds(v.at(target[k]), k + 1);
+            for (const auto& member : v)
+                if (holds(member, k + 1)) return true;
+        } else if (v.is_array()) {
+            for (size_t e = 0; e < v.size(); ++e)
+                if ((target[k] == "*" || target[k] == std::to_string(e)) && holds(v[e], k + 1))
+                    return true;
+        }
+        return false;
+    };
+    return holds(value, i);
 }
 
 Json overrideValue(const std::string& text, const std::string& place) {

@@ -43,11 +43,9 @@ constexpr const char* kSeedIsTheSweeps =
 constexpr const char* kSppIsTheReferences =
     "the reference's samples per pixel are its \"spp\" key (default 4096)";
 
-/// Whether assigning `value` to the key path `key` sets render.<name>: the key itself, or a
-/// render object that holds it.
+/// Whether assigning `value` to the key path `key` sets render.<name> (overrideSets).
 bool setsRenderKey(const std::string& key, const Json& value, const std::string& name) {
-    const std::string k = canonicalKeyPath(key);
-    return k == "render." + name || (k == "render" && value.is_object() && value.contains(name));
+    return overrideSets(key, value, {"render", name});
 }
 
 /// The "key=value" strings of `key`, file values made relative to the sweep file (assignment).

@@ -169,6 +169,8 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
          "--spp: --set render.spp=3 sets the same value; give it once"},
         {"render " + path("s.json") + " --set media[0].albedo=0.5 --set render.seed=3 --seed 7",
          "--seed: --set render.seed=3 sets the same value; give it once"},
+        {"render " + path("s.json") + " --spp 2 --set 'render={\"spp\": 3}'",
+         "--spp: --set render={\"spp\": 3} sets the same value; give it once"},
         {"render " + path("s.json") + " --spp 16,4",
          "--spp: sample counts must increase, got 16,4"},
         {"render " + path("s.json") + " --spp 2 --spp 4", "--spp: given 2 times; give it once"},
@@ -288,7 +290,11 @@ TEST_F(Cli, BenchFindsTheDefaultScene) {
               "count there (see --help)\n"},
              {"media[0].majorant_grid=false",
               "--set: media[0].majorant_grid=false: the bench varies majorant_grid itself "
-              "(README.md, \"bench\"); leave it to the scene (see --help)\n"}}) {
+              "(README.md, \"bench\"); leave it to the scene (see --help)\n"},
+             {"'media=[{\"type\": \"homogeneous\", \"lookup\": \"openvdb\"}]'",
+              "--set: media=[{\"type\": \"homogeneous\", \"lookup\": \"openvdb\"}]: the bench "
+              "varies lookup itself (README.md, \"bench\"); leave it to the scene (see "
+              "--help)\n"}}) {
         const Result r2 = run("bench --spp 1 --set camera.resolution=[8,6] --set " + set);
         EXPECT_EQ(r2.code, 1) << set;
         EXPECT_EQ(r2.out, "");

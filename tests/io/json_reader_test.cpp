@@ -246,6 +246,22 @@ TEST(JsonReader, OverrideSemantics) {
               "s.json: --set media.=1: empty component in key path");
 }
 
+// What an override sets: its key and the keys inside it, and what an object or array value holds.
+TEST(JsonReader, OverrideSetsTheKeysItsValueHolds) {
+    EXPECT_TRUE(overrideSets("render.spp", 4, {"render", "spp"}));
+    EXPECT_FALSE(overrideSets("render.spp.x", 4, {"render", "spp"}));  // (an error elsewhere)
+    EXPECT_TRUE(overrideSets("render", Json::parse(R"({"spp": 3})"), {"render", "spp"}));
+    EXPECT_FALSE(overrideSets("render", Json::parse(R"({"seed": 3})"), {"render", "spp"}));
+    EXPECT_FALSE(overrideSets("render.seed", 3, {"render", "spp"}));
+    EXPECT_TRUE(overrideSets("media.2.lookup", "openvdb", {"media", "*", "lookup"}));
+    EXPECT_TRUE(
+        overrideSets("media.0", Json::parse(R"({"lookup": "openvdb"})"), {"media", "*", "lookup"}));
+    EXPECT_TRUE(
+        overrideSets("media", Json::parse(R"([{}, {"lookup": 1}])"), {"media", "*", "lookup"}));
+    EXPECT_FALSE(overrideSets("media", Json::parse("[]"), {"media", "*", "lookup"}));
+    EXPECT_FALSE(overrideSets("media.0.albedo", 0.5, {"media", "*", "lookup"}));
+}
+
 // A malformed key path is refused at once (brackets used to be dropped wherever they were, so
 // camera[fov=0.5 set camera.fov, and camera]fov was named as the unknown key "camerafov"), and
 // so is a number beyond a double, which used to become the string "1e400".

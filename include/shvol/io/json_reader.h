@@ -50,6 +50,11 @@ std::string canonicalKeyPath(const std::string& key);
 /// media[0].phase.g, media.0.phase.g), as applyOverride refuses it; empty if it is one. With
 /// `parts`, appends its components as it reads them (media, 0, phase, g).
 std::string keyPathProblem(const std::string& key, std::vector<std::string>* parts = nullptr);
+/// Whether an override of `key` by `value` sets the key path `target` (components, "*" for any
+/// one): the key itself, or an object or array holding it that the value gives
+/// (render={"spp": 3} sets render.spp; media.0={…, "lookup": …} sets media.*.lookup).
+bool overrideSets(const std::string& key, const Json& value,
+                  const std::vector<std::string>& target);
 /// The value of an override "key=text" as applyOverride reads it: the JSON text parsed, or the
 /// text itself as a string when it is not valid JSON; a number beyond a double's range (1e400)
 /// is an error. `place`, the JSON path it is assigned to
