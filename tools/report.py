@@ -220,7 +220,10 @@ def main():
                            ha="right", fontsize=7)
         ax.set_ylabel("wall time (s)"), ax.set_title(f"time vs {a}")
         fig.tight_layout()
-        name = "time_vs_" + "".join(ch if ch.isalnum() else "_" for ch in a) + ".png"
+        # (ASCII letters and digits kept, every other byte "_": as shvol batch's check of its
+        # outputs, reportOutputs, names them.)
+        name = "time_vs_" + "".join(chr(b) if chr(b).isalnum() and b < 128 else "_"
+                                    for b in a.encode("utf-8")) + ".png"
         save(fig, os.path.join(directory, name))
         figures.append((name, f"mean wall time for each value of {a} (all other axes pooled)"))
 

@@ -193,10 +193,9 @@ void checkRunOutputs(const Sweep& s, const Ledger& ledger, bool ztest) {
     if (!fs::is_directory(s.output)) return;  // (made for the runs: nothing in it yet)
     for (const SweepRun& run : s.runs) {
         if (ledger.find(run.id)) continue;
-        const std::string image = (fs::path(s.output) / (run.id + ".exr")).string();
-        std::vector<std::string> files = {image,
-                                          (fs::path(s.output) / (run.id + ".stats.json")).string()};
-        if (ztest) files.push_back(standardErrorsOf(image));
+        const Outputs o = outputsFor((fs::path(s.output) / (run.id + ".exr")).string());
+        std::vector<std::string> files = {o.image, o.stats};
+        if (ztest) files.push_back(o.stderrImage);
         for (const std::string& file : files)
             if (const std::string problem = outputFileProblem(file); !problem.empty())
                 fail(file, "", "cannot write: " + problem + " (the output of run " + run.id + ")");
@@ -467,15 +466,14 @@ int runBatch(BatchArgs a) {
         if (fs::is_directory(s.output)) {
             std::vector<std::string> names = {"results.jsonl", "results.csv"};
             if (s.reference && s.reference->render) {
-                const std::string ref = fs::path(s.reference->file).filename().string();
-                names.insert(names.end(),
-                             {ref, fs::path(ref).replace_extension("").string() + ".stats.json",
-                              ref + ".fingerprint"});
+                const Outputs ref = outputsFor(fs::path(s.reference->file).filename().string());
+                names.insert(names.end(), {ref.image, ref.stats, ref.image + ".fingerprint"});
                 if (std::count(s.metrics.begin(), s.metrics.end(), "ztest"))
-                    names.push_back(standardErrorsOf(ref));
+                    names.push_back(ref.stderrImage);
             }
             if (a.report)
-                for (std::string& name : reportOutputs(s.axes)) names.push_back(std::move(name));
+                for (std::string& name : reportOutputs(s.axes, s.metrics))
+                    names.push_back(std::move(name));
             for (const std::string& name : names)
                 if (const std::string file = (fs::path(s.output) / name).string(),
                     problem = outputFileProblem(file);

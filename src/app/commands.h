@@ -45,6 +45,15 @@ struct RenderArgs {
 /// call it: they render a share of the pixels each and rank 0 writes the outputs.
 int runRender(const RenderArgs& a);
 
+/// The files a render with -o `out` writes: its image, statistics and (--variance) standard
+/// errors.
+struct Outputs {
+    std::string image, stats, stderrImage;
+};
+/// "x.exr" → x.exr, x.stats.json, x.stderr.exr; `tag` (e.g. "spp16") goes before the extension,
+/// which keeps its case (x.EXR → x.spp16.EXR, x.stats.json).
+Outputs outputsFor(const std::string& out, const std::string& tag = "");
+
 /// `relative` in the tree this program is in (build/shvol in a checkout: ../relative from its
 /// directory), else in the source tree it was built from (a copy of the program elsewhere), or ""
 /// if it is in neither.
@@ -53,9 +62,11 @@ std::string sourceTreePath(const std::string& relative);
 /// Writes DIR/report.md and DIR/report.html with plots from DIR/results.jsonl (tools/report.py
 /// run by /usr/bin/python3); returns its exit code.
 int runReport(const std::string& dir);
-/// The files tools/report.py writes into a batch's directory for a sweep of these axes: report.md,
-/// report.html and its plots (error vs time and spp, time vs each axis and spp).
-std::vector<std::string> reportOutputs(const std::vector<std::string>& axes);
+/// The files tools/report.py writes into a batch's directory for a sweep of these axes and
+/// metrics: report.md, report.html and its plots (error vs time and spp with an error metric,
+/// time vs spp and each axis that is a ledger column of its own).
+std::vector<std::string> reportOutputs(const std::vector<std::string>& axes,
+                                       const std::vector<std::string>& metrics);
 
 /// Peak resident memory of this process in MiB.
 double peakMemoryMiB();

@@ -291,12 +291,8 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
 }
 
 /// The files one image goes to: the EXR, its stats and (with --variance) the standard errors.
-struct Outputs {
-    std::string image, stats, stderrImage;
-};
+}  // namespace
 
-/// "x.exr" → x.exr, x.stats.json, x.stderr.exr; `tag` (e.g. "spp16") goes before the extension,
-/// which keeps its case (x.EXR → x.spp16.EXR, x.stats.json).
 Outputs outputsFor(const std::string& out, const std::string& tag) {
     const bool exr = hasExtension(out, ".exr");
     std::string stem = exr ? out.substr(0, out.size() - 4) : out;
@@ -304,6 +300,8 @@ Outputs outputsFor(const std::string& out, const std::string& tag) {
     if (!tag.empty()) stem += "." + tag;
     return {stem + ext, stem + ".stats.json", stem + ".stderr" + ext};
 }
+
+namespace {
 
 /// Writes an image with its statistics (and standard errors). The statistics appear only once
 /// the images are in place: the EXRs are written (atomically) while the stats file is still a

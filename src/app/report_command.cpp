@@ -1,6 +1,7 @@
 // shvol report DIR: plots and tables of a batch's ledger, made by tools/report.py.
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cctype>
 #include <csignal>
 #include <cstdlib>
@@ -22,17 +23,25 @@ std::string shellQuote(const std::string& s) {
 
 }  // namespace
 
-std::vector<std::string> reportOutputs(const std::vector<std::string>& axes) {
-    std::vector<std::string> names = {"report.md", "report.html", "error_vs_time.png",
-                                      "error_vs_spp.png"};
-    std::vector<std::string> timed = axes;
+std::vector<std::string> reportOutputs(const std::vector<std::string>& axes,
+                                       const std::vector<std::string>& metrics) {
+    // As report.py names them: the error plots when the rows have an error metric, and a time
+    // plot for spp and each axis that is a ledger column of its own (not seed: a column
+    // beside the axes), every character but an ASCII letter or digit as '_'.
+    std::vector<std::string> names = {"report.md", "report.html"};
+    for (const char* error : {"rmse", "relmse", "mae"})
+        if (std::count(metrics.begin(), metrics.end(), error)) {
+            names.insert(names.end(), {"error_vs_time.png", "error_vs_spp.png"});
+            break;
+        }
+    std::vector<std::string> timed;
+    const std::set<std::string> beside = ledgerColumnsBesideAxes();
+    for (const std::string& a : axes)
+        if (!beside.count(a)) timed.push_back(a);
     timed.push_back("spp");
     for (const std::string& a : timed) {
-        // As report.py names them: every character but a letter or digit as '_' (one per UTF-8
-        // character: continuation bytes are skipped).
         std::string name = "time_vs_";
-        for (const unsigned char ch : a)
-            if ((ch & 0xC0) != 0x80) name += ch < 0x80 && std::isalnum(ch) ? char(ch) : '_';
+        for (const char ch : a) name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
         names.push_back(name + ".png");
     }
     return names;

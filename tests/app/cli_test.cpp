@@ -2225,6 +2225,15 @@ TEST_F(Cli, BatchChecksTheFilesItWritesBeforeItRenders) {
             EXPECT_EQ(std::distance(fs::directory_iterator(path("out")), {}), 1) << name << dry;
         }
     }
+    // Only the files the report writes: no time plot of a seed axis (a ledger column beside
+    // the axes), no error plots without an error metric.
+    write("seeds.json", R"({"scene": "s.json", "axes": {"seed": [1, 2]}, "output": "seeds"})");
+    for (const char* name : {"time_vs_seed.png", "error_vs_time.png"}) {
+        fs::remove_all(path("seeds"));
+        fs::create_directories(path("seeds/") + name);
+        const Result r = run("batch " + path("seeds.json") + " --quiet --report --dry-run");
+        EXPECT_EQ(r.code, 0) << name << ": " << r.err;
+    }
 }
 
 // Every command that writes takes -o and --output (batch took --output only, phase sample --out
