@@ -76,7 +76,7 @@ TEST(HshBrdfTable, AnisotropicLobesAreTurnedIntoTheGivenFrame) {
         std::vector<double> c(3 * n * n);
         t.coefficients(base, tangent, wo, c.data());
         const double cached = lambda.dot(Eigen::Map<const Eigen::VectorXd>(c.data(), n * n));
-        EXPECT_NEAR(cached, expected, 0.01 * expected) << wo.transpose();
+        EXPECT_NEAR(cached, expected, 0.004 * expected) << wo.transpose();
         t.coefficients(own.toLocal(wo), c.data());  // not turned
         const double unturned = lambda.dot(Eigen::Map<const Eigen::VectorXd>(c.data(), n * n));
         EXPECT_GT(std::abs(unturned - expected), 0.05 * expected) << wo.transpose();

@@ -111,8 +111,9 @@ TEST(Frame, FollowsTheTangentItIsGiven) {
     for (Vec3 n : {Vec3(0.6, 0.8, 1e-17), Vec3(0.6, 0.8, -1e-17), Vec3(0, 0, 1), Vec3(0, 0, -1),
                    Vec3(-0.3, 0.1, 0.9).normalized()}) {
         const Frame f(n, tangent);
-        const Vec3 p = (tangent - n * n.dot(tangent)).normalized();
-        EXPECT_NEAR((f.s - p).norm(), 0, 1e-12) << n.transpose();
+        // s lies in the plane of n and the tangent, on the tangent's side, ⟂ n.
+        EXPECT_NEAR(f.s.dot(n.cross(tangent)), 0, 1e-12) << n.transpose();
+        EXPECT_GT(f.s.dot(tangent), 0) << n.transpose();
         EXPECT_NEAR(f.s.dot(f.n), 0, 1e-12);
         EXPECT_NEAR(f.t.norm(), 1, 1e-12);
         EXPECT_NEAR(f.s.cross(f.t).dot(f.n), 1, 1e-12);  // right-handed
@@ -120,6 +121,11 @@ TEST(Frame, FollowsTheTangentItIsGiven) {
     // The two normals either side of z = 0 give (nearly) one frame.
     const Frame a(Vec3(0.6, 0.8, 1e-17), tangent), b(Vec3(0.6, 0.8, -1e-17), tangent);
     EXPECT_NEAR((a.s - b.s).norm(), 0, 1e-12);
+    // A tangent 10⁻⁵ rad from the normal (above the threshold): still exactly ⟂ n.
+    const Vec3 nz(0, 0.6, 0.8), near = (nz + Vec3(1e-5, 0, 0)).normalized();
+    const Frame f(nz, near);
+    EXPECT_NEAR(f.s.dot(nz), 0, 1e-15);
+    EXPECT_NEAR(f.s.x(), 1, 1e-9);
     // A tangent along the normal: Frame(n).
     const Frame along(Vec3(0, 0, 1), Vec3(0, 0, 2)), plain(Vec3(0, 0, 1));
     EXPECT_EQ(along.s, plain.s);

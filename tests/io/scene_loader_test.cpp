@@ -394,6 +394,25 @@ TEST(SceneLoader, RadianceCacheKeys) {
     EXPECT_NE(msg.find("render.radiance_cache.hsh_order"), std::string::npos) << msg;
 }
 
+// Every shape's tangent (an anisotropic lobe's x axis) is its transform's x axis, scaled ones
+// too; without a transform, world x.
+TEST(SceneLoader, SurfacesAreOrientedByTheirTransforms) {
+    const SurfaceFiles f;
+    const std::string turn = R"("transform": {"rotate": {"axis": [0, 0, 1], "degrees": 90},
+                                              "scale": [2, 3, 1]})";
+    const Scene s = f.load(R"({"surfaces": [
+        {"type": "mesh", "file": "box.obj", )" +
+                           turn + R"(},
+        {"type": "sphere", "transform": {"rotate": {"axis": [0, 0, 1], "degrees": 90}}},
+        {"type": "rectangle", )" +
+                           turn + R"(},
+        {"type": "disk", "transform": {"rotate": {"axis": [0, 0, 1], "degrees": 90}}},
+        {"type": "sphere"}]})");
+    const std::vector<Surface>& v = s.surfaces->surfaces();
+    for (int i : {0, 1, 2, 3}) EXPECT_NEAR((v[i].tangent - Vec3(0, 1, 0)).norm(), 0, 1e-12) << i;
+    EXPECT_EQ(v[4].tangent, Vec3(1, 0, 0));
+}
+
 TEST(SceneLoader, MediumBoundedByAClosedSurface) {
     const SurfaceFiles f;
     const Scene s = f.load(R"({

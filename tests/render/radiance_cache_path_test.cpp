@@ -215,12 +215,12 @@ TEST(RadianceCachePath, GlossyRoomStaysNearThePathTracedImage) {
     checkGlossyRoom(testing::glossyRoom);
 }
 
-// The same with an anisotropic Ward back wall turned by 90° about its normal: its BRDF table is
-// in the wall's own frame, the records' radiance in Frame(n), and the table's coefficients are
-// turned from the one to the other (HshBrdfTable::coefficients with a frame; its own test,
-// AnisotropicLobesAreTurnedIntoTheGivenFrame, is the sharp one: here the wall's mean moves by
-// only 0.8% without the turn).
-TEST(RadianceCachePath, AnisotropicLobesAreTurnedIntoTheRecordsFrame) {
+// The same with an anisotropic Ward back wall turned by 90° about its normal (its BRDF table in
+// the wall's own frame, turned into the records' by HshBrdfTable::coefficients): the cache with
+// an anisotropic lobe stays near the path tracer. Not a test of the turn itself: here the wall's
+// mean moves by only 0.8% without it; HshBrdfTable.AnisotropicLobesAreTurnedIntoTheGivenFrame
+// is that test.
+TEST(RadianceCachePath, AnisotropicGlossyRoomStaysNearThePathTracedImage) {
     checkGlossyRoom([] {
         const std::unique_ptr<const SurfaceScene> room = testing::glossyRoom();
         std::vector<Surface> v = room->surfaces();

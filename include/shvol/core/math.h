@@ -171,8 +171,9 @@ struct Frame {
     /// tangent − n (n·tangent), t = n × s): a surface's own axes, continuous wherever its tangent
     /// is. Where the tangent is (nearly) parallel to the normal, Frame(normal).
     Frame(const Vec3& normal, const Vec3& tangent) : Frame(normal) {
-        const Vec3 p = tangent - normal * normal.dot(tangent);
+        Vec3 p = tangent - normal * normal.dot(tangent);
         if (!(p.squaredNorm() > 1e-12 * tangent.squaredNorm())) return;
+        p -= normal * normal.dot(p);  // (again: a tangent near the normal leaves p·n ~ 10⁻¹⁰)
         s = p.normalized();
         t = n.cross(s);
     }
