@@ -31,8 +31,9 @@ int runMain(int argc, char** argv) {
     // The same one level down (`shvol phase foo`: CLI11 said "A subcommand is required").
     CLI::App* parent = &app;
     for (int level = 1; level < argc && argv[level][0] != '-'; ++level) {
+        // (named ones: CLI11's option groups are nameless subcommands)
         const std::vector<CLI::App*> subs =
-            parent->get_subcommands([](const CLI::App*) { return true; });
+            parent->get_subcommands([](const CLI::App* a) { return !a->get_name().empty(); });
         if (subs.empty()) break;
         std::string names;
         CLI::App* known = nullptr;

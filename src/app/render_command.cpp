@@ -125,7 +125,7 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
                       ": %.3g %s, and the ray offset is %.3g (2^-16 of the surfaces' extent): "
                       "rays leaving it skip more than 1%% of it, and light near it is unreliable; "
                       "bring the scene's surfaces closer together",
-                      size, thick ? "thick" : "across", eps);
+                      size, thick ? "thick (2V/A)" : "across", eps);
         w.push_back(s.name + msg);
     }
     return w;

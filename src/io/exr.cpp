@@ -139,14 +139,17 @@ Image readExr(const std::string& path, ExrValues values) {
             // row by row in a fresh reader (OpenEXR keeps the chunk it decoded last, so this
             // costs about one more read of the rows before it).
             const std::string why = e.what();
-            Imf::InputFile again(path.c_str());
-            again.setFrameBuffer(fb);
             int row = dw.min.y;
+            bool opened = false, failed = false;
             try {
+                Imf::InputFile again(path.c_str());
+                again.setFrameBuffer(fb);
+                opened = true;
                 for (; row <= dw.max.y; ++row) again.readPixels(row, row);
             } catch (const std::exception&) {
-                fail(path, "scanline " + std::to_string(row), "not readable (" + why + ")");
+                failed = opened;  // (not reopened: the first error is the one to report)
             }
+            if (failed) fail(path, "scanline " + std::to_string(row), "not readable (" + why + ")");
             throw;
         }
         if (!rgb)

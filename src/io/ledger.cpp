@@ -218,9 +218,9 @@ void Ledger::append(const Json& row) {
             columnSet_.erase(columns_[c]);
         columns_ = columnsBefore;
         try {
-            if (csv == Appended) std::filesystem::resize_file(csvPath(), csvBefore);
-            if (csv == Rewritten && csvExisted) writeCsv();
-            if (csv == Rewritten && !csvExisted) std::filesystem::remove(csvPath());
+            if (!csvExisted && csv != None) std::filesystem::remove(csvPath());
+            if (csvExisted && csv == Appended) std::filesystem::resize_file(csvPath(), csvBefore);
+            if (csvExisted && csv == Rewritten) writeCsv();
         } catch (...) {  // (the error to report is the first)
         }
         throw;

@@ -1187,10 +1187,11 @@ TEST_F(Cli, RenderWarnsOfSurfacesSmallForTheRayOffset) {
                                  "bsdf": {"type": "dielectric"}}]})");
     r = run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet");
     EXPECT_EQ(r.code, 0) << r.err;
-    EXPECT_EQ(r.err, "shvol: warning: " + path("s.json") +
-                         ": pane: 0.0002 thick, and the ray offset is 0.000458 (2^-16 of the "
-                         "surfaces' extent): rays leaving it skip more than 1% of it, and light "
-                         "near it is unreliable; bring the scene's surfaces closer together\n");
+    EXPECT_EQ(r.err,
+              "shvol: warning: " + path("s.json") +
+                  ": pane: 0.0002 thick (2V/A), and the ray offset is 0.000458 (2^-16 of the "
+                  "surfaces' extent): rays leaving it skip more than 1% of it, and light "
+                  "near it is unreliable; bring the scene's surfaces closer together\n");
 }
 
 // A pixel whose mean exceeds the float32 range is written as inf, and said so (on stderr and in

@@ -63,7 +63,7 @@ class HshBrdfTable {
   private:
     int n_, res_;
     Spectrum rhoD_, rhoS_;
-    bool anisotropic_;
+    bool anisotropic_ = false;
     std::vector<double> diffuse_;  ///< n² coefficients of f_d cos θ_i
     std::vector<double> specular_;  ///< res² × n² coefficients of f_s cos θ_i (empty for lambert)
     double projectionError_ = 0, albedoError_ = 0;
