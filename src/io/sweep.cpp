@@ -175,9 +175,11 @@ Sweep readSweep(const std::string& path, double maxRuns) {
             if (const double d = v.is_number_float() ? v.get<double>() : 0.5;
                 d == std::floor(d) && std::abs(d) <= 9007199254740992.0)
                 v = (long long)d;
-            if (!(v.is_number_integer() && v.get<long long>() >= (k == "spp" ? 1 : 0)))
+            const bool spp = k == "spp";
+            if (!(v.is_number_integer() && v.get<long long>() >= (spp ? 1 : 0) &&
+                  (spp || v.get<long long>() <= 9007199254740992LL)))
                 fail(path, "axes." + k,
-                     k == "spp" ? "expected integers ≥ 1" : "expected non-negative integers");
+                     spp ? "expected integers ≥ 1" : "expected integers in [0, 2^53]");
         }
         if (zip && values[a].size() != values[0].size())
             fail(path, "axes." + k,

@@ -289,7 +289,9 @@ TEST(Sweep, ErrorsNameFileAndKey) {
                             "set": ["camera]fov=30"]})"),
               ": set[0]: ']' without '[' in key path");
     EXPECT_EQ(err("e3s", R"({"scene": "scene.json", "axes": {"seed": [-1]}})"),
-              ": axes.seed: expected non-negative integers");
+              ": axes.seed: expected integers in [0, 2^53]");
+    EXPECT_EQ(err("e3t", R"({"scene": "scene.json", "axes": {"seed": [1e16]}})"),
+              ": axes.seed: expected integers in [0, 2^53]");
     EXPECT_EQ(err("e4", R"({"scene": "scene.json", "metrics": ["rmse"]})"),
               ": metrics: metrics need a \"reference\"");
     EXPECT_EQ(err("e5", R"({"scene": "scene.json", "axes": {"seed": [1]}, "repeats": 2})"),
