@@ -152,10 +152,12 @@ double VolumePathIntegrator::visibility(const Vec3& x, const Vec3& ng, const Lig
         if (!surf->hasNullSurfaces()) {
             if (surf->occluded(ray, tMax)) return 0;
         } else if (surf->intersect(ray, tMax, &hit)) {
-            if (surf->preferSolid(ray, tMax, &hit) || crossings >= kMaxNullCrossings) return 0;
+            SurfaceScene::NullCrossings nulls;
+            if (surf->resolveCrossing(ray, tMax, &hit, &nulls) || crossings >= kMaxNullCrossings)
+                return 0;
             if (effects_.volumes) T *= transmittance(ray, hit.t, inside, rng, c);
             if (T <= 0) return 0;
-            inside = crossed(hit, ray.d, inside);
+            for (int k = 0; k < nulls.count; ++k) inside = crossed(nulls.hit[k], ray.d, inside);
             ray = surf->spawn(hit.p, hit.ng, ray.d);
             continue;
         }
@@ -282,10 +284,10 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
     // A record path continues a camera path from its first vertex: it starts one bounce deep,
     // so that cached pixels see at most max_depth bounces too.
     for (int depth = record ? 1 : 0;;) {
-        SurfaceHit hit, jumped;  // (jumped: a null surface the hit is within ε beyond)
-        jumped.surface = -1;
+        SurfaceHit hit;
+        SurfaceScene::NullCrossings nulls;  // (crossed at the hit, coincident within ε)
         const bool hitSurface = surf && surf->intersect(ray, NoHit, &hit);
-        if (hitSurface && surf->hasNullSurfaces()) surf->preferSolid(ray, NoHit, &hit, &jumped);
+        if (hitSurface && surf->hasNullSurfaces()) surf->resolveCrossing(ray, NoHit, &hit, &nulls);
         int mi = -1;
         double t = NoCollision;
         if (effects_.volumes && anyActive(inside)) {
@@ -319,7 +321,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             const Bsdf& bsdf = sf.bsdf;
             if (bsdf.type == BsdfType::Null) {
                 if (++nullCrossings > kMaxNullCrossings) break;
-                inside = crossed(hit, ray.d, inside);
+                for (int k = 0; k < nulls.count; ++k) inside = crossed(nulls.hit[k], ray.d, inside);
                 ray = surf->spawn(hit.p, hit.ng, ray.d);
                 continue;
             }
@@ -381,10 +383,11 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             // Through a null surface met at the same place, within ε (fog in a glass tank, its
             // null box on the tank's inner wall): its medium is entered or left too (it stayed
             // outside). Reflected, the path stays on the side it came from.
-            if (transmitted && jumped.surface < 0 && surf->hasNullSurfaces())
-                surf->nullAt(ray, hit, &jumped);
-            if (jumped.surface >= 0 && wi.dot(jumped.ng) * ray.d.dot(jumped.ng) > 0)
-                inside = crossed(jumped, ray.d, inside);
+            if (transmitted && nulls.count == 0 && surf->hasNullSurfaces())
+                surf->nullsAt(ray, hit, &nulls);
+            for (int k = 0; k < nulls.count; ++k)
+                if (wi.dot(nulls.hit[k].ng) * ray.d.dot(nulls.hit[k].ng) > 0)
+                    inside = crossed(nulls.hit[k], ray.d, inside);
             ray = surf->spawn(hit.p, hit.ng, wi);
         } else {  // a real collision in media[mi]
             if (++depth > s.maxDepth) break;
@@ -489,7 +492,8 @@ namespace {
 bool firstNonNullHit(const SurfaceScene& surf, Ray ray, SurfaceHit* hit) {
     for (int k = 0; k < VolumePathIntegrator::kMaxNullCrossings && surf.intersect(ray, NoHit, hit);
          ++k) {
-        if (surf.preferSolid(ray, NoHit, hit)) return true;  // (as Li finds it)
+        SurfaceScene::NullCrossings nulls;
+        if (surf.resolveCrossing(ray, NoHit, hit, &nulls)) return true;  // (as Li finds it)
         ray = surf.spawn(hit->p, hit->ng, ray.d);
     }
     return false;

@@ -37,14 +37,6 @@ double diskRoot(const Vec3& o, const Vec3& d, const Surface& s, const Vec3& c, d
     return t;
 }
 
-/// Embree geometry masks (Debian's Embree is built with EMBREE_RAY_MASK, which CMakeLists.txt
-/// checks): a ray sees the geometries whose mask shares a bit with its own.
-unsigned maskOf(SurfaceScene::Sees sees) {
-    return sees == SurfaceScene::Sees::All     ? 0xFFFFFFFFu
-           : sees == SurfaceScene::Sees::Solid ? 1u
-                                               : 2u;
-}
-
 /// A sphere or disk as Embree user geometry: its centre in Embree's space divided by the scale
 /// (the scene's minus the origin of Embree's space, below), and the scale.
 struct AnalyticGeometry {
@@ -171,6 +163,7 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
     const double R = surfaces_.empty() ? 0 : 0.5 * (hi_ - lo_).maxCoeff();
     const double scale = rtc_->scale = R > 0 ? std::ldexp(1.0, -std::ilogb(R)) : 1.0;
     rtc_->analytic.reserve(surfaces_.size());  // (their addresses are Embree's user data)
+    unsigned nullCount = 0;
     for (size_t i = 0; i < surfaces_.size(); ++i) {
         const Surface& s = surfaces_[i];
         RTCGeometry g;
@@ -196,7 +189,10 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
             rtcSetGeometryIntersectFunction(g, analyticIntersect);
             rtcSetGeometryOccludedFunction(g, analyticOccluded);
         }
-        rtcSetGeometryMask(g, maskOf(s.bsdf.type == BsdfType::Null ? Sees::Null : Sees::Solid));
+        // Embree geometry masks (Debian's Embree is built with EMBREE_RAY_MASK, which
+        // CMakeLists.txt checks): a ray sees the geometries whose mask shares a bit with its own.
+        bits_.push_back(s.bsdf.type != BsdfType::Null ? 1u : 2u << (nullCount++ % 31));
+        rtcSetGeometryMask(g, bits_.back());
         rtcCommitGeometry(g);
         rtcAttachGeometryByID(rtc_->scene, g, unsigned(i));
         rtcReleaseGeometry(g);
@@ -235,41 +231,53 @@ bool SurfaceScene::startNear(const Ray& ray, double tMax, Ray* moved, double* tE
     return ((moved->o - rtc_->origin).array().abs() <= farOrigin).all();
 }
 
-bool SurfaceScene::intersect(const Ray& ray, double tMax, SurfaceHit* hit, Sees sees) const {
+bool SurfaceScene::intersect(const Ray& ray, double tMax, SurfaceHit* hit, unsigned hidden) const {
     Ray moved;
     double tEntry;
     if (!startNear(ray, tMax, &moved, &tEntry) ||
-        !intersectInRange(moved, tMax - tEntry, hit, sees))
+        !intersectInRange(moved, tMax - tEntry, hit, hidden))
         return false;
     hit->t += tEntry;
     return true;
 }
 
-bool SurfaceScene::preferSolid(const Ray& ray, double tMax, SurfaceHit* hit,
-                               SurfaceHit* jumped) const {
-    if (jumped) jumped->surface = -1;
-    if (surfaces_[hit->surface].bsdf.type != BsdfType::Null) return true;
-    SurfaceHit solid;
-    if (!intersect(ray, std::min(hit->t + jump(ray, *hit), tMax), &solid, Sees::Solid))
-        return false;
-    if (jumped) *jumped = *hit;
-    *hit = solid;
-    return true;
+bool SurfaceScene::inSlab(const Ray& ray, double tMax, const SurfaceHit& at, unsigned hidden,
+                          NullCrossings* nulls, SurfaceHit* solid) const {
+    const double d = jump(ray, at), from = std::max(0.0, at.t - d), to = std::min(at.t + d, tMax);
+    for (SurfaceHit next; nulls->count < NullCrossings::kMax &&
+                          intersect(Ray{ray(from), ray.d}, to - from, &next, hidden);) {
+        next.t += from;
+        if (bits_[size_t(next.surface)] == 1) {
+            *solid = next;
+            return true;
+        }
+        nulls->hit[nulls->count++] = next;
+        hidden |= bits_[size_t(next.surface)];
+    }
+    return false;
 }
 
-bool SurfaceScene::nullAt(const Ray& ray, const SurfaceHit& hit, SurfaceHit* null) const {
-    const double d = jump(ray, hit), from = std::max(0.0, hit.t - d);
-    if (!intersect(Ray{ray(from), ray.d}, hit.t + d - from, null, Sees::Null)) return false;
-    null->t += from;
-    return true;
+bool SurfaceScene::resolveCrossing(const Ray& ray, double tMax, SurfaceHit* hit,
+                                   NullCrossings* nulls) const {
+    nulls->count = 0;
+    if (bits_[size_t(hit->surface)] == 1) return true;
+    nulls->hit[nulls->count++] = *hit;
+    return inSlab(ray, tMax, *hit, bits_[size_t(hit->surface)], nulls, hit);
 }
 
-bool SurfaceScene::intersectInRange(const Ray& ray, double tMax, SurfaceHit* hit, Sees sees) const {
+void SurfaceScene::nullsAt(const Ray& ray, const SurfaceHit& hit, NullCrossings* nulls) const {
+    nulls->count = 0;
+    SurfaceHit unused;
+    inSlab(ray, NoHit, hit, 1u, nulls, &unused);
+}
+
+bool SurfaceScene::intersectInRange(const Ray& ray, double tMax, SurfaceHit* hit,
+                                    unsigned hidden) const {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
     rh.ray = rtc_->toRtc(ray, tMax);
-    rh.ray.mask = maskOf(sees);
+    rh.ray.mask = ~hidden;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(rtc_->scene, &ctx, &rh);

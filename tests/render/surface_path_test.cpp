@@ -409,6 +409,31 @@ TEST(SurfacePath, FogInAGlassBoxIsEnteredThroughTheGlass) {
     EXPECT_NEAR(on.mean[0], inside.mean[0], 5 * std::hypot(on.stdErr[0], inside.stdErr[0]));
 }
 
+// Two fogs in null boxes that share a face: a path crosses both faces at once. It crossed the
+// one Embree reported and jumped the other, so one fog was never entered (0.82 = e^{-0.2}) or
+// never left, filling all space beyond (0: the whole image black).
+TEST(SurfacePath, FogsInBoxesSharingAFaceAreBothCrossed) {
+    Scene scene;
+    scene.environment = Environment::constant(Spectrum::Ones(), false);
+    std::vector<Surface> v;
+    v.push_back(meshSurface(testing::boxMesh(Vec3(-1, -1, -1), Vec3(1, 1, 1)), Bsdf::null()));
+    v.back().interiorMedium = 0;
+    v.push_back(meshSurface(testing::boxMesh(Vec3(1, -1, -1), Vec3(3, 1, 1)), Bsdf::null()));
+    v.back().interiorMedium = 1;
+    scene.surfaces = surfaces(std::move(v));
+    MediumShape everywhere;
+    everywhere.type = MediumShape::Type::Everywhere;
+    for (const double sigmaT : {0.3, 0.1})
+        scene.media.push_back(std::make_unique<HomogeneousMedium>(
+            everywhere, sigmaT, Spectrum::Zero(), PhaseFunction(HenyeyGreensteinPhase(0))));
+    for (const double side : {-1.0, 1.0}) {  // looking along +x, then along −x
+        const Estimate e = estimate(scene, 20000, [&](const Vec2& u) {
+            return Ray{Vec3(1 - 6 * side, 1.6 * u.x() - 0.8, 1.6 * u.y() - 0.8), Vec3(side, 0, 0)};
+        });
+        EXPECT_NEAR(e.mean[0], std::exp(-0.8), 5 * e.stdErr[0]) << side;
+    }
+}
+
 TEST(SurfacePath, SceneWithoutSurfacesRunsNoSurfaceCode) {
     Scene scene;
     scene.environment = Environment::constant(Spectrum::Ones(), false);

@@ -45,24 +45,30 @@ class SurfaceScene {
     SurfaceScene(const SurfaceScene&) = delete;
     SurfaceScene& operator=(const SurfaceScene&) = delete;
 
-    /// The surfaces a query sees: all, all but the null ones, or the null ones only.
-    enum class Sees { All, Solid, Null };
-    /// Nearest hit with t ∈ (0, tMax) of a surface the query sees; false if none.
-    bool intersect(const Ray& ray, double tMax, SurfaceHit* hit, Sees sees = Sees::All) const;
-    /// Given the nearest hit of `ray`, a null surface's: replaces it by the hit of a surface that
-    /// is not null within ε beyond it (along the ray, up to tMax), and says whether it did (true
-    /// for a hit that was not null). Such a surface is coincident with the null one, or so near
-    /// that the crossing's spawn() would start beyond it: a fog's null box standing on a floor
-    /// let rays through the floor (its part under the box 0.70–0.79 where 0.47 is right).
-    /// `jumped` (optional) gets the null hit replaced; its surface index is −1 if none was. A
-    /// path that goes on through the solid surface (glass) crosses that null one too.
-    bool preferSolid(const Ray& ray, double tMax, SurfaceHit* hit,
-                     SurfaceHit* jumped = nullptr) const;
-    /// A null surface the ray meets within ε of its hit (of a surface that is not null), before
-    /// or beyond it: a path spawned off the hit, through it, would jump that one's crossing
-    /// (fog in a glass tank, its null box on the glass: the glass hit first, its medium was
-    /// never entered). The nearest such one; false if none.
-    bool nullAt(const Ray& ray, const SurfaceHit& hit, SurfaceHit* null) const;
+    /// Nearest hit with t ∈ (0, tMax); false if none. `hidden`: Embree mask bits of surfaces the
+    /// query does not see (bit(s)).
+    bool intersect(const Ray& ray, double tMax, SurfaceHit* hit, unsigned hidden = 0) const;
+    /// The Embree mask bit of surface s: 1 for every surface that is not null, one of bits 1–31
+    /// of its own for each null surface (the 31st and later null surfaces share them).
+    unsigned bit(int s) const { return bits_[size_t(s)]; }
+    /// The null surfaces a path crosses at one place (coincident within ε), in the order found.
+    struct NullCrossings {
+        static constexpr int kMax = 8;
+        SurfaceHit hit[kMax];
+        int count = 0;
+    };
+    /// Given the nearest hit of `ray`, a null surface's: the other surfaces within ε of it (the
+    /// slab that spawn() jumps, along the ray up to tMax), one query at a time, each hiding the
+    /// surfaces found before. The null ones join `nulls` after the hit's own, and the first that
+    /// is not null replaces *hit. Returns whether *hit is (now) not null. Before, a path crossed
+    /// one of coincident surfaces and jumped the others: a fog's null box standing on a floor
+    /// let the sky below through the floor, and of two fog boxes sharing a face one was never
+    /// entered (or never left, and filled all space beyond).
+    bool resolveCrossing(const Ray& ray, double tMax, SurfaceHit* hit, NullCrossings* nulls) const;
+    /// The null surfaces within ε of a hit of a surface that is not null: a path spawned off it,
+    /// through it (glass), would jump their crossings (fog in a glass tank, its null box on the
+    /// glass, was never entered).
+    void nullsAt(const Ray& ray, const SurfaceHit& hit, NullCrossings* nulls) const;
     /// Whether any surface is hit with t ∈ (0, tMax).
     bool occluded(const Ray& ray, double tMax) const;
     /// A ray from the surface point p (geometric normal ng) along the unit direction d, its
@@ -99,13 +105,18 @@ class SurfaceScene {
 
   private:
     bool startNear(const Ray& ray, double tMax, Ray* moved, double* tEntry) const;
-    bool intersectInRange(const Ray& ray, double tMax, SurfaceHit* hit, Sees sees) const;
+    bool intersectInRange(const Ray& ray, double tMax, SurfaceHit* hit, unsigned hidden) const;
     /// How far along the ray the slab of thickness ε on either side of hit's surface reaches:
     /// what spawn() can jump (at most 10³ ε, at grazing angles).
     double jump(const Ray& ray, const SurfaceHit& hit) const {
         return epsilon_ * (1 + 1 / std::max(std::abs(ray.d.dot(hit.ng)), 1e-3));
     }
-    struct Embree;  ///< the RTCDevice and RTCScene (Embree headers stay in the .cpp)
+    /// The surfaces in the slab around `at` not hidden (bits), nearest first: nulls join
+    /// `nulls`; the first other one, if any, is *solid (returns true).
+    bool inSlab(const Ray& ray, double tMax, const SurfaceHit& at, unsigned hidden,
+                NullCrossings* nulls, SurfaceHit* solid) const;
+    std::vector<unsigned> bits_;  ///< bit(s)
+    struct Embree;                ///< the RTCDevice and RTCScene (Embree headers stay in the .cpp)
     std::unique_ptr<Embree> rtc_;
     std::vector<Surface> surfaces_;
     double epsilon_ = 0;
