@@ -307,17 +307,23 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
         if (t == NoCollision) {  // the surface
             ++c.surfaceHits;
             const Surface& sf = surf->surfaces()[hit.surface];
-            if (sf.emits() && !(record && !scattered && effects_.areaLights)) {
-                const Spectrum Le = sf.Le(hit.ng, -ray.d);
+            // The light of the surface hit, and of null ones met at the same place (an invisible
+            // light on a fog box's face: the one Embree did not report was jumped, dark).
+            const auto addEmitted = [&](const SurfaceHit& h) {
+                const Surface& e = surf->surfaces()[h.surface];
+                if (!e.emits() || (record && !scattered && effects_.areaLights)) return;
+                const Spectrum Le = e.Le(h.ng, -ray.d);
                 double w = 1;
                 if (prevPdf > 0 && effects_.areaLights)
                     w = effects_.mis == MisHeuristic::None
                             ? 0.0
-                            : misWeight(prevPdf,
-                                        (1 - environmentShare()) *
-                                            areaLights_->pdf(prevP, hit.surface, hit.p, hit.ng));
+                            : misWeight(prevPdf, (1 - environmentShare()) *
+                                                     areaLights_->pdf(prevP, h.surface, h.p, h.ng));
                 if (w > 0) L += beta * w * Le;
-            }
+            };
+            addEmitted(hit);
+            for (int k = 0; k < nulls.count; ++k)
+                if (nulls.hit[k].surface != hit.surface) addEmitted(nulls.hit[k]);
             const Bsdf& bsdf = sf.bsdf;
             if (bsdf.type == BsdfType::Null) {
                 if (++nullCrossings > kMaxNullCrossings) break;

@@ -434,6 +434,30 @@ TEST(SurfacePath, FogsInBoxesSharingAFaceAreBothCrossed) {
     }
 }
 
+// An invisible light (a null BSDF that emits) in the plane of a null box's face shines whichever
+// of the two Embree reports: the other was jumped, and the light was dark where the box's face
+// came first.
+TEST(SurfacePath, ANullLightOnANullFaceShines) {
+    for (const bool lightFirst : {true, false}) {  // (the order of the surfaces)
+        Scene scene;
+        std::vector<Surface> v;
+        Surface box = meshSurface(testing::boxMesh(Vec3(-1, -1, -1), Vec3(1, 1, 1)), Bsdf::null());
+        Eigen::Affine3d top = Eigen::Affine3d::Identity();
+        top.translate(Vec3(0, 0, 1));
+        Surface light = Surface::rectangle(top);
+        light.bsdf = Bsdf::null();
+        light.emission = Spectrum::Constant(5);
+        v.push_back(lightFirst ? light : box);
+        v.push_back(lightFirst ? box : light);
+        scene.surfaces = surfaces(std::move(v));
+        const Estimate e = estimate(scene, 2000, [](const Vec2& u) {
+            const Vec3 eye(0.1, 0.2, 4);
+            return Ray{eye, (Vec3(1.6 * u.x() - 0.8, 1.6 * u.y() - 0.8, 1) - eye).normalized()};
+        });
+        EXPECT_EQ(e.mean[0], 5) << lightFirst;
+    }
+}
+
 TEST(SurfacePath, SceneWithoutSurfacesRunsNoSurfaceCode) {
     Scene scene;
     scene.environment = Environment::constant(Spectrum::Ones(), false);
