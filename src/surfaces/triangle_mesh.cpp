@@ -212,12 +212,10 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshP
     }
 }
 
-std::string closedMeshDefect(const TriangleMesh& mesh) {
+namespace {
+/// closedMeshDefect with each vertex standing for weld[vertex].
+std::string defectWith(const TriangleMesh& mesh, const std::vector<uint32_t>& weld) {
     const size_t nt = mesh.triangleCount();
-    if (nt == 0) return "the mesh has no triangles";
-    for (const Vec3& p : mesh.p)
-        if (!p.allFinite()) return "a vertex position is not finite";
-    const std::vector<uint32_t> weld = weldByPosition(mesh);  // (faces meet at positions)
     const auto corner = [&](size_t f, int j) { return weld[mesh.indices[3 * f + j % 3]]; };
     for (size_t f = 0; f < nt; ++f)
         if (corner(f, 0) == corner(f, 1) || corner(f, 1) == corner(f, 2) ||
@@ -265,6 +263,20 @@ std::string closedMeshDefect(const TriangleMesh& mesh) {
                        " has no opposite edge: the mesh is not closed";
         }
     return "";  // not reached
+}
+}  // namespace
+
+std::string closedMeshDefect(const TriangleMesh& mesh) {
+    if (mesh.triangleCount() == 0) return "the mesh has no triangles";
+    for (const Vec3& p : mesh.p)
+        if (!p.allFinite()) return "a vertex position is not finite";
+    // Closed as its vertices join its faces (two closed cubes that touch along an edge, each
+    // with vertices of its own), or else as its positions do (a flat-shaded mesh, a vertex per
+    // face corner): welded alone, the touching cubes' shared edge had four faces.
+    std::vector<uint32_t> asGiven(mesh.p.size());
+    for (uint32_t i = 0; i < asGiven.size(); ++i) asGiven[i] = i;
+    if (defectWith(mesh, asGiven).empty()) return "";
+    return defectWith(mesh, weldByPosition(mesh));
 }
 
 double signedVolume(const TriangleMesh& mesh) {

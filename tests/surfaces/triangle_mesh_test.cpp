@@ -161,6 +161,22 @@ TEST(TriangleMesh, VolumeFarFromTheOrigin) {
     EXPECT_EQ(closedMeshDefect(two), "");
 }
 
+// Two closed cubes that touch along an edge, each with vertices of its own, are closed as their
+// vertices join their faces (welded by position alone, their shared edge had four faces: refused
+// as a boundary, and as inward glass left inside out).
+TEST(TriangleMesh, SolidsTouchingAlongAnEdgeAreClosed) {
+    TriangleMesh two = cube();
+    const uint32_t n = uint32_t(two.p.size());
+    for (size_t k = 0; k < n; ++k) two.p.push_back(two.p[k] + Vec3(2, 2, 0));
+    for (size_t k = 0, m = two.indices.size(); k < m; ++k)
+        two.indices.push_back(two.indices[k] + n);
+    EXPECT_EQ(closedMeshDefect(two), "");
+    EXPECT_EQ(signedVolume(two), 16.0);
+    flipWinding(two);
+    EXPECT_EQ(closedMeshDefect(two), "");
+    EXPECT_EQ(signedVolume(two), -16.0);
+}
+
 // A part that encloses no volume is no solid's surface, though every edge has its opposite: a
 // triangle in both windings was accepted, and as a boundary it let its medium fill the
 // half-space beyond it.

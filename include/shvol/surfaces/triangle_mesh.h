@@ -59,9 +59,10 @@ void widestAngleFirst(TriangleMesh& mesh);
 
 /// Why the mesh is not the closed, consistently oriented surface of a solid, or "" if it is:
 /// every directed edge (a, b) of a triangle must appear exactly once, and its reverse (b, a)
-/// exactly once in another triangle (an oriented 2-manifold without boundary). Vertices at equal
-/// positions are one vertex here (a file's corners with different normals or texture
-/// coordinates are distinct vertices of the mesh); an edge is named by its end points (with the
+/// exactly once in another triangle (an oriented 2-manifold without boundary): as the mesh's
+/// vertices join its triangles, or else with vertices at equal positions one vertex (a file's
+/// corners with different normals or texture coordinates are distinct vertices of the mesh);
+/// an edge is named by its end points (with the
 /// digits that tell them apart). A shell (faces joined across shared edges) that encloses no
 /// volume (|V| ≤ 10⁻⁹ A^{3/2}: both sides of one sheet) is refused too, and so are positions
 /// that are not finite.
