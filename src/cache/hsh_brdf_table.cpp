@@ -127,10 +127,9 @@ void HshBrdfTable::coefficients(const Vec3& wo, double* out) const {
     }
 }
 
-void HshBrdfTable::coefficients(const Frame& base, const Vec3& tangent, const Vec3& wo,
+void HshBrdfTable::coefficients(const Frame& base, const Frame& own, const Vec3& wo,
                                 double* out) const {
     if (!anisotropic_) return coefficients(base.toLocal(wo), out);
-    const Frame own(base.n, tangent);
     coefficients(own.toLocal(wo), out);
     const double phi = std::atan2(own.s.dot(base.t), own.s.dot(base.s));
     for (int k = 0; k < 3; ++k) sh::hshRotateZ(n_, phi, out + k * n_ * n_);

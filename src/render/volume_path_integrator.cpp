@@ -334,7 +334,8 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             if (++depth > s.maxDepth) break;
             nullCrossings = 0;  // (the guard is per ray)
             ++c.surfaceEvents;
-            const Frame frame = bsdf.anisotropic() ? Frame(hit.ns, sf.tangent) : Frame(hit.ns);
+            const Frame frame =
+                bsdf.anisotropic() ? Frame(hit.ns, sf.tangent, sf.tangentY) : Frame(hit.ns);
             const Vec3 wo = frame.toLocal(-ray.d);
             const double cosOg = -ray.d.dot(hit.ng);
             // A camera path's first scattering vertex: the cache answers for the indirect light,
@@ -476,8 +477,9 @@ bool VolumePathIntegrator::cachedRadiance(const SurfaceHit& hit, const Vec3& wo,
     const bool found = cache_->lookup(hit.p, n, ng, lambda.data());
     if (found) {
         ++c.cacheHits;
-        tables_[hit.surface]->coefficients(
-            Frame(n), scene_.surfaces->surfaces()[hit.surface].tangent, wo, coefficients.data());
+        const Surface& sf = scene_.surfaces->surfaces()[hit.surface];
+        tables_[hit.surface]->coefficients(Frame(n), Frame(n, sf.tangent, sf.tangentY), wo,
+                                           coefficients.data());
         for (int k = 0; k < 3; ++k) {
             double sum = 0;
             for (int i = 0; i < nn; ++i) sum += lambda[k * nn + i] * coefficients[k * nn + i];

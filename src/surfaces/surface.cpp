@@ -73,6 +73,8 @@ Surface Surface::disk(const Eigen::Affine3d& toWorld) {
 void Surface::orient(const Eigen::Affine3d& toWorld) {
     if (const Vec3 x = toWorld.linear() * Vec3::UnitX(); x.allFinite() && x.norm() > 0)
         tangent = x.normalized();
+    if (const Vec3 y = toWorld.linear() * Vec3::UnitY(); y.allFinite() && y.norm() > 0)
+        tangentY = y.normalized();
 }
 
 Surface Surface::sphere(const Vec3& center, double radius) {

@@ -74,7 +74,7 @@ TEST(HshBrdfTable, AnisotropicLobesAreTurnedIntoTheGivenFrame) {
             return L(base.toLocal(own.toWorld(wiOwn)));
         });
         std::vector<double> c(3 * n * n);
-        t.coefficients(base, tangent, wo, c.data());
+        t.coefficients(base, own, wo, c.data());
         const double cached = lambda.dot(Eigen::Map<const Eigen::VectorXd>(c.data(), n * n));
         EXPECT_NEAR(cached, expected, 0.004 * expected) << wo.transpose();
         t.coefficients(own.toLocal(wo), c.data());  // not turned

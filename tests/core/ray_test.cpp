@@ -126,7 +126,10 @@ TEST(Frame, FollowsTheTangentItIsGiven) {
     const Frame f(nz, near);
     EXPECT_NEAR(f.s.dot(nz), 0, 1e-15);
     EXPECT_NEAR(f.s.x(), 1, 1e-9);
-    // A tangent along the normal: Frame(n).
+    // A tangent along the normal: the second one, if given (a box's faces ⟂ its x axis), else
+    // Frame(n).
+    const Frame second(Vec3(0, 0, 1), Vec3(0, 0, 2), Vec3(0, 1, 0.5));
+    EXPECT_NEAR((second.s - Vec3(0, 1, 0)).norm(), 0, 1e-15);
     const Frame along(Vec3(0, 0, 1), Vec3(0, 0, 2)), plain(Vec3(0, 0, 1));
     EXPECT_EQ(along.s, plain.s);
     EXPECT_EQ(along.t, plain.t);

@@ -409,7 +409,10 @@ TEST(SceneLoader, SurfacesAreOrientedByTheirTransforms) {
         {"type": "disk", "transform": {"rotate": {"axis": [0, 0, 1], "degrees": 90}}},
         {"type": "sphere"}]})");
     const std::vector<Surface>& v = s.surfaces->surfaces();
-    for (int i : {0, 1, 2, 3}) EXPECT_NEAR((v[i].tangent - Vec3(0, 1, 0)).norm(), 0, 1e-12) << i;
+    for (int i : {0, 1, 2, 3}) {
+        EXPECT_NEAR((v[i].tangent - Vec3(0, 1, 0)).norm(), 0, 1e-12) << i;
+        EXPECT_NEAR((v[i].tangentY - Vec3(-1, 0, 0)).norm(), 0, 1e-12) << i;
+    }
     EXPECT_EQ(v[4].tangent, Vec3(1, 0, 0));
 }
 

@@ -36,10 +36,11 @@ class HshBrdfTable {
     /// RGB coefficients c(ω_o) for a local ω_o with z > 0: out[k·n² + i] for channel k.
     void coefficients(const Vec3& wo, double* out) const;
     /// The same for a world direction ω_o, in the HSH frame `base` (z the normal: the frame of a
-    /// radiance cache record's λ) rather than the BSDF's own. An anisotropic lobe's own frame is
-    /// Frame(base.n, tangent), turned by φ about the normal from `base`: its coefficients are
-    /// turned back by sh::hshRotateZ (other lobes are the same in every frame about the normal).
-    void coefficients(const Frame& base, const Vec3& tangent, const Vec3& wo, double* out) const;
+    /// radiance cache record's λ) rather than the lobe's own, `own` (the same normal; a surface's
+    /// Frame(n, tangent, tangentY)), turned by φ about the normal from `base`: an anisotropic
+    /// lobe's coefficients are turned back by sh::hshRotateZ (other lobes are the same in every
+    /// frame about the normal).
+    void coefficients(const Frame& base, const Frame& own, const Vec3& wo, double* out) const;
     /// The fraction of ∫ g² the order-n projection misses (1 − Gautron eq. 15), averaged over the
     /// grid's outgoing directions, for the specular part (the diffuse part's, if it has no
     /// specular part).

@@ -169,10 +169,15 @@ struct Frame {
     }
     /// The frame whose x axis is `tangent` projected onto the plane ⟂ normal (s = normalised
     /// tangent − n (n·tangent), t = n × s): a surface's own axes, continuous wherever its tangent
-    /// is. Where the tangent is (nearly) parallel to the normal, Frame(normal).
-    Frame(const Vec3& normal, const Vec3& tangent) : Frame(normal) {
+    /// is. Where the tangent is (nearly) parallel to the normal, `second` takes its place (a
+    /// surface's y axis, on a box's faces ⟂ its x axis), and where that is too, Frame(normal).
+    Frame(const Vec3& normal, const Vec3& tangent, const Vec3& second = Vec3::Zero())
+        : Frame(normal) {
         Vec3 p = tangent - normal * normal.dot(tangent);
-        if (!(p.squaredNorm() > 1e-12 * tangent.squaredNorm())) return;
+        if (!(p.squaredNorm() > 1e-12 * tangent.squaredNorm()))
+            p = second - normal * normal.dot(second);
+        if (!(p.squaredNorm() > 1e-12 * std::max(tangent.squaredNorm(), second.squaredNorm())))
+            return;
         p -= normal * normal.dot(p);  // (again: a tangent near the normal leaves p·n ~ 10⁻¹⁰)
         s = p.normalized();
         t = n.cross(s);

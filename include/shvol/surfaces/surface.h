@@ -31,7 +31,8 @@ struct Surface {
     /// The shape's local x axis in world space (its transform's, unit length): an anisotropic
     /// BSDF's x axis is this direction projected onto the tangent plane (Frame(n, tangent)).
     Vec3 tangent{1, 0, 0};
-    double radius = 1;  ///< Disk, Sphere
+    Vec3 tangentY{0, 1, 0};  ///< its local y axis: the lobe's x axis where `tangent` is ⟂ it
+    double radius = 1;       ///< Disk, Sphere
     Bsdf bsdf = Bsdf::lambert(Spectrum::Constant(0.5));
     Spectrum emission = Spectrum::Zero();  ///< radiance L_e leaving the front side
     bool twoSidedEmission = false;         ///< emit from the back side too
@@ -64,7 +65,8 @@ struct Surface {
         flipWinding(mesh);
         emitsFromBack = !emitsFromBack;
     }
-    /// Sets `tangent` to toWorld's x axis (kept where that is zero or not finite).
+    /// Sets `tangent` and `tangentY` to toWorld's x and y axes (each kept where it is zero or not
+    /// finite).
     void orient(const Eigen::Affine3d& toWorld);
     /// The unit rectangle [−1, 1]² in the z = 0 plane facing +z, or the unit disk, placed by
     /// toWorld (as the rectangle and disk of Mitsuba and pbrt).
