@@ -153,6 +153,7 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
     hi_ = -lo_;
     for (const Surface& s : surfaces_) {
         hasNull_ = hasNull_ || s.bsdf.type == BsdfType::Null;
+        nullEmitters_ = nullEmitters_ || (s.bsdf.type == BsdfType::Null && s.emits());
         if (!(s.reach() <= kMaxSurfaceCoordinate))
             throw Error(s.name + ": " + surfaceReachMessage(s.reach()));
         // (A disk's box is its sphere's: a bound, enough for ε and the cache's grid.)
@@ -260,7 +261,11 @@ bool SurfaceScene::inSlab(const Ray& ray, double tMax, const SurfaceHit& at, uns
 bool SurfaceScene::resolveCrossing(const Ray& ray, double tMax, SurfaceHit* hit,
                                    NullCrossings* nulls) const {
     nulls->count = 0;
-    if (bits_[size_t(hit->surface)] == 1) return true;
+    if (bits_[size_t(hit->surface)] == 1) {
+        // A light with a null BSDF (a decal, a portal) in the plane of the surface hit.
+        if (nullEmitters_) nullsAt(ray, *hit, nulls);
+        return true;
+    }
     nulls->hit[nulls->count++] = *hit;
     return inSlab(ray, tMax, *hit, bits_[size_t(hit->surface)], nulls, hit);
 }

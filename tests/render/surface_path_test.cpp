@@ -458,6 +458,32 @@ TEST(SurfacePath, ANullLightOnANullFaceShines) {
     }
 }
 
+// The same on a floor (a light decal): the floor is hit, and the decal's light is added. It was
+// dark where the floor came first (and, with the floor preferred to the null hit, everywhere).
+TEST(SurfacePath, ANullLightOnAFloorShines) {
+    for (const bool lightFirst : {true, false}) {
+        Scene scene;
+        std::vector<Surface> v;
+        Eigen::Affine3d big = Eigen::Affine3d::Identity();
+        big.scale(3);
+        Surface floor = Surface::rectangle(big),
+                decal = Surface::rectangle(Eigen::Affine3d::Identity());
+        decal.bsdf = Bsdf::null();
+        decal.emission = Spectrum::Constant(4);
+        v.push_back(lightFirst ? decal : floor);
+        v.push_back(lightFirst ? floor : decal);
+        scene.surfaces = surfaces(std::move(v));
+        for (const bool nee : {false, true}) {
+            scene.settings.nee = nee;
+            const Estimate e = estimate(scene, 2000, [](const Vec2& u) {
+                const Vec3 eye(0.1, 0.2, 4);
+                return Ray{eye, (Vec3(1.6 * u.x() - 0.8, 1.6 * u.y() - 0.8, 0) - eye).normalized()};
+            });
+            EXPECT_EQ(e.mean[0], 4) << lightFirst << nee;
+        }
+    }
+}
+
 TEST(SurfacePath, SceneWithoutSurfacesRunsNoSurfaceCode) {
     Scene scene;
     scene.environment = Environment::constant(Spectrum::Ones(), false);

@@ -60,9 +60,10 @@ class SurfaceScene {
     /// Given the nearest hit of `ray`, a null surface's: the other surfaces within ε of it (the
     /// slab that spawn() jumps, along the ray up to tMax), one query at a time, each hiding the
     /// surfaces found before. The null ones join `nulls` after the hit's own, and the first that
-    /// is not null replaces *hit. Returns whether *hit is (now) not null. Before, a path crossed
-    /// one of coincident surfaces and jumped the others: a fog's null box standing on a floor
-    /// let the sky below through the floor, and of two fog boxes sharing a face one was never
+    /// is not null replaces *hit. Returns whether *hit is (now) not null. Given a hit that is not
+    /// null, in a scene where null surfaces emit, `nulls` gets those within ε of it. Before, a path
+    /// crossed one of coincident surfaces and jumped the others: a fog's null box standing on a
+    /// floor let the sky below through the floor, and of two fog boxes sharing a face one was never
     /// entered (or never left, and filled all space beyond).
     bool resolveCrossing(const Ray& ray, double tMax, SurfaceHit* hit, NullCrossings* nulls) const;
     /// The null surfaces within ε of a hit of a surface that is not null: a path spawned off it,
@@ -123,6 +124,7 @@ class SurfaceScene {
     Vec3 lo_, hi_;
     size_t triangles_ = 0;
     bool hasNull_ = false;
+    bool nullEmitters_ = false;  ///< a null surface emits
     double buildSeconds_ = 0;
 };
 
