@@ -305,7 +305,7 @@ void addPhaseCommand(CLI::App& app, std::function<int()>& run) {
     sample->add_option("-o,--out,--output", a->out, "Output CSV (x,y,z,pdf,weight)")
         ->required()
         ->check(nonEmptyName())
-        ->check(writableOutput());
+        ->check(outputNamed(".csv", "phase sample writes CSV"));
     sample
         ->add_option("--sampler", a->sampler,
                      "zonal (the renderer's: 1D warp in z, uniform phi, defensive share) or "

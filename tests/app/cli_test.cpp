@@ -227,6 +227,8 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
          "--seed: must be an integer in [0, 9007199254740992], got -1"},
         {"make-medium cloud -o " + path("m.txt"), "make-medium writes OpenVDB; name the file .vdb"},
         {"make-sky -o " + path("m.png"), "make-sky writes OpenEXR; name the file .exr"},
+        {"phase sample hg:g=0.5 -o " + path("m.txt"),
+         "phase sample writes CSV; name the file .csv"},
         {"make-sky -o " + path("m.exr") + " --width 9",
          "--width: must be even (the height is width/2), got 9"},
         // A bare extension is no name, for every command that writes one.
