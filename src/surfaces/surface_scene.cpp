@@ -357,6 +357,11 @@ bool SurfaceScene::inside(int s, const Vec3& p) const {
     // A direction no axis-aligned or diagonal face of a test scene is parallel to.
     Ray ray{p, Vec3(0.5773, 0.6071, 0.5461).normalized()};
     SurfaceHit hit;
+    // A null surface with a mask bit of its own is queried alone: walking from hit to hit, a face
+    // of another surface in the plane of one of its own jumped that one (a camera in one of two
+    // fog boxes sharing a face).
+    if (bits_[size_t(s)] != 1 && intersect(ray, NoHit, &hit, ~bits_[size_t(s)]) && hit.surface == s)
+        return hit.ng.dot(ray.d) > 0;
     for (int crossings = 0; crossings < 100000 && intersect(ray, NoHit, &hit); ++crossings) {
         if (hit.surface == s) return hit.ng.dot(ray.d) > 0;
         ray = spawn(hit.p, hit.ng, ray.d);

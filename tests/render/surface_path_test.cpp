@@ -432,6 +432,13 @@ TEST(SurfacePath, FogsInBoxesSharingAFaceAreBothCrossed) {
         });
         EXPECT_NEAR(e.mean[0], std::exp(-0.8), 5 * e.stdErr[0]) << side;
     }
+    // Starting inside the first box, near the shared face: which boxes a path starts in is
+    // found along a fixed direction that leaves it through that face (SurfaceScene::inside),
+    // where the walk from hit to hit jumped the first box's face behind the second's.
+    const Estimate in = estimate(scene, 20000, [](const Vec2& u) {
+        return Ray{Vec3(0.9, 0.6 * u.x() - 0.8, 0.6 * u.y() - 0.8), Vec3(1, 0, 0)};
+    });
+    EXPECT_NEAR(in.mean[0], std::exp(-(0.3 * 0.1 + 0.1 * 2)), 5 * in.stdErr[0]);
 }
 
 // An invisible light (a null BSDF that emits) in the plane of a null box's face shines whichever
