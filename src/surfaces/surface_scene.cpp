@@ -244,18 +244,24 @@ bool SurfaceScene::intersect(const Ray& ray, double tMax, SurfaceHit* hit, unsig
 
 bool SurfaceScene::inSlab(const Ray& ray, double tMax, const SurfaceHit& at, unsigned hidden,
                           NullCrossings* nulls, SurfaceHit* solid) const {
-    const double d = jump(ray, at), from = std::max(0.0, at.t - d), to = std::min(at.t + d, tMax);
-    for (SurfaceHit next; nulls->count < NullCrossings::kMax &&
-                          intersect(Ray{ray(from), ray.d}, to - from, &next, hidden);) {
-        next.t += from;
-        if (bits_[size_t(next.surface)] == 1) {
-            *solid = next;
-            return true;
+    // From the hit point itself (a point of the ray taken from a far origin is off by more than
+    // the slab: a camera 10¹³ away saw the sky through a floor again), back to the ray's origin
+    // at most.
+    const double d = jump(ray, at), back = std::min(d, at.t), ahead = std::min(d, tMax - at.t);
+    const Ray slab{at.p - back * ray.d, ray.d};
+    bool found = false;
+    for (SurfaceHit next;
+         nulls->count < NullCrossings::kMax && intersect(slab, back + ahead, &next, hidden);) {
+        next.t += at.t - back;
+        if (bits_[size_t(next.surface)] == 1) {  // the first solid one; then the null ones only
+            *solid = next, found = true;
+            hidden |= 1u;
+            continue;
         }
         nulls->hit[nulls->count++] = next;
         hidden |= bits_[size_t(next.surface)];
     }
-    return false;
+    return found;
 }
 
 bool SurfaceScene::resolveCrossing(const Ray& ray, double tMax, SurfaceHit* hit,

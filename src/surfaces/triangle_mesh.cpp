@@ -275,8 +275,31 @@ std::string closedMeshDefect(const TriangleMesh& mesh) {
     // face corner): welded alone, the touching cubes' shared edge had four faces.
     std::vector<uint32_t> asGiven(mesh.p.size());
     for (uint32_t i = 0; i < asGiven.size(); ++i) asGiven[i] = i;
-    if (defectWith(mesh, asGiven).empty()) return "";
-    return defectWith(mesh, weldByPosition(mesh));
+    const std::vector<uint32_t> weld = weldByPosition(mesh);
+    if (!defectWith(mesh, asGiven).empty()) return defectWith(mesh, weld);
+    // Closed as given. Solids of their own vertices that touch along an edge (or at a point)
+    // are fine; touching over a face, a ray crosses only one of the two faces there (the second
+    // solid was empty as a medium's boundary). Told apart by the edges the welded mesh has twice:
+    // all on one line, or not.
+    const size_t nt = mesh.triangleCount();
+    std::vector<uint64_t> keys;
+    for (size_t f = 0; f < nt; ++f)
+        for (int j = 0; j < 3; ++j)
+            keys.push_back(
+                edgeKey(weld[mesh.indices[3 * f + j]], weld[mesh.indices[3 * f + (j + 1) % 3]]));
+    std::sort(keys.begin(), keys.end());
+    std::vector<Vec3> ends;  // of the edges found twice
+    for (size_t i = 1; i < keys.size(); ++i)
+        if (keys[i] == keys[i - 1])
+            ends.insert(ends.end(), {mesh.p[keys[i] >> 32], mesh.p[uint32_t(keys[i])]});
+    for (size_t i = 2; i < ends.size(); ++i) {
+        const Vec3 a = ends[1] - ends[0], b = ends[i] - ends[0];
+        if (a.cross(b).norm() > 1e-9 * a.norm() * b.norm())
+            return "solids touching over a face (at " + str(ends[i], true) +
+                   "): a ray crosses only one of the faces there; give each solid a surface of "
+                   "its own";
+    }
+    return "";
 }
 
 double signedVolume(const TriangleMesh& mesh) {

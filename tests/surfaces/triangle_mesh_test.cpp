@@ -175,6 +175,14 @@ TEST(TriangleMesh, SolidsTouchingAlongAnEdgeAreClosed) {
     flipWinding(two);
     EXPECT_EQ(closedMeshDefect(two), "");
     EXPECT_EQ(signedVolume(two), -16.0);
+    // Touching face to face they are not: a ray crosses one of the two faces there, and the
+    // second solid, as a medium's boundary, was empty.
+    TriangleMesh faces = cube();
+    for (size_t k = 0; k < n; ++k) faces.p.push_back(faces.p[k] + Vec3(2, 0, 0));
+    for (size_t k = 0, m = faces.indices.size(); k < m; ++k)
+        faces.indices.push_back(faces.indices[k] + n);
+    EXPECT_NE(closedMeshDefect(faces).find("solids touching over a face"), std::string::npos)
+        << closedMeshDefect(faces);
 }
 
 // A part that encloses no volume is no solid's surface, though every edge has its opposite: a

@@ -53,7 +53,7 @@ class SurfaceScene {
     unsigned bit(int s) const { return bits_[size_t(s)]; }
     /// The null surfaces a path crosses at one place (coincident within ε), in the order found.
     struct NullCrossings {
-        static constexpr int kMax = 8;
+        static constexpr int kMax = 16;
         SurfaceHit hit[kMax];
         int count = 0;
     };
@@ -108,12 +108,14 @@ class SurfaceScene {
     bool startNear(const Ray& ray, double tMax, Ray* moved, double* tEntry) const;
     bool intersectInRange(const Ray& ray, double tMax, SurfaceHit* hit, unsigned hidden) const;
     /// How far along the ray the slab of thickness ε on either side of hit's surface reaches:
-    /// what spawn() can jump (at most 10³ ε, at grazing angles).
+    /// what spawn() jumps (at most 10³ ε, at grazing angles). No further: a null surface found
+    /// beyond it would be met again by the spawned ray (a light there was counted twice).
     double jump(const Ray& ray, const SurfaceHit& hit) const {
-        return epsilon_ * (1 + 1 / std::max(std::abs(ray.d.dot(hit.ng)), 1e-3));
+        return epsilon_ / std::max(std::abs(ray.d.dot(hit.ng)), 1e-3);
     }
     /// The surfaces in the slab around `at` not hidden (bits), nearest first: nulls join
-    /// `nulls`; the first other one, if any, is *solid (returns true).
+    /// `nulls`; the first other one, if any, is *solid (returns true), and null ones beyond it
+    /// are still found (a fog box against glass whose tank holds a fog of its own).
     bool inSlab(const Ray& ray, double tMax, const SurfaceHit& at, unsigned hidden,
                 NullCrossings* nulls, SurfaceHit* solid) const;
     std::vector<unsigned> bits_;  ///< bit(s)
