@@ -164,7 +164,27 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
     const double R = surfaces_.empty() ? 0 : 0.5 * (hi_ - lo_).maxCoeff();
     const double scale = rtc_->scale = R > 0 ? std::ldexp(1.0, -std::ilogb(R)) : 1.0;
     rtc_->analytic.reserve(surfaces_.size());  // (their addresses are Embree's user data)
-    unsigned nullCount = 0;
+    // Embree geometry masks (Debian's Embree is built with EMBREE_RAY_MASK, which CMakeLists.txt
+    // checks): a ray sees the geometries whose mask shares a bit with its own. Every surface that
+    // is not null has bit 0; null surfaces get bits 1–31, a bit no null surface whose box comes
+    // within ε of theirs has (greedily, in order: only surfaces that can meet at one place need
+    // bits of their own), or, where all 31 are taken around one, a shared one.
+    const double margin = std::ldexp(R > 0 ? R : 1.0, -15);  // (2 ε)
+    std::vector<Bounds3> nullBox(surfaces_.size());
+    bits_.assign(surfaces_.size(), 1u);
+    for (size_t i = 0, shared = 0; i < surfaces_.size(); ++i) {
+        if (surfaces_[i].bsdf.type != BsdfType::Null) continue;
+        const Bounds3 b = surfaces_[i].bounds();
+        nullBox[i] = {b.lo - Vec3::Constant(margin), b.hi + Vec3::Constant(margin)};
+        unsigned taken = 1;
+        for (size_t k = 0; k < i; ++k)
+            if (bits_[k] != 1 && (nullBox[i].lo.array() <= nullBox[k].hi.array()).all() &&
+                (nullBox[k].lo.array() <= nullBox[i].hi.array()).all())
+                taken |= bits_[k];
+        unsigned bit = 2;
+        while (bit != 0 && (taken & bit)) bit <<= 1;
+        bits_[i] = bit != 0 ? bit : 2u << (shared++ % 31);
+    }
     for (size_t i = 0; i < surfaces_.size(); ++i) {
         const Surface& s = surfaces_[i];
         RTCGeometry g;
@@ -190,10 +210,7 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
             rtcSetGeometryIntersectFunction(g, analyticIntersect);
             rtcSetGeometryOccludedFunction(g, analyticOccluded);
         }
-        // Embree geometry masks (Debian's Embree is built with EMBREE_RAY_MASK, which
-        // CMakeLists.txt checks): a ray sees the geometries whose mask shares a bit with its own.
-        bits_.push_back(s.bsdf.type != BsdfType::Null ? 1u : 2u << (nullCount++ % 31));
-        rtcSetGeometryMask(g, bits_.back());
+        rtcSetGeometryMask(g, bits_[i]);
         rtcCommitGeometry(g);
         rtcAttachGeometryByID(rtc_->scene, g, unsigned(i));
         rtcReleaseGeometry(g);

@@ -412,12 +412,20 @@ TEST(SurfacePath, FogInAGlassBoxIsEnteredThroughTheGlass) {
 // Two fogs in null boxes that share a face: a path crosses both faces at once. It crossed the
 // one Embree reported and jumped the other, so one fog was never entered (0.82 = e^{-0.2}) or
 // never left, filling all space beyond (0: the whole image black).
-TEST(SurfacePath, FogsInBoxesSharingAFaceAreBothCrossed) {
+// (With 30 null sheets far away listed between the boxes too: their mask bits were shared from
+// the 31st null surface on, and the second box had the first's.)
+void checkFogsInBoxesSharingAFace(int sheetsBetween) {
     Scene scene;
     scene.environment = Environment::constant(Spectrum::Ones(), false);
     std::vector<Surface> v;
     v.push_back(meshSurface(testing::boxMesh(Vec3(-1, -1, -1), Vec3(1, 1, 1)), Bsdf::null()));
     v.back().interiorMedium = 0;
+    for (int k = 0; k < sheetsBetween; ++k) {
+        Eigen::Affine3d far = Eigen::Affine3d::Identity();
+        far.translate(Vec3(100 + 3 * k, 0, 0));
+        v.push_back(Surface::rectangle(far));
+        v.back().bsdf = Bsdf::null();
+    }
     v.push_back(meshSurface(testing::boxMesh(Vec3(1, -1, -1), Vec3(3, 1, 1)), Bsdf::null()));
     v.back().interiorMedium = 1;
     scene.surfaces = surfaces(std::move(v));
@@ -439,6 +447,11 @@ TEST(SurfacePath, FogsInBoxesSharingAFaceAreBothCrossed) {
         return Ray{Vec3(0.9, 0.6 * u.x() - 0.8, 0.6 * u.y() - 0.8), Vec3(1, 0, 0)};
     });
     EXPECT_NEAR(in.mean[0], std::exp(-(0.3 * 0.1 + 0.1 * 2)), 5 * in.stdErr[0]);
+}
+
+TEST(SurfacePath, FogsInBoxesSharingAFaceAreBothCrossed) {
+    checkFogsInBoxesSharingAFace(0);
+    checkFogsInBoxesSharingAFace(30);
 }
 
 // An invisible light (a null BSDF that emits) in the plane of a null box's face shines whichever

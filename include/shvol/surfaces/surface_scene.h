@@ -49,7 +49,8 @@ class SurfaceScene {
     /// query does not see (bit(s)).
     bool intersect(const Ray& ray, double tMax, SurfaceHit* hit, unsigned hidden = 0) const;
     /// The Embree mask bit of surface s: 1 for every surface that is not null, one of bits 1–31
-    /// of its own for each null surface (the 31st and later null surfaces share them).
+    /// for a null surface, which no null surface whose box comes within 2ε of its own has (while
+    /// 31 suffice).
     unsigned bit(int s) const { return bits_[size_t(s)]; }
     /// The null surfaces a path crosses at one place (coincident within ε), in the order found.
     struct NullCrossings {
