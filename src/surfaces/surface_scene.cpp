@@ -167,7 +167,7 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
     // Embree geometry masks (Debian's Embree is built with EMBREE_RAY_MASK, which CMakeLists.txt
     // checks): a ray sees the geometries whose mask shares a bit with its own. Every surface that
     // is not null has bit 0; null surfaces get bits 1–31, a bit no null surface whose box comes
-    // within ε of theirs has (greedily, in order: only surfaces that can meet at one place need
+    // within 2ε of theirs has (greedily, in order: only surfaces that can meet at one place need
     // bits of their own), or, where all 31 are taken around one, a shared one.
     const double margin = std::ldexp(R > 0 ? R : 1.0, -15);  // (2 ε)
     std::vector<Bounds3> nullBox(surfaces_.size());
@@ -264,12 +264,14 @@ bool SurfaceScene::inSlab(const Ray& ray, double tMax, const SurfaceHit& at, uns
     // From the hit point itself (a point of the ray taken from a far origin is off by more than
     // the slab: a camera 10¹³ away saw the sky through a floor again), back to the ray's origin
     // at most.
+    // (`at` may be *solid: what is needed of it is read first.)
     const double d = jump(ray, at), back = std::min(d, at.t), ahead = std::min(d, tMax - at.t);
+    const double start = at.t - back;
     const Ray slab{at.p - back * ray.d, ray.d};
     bool found = false;
     for (SurfaceHit next;
          nulls->count < NullCrossings::kMax && intersect(slab, back + ahead, &next, hidden);) {
-        next.t += at.t - back;
+        next.t += start;
         if (bits_[size_t(next.surface)] == 1) {  // the first solid one; then the null ones only
             *solid = next, found = true;
             hidden |= 1u;
