@@ -266,18 +266,12 @@ void refuseSetsTheBenchMakes(const BenchArgs& a) {
     std::vector<std::string> varied = {"lookup", "decomposition", "regular_tracking",
                                        "majorant_grid"};
     if (a.cellSweep) varied.push_back("majorant_cell");
-    for (const std::string& set : a.sets) {
-        const size_t eq = set.find('=');
-        if (eq == std::string::npos) continue;  // (refused as the scene is read)
-        const std::string key = set.substr(0, eq);
-        const Json value = overrideValue(set.substr(eq + 1), key);
-        if (overrideSets(key, value, {"render", "spp"}))
-            failOption("--set", set + ": the bench renders at --spp; give the sample count there");
-        for (const std::string& name : varied)
-            if (overrideSets(key, value, {"media", "*", name}))
-                failOption("--set", set + ": the bench varies " + name +
-                                        " itself (README.md, \"bench\"); leave it to the scene");
-    }
+    if (const std::string* set = overrideSetting(a.sets, {"render", "spp"}))
+        failOption("--set", *set + ": the bench renders at --spp; give the sample count there");
+    for (const std::string& name : varied)
+        if (const std::string* set = overrideSetting(a.sets, {"media", "*", name}))
+            failOption("--set", *set + ": the bench varies " + name +
+                                    " itself (README.md, \"bench\"); leave it to the scene");
 }
 
 int runBench(BenchArgs& a) {

@@ -11,6 +11,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "commands.h"
 #include "mpi_world.h"
@@ -429,17 +430,11 @@ int runRender(const RenderArgs& a) {
             if (!refused.empty()) failOption("--spp", refused);
             // --spp and --seed are applied after every --set: one that sets the same key too
             // would have no effect, yet be recorded among the stats' overrides.
-            for (const std::string& set : a.sets) {
-                const size_t eq = set.find('=');
-                if (eq == std::string::npos) continue;  // (refused as the scene is read)
-                const std::string key = set.substr(0, eq);
-                const Json value = overrideValue(set.substr(eq + 1), key);
-                const std::string twice = "--set " + set + " sets the same value; give it once";
-                if (!sppList.empty() && overrideSets(key, value, {"render", "spp"}))
-                    failOption("--spp", twice);
-                if (a.seed >= 0 && overrideSets(key, value, {"render", "seed"}))
-                    failOption("--seed", twice);
-            }
+            for (const auto& [given, option, name] : {std::tuple{!sppList.empty(), "--spp", "spp"},
+                                                      std::tuple{a.seed >= 0, "--seed", "seed"}})
+                if (const std::string* set =
+                        given ? overrideSetting(a.sets, {"render", name}) : nullptr)
+                    failOption(option, "--set " + *set + " sets the same value; give it once");
             nlohmann::json resolved;
             std::vector<std::string> unchanged;  // (key=null of a key the scene does not have)
             doc = sceneDocument(a.scene, a.sets, &unchanged);  // read once: scene, identity, inputs

@@ -209,6 +209,17 @@ bool overrideSets(const std::string& key, const Json& value,
     return holds(value, i);
 }
 
+const std::string* overrideSetting(const std::vector<std::string>& sets,
+                                   const std::vector<std::string>& target) {
+    for (const std::string& set : sets)
+        if (const size_t eq = set.find('=');  // (one without '=' is refused as the scene is read)
+            eq != std::string::npos &&
+            overrideSets(set.substr(0, eq), overrideValue(set.substr(eq + 1), set.substr(0, eq)),
+                         target))
+            return &set;
+    return nullptr;
+}
+
 Json overrideValue(const std::string& text, const std::string& place) {
     Json value;
     try {

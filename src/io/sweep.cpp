@@ -43,11 +43,6 @@ constexpr const char* kSeedIsTheSweeps =
 constexpr const char* kSppIsTheReferences =
     "the reference's samples per pixel are its \"spp\" key (default 4096)";
 
-/// Whether assigning `value` to the key path `key` sets render.<name> (overrideSets).
-bool setsRenderKey(const std::string& key, const Json& value, const std::string& name) {
-    return overrideSets(key, value, {"render", name});
-}
-
 /// The "key=value" strings of `key`, file values made relative to the sweep file (assignment).
 /// render.seed is refused (the sweep's seeds come last and would silently replace it), and so is
 /// render.spp in the reference's (`reference`) list, which its "spp" would replace.
@@ -68,8 +63,9 @@ std::vector<std::string> stringList(JsonReader& r, const std::string& key,
         const bool render = canonicalKeyPath(path).rfind("render", 0) == 0;
         const Json value =
             namesFile(path) || render ? overrideValue(a.substr(eq + 1), path) : Json();
-        if (render && setsRenderKey(path, value, "seed")) r.error(place, kSeedIsTheSweeps);
-        if (render && reference && setsRenderKey(path, value, "spp"))
+        if (render && overrideSets(path, value, {"render", "seed"}))
+            r.error(place, kSeedIsTheSweeps);
+        if (render && reference && overrideSets(path, value, {"render", "spp"}))
             r.error(place, kSppIsTheReferences);
         out.push_back(namesFile(path) ? assignment(sweepFile, path, value) : a);
     }
@@ -168,7 +164,7 @@ Sweep readSweep(const std::string& path, double maxRuns) {
         if (k == "seed" && r.has("seed"))
             fail(path, "axes.seed", "give either a seed axis or a \"seed\", not both");
         for (Json& v : values[a]) {
-            if (setsRenderKey(k, v, "seed")) fail(path, "axes." + k, kSeedIsTheSweeps);
+            if (overrideSets(k, v, {"render", "seed"})) fail(path, "axes." + k, kSeedIsTheSweeps);
             if (k != "spp" && k != "seed") continue;
             // An integral number however written (2.0, 2e0), as every integer key takes it:
             // kept as the integer, so that runs and rows hold one spelling of it.

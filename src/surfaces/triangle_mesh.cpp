@@ -214,6 +214,15 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshP
 
 namespace {
 /// closedMeshDefect with each vertex standing for weld[vertex].
+/// Every triangle's directed edges (a, b) of vertices weld[a], weld[b], as keys, sorted.
+std::vector<uint64_t> directedEdges(const TriangleMesh& mesh, const std::vector<uint32_t>& weld) {
+    std::vector<uint64_t> keys(mesh.indices.size());
+    for (size_t k = 0; k < keys.size(); ++k)
+        keys[k] = edgeKey(weld[mesh.indices[k]], weld[mesh.indices[k - k % 3 + (k + 1) % 3]]);
+    std::sort(keys.begin(), keys.end());
+    return keys;
+}
+
 std::string defectWith(const TriangleMesh& mesh, const std::vector<uint32_t>& weld) {
     const size_t nt = mesh.triangleCount();
     const auto corner = [&](size_t f, int j) { return weld[mesh.indices[3 * f + j % 3]]; };
@@ -224,10 +233,7 @@ std::string defectWith(const TriangleMesh& mesh, const std::vector<uint32_t>& we
     // All directed edges, sorted: O(T log T). A closed oriented manifold has every key once and
     // the reverse of every key.
     const auto edgeOf = [&](size_t f, int j) { return edgeKey(corner(f, j), corner(f, j + 1)); };
-    std::vector<uint64_t> keys(3 * nt);
-    for (size_t f = 0; f < nt; ++f)
-        for (int j = 0; j < 3; ++j) keys[3 * f + j] = edgeOf(f, j);
-    std::sort(keys.begin(), keys.end());
+    const std::vector<uint64_t> keys = directedEdges(mesh, weld);
     const auto has = [&](uint64_t k) { return std::binary_search(keys.begin(), keys.end(), k); };
     const auto reverse = [](uint64_t k) { return (k << 32) | (k >> 32); };
     bool twice = false, open = false;
@@ -281,13 +287,7 @@ std::string closedMeshDefect(const TriangleMesh& mesh) {
     // are fine; touching over a face, a ray crosses only one of the two faces there (the second
     // solid was empty as a medium's boundary). Told apart by the edges the welded mesh has twice:
     // all on one line, or not.
-    const size_t nt = mesh.triangleCount();
-    std::vector<uint64_t> keys;
-    for (size_t f = 0; f < nt; ++f)
-        for (int j = 0; j < 3; ++j)
-            keys.push_back(
-                edgeKey(weld[mesh.indices[3 * f + j]], weld[mesh.indices[3 * f + (j + 1) % 3]]));
-    std::sort(keys.begin(), keys.end());
+    const std::vector<uint64_t> keys = directedEdges(mesh, weld);
     std::vector<Vec3> ends;  // of the edges found twice
     for (size_t i = 1; i < keys.size(); ++i)
         if (keys[i] == keys[i - 1])

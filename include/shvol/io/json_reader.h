@@ -55,6 +55,9 @@ std::string keyPathProblem(const std::string& key, std::vector<std::string>* par
 /// (render={"spp": 3} sets render.spp; media.0={…, "lookup": …} sets media.*.lookup).
 bool overrideSets(const std::string& key, const Json& value,
                   const std::vector<std::string>& target);
+/// The first of the "key=value" overrides that sets `target` (overrideSets), or null.
+const std::string* overrideSetting(const std::vector<std::string>& sets,
+                                   const std::vector<std::string>& target);
 /// The value of an override "key=text" as applyOverride reads it: the JSON text parsed, or the
 /// text itself as a string when it is not valid JSON; a number beyond a double's range (1e400)
 /// is an error. `place`, the JSON path it is assigned to
