@@ -277,7 +277,7 @@ bool SurfaceScene::inSlab(const Ray& ray, double tMax, const SurfaceHit& at, uns
             hidden |= 1u;
             continue;
         }
-        nulls->hit[nulls->count++] = next;
+        nulls->add(next);
         hidden |= bits_[size_t(next.surface)];
     }
     return found;
@@ -291,7 +291,7 @@ bool SurfaceScene::resolveCrossing(const Ray& ray, double tMax, SurfaceHit* hit,
         if (nullEmitters_) nullsAt(ray, *hit, nulls);
         return true;
     }
-    nulls->hit[nulls->count++] = *hit;
+    nulls->add(*hit);
     return inSlab(ray, tMax, *hit, bits_[size_t(hit->surface)], nulls, hit);
 }
 
