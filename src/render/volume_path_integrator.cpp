@@ -404,7 +404,8 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             beta *= medium.albedo();
             if (!(beta.maxCoeff() > 0)) break;
             scattered = true;
-            const Vec3 p = ray(t);
+            // (Within ε of the surface ahead: ε off it, as after a surface event.)
+            const Vec3 p = hitSurface ? surf->offSurfaceAhead(ray(t), hit, ray.d) : ray(t);
             const PhaseFunction& phase = medium.phase();
 
             if (nee) {

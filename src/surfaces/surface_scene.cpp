@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 
 #include "shvol/core/error.h"
@@ -71,13 +72,27 @@ void analyticBounds(const RTCBoundsFunctionArguments* a) {
     a->bounds_o->upper_z = std::nextafter(float(hi.z()), inf);
 }
 
+/// An intersect context that carries the ray in double precision to the analytic shapes'
+/// callbacks (Embree passes the context given to rtcIntersect1 and rtcOccluded1 on to them;
+/// its rtcInitIntersectContext page: data may be appended to it). From the float ray Embree
+/// hands them, a point of a medium inside a sphere within float rounding of its surface was
+/// rounded onto or beyond it, and the ray leaving the sphere from there met nothing.
+struct DoubleRayContext {
+    RTCIntersectContext rtc;
+    Vec3 o, d;  ///< the ray in Embree's space divided by its scale (the scene's, less its origin)
+};
+
+const DoubleRayContext& doubleRay(const RTCIntersectContext* c) {
+    static_assert(offsetof(DoubleRayContext, rtc) == 0);
+    return *reinterpret_cast<const DoubleRayContext*>(c);
+}
+
 void analyticIntersect(const RTCIntersectFunctionNArguments* a) {
     if (!a->valid[0]) return;
     RTCRayHit& rh = *reinterpret_cast<RTCRayHit*>(a->rayhit);
     const AnalyticGeometry& g = *static_cast<const AnalyticGeometry*>(a->geometryUserPtr);
-    const Vec3 o = Vec3(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z) / g.scale;
-    const Vec3 d = Vec3(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z).normalized();
-    const double t = analyticRoot(g, o, d, rh.ray.tnear / g.scale, rh.ray.tfar / g.scale);
+    const DoubleRayContext& r = doubleRay(a->context);
+    const double t = analyticRoot(g, r.o, r.d, rh.ray.tnear / g.scale, rh.ray.tfar / g.scale);
     if (std::isnan(t)) return;
     rh.ray.tfar = float(t * g.scale);
     rh.hit.u = rh.hit.v = 0;
@@ -91,9 +106,8 @@ void analyticOccluded(const RTCOccludedFunctionNArguments* a) {
     if (!a->valid[0]) return;
     RTCRay& ray = *reinterpret_cast<RTCRay*>(a->ray);
     const AnalyticGeometry& g = *static_cast<const AnalyticGeometry*>(a->geometryUserPtr);
-    const Vec3 o = Vec3(ray.org_x, ray.org_y, ray.org_z) / g.scale;
-    const Vec3 d = Vec3(ray.dir_x, ray.dir_y, ray.dir_z).normalized();
-    if (!std::isnan(analyticRoot(g, o, d, ray.tnear / g.scale, ray.tfar / g.scale)))
+    const DoubleRayContext& r = doubleRay(a->context);
+    if (!std::isnan(analyticRoot(g, r.o, r.d, ray.tnear / g.scale, ray.tfar / g.scale)))
         ray.tfar = -std::numeric_limits<float>::infinity();
 }
 
@@ -129,6 +143,15 @@ struct SurfaceScene::Embree {
         r.id = 0;
         r.flags = 0;
         return r;
+    }
+    /// The context of a query along the ray, with the ray in double precision in Embree's space
+    /// divided by its scale (what the analytic shapes' callbacks intersect).
+    DoubleRayContext context(const Ray& ray) const {
+        DoubleRayContext c;
+        rtcInitIntersectContext(&c.rtc);
+        c.o = ray.o - origin;
+        c.d = ray.d.normalized();
+        return c;
     }
     ~Embree() {
         if (scene) rtcReleaseScene(scene);
@@ -303,14 +326,13 @@ void SurfaceScene::nullsAt(const Ray& ray, const SurfaceHit& hit, NullCrossings*
 
 bool SurfaceScene::intersectInRange(const Ray& ray, double tMax, SurfaceHit* hit,
                                     unsigned hidden) const {
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
+    DoubleRayContext ctx = rtc_->context(ray);
     RTCRayHit rh;
     rh.ray = rtc_->toRtc(ray, tMax);
     rh.ray.mask = ~hidden;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(rtc_->scene, &ctx, &rh);
+    rtcIntersect1(rtc_->scene, &ctx.rtc, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     const Surface& s = surfaces_[rh.hit.geomID];
     hit->surface = int(rh.hit.geomID);
@@ -369,10 +391,9 @@ bool SurfaceScene::occluded(const Ray& ray, double tMax) const {
     Ray moved;
     double tEntry;
     if (!startNear(ray, tMax, &moved, &tEntry)) return false;
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
+    DoubleRayContext ctx = rtc_->context(moved);
     RTCRay r = rtc_->toRtc(moved, tMax - tEntry);
-    rtcOccluded1(rtc_->scene, &ctx, &r);
+    rtcOccluded1(rtc_->scene, &ctx.rtc, &r);
     return r.tfar < 0;
 }
 

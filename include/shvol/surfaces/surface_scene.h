@@ -89,6 +89,17 @@ class SurfaceScene {
     Vec3 offsetTowards(const Vec3& p, const Vec3& ng, const Vec3& towards) const {
         return p + (ng.dot(towards - p) >= 0 ? epsilon_ : -epsilon_) * ng;
     }
+    /// A point p of a medium before the surface `hit` ahead on a ray along d, moved to lie at
+    /// least ε from the surface's plane on the side the ray came from (a surface point's next
+    /// ray starts ε off its surface too, spawn()). Closer, within float rounding, Embree could
+    /// see the next ray's origin on the surface's other side: leaving through it, the ray met
+    /// nothing, and a path in fog bounded by a glass mesh left the glass unnoticed (an albedo-1
+    /// furnace of exactly 1 per path gave samples of 1/η²).
+    Vec3 offSurfaceAhead(const Vec3& p, const SurfaceHit& hit, const Vec3& d) const {
+        const Vec3 back = d.dot(hit.ng) < 0 ? hit.ng : Vec3(-hit.ng);
+        const double h = (p - hit.p).dot(back);
+        return h < epsilon_ ? Vec3(p + (epsilon_ - h) * back) : p;
+    }
     /// The shadow ray from `from` to the point y of a surface (normal ny), y moved by ε towards
     /// `from` (offsetTowards); *tMax is set to its length. It is aimed at the moved point, so it
     /// ends ε/|cos| before y's surface, a margin that grows with float intersection error at
