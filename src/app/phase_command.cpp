@@ -113,6 +113,7 @@ int runFit(const PhaseArgs& a) {
                              {"max_error", f.maxError},
                              {"min_value", f.minValue},
                              {"peak_value", f.peakValue}};
+        j["rendered_relative_l2_error"] = sh.renderedRelativeL2Error();
         j["clamped_bins_fraction"] = sh.sampler().clampedFraction();
         j["defensive_fraction"] = sh.defensiveFraction();
         j["weight_second_moment"] = m2;
@@ -132,10 +133,16 @@ int runFit(const PhaseArgs& a) {
         "energy_fraction    %.10g\n",
         f.energyFraction);
     std::printf(
-        "# after the window: the fit as rendered, against the function\n"
+        "# after the window: the fit, against the function\n"
         "l2_error           %.6g\nrelative_l2_error  %.6g\nmax_error          %.6g\n"
         "min_value          %.6g\npeak_value         %.6g\n",
         f.l2Error, f.relativeL2Error, f.maxError, f.minValue, f.peakValue);
+    std::printf(
+        "# the function rendered (evaluate sh: the fit averaged over the sampler's z-bins,\n"
+        "# clamped at 0 and normalised; evaluate exact: the function itself), against the "
+        "function\n"
+        "rendered_relative_l2_error  %.6g  (evaluate %s)\n",
+        sh.renderedRelativeL2Error(), evaluateName(sh));
     std::printf(
         "# the sampler: weight p/pdf per phase sample, E[(p/pdf)^2] by quadrature\n"
         "clamped_bins_fraction       %.6g\ndefensive_fraction          %.6g\n"

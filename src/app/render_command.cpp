@@ -56,6 +56,7 @@ nlohmann::json phaseJson(const PhaseFunction& p) {
     j["evaluate"] = sh->evaluate() == SHSampledPhase::Evaluate::Exact ? "exact" : "sh";
     j["sh_depth"] = sh->sampler().depth();
     j["relative_l2_error"] = sh->fit().relativeL2Error;
+    j["rendered_relative_l2_error"] = sh->renderedRelativeL2Error();
     j["weight_second_moment"] = sh->weightSecondMoment();
     j["clamped_bins_fraction"] = sh->sampler().clampedFraction();
     return j;
@@ -81,17 +82,25 @@ std::vector<std::string> phaseWarnings(const Scene& scene) {
             w.push_back(msg);
         }
         if (sh->evaluate() == SHSampledPhase::Evaluate::Reconstruction &&
-            sh->fit().relativeL2Error > kLooseFit) {
-            // Below the highest order a higher one helps; at it, only rendering the function
-            // itself does.
+            sh->renderedRelativeL2Error() > kLooseFit) {
+            // A loose fit needs a higher order, at the highest one the function itself; a close
+            // fit drawn loosely needs finer z-bins. ("evaluate": "exact" is not offered: where a
+            // fit is this loose its weight's second moment explodes, README's furnace table.)
+            const int depth = sh->sampler().depth();
+            const char* advice =
+                sh->fit().relativeL2Error > kLooseFit
+                    ? (order < ZonalFitRequest::kMaxAutoOrder
+                           ? "raise \"order\" or use \"order\": \"auto\""
+                           : "that is the highest order: use \"sampling\": \"analytic\"")
+                : depth < SHSampledPhase::kMaxDepth
+                    ? "raise \"sh_depth\": the sampler draws the fit averaged over its z-bins"
+                    : "use \"sampling\": \"analytic\"";
             std::snprintf(msg, sizeof msg,
-                          "media[%zu].phase: the phase function rendered is its order-%d SH fit, "
-                          "with relative L2 error %.3g; %s",
-                          i, order, sh->fit().relativeL2Error,
-                          order < ZonalFitRequest::kMaxAutoOrder
-                              ? "raise \"order\" or use \"order\": \"auto\""
-                              : "that is the highest order: use \"sampling\": \"analytic\", or "
-                                "\"evaluate\": \"exact\"");
+                          "media[%zu].phase: the phase function rendered is its order-%d SH fit "
+                          "drawn over 2^%d z-bins, with relative L2 error %.3g (the fit's own "
+                          "%.3g); %s",
+                          i, order, depth, sh->renderedRelativeL2Error(), sh->fit().relativeL2Error,
+                          advice);
             w.push_back(msg);
         }
     }

@@ -87,7 +87,7 @@ SHPhaseKeys readSHPhaseKeys(JsonReader& r) {
     k.evaluate = r.choice("evaluate", "sh", {"sh", "exact"}) == "exact"
                      ? SHSampledPhase::Evaluate::Exact
                      : SHSampledPhase::Evaluate::Reconstruction;
-    k.depth = r.integer("sh_depth", k.depth, 4, 22);
+    k.depth = r.integer("sh_depth", k.depth, SHSampledPhase::kMinDepth, SHSampledPhase::kMaxDepth);
     return k;
 }
 

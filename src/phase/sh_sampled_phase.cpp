@@ -37,6 +37,8 @@ SHSampledPhase::SHSampledPhase(const PhaseFunction& base, const ZonalFitRequest&
     if (evaluate_ == Evaluate::Exact) {
         if (sampler_->clampedFraction() > 0) alpha_ = kDefensiveFraction;
         m2_ = exactSecondMoment();
+    } else {
+        renderedError_ = renderedError();
     }
 }
 
@@ -44,8 +46,8 @@ double SHSampledPhase::baseCos(double mu) const {
     return base_->evalAngle(AngleCosine::of(mu));
 }
 
-double SHSampledPhase::exactSecondMoment() const {
-    // θ-edges: the z-bin edges (pdf is constant between them) merged with the graded edges.
+template <typename Node>
+void SHSampledPhase::forEachNode(Node&& node) const {
     const int bins = 1 << sampler_->depth();
     std::vector<double> edges = gradedThetaEdges();
     edges.reserve(edges.size() + bins);
@@ -53,20 +55,35 @@ double SHSampledPhase::exactSecondMoment() const {
     std::sort(edges.begin(), edges.end());
     std::vector<double> x, w;  // 4-point rule on [0, 1], mapped to each interval
     sh::gaussLegendre(4, 0.0, 1.0, x, w);
-    double m2 = 0;
     for (size_t i = 0; i + 1 < edges.size(); ++i) {
         const double a = edges[i], h = edges[i + 1] - edges[i];
         if (!(h > 0)) continue;
         const double pdf = pdfCos(std::cos(a + 0.5 * h));
-        double pp = 0;
         for (size_t j = 0; j < x.size(); ++j) {
-            const double t = a + h * x[j], p = base_->evalAngle(AngleCosine::ofAngle(t));
-            pp += h * w[j] * std::sin(t) * p * p;
+            const double t = a + h * x[j];
+            node(base_->evalAngle(AngleCosine::ofAngle(t)), pdf, TwoPi * h * w[j] * std::sin(t));
         }
-        if (pp > 0 && !(pdf > 0)) return INFINITY;
-        if (pp > 0) m2 += TwoPi * pp / pdf;
     }
-    return m2;
+}
+
+double SHSampledPhase::exactSecondMoment() const {
+    double m2 = 0;
+    bool unsampled = false;  // p > 0 where pdf = 0
+    forEachNode([&](double p, double pdf, double w) {
+        if (p > 0 && !(pdf > 0)) unsampled = true;
+        if (p > 0 && pdf > 0) m2 += w * p * p / pdf;
+    });
+    return unsampled ? INFINITY : m2;
+}
+
+double SHSampledPhase::renderedError() const {
+    double error = 0, energy = 0;
+    forEachNode([&](double p, double pdf, double w) {
+        // (Reconstruction: eval = pdf, constant on the interval; α = 0.)
+        error += w * (pdf - p) * (pdf - p);
+        energy += w * p * p;
+    });
+    return energy > 0 ? std::sqrt(error / energy) : 0.0;
 }
 
 double SHSampledPhase::evalCos(double mu) const {

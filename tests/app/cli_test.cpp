@@ -740,6 +740,15 @@ TEST_F(Cli, RenderWarnsOfUnreliablePhaseFits) {
             " --set media[0].phase.evaluate=\\\"exact\\\"");
     EXPECT_NE(r.err.find("the SH-sampled weight p/pdf has second moment"), std::string::npos)
         << r.err;
+    // A close fit drawn over coarse z-bins renders a blurred lobe (HG 0.9 at sh_depth 4: 0.880,
+    // as helper 62 computed it independently).
+    r = run(render + " --set media[0].phase.g=0.9 --set media[0].phase.sh_depth=4");
+    EXPECT_NE(r.err.find("drawn over 2^4 z-bins, with relative L2 error 0.88"), std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("raise \"sh_depth\""), std::string::npos) << r.err;
+    const auto coarse = nlohmann::json::parse(std::ifstream(path("out.stats.json")));
+    EXPECT_NEAR(coarse["phase"][0]["rendered_relative_l2_error"].get<double>(), 0.88, 0.005);
+    EXPECT_LT(coarse["phase"][0]["relative_l2_error"].get<double>(), 0.01);
     r = run(render + " --set media[0].phase.g=0.5");  // auto meets the tolerance
     EXPECT_EQ(r.code, 0);
     EXPECT_EQ(r.err, "");
