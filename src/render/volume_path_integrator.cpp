@@ -20,6 +20,7 @@ void PathCounters::add(const PathCounters& o) {
     productPdfs += o.productPdfs;
     transmittanceRays += o.transmittanceRays;
     nonFiniteSamples += o.nonFiniteSamples;
+    truncatedPaths += o.truncatedPaths;
     surfaceHits += o.surfaceHits;
     cacheLookups += o.cacheLookups;
     cacheHits += o.cacheHits;
@@ -331,7 +332,10 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
                 ray = surf->spawn(hit.p, hit.ng, ray.d);
                 continue;
             }
-            if (++depth > s.maxDepth) break;
+            if (++depth > s.maxDepth) {
+                ++c.truncatedPaths;
+                break;
+            }
             nullCrossings = 0;  // (the guard is per ray)
             ++c.surfaceEvents;
             const Frame frame =
@@ -397,7 +401,10 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
                     inside = crossed(nulls.hit[k], ray.d, inside);
             ray = surf->spawn(hit.p, hit.ng, wi);
         } else {  // a real collision in media[mi]
-            if (++depth > s.maxDepth) break;
+            if (++depth > s.maxDepth) {
+                ++c.truncatedPaths;
+                break;
+            }
             nullCrossings = 0;
             ++c.scatteringEvents;
             const Medium& medium = *scene_.media[mi];

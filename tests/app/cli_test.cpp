@@ -715,6 +715,26 @@ TEST_F(Cli, RenderWritesExrAndStats) {
         << se.err;
 }
 
+// A render whose paths are ended by max_depth in numbers says so, and its stats count them (an
+// albedo-1 furnace at the default depth 64 rendered half its value without a word).
+TEST_F(Cli, RenderWarnsOfPathsEndedByMaxDepth) {
+    write("s.json", scene(R"({"type": "homogeneous", "sigma_t": 300, "albedo": 1,
+        "shape": {"type": "sphere"}, "phase": {"type": "hg", "g": 0.99}})"));
+    const std::string render = "render " + path("s.json") + " --quiet -o " + path("out.exr");
+    Result r = run(render);
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("render.max_depth: "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("reached depth 64 and were ended there"), std::string::npos) << r.err;
+    auto stats = nlohmann::json::parse(std::ifstream(path("out.stats.json")));
+    EXPECT_GT(stats["paths_truncated"].get<uint64_t>(), 0u);
+    EXPECT_NE(stats["warnings"][0].get<std::string>().find("render.max_depth"), std::string::npos);
+    r = run(render + " --set render.max_depth=1000000");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    stats = nlohmann::json::parse(std::ifstream(path("out.stats.json")));
+    EXPECT_EQ(stats["paths_truncated"].get<uint64_t>(), 0u);
+}
+
 // A render whose SH-sampled phase function is unreliable says so on stderr and in its stats, with
 // advice that can be followed: a higher order below the highest, analytic sampling at it.
 TEST_F(Cli, RenderWarnsOfUnreliablePhaseFits) {

@@ -56,6 +56,29 @@ TEST(VolumePathIntegrator, WhiteFurnaceHomogeneous) {
             }
 }
 
+// Paths ended by max_depth are counted: in an albedo-1 furnace without next-event estimation a
+// path returns exactly 1 unless it is ended there (0), so the count of truncated paths is the
+// count of zeros. (Uncounted, an image at half its value said nothing: helper 61's audit.)
+TEST(VolumePathIntegrator, PathsEndedByMaxDepthAreCounted) {
+    for (const int depth : {4, 64, 1 << 20}) {
+        Scene s = furnaceScene(10, Spectrum::Ones(), PhaseFunction(HenyeyGreensteinPhase(0.5)));
+        s.settings.nee = false;
+        s.settings.maxDepth = depth;
+        const VolumePathIntegrator integrator(s);
+        PathCounters c;
+        uint64_t zeros = 0;
+        for (int i = 0; i < 4000; ++i) {
+            Rng rng = Rng::forSample(1, uint64_t(i), 0);
+            const Spectrum L = integrator.Li(Ray{Vec3(0.3, -3, 0.2), Vec3(0, 1, 0)}, rng, c);
+            ASSERT_TRUE(L[0] == 0 || L[0] == 1) << L[0];
+            zeros += L[0] == 0;
+        }
+        EXPECT_EQ(c.truncatedPaths, zeros) << depth;
+        if (depth == 4) EXPECT_GT(zeros, 1000u);
+        if (depth == 1 << 20) EXPECT_EQ(zeros, 0u);
+    }
+}
+
 // SH-sampled phase functions in both uses keep the furnace at 1 (g = 0.95 at order 6 rings
 // negative, so the Exact use also exercises the defensive mixture).
 TEST(VolumePathIntegrator, WhiteFurnaceWithSHSampledPhase) {

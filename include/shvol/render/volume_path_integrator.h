@@ -79,6 +79,7 @@ struct PathCounters {
     uint64_t cacheHits = 0;          ///< of those, answered by the cache (the path ended)
     uint64_t cacheLookupNs = 0;      ///< time spent in them (steady clock)
     uint64_t nonFiniteSamples = 0;   ///< samples discarded because Li was NaN or Inf
+    uint64_t truncatedPaths = 0;     ///< paths ended by max_depth (the light beyond it is lost)
     TrackingCounters tracking;
     void add(const PathCounters& o);
 };
