@@ -1,5 +1,6 @@
 // shvol phase fit | sample: the zonal SH fit of a phase function, and samples from the SH-sampled
-// phase function exactly as a render builds it (same keys, defaults, pdf and weights).
+// phase function exactly as a render builds it (same keys, defaults, pdf and weights), or from
+// the phase function's own sampler.
 #include <cerrno>
 #include <cfloat>
 #include <cmath>
@@ -164,7 +165,68 @@ struct WeightStats {
     double variance() const { return std::max(0.0, sum2 / n - mean() * mean()); }
 };
 
+/// `phase sample --sampler analytic`: the phase function's own sampler, as `"sampling":
+/// "analytic"` renders it, so that an outside test can check it (a histogram against the
+/// formula); the SH options have nothing to act on there.
+PhaseFunction analyticPhase(const PhaseArgs& a) {
+    const std::pair<const char*, bool> shOptions[] = {{"--order", !a.order.empty()},
+                                                      {"--tolerance", a.tolerance > 0},
+                                                      {"--window", !a.window.empty()},
+                                                      {"--evaluate", !a.evaluate.empty()},
+                                                      {"--depth", a.depth > 0}};
+    for (const auto& [name, given] : shOptions)
+        if (given) failOption(name, "not with --sampler analytic: it samples no SH fit");
+    const Json j = phaseSpecToJson(a.spec);
+    if (j.contains("sampling") && j["sampling"] == "sh")
+        failOption("--sampler",
+                   "analytic samples the phase function itself, and the spec asks "
+                   "for \"sampling\": \"sh\"");
+    return readPhaseFunction(j, "phase spec \"" + a.spec + "\"", "");
+}
+
+/// Writes the samples' CSV (x,y,z,pdf,weight) through a temporary and prints the weights' mean,
+/// variance and maximum: rows(rng, row) calls row(direction, value, pdf) for each sample.
+template <typename Rows>
+void writeSamples(const PhaseArgs& a, Rows&& rows) {
+    // The samples must not replace the table they are drawn from.
+    const Json spec = phaseSpecToJson(a.spec);
+    if (spec.contains("file") && spec["file"].is_string() &&
+        sameFile(a.out, spec["file"].get<std::string>()))
+        fail(a.out, "",
+             "is the phase table being sampled (the spec's file); write the samples "
+             "elsewhere");
+    WeightStats ws;
+    writeAtomically(a.out, [&](const std::string& tmp) {
+        errno = 0;
+        std::ofstream csv(tmp);
+        if (!csv) failWriting(a.out, errno);
+        csv << std::setprecision(17) << "x,y,z,pdf,weight\n";
+        Rng rng(a.seed, 0);
+        rows(rng, [&](const Vec3& w, double value, double pdf) {
+            const double weight = pdf > 0 ? value / pdf : 0.0;
+            ws.add(weight);
+            csv << w.x() << ',' << w.y() << ',' << w.z() << ',' << pdf << ',' << weight << '\n';
+        });
+        csv.close();
+        if (!csv) failWriting(a.out, 0);  // (errno may come from the sampling in between)
+    });
+    std::fprintf(stderr,
+                 "wrote %lld samples to %s\nweight p/pdf: mean %.6g, variance %.6g, max %.6g",
+                 a.count, a.out.c_str(), ws.mean(), ws.variance(), ws.max);
+}
+
 int runSample(const PhaseArgs& a) {
+    if (a.sampler == "analytic") {
+        const PhaseFunction phase = analyticPhase(a);
+        writeSamples(a, [&](Rng& rng, const auto& row) {
+            for (long long i = 0; i < a.count; ++i) {
+                const PhaseSample x = phase.sample(Vec3(0, 0, 1), rng.uniform2());
+                row(x.wi, x.value, x.pdf);
+            }
+        });
+        std::fprintf(stderr, "\n");
+        return 0;
+    }
     const bool general = a.sampler == "general";
     if (general && a.depth > kGeneralMaxDepth)
         failOption("--depth", "the general sampler supports depths up to 10");
@@ -195,60 +257,38 @@ int runSample(const PhaseArgs& a) {
                    "the general sampler supports depths up to 10, and the spec's "
                    "sh_depth is " +
                        std::to_string(generalDepth) + "; give --depth 10 or less");
-    // The samples must not replace the table they are drawn from.
-    if (spec.contains("file") && spec["file"].is_string() &&
-        sameFile(a.out, spec["file"].get<std::string>()))
-        fail(a.out, "",
-             "is the phase table being sampled (the spec's file); write the samples "
-             "elsewhere");
     const Vec3 z(0, 0, 1);
     // The general sampler's defensive share: the zonal one's, used where it evaluates exactly.
     const double generalAlpha = general && sh.evaluate() == SHSampledPhase::Evaluate::Exact
                                     ? SHSampledPhase::kDefensiveFraction
                                     : 0.0;
-    WeightStats ws;
-    writeAtomically(a.out, [&](const std::string& tmp) {
-        errno = 0;
-        std::ofstream csv(tmp);
-        if (!csv) failWriting(a.out, errno);
-        csv << std::setprecision(17) << "x,y,z,pdf,weight\n";
-        Rng rng(a.seed, 0);
-        auto row = [&](const Vec3& w, double value, double pdf) {
-            const double weight = pdf > 0 ? value / pdf : 0.0;
-            ws.add(weight);
-            csv << w.x() << ',' << w.y() << ',' << w.z() << ',' << pdf << ',' << weight << '\n';
-        };
+    writeSamples(a, [&](Rng& rng, const auto& row) {
         if (!general) {
             for (long long i = 0; i < a.count; ++i) {
                 const PhaseSample x = phase.sample(z, rng.uniform2());
                 row(x.wi, x.value, x.pdf);
             }
-        } else {
-            std::vector<double> c(size_t(order) * order, 0.0);
-            for (int l = 0; l < order; ++l) c[size_t(l) * (l + 1)] = sh.fit().p[l];
-            const SHSampler s(order, c.data(), SHSampler::Mode::Tables, generalDepth);
-            for (long long i = 0; i < a.count; ++i) {
-                if (!(generalAlpha > 0)) {
-                    const WarpSample x = s.warp(rng.uniform2());
-                    row(x.direction(), phase.eval(z, x.direction()), x.pdf);
-                    continue;
-                }
-                // Evaluated exactly, the function is positive where the fit rings below 0 and
-                // the warp never goes: a uniform share α keeps E[p/pdf] = 1 (it was 0.98 for HG
-                // 0.9 at order 4; helper 55), pdf = (1 − α) pdf_warp + α/(4π).
-                const Vec2 u = rng.uniform2();
-                const Vec3 w =
-                    rng.uniform() < generalAlpha ? sampleUniformSphere(u) : s.warp(u).direction();
-                row(w, phase.eval(z, w),
-                    (1 - generalAlpha) * s.pdf(w) + generalAlpha * uniformSpherePdf());
-            }
+            return;
         }
-        csv.close();
-        if (!csv) failWriting(a.out, 0);  // (errno may come from the sampling in between)
+        std::vector<double> c(size_t(order) * order, 0.0);
+        for (int l = 0; l < order; ++l) c[size_t(l) * (l + 1)] = sh.fit().p[l];
+        const SHSampler s(order, c.data(), SHSampler::Mode::Tables, generalDepth);
+        for (long long i = 0; i < a.count; ++i) {
+            if (!(generalAlpha > 0)) {
+                const WarpSample x = s.warp(rng.uniform2());
+                row(x.direction(), phase.eval(z, x.direction()), x.pdf);
+                continue;
+            }
+            // Evaluated exactly, the function is positive where the fit rings below 0 and the
+            // warp never goes: a uniform share α keeps E[p/pdf] = 1 (it was 0.98 for HG 0.9 at
+            // order 4; helper 55), pdf = (1 − α) pdf_warp + α/(4π).
+            const Vec2 u = rng.uniform2();
+            const Vec3 w =
+                rng.uniform() < generalAlpha ? sampleUniformSphere(u) : s.warp(u).direction();
+            row(w, phase.eval(z, w),
+                (1 - generalAlpha) * s.pdf(w) + generalAlpha * uniformSpherePdf());
+        }
     });
-    std::fprintf(stderr,
-                 "wrote %lld samples to %s\nweight p/pdf: mean %.6g, variance %.6g, max %.6g",
-                 a.count, a.out.c_str(), ws.mean(), ws.variance(), ws.max);
     // The quadrature, the clamped bins and the defensive share are the zonal sampler's.
     if (!general)
         std::fprintf(stderr,
@@ -315,9 +355,10 @@ void addPhaseCommand(CLI::App& app, std::function<int()>& run) {
         ->check(outputNamed(".csv", "phase sample writes CSV"));
     sample
         ->add_option("--sampler", a->sampler,
-                     "zonal (the renderer's: 1D warp in z, uniform phi, defensive share) or "
-                     "general (2D hierarchical warp of the fit, 1D-table mode)")
-        ->check(CLI::IsMember({"zonal", "general"}));
+                     "zonal (the renderer's SH sampler: 1D warp in z, uniform phi, defensive "
+                     "share), general (2D hierarchical warp of the fit, 1D-table mode) or "
+                     "analytic (the phase function's own sampler, \"sampling\": \"analytic\")")
+        ->check(CLI::IsMember({"zonal", "general", "analytic"}));
     sample->callback([&run, a] { run = [a] { return runSample(*a); }; });
 }
 

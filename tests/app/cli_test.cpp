@@ -229,6 +229,13 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
         {"make-sky -o " + path("m.png"), "make-sky writes OpenEXR; name the file .exr"},
         {"phase sample hg:g=0.5 -o " + path("m.txt"),
          "phase sample writes CSV; name the file .csv"},
+        {"phase sample hg:g=0.5 --sampler analytic --depth 8 -o " + path("m.csv"),
+         "--depth: not with --sampler analytic: it samples no SH fit"},
+        {"phase sample '{\"type\": \"hg\", \"g\": 0.5, \"sampling\": \"sh\"}' --sampler "
+         "analytic -o " +
+             path("m.csv"),
+         "--sampler: analytic samples the phase function itself, and the spec asks for "
+         "\"sampling\": \"sh\""},
         {"make-sky -o " + path("m.exr") + " --width 9",
          "--width: must be even (the height is width/2), got 9"},
         // A bare extension is no name, for every command that writes one.
@@ -563,6 +570,35 @@ TEST_F(Cli, PhaseFitAndSample) {
     EXPECT_NE(r.err.find("--depth: the general sampler supports depths up to 10"),
               std::string::npos)
         << r.err;
+}
+
+// The analytic samplers (what "sampling": "analytic" renders) can be checked from outside: HG's
+// samples have E[μ] = g and Var[μ] = (1 − g²)/3 (its Legendre moments E[P_l(μ)] = g^l), and
+// weight 1 each. (phase sample drew from SH fits only: helper 62's F5.)
+TEST_F(Cli, PhaseSampleDrawsFromTheAnalyticSampler) {
+    for (const double g : {0.9, -0.5, 0.999}) {
+        const int n = 200000;
+        const Result r =
+            run("phase sample hg:g=" + std::to_string(g) + " --sampler analytic --count " +
+                std::to_string(n) + " -o " + path("a.csv"));
+        ASSERT_EQ(r.code, 0) << r.err;
+        EXPECT_NE(r.err.find("weight p/pdf: mean 1, variance 0, max 1"), std::string::npos)
+            << r.err;
+        std::ifstream f(path("a.csv"));
+        std::string line;
+        std::getline(f, line);
+        double sum = 0;
+        int rows = 0;
+        while (std::getline(f, line)) {
+            double x, y, z, pdf, w;
+            ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf", &x, &y, &z, &pdf, &w), 5);
+            const double hg = (1 - g * g) / (4 * M_PI * std::pow(1 + g * g - 2 * g * z, 1.5));
+            ASSERT_NEAR(pdf, hg, 1e-9 * hg) << line;
+            sum += z, ++rows;
+        }
+        ASSERT_EQ(rows, n);
+        EXPECT_NEAR(sum / n, g, 5 * std::sqrt((1 - g * g) / 3 / n)) << g;
+    }
 }
 
 // The SH keys of a JSON spec are used; an option replaces only the key it names.
