@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <iostream>
 
+#include "phase/phase_test_util.h"
 #include "shvol/core/rng.h"
 #include "shvol/sampling/chi2.h"
 
@@ -51,6 +52,53 @@ TEST_P(HgChi2, SamplerMatchesPdf) {
 
 INSTANTIATE_TEST_SUITE_P(PhaseFunction, HgChi2,
                          ::testing::Values(-0.9, -0.5, 0.0, 0.3, 0.7, 0.9, 0.99));
+
+// The samplers at the ends of their parameters' ranges (±0.999999), whose lobes equal-area cells
+// cannot resolve (HgChi2 stops at 0.99): binned in ln(1 ∓ μ) against the formulas, written here
+// in the distance d from the lobe's pole (1 + g² − 2gμ = (1 − |g|)² + 2|g|d for HG and
+// Cornette–Shanks, 1 − kμ = (1 − |k|) + |k|d for Schlick), in one Šidák family of 8.
+struct NarrowLobe {
+    const char* name;
+    PhaseFunction phase;
+    double g;                               ///< g or k; its sign says whether the lobe is forward
+    double (*density)(double d, double g);  ///< over d, φ integrated out; g > 0
+};
+double hgOverD(double d, double g) {
+    return (1 - g * g) / (2 * std::pow((1 - g) * (1 - g) + 2 * g * d, 1.5));
+}
+double schlickOverD(double d, double k) {
+    return (1 - k * k) / (2 * std::pow((1 - k) + k * d, 2));
+}
+double cornetteShanksOverD(double d, double g) {  // 1 + μ² = 1 + (1 − d)² either way
+    return 0.75 * (1 - g * g) * (1 + (1 - d) * (1 - d)) /
+           ((2 + g * g) * std::pow((1 - g) * (1 - g) + 2 * g * d, 1.5));
+}
+void PrintTo(const NarrowLobe& c, std::ostream* os) {
+    *os << c.name << " " << c.g;
+}
+class NarrowLobeChi2 : public ::testing::TestWithParam<NarrowLobe> {};
+
+TEST_P(NarrowLobeChi2, SamplerMatchesTheFormula) {
+    const NarrowLobe& c = GetParam();
+    const double g = std::abs(c.g);
+    const Chi2Result r = testing::narrowLobeChi2(
+        c.phase, c.g < 0, [&](double d) { return c.density(d, g); }, 8,
+        17 + uint64_t(1e6 * (c.g + 1)));
+    EXPECT_TRUE(r.passed) << c.name << " " << c.g << "\n" << r.report;
+    if (std::getenv("SHVOL_CHI2_VERBOSE")) std::cout << c.name << " " << c.g << "\n" << r.report;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    PhaseFunction, NarrowLobeChi2,
+    ::testing::Values(
+        NarrowLobe{"hg", HenyeyGreensteinPhase(0.999), 0.999, hgOverD},
+        NarrowLobe{"hg", HenyeyGreensteinPhase(0.999999), 0.999999, hgOverD},
+        NarrowLobe{"hg", HenyeyGreensteinPhase(-0.999999), -0.999999, hgOverD},
+        NarrowLobe{"schlick", SchlickPhase(0.999999), 0.999999, schlickOverD},
+        NarrowLobe{"schlick", SchlickPhase(-0.999999), -0.999999, schlickOverD},
+        NarrowLobe{"cornette_shanks", CornetteShanksPhase(0.999999), 0.999999, cornetteShanksOverD},
+        NarrowLobe{"cornette_shanks", CornetteShanksPhase(-0.999), -0.999, cornetteShanksOverD},
+        NarrowLobe{"cornette_shanks", CornetteShanksPhase(0.9), 0.9, cornetteShanksOverD}));
 
 TEST(PhaseFunction, Chi2RejectsTheOppositeDirectionConvention) {
     // Evaluating the pdf with −wo (the pbrt "wo points back" convention) must be caught.

@@ -12,6 +12,7 @@
 #include "shvol/core/rng.h"
 #include "shvol/phase/phase_function.h"
 #include "shvol/sampling/chi2.h"
+#include "shvol/sh/sh_projection.h"
 
 namespace shvol::testing {
 
@@ -29,6 +30,58 @@ inline Chi2Result phaseChi2(const PhaseFunction& phase, int numTests, uint64_t s
         [&](const Vec3& wi) { return phase.pdf(kWo, wi); }, opt);
     if (std::getenv("SHVOL_CHI2_VERBOSE")) std::cout << phase.name() << "\n" << r.report;
     return r;
+}
+
+/// χ² of a lobe too narrow for equal-area cells (HG g = 0.999999 is about 10⁻¹² wide in 1 − μ):
+/// samples around kWo are binned by their distance d from the lobe's pole (d = 1 − μ for a
+/// forward lobe, 1 + μ for a backward one, each from |wo ∓ wi|²/2 without the rounding of
+/// wo·wi) in 64 cells equal in ln d from dMin = 10⁻¹⁵ to 2 (d < dMin in the first), and by φ
+/// about wo in 8. Expected counts come from `density(d)`, the test's own density over d (φ
+/// integrated out), by Gauss–Legendre quadrature in ln d on each cell (in d below dMin).
+inline Chi2Result narrowLobeChi2(const PhaseFunction& phase, bool backward,
+                                 const std::function<double(double)>& density, int numTests,
+                                 uint64_t seed) {
+    constexpr double dMin = 1e-15;
+    const double s0 = std::log(dMin), s1 = std::log(2.0);
+    // Cell coordinate z' ∈ (−1, 1] of a distance d, and back. (Not −1 itself: at the pole the
+    // direction binned would lose its φ.)
+    const auto zOf = [&](double d) {
+        return d <= dMin ? -1 + 1e-9 : std::min(1.0, 2 * (std::log(d) - s0) / (s1 - s0) - 1);
+    };
+    const auto dOf = [&](double z) {
+        return z <= -1 ? 0.0 : std::exp(s0 + (z + 1) / 2 * (s1 - s0));
+    };
+    const auto integral = [&](double a, double b, bool logScale) {  // ∫_a^b density(d) dd
+        std::vector<double> x, w;
+        sh::gaussLegendre(16, 0.0, 1.0, x, w);
+        const double u0 = logScale ? std::log(a) : a, u1 = logScale ? std::log(b) : b;
+        double sum = 0;
+        for (size_t i = 0; i < x.size(); ++i) {
+            const double u = u0 + (u1 - u0) * x[i], d = logScale ? std::exp(u) : u;
+            sum += w[i] * (u1 - u0) * density(d) * (logScale ? d : 1.0);
+        }
+        return sum;
+    };
+    const Frame frame(kWo);
+    Chi2Options opt;
+    opt.zBins = 64;
+    opt.phiBins = 8;
+    opt.numTests = numTests;
+    opt.seed = seed;
+    return chi2TestSphereCells(
+        [&](Rng& rng) -> std::optional<Vec3> {
+            const Vec3 wi = phase.sample(kWo, rng.uniform2()).wi;
+            const double d = 0.5 * (backward ? Vec3(kWo + wi) : Vec3(kWo - wi)).squaredNorm();
+            const Vec3 l = frame.toLocal(wi);
+            return sphericalDirection(zOf(d), std::atan2(l.y(), l.x()));
+        },
+        [&](double z0, double z1, double phi0, double phi1) {
+            const double d0 = dOf(z0), d1 = dOf(z1);
+            const double mass = d0 == 0 ? integral(0, dMin, false) + integral(dMin, d1, true)
+                                        : integral(d0, d1, true);
+            return mass * (phi1 - phi0) / TwoPi;
+        },
+        opt);
 }
 
 /// ∫ f(+z, ω) dω over the sphere (f is zonal about +z, so a few φ cells suffice; each cell is
