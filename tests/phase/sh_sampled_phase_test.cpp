@@ -41,9 +41,20 @@ TEST(SHSampledPhase, Chi2BothUses) {
     for (auto use : {SHSampledPhase::Evaluate::Exact, SHSampledPhase::Evaluate::Reconstruction})
         for (int order : {4, 16}) {
             const SHSampledPhase sh(hg, order, SHWindow::Hann, use);
-            const Chi2Result r = chi2(sh, 4, order);
+            const Chi2Result r = chi2(sh, 6, order);
             EXPECT_TRUE(r.passed) << r.report;
         }
+    // At the orders "auto" picks: HG 0.9 at order 56 without a window, and HG 0.999 at 256, half
+    // of its bins clamped (the tests above stop at order 16 with hann).
+    const SHSampledPhase automatic(hg, ZonalFitRequest{});
+    EXPECT_EQ(automatic.fit().p.size(), 56u);
+    const SHSampledPhase clamped(HenyeyGreensteinPhase(0.999), ZonalFitRequest{});
+    EXPECT_EQ(clamped.fit().p.size(), 256u);
+    EXPECT_GT(clamped.sampler().clampedFraction(), 0.4);
+    for (const SHSampledPhase* sh : {&automatic, &clamped}) {
+        const Chi2Result r = chi2(*sh, 6, 100 + sh->fit().p.size());
+        EXPECT_TRUE(r.passed) << sh->fit().p.size() << "\n" << r.report;
+    }
 }
 
 // Exact use: value is the analytic phase function and E[value/pdf] = ∫p dω = 1, unbiased even
