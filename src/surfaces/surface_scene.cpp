@@ -186,13 +186,20 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
     const Vec3 origin = rtc_->origin = surfaces_.empty() ? Vec3::Zero() : Vec3(0.5 * (lo_ + hi_));
     const double R = surfaces_.empty() ? 0 : 0.5 * (hi_ - lo_).maxCoeff();
     const double scale = rtc_->scale = R > 0 ? std::ldexp(1.0, -std::ilogb(R)) : 1.0;
+    // ε: 2⁻¹⁶ R, and at least 32 steps of a double at the surfaces' farthest coordinate, or a
+    // point moved off its surface could round back onto it (the Cornell box moved to 10¹⁴, where
+    // a step is 0.0156 and 2⁻¹⁶ R 0.0042, rendered 6.8% too bright).
+    const double farthest =
+        surfaces_.empty() ? 0 : std::max(lo_.cwiseAbs().maxCoeff(), hi_.cwiseAbs().maxCoeff());
+    epsilon_ = std::max(std::ldexp(R > 0 ? R : 1.0, -16),
+                        farthest > 0 ? std::ldexp(1.0, std::ilogb(farthest) - 47) : 0.0);
     rtc_->analytic.reserve(surfaces_.size());  // (their addresses are Embree's user data)
     // Embree geometry masks (Debian's Embree is built with EMBREE_RAY_MASK, which CMakeLists.txt
     // checks): a ray sees the geometries whose mask shares a bit with its own. Every surface that
     // is not null has bit 0; null surfaces get bits 1–31, a bit no null surface whose box comes
     // within 2ε of theirs has (greedily, in order: only surfaces that can meet at one place need
     // bits of their own), or, where all 31 are taken around one, a shared one.
-    const double margin = std::ldexp(R > 0 ? R : 1.0, -15);  // (2 ε)
+    const double margin = 2 * epsilon_;
     std::vector<Bounds3> nullBox(surfaces_.size());
     bits_.assign(surfaces_.size(), 1u);
     for (size_t i = 0, shared = 0; i < surfaces_.size(); ++i) {
@@ -240,7 +247,6 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
     }
     rtcCommitScene(rtc_->scene);
     if (rtcGetDeviceError(rtc_->device) != RTC_ERROR_NONE) rtc_->fail("building the BVH");
-    epsilon_ = std::ldexp(R > 0 ? R : 1.0, -16);
     static_assert(256 * kMaxSurfaceCoordinate < 1.8e18, "far origins stay within Embree's range");
     buildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

@@ -128,8 +128,8 @@ TEST(SurfaceScene, InsideAClosedMesh) {
 /// Rays leaving a surface never meet the surface they leave (no acne), at every scene scale:
 /// from a plane of triangles, and from the inside of closed spheres (analytic and a mesh), where
 /// the next hit must be the far side at the chord length 2r cos θ, never a point near the origin.
-void checkNoSelfIntersection(double scale) {
-    const Vec3 offset = scale * Vec3(3, -2, 5);  // away from the origin, like a real scene
+void checkNoSelfIntersection(double scale, const Vec3& far = Vec3::Zero()) {
+    const Vec3 offset = far + scale * Vec3(3, -2, 5);  // away from the origin, like a real scene
     std::vector<Surface> surfaces;
     Eigen::Affine3d m = Eigen::Affine3d::Identity();
     m.translate(offset + scale * Vec3(0, 0, -4))
@@ -174,8 +174,8 @@ void checkNoSelfIntersection(double scale) {
         }
     }
     EXPECT_GT(n, 15000);
-    EXPECT_EQ(selfHits, 0) << "scale " << scale;
-    EXPECT_EQ(farSideMisses, 0) << "scale " << scale;
+    EXPECT_EQ(selfHits, 0) << "scale " << scale << ", at " << far.transpose();
+    EXPECT_EQ(farSideMisses, 0) << "scale " << scale << ", at " << far.transpose();
 }
 
 // A shadow ray between two points on adjacent faces of a box, each moved off its face towards
@@ -223,6 +223,14 @@ TEST(SurfaceScene, NoSelfIntersectionAtScale1e13) {
 }
 TEST(SurfaceScene, NoSelfIntersectionAtScale1em12) {
     checkNoSelfIntersection(1e-12);
+}
+
+// Far from the origin, where a coordinate's rounding exceeds 2⁻¹⁶ of the surfaces' extent (at
+// 10¹⁴ a double's step is 0.0156, that ε 0.0061 for objects 100 across): ε is at least 32 steps
+// there, or rays left from a point rounded onto or behind their surface (the Cornell box moved
+// to 10¹⁴ rendered 6.8% too bright, without a warning; helper 63's audit).
+TEST(SurfaceScene, NoSelfIntersectionWhereCoordinatesRoundCoarselyAt1e14) {
+    checkNoSelfIntersection(100, Vec3(1e14, -1e14, 1e14));
 }
 
 // ε follows the extent of the surfaces, measured from the centre of their box: a small scene far
