@@ -48,12 +48,18 @@ RadianceCache::Record RadianceCache::build(const Vec3& p, const Vec3& n,
         const double len = d.norm();
         return len > 0 && std::abs(s.nW.dot(d)) / len > 0;
     };
-    double invDist = 0;
+    double invDist = 0, nearest = INFINITY;
     int hits = 0;
     for (const IncomingSample& s : samples)
-        if (usable(s)) invDist += 1 / (s.W - p).norm(), ++hits;
+        if (usable(s)) {
+            const double dist = (s.W - p).norm();
+            invDist += 1 / dist, ++hits, nearest = std::min(nearest, dist);
+        }
     r.R = std::clamp(hits > 0 && invDist > 0 ? hits / invDist : 0.25 * diag_, 0.01 * diag_,
                      0.25 * diag_);
+    // No further than the nearest surface met (a thin wall beside the record: beyond it lies
+    // what the record cannot see).
+    r.R = std::min(r.R, std::max(nearest, 1e-4 * diag_));
     // The displaced-point quadrature gives nothing to the directions a displacement uncovers
     // behind an occluder: taken of L, it assumes they are black. The gradients are taken of
     // L − c instead, which assumes the uncovered directions show radiance c: what lies behind

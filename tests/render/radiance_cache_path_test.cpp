@@ -78,7 +78,9 @@ TEST(RadianceCachePath, FurnaceRenderIsLeOverOneMinusRho) {
             sum += v;
         }
         EXPECT_NEAR(sum / img.rgb.size(), Le / (1 - rho), 0.03 * Le / (1 - rho)) << lightSamples;
-        EXPECT_GT(r.stats.counters.cacheHits, r.stats.counters.cacheLookups * 9 / 10);
+        // Mostly the cache's answer (82% of the lookups; the rest, near the box's edges, where a
+        // record's reach ends before the wall beside it, are path traced: 92% until 5 Dec).
+        EXPECT_GT(r.stats.counters.cacheHits, r.stats.counters.cacheLookups * 3 / 4);
         EXPECT_TRUE(r.stats.radianceCache.used);
     }
 }
@@ -131,6 +133,46 @@ TEST(RadianceCachePath, FurnaceWithAnOccluderStaysOne) {
     double largest = 0;
     for (float v : r.film.image().rgb) largest = std::max(largest, std::abs(double(v) - 1));
     EXPECT_LT(largest, 0.005);
+}
+
+// A floor split by a wall of no thickness, a lamp on one side and a black sky: no light reaches
+// the floor on the other side. Records at the wall's foot on the lit side reached past it (R is
+// at least 1% of the scene's diagonal), and the dark floor beside the wall got 0.216 in its first
+// column of pixels (helper 63's audit); a record's reach now ends before the nearest surface its
+// rays met.
+TEST(RadianceCachePath, NoLightThroughAThinWall) {
+    Scene scene;
+    scene.camera.position = Vec3(0, -0.3, 1.2);
+    scene.camera.target = Vec3::Zero();
+    scene.camera.up = Vec3(0, 1, 0);
+    scene.camera.fovDegrees = 4;
+    scene.camera.width = 64, scene.camera.height = 32;
+    scene.settings.spp = 4;
+    scene.environment = Environment::constant(Spectrum::Zero(), false);
+    RadianceCacheSettings& rc = scene.settings.radianceCache;
+    rc.enabled = true;
+    rc.raysPerRecord = 256;
+    const auto placed = [](const Vec3& at, const Vec3& scale) {
+        Eigen::Affine3d m = Eigen::Affine3d::Identity();
+        m.translate(at).rotate(Eigen::AngleAxisd(0.5 * Pi, Vec3::UnitY())).scale(scale);
+        return m;
+    };
+    std::vector<Surface> v;
+    v.push_back(Surface::rectangle(Eigen::Affine3d::Identity()));  // the floor, [−1, 1]²
+    v.push_back(Surface::rectangle(placed(Vec3(0, 0, 0.5), Vec3(0.5, 1, 1))));        // x = 0
+    v.push_back(Surface::rectangle(placed(Vec3(-0.6, 0, 0.15), Vec3(0.1, 0.3, 1))));  // the lamp
+    for (Surface& sf : v) sf.bsdf = Bsdf::lambert(Spectrum::Constant(0.8));
+    v.back().emission = Spectrum::Constant(20);
+    v.back().twoSidedEmission = true;
+    scene.surfaces = std::make_unique<const SurfaceScene>(std::move(v));
+    const RenderResult r = render(scene, RenderOptions{});
+    ASSERT_GT(r.stats.counters.cacheHits, r.stats.counters.cacheLookups / 2);
+    const Image img = r.film.image();
+    double lit = 0, dark = 0;  // the floor left and right of the wall (columns 0–31 and 32–63)
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) (x < 32 ? lit : dark) += img.at(x, y)[0];
+    EXPECT_GT(lit, 0.5 * 32 * img.height);  // (about 1 per pixel)
+    EXPECT_EQ(dark, 0.0);
 }
 
 // A cached pixel sees no more bounces than max_depth allows: the camera path's vertex is the

@@ -19,8 +19,11 @@
 /// 10 Δx of P are not displaced (the reprojection's Jacobian is unbounded there). R_i is the
 /// harmonic mean distance to the surfaces the samples met, clamped to [0.01, 0.25] × the scene's
 /// diagonal (as irradiance caches do, so that records in corners do not shrink to nothing nor open
-/// spaces reach across the scene). A query at (P, N) averages the records with weight (Gautron eq.
-/// 23)
+/// spaces reach across the scene), and then to at most the distance of the nearest surface the
+/// samples met (not below 10⁻⁴ × the diagonal): a record's reach a·R_i then ends before it. The
+/// lower clamp alone let a record at the foot of a wall reach past it, and a floor the wall keeps
+/// dark got a fifth of the lit side's light (helper 63's audit). A query at (P, N) averages the
+/// records with weight (Gautron eq. 23)
 ///   w_i = 1 / (|P − P_i| / R_i + √(1 − N·N_i))  >  1/a,
 /// each extrapolated by its gradients and rotated from its frame to the query's (eq. 24;
 /// sh::HshRotation, through SH with the record held at its horizon and the truncation's residual
