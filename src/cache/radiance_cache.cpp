@@ -30,6 +30,11 @@ std::vector<Vec3> RadianceCache::directions(int count, const std::vector<Vec2>& 
     return w;
 }
 
+int RadianceCache::sector(double x, double y) {
+    const double turn = std::atan2(y, x) * Inv2Pi;  // in [−½, ½]
+    return std::clamp(int(std::floor((turn + 0.5) * kSectors)), 0, kSectors - 1);
+}
+
 RadianceCache::Record RadianceCache::build(const Vec3& p, const Vec3& n,
                                            const std::vector<IncomingSample>& samples) const {
     const int nn = n_ * n_;
@@ -48,18 +53,23 @@ RadianceCache::Record RadianceCache::build(const Vec3& p, const Vec3& n,
         const double len = d.norm();
         return len > 0 && std::abs(s.nW.dot(d)) / len > 0;
     };
-    double invDist = 0, nearest = INFINITY;
+    double invDist = 0;
     int hits = 0;
     for (const IncomingSample& s : samples)
-        if (usable(s)) {
-            const double dist = (s.W - p).norm();
-            invDist += 1 / dist, ++hits, nearest = std::min(nearest, dist);
-        }
+        if (usable(s)) invDist += 1 / (s.W - p).norm(), ++hits;
     r.R = std::clamp(hits > 0 && invDist > 0 ? hits / invDist : 0.25 * diag_, 0.01 * diag_,
                      0.25 * diag_);
-    // No further than the nearest surface met (a thin wall beside the record: beyond it lies
-    // what the record cannot see).
-    r.R = std::min(r.R, std::max(nearest, 1e-4 * diag_));
+    // What lies beside the record in its tangent plane, sector by sector: the hits at most 45°
+    // above the plane (a hit straight above it, a ceiling, is no obstacle beside it).
+    r.clear.fill(std::numeric_limits<float>::infinity());
+    for (const IncomingSample& s : samples)
+        if (usable(s)) {
+            const Vec3 l = frame.toLocal(s.W - p);
+            const double h = std::hypot(l.x(), l.y());
+            if (!(std::abs(l.z()) <= h)) continue;
+            float& c = r.clear[sector(l.x(), l.y())];
+            c = std::min(c, float(h));
+        }
     // The displaced-point quadrature gives nothing to the directions a displacement uncovers
     // behind an occluder: taken of L, it assumes they are black. The gradients are taken of
     // L − c instead, which assumes the uncovered directions show radiance c: what lies behind
@@ -185,7 +195,14 @@ double RadianceCache::servingWeight(const Record& r, const Vec3& p, const Vec3& 
                                     const Vec3& ng) const {
     if (!(ng.dot(r.ng) >= kMinGeometricCos)) return 0;
     const double w = weight(r, p, n);
-    return w > 1 / a_ ? w : 0;
+    if (!(w > 1 / a_)) return 0;
+    // Not past a surface its rays met beside it, in the query's sector or either next to it.
+    const Vec3 d = p - r.p;
+    const double x = d.dot(r.frame.s), y = d.dot(r.frame.t);
+    const int k = sector(x, y);
+    const float clear = std::min({r.clear[size_t(k)], r.clear[size_t((k + 1) % kSectors)],
+                                  r.clear[size_t((k + kSectors - 1) % kSectors)]});
+    return std::hypot(x, y) < clear ? w : 0;
 }
 
 template <typename Visit>

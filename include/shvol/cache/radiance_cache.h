@@ -19,13 +19,15 @@
 /// 10 Δx of P are not displaced (the reprojection's Jacobian is unbounded there). R_i is the
 /// harmonic mean distance to the surfaces the samples met, clamped to [0.01, 0.25] × the scene's
 /// diagonal (as irradiance caches do, so that records in corners do not shrink to nothing nor open
-/// spaces reach across the scene), and then to at most the distance of the nearest surface the
-/// samples met (not below 10⁻⁴ × the diagonal): a record's reach a·R_i then ends before it. The
-/// lower clamp alone let a record at the foot of a wall reach past it, and a floor the wall keeps
-/// dark got a fifth of the lit side's light (helper 63's audit). A query at (P, N) averages the
-/// records with weight (Gautron eq. 23)
+/// spaces reach across the scene). A query at (P, N) averages the records with weight (Gautron
+/// eq. 23)
 ///   w_i = 1 / (|P − P_i| / R_i + √(1 − N·N_i))  >  1/a,
-/// each extrapolated by its gradients and rotated from its frame to the query's (eq. 24;
+/// that do not reach past a surface beside them: a record keeps, for each of 16 sectors of
+/// azimuth about its normal, the distance in its tangent plane to the nearest hit at most 45°
+/// above the plane, and serves no query at or beyond the least of those of the query's sector and
+/// the two next to it (with R_i's lower clamp, a record at the foot of a wall of no thickness
+/// reached past it, and the floor it keeps dark got a fifth of the lit side's light; helper 63's
+/// audit). Each is extrapolated by its gradients and rotated from its frame to the query's (eq. 24;
 /// sh::HshRotation, through SH with the record held at its horizon and the truncation's residual
 /// kept, so that it is exact and continuous at the identity; skipped when the two frames are the
 /// same).
@@ -33,6 +35,7 @@
 /// in the cells of the first level at least as wide as its reach a R_i (at most 3 × 3 × 3 cells),
 /// and a query visits the one cell containing it on every level. Adding is not thread-safe;
 /// lookups are read-only.
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <unordered_map>
@@ -89,18 +92,25 @@ class RadianceCache {
     size_t memoryBytes() const;
 
     /// A record as stored (for tests).
+    /// Sectors of azimuth about a record's normal, for what lies beside it.
+    static constexpr int kSectors = 16;
     struct Record {
         Vec3 p;
         Frame frame;  ///< Frame(n) (frame.n is the normal): the frame of λ and of the gradients
         Vec3 ng;      ///< the geometric normal, on frame.n's side
         double R;
         std::vector<double> lambda, dx, dy;  ///< 3n² each
+        /// Per sector of azimuth (sector()), the distance in the tangent plane to the nearest hit
+        /// at most 45° above it (+∞: none).
+        std::array<float, kSectors> clear;
     };
     const Record& record(size_t i) const { return records_[i]; }
     /// The record that add() would build from these samples, without storing it.
     Record build(const Vec3& p, const Vec3& n, const std::vector<IncomingSample>& samples) const;
 
   private:
+    /// The sector of azimuth of the tangent-plane offset (x, y): 0 … kSectors − 1.
+    static int sector(double x, double y);
     double weight(const Record& r, const Vec3& p, const Vec3& n) const;
     /// weight(r, p, n) where r serves (p, n, ng), else 0.
     double servingWeight(const Record& r, const Vec3& p, const Vec3& n, const Vec3& ng) const;
