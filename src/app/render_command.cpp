@@ -161,6 +161,22 @@ std::string unusedLightSamplingWarning(const Scene& scene, const Effects& effect
            "\" is not used: next-event estimation, which draws its samples, is off (" + why + ")";
 }
 
+/// A radiance cache whose records fit their n² HSH coefficients each to fewer than 4n² rays: the
+/// records' noise is frozen into every pixel they serve (a white furnace at order 20 with the
+/// default 1024 rays: RMSE 0.0072 against 0.00068 at order 8, 0.0018 with 4096 rays; the Cornell
+/// box at 1 and 4 rays: regions off by up to 250%; helper 63's audit).
+std::string fewRaysPerRecordWarning(const Scene& scene, const Effects& effects) {
+    const RadianceCacheSettings& rc = scene.settings.radianceCache;
+    const int coefficients = rc.hshOrder * rc.hshOrder;
+    if (!effects.radianceCache || rc.raysPerRecord >= 4 * coefficients) return "";
+    return "render.radiance_cache: " + std::to_string(rc.raysPerRecord) +
+           " rays_per_record for the " + std::to_string(coefficients) +
+           " HSH coefficients of order " + std::to_string(rc.hshOrder) +
+           ": each record is a noisy fit, and its noise is in every pixel it serves; give at "
+           "least " +
+           std::to_string(4 * coefficients) + " rays (4 per coefficient)";
+}
+
 /// Warnings only the render can give: a radiance cache whose BRDF tables hold the BRDF poorly (a
 /// sharp lobe at a low HSH order: the cached light is then too dark or blurred), naming each
 /// such surface.
@@ -489,6 +505,8 @@ int runRender(const RenderArgs& a) {
                     "render.radiance_cache: enabled, but no surface has a BSDF the cache holds "
                     "(lambert, phong, ward), or max_depth is 0: the render runs without it");
             if (const std::string w = unusedLightSamplingWarning(scene, effects); !w.empty())
+                warnings.push_back(w);
+            if (const std::string w = fewRaysPerRecordWarning(scene, effects); !w.empty())
                 warnings.push_back(w);
             provenance = {{"scene_resolved", resolved},
                           {"inputs", inputFiles(doc, a.scene)},

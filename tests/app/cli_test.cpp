@@ -1106,7 +1106,7 @@ TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
     auto sceneWith = [](const std::string& bsdf) {
         return R"({"camera": {"resolution": [4, 4], "position": [0, -3, 1], "target": [0, 0, 0]},
                    "render": {"spp": 2, "radiance_cache": {"enabled": true, "max_records": 64,
-                                                           "rays_per_record": 16}},
+                                                           "rays_per_record": 256}},
                    "environment": {"type": "constant", "radiance": 1},
                    "surfaces": [{"type": "rectangle", "bsdf": )" +
                bsdf + "}]}";
@@ -1115,7 +1115,7 @@ TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
     write("sharp.json", R"({"camera": {"resolution": [4, 4], "position": [0, -3, 1],
                                        "target": [0, 0, 0]},
         "render": {"spp": 2, "radiance_cache": {"enabled": true, "max_records": 64,
-                                                "rays_per_record": 16}},
+                                                "rays_per_record": 256}},
         "environment": {"type": "constant", "radiance": 1},
         "surfaces": [{"type": "rectangle", "name": "wall", "bsdf": {"type": "lambert"},
                       "transform": {"translate": [0, 2, 0]}},
@@ -1153,6 +1153,18 @@ TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
     write("lambert.json", sceneWith(R"({"type": "lambert"})"));
     r = run("render " + path("lambert.json") + " -o " + path("b.exr") + " --quiet");
     EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    // Fewer than 4 rays per HSH coefficient: every record is a noisy fit (helper 63: 1 and 4 rays
+    // put regions of the Cornell box off by up to 250%).
+    r = run("render " + path("lambert.json") + " -o " + path("b.exr") +
+            " --quiet --set render.radiance_cache.rays_per_record=255");
+    EXPECT_NE(r.err.find("render.radiance_cache: 255 rays_per_record for the 64 HSH coefficients "
+                         "of order 8: each record is a noisy fit"),
+              std::string::npos)
+        << r.err;
+    r = run("render " + path("lambert.json") + " -o " + path("b.exr") +
+            " --quiet --set render.radiance_cache.rays_per_record=16 " +
+            "--set render.radiance_cache.hsh_order=2");
     EXPECT_EQ(r.err, "");
     write("mirror.json", sceneWith(R"({"type": "mirror"})"));
     r = run("render " + path("mirror.json") + " -o " + path("c.exr") + " --quiet");
