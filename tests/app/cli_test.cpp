@@ -727,6 +727,8 @@ TEST_F(Cli, RenderWritesExrAndStats) {
     for (const char* k : {"wall_time_s", "paths_per_second", "mean_path_length", "peak_memory_mib",
                           "density_lookups_per_second", "effects"})
         EXPECT_TRUE(stats.contains(k)) << k;
+    // The whole cost, loading included, and no less than the passes'.
+    EXPECT_GE(stats["total_s"].get<double>(), stats["wall_time_s"].get<double>());
     // Under a constant sky next-event estimation is off unless asked for (render.nee).
     EXPECT_EQ(stats["effects"], nlohmann::json::parse(R"(["environment-constant", "volume-tracking",
                                     "multiple-scattering", "roulette-survival-weight"])"));
