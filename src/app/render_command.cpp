@@ -505,6 +505,13 @@ int runRender(const RenderArgs& a) {
                 warnings.push_back("--set " + set +
                                    ": the scene has no such key; nothing was deleted");
             for (std::string& w : surfaceWarnings(scene)) warnings.push_back(std::move(w));
+            // A grid with no density above 0 (all zeros, or a wrong grid): the medium is empty.
+            for (size_t i = 0; i < scene.media.size(); ++i)
+                if (const Bounds3 b = scene.media[i]->bounds();
+                    !(b.lo.array() <= b.hi.array()).all())
+                    warnings.push_back("media[" + std::to_string(i) +
+                                       "] is empty: no voxel of its grid is above 0 (" +
+                                       scene.media[i]->describe() + ")");
             const Effects effects = Effects::of(scene);
             if (scene.settings.radianceCache.enabled && !effects.radianceCache)
                 warnings.push_back(

@@ -190,10 +190,16 @@ std::vector<VdbGridEntry> checkVdbStructure(std::istream& in, uint64_t size) {
         int64_t blockPos = r.get<int64_t>("grid descriptor");
         const int64_t endPos = r.get<int64_t>("grid descriptor");
         if (e.instance) blockPos = endPos;  // an instance has no tree (and no block offset)
+        const std::string grid =
+            "grid '" + openvdb::io::GridDescriptor::nameAsString(e.uniqueName) + "'";
+        if (gridPos == int64_t(r.pos()) && blockPos >= gridPos && endPos >= blockPos &&
+            uint64_t(endPos) > size)  // (an incomplete copy or download)
+            throw std::runtime_error("truncated: " + grid + " ends at byte " +
+                                     std::to_string(endPos) + ", the file at byte " +
+                                     std::to_string(size));
         if (gridPos != int64_t(r.pos()) || blockPos < gridPos || endPos < blockPos ||
             uint64_t(endPos) > size)
-            throw std::runtime_error("inconsistent offsets in the descriptor of grid '" +
-                                     openvdb::io::GridDescriptor::nameAsString(e.uniqueName) + "'" +
+            throw std::runtime_error("inconsistent offsets in the descriptor of " + grid +
                                      at(e.descriptorPos));
         e.endPos = uint64_t(endPos);
         r.get<uint32_t>("grid compression flags");
@@ -530,10 +536,11 @@ class VdbMedium final : public Medium {
           majorants_(std::move(majorants)),
           bricks_(std::move(bricks)),
           desc_("vdb " + d.file + ":" + d.grid +
-                (cellVoxels > 0 ? ", majorant cells of " + std::to_string(cellVoxels) +
-                                      (cellVoxels == 1 ? " voxel" : " voxels") +
-                                      (d.majorantCellVoxels == 0 ? " (auto)" : "")
-                                : ", one global majorant") +
+                (majorants_.empty() ? ", no density"
+                 : cellVoxels > 0   ? ", majorant cells of " + std::to_string(cellVoxels) +
+                                        (cellVoxels == 1 ? " voxel" : " voxels") +
+                                        (d.majorantCellVoxels == 0 ? " (auto)" : "")
+                                  : ", one global majorant") +
                 (d.regularTracking ? "" : ", no regular tracking")) {}
 
   private:
@@ -687,6 +694,14 @@ class VdbMedium final : public Medium {
     std::string desc_;
 };
 
+/// A grid's float value with the digits that tell it from its neighbours (%.9g): to_string wrote
+/// a voxel of −10⁻²⁰ as -0.000000.
+std::string floatText(float v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", double(v));
+    return text;
+}
+
 std::string ijkString(const openvdb::Coord& c) {
     std::ostringstream s;
     s << "(" << c.x() << ", " << c.y() << ", " << c.z() << ")";
@@ -732,12 +747,19 @@ std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc) {
         grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
     } catch (const Error&) {
         throw;
+    } catch (const openvdb::ArithmeticError& e) {
+        // OpenVDB builds an affine (rotated, sheared) transform's map as it reads it, and refuses
+        // a matrix of determinant below about 3·10⁻¹⁵: voxels under about 1.4·10⁻⁵.
+        fail(path, where,
+             std::string("OpenVDB cannot read its transform (") + e.what() +
+                 "): an affine or rotated transform needs voxels of at least about 1.5e-5; "
+                 "store the grid with larger voxels and scale it down with the medium's transform");
     } catch (const std::exception& e) {
         fail(path, "", std::string("not a readable OpenVDB file (") + e.what() + ")");
     }
     if (!grid->transform().isLinear()) fail(path, where, "non-linear transforms are not supported");
     if (grid->background() != 0.f)
-        fail(path, where, "background value must be 0, is " + std::to_string(grid->background()));
+        fail(path, where, "background value must be 0, is " + floatText(grid->background()));
 
     // Index → grid world, x ↦ J·x + t: the linear base map's Jacobian (its matrix without the
     // translation) on the unit vectors, and its image of the origin. (Through getAffineMap(), a
@@ -769,7 +791,7 @@ std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc) {
         if (!std::isfinite(v) || v < 0)
             fail(path, where,
                  std::string(std::isfinite(v) ? "negative" : "NaN or infinite") + " density " +
-                     std::to_string(v) + " at voxel " + ijkString(b.min()));
+                     floatText(v) + " at voxel " + ijkString(b.min()));
         if (v > 0) {
             const openvdb::Coord &lo = b.min(), &hi = b.max();
             if (std::min({lo.x(), lo.y(), lo.z()}) < -kMaxIndex ||

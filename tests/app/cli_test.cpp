@@ -917,6 +917,17 @@ TEST_F(Cli, BadVdbFiles) {
     write("neg.json", scene(R"({"type": "vdb", "file": "neg.vdb"})"));
     expectOneLineError("neg.json", path("neg.vdb") + ": grid 'density': negative density");
 
+    // A grid of zeros renders, empty, and says so (it rendered nothing without a word; helper 64).
+    s.density = [](const Vec3&) { return 0.f; };
+    writeVdb(path("zero.vdb"), {s});
+    write("zero.json", scene(R"({"type": "vdb", "file": "zero.vdb"})"));
+    const Result zero = run("render " + path("zero.json") + " -o " + path("zero.exr") + " --quiet");
+    EXPECT_EQ(zero.code, 0) << zero.err;
+    EXPECT_NE(zero.err.find("media[0] is empty: no voxel of its grid is above 0 (vdb " +
+                            path("zero.vdb") + ":density, no density"),
+              std::string::npos)
+        << zero.err;
+
     s.density = [](const Vec3& p) { return p.norm() < 0.3 ? NAN : 0.f; };
     writeVdb(path("nan.vdb"), {s});
     write("nan.json", scene(R"({"type": "vdb", "file": "nan.vdb"})"));

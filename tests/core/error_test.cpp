@@ -20,8 +20,12 @@ TEST(ErrorLine, ControlCharactersAreWrittenAsJsonEscapes) {
     const std::string line = errorLine("a\nb.json", key, std::string("unknown key\x7f\t"));
     EXPECT_EQ(line, "a\\u000ab.json: media\\u0000[0].albedo: unknown key\\u007f\\u0009");
     EXPECT_EQ(std::string(Error(line).what()), line);
-    // UTF-8 passes unchanged.
-    EXPECT_EQ(errorLine("ü.json", "σ", "≥ 0"), "ü.json: σ: ≥ 0");
+    // UTF-8 passes unchanged; bytes that are not UTF-8 are written \xhh (a grid name from a
+    // damaged file reached stderr raw): a lone continuation byte, a lead byte cut short, an
+    // overlong form, a surrogate.
+    EXPECT_EQ(errorLine("ü.json", "σ", "≥ 0 \xf0\x9f\x98\x80"), "ü.json: σ: ≥ 0 \xf0\x9f\x98\x80");
+    EXPECT_EQ(errorLine("", "", "dens\xffity \x80 \xc3 \xc0\xaf \xed\xa0\x80 \xe2\x82"),
+              "dens\\xffity \\x80 \\xc3 \\xc0\\xaf \\xed\\xa0\\x80 \\xe2\\x82");
 }
 
 }  // namespace shvol

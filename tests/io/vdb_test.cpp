@@ -403,6 +403,13 @@ TEST(Vdb, BadInputGivesOneClearLine) {
     writeVdb(d.file, {s});
     const std::string neg = messageOf([&] { loadVdbMedium(d); });
     EXPECT_EQ(neg.rfind(d.file + ": grid 'density': negative density -0.5", 0), 0u) << neg;
+    // With its digits: a voxel of −10⁻²⁰ was "negative density -0.000000" (helper 64).
+    s.density = [](const Vec3& p) { return p.norm() < 0.2 ? -1e-20f : 0.f; };
+    writeVdb(d.file, {s});
+    const std::string tiny = messageOf([&] { loadVdbMedium(d); });
+    EXPECT_EQ(tiny.rfind(d.file + ": grid 'density': negative density -9.99999968e-21 at voxel", 0),
+              0u)
+        << tiny;
 
     d.file = tmp("nan.vdb");
     s.density = [](const Vec3& p) { return p.norm() < 0.2 ? NAN : 0.f; };
@@ -534,9 +541,12 @@ TEST(Vdb, DamagedFilesAreRefusedBeforeOpenVdbReadsThem) {
                      ": grid 'density': the transform (with the scene's) is singular or not "
                      "finite");
 
-    // Truncated: the descriptor's offsets point past the end.
+    // Truncated: the grid ends past the end of the file (it said "inconsistent offsets in the
+    // descriptor", which hid the cause: an incomplete copy; helper 64).
     m = loadMessage("damaged.vdb", seedBytes("bad_truncated.vdb"));
-    EXPECT_EQ(m.rfind(prefix + "inconsistent offsets in the descriptor of grid 'density'", 0), 0u)
+    EXPECT_EQ(m.rfind(prefix + "truncated: grid 'density' ends at byte ", 0), 0u) << m;
+    EXPECT_NE(m.find(", the file at byte " + std::to_string(seedBytes("bad_truncated.vdb").size())),
+              std::string::npos)
         << m;
 }
 

@@ -17,7 +17,8 @@ class Error : public std::runtime_error {
 std::string errorLine(const std::string& file, const std::string& place, const std::string& msg);
 
 /// `text` with its control characters (below U+0020, and DEL) written as JSON writes them:
-/// \u0000, \u000a; the rest, UTF-8 included, unchanged.
+/// \u0000, \u000a, and each byte that is not part of well-formed UTF-8 as \xff (a grid name read
+/// from a damaged file); the rest, UTF-8 included, unchanged.
 std::string escapeControlCharacters(const std::string& text);
 
 [[noreturn]] inline void fail(const std::string& file, const std::string& place,
