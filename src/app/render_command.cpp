@@ -42,8 +42,10 @@ constexpr const char* kRenderWritesExr = "render writes OpenEXR (shvol tonemap m
 
 /// A rendered SH fit looser than this (relative L2 error) is worth a warning.
 constexpr double kLooseFit = 0.1;
-/// A render whose share of paths ended by max_depth exceeds this is worth a warning.
+/// A render whose share of paths ended by max_depth exceeds this is worth a warning, from this
+/// depth on (below, a low-order render is taken as meant: single scattering is max_depth 1).
 constexpr double kTruncatedPathsShare = 1e-3;
+constexpr int kTruncationWarningDepth = 8;
 
 /// The phase function of each medium as rendered; for SH-sampled ones the resolved fit (automatic
 /// order and window filled in), its error and the per-bounce weight moment m₂.
@@ -211,15 +213,19 @@ std::vector<std::string> renderWarnings(const Scene& scene, const RenderStats& s
                     " samples were NaN or infinite and were dropped");
     // A path ended by max_depth loses the light it would have gathered beyond: an albedo-1
     // furnace (σ_t 300, g 0.99) rendered 0.529 for 1 at the default depth without a word
-    // (helper 61's audit).
-    if (const PathCounters& c = st.counters;
-        c.paths > 0 && double(c.truncatedPaths) > kTruncatedPathsShare * double(c.paths)) {
+    // (helper 61's audit). The radiance cache's record paths count too: with the cache, they
+    // carry the light of every bounce after a camera path's first. Below depth 8 the cut is
+    // taken as meant (single scattering is max_depth 1).
+    const uint64_t paths = st.counters.paths + st.radianceCache.recordPaths,
+                   truncated = st.counters.truncatedPaths + st.radianceCache.recordPathsTruncated;
+    if (scene.settings.maxDepth >= kTruncationWarningDepth && paths > 0 &&
+        double(truncated) > kTruncatedPathsShare * double(paths)) {
         char msg[300];
         std::snprintf(msg, sizeof msg,
                       "render.max_depth: %llu of %llu paths (%.3g%%) reached depth %d and were "
                       "ended there, without the light beyond it; raise render.max_depth",
-                      (unsigned long long)c.truncatedPaths, (unsigned long long)c.paths,
-                      100.0 * double(c.truncatedPaths) / double(c.paths), scene.settings.maxDepth);
+                      (unsigned long long)truncated, (unsigned long long)paths,
+                      100.0 * double(truncated) / double(paths), scene.settings.maxDepth);
         w.push_back(msg);
     }
     return w;
@@ -291,6 +297,7 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
         for (const auto& [surface, error] : rc.uncached) cj["uncached_surfaces"][surface] = error;
         cj["fill_s"] = rc.fillSeconds;
         cj["record_paths"] = rc.recordPaths;
+        cj["record_paths_truncated"] = rc.recordPathsTruncated;
         cj["lookups"] = c.cacheLookups;
         cj["lookups_answered"] = c.cacheHits;
         cj["lookup_s"] = double(c.cacheLookupNs) * 1e-9;

@@ -50,9 +50,16 @@ void describeIntegrator(const VolumePathIntegrator& integrator, RenderStats& st)
     st.rouletteThreshold = integrator.effects().rouletteThreshold;
     if (const RadianceCache* cache = integrator.radianceCache()) {
         const VolumePathIntegrator::CacheBuild& b = integrator.cacheBuild();
-        st.radianceCache = {true,          cache->size(),  cache->memoryBytes(),
-                            b.tableBytes,  b.tableSeconds, b.fillSeconds,
-                            b.tableErrors, b.uncached,     b.counters.paths};
+        st.radianceCache = {true,
+                            cache->size(),
+                            cache->memoryBytes(),
+                            b.tableBytes,
+                            b.tableSeconds,
+                            b.fillSeconds,
+                            b.tableErrors,
+                            b.uncached,
+                            b.counters.paths,
+                            b.counters.truncatedPaths};
     }
     const Effects& e = integrator.effects();
     if (!e.nextEvent) return;

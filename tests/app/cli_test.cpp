@@ -771,6 +771,26 @@ TEST_F(Cli, RenderWarnsOfPathsEndedByMaxDepth) {
     EXPECT_EQ(r.err, "");
     stats = nlohmann::json::parse(std::ifstream(path("out.stats.json")));
     EXPECT_EQ(stats["paths_truncated"].get<uint64_t>(), 0u);
+    // Below depth 8 the cut is taken as meant (single scattering is max_depth 1): counted, not
+    // warned about (review: every single-scattering render carried the warning).
+    r = run(render + " --set render.max_depth=1");
+    EXPECT_EQ(r.err, "");
+    stats = nlohmann::json::parse(std::ifstream(path("out.stats.json")));
+    EXPECT_GT(stats["paths_truncated"].get<uint64_t>(), 0u);
+    // The radiance cache's record paths are counted too: they carry the light after a camera
+    // path's first vertex (a floor beside the thick fog; the review found them left out).
+    write("cached.json", R"({"camera": {"resolution": [8, 6], "position": [0, -3, 3],
+        "target": [0, 0, 0]}, "render": {"spp": 2, "max_depth": 8, "radiance_cache":
+        {"enabled": true, "hsh_order": 4, "rays_per_record": 64}},
+        "environment": {"type": "constant", "radiance": 1},
+        "surfaces": [{"type": "rectangle", "bsdf": {"type": "lambert"}, "transform": {"scale": 3}}],
+        "media": [{"type": "homogeneous", "sigma_t": 300, "albedo": 1, "phase": {"type": "hg",
+        "g": 0.99}, "shape": {"type": "sphere", "center": [0, 0, 1.2], "radius": 1}}]})");
+    r = run("render " + path("cached.json") + " --quiet -o " + path("out.exr"));
+    EXPECT_NE(r.err.find("render.max_depth: "), std::string::npos) << r.err;
+    stats = nlohmann::json::parse(std::ifstream(path("out.stats.json")));
+    EXPECT_GT(stats["radiance_cache"]["record_paths_truncated"].get<uint64_t>(),
+              stats["paths_truncated"].get<uint64_t>());
 }
 
 // A render whose SH-sampled phase function is unreliable says so on stderr and in its stats, with

@@ -70,7 +70,8 @@ struct RadianceCacheStats {
     std::vector<std::pair<std::string, double>> tableErrors;
     /// Surfaces left uncached (their lobe's albedo error, HshBrdfTable::albedoError), by name.
     std::vector<std::pair<std::string, double>> uncached;
-    uint64_t recordPaths = 0;  ///< paths traced to fill the records
+    uint64_t recordPaths = 0;           ///< paths traced to fill the records
+    uint64_t recordPathsTruncated = 0;  ///< of those, ended by max_depth
 };
 
 struct RenderStats {
