@@ -147,12 +147,19 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
             if (t < size) size = t, thick = true;
         }
         if (!(eps > 0.01 * size)) continue;
-        char msg[300];
+        // ε is 2⁻¹⁶ of the surfaces' extent, or, far from the origin, 32 steps of a double there
+        // (SurfaceScene): the remedy differs (review).
+        const Vec3 lo = scene.surfaces->lower(), hi = scene.surfaces->upper();
+        const bool far = eps > std::ldexp(0.5 * (hi - lo).maxCoeff(), -16) * (1 + 1e-9);
+        char msg[400];
         std::snprintf(msg, sizeof msg,
-                      ": %.3g %s, and the ray offset is %.3g (2^-16 of the surfaces' extent): "
-                      "rays leaving it skip more than 1%% of it, and light near it is unreliable; "
-                      "bring the scene's surfaces closer together",
-                      size, thick ? "thick (2V/A)" : "across", eps);
+                      ": %.3g %s, and the ray offset is %.3g (%s): rays leaving it skip more than "
+                      "1%% of it, and light near it is unreliable; %s",
+                      size, thick ? "thick (2V/A)" : "across", eps,
+                      far ? "32 steps of a double at the surfaces' distance from the origin"
+                          : "2^-16 of the surfaces' extent",
+                      far ? "bring the scene nearer the origin"
+                          : "bring the scene's surfaces closer together");
         w.push_back(s.name + msg);
     }
     return w;

@@ -1312,6 +1312,20 @@ TEST_F(Cli, RenderWarnsOfSurfacesSmallForTheRayOffset) {
                   ": pane: 0.0002 thick (2V/A), and the ray offset is 0.000458 (2^-16 of the "
                   "surfaces' extent): rays leaving it skip more than 1% of it, and light "
                   "near it is unreliable; bring the scene's surfaces closer together\n");
+    // Far from the origin the offset is 32 steps of a double there, and the remedy is to move the
+    // scene (the review: the warning still spoke of the extent, 1.5e-4 for this sphere).
+    write("far.json", R"({"camera": {"resolution": [4, 4], "position": [1e14, -1e14, 1e14],
+                   "target": [1e14, 0, 1e14]}, "render": {"spp": 1},
+                   "environment": {"type": "constant", "radiance": 1},
+                   "surfaces": [{"type": "sphere", "name": "bead", "radius": 10,
+                                 "center": [1e14, -9.99999999999e13, 1e14],
+                                 "bsdf": {"type": "dielectric"}}]})");
+    r = run("render " + path("far.json") + " -o " + path("out.exr") + " --quiet");
+    EXPECT_EQ(r.err, "shvol: warning: " + path("far.json") +
+                         ": bead: 20 across, and the ray offset is 0.5 (32 steps of a double at "
+                         "the surfaces' distance from the origin): rays leaving it skip more than "
+                         "1% of it, and light near it is unreliable; bring the scene nearer the "
+                         "origin\n");
 }
 
 // A pixel whose mean exceeds the float32 range is written as inf, and said so (on stderr and in
