@@ -24,8 +24,9 @@
 ///   w_i = 1 / (|P − P_i| / R_i + √(1 − N·N_i))  >  1/a,
 /// that do not reach past a surface beside them: a record keeps, for each of 16 sectors of
 /// azimuth about its normal, the distance in its tangent plane to the nearest hit at most 45°
-/// above the plane, and serves no query at or beyond the least of those of the query's sector and
-/// the two next to it (with R_i's lower clamp, a record at the foot of a wall of no thickness
+/// above the plane on a surface standing across it (normal more than 30° from its own; a bowl's
+/// own rise is no wall), and serves no query at or beyond the least of those of the query's sector
+/// and the two next to it (with R_i's lower clamp, a record at the foot of a wall of no thickness
 /// reached past it, and the floor it keeps dark got a fifth of the lit side's light; helper 63's
 /// audit). Each is extrapolated by its gradients and rotated from its frame to the query's (eq. 24;
 /// sh::HshRotation, through SH with the record held at its horizon and the truncation's residual
