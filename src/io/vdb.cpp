@@ -752,8 +752,9 @@ std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc) {
         // a matrix of determinant below about 3·10⁻¹⁵: voxels under about 1.4·10⁻⁵.
         fail(path, where,
              std::string("OpenVDB cannot read its transform (") + e.what() +
-                 "): an affine or rotated transform needs voxels of at least about 1.5e-5; "
-                 "store the grid with larger voxels and scale it down with the medium's transform");
+                 "): singular, damaged, or an affine (rotated, sheared) map of voxels below about "
+                 "1.5e-5, which OpenVDB refuses; for the last, store the grid with larger voxels "
+                 "and scale it down with the medium's transform");
     } catch (const std::exception& e) {
         fail(path, "", std::string("not a readable OpenVDB file (") + e.what() + ")");
     }
