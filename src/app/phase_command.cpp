@@ -168,7 +168,7 @@ struct WeightStats {
 /// `phase sample --sampler analytic`: the phase function's own sampler, as `"sampling":
 /// "analytic"` renders it, so that an outside test can check it (a histogram against the
 /// formula); the SH options have nothing to act on there.
-PhaseFunction analyticPhase(const PhaseArgs& a) {
+PhaseFunction analyticPhase(const PhaseArgs& a, const Json& j) {
     const std::pair<const char*, bool> shOptions[] = {{"--order", !a.order.empty()},
                                                       {"--tolerance", a.tolerance > 0},
                                                       {"--window", !a.window.empty()},
@@ -176,7 +176,6 @@ PhaseFunction analyticPhase(const PhaseArgs& a) {
                                                       {"--depth", a.depth > 0}};
     for (const auto& [name, given] : shOptions)
         if (given) failOption(name, "not with --sampler analytic: it samples no SH fit");
-    const Json j = phaseSpecToJson(a.spec);
     if (j.contains("sampling") && j["sampling"] == "sh")
         failOption("--sampler",
                    "analytic samples the phase function itself, and the spec asks "
@@ -187,9 +186,8 @@ PhaseFunction analyticPhase(const PhaseArgs& a) {
 /// Writes the samples' CSV (x,y,z,pdf,weight) through a temporary and prints the weights' mean,
 /// variance and maximum: rows(rng, row) calls row(direction, value, pdf) for each sample.
 template <typename Rows>
-void writeSamples(const PhaseArgs& a, Rows&& rows) {
+void writeSamples(const PhaseArgs& a, const Json& spec, Rows&& rows) {
     // The samples must not replace the table they are drawn from.
-    const Json spec = phaseSpecToJson(a.spec);
     if (spec.contains("file") && spec["file"].is_string() &&
         sameFile(a.out, spec["file"].get<std::string>()))
         fail(a.out, "",
@@ -217,8 +215,9 @@ void writeSamples(const PhaseArgs& a, Rows&& rows) {
 
 int runSample(const PhaseArgs& a) {
     if (a.sampler == "analytic") {
-        const PhaseFunction phase = analyticPhase(a);
-        writeSamples(a, [&](Rng& rng, const auto& row) {
+        const Json spec = phaseSpecToJson(a.spec);
+        const PhaseFunction phase = analyticPhase(a, spec);
+        writeSamples(a, spec, [&](Rng& rng, const auto& row) {
             for (long long i = 0; i < a.count; ++i) {
                 const PhaseSample x = phase.sample(Vec3(0, 0, 1), rng.uniform2());
                 row(x.wi, x.value, x.pdf);
@@ -262,7 +261,7 @@ int runSample(const PhaseArgs& a) {
     const double generalAlpha = general && sh.evaluate() == SHSampledPhase::Evaluate::Exact
                                     ? SHSampledPhase::kDefensiveFraction
                                     : 0.0;
-    writeSamples(a, [&](Rng& rng, const auto& row) {
+    writeSamples(a, spec, [&](Rng& rng, const auto& row) {
         if (!general) {
             for (long long i = 0; i < a.count; ++i) {
                 const PhaseSample x = phase.sample(z, rng.uniform2());

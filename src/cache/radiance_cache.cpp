@@ -59,8 +59,8 @@ RadianceCache::Record RadianceCache::build(const Vec3& p, const Vec3& n,
         if (usable(s)) invDist += 1 / (s.W - p).norm(), ++hits;
     r.R = std::clamp(hits > 0 && invDist > 0 ? hits / invDist : 0.25 * diag_, 0.01 * diag_,
                      0.25 * diag_);
-    // What lies beside the record in its tangent plane, sector by sector: the hits at most 45°
-    // above the plane (a hit straight above it, a ceiling, is no obstacle beside it) on surfaces
+    // What lies beside the record in its tangent plane, sector by sector: the hits within 45° of
+    // the plane (a hit straight above it, a ceiling, is no obstacle beside it) on surfaces
     // that stand across it, their normals more than 30° from the record's (inside a bowl, its own
     // surface rising ahead is met near the record by the lowest rays, and more rays shut the
     // cache off: 278 of 1024 lookups answered at 1024 rays per record; review).

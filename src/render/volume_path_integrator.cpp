@@ -402,7 +402,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             ray = surf->spawn(hit.p, hit.ng, wi);
         } else {  // a real collision in media[mi]
             if (++depth > s.maxDepth) {
-                ++c.truncatedPaths;
+                if (scene_.media[mi]->scatters()) ++c.truncatedPaths;  // (absorbed: nothing lost)
                 break;
             }
             nullCrossings = 0;
