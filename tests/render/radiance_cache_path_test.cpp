@@ -40,6 +40,21 @@ Scene furnaceBox(double rho, double Le) {
     return scene;
 }
 
+/// A scene with the radiance cache on, seen from `eye` towards `at` on a film of width × height,
+/// under a constant sky of radiance `sky`.
+Scene cachedScene(const Vec3& eye, const Vec3& at, double fov, int width, int height, int spp,
+                  double sky) {
+    Scene scene;
+    scene.camera.position = eye;
+    scene.camera.target = at;
+    scene.camera.fovDegrees = fov;
+    scene.camera.width = width, scene.camera.height = height;
+    scene.settings.spp = spp;
+    scene.environment = Environment::constant(Spectrum::Constant(sky), false);
+    scene.settings.radianceCache.enabled = true;
+    return scene;
+}
+
 TEST(RadianceCachePath, FurnaceRecordsHoldTheIndirectIrradiance) {
     const double rho = 0.6, Le = 0.5;
     const Scene scene = furnaceBox(rho, Le);
@@ -109,17 +124,9 @@ TEST(RadianceCachePath, SurfacesWhoseLobeTheTableMissesArePathTraced) {
 // pixels near the sphere 8.4% off here (a = 0.5; at 16 spp 1.1% at the default 0.25 and 9.8% at
 // a = 1).
 TEST(RadianceCachePath, FurnaceWithAnOccluderStaysOne) {
-    Scene scene;
-    scene.camera.position = Vec3(0, -4, 2);
-    scene.camera.target = Vec3::Zero();
-    scene.camera.width = scene.camera.height = 16;
-    scene.camera.fovDegrees = 40;
+    Scene scene = cachedScene(Vec3(0, -4, 2), Vec3::Zero(), 40, 16, 16, 4, 1);
     scene.settings.maxDepth = 1000;
-    scene.settings.spp = 4;
-    scene.environment = Environment::constant(Spectrum::Ones(), false);
-    RadianceCacheSettings& rc = scene.settings.radianceCache;
-    rc.enabled = true;
-    rc.accuracy = 0.5;
+    scene.settings.radianceCache.accuracy = 0.5;
     std::vector<Surface> v;
     v.push_back(Surface::rectangle(Eigen::Affine3d(Eigen::Scaling(3.0))));
     v.push_back(Surface::sphere(Vec3(0, 0, 0.5), 0.5));
@@ -139,17 +146,9 @@ TEST(RadianceCachePath, FurnaceWithAnOccluderStaysOne) {
 // column of pixels (helper 63's audit); a record now serves no query past the nearest surface its
 // rays met beside it.
 TEST(RadianceCachePath, NoLightThroughAThinWall) {
-    Scene scene;
-    scene.camera.position = Vec3(0, -0.3, 1.2);
-    scene.camera.target = Vec3::Zero();
+    Scene scene = cachedScene(Vec3(0, -0.3, 1.2), Vec3::Zero(), 4, 64, 32, 4, 0);
     scene.camera.up = Vec3(0, 1, 0);
-    scene.camera.fovDegrees = 4;
-    scene.camera.width = 64, scene.camera.height = 32;
-    scene.settings.spp = 4;
-    scene.environment = Environment::constant(Spectrum::Zero(), false);
-    RadianceCacheSettings& rc = scene.settings.radianceCache;
-    rc.enabled = true;
-    rc.raysPerRecord = 256;
+    scene.settings.radianceCache.raysPerRecord = 256;
     const auto placed = [](const Vec3& at, const Vec3& scale) {
         Eigen::Affine3d m = Eigen::Affine3d::Identity();
         m.translate(at).rotate(Eigen::AngleAxisd(0.5 * Pi, Vec3::UnitY())).scale(scale);
@@ -178,18 +177,10 @@ TEST(RadianceCachePath, NoLightThroughAThinWall) {
 // with 1024 rays per record 278 of 1024 lookups were answered, one record filled per pixel
 // (review of the rule above).
 TEST(RadianceCachePath, ConcaveSurfacesAreNoWalls) {
-    Scene scene;
-    scene.camera.position = Vec3(0, -0.5, 0);
-    scene.camera.target = Vec3(0, 1, -0.3);
-    scene.camera.fovDegrees = 60;
-    scene.camera.width = scene.camera.height = 32;
-    scene.settings.spp = 1;
+    Scene scene = cachedScene(Vec3(0, -0.5, 0), Vec3(0, 1, -0.3), 60, 32, 32, 1, 0);
     scene.settings.maxDepth = 3;
-    scene.environment = Environment::constant(Spectrum::Zero(), false);
-    RadianceCacheSettings& rc = scene.settings.radianceCache;
-    rc.enabled = true;
-    rc.hshOrder = 2;
-    rc.raysPerRecord = 1024;
+    scene.settings.radianceCache.hshOrder = 2;
+    scene.settings.radianceCache.raysPerRecord = 1024;
     std::vector<Surface> v;
     v.push_back(Surface::sphere(Vec3::Zero(), 1));
     v.push_back(Surface::sphere(Vec3(0, 0, 0.6), 0.1));
