@@ -87,13 +87,12 @@ std::vector<std::string> phaseWarnings(const Scene& scene) {
         }
         if (sh->evaluate() == SHSampledPhase::Evaluate::Reconstruction &&
             sh->renderedRelativeL2Error() > kLooseFit) {
-            // A loose fit needs a higher order, at the highest one the function itself; a close
-            // fit drawn loosely needs finer z-bins. ("evaluate": "exact" is not offered: where a
-            // fit is this loose its weight's second moment explodes, README's furnace table.)
+            // A loose fit needs a higher order, at the highest one the function itself. A close
+            // fit drawn loosely needs finer z-bins, and where it dips below 0 its bins are
+            // clamped, which finer bins do not mend (HG 0.97 at order 115 without a window, 46%
+            // clamped: 0.145 at depth 16, 0.144 at 22; review). ("evaluate": "exact" is not
+            // offered: where a fit is this loose its weight's second moment explodes, README.)
             const int depth = sh->sampler().depth();
-            // A close fit drawn loosely: its z-bins average it, and where it dips below 0 its
-            // bins are clamped, which finer bins do not mend (HG 0.97 at order 115 without a
-            // window, 46% clamped: 0.145 at depth 16, 0.144 at 22; review).
             const double clamped = sh->sampler().clampedFraction();
             char dips[160] = "";
             if (clamped > 0)

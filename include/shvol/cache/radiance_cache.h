@@ -23,8 +23,8 @@
 /// eq. 23)
 ///   w_i = 1 / (|P − P_i| / R_i + √(1 − N·N_i))  >  1/a,
 /// that do not reach past a surface beside them: a record keeps, for each of 16 sectors of
-/// azimuth about its normal, the distance in its tangent plane to the nearest hit at most 45°
-/// above the plane on a surface standing across it (normal more than 30° from its own; a bowl's
+/// azimuth about its normal, the distance in its tangent plane to the nearest hit within 45° of
+/// the plane on a surface standing across it (normal more than 30° from its own; a bowl's
 /// own rise is no wall), and serves no query at or beyond the least of those of the query's sector
 /// and the two next to it (with R_i's lower clamp, a record at the foot of a wall of no thickness
 /// reached past it, and the floor it keeps dark got a fifth of the lit side's light; helper 63's
@@ -92,9 +92,9 @@ class RadianceCache {
     size_t size() const { return records_.size(); }
     size_t memoryBytes() const;
 
-    /// A record as stored (for tests).
     /// Sectors of azimuth about a record's normal, for what lies beside it.
     static constexpr int kSectors = 16;
+    /// A record as stored (for tests).
     struct Record {
         Vec3 p;
         Frame frame;  ///< Frame(n) (frame.n is the normal): the frame of λ and of the gradients
@@ -102,7 +102,7 @@ class RadianceCache {
         double R;
         std::vector<double> lambda, dx, dy;  ///< 3n² each
         /// Per sector of azimuth (sector()), the distance in the tangent plane to the nearest hit
-        /// at most 45° above it (+∞: none).
+        /// within 45° of it on a surface standing across it (+∞: none).
         std::array<float, kSectors> clear;
     };
     const Record& record(size_t i) const { return records_[i]; }
