@@ -182,6 +182,18 @@ std::string unusedLightSamplingWarning(const Scene& scene, const Effects& effect
            "\" is not used: next-event estimation, which draws its samples, is off (" + why + ")";
 }
 
+/// environment.wavelet_coefficients where no sky hierarchy is built (light sampling "environment",
+/// or next-event estimation off, as under a constant sky): the key changes nothing.
+std::string unusedWaveletWarning(const Scene& scene, const Effects& effects) {
+    const RenderSettings& s = scene.settings;
+    if (s.waveletCoefficients == 0 ||
+        (effects.nextEvent && effects.lightSampling != LightSampling::Environment))
+        return "";
+    return "environment.wavelet_coefficients: " + std::to_string(s.waveletCoefficients) +
+           " is not used: the wavelet sky is built only for light_sampling \"wavelet\" or "
+           "\"product\" with next-event estimation on";
+}
+
 /// A radiance cache whose records fit their n² HSH coefficients each to fewer than 4n² rays: the
 /// records' noise is frozen into every pixel they serve (a white furnace at order 20 with the
 /// default 1024 rays: RMSE 0.0072 against 0.00068 at order 8, 0.0018 with 4096 rays; the Cornell
@@ -546,6 +558,8 @@ int runRender(const RenderArgs& a) {
             if (const std::string w = unusedLightSamplingWarning(scene, effects); !w.empty())
                 warnings.push_back(w);
             if (const std::string w = fewRaysPerRecordWarning(scene, effects); !w.empty())
+                warnings.push_back(w);
+            if (const std::string w = unusedWaveletWarning(scene, effects); !w.empty())
                 warnings.push_back(w);
             provenance = {{"scene_resolved", resolved},
                           {"inputs", inputFiles(doc, a.scene)},

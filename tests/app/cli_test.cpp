@@ -1139,6 +1139,15 @@ TEST_F(Cli, RenderWarnsOfAnUnusedLightSampler) {
     }
     const Result r = run("render " + path("s.json") + " -o " + path("a.exr") + " --quiet");
     EXPECT_EQ(r.err, "");
+    // The sky's wavelet compression, where no sky hierarchy is built, changes nothing.
+    const std::string wavelet = "environment.wavelet_coefficients: 100 is not used";
+    const std::string compress = " --quiet --set environment.wavelet_coefficients=100";
+    EXPECT_NE(run("render " + path("s.json") + " -o " + path("a.exr") + compress).err.find(wavelet),
+              std::string::npos);
+    EXPECT_EQ(run("render " + path("s.json") + " -o " + path("a.exr") + compress +
+                  " --set render.nee=true --set render.light_sampling=\"wavelet\"")
+                  .err,
+              "");
 }
 
 // A radiance cache that cannot be used, or whose BRDF table holds a sharp lobe poorly (the cached
