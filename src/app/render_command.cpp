@@ -141,8 +141,8 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
         // it, and its 1/η² radiance scale: the wall behind it 0.44 where 0.95 is right).
         bool thick = false;
         if (s.kind == Surface::Kind::Mesh && (s.bsdf.transmits() || s.interiorMedium >= 0) &&
-            closedMeshDefect(s.mesh).empty()) {
-            const double t = 2 * std::abs(signedVolume(s.mesh)) / surfaceArea(s.mesh);
+            s.solidity().defect.empty()) {
+            const double t = 2 * std::abs(s.solidity().signedVolume) / surfaceArea(s.mesh);
             if (t < size) size = t, thick = true;
         }
         if (!(eps > 0.01 * size)) continue;

@@ -651,11 +651,11 @@ std::string objCornerDefect(std::string_view w) {
 /// The line numbers of an OBJ file's f and v lines: the k-th face tinyobjloader reports is on
 /// line f[k], its k-th position on line v[k].
 struct ObjLines {
-    std::vector<size_t> f, v;
+    std::vector<size_t> f, v, vn, vt;
 };
 
 /// Checks the numbers of the v, vn and vt lines and the corners of the f lines, which
-/// tinyobjloader does not, and returns the numbers of the f and v lines. Lines end at "\n",
+/// tinyobjloader does not, and returns the numbers of the f, v, vn and vt lines. Lines end at "\n",
 /// "\r\n" or "\r", as in tinyobjloader.
 ObjLines scanObj(std::string_view text, const std::string& path) {
     ObjLines lines;
@@ -705,8 +705,10 @@ ObjLines scanObj(std::string_view text, const std::string& path) {
             lines.v.push_back(lineNo);
             least = 3, most = 7, what = "v (x y z [w or r g b])";
         } else if (keyword("vn")) {
+            lines.vn.push_back(lineNo);
             least = 3, most = 3, what = "vn (x y z)";
         } else if (keyword("vt")) {
+            lines.vt.push_back(lineNo);
             least = 1, most = 3, what = "vt (u [v [w]])";
         } else {
             continue;
@@ -792,10 +794,11 @@ void validateAndPlace(TriangleMesh& mesh, const std::string& file, MeshPlaces& p
 }  // namespace
 
 TriangleMesh parsePly(std::string_view bytes, const std::string& name,
-                      const Eigen::Affine3d* toWorld) {
+                      const Eigen::Affine3d* toWorld, MeshPlaces* placesOut) {
     const Header h = HeaderParser(bytes, name).parse();
     TriangleMesh mesh;
     MeshPlaces places;  // the file's face of each triangle
+    places.file = name;
     if (h.format == Format::Ascii) {
         AsciiBody body(bytes, h.bodyOffset, h.bodyLine, name);
         readBody(body, h, mesh, name, places.faceOfTriangle);
@@ -804,17 +807,19 @@ TriangleMesh parsePly(std::string_view bytes, const std::string& name,
         readBody(body, h, mesh, name, places.faceOfTriangle);
     }
     validateAndPlace(mesh, name, places, toWorld);
+    if (placesOut) *placesOut = std::move(places);
     return mesh;
 }
 
-TriangleMesh readPly(const std::string& path, const Eigen::Affine3d* toWorld) {
+TriangleMesh readPly(const std::string& path, const Eigen::Affine3d* toWorld, MeshPlaces* places) {
     const std::string data = readWhole(path);
-    return parsePly(data, path, toWorld);
+    return parsePly(data, path, toWorld, places);
 }
 
-TriangleMesh readObj(const std::string& path, const Eigen::Affine3d* toWorld) {
+TriangleMesh readObj(const std::string& path, const Eigen::Affine3d* toWorld,
+                     MeshPlaces* placesOut) {
     const std::string text = readWhole(path);
-    const ObjLines lines = scanObj(text, path);
+    ObjLines lines = scanObj(text, path);
     tinyobj::ObjReaderConfig config;
     config.triangulate = false;   // our own fan keeps the winding
     config.vertex_color = false;  // no default colours
@@ -857,6 +862,28 @@ TriangleMesh readObj(const std::string& path, const Eigen::Affine3d* toWorld) {
     vertexOf.reserve(corners);
     std::vector<uint32_t> poly;
     MeshPlaces places;  // faces by their f lines, vertices by the f line that first names them
+    places.file = path;
+    // A corner's normal and texture coordinates, checked at their own vn and vt lines when a
+    // vertex first uses them (validateMesh knows only the vertex, named by its first f line):
+    // tinyobjloader's misreadings (0e999), and a zero normal.
+    const auto lineOr = [&](const std::vector<size_t>& lineOf, int count, int i, size_t f) {
+        return lineOf.size() == size_t(count) ? "line " + std::to_string(lineOf[i]) : faceLine(f);
+    };
+    const auto checkCorner = [&](const tinyobj::attrib_t& a, const Corner& k, size_t f) {
+        if (k.vn >= 0) {
+            const Vec3 n(a.normals[3 * k.vn], a.normals[3 * k.vn + 1], a.normals[3 * k.vn + 2]);
+            if (!n.allFinite())
+                fail(path, lineOr(lines.vn, nvn, k.vn, f),
+                     "a normal coordinate is not finite as tinyobjloader reads it (a number it "
+                     "misreads, such as 0e999 for 0)");
+            if (n.cwiseAbs().maxCoeff() == 0)
+                fail(path, lineOr(lines.vn, nvn, k.vn, f), "normal is zero");
+        }
+        if (k.vt >= 0 && !Vec2(a.texcoords[2 * k.vt], a.texcoords[2 * k.vt + 1]).allFinite())
+            fail(path, lineOr(lines.vt, nvt, k.vt, f),
+                 "a texture coordinate is not finite as tinyobjloader reads it (a number it "
+                 "misreads, such as 0e999 for 0)");
+    };
     std::vector<size_t> firstFaceOf;
     places.fileIndices = false;
     bool first = true, withUV = false, withN = false;
@@ -896,6 +923,7 @@ TriangleMesh readObj(const std::string& path, const Eigen::Affine3d* toWorld) {
                          "some face corners have normals (vn) and others do not");
                 const auto [it, added] = vertexOf.try_emplace(k, uint32_t(mesh.p.size()));
                 if (added) {
+                    checkCorner(a, k, f);
                     firstFaceOf.push_back(f);
                     mesh.p.emplace_back(a.vertices[3 * k.v], a.vertices[3 * k.v + 1],
                                         a.vertices[3 * k.v + 2]);
@@ -915,18 +943,25 @@ TriangleMesh readObj(const std::string& path, const Eigen::Affine3d* toWorld) {
             ++f;
         }
     }
-    places.face = faceLine;
-    places.vertex = [&](size_t k) { return faceLine(firstFaceOf[k]); };
+    // (Kept by value: the places outlive this function when the caller asks for them.)
+    places.face = [lineOf = std::move(lines.f), faces](size_t face) {
+        return lineOf.size() == faces ? "line " + std::to_string(lineOf[face])
+                                      : "face " + std::to_string(face);
+    };
+    places.vertex = [face = places.face, first = std::move(firstFaceOf)](size_t k) {
+        return face(first[k]);
+    };
     validateAndPlace(mesh, path, places, toWorld);
+    if (placesOut) *placesOut = std::move(places);
     return mesh;
 }
 
-TriangleMesh readMesh(const std::string& path, const Eigen::Affine3d* toWorld) {
+TriangleMesh readMesh(const std::string& path, const Eigen::Affine3d* toWorld, MeshPlaces* places) {
     const size_t dot = path.find_last_of("./");
     std::string ext = dot != std::string::npos && path[dot] == '.' ? path.substr(dot) : "";
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (ext == ".obj") return readObj(path, toWorld);
-    if (ext == ".ply") return readPly(path, toWorld);
+    if (ext == ".obj") return readObj(path, toWorld, places);
+    if (ext == ".ply") return readPly(path, toWorld, places);
     fail(path, "", "unknown mesh file extension " + quote(ext) + " (expected .obj or .ply)");
 }
 

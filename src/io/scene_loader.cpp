@@ -221,7 +221,7 @@ Surface readSurface(JsonReader r, size_t index, Contents contents) {
         const std::string file = r.inputFile("file", sceneDir(r));
         s.kind = Surface::Kind::Mesh;
         if (contents == Contents::Load) {
-            s.mesh = readMesh(file, &toWorld);
+            s.mesh = readMesh(file, &toWorld, &s.places);
             widestAngleFirst(s.mesh);
         }
     } else if (type == "rectangle") {
@@ -246,8 +246,8 @@ Surface readSurface(JsonReader r, size_t index, Contents contents) {
     s.bsdf = readBsdf(r.objectOrEmpty("bsdf"));
     // A closed glass mesh faces outwards whatever its winding or transform: a dielectric's
     // outside is the side its normal points to.
-    if (s.kind == Surface::Kind::Mesh && s.bsdf.type == BsdfType::Dielectric &&
-        signedVolume(s.mesh) < 0 && closedMeshDefect(s.mesh).empty())
+    if (s.kind == Surface::Kind::Mesh && s.bsdf.type == BsdfType::Dielectric && !s.mesh.p.empty() &&
+        s.solidity().signedVolume < 0 && s.solidity().defect.empty())
         s.turnInsideOut();
     s.emission = spectrum(r, "emission", 0, 0, JsonReader::kUnbounded);
     s.twoSidedEmission = r.boolean("emission_two_sided", false);
@@ -273,7 +273,7 @@ int readBoundary(JsonReader& r, const std::vector<Surface>& surfaces, Contents c
     if (!sf.closed()) r.error("boundary", sf.name + " is not a closed shape (a mesh or a sphere)");
     if (sf.interiorMedium >= 0) r.error("boundary", sf.name + " already bounds another medium");
     if (sf.kind == Surface::Kind::Mesh && contents == Contents::Load) {  // (the file's contents)
-        const std::string defect = closedMeshDefect(sf.mesh);
+        const std::string& defect = sf.solidity().defect;
         if (!defect.empty()) r.error("boundary", sf.name + ": " + defect);
     }
     const BsdfType t = sf.bsdf.type;
@@ -291,7 +291,8 @@ std::unique_ptr<Medium> readMedium(JsonReader r, std::vector<Surface>& surfaces,
         const int b = readBoundary(r, surfaces, contents);
         surfaces[b].interiorMedium = index;
         // Outwards, so that crossing against the normal enters the medium.
-        if (surfaces[b].kind == Surface::Kind::Mesh && signedVolume(surfaces[b].mesh) < 0)
+        if (surfaces[b].kind == Surface::Kind::Mesh && !surfaces[b].mesh.p.empty() &&
+            surfaces[b].solidity().signedVolume < 0)
             surfaces[b].turnInsideOut();
     }
     const Spectrum albedo = spectrum(r, "albedo", 1, 0, 1);

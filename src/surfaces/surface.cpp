@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 namespace shvol {
 
@@ -46,6 +47,22 @@ Bounds3 Surface::bounds() const {
     Bounds3 b{Vec3::Constant(INFINITY), Vec3::Constant(-INFINITY)};  // empty
     for (const Vec3& p : mesh.p) b.lo = b.lo.cwiseMin(p), b.hi = b.hi.cwiseMax(p);
     return b;
+}
+
+void Surface::turnInsideOut() {
+    flipWinding(mesh);
+    emitsFromBack = !emitsFromBack;
+    // The volume changes sign; a defect's message would name its edges the other way round.
+    if (solidity_)
+        solidity_ =
+            solidity_->defect.empty()
+                ? std::make_shared<const MeshSolidity>(MeshSolidity{"", -solidity_->signedVolume})
+                : nullptr;
+}
+
+const MeshSolidity& Surface::solidity() const {
+    if (!solidity_) solidity_ = std::make_shared<const MeshSolidity>(meshSolidity(mesh, places));
+    return *solidity_;
 }
 
 Surface Surface::rectangle(const Eigen::Affine3d& toWorld) {

@@ -36,6 +36,11 @@ std::string str(const V& v, bool exact = false) {
     return s.str();
 }
 
+/// A closed-mesh defect shown by triangle f: "FILE: PLACE: what" (the file when places has one).
+std::string defectAt(const MeshPlaces& places, size_t f, const std::string& what) {
+    return (places.file.empty() ? "" : places.file + ": ") + places.ofTriangle(f) + ": " + what;
+}
+
 /// Directed edge (a, b) as one sortable key.
 uint64_t edgeKey(uint32_t a, uint32_t b) {
     return (uint64_t(a) << 32) | b;
@@ -107,14 +112,23 @@ Shells shellsOf(const TriangleMesh& mesh, const std::vector<uint32_t>& weld) {
 /// sheet (a triangle given in both windings, say): every edge has its opposite, yet which side
 /// of it is inside depends on which of two coincident triangles a ray hits (a medium bounded by
 /// one filled the half-space beyond it). Shells are judged by |V| ≤ 10⁻⁹ A^{3/2}.
-std::string emptyShell(const Shells& s) {
+std::string emptyShell(const Shells& s, const MeshPlaces& places) {
     for (size_t f = 0; f < s.ofFace.size(); ++f) {
         const uint32_t r = s.ofFace[f];
         if (std::abs(s.volume[r]) <= 1e-9 * s.area[r] * std::sqrt(s.area[r]))
-            return "the part of face " + std::to_string(f) +
-                   " encloses no volume: both sides of one sheet, not the surface of a solid";
+            return defectAt(places, f,
+                            "the part of the mesh this face belongs to encloses no volume: both "
+                            "sides of one sheet, not the surface of a solid");
     }
     return "";
+}
+
+/// The sum of the shells' volumes.
+double volumeOf(const Shells& s) {
+    double v = 0;
+    for (size_t f = 0; f < s.ofFace.size(); ++f)
+        if (s.ofFace[f] == f) v += s.volume[f];
+    return v;
 }
 
 }  // namespace
@@ -144,6 +158,15 @@ void transformMesh(TriangleMesh& mesh, const Eigen::Affine3d& toWorld) {
     for (Vec3& n : mesh.n) n = (m * n.stableNormalized()).stableNormalized();
 }
 
+std::string MeshPlaces::ofTriangle(size_t f) const {
+    const size_t k = f < faceOfTriangle.size() ? faceOfTriangle[f] : f;
+    return (face ? face(k) : "face " + std::to_string(k)) + note;
+}
+
+std::string MeshPlaces::ofVertex(size_t k) const {
+    return (vertex ? vertex(k) : "vertex " + std::to_string(k)) + note;
+}
+
 void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshPlaces& places) {
     const size_t nv = mesh.p.size();
     if (mesh.indices.size() % 3 != 0)
@@ -158,8 +181,7 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshP
                  " vertices");
     if (mesh.triangleCount() == 0) fail(file, "", "the mesh has no triangles");
     for (size_t k = 0; k < nv; ++k) {
-        const std::string place =
-            (places.vertex ? places.vertex(k) : "vertex " + std::to_string(k)) + places.note;
+        const std::string place = places.ofVertex(k);
         if (!mesh.p[k].allFinite())
             fail(file, place, "position " + str(mesh.p[k]) + " is not finite");
         if (!mesh.n.empty()) {
@@ -171,9 +193,7 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshP
             fail(file, place, "texture coordinates " + str(mesh.uv[k]) + " are not finite");
     }
     for (size_t f = 0; f < mesh.triangleCount(); ++f) {
-        const size_t face = places.faceOfTriangle.empty() ? f : places.faceOfTriangle[f];
-        const std::string place =
-            (places.face ? places.face(face) : "face " + std::to_string(face)) + places.note;
+        const std::string place = places.ofTriangle(f);
         const uint32_t* t = &mesh.indices[3 * f];
         for (int j = 0; j < 3; ++j)
             if (t[j] >= nv)
@@ -213,7 +233,6 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshP
 }
 
 namespace {
-/// closedMeshDefect with each vertex standing for weld[vertex].
 /// Every triangle's directed edges (a, b) of vertices weld[a], weld[b], as keys, sorted.
 std::vector<uint64_t> directedEdges(const TriangleMesh& mesh, const std::vector<uint32_t>& weld) {
     std::vector<uint64_t> keys(mesh.indices.size());
@@ -223,13 +242,16 @@ std::vector<uint64_t> directedEdges(const TriangleMesh& mesh, const std::vector<
     return keys;
 }
 
-std::string defectWith(const TriangleMesh& mesh, const std::vector<uint32_t>& weld) {
+/// The defect of the mesh with each vertex standing for weld[vertex]; where it finds none, it
+/// has computed the shells, and leaves them in *shells.
+std::string defectWith(const TriangleMesh& mesh, const std::vector<uint32_t>& weld,
+                       const MeshPlaces& places, Shells* shells) {
     const size_t nt = mesh.triangleCount();
     const auto corner = [&](size_t f, int j) { return weld[mesh.indices[3 * f + j % 3]]; };
     for (size_t f = 0; f < nt; ++f)
         if (corner(f, 0) == corner(f, 1) || corner(f, 1) == corner(f, 2) ||
             corner(f, 2) == corner(f, 0))
-            return "face " + std::to_string(f) + " repeats a vertex: degenerate triangle";
+            return defectAt(places, f, "two of its vertices at one position: degenerate triangle");
     // All directed edges, sorted: O(T log T). A closed oriented manifold has every key once and
     // the reverse of every key.
     const auto edgeOf = [&](size_t f, int j) { return edgeKey(corner(f, j), corner(f, j + 1)); };
@@ -242,7 +264,10 @@ std::string defectWith(const TriangleMesh& mesh, const std::vector<uint32_t>& we
         if (!has(reverse(keys[i]))) open = true;
         if (twice) break;
     }
-    if (!twice && !open) return emptyShell(shellsOf(mesh, weld));
+    if (!twice && !open) {
+        *shells = shellsOf(mesh, weld);
+        return emptyShell(*shells, places);
+    }
     // A defect exists: name the first face that shows it, duplicates first (they explain the
     // missing opposite edges that inconsistent winding also causes). Edges are named by their
     // end points: the vertex numbers are the loader's, not the file's.
@@ -258,58 +283,92 @@ std::string defectWith(const TriangleMesh& mesh, const std::vector<uint32_t>& we
             while (other < nt && edgeOf(other, 0) != k && edgeOf(other, 1) != k &&
                    edgeOf(other, 2) != k)
                 ++other;
-            return edgeName(k) + " of face " + std::to_string(f) + " appears twice (also in face " +
-                   std::to_string(other) + "): inconsistent winding or non-manifold";
+            return defectAt(places, f,
+                            edgeName(k) + " appears twice (also at " + places.ofTriangle(other) +
+                                "): inconsistent winding or non-manifold");
         }
     for (size_t f = 0; f < nt; ++f)
         for (int j = 0; j < 3; ++j) {
             const uint64_t k = edgeOf(f, j);
             if (!has(reverse(k)))
-                return edgeName(k) + " of face " + std::to_string(f) +
-                       " has no opposite edge: the mesh is not closed";
+                return defectAt(places, f,
+                                edgeName(k) + " has no opposite edge: the mesh is not closed");
         }
     return "";  // not reached
 }
-}  // namespace
 
-std::string closedMeshDefect(const TriangleMesh& mesh) {
-    if (mesh.triangleCount() == 0) return "the mesh has no triangles";
-    for (const Vec3& p : mesh.p)
-        if (!p.allFinite()) return "a vertex position is not finite";
+/// closedMeshDefect of a mesh with finite positions, given its weldByPosition; *shells are
+/// those of the welded mesh wherever it has computed them (else left empty).
+std::string defectWelded(const TriangleMesh& mesh, const std::vector<uint32_t>& weld,
+                         const MeshPlaces& places, Shells* shells) {
     // Closed as its vertices join its faces (two closed cubes that touch along an edge, each
     // with vertices of its own), or else as its positions do (a flat-shaded mesh, a vertex per
     // face corner): welded alone, the touching cubes' shared edge had four faces.
     std::vector<uint32_t> asGiven(mesh.p.size());
     for (uint32_t i = 0; i < asGiven.size(); ++i) asGiven[i] = i;
-    const std::vector<uint32_t> weld = weldByPosition(mesh);
-    if (!defectWith(mesh, asGiven).empty()) return defectWith(mesh, weld);
+    Shells given;
+    if (!defectWith(mesh, asGiven, places, &given).empty())
+        return defectWith(mesh, weld, places, shells);
+    // No two vertices at one position (a smooth mesh): the welded mesh is the mesh as given.
+    if (weld == asGiven) {
+        *shells = std::move(given);
+        return "";
+    }
     // Closed as given. Solids of their own vertices that touch along an edge (or at a point)
     // are fine; touching over a face, a ray crosses only one of the two faces there (the second
     // solid was empty as a medium's boundary). Told apart by the edges the welded mesh has twice:
     // all on one line, or not.
     const std::vector<uint64_t> keys = directedEdges(mesh, weld);
-    std::vector<Vec3> ends;  // of the edges found twice
+    std::vector<uint64_t> twice;  // the edges found twice
     for (size_t i = 1; i < keys.size(); ++i)
-        if (keys[i] == keys[i - 1])
-            ends.insert(ends.end(), {mesh.p[keys[i] >> 32], mesh.p[uint32_t(keys[i])]});
-    for (size_t i = 2; i < ends.size(); ++i) {
-        const Vec3 a = ends[1] - ends[0], b = ends[i] - ends[0];
-        if (a.cross(b).norm() > 1e-9 * a.norm() * b.norm())
-            return "solids touching over a face (at " + str(ends[i], true) +
-                   "): a ray crosses only one of the faces there; give each solid a surface of "
-                   "its own";
-    }
+        if (keys[i] == keys[i - 1]) twice.push_back(keys[i]);
+    const auto end = [&](size_t i, bool second) {
+        return mesh.p[second ? uint32_t(twice[i]) : uint32_t(twice[i] >> 32)];
+    };
+    for (size_t i = 1; i < twice.size(); ++i)
+        for (const bool second : {false, true}) {
+            const Vec3 a = end(0, true) - end(0, false), b = end(i, second) - end(0, false);
+            if (!(a.cross(b).norm() > 1e-9 * a.norm() * b.norm())) continue;
+            size_t f = 0;  // a face with that edge
+            while (
+                edgeKey(weld[mesh.indices[3 * f + 0]], weld[mesh.indices[3 * f + 1]]) != twice[i] &&
+                edgeKey(weld[mesh.indices[3 * f + 1]], weld[mesh.indices[3 * f + 2]]) != twice[i] &&
+                edgeKey(weld[mesh.indices[3 * f + 2]], weld[mesh.indices[3 * f + 0]]) != twice[i])
+                ++f;
+            return defectAt(places, f,
+                            "solids touching over a face (at " + str(end(i, second), true) +
+                                "): a ray crosses only one of the faces there; give each solid a "
+                                "surface of its own");
+        }
     return "";
 }
 
-double signedVolume(const TriangleMesh& mesh) {
+/// Whether every position is finite.
+bool finitePositions(const TriangleMesh& mesh) {
     for (const Vec3& p : mesh.p)
-        if (!p.allFinite()) return std::numeric_limits<double>::quiet_NaN();
-    const Shells s = shellsOf(mesh, weldByPosition(mesh));
-    double v = 0;
-    for (size_t f = 0; f < s.ofFace.size(); ++f)
-        if (s.ofFace[f] == f) v += s.volume[f];
-    return v;
+        if (!p.allFinite()) return false;
+    return true;
+}
+}  // namespace
+
+std::string closedMeshDefect(const TriangleMesh& mesh, const MeshPlaces& places) {
+    return meshSolidity(mesh, places).defect;
+}
+
+double signedVolume(const TriangleMesh& mesh) {
+    if (!finitePositions(mesh)) return std::numeric_limits<double>::quiet_NaN();
+    return volumeOf(shellsOf(mesh, weldByPosition(mesh)));
+}
+
+MeshSolidity meshSolidity(const TriangleMesh& mesh, const MeshPlaces& places) {
+    if (mesh.triangleCount() == 0) return {"the mesh has no triangles", 0};
+    if (!finitePositions(mesh))
+        return {"a vertex position is not finite", std::numeric_limits<double>::quiet_NaN()};
+    const std::vector<uint32_t> weld = weldByPosition(mesh);
+    Shells shells;
+    std::string defect = defectWelded(mesh, weld, places, &shells);
+    if (shells.ofFace.empty()) shells = shellsOf(mesh, weld);
+    return {std::move(defect), volumeOf(shells)};
 }
 
 double triangleArea(const TriangleMesh& mesh, size_t f) {

@@ -591,8 +591,60 @@ TEST(MeshFile, ObjErrors) {
         errorOf("degenerate4.obj", tet + "f 1 3 2 4\nf 4 2 3\nf 1 2 2\n"),
         tmp("degenerate4.obj") + ": line 7: a vertex repeated in a triangle: degenerate triangle");
     EXPECT_EQ(errorOf("empty.obj", tet), tmp("empty.obj") + ": the mesh has no triangles");
+    // A normal or texture coordinate at its own vn or vt line (it was named by the first face
+    // that used it).
     EXPECT_EQ(errorOf("normal.obj", tet + "vn 0 0 0\nf 1//1 3//1 2//1\n"),
-              tmp("normal.obj") + ": line 6: normal is zero");
+              tmp("normal.obj") + ": line 5: normal is zero");
+    EXPECT_EQ(errorOf("vn0e999.obj", tet + "vn 0 0 1\nvn 0e999 1 0\n# x\nf 1//1 3//1 2//1\n"
+                                           "f 1//2 2//2 4//2\n"),
+              tmp("vn0e999.obj") +
+                  ": line 6: a normal coordinate is not finite as tinyobjloader reads it (a number "
+                  "it misreads, such as 0e999 for 0)");
+    EXPECT_EQ(errorOf("vt0e999.obj", tet + "vt 0e999 0.5\nv 0 0 2\nf 1/1 3/1 2/1\n"),
+              tmp("vt0e999.obj") +
+                  ": line 5: a texture coordinate is not finite as tinyobjloader reads it (a "
+                  "number it misreads, such as 0e999 for 0)");
+}
+
+// A reader's places name the file's faces in what is checked after reading (a closed mesh's
+// defects): the OBJ line and the PLY face, not the loader's triangle (a quad is two).
+TEST(MeshFile, ReadersGiveTheFilesPlacesOfTheirTriangles) {
+    // A cube of quads facing outwards but the last, flipped; comments, blank and v lines between
+    // the faces. Triangle 1 (the first quad's second half, 1 4 2) has the edge 4 → 2, which the
+    // flipped quad 2 6 8 4 has too (its triangle 11).
+    const std::string obj =
+        "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\n# top\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\n"
+        "v 1 1 1\nf 1 3 4 2\n\n# sides\nf 5 6 8 7\nf 1 2 6 5\n# more\nf 3 7 8 4\nf 1 5 7 3\n"
+        "f 2 6 8 4\n";
+    const std::string twice =
+        "edge from (1, 1, -1) to (1, -1, -1) appears twice (also at LATER): inconsistent "
+        "winding or non-manifold";
+    const auto expected = [&](const std::string& path, const std::string& first,
+                              const std::string& later) {
+        std::string m = path + ": " + first + ": " + twice;
+        return m.replace(m.find("LATER"), 5, later);
+    };
+    MeshPlaces places;
+    const std::string objPath = write("flipped.obj", obj);
+    TriangleMesh m = readMesh(objPath, nullptr, &places);
+    EXPECT_EQ(closedMeshDefect(m, places), expected(objPath, "line 10", "line 18"));
+    // After a transform, the places say so.
+    const Eigen::Affine3d half(Eigen::Scaling(0.5));
+    m = readMesh(objPath, &half, &places);
+    EXPECT_EQ(closedMeshDefect(m, places).rfind(objPath + ": line 10, after the surface's "
+                                                          "transform: edge from (0.5, 0.5, -0.5)",
+                                                0),
+              0u)
+        << closedMeshDefect(m, places);
+
+    std::string ply =
+        "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 6\nproperty list uchar int vertex_indices\n"
+        "end_header\n-1 -1 -1\n1 -1 -1\n-1 1 -1\n1 1 -1\n-1 -1 1\n1 -1 1\n-1 1 1\n1 1 1\n"
+        "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 5 7 3\n";
+    const std::string plyPath = write("flipped.ply", ply);
+    m = readMesh(plyPath, nullptr, &places);
+    EXPECT_EQ(closedMeshDefect(m, places), expected(plyPath, "face 0", "face 5"));
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "shvol/surfaces/surface.h"
 #include "test_util.h"
 
 namespace shvol {
@@ -74,8 +75,8 @@ TEST(TriangleMesh, OpenBoxIsDetected) {
     EXPECT_NO_THROW(validateMesh(m, "box.obj"));
     // Face 0 = (0, 4, 6): edge (4, 6) lay against the top triangle (4, 7, 6).
     EXPECT_EQ(closedMeshDefect(m),
-              "edge from (-1, -1, 1) to (-1, 1, 1) of face 0 has no opposite "
-              "edge: the mesh is not closed");
+              "face 0: edge from (-1, -1, 1) to (-1, 1, 1) has no opposite edge: the mesh is not "
+              "closed");
 }
 
 TEST(TriangleMesh, NonManifoldEdgeIsDetected) {
@@ -84,7 +85,7 @@ TEST(TriangleMesh, NonManifoldEdgeIsDetected) {
     m.indices.insert(m.indices.end(), {0, 1, 8});  // a fin on the cube's edge (0, 1)
     EXPECT_NO_THROW(validateMesh(m, "fin.obj"));
     EXPECT_EQ(closedMeshDefect(m),
-              "edge from (-1, -1, -1) to (1, -1, -1) of face 4 appears twice (also in face 12): "
+              "face 4: edge from (-1, -1, -1) to (1, -1, -1) appears twice (also at face 12): "
               "inconsistent winding or non-manifold");
 }
 
@@ -93,12 +94,16 @@ TEST(TriangleMesh, InconsistentWindingIsDetected) {
     flip(m, 7);  // (2, 7, 3) becomes (2, 3, 7)
     const std::string d = closedMeshDefect(m);
     EXPECT_NE(d.find("appears twice"), std::string::npos) << d;
-    EXPECT_NE(d.find("face 7"), std::string::npos) << d;
+    // Face 2, (1, 3, 7), has the edge 3 → 7 that the flipped face 7 now has too.
+    EXPECT_EQ(
+        d.rfind("face 2: edge from (1, 1, -1) to (1, 1, 1) appears twice (also at face 7)", 0), 0u)
+        << d;
     EXPECT_NE(d.find("inconsistent winding or non-manifold"), std::string::npos) << d;
     EXPECT_EQ(closedMeshDefect(TriangleMesh()), "the mesh has no triangles");
     m = cube();
     m.indices[4] = m.indices[3];
-    EXPECT_EQ(closedMeshDefect(m), "face 1 repeats a vertex: degenerate triangle");
+    EXPECT_EQ(closedMeshDefect(m),
+              "face 1: two of its vertices at one position: degenerate triangle");
 }
 
 /// The cube with a vertex per corner of each face (24), as a file with a normal per face gives it.
@@ -191,26 +196,23 @@ TEST(TriangleMesh, SolidsTouchingAlongAnEdgeAreClosed) {
 TEST(TriangleMesh, APartWithoutVolumeIsNotClosed) {
     TriangleMesh sheet = tetrahedron();
     sheet.indices = {1, 2, 3, 1, 3, 2};
-    EXPECT_EQ(closedMeshDefect(sheet),
-              "the part of face 0 encloses no volume: both sides of one sheet, not the surface of "
-              "a solid");
+    const std::string noVolume =
+        ": the part of the mesh this face belongs to encloses no volume: both sides of one "
+        "sheet, not the surface of a solid";
+    EXPECT_EQ(closedMeshDefect(sheet), "face 0" + noVolume);
     // Beside a cube, as a part of its own (the cube's volume would hide it in a sum).
     TriangleMesh both = cube();
     const uint32_t n = uint32_t(both.p.size());
     for (const Vec3& p : {Vec3(5, 0, 0), Vec3(6, 0, 0), Vec3(5, 1, 0)}) both.p.push_back(p);
     both.indices.insert(both.indices.end(), {n, n + 1, n + 2, n, n + 2, n + 1});
-    EXPECT_EQ(closedMeshDefect(both),
-              "the part of face 12 encloses no volume: both sides of one sheet, not the surface "
-              "of a solid");
+    EXPECT_EQ(closedMeshDefect(both), "face 12" + noVolume);
     // Touching the cube at one vertex: a shell of its own still (faces join across edges; joined
     // at vertices, the cube's volume hid the sheet's).
     TriangleMesh touching = cube();
     const uint32_t t = uint32_t(touching.p.size());
     for (const Vec3& p : {Vec3(3, 1, 1), Vec3(3, 3, 1)}) touching.p.push_back(p);
     touching.indices.insert(touching.indices.end(), {7, t, t + 1, 7, t + 1, t});
-    EXPECT_EQ(closedMeshDefect(touching),
-              "the part of face 12 encloses no volume: both sides of one sheet, not the surface "
-              "of a solid");
+    EXPECT_EQ(closedMeshDefect(touching), "face 12" + noVolume);
     // A square covered on both sides by different diagonals: no triangle repeats.
     TriangleMesh square;
     square.p = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
@@ -249,7 +251,7 @@ TEST(TriangleMesh, ClosedCheckOfAMillionTriangles) {
     EXPECT_GT(signedVolume(m), 0);
     EXPECT_NEAR(signedVolume(m), 2 * Pi * Pi * 2, 0.01 * 4 * Pi * Pi);  // 2π²Rr², R = 2, r = 1
     flip(m, 999999);
-    EXPECT_NE(closedMeshDefect(m).find("appears twice (also in face 999999)"), std::string::npos)
+    EXPECT_NE(closedMeshDefect(m).find("appears twice (also at face 999999)"), std::string::npos)
         << closedMeshDefect(m);
 }
 
@@ -388,6 +390,30 @@ TEST(TriangleMesh, ValidateRefusesAnEmptyMesh) {
     m.indices = {0, 1};
     EXPECT_EQ(messageOf([&] { validateMesh(m, "e.obj"); }),
               "e.obj: 2 vertex indices: not whole triangles");
+}
+
+// A mesh surface's solidity is the mesh's, computed once; turned inside out, its volume changes
+// sign (the loader turns glass and boundaries outwards after asking).
+TEST(TriangleMesh, SurfaceSolidityIsTheMeshsAndFollowsTurningInsideOut) {
+    Surface s;
+    s.mesh = cube();
+    flipWinding(s.mesh);
+    EXPECT_EQ(s.solidity().defect, closedMeshDefect(s.mesh));
+    EXPECT_EQ(s.solidity().signedVolume, signedVolume(s.mesh));
+    EXPECT_EQ(s.solidity().signedVolume, -8.0);
+    s.turnInsideOut();
+    EXPECT_EQ(s.solidity().defect, "");
+    EXPECT_EQ(s.solidity().signedVolume, 8.0);
+    EXPECT_EQ(signedVolume(s.mesh), 8.0);
+    // An open mesh's defect, named by its places, and after turning it inside out the defect of
+    // the turned mesh.
+    Surface open;
+    open.mesh = cube();
+    open.mesh.indices.resize(open.mesh.indices.size() - 6);
+    open.places.file = "box.obj";
+    EXPECT_EQ(open.solidity().defect.rfind("box.obj: face 0: ", 0), 0u) << open.solidity().defect;
+    open.turnInsideOut();
+    EXPECT_EQ(open.solidity().defect, closedMeshDefect(open.mesh, open.places));
 }
 
 }  // namespace

@@ -23,15 +23,21 @@ namespace shvol {
 /// then moves the mesh there (transformMesh, which also makes the normals unit length) and, if
 /// that moved it, validates it again: a triangle the transform makes degenerate or too large is
 /// named at the file's place too ("FILE: line 9, after the surface's transform: …").
+///
+/// Given `places`, each reader also returns where the mesh's triangles are in the file, so that
+/// later checks (closedMeshDefect) can name the file's line or face.
 TriangleMesh parsePly(std::string_view bytes, const std::string& name,
-                      const Eigen::Affine3d* toWorld = nullptr);
-TriangleMesh readPly(const std::string& path, const Eigen::Affine3d* toWorld = nullptr);
+                      const Eigen::Affine3d* toWorld = nullptr, MeshPlaces* places = nullptr);
+TriangleMesh readPly(const std::string& path, const Eigen::Affine3d* toWorld = nullptr,
+                     MeshPlaces* places = nullptr);
 
 /// Wavefront OBJ: v, vn, vt and f (all shapes, groups and objects merged; materials ignored).
 /// A vertex of the mesh is one distinct (v, vt, vn) triple of the faces.
-TriangleMesh readObj(const std::string& path, const Eigen::Affine3d* toWorld = nullptr);
+TriangleMesh readObj(const std::string& path, const Eigen::Affine3d* toWorld = nullptr,
+                     MeshPlaces* places = nullptr);
 
 /// readObj or readPly by the file's extension (.obj, .ply; case-insensitive).
-TriangleMesh readMesh(const std::string& path, const Eigen::Affine3d* toWorld = nullptr);
+TriangleMesh readMesh(const std::string& path, const Eigen::Affine3d* toWorld = nullptr,
+                      MeshPlaces* places = nullptr);
 
 }  // namespace shvol

@@ -27,11 +27,17 @@ struct TriangleMesh {
 /// (PLY) or not (OBJ, whose corners are de-duplicated into vertices). Left empty: triangle f is
 /// "face f", vertex k "vertex k".
 struct MeshPlaces {
+    std::string file;  ///< the mesh's file, for messages that name it (closedMeshDefect)
     std::vector<uint32_t> faceOfTriangle;
     std::function<std::string(size_t face)> face;
     std::function<std::string(size_t vertex)> vertex;
     bool fileIndices = true;
     std::string note;  ///< after every place (", after the surface's transform")
+
+    /// The place of triangle f: its file face's name ("line 9") and the note.
+    std::string ofTriangle(size_t f) const;
+    /// The place of vertex k, as ofTriangle.
+    std::string ofVertex(size_t k) const;
 };
 
 /// Throws shvol::Error "FILE: vertex K: …" or "FILE: face K: …" (K counted from 0) for a
@@ -65,14 +71,23 @@ void widestAngleFirst(TriangleMesh& mesh);
 /// an edge is named by its end points (with the
 /// digits that tell them apart). A shell (faces joined across shared edges) that encloses no
 /// volume (|V| ≤ 10⁻⁹ A^{3/2}: both sides of one sheet) is refused too, and so are positions
-/// that are not finite.
-std::string closedMeshDefect(const TriangleMesh& mesh);
+/// that are not finite. The message starts with the place of the face that shows the defect
+/// ("face 12: …", or with places from the mesh's reader "cube.obj: line 40: …").
+std::string closedMeshDefect(const TriangleMesh& mesh, const MeshPlaces& places = {});
 
 /// Signed enclosed volume (1/6) Σ p0 · (p1 × p2): positive when a closed mesh faces outwards.
 /// Summed per shell (faces joined across edges, vertices welded by position) about a corner of
 /// the shell: the same for closed shells, without the cancellation of terms about a far origin.
 /// NaN if a position is not finite.
 double signedVolume(const TriangleMesh& mesh);
+
+/// closedMeshDefect and signedVolume of a mesh from one welding of its vertices (each of the two
+/// welds and sorts the whole mesh: a mesh surface's are computed once, Surface::solidity).
+struct MeshSolidity {
+    std::string defect;  ///< closedMeshDefect: "" if closed
+    double signedVolume = 0;
+};
+MeshSolidity meshSolidity(const TriangleMesh& mesh, const MeshPlaces& places = {});
 
 /// Reverses every triangle's winding (its normal flips; normals and uvs stay with the vertices).
 void flipWinding(TriangleMesh& mesh);
