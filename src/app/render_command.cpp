@@ -134,6 +134,15 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
     if (!scene.surfaces) return w;
     const double eps = scene.surfaces->epsilon();
     for (const Surface& s : scene.surfaces->surfaces()) {
+        // Glass that is not a solid's surface (a medium's boundary must be one: refused): a ray
+        // that enters it need not meet a face to leave by, and its faces are not turned to face
+        // outwards (helper 66: open, flipped and non-manifold glass rendered without a word).
+        if (s.kind == Surface::Kind::Mesh && s.bsdf.type == BsdfType::Dielectric &&
+            !s.solidity().defect.empty())
+            w.push_back(s.name + ": dielectric, but not the closed surface of a solid (" +
+                        s.solidity().defect +
+                        "): light that enters it may leave it only where a face happens to lie, "
+                        "and its faces were not turned to face outwards");
         const Bounds3 b = s.bounds();
         double size = (b.hi - b.lo).maxCoeff();
         // A closed mesh that rays pass through is judged by its thickness, 2V/A (a slab's: a pane

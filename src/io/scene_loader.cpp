@@ -211,6 +211,14 @@ Bsdf readBsdf(JsonReader r) {
     return b;
 }
 
+/// Why a closed mesh cannot be turned to face outwards (Surface::faceOutwards).
+std::string mixedShellsOfAnEmitter(const Surface& s) {
+    return s.name +
+           ": some of its shells face inwards and others outwards, and it emits from one side, "
+           "which cannot be turned shell by shell; wind its shells alike (outwards, a hollow's "
+           "inner wall inwards) or make its emission two-sided";
+}
+
 /// surfaces[index]; under Contents::Check a mesh's file is not read (its mesh stays empty).
 Surface readSurface(JsonReader r, size_t index, Contents contents) {
     const std::string type = r.choice("type", "mesh", {"mesh", "rectangle", "disk", "sphere"});
@@ -244,14 +252,14 @@ Surface readSurface(JsonReader r, size_t index, Contents contents) {
     if (!(s.reach() <= kMaxSurfaceCoordinate))
         r.error(type == "mesh" ? "file" : "", surfaceReachMessage(s.reach()));
     s.bsdf = readBsdf(r.objectOrEmpty("bsdf"));
-    // A closed glass mesh faces outwards whatever its winding or transform: a dielectric's
-    // outside is the side its normal points to.
-    if (s.kind == Surface::Kind::Mesh && s.bsdf.type == BsdfType::Dielectric && !s.mesh.p.empty() &&
-        s.solidity().signedVolume < 0 && s.solidity().defect.empty())
-        s.turnInsideOut();
     s.emission = spectrum(r, "emission", 0, 0, JsonReader::kUnbounded);
     s.twoSidedEmission = r.boolean("emission_two_sided", false);
     s.name = r.string("name", "surfaces[" + std::to_string(index) + "]");
+    // A closed glass mesh faces outwards whatever its winding or transform, shell by shell (a
+    // hollow's inner wall inwards): a dielectric's outside is the side its normal points to.
+    if (s.kind == Surface::Kind::Mesh && s.bsdf.type == BsdfType::Dielectric && !s.mesh.p.empty() &&
+        !s.faceOutwards())
+        r.error("emission", mixedShellsOfAnEmitter(s));
     r.finish();
     return s;
 }
@@ -290,10 +298,9 @@ std::unique_ptr<Medium> readMedium(JsonReader r, std::vector<Surface>& surfaces,
     if (r.has("boundary")) {
         const int b = readBoundary(r, surfaces, contents);
         surfaces[b].interiorMedium = index;
-        // Outwards, so that crossing against the normal enters the medium.
-        if (surfaces[b].kind == Surface::Kind::Mesh && !surfaces[b].mesh.p.empty() &&
-            surfaces[b].solidity().signedVolume < 0)
-            surfaces[b].turnInsideOut();
+        // Outwards, shell by shell, so that crossing against the normal enters the medium.
+        if (!surfaces[b].mesh.p.empty() && !surfaces[b].faceOutwards())
+            r.error("boundary", mixedShellsOfAnEmitter(surfaces[b]));
     }
     const Spectrum albedo = spectrum(r, "albedo", 1, 0, 1);
     // Absent: isotropic, the phase type's default (and so recorded in scene_resolved).

@@ -52,12 +52,34 @@ Bounds3 Surface::bounds() const {
 void Surface::turnInsideOut() {
     flipWinding(mesh);
     emitsFromBack = !emitsFromBack;
-    // The volume changes sign; a defect's message would name its edges the other way round.
-    if (solidity_)
-        solidity_ =
-            solidity_->defect.empty()
-                ? std::make_shared<const MeshSolidity>(MeshSolidity{"", -solidity_->signedVolume})
-                : nullptr;
+    // The volume changes sign, and the shells that faced the wrong way are the others now; a
+    // defect's message would name its edges the other way round.
+    if (!solidity_ || !solidity_->defect.empty()) {
+        solidity_ = nullptr;
+        return;
+    }
+    MeshSolidity m{"", -solidity_->signedVolume, {}};
+    const std::vector<uint32_t>& was = solidity_->inwardFaces;
+    for (uint32_t f = 0, k = 0; f < mesh.triangleCount(); ++f)
+        if (k < was.size() && was[k] == f)
+            ++k;
+        else
+            m.inwardFaces.push_back(f);
+    solidity_ = std::make_shared<const MeshSolidity>(std::move(m));
+}
+
+bool Surface::faceOutwards() {
+    if (kind != Kind::Mesh || !solidity().defect.empty()) return true;
+    const std::vector<uint32_t>& inward = solidity().inwardFaces;
+    if (inward.empty()) return true;
+    if (inward.size() == mesh.triangleCount()) {
+        turnInsideOut();
+        return true;
+    }
+    if (emits() && !twoSidedEmission) return false;
+    for (const uint32_t f : inward) std::swap(mesh.indices[3 * f + 1], mesh.indices[3 * f + 2]);
+    solidity_ = nullptr;  // (computed again if asked: the volume changed)
+    return true;
 }
 
 const MeshSolidity& Surface::solidity() const {

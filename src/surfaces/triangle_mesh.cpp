@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "shvol/core/error.h"
+#include "shvol/core/ray.h"
 
 namespace shvol {
 
@@ -297,8 +298,9 @@ std::string defectWith(const TriangleMesh& mesh, const std::vector<uint32_t>& we
     return "";  // not reached
 }
 
-/// closedMeshDefect of a mesh with finite positions, given its weldByPosition; *shells are
-/// those of the welded mesh wherever it has computed them (else left empty).
+/// closedMeshDefect of a mesh with finite positions, given its weldByPosition; *shells are those
+/// of the mesh as it is closed (its vertices as given, else welded) wherever it has computed
+/// them (else left empty).
 std::string defectWelded(const TriangleMesh& mesh, const std::vector<uint32_t>& weld,
                          const MeshPlaces& places, Shells* shells) {
     // Closed as its vertices join its faces (two closed cubes that touch along an edge, each
@@ -306,14 +308,10 @@ std::string defectWelded(const TriangleMesh& mesh, const std::vector<uint32_t>& 
     // face corner): welded alone, the touching cubes' shared edge had four faces.
     std::vector<uint32_t> asGiven(mesh.p.size());
     for (uint32_t i = 0; i < asGiven.size(); ++i) asGiven[i] = i;
-    Shells given;
-    if (!defectWith(mesh, asGiven, places, &given).empty())
+    if (!defectWith(mesh, asGiven, places, shells).empty())
         return defectWith(mesh, weld, places, shells);
     // No two vertices at one position (a smooth mesh): the welded mesh is the mesh as given.
-    if (weld == asGiven) {
-        *shells = std::move(given);
-        return "";
-    }
+    if (weld == asGiven) return "";
     // Closed as given. Solids of their own vertices that touch along an edge (or at a point)
     // are fine; touching over a face, a ray crosses only one of the two faces there (the second
     // solid was empty as a medium's boundary). Told apart by the edges the welded mesh has twice:
@@ -343,6 +341,66 @@ std::string defectWelded(const TriangleMesh& mesh, const std::vector<uint32_t>& 
     return "";
 }
 
+/// The solid angle of triangle f seen from x, signed (positive where x lies on its back side, as
+/// the inside of a closed mesh facing outwards does): Van Oosterom & Strackee 1983,
+/// tan(Ω/2) = a·(b × c) / (|a||b||c| + (a·b)|c| + (a·c)|b| + (b·c)|a|), a, b, c the corners − x.
+double solidAngle(const TriangleMesh& mesh, size_t f, const Vec3& x) {
+    const uint32_t* t = &mesh.indices[3 * f];
+    const Vec3 a = mesh.p[t[0]] - x, b = mesh.p[t[1]] - x, c = mesh.p[t[2]] - x;
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    return 2 * std::atan2(a.dot(b.cross(c)),
+                          la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la);
+}
+
+/// The faces of the closed mesh whose shell faces the wrong way (MeshSolidity::inwardFaces): a
+/// shell nested in k others faces outwards if k is even, inwards if odd. A shell is inside
+/// another if a point of it (its first face's centroid) has a winding number ±1 with respect to
+/// that shell (Σ Ω / 4π; |w| > 1/2), which only shells whose boxes hold the point are asked.
+std::vector<uint32_t> inwardFaces(const TriangleMesh& mesh, const Shells& s) {
+    const size_t nt = mesh.triangleCount();
+    std::vector<uint32_t> roots, start(nt + 1, 0), faces(nt);
+    for (size_t f = 0; f < nt; ++f) {
+        if (s.ofFace[f] == f) roots.push_back(uint32_t(f));
+        ++start[s.ofFace[f] + 1];
+    }
+    std::vector<uint32_t> turned;
+    if (roots.size() == 1) {  // (most meshes: no winding numbers)
+        if (s.volume[roots[0]] < 0)
+            for (uint32_t f = 0; f < nt; ++f) turned.push_back(f);
+        return turned;
+    }
+    // The faces of each shell together (faces[start[r] …]), and each shell's box.
+    for (size_t r = 0; r < nt; ++r) start[r + 1] += start[r];
+    std::vector<uint32_t> next(start.begin(), start.end() - 1);
+    for (uint32_t f = 0; f < nt; ++f) faces[next[s.ofFace[f]]++] = f;
+    std::vector<Bounds3> box(roots.size(), {Vec3::Constant(INFINITY), Vec3::Constant(-INFINITY)});
+    for (size_t i = 0; i < roots.size(); ++i)
+        for (uint32_t k = start[roots[i]]; k < start[roots[i] + 1]; ++k)
+            for (int j = 0; j < 3; ++j) {
+                const Vec3& p = mesh.p[mesh.indices[3 * faces[k] + j]];
+                box[i].lo = box[i].lo.cwiseMin(p), box[i].hi = box[i].hi.cwiseMax(p);
+            }
+    for (size_t i = 0; i < roots.size(); ++i) {
+        const uint32_t* t = &mesh.indices[3 * roots[i]];
+        const Vec3 x = (mesh.p[t[0]] + mesh.p[t[1]] + mesh.p[t[2]]) / 3;
+        int depth = 0;
+        for (size_t o = 0; o < roots.size(); ++o) {
+            if (o == i || (x.array() < box[o].lo.array()).any() ||
+                (x.array() > box[o].hi.array()).any())
+                continue;
+            double omega = 0;
+            for (uint32_t k = start[roots[o]]; k < start[roots[o] + 1]; ++k)
+                omega += solidAngle(mesh, faces[k], x);
+            if (std::abs(omega) > TwoPi) ++depth;
+        }
+        if ((s.volume[roots[i]] < 0) != (depth % 2 == 1))
+            turned.insert(turned.end(), faces.begin() + start[roots[i]],
+                          faces.begin() + start[roots[i] + 1]);
+    }
+    std::sort(turned.begin(), turned.end());
+    return turned;
+}
+
 /// Whether every position is finite.
 bool finitePositions(const TriangleMesh& mesh) {
     for (const Vec3& p : mesh.p)
@@ -368,7 +426,9 @@ MeshSolidity meshSolidity(const TriangleMesh& mesh, const MeshPlaces& places) {
     Shells shells;
     std::string defect = defectWelded(mesh, weld, places, &shells);
     if (shells.ofFace.empty()) shells = shellsOf(mesh, weld);
-    return {std::move(defect), volumeOf(shells)};
+    MeshSolidity m{std::move(defect), volumeOf(shells), {}};
+    if (m.defect.empty()) m.inwardFaces = inwardFaces(mesh, shells);
+    return m;
 }
 
 double triangleArea(const TriangleMesh& mesh, size_t f) {

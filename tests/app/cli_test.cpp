@@ -1339,6 +1339,34 @@ TEST_F(Cli, RenderWarnsOfSurfacesSmallForTheRayOffset) {
                          "origin\n");
 }
 
+// Glass that is not a solid's surface is named in a warning, with its defect's place in its
+// file (it rendered without a word; helper 66).
+TEST_F(Cli, RenderWarnsOfGlassThatIsNotClosed) {
+    write("open.obj",
+          "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n# no fourth face\n"
+          "f 1 3 2\nf 1 2 4\nf 1 4 3\n");
+    write("s.json", R"({"camera": {"resolution": [4, 4], "position": [0.3, -4, 0.3]},
+                   "render": {"spp": 1}, "environment": {"type": "constant", "radiance": 1},
+                   "surfaces": [{"type": "mesh", "file": "open.obj", "name": "vase",
+                                 "bsdf": {"type": "dielectric"}}]})");
+    Result r = run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "shvol: warning: " + path("s.json") +
+                         ": vase: dielectric, but not the "
+                         "closed surface of a solid (" +
+                         path("open.obj") +
+                         ": line 6: edge from (0, 1, 0) to (1, 0, 0) has no opposite edge: the "
+                         "mesh is not closed): light that enters it may leave it only where a "
+                         "face happens to lie, and its faces were not turned to face outwards\n");
+    // Closed, no warning.
+    write("open.obj",
+          "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n"
+          "f 2 3 4\n");
+    r = run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+}
+
 // A pixel whose mean exceeds the float32 range is written as inf, and said so (on stderr and in
 // the stats' warnings), not passed silently.
 TEST_F(Cli, RenderSaysWhenAPixelOverflowsFloat) {

@@ -288,6 +288,11 @@ struct SurfaceFiles {
             << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
                "vn 0 0 1\nvn 0 1 0\nvn 1 0 0\nvn -1 -1 -1\n"
                "f 1//1 2//1 3//1\nf 1//2 4//2 2//2\nf 1//3 3//3 4//3\nf 2//4 4//4 3//4\n";
+        // Two tetrahedra apart, the first outwards, the second (8 times its volume) inwards.
+        std::ofstream(dir + "/mixed.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                                             "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
+                                             "v 5 0 0\nv 7 0 0\nv 5 2 0\nv 5 0 2\n"
+                                             "f 5 6 7\nf 5 8 6\nf 5 7 8\nf 6 8 7\n";
     }
     Scene load(const std::string& json) const {
         return sceneFromJson(Json::parse(json), dir + "/scene.json");
@@ -462,6 +467,28 @@ TEST(SceneLoader, MediumBoundedByAClosedSurface) {
         EXPECT_EQ(sf.Le(ng, -ng)[0], 1) << media;  // towards the inside
         EXPECT_EQ(sf.Le(ng, ng)[0], 0) << media;
     }
+    // Shell by shell: a second part facing inwards beside one facing outwards is turned alone
+    // (the mesh was turned as a whole by its total volume, negative here, which left the first
+    // part inside out: as a boundary, its medium filled all space behind it).
+    for (const char* media : {"", R"(, "media": [{"type": "homogeneous", "boundary": 0}])"}) {
+        const Scene two =
+            f.load(R"({"surfaces": [{"type": "mesh", "file": "mixed.obj",
+            "bsdf": {"type": ")" +
+                   std::string(*media ? "null" : "dielectric") + R"("}}])" + media + "}");
+        const TriangleMesh& m = two.surfaces->surfaces()[0].mesh;
+        EXPECT_EQ(meshSolidity(m).inwardFaces.size(), 0u) << media;
+        EXPECT_NEAR(signedVolume(m), 1.0 / 6 + 8.0 / 6, 1e-12) << media;
+    }
+    // A one-sided emitter cannot be turned shell by shell.
+    const std::string mixedLamp = test::messageOf([&] {
+        f.load(R"({"surfaces": [{"type": "mesh", "file": "mixed.obj", "name": "lamp",
+                "bsdf": {"type": "null"}, "emission": 1}],
+                "media": [{"type": "homogeneous", "boundary": 0}]})");
+    });
+    EXPECT_NE(mixedLamp.find("media[0].boundary: lamp: some of its shells face inwards and "
+                             "others outwards"),
+              std::string::npos)
+        << mixedLamp;
     // By index too.
     EXPECT_EQ(f.load(R"({"surfaces": [{"type": "sphere", "bsdf": {"type": "null"}}],
                          "media": [{"type": "homogeneous", "boundary": 0}]})")

@@ -392,6 +392,75 @@ TEST(TriangleMesh, ValidateRefusesAnEmptyMesh) {
               "e.obj: 2 vertex indices: not whole triangles");
 }
 
+/// a with b's triangles appended, b's positions scaled by `scale` and moved by `shift`, and its
+/// winding reversed if `flipped`.
+TriangleMesh withShell(TriangleMesh a, const TriangleMesh& b, double scale, const Vec3& shift,
+                       bool flipped) {
+    const uint32_t n = uint32_t(a.p.size());
+    for (const Vec3& p : b.p) a.p.push_back(scale * p + shift);
+    for (size_t k = 0; k < b.indices.size(); k += 3)
+        a.indices.insert(a.indices.end(), {n + b.indices[k], n + b.indices[k + (flipped ? 2 : 1)],
+                                           n + b.indices[k + (flipped ? 1 : 2)]});
+    return a;
+}
+
+/// The faces from `first` to `first + count`.
+std::vector<uint32_t> faceRange(uint32_t first, uint32_t count) {
+    std::vector<uint32_t> f(count);
+    for (uint32_t k = 0; k < count; ++k) f[k] = first + k;
+    return f;
+}
+
+// Each shell faces outwards, or inwards nested in an odd number of others (a hollow's inner
+// wall); a mesh was turned as a whole by its total volume, which left a second cube facing
+// inwards beside one facing outwards (as a medium's boundary, fog filled all space behind it).
+TEST(TriangleMesh, ShellsThatFaceTheWrongWayAreFound) {
+    const TriangleMesh c = cube();  // 12 faces, |V| = 8
+    using Faces = std::vector<uint32_t>;
+    EXPECT_EQ(meshSolidity(c).inwardFaces, Faces());
+    TriangleMesh inward = c;
+    flipWinding(inward);
+    EXPECT_EQ(meshSolidity(inward).inwardFaces, faceRange(0, 12));
+    // Apart: the second, larger cube wound inwards (their volumes' sum is negative).
+    const TriangleMesh apart = withShell(c, c, 2, Vec3(10, 0, 0), true);
+    EXPECT_LT(signedVolume(apart), 0);
+    EXPECT_EQ(meshSolidity(apart).inwardFaces, faceRange(12, 12));
+    // A hollow cube: its inner wall inwards is right, outwards wrong.
+    EXPECT_EQ(meshSolidity(withShell(c, c, 0.5, Vec3(0.1, 0, 0), true)).inwardFaces, Faces());
+    EXPECT_EQ(meshSolidity(withShell(c, c, 0.5, Vec3(0.1, 0, 0), false)).inwardFaces,
+              faceRange(12, 12));
+    // A solid within the hollow faces outwards again (nested in two shells).
+    const TriangleMesh hollow = withShell(c, c, 0.5, Vec3(0, 0, 0), true);
+    EXPECT_EQ(meshSolidity(withShell(hollow, c, 0.2, Vec3(0, 0, 0), false)).inwardFaces, Faces());
+    EXPECT_EQ(meshSolidity(withShell(hollow, c, 0.2, Vec3(0, 0, 0), true)).inwardFaces,
+              faceRange(24, 12));
+    // All turned: every shell the wrong way.
+    TriangleMesh all = withShell(hollow, c, 0.2, Vec3(0, 0, 0), false);
+    flipWinding(all);
+    EXPECT_EQ(meshSolidity(all).inwardFaces, faceRange(0, 36));
+    // Surface::faceOutwards turns them, and a one-sided emitter it will not turn shell by shell.
+    Surface sf;
+    sf.mesh = apart;
+    EXPECT_TRUE(sf.faceOutwards());
+    EXPECT_EQ(meshSolidity(sf.mesh).inwardFaces, Faces());
+    EXPECT_EQ(signedVolume(sf.mesh), 8.0 + 64.0);
+    Surface lamp;
+    lamp.mesh = apart;
+    lamp.emission = Spectrum::Ones();
+    EXPECT_FALSE(lamp.faceOutwards());
+    EXPECT_EQ(lamp.mesh.indices, apart.indices);
+    lamp.twoSidedEmission = true;
+    EXPECT_TRUE(lamp.faceOutwards());
+    // Turned as a whole, a one-sided emitter keeps its side.
+    Surface whole;
+    whole.mesh = inward;
+    whole.emission = Spectrum::Ones();
+    EXPECT_TRUE(whole.faceOutwards());
+    EXPECT_TRUE(whole.emitsFromBack);
+    EXPECT_EQ(whole.solidity().inwardFaces, Faces());
+    EXPECT_EQ(whole.solidity().signedVolume, 8.0);
+}
+
 // A mesh surface's solidity is the mesh's, computed once; turned inside out, its volume changes
 // sign (the loader turns glass and boundaries outwards after asking).
 TEST(TriangleMesh, SurfaceSolidityIsTheMeshsAndFollowsTurningInsideOut) {

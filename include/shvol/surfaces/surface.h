@@ -64,6 +64,11 @@ struct Surface {
     }
     /// Reverses the mesh's winding (flipWinding), its emission staying on the side it was.
     void turnInsideOut();
+    /// Turns the shells of a closed mesh that face the wrong way for a solid's surface
+    /// (MeshSolidity::inwardFaces): all of them by turnInsideOut, some face by face. A one-sided
+    /// emitter's side cannot follow the second (one flag for the whole surface): false, and
+    /// nothing is changed. A mesh that is not closed is left as it is.
+    bool faceOutwards();
     /// meshSolidity(mesh, places), computed when first asked and then kept: the loader's glass
     /// and boundary checks and the thin-surface warning each ask, and each analysis welds and
     /// sorts the whole mesh (a glass sphere of 2M triangles loaded in 6.0 s, 2.8 s of it in

@@ -86,6 +86,12 @@ double signedVolume(const TriangleMesh& mesh);
 struct MeshSolidity {
     std::string defect;  ///< closedMeshDefect: "" if closed
     double signedVolume = 0;
+    /// Closed: the faces, in order, of the shells (faces joined across their edges) that face
+    /// the wrong way for the surface of a solid. A shell faces outwards, or, nested inside an
+    /// odd number of others (a hollow's inner wall), inwards; nesting is judged at a point of
+    /// each shell by its generalised winding number (Σ solid angles / 4π, Jacobson et al. 2013)
+    /// with respect to each other shell. Shells must not intersect one another (README).
+    std::vector<uint32_t> inwardFaces;
 };
 MeshSolidity meshSolidity(const TriangleMesh& mesh, const MeshPlaces& places = {});
 
