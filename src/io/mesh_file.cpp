@@ -799,12 +799,23 @@ TriangleMesh parsePly(std::string_view bytes, const std::string& name,
     TriangleMesh mesh;
     MeshPlaces places;  // the file's face of each triangle
     places.file = name;
-    if (h.format == Format::Ascii) {
-        AsciiBody body(bytes, h.bodyOffset, h.bodyLine, name);
-        readBody(body, h, mesh, name, places.faceOfTriangle);
-    } else {
-        BinaryBody body(bytes, h.bodyOffset, h.format == Format::BinaryBE, name);
-        readBody(body, h, mesh, name, places.faceOfTriangle);
+    try {
+        if (h.format == Format::Ascii) {
+            AsciiBody body(bytes, h.bodyOffset, h.bodyLine, name);
+            readBody(body, h, mesh, name, places.faceOfTriangle);
+        } else {
+            BinaryBody body(bytes, h.bodyOffset, h.format == Format::BinaryBE, name);
+            readBody(body, h, mesh, name, places.faceOfTriangle);
+        }
+    } catch (const Error& e) {
+        // A count in the header that does not match the body shows only where reading went out
+        // of step (a face read as vertex 7: "more values than the header declares"): the counts
+        // go with every body error (helper 66).
+        std::string counts;
+        for (const Element& el : h.elements)
+            counts +=
+                (counts.empty() ? "" : ", ") + std::to_string(el.count) + " " + quote(el.name);
+        throw Error(std::string(e.what()) + "; the header declares " + counts);
     }
     validateAndPlace(mesh, name, places, toWorld);
     if (placesOut) *placesOut = std::move(places);

@@ -334,36 +334,48 @@ TEST(MeshFile, PlyHugeCountsFailBeforeAllocating) {
     b.put<uint32_t>(4000000000u).put<uint32_t>(0);
     EXPECT_EQ(errorOf("long_list.ply", b.s),
               tmp("long_list.ply") + ": byte " + std::to_string(body + 36) +
-                  ": list of 4000000000 items in face 0 (at most 65536)");
+                  ": list of 4000000000 items in face 0 (at most 65536); the header declares 3 "
+                  "\"vertex\", 1 \"face\"");
     b.s.resize(body + 36);
     b.put<uint32_t>(1000).put<uint32_t>(0);
-    EXPECT_EQ(errorOf("long_list.ply", b.s), tmp("long_list.ply") + ": byte " +
-                                                 std::to_string(body + 36) +
-                                                 ": end of file inside face 0");
+    EXPECT_EQ(errorOf("long_list.ply", b.s),
+              tmp("long_list.ply") + ": byte " + std::to_string(body + 36) +
+                  ": end of file inside face 0; the header declares 3 \"vertex\", 1 \"face\"");
 }
 
 TEST(MeshFile, PlyBodyErrors) {
+    // Every body error ends with the header's counts, which a wrong count would otherwise hide
+    // (a vertex line read as face 0: "face 0 has 0 vertices"; helper 66).
+    const std::string counts = "; the header declares 1 \"camera\", 5 \"vertex\", 5 \"face\"";
+    std::string fewer = kAsciiHead;
+    fewer.replace(fewer.find("vertex 4"), 8, "vertex 3");
+    EXPECT_EQ(errorOf("fewer.ply", fewer + kAsciiTet),
+              tmp("fewer.ply") +
+                  ": line 13: face 0 has 0 vertices (a polygon needs at least 3); "
+                  "the header declares 3 \"vertex\", 4 \"face\"");
     std::string binary = binaryPyramid(false);
     const size_t size = binary.size();  // the last face: uchar count, 3 ints, char flag
     binary.resize(size - 3);            // the list (3 ints) at size − 13 is cut short
     EXPECT_EQ(errorOf("truncated.ply", binary), tmp("truncated.ply") + ": byte " +
                                                     std::to_string(size - 14) +
-                                                    ": end of file inside face 4");
+                                                    ": end of file inside face 4" + counts);
     binary.resize(size - 14);  // without the last face
     EXPECT_EQ(errorOf("truncated.ply", binary), tmp("truncated.ply") + ": byte " +
                                                     std::to_string(size - 14) +
-                                                    ": end of file inside face 4");
+                                                    ": end of file inside face 4" + counts);
     binary.resize(size - 320 + 100);  // 100 bytes of the body: not even the vertices fit
     EXPECT_CONTAINS(errorOf("truncated.ply", binary),
                     "line 6: element \"vertex\" claims 5 records, but the rest of the file holds "
                     "at most 1");
     EXPECT_EQ(errorOf("trailing.ply", binaryPyramid(true) + "xy"),
               tmp("trailing.ply") + ": byte " + std::to_string(binaryPyramid(true).size()) +
-                  ": 2 bytes after the last element");
+                  ": 2 bytes after the last element" + counts);
 
     EXPECT_EQ(errorOf("range.ply", kAsciiHead + "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 4\n"
                                                 "3 0 3 2\n3 1 2 3\n"),
-              tmp("range.ply") + ": line 15: vertex index 4 of face 1 out of range (4 vertices)");
+              tmp("range.ply") +
+                  ": line 15: vertex index 4 of face 1 out of range (4 vertices); the header "
+                  "declares 4 \"vertex\", 4 \"face\"");
     EXPECT_CONTAINS(errorOf("negative.ply", kAsciiHead + "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n"
                                                          "3 0 1 -3\n3 0 3 2\n3 1 2 3\n"),
                     "line 15: vertex index -3 of face 1 out of range (4 vertices)");
