@@ -352,22 +352,33 @@ double solidAngle(const TriangleMesh& mesh, size_t f, const Vec3& x) {
                           la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la);
 }
 
-/// The faces of the closed mesh whose shell faces the wrong way (MeshSolidity::inwardFaces): a
-/// shell nested in k others faces outwards if k is even, inwards if odd. A shell is inside
-/// another if a point of it (its first face's centroid) has a winding number ±1 with respect to
-/// that shell (Σ Ω / 4π; |w| > 1/2), which only shells whose boxes hold the point are asked.
-std::vector<uint32_t> inwardFaces(const TriangleMesh& mesh, const Shells& s) {
+/// How the shells of a closed mesh lie: MeshSolidity's defect where two cross, else its
+/// inwardFaces.
+struct ShellLayout {
+    std::string defect;
+    std::vector<uint32_t> inwardFaces;
+};
+
+/// The shells' layout: a shell nested in k others faces outwards if k is even, inwards if odd. A
+/// point lies inside another shell if its winding number with respect to that shell (Σ Ω / 4π,
+/// Jacobson et al. 2013) is ±1, outside if 0, and on it in between (two solids touching along an
+/// edge); only shells whose boxes hold the point are asked. A shell is inside another if its
+/// first face's centroid is; two shells cross if of a few of one's points (a corner and the
+/// centroid of up to 8 faces spread over it) some lie inside the other and some outside it (a
+/// check that can miss crossings no sampled point shows: two bars crossed like a plus sign).
+ShellLayout layoutOf(const TriangleMesh& mesh, const Shells& s, const MeshPlaces& places) {
     const size_t nt = mesh.triangleCount();
     std::vector<uint32_t> roots, start(nt + 1, 0), faces(nt);
     for (size_t f = 0; f < nt; ++f) {
         if (s.ofFace[f] == f) roots.push_back(uint32_t(f));
         ++start[s.ofFace[f] + 1];
     }
-    std::vector<uint32_t> turned;
+    ShellLayout layout;
+    std::vector<uint32_t>& turned = layout.inwardFaces;
     if (roots.size() == 1) {  // (most meshes: no winding numbers)
         if (s.volume[roots[0]] < 0)
             for (uint32_t f = 0; f < nt; ++f) turned.push_back(f);
-        return turned;
+        return layout;
     }
     // The faces of each shell together (faces[start[r] …]), and each shell's box.
     for (size_t r = 0; r < nt; ++r) start[r + 1] += start[r];
@@ -380,25 +391,49 @@ std::vector<uint32_t> inwardFaces(const TriangleMesh& mesh, const Shells& s) {
                 const Vec3& p = mesh.p[mesh.indices[3 * faces[k] + j]];
                 box[i].lo = box[i].lo.cwiseMin(p), box[i].hi = box[i].hi.cwiseMax(p);
             }
+    const auto inBox = [&](const Vec3& x, size_t o) {
+        return !(x.array() < box[o].lo.array()).any() && !(x.array() > box[o].hi.array()).any();
+    };
+    // |winding number| of x with respect to shell o: about 1 inside, 0 outside.
+    const auto winding = [&](const Vec3& x, size_t o) {
+        double omega = 0;
+        for (uint32_t k = start[roots[o]]; k < start[roots[o] + 1]; ++k)
+            omega += solidAngle(mesh, faces[k], x);
+        return std::abs(omega) / (2 * TwoPi);
+    };
     for (size_t i = 0; i < roots.size(); ++i) {
         const uint32_t* t = &mesh.indices[3 * roots[i]];
         const Vec3 x = (mesh.p[t[0]] + mesh.p[t[1]] + mesh.p[t[2]]) / 3;
+        const uint32_t count = start[roots[i] + 1] - start[roots[i]];
         int depth = 0;
         for (size_t o = 0; o < roots.size(); ++o) {
-            if (o == i || (x.array() < box[o].lo.array()).any() ||
-                (x.array() > box[o].hi.array()).any())
-                continue;
-            double omega = 0;
-            for (uint32_t k = start[roots[o]]; k < start[roots[o] + 1]; ++k)
-                omega += solidAngle(mesh, faces[k], x);
-            if (std::abs(omega) > TwoPi) ++depth;
+            if (o == i) continue;
+            if (inBox(x, o) && winding(x, o) > 0.5) ++depth;
+            bool inside = false, outside = false;
+            for (uint32_t k = 0; k < std::min(count, 8u); ++k) {
+                const uint32_t* c = &mesh.indices[3 * faces[start[roots[i]] + k * count / 8]];
+                for (const Vec3& v :
+                     {mesh.p[c[0]], Vec3((mesh.p[c[0]] + mesh.p[c[1]] + mesh.p[c[2]]) / 3)}) {
+                    const double w = inBox(v, o) ? winding(v, o) : 0;
+                    inside |= w > 0.9, outside |= w < 0.1;
+                }
+            }
+            if (inside && outside) {
+                layout.defect = defectAt(places, roots[i],
+                                         "the part of the mesh this face belongs to crosses the "
+                                         "part at " +
+                                             places.ofTriangle(roots[o]) +
+                                             ": the parts of one mesh must not intersect (a ray "
+                                             "would enter one solid inside the other)");
+                return layout;
+            }
         }
         if ((s.volume[roots[i]] < 0) != (depth % 2 == 1))
             turned.insert(turned.end(), faces.begin() + start[roots[i]],
                           faces.begin() + start[roots[i] + 1]);
     }
     std::sort(turned.begin(), turned.end());
-    return turned;
+    return layout;
 }
 
 /// Whether every position is finite.
@@ -427,7 +462,11 @@ MeshSolidity meshSolidity(const TriangleMesh& mesh, const MeshPlaces& places) {
     std::string defect = defectWelded(mesh, weld, places, &shells);
     if (shells.ofFace.empty()) shells = shellsOf(mesh, weld);
     MeshSolidity m{std::move(defect), volumeOf(shells), {}};
-    if (m.defect.empty()) m.inwardFaces = inwardFaces(mesh, shells);
+    if (m.defect.empty()) {
+        ShellLayout layout = layoutOf(mesh, shells, places);
+        m.defect = std::move(layout.defect);
+        m.inwardFaces = std::move(layout.inwardFaces);
+    }
     return m;
 }
 

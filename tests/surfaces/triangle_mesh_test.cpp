@@ -461,6 +461,24 @@ TEST(TriangleMesh, ShellsThatFaceTheWrongWayAreFound) {
     EXPECT_EQ(whole.solidity().signedVolume, 8.0);
 }
 
+// Parts of one mesh that cross each other are refused (each crossing enters or leaves the one
+// medium: the overlap of two cubes was empty; helper 66); nested, apart and touching along an
+// edge they are not.
+TEST(TriangleMesh, PartsThatCrossAreRefused) {
+    const TriangleMesh c = cube();  // [−1, 1]³
+    const std::string crosses = "the part of the mesh this face belongs to crosses the part at ";
+    for (const Vec3& shift : {Vec3(1, 0, 0), Vec3(1, 1, 1), Vec3(0.3, -0.2, 0.1)}) {
+        // (Named from whichever part a sampled point shows it: the first, or the second.)
+        const std::string d = meshSolidity(withShell(c, c, 1, shift, false)).defect;
+        EXPECT_TRUE(d.rfind("face 0: " + crosses + "face 12: ", 0) == 0 ||
+                    d.rfind("face 12: " + crosses + "face 0: ", 0) == 0)
+            << shift.transpose() << ": " << d;
+    }
+    EXPECT_EQ(meshSolidity(withShell(c, c, 0.5, Vec3(0, 0, 0), true)).defect, "");
+    EXPECT_EQ(meshSolidity(withShell(c, c, 1, Vec3(3, 0, 0), false)).defect, "");
+    EXPECT_EQ(meshSolidity(withShell(c, c, 1, Vec3(2, 2, 0), false)).defect, "");
+}
+
 // A mesh surface's solidity is the mesh's, computed once; turned inside out, its volume changes
 // sign (the loader turns glass and boundaries outwards after asking).
 TEST(TriangleMesh, SurfaceSolidityIsTheMeshsAndFollowsTurningInsideOut) {

@@ -70,8 +70,9 @@ void widestAngleFirst(TriangleMesh& mesh);
 /// corners with different normals or texture coordinates are distinct vertices of the mesh);
 /// an edge is named by its end points (with the
 /// digits that tell them apart). A shell (faces joined across shared edges) that encloses no
-/// volume (|V| ≤ 10⁻⁹ A^{3/2}: both sides of one sheet) is refused too, and so are positions
-/// that are not finite. The message starts with the place of the face that shows the defect
+/// volume (|V| ≤ 10⁻⁹ A^{3/2}: both sides of one sheet) is refused too, as are shells that cross
+/// one another (MeshSolidity::inwardFaces) and positions that are not finite. The message starts
+/// with the place of the face that shows the defect
 /// ("face 12: …", or with places from the mesh's reader "cube.obj: line 40: …").
 std::string closedMeshDefect(const TriangleMesh& mesh, const MeshPlaces& places = {});
 
@@ -90,7 +91,8 @@ struct MeshSolidity {
     /// the wrong way for the surface of a solid. A shell faces outwards, or, nested inside an
     /// odd number of others (a hollow's inner wall), inwards; nesting is judged at a point of
     /// each shell by its generalised winding number (Σ solid angles / 4π, Jacobson et al. 2013)
-    /// with respect to each other shell. Shells must not intersect one another (README).
+    /// with respect to each other shell. Shells that cross one another are a defect (judged at
+    /// a few points of each: README).
     std::vector<uint32_t> inwardFaces;
 };
 MeshSolidity meshSolidity(const TriangleMesh& mesh, const MeshPlaces& places = {});
