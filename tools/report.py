@@ -7,10 +7,12 @@ place, io/ledger.h)
 
 Writes DIR/report.md and DIR/report.html with:
   - error vs time per configuration, log-log, the Pareto front over all points marked;
-  - error vs spp per configuration, log-log, with a 1/sqrt(spp) slope for scale;
-  - wall time vs each axis;
+  - error vs spp per configuration, log-log, with a 1/sqrt(spp) slope for scale (1/spp for relmse);
+  - time vs each axis;
   - a table: per configuration and spp, the mean error over repeats +- its standard deviation,
     the mean time, and the efficiency 1/(MSE x time) when RMSE is known.
+The time is each image's total_s (loading and set-up included) when every row has it, else the
+passes' wall_time_s (ledgers from before 6 Dec).
 A configuration is one combination of the sweep's axis values other than spp (repeats pooled).
 """
 import html
@@ -73,7 +75,8 @@ def load(directory):
             for key in ("wall_time_s", "spp"):
                 if key not in row:
                     fail(f"{path}: line {n}: no \"{key}\" (not a row of shvol batch)")
-            for key in ["wall_time_s", "spp"] + [k for k in ERRORS + ["bias"] if k in row]:
+            for key in ["wall_time_s", "spp"] + [k for k in ["total_s"] + ERRORS + ["bias"]
+                                                 if k in row]:
                 if not is_number(row[key]) or row[key] < 0 and key != "bias":
                     fail(f"{path}: line {n}: {key}: expected a finite number"
                          f"{'' if key == 'bias' else ' >= 0'}, got {json.dumps(row[key])}")
@@ -142,7 +145,17 @@ def main():
     axes = [k for k in rows[0] if k not in meta]
     for r in rows[1:]:
         axes += [k for k in r if k not in meta and k not in axes]
+    # An axis equal to every row's spp is the spp axis written otherwise (render.spp): spp is no
+    # part of a configuration (as render.spp it split the error-vs-spp curves into points).
+    axes = [a for a in axes if not all(r.get(a) == r["spp"] for r in rows)]
     error = next((e for e in ERRORS if all(e in r for r in rows)), None)
+    # The time an image cost: since its render started, loading and set-up (a radiance cache's
+    # fill, SH fits, tables) included, when every row has it (total_s, from 6 Dec); before, the
+    # passes only (wall_time_s), which left a cached run's fill out of its cost (helper 67: 0.0033
+    # s in the ledger for 1.37 s).
+    time_key = "total_s" if all("total_s" in r for r in rows) else "wall_time_s"
+    time_label = ("time per image (s), loading and set-up included" if time_key == "total_s"
+                  else "wall time of the passes per image (s)")
 
     # groups[(config, spp)] -> rows (the repeats)
     groups = {}
@@ -154,7 +167,7 @@ def main():
     configs = list(dict.fromkeys(label(r, axes) for r in by_run))
     summary = []  # (config, spp, n, err mean, err sd, time mean, efficiency)
     for (c, spp), rs in sorted(groups.items(), key=lambda kv: (configs.index(kv[0][0]), kv[0][1])):
-        t, _ = mean_sd([r["wall_time_s"] for r in rs])
+        t, _ = mean_sd([r[time_key] for r in rs])
         if error:
             e, sd = mean_sd([r[error] for r in rs])
         else:
@@ -182,7 +195,7 @@ def main():
         ax.scatter([pts[i][0] for i in front], [pts[i][1] for i in front], s=90,
                    facecolors="none", edgecolors="k")
         ax.set_xscale("log"), ax.set_yscale("log")
-        ax.set_xlabel("wall time per render (s)"), ax.set_ylabel(error)
+        ax.set_xlabel(time_label), ax.set_ylabel(error)
         ax.set_title(f"{error} vs time (mean over repeats)")
         ax.legend(fontsize=7), ax.grid(True, which="both", alpha=0.3)
         fig.tight_layout()
@@ -195,9 +208,11 @@ def main():
             ax.errorbar([s[1] for s in ss], [s[3] for s in ss], yerr=[s[4] for s in ss],
                         fmt="o-", capsize=3, label=c)
         spps = sorted({s[1] for s in plotted})
-        if len(spps) > 1:
+        if len(spps) > 1:  # (a relative MSE falls as 1/spp, an RMSE or a MAE as 1/√spp)
             e0 = min(s[3] for s in plotted if s[1] == spps[0])
-            ax.plot(spps, [e0 * math.sqrt(spps[0] / n) for n in spps], "k:", label="∝ 1/√spp")
+            power = 1 if error == "relmse" else 0.5
+            ax.plot(spps, [e0 * (spps[0] / n) ** power for n in spps], "k:",
+                    label="∝ 1/spp" if power == 1 else "∝ 1/√spp")
         ax.set_xscale("log"), ax.set_yscale("log")
         ax.set_xlabel("samples per pixel"), ax.set_ylabel(error)
         ax.legend(fontsize=7), ax.grid(True, which="both", alpha=0.3)
@@ -210,7 +225,7 @@ def main():
         vals = {}
         for r in rows:
             vals.setdefault(json.dumps(r.get(a), separators=(",", ":")), []).append(
-                r["wall_time_s"])
+                r[time_key])
         keys = list(vals)
         fig, ax = plt.subplots(figsize=(7, 4))
         ax.bar(range(len(keys)), [mean_sd(vals[k])[0] for k in keys],
@@ -218,14 +233,15 @@ def main():
         ax.set_xticks(range(len(keys)))
         ax.set_xticklabels([k if len(k) < 40 else k[:37] + "..." for k in keys], rotation=30,
                            ha="right", fontsize=7)
-        ax.set_ylabel("wall time (s)"), ax.set_title(f"time vs {a}")
+        ax.set_ylabel(time_label), ax.set_title(f"time vs {a}")
         fig.tight_layout()
         # (ASCII letters and digits kept, every other byte "_": as shvol batch's check of its
         # outputs, reportOutputs, names them.)
         name = "time_vs_" + "".join(chr(b) if chr(b).isalnum() and b < 128 else "_"
                                     for b in a.encode("utf-8")) + ".png"
         save(fig, os.path.join(directory, name))
-        figures.append((name, f"mean wall time for each value of {a} (all other axes pooled)"))
+        figures.append((name, f"mean {time_label} for each value of {a} (all other axes "
+                              "pooled)"))
 
     head = ["configuration", "spp", "runs", f"{error or 'error'} (mean ± sd)", "time (s)",
             "1/(MSE·time)"]
@@ -234,7 +250,7 @@ def main():
         table.append([c, str(spp), str(n), (f"{e:.4g} ± {sd:.2g}" if n > 1 else f"{e:.4g}") if error else "",
                       f"{t:.3g}", f"{eff:.4g}" if not math.isnan(eff) else ""])
     summary = (f"{counted(len(rows), 'run')}, {counted(len(configs), 'configuration')}; "
-               f"error metric: {error or 'none'}.")
+               f"error metric: {error or 'none'}; time: {time_key} ({time_label}).")
     if left_out:
         summary += (f" Left out of the error plots (log axes): {counted(left_out, 'row')} of "
                     f"the table with an error or a time of 0.")

@@ -48,34 +48,47 @@ std::string describe(const SweepRun& run) {
     return s;
 }
 
+/// The standard errors beside a reference file ref.exr (ref.stderr.exr, as render --variance
+/// names them), which the z-test reads when they exist.
+std::string standardErrorsOf(const std::string& exr) {
+    return fs::path(exr).replace_extension("").string() + ".stderr.exr";
+}
+
 /// What identifies a rendered reference: the scene document after its settings, the contents of
 /// the files it names and whether it has a standard-error image; kept beside it in
 /// REFERENCE.fingerprint. (Not the build: a converged reference of the same scene serves any.)
 /// The files are read through `memo`, which the runs' fingerprints filled.
 std::string referenceStamp(const Sweep& s, bool variance, std::map<std::string, Json>& memo) {
     const Json doc = sceneDocument(s.scene, s.reference->sets);
-    return dumpJson(doc) + "\n" + namedFileContents(inputFiles(doc, s.scene, &memo)) +
+    // (Numbers as numbers: 38 and 38.0 are one scene; as written, a respelt number made the
+    // finished rows' reference another one; helper 67.)
+    return canonicalJson(doc) + "\n" + namedFileContents(inputFiles(doc, s.scene, &memo)) +
            (variance ? "variance" : "");
 }
 
-/// Whether the rendered reference is on disk with `stamp`, the one the sweep gives now.
-bool referenceCached(const Sweep& s, const std::string& stamp) {
+/// What REFERENCE.fingerprint holds of a rendered reference: its stamp, then the hashes of the
+/// images rendered (and of its standard errors with `variance`), so that an image replaced since
+/// is not taken for the rendered one (helper 67: one ledger mixed two references).
+std::string referenceRecord(const std::string& stamp, const std::string& file, bool variance) {
+    std::string r = stamp + "\nimage " + fileFingerprint(file)["fnv1a64"].get<std::string>();
+    if (variance && fs::exists(standardErrorsOf(file)))
+        r += " " + fileFingerprint(standardErrorsOf(file))["fnv1a64"].get<std::string>();
+    return r;
+}
+
+/// Whether the rendered reference is on disk with `stamp`, the one the sweep gives now, and is
+/// the image rendered for it.
+bool referenceCached(const Sweep& s, const std::string& stamp, bool variance) {
     const std::string file = s.reference->file + ".fingerprint";
     if (!fs::exists(s.reference->file) || !fs::exists(file)) return false;
     std::ifstream f(file);
     const std::string have((std::istreambuf_iterator<char>(f)), {});
-    return have == stamp;
+    return have == referenceRecord(stamp, s.reference->file, variance);
 }
 
 /// "1 run", "2 runs".
 std::string runsCounted(size_t n) {
     return std::to_string(n) + (n == 1 ? " run" : " runs");
-}
-
-/// The standard errors beside a reference file ref.exr (ref.stderr.exr, as render --variance
-/// names them), which the z-test reads when they exist.
-std::string standardErrorsOf(const std::string& exr) {
-    return fs::path(exr).replace_extension("").string() + ".stderr.exr";
 }
 
 /// What a ledger row keeps of the reference its metrics were measured against: the hash of a
@@ -128,7 +141,8 @@ int renderReference(const Sweep& s, const BatchArgs& a, bool variance, const std
     });
     const int code = runRender(r);
     world.barrier();  // the other ranks read it once rank 0 has written it
-    if (code == 0 && world.root()) std::ofstream(ref.file + ".fingerprint") << stamp;
+    if (code == 0 && world.root())
+        std::ofstream(ref.file + ".fingerprint") << referenceRecord(stamp, ref.file, variance);
     return code;
 }
 
@@ -158,7 +172,9 @@ void checkRunScenes(const Sweep& s) {
             throw Error(std::string(e.what()) + " (in the reference)");
         }
     } else if (s.reference) {
-        const Image ref = readExr(s.reference->file);
+        // (Negative and infinite values too, as `shvol diff` compares them: another renderer's
+        // filter can ring below 0; helper 67.)
+        const Image ref = readExr(s.reference->file, ExrValues::Compared);
         refSize = {ref.width, ref.height}, refName = s.reference->file;
         const std::string se = standardErrorsOf(s.reference->file);
         if (std::count(s.metrics.begin(), s.metrics.end(), "ztest") && fs::exists(se))
@@ -286,6 +302,7 @@ Json runOne(const RunContext& c, const SweepRun& run, int& code) {
     row["seed"] = stats["seed"];
     row["spp"] = stats["spp"];
     row["wall_time_s"] = stats["wall_time_s"];
+    row["total_s"] = stats["total_s"];  // (loading and set-up too: the report's time)
     row["paths_per_second"] = stats["paths_per_second"];
     row["image"] = run.id + ".exr";
     row["fingerprint"] = run.fingerprint;
@@ -443,6 +460,13 @@ class WorkQueue {
 
 int runBatch(BatchArgs a) {
     const MpiWorld& world = MpiWorld::get();
+    // Signals are caught for the whole batch, not only during its renders: one that came while
+    // the sweep's scenes were checked or the next run loaded ended the batch by the signal's
+    // default action (SIGTERM: exit code 143, nothing said; helper 67). Caught, it stops the
+    // batch before its next run (exit code 130), as one during a run does. (Under mpirun the
+    // renders catch them, as before.)
+    std::optional<InterruptGuard> guard;
+    if (!world.parallel()) guard.emplace();
     Sweep s;
     collectively([&] {
         if (world.parallel() && a.jobs > 1)
@@ -561,12 +585,17 @@ int runBatch(BatchArgs a) {
     const bool allFinished = world.broadcast(
         world.root() && std::all_of(s.runs.begin(), s.runs.end(),
                                     [&](const SweepRun& run) { return ledger->find(run.id); }));
+    if (InterruptGuard::interrupted()) {  // (while the sweep was read and its scenes checked)
+        std::fprintf(stderr, "batch: stopped before a run finished; run again to finish\n");
+        return 130;
+    }
     if (s.reference && !allFinished) {
         // The ranks render the reference together (an MPI render), once.
-        if (s.reference->render && world.broadcast(world.root() && !referenceCached(s, stamp)))
+        if (s.reference->render &&
+            world.broadcast(world.root() && !referenceCached(s, stamp, c.ztest)))
             if (const int code = renderReference(s, a, c.ztest, stamp)) return code;
         collectively([&] {
-            c.reference = readExr(s.reference->file);
+            c.reference = readExr(s.reference->file, ExrValues::Compared);
             if (c.ztest) {
                 const std::string se = standardErrorsOf(s.reference->file);
                 c.referenceSe =

@@ -2145,6 +2145,42 @@ TEST_F(Cli, BatchStopsBeforeItsNextRunAtASignalWhileARunWrites) {
     }
 }
 
+// A given reference is compared as `shvol diff` compares it: negative values (another
+// renderer's filter rings below 0) are taken, as README says (batch refused them; helper 67).
+TEST_F(Cli, BatchTakesAReferenceWithNegativeValues) {
+    write("s.json", scene(Homogeneous));
+    ASSERT_EQ(run("render " + path("s.json") + " --quiet --spp 16 -o " + path("ref.exr")).code, 0);
+    Image ref = readExr(path("ref.exr"));
+    ref.set(0, 0, Spectrum(-0.25, 0.5, 0.5));
+    writeExr(path("ref.exr"), ref);
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [2]}, "metrics": ["rmse"],
+        "reference": {"file": "ref.exr"}, "output": "out"})");
+    const Result r = run("batch " + path("sweep.json") + " --quiet");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto rows = ledgerRows(path("out"));
+    ASSERT_EQ(rows.size(), 1u);
+    EXPECT_GT(rows.at("r0000").at("rmse").get<double>(), 0);
+}
+
+// A signal while the batch checks its sweep's scenes (here an SH fit of order 256, seconds long)
+// stops it as one during a run does, with exit code 130 and a word: caught only during renders,
+// SIGTERM ended it with 143 and nothing said (helper 67).
+TEST_F(Cli, BatchStopsAtASignalOutsideItsRenders) {
+    write("s.json", R"({"camera": {"resolution": [8, 8], "position": [0, -3, 0]},
+        "render": {"spp": 1}, "environment": {"type": "constant", "radiance": 1},
+        "media": [{"type": "homogeneous", "sigma_t": 1, "shape": {"type": "sphere"},
+                   "phase": {"type": "hg", "g": 0.999999, "sampling": "sh", "order": 256,
+                             "sh_depth": 18}}]})");
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [1]}})");
+    const Result r = runCommand(std::string(SHVOL_BINARY) + " batch " + path("sweep.json") +
+                                " --quiet --output " + path("out") + " 2>" + path("bg.txt") +
+                                " & p=$!; sleep 0.5; kill -TERM $p; wait $p");
+    EXPECT_EQ(r.code, 130);
+    EXPECT_EQ(test::fileBytes(path("bg.txt")),
+              "batch: stopped before a run finished; run again to finish\n");
+    EXPECT_FALSE(fs::exists(path("out/r0000.exr")));
+}
+
 // A finished row must be the run as the sweep names and measures it now: an axis renamed
 // (media.0.albedo for media[0].albedo), added or dropped, or another list of metrics, renders the
 // same images but would leave the report columns of nulls and configurations split in two (they
@@ -2233,6 +2269,38 @@ TEST_F(Cli, BatchRefusesAnotherBuildAndRenewsAStaleReference) {
     EXPECT_NE(r.err.find("2 of 2 runs already finished"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(path("out/reference.exr")));
     EXPECT_EQ(test::fileBytes(jsonl), ledgerBefore);
+}
+
+// A rendered reference is its image as rendered: another image put in its place is not used (the
+// stamp beside it named only the scene, and one ledger mixed two references), and a number of the
+// scene written otherwise (3 as 3.0) is the same reference (helper 67: refused as another).
+TEST_F(Cli, BatchKnowsItsRenderedReferenceByItsImage) {
+    write("s.json", scene(R"({"type": "homogeneous", "sigma_t": 3, "albedo": 0.8,
+                              "shape": {"type": "sphere"}})"));
+    const auto sweep = [&](const std::string& spps) {
+        write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [)" + spps + R"(]},
+            "reference": {"spp": 64}, "metrics": ["rmse"]})");
+    };
+    sweep("4");
+    const std::string batch = "batch " + path("sweep.json") + " --output " + path("out");
+    ASSERT_EQ(run(batch).code, 0);
+    const std::string reference = test::fileBytes(path("out/reference.exr"));
+    ASSERT_EQ(run("render " + path("s.json") + " --quiet --spp 2 -o " + path("other.exr")).code, 0);
+    fs::copy_file(path("other.exr"), path("out/reference.exr"),
+                  fs::copy_options::overwrite_existing);
+    sweep("4, 8");
+    Result r = run(batch);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("rendering the reference"), std::string::npos) << r.err;
+    EXPECT_EQ(test::fileBytes(path("out/reference.exr")), reference);  // (the same render)
+    // 3 written 3.0: the same scene, the same reference, the finished runs resumed.
+    write("s.json", scene(R"({"type": "homogeneous", "sigma_t": 3.0, "albedo": 0.8,
+                              "shape": {"type": "sphere"}})"));
+    sweep("4, 8, 16");
+    r = run(batch);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err.find("rendering the reference"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("2 of 3 runs already finished"), std::string::npos) << r.err;
 }
 
 // A given reference that is one of the batch's own outputs (a run's image, its stats, the ledger)
@@ -2673,6 +2741,12 @@ TEST_F(Cli, BatchReport) {
     EXPECT_EQ(rows, 4);
     const std::string report = test::fileBytes(path("o/report.md"));
     EXPECT_NE(report.find("\n8 runs, 2 configurations; "), std::string::npos);
+    // Each row has what its image cost in all, set-up included, beside the passes' time.
+    std::ifstream rowsIn(path("o/results.jsonl"));
+    for (std::string line; std::getline(rowsIn, line);) {
+        const nlohmann::json row = nlohmann::json::parse(line);
+        EXPECT_GE(row.at("total_s").get<double>(), row.at("wall_time_s").get<double>()) << line;
+    }
     // In the sweep's order, not sorted as text.
     EXPECT_LT(report.find("| media[0].albedo=0.8 | 8 |"),
               report.find("| media[0].albedo=0.5 | 8 |"))
@@ -2742,6 +2816,22 @@ TEST_F(Cli, BatchReport) {
     const std::string table = test::fileBytes(path("o/report.md"));
     EXPECT_NE(table.find("| g=1 | 8 | 2 | 2 ± 1.4 | 1 | 0.2 |"), std::string::npos) << table;
     EXPECT_NE(table.find("| g=2 | 8 | 1 | 1 | 2 | 0.5 |"), std::string::npos) << table;
+    // The time is total_s where every row has it (loading and set-up included: a cached run's
+    // fill was left out of its cost; helper 67); an axis equal to spp in every row (render.spp)
+    // is no configuration.
+    std::ofstream(ledger)
+        << R"({"run": "r0000", "spp": 8, "render.spp": 8, "g": 1, "wall_time_s": 1, "total_s": 4, "rmse": 1})"
+        << "\n"
+        << R"({"run": "r0001", "spp": 16, "render.spp": 16, "g": 1, "wall_time_s": 2, "total_s": 5, "rmse": 1})"
+        << "\n";
+    c = run("report " + path("o"));
+    ASSERT_EQ(c.code, 0) << c.err;
+    const std::string total = test::fileBytes(path("o/report.md"));
+    EXPECT_NE(total.find("| g=1 | 8 | 1 | 1 | 4 | 0.25 |"), std::string::npos) << total;
+    EXPECT_NE(total.find("| g=1 | 16 | 1 | 1 | 5 | 0.2 |"), std::string::npos) << total;
+    EXPECT_NE(total.find("2 runs, 1 configuration; error metric: rmse; time: total_s"),
+              std::string::npos)
+        << total;
     // An error of 0 (runs equal to the reference) stays in the table but not on the log axes,
     // which said so in matplotlib's warnings on stderr; an spp of 0 cannot be on them either.
     std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "g": 1, "wall_time_s": 1, "rmse": 0})"
