@@ -6,6 +6,7 @@
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -76,6 +77,32 @@ void checkExrAttributeSizes(const std::string& path, uintmax_t bytes) {
     }
 }
 
+/// The image of the file's display window, which is the picture (a lat-long sky's whole sphere),
+/// from its data window's pixels `img`: 0 where the data window leaves out part of it (a file
+/// cropped to its non-zero part), and the data window's pixels outside it left out (overscan).
+/// The data window alone put a sky holding only its lower half over the whole sphere (helper 68).
+Image inDisplayWindow(Image img, const Imath::Box2i& data, const Imath::Box2i& display,
+                      const std::string& path, uintmax_t bytes) {
+    if (data == display) return img;
+    const int64_t w = int64_t(display.max.x) - display.min.x + 1,
+                  h = int64_t(display.max.y) - display.min.y + 1;
+    if (w < 1 || h < 1 || w > kMaxExrSide || h > kMaxExrSide ||
+        double(w) * double(h) > std::max({kMinExrPixelLimit, kMaxExrPixelsPerByte * bytes,
+                                          double(img.width) * img.height}))
+        fail(path, "display window",
+             std::to_string(w) + " x " + std::to_string(h) + " pixels; expected 1 to " +
+                 std::to_string(kMaxExrSide) +
+                 " on each side, and no more than the file can describe");
+    Image out{int(w), int(h)};
+    for (int64_t y = std::max(data.min.y, display.min.y); y <= std::min(data.max.y, display.max.y);
+         ++y)
+        for (int64_t x = std::max(data.min.x, display.min.x);
+             x <= std::min(data.max.x, display.max.x); ++x)
+            out.set(int(x - display.min.x), int(y - display.min.y),
+                    img.at(int(x - data.min.x), int(y - data.min.y)));
+    return out;
+}
+
 }  // namespace
 
 Image readExr(const std::string& path, ExrValues values) {
@@ -88,9 +115,11 @@ Image readExr(const std::string& path, ExrValues values) {
     checkExrAttributeSizes(path, bytes);
     Image img;
     int x0 = 0, y0 = 0;  // the data window's corner: errors name pixels as the file does
+    Imath::Box2i dataWindow, displayWindow;
     try {
         Imf::InputFile file(path.c_str());
         const Imath::Box2i dw = file.header().dataWindow();
+        dataWindow = dw, displayWindow = file.header().displayWindow();
         x0 = dw.min.x, y0 = dw.min.y;
         const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
         if (w < 1 || h < 1 || w > kMaxExrSide || h > kMaxExrSide)
@@ -104,6 +133,12 @@ Image readExr(const std::string& path, ExrValues values) {
         const Imf::ChannelList& ch = file.header().channels();
         const bool rgb = ch.findChannel("R") && ch.findChannel("G") && ch.findChannel("B");
         const bool y = ch.findChannel("Y");
+        // Luminance and chroma (Y, RY, BY: OpenEXR's luminance–chroma images) read as Y alone
+        // came out grey (helper 68).
+        if (!rgb && (ch.findChannel("RY") || ch.findChannel("BY")))
+            fail(path, "channels",
+                 "luminance and chroma (Y, RY, BY), which shvol does not convert; save the image "
+                 "with R, G and B channels");
         if (!rgb && !y) {
             std::string names;  // the first 8, printable ASCII (a damaged file's are bytes)
             int listed = 0;
@@ -172,7 +207,7 @@ Image readExr(const std::string& path, ExrValues values) {
                      (v == -INFINITY).any() ? "negative infinite value" : "negative value");
             if (!v.allFinite() && values != ExrValues::Preview) fail(path, where, "infinite value");
         }
-    return img;
+    return inDisplayWindow(std::move(img), dataWindow, displayWindow, path, bytes);
 }
 
 void writeExrTo(const std::string& tmp, const Image& image, const std::string& path) {

@@ -192,6 +192,74 @@ TEST(Exr, OffsetDataWindow) {
         for (int c = 0; c < 3; ++c) EXPECT_EQ(img.at(i % 4, i / 4)[c], y[i]);
 }
 
+/// A Y-only EXR of data window `data` (its values y, row by row) inside display window `display`.
+void writeWindowed(const std::string& path, const Imath::Box2i& display, const Imath::Box2i& data,
+                   const float* y) {
+    Imf::Header header(display, data);
+    header.channels().insert("Y", Imf::Channel(Imf::FLOAT));
+    Imf::OutputFile file(path.c_str(), header);
+    Imf::FrameBuffer fb;
+    fb.insert("Y", Imf::Slice::Make(Imf::FLOAT, y, data));
+    file.setFrameBuffer(fb);
+    file.writePixels(data.max.y - data.min.y + 1);
+}
+
+// The picture is the display window: a data window that covers part of it (a sky cropped to its
+// lit half) is placed there, 0 around it, and one beyond it (overscan) is cut to it. The data
+// window alone was taken for the picture: the cropped sky's lower half spread over the sphere
+// (helper 68).
+TEST(Exr, TheDisplayWindowIsThePicture) {
+    const std::string path = tmp("window.exr");
+    const float y[4] = {1, 2, 3, 4};
+    // 2 × 2 data at (1, 2) in a 4 × 4 display from (0, 0).
+    writeWindowed(path, Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(3, 3)),
+                  Imath::Box2i(Imath::V2i(1, 2), Imath::V2i(2, 3)), y);
+    Image img = readExr(path);
+    ASSERT_EQ(img.width, 4);
+    ASSERT_EQ(img.height, 4);
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) {
+            const bool in = i >= 1 && i <= 2 && j >= 2;
+            EXPECT_EQ(img.at(i, j)[0], in ? y[(j - 2) * 2 + i - 1] : 0.f) << i << ", " << j;
+        }
+    // Overscan: 2 × 2 data from (−1, −1) around a 1 × 1 display at (0, 0): the pixel at (0, 0).
+    writeWindowed(path, Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(0, 0)),
+                  Imath::Box2i(Imath::V2i(-1, -1), Imath::V2i(0, 0)), y);
+    img = readExr(path);
+    ASSERT_EQ(img.width, 1);
+    ASSERT_EQ(img.height, 1);
+    EXPECT_EQ(img.at(0, 0)[0], 4.f);
+    // A display window the file cannot describe is refused like a data window.
+    writeWindowed(path, Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(32768, 0)),
+                  Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(0, 0)), y);
+    EXPECT_EQ(messageOf([&] { readExr(path); }),
+              path +
+                  ": display window: 32769 x 1 pixels; expected 1 to 32768 on each side, and "
+                  "no more than the file can describe");
+}
+
+// Luminance and chroma channels are refused (read as Y alone they were grey).
+TEST(Exr, LuminanceChromaIsRefused) {
+    const std::string path = tmp("yc.exr");
+    {
+        Imf::Header header(2, 2);
+        for (const char* c : {"Y", "RY", "BY"})
+            header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+        Imf::OutputFile file(path.c_str(), header);
+        float v[4] = {1, 1, 1, 1};
+        Imf::FrameBuffer fb;
+        for (const char* c : {"Y", "RY", "BY"})
+            fb.insert(c, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(v), sizeof(float),
+                                    2 * sizeof(float)));
+        file.setFrameBuffer(fb);
+        file.writePixels(2);
+    }
+    EXPECT_EQ(messageOf([&] { readExr(path); }),
+              path +
+                  ": channels: luminance and chroma (Y, RY, BY), which shvol does not "
+                  "convert; save the image with R, G and B channels");
+}
+
 // A header may announce any size. A DWAB file holds 256 rows per chunk, so an 8 × 4 file whose
 // data window is patched to 30000 × 256 pixels still has a valid offset table for OpenEXR, and
 // readExr allocated 92 MB for it (30000 × 30000 in a tiled file: 10 GB). A data window that the
