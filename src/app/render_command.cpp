@@ -183,10 +183,10 @@ std::string unusedLightSamplingWarning(const Scene& scene, const Effects& effect
     const std::string why =
         s.nee == false     ? "render.nee is false"
         : !effects.bounces ? "no path scatters or reflects"
-        : env.isConstant() && env.constantRadiance().maxCoeff() <= 0
-            ? "the environment is black"
-            : "render.nee \"auto\" leaves it off under a constant sky, where phase sampling "
-              "does better; set render.nee to true to use it";
+        : env.black()      ? "the environment is black"
+                           : std::string("render.nee \"auto\" leaves it off under a ") +
+                            (env.isConstant() ? "constant sky" : "sky image of equal pixels") +
+                            ", where phase sampling does better; set render.nee to true to use it";
     return std::string("render.light_sampling: \"") + lightSamplingName(s.lightSampling) +
            "\" is not used: next-event estimation, which draws its samples, is off (" + why + ")";
 }

@@ -13,6 +13,7 @@ Environment Environment::constant(const Spectrum& L, bool lowerHemisphereBlack) 
     Environment e;
     e.L_ = L;
     e.lowerBlack_ = lowerHemisphereBlack;
+    e.black_ = !(L.maxCoeff() > 0);
     return e;
 }
 
@@ -37,6 +38,10 @@ Environment Environment::image(Image img, double scale, double rotationDegrees,
             weights[size_t(y) * W + x] = luminance(img.at(x, y)) * sinTheta * above;
     }
     e.texels_ = std::make_shared<const TexelSampler>(weights.data(), img.rgb.data(), W, H);
+    for (size_t i = 3; i < img.rgb.size() && e.uniform_; ++i)
+        e.uniform_ = img.rgb[i] == img.rgb[i % 3];  // (every pixel the first)
+    e.black_ =
+        !(scale > 0) || std::all_of(img.rgb.begin(), img.rgb.end(), [](float v) { return v <= 0; });
     e.image_ = std::make_shared<const Image>(std::move(img));
     return e;
 }

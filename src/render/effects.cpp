@@ -24,14 +24,15 @@ Effects Effects::of(const Scene& scene) {
     e.scattering = e.volumes && scatters && scene.settings.maxDepth >= 1;
     e.multipleScattering = e.scattering && scene.settings.maxDepth > 1;
     const Environment& env = scene.environment;
-    const bool envBlack = env.isConstant() && env.constantRadiance().maxCoeff() <= 0;
     // Unless the scene says: next-event estimation pays for a shadow ray at every scattering
     // event. Under a constant sky phase sampling already draws directions in proportion to the
     // integrand apart from transmittance (and the lower hemisphere), and NEE lost in every case
     // measured, dense or thin, over the sphere or the upper hemisphere (0.06–0.73× the
-    // efficiency), so it is on for image skies only (validation/sampling/README.md).
+    // efficiency), so it is on for skies that vary only (validation/sampling/README.md): an
+    // image of equal pixels is a constant sky (helper 68: NEE 7× less efficient there), and one
+    // of zeros (or a scale of 0) a black one.
     const bool bounces = e.scattering || (e.surfaces && scene.settings.maxDepth >= 1);
-    e.nextEvent = bounces && !envBlack && scene.settings.nee.value_or(!env.isConstant());
+    e.nextEvent = bounces && !env.black() && scene.settings.nee.value_or(!env.uniform());
     e.environmentImage = !env.isConstant();
     if (e.nextEvent || e.areaLights) e.mis = scene.settings.mis;
     if (e.nextEvent) {

@@ -101,6 +101,7 @@ TEST(VolumePathIntegrator, WhiteFurnaceUnderImageEnvironment) {
     for (double g : {0.0, 0.9}) {
         Scene s = furnaceScene(1.5, Spectrum::Ones(), PhaseFunction(HenyeyGreensteinPhase(g)));
         s.environment = Environment::image(img, 1.0, 30.0, false);
+        s.settings.nee = true;  // ("auto" leaves it off under an image of equal pixels)
         ASSERT_TRUE(Effects::of(s).environmentImage);
         const Estimate e = estimate(s, 20000);
         expectNear(e.mean, Spectrum::Ones(), 5 * e.stdErr + 1e-9, "furnace image env");
@@ -335,13 +336,23 @@ TEST(VolumePathIntegrator, NextEventEstimationIsDecidedFromTheScene) {
     s.settings.nee = true;
     EXPECT_TRUE(Effects::of(s).nextEvent);
     s.settings.nee.reset();
+    // An image of equal pixels is a constant sky (it kept NEE on, 7× less efficient: helper 68),
+    // coloured or not; one pixel apart it is an image.
     Image img(8, 4);
     for (int y = 0; y < 4; ++y)
-        for (int x = 0; x < 8; ++x) img.set(x, y, Spectrum::Ones());
+        for (int x = 0; x < 8; ++x) img.set(x, y, Spectrum(1, 0.5, 0.25));
+    s.environment = Environment::image(img, 1.0, 0.0, false);
+    EXPECT_FALSE(Effects::of(s).nextEvent);
+    img.set(7, 3, Spectrum(1, 0.5, 0.26));
     s.environment = Environment::image(img, 1.0, 0.0, false);
     EXPECT_TRUE(Effects::of(s).nextEvent);
-    s.environment = Environment::constant(Spectrum::Zero(), false);  // black: nothing to sample
+    // Black, a constant, an image of zeros or one scaled by 0: nothing to sample, even asked.
     s.settings.nee = true;
+    s.environment = Environment::constant(Spectrum::Zero(), false);
+    EXPECT_FALSE(Effects::of(s).nextEvent);
+    s.environment = Environment::image(img, 0.0, 0.0, false);
+    EXPECT_FALSE(Effects::of(s).nextEvent);
+    s.environment = Environment::image(Image(8, 4), 1.0, 0.0, false);
     EXPECT_FALSE(Effects::of(s).nextEvent);
 }
 
