@@ -356,17 +356,23 @@ Image makeSky(const SkyParams& s) {
     for (int y = 0; y < H; ++y) {
         const double z0 = std::cos(y * dTheta), z1 = std::cos((y + 1) * dTheta);
         const bool straddlesHorizon = z0 > 0 && z1 < 0;
-        // The mean over the pixel of an n×n grid, equal-area in cos θ and uniform in u.
+        // The mean over the pixel of an n×n grid uniform in θ and in u, each row weighted by
+        // sin θ (dω = sin θ dθ dφ). Rows equal-area in cos θ were up to 3× coarser than Δθ/n in
+        // angle in the rows at the poles (dz ≈ θ dθ there): a sun at the zenith held +32% of its
+        // energy at width 128 (helper 68).
         auto average = [&](int x, int n) {
             Spectrum acc = Spectrum::Zero();
+            double weights = 0;
             for (int j = 0; j < n; ++j) {
-                const double z = z0 - (j + 0.5) / n * (z0 - z1);
+                const double theta = (y + (j + 0.5) / n) * dTheta, w = std::sin(theta);
+                Spectrum row = Spectrum::Zero();
                 for (int i = 0; i < n; ++i) {
                     const double phi = latLongPhi(s.mapping, (x + (i + 0.5) / n) / W);
-                    acc += radianceAt(sphericalDirection(z, phi));
+                    row += radianceAt(sphericalDirection(std::cos(theta), phi));
                 }
+                acc += w * row, weights += w * n;
             }
-            return Spectrum(acc / (double(n) * n));
+            return Spectrum(acc / weights);
         };
         for (int x = 0; x < W; ++x) {
             const Vec3 w = latLongDirection(s.mapping, (x + 0.5) / W, (y + 0.5) / H);
