@@ -5,7 +5,7 @@
 /// Shapes are triangle meshes (from OBJ/PLY, or the two triangles of a `rectangle`), flat disks and
 /// spheres. A shape's front side is the side its geometric normal n_g points to: counter-clockwise
 /// winding for triangles, the disk's normal, outwards for spheres. Closed surfaces that bound a
-/// medium face outwards (the loader flips a mesh whose signed volume is negative).
+/// medium face outwards (the loader turns a mesh's shells that face the wrong way: faceOutwards).
 #include <memory>
 #include <string>
 
