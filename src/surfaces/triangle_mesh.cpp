@@ -401,13 +401,28 @@ ShellLayout layoutOf(const TriangleMesh& mesh, const Shells& s, const MeshPlaces
             omega += solidAngle(mesh, faces[k], x);
         return std::abs(omega) / (2 * TwoPi);
     };
+    // The pairs of shells whose boxes overlap, found by a sweep along x: only they can nest or
+    // cross (asking every pair made a mesh of 20,000 separate beads 4·10⁸ pairs; review).
+    std::vector<size_t> order(roots.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(),
+              [&](size_t a, size_t b) { return box[a].lo.x() < box[b].lo.x(); });
+    std::vector<std::vector<size_t>> overlapping(roots.size());
+    for (size_t a = 0; a < order.size(); ++a)
+        for (size_t b = a + 1; b < order.size() && box[order[b]].lo.x() <= box[order[a]].hi.x();
+             ++b) {
+            const Bounds3 &p = box[order[a]], &q = box[order[b]];
+            if ((p.lo.array() <= q.hi.array()).all() && (q.lo.array() <= p.hi.array()).all()) {
+                overlapping[order[a]].push_back(order[b]);
+                overlapping[order[b]].push_back(order[a]);
+            }
+        }
     for (size_t i = 0; i < roots.size(); ++i) {
         const uint32_t* t = &mesh.indices[3 * roots[i]];
         const Vec3 x = (mesh.p[t[0]] + mesh.p[t[1]] + mesh.p[t[2]]) / 3;
         const uint32_t count = start[roots[i] + 1] - start[roots[i]];
         int depth = 0;
-        for (size_t o = 0; o < roots.size(); ++o) {
-            if (o == i) continue;
+        for (const size_t o : overlapping[i]) {
             if (inBox(x, o) && winding(x, o) > 0.5) ++depth;
             bool inside = false, outside = false;
             for (uint32_t k = 0; k < std::min(count, 8u); ++k) {
