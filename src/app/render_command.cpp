@@ -139,10 +139,17 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
         // outwards (helper 66: open, flipped and non-manifold glass rendered without a word).
         if (s.kind == Surface::Kind::Mesh && s.bsdf.type == BsdfType::Dielectric &&
             !s.solidity().defect.empty())
-            w.push_back(s.name + ": dielectric, but not the closed surface of a solid (" +
-                        s.solidity().defect +
-                        "): light that enters it may leave it only where a face happens to lie, "
-                        "and its faces were not turned to face outwards");
+            w.push_back(s.name +
+                        (s.solidity().partsCross
+                             ? ": dielectric, and its parts cross (" + s.solidity().defect +
+                                   "): where they overlap, a ray inside one part meets the "
+                                   "other's faces as if from outside the glass and refracts "
+                                   "there; each part was turned to face outwards on its own"
+                             : ": dielectric, but not the closed surface of a solid (" +
+                                   s.solidity().defect +
+                                   "): light that enters it may leave it only where a face "
+                                   "happens to lie, and its faces were not turned to face "
+                                   "outwards"));
         const Bounds3 b = s.bounds();
         double size = (b.hi - b.lo).maxCoeff();
         // A closed mesh that rays pass through is judged by its thickness, 2V/A (a slab's: a pane

@@ -357,6 +357,7 @@ double solidAngle(const TriangleMesh& mesh, size_t f, const Vec3& x) {
 struct ShellLayout {
     std::string defect;
     std::vector<uint32_t> inwardFaces;
+    bool partsCross = false;
 };
 
 /// The shells' layout: a shell nested in k others faces outwards if k is even, inwards if odd. A
@@ -440,6 +441,10 @@ ShellLayout layoutOf(const TriangleMesh& mesh, const Shells& s, const MeshPlaces
                                              places.ofTriangle(roots[o]) +
                                              ": the parts of one mesh must not intersect (a ray "
                                              "would enter one solid inside the other)");
+                layout.partsCross = true;
+                turned.clear();
+                for (uint32_t f = 0; f < nt; ++f)
+                    if (s.volume[s.ofFace[f]] < 0) turned.push_back(f);
                 return layout;
             }
         }
@@ -469,18 +474,20 @@ double signedVolume(const TriangleMesh& mesh) {
 }
 
 MeshSolidity meshSolidity(const TriangleMesh& mesh, const MeshPlaces& places) {
-    if (mesh.triangleCount() == 0) return {"the mesh has no triangles", 0};
+    if (mesh.triangleCount() == 0) return {"the mesh has no triangles", 0, {}, false};
     if (!finitePositions(mesh))
-        return {"a vertex position is not finite", std::numeric_limits<double>::quiet_NaN()};
+        return {
+            "a vertex position is not finite", std::numeric_limits<double>::quiet_NaN(), {}, false};
     const std::vector<uint32_t> weld = weldByPosition(mesh);
     Shells shells;
     std::string defect = defectWelded(mesh, weld, places, &shells);
     if (shells.ofFace.empty()) shells = shellsOf(mesh, weld);
-    MeshSolidity m{std::move(defect), volumeOf(shells), {}};
+    MeshSolidity m{std::move(defect), volumeOf(shells), {}, false};
     if (m.defect.empty()) {
         ShellLayout layout = layoutOf(mesh, shells, places);
         m.defect = std::move(layout.defect);
         m.inwardFaces = std::move(layout.inwardFaces);
+        m.partsCross = layout.partsCross;
     }
     return m;
 }

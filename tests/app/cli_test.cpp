@@ -17,7 +17,10 @@
 
 #include "shvol/io/exr.h"
 #include "shvol/io/phase_spec.h"
+#include "shvol/io/scene_loader.h"
 #include "shvol/io/vdb.h"
+#include "shvol/surfaces/surface_scene.h"
+#include "shvol/surfaces/triangle_mesh.h"
 #include "test_util.h"
 
 namespace shvol {
@@ -1365,6 +1368,22 @@ TEST_F(Cli, RenderWarnsOfGlassThatIsNotClosed) {
     r = run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet");
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(r.err, "");
+    // Two tetrahedra wound inwards that cross: rendered, each turned outwards, and said so.
+    write("open.obj",
+          "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n"
+          "v 0.2 0.2 0.2\nv 1.2 0.2 0.2\nv 0.2 1.2 0.2\nv 0.2 0.2 1.2\n"
+          "f 5 6 7\nf 5 8 6\nf 5 7 8\nf 6 8 7\n");
+    r = run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find(": vase: dielectric, and its parts cross (" + path("open.obj") +
+                         ": line "),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("each part was turned to face outwards on its own\n"), std::string::npos)
+        << r.err;
+    const Scene scene = loadScene(path("s.json"));
+    // (Positions read as floats: 0.2 is not exact.)
+    EXPECT_NEAR(signedVolume(scene.surfaces->surfaces()[0].mesh), 2.0 / 6, 1e-7);
 }
 
 // A pixel whose mean exceeds the float32 range is written as inf, and said so (on stderr and in

@@ -477,6 +477,40 @@ TEST(TriangleMesh, PartsThatCrossAreRefused) {
     EXPECT_EQ(meshSolidity(withShell(c, c, 0.5, Vec3(0, 0, 0), true)).defect, "");
     EXPECT_EQ(meshSolidity(withShell(c, c, 1, Vec3(3, 0, 0), false)).defect, "");
     EXPECT_EQ(meshSolidity(withShell(c, c, 1, Vec3(2, 2, 0), false)).defect, "");
+    EXPECT_FALSE(meshSolidity(withShell(c, c, 0.5, Vec3(0, 0, 0), true)).partsCross);
+}
+
+// Crossing parts have no nesting to judge, but each still has an outside: its inwardFaces are
+// the faces of the parts of negative volume, and Surface::faceOutwards turns them (glass whose
+// parts cross is rendered, with a warning; it was left as wound once crossing became a defect).
+TEST(TriangleMesh, PartsThatCrossAreEachTurnedOutwards) {
+    TriangleMesh inward = cube();
+    flipWinding(inward);
+    // Both wound inwards, and one of each.
+    const TriangleMesh both = withShell(inward, inward, 1, Vec3(1, 0, 0), false);
+    const MeshSolidity m = meshSolidity(both);
+    EXPECT_TRUE(m.partsCross);
+    EXPECT_NE(m.defect, "");
+    EXPECT_EQ(m.inwardFaces, faceRange(0, 24));
+    const TriangleMesh mixed = withShell(cube(), cube(), 1, Vec3(1, 0, 0), true);
+    EXPECT_EQ(meshSolidity(mixed).inwardFaces, faceRange(12, 12));
+    for (const TriangleMesh& mesh : {both, mixed}) {
+        Surface sf;
+        sf.mesh = mesh;
+        EXPECT_TRUE(sf.faceOutwards());
+        EXPECT_TRUE(sf.solidity().partsCross);
+        EXPECT_EQ(sf.solidity().inwardFaces, std::vector<uint32_t>());
+        EXPECT_EQ(sf.solidity().signedVolume, 16.0);  // (each part's own volume, 8)
+        EXPECT_EQ(sf.solidity().defect, m.defect);
+    }
+    // A mesh that is not closed is still left as wound.
+    Surface open;
+    open.mesh = inward;
+    open.mesh.indices.resize(open.mesh.indices.size() - 3);
+    const std::vector<uint32_t> wound = open.mesh.indices;
+    EXPECT_TRUE(open.faceOutwards());
+    EXPECT_EQ(open.mesh.indices, wound);
+    EXPECT_FALSE(open.solidity().partsCross);
 }
 
 // A mesh surface's solidity is the mesh's, computed once; turned inside out, its volume changes
