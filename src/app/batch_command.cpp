@@ -172,9 +172,10 @@ void checkRunScenes(const Sweep& s) {
             throw Error(std::string(e.what()) + " (in the reference)");
         }
     } else if (s.reference) {
-        // (Negative and infinite values too, as `shvol diff` compares them: another renderer's
-        // filter can ring below 0; helper 67.)
-        const Image ref = readExr(s.reference->file, ExrValues::Compared);
+        // (Negative values too, as `shvol diff` compares them: another renderer's filter can
+        // ring below 0; helper 67. Not infinite ones: every run's metrics would be infinite,
+        // null in the ledger, and refused by the report; review.)
+        const Image ref = readExr(s.reference->file, ExrValues::Reference);
         refSize = {ref.width, ref.height}, refName = s.reference->file;
         const std::string se = standardErrorsOf(s.reference->file);
         if (std::count(s.metrics.begin(), s.metrics.end(), "ztest") && fs::exists(se))
@@ -595,7 +596,7 @@ int runBatch(BatchArgs a) {
             world.broadcast(world.root() && !referenceCached(s, stamp, c.ztest)))
             if (const int code = renderReference(s, a, c.ztest, stamp)) return code;
         collectively([&] {
-            c.reference = readExr(s.reference->file, ExrValues::Compared);
+            c.reference = readExr(s.reference->file, ExrValues::Reference);
             if (c.ztest) {
                 const std::string se = standardErrorsOf(s.reference->file);
                 c.referenceSe =

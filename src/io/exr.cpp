@@ -202,6 +202,13 @@ Image readExr(const std::string& path, ExrValues values) {
                                       std::to_string(int64_t(y0) + y) + ")";
             if (v.hasNaN()) fail(path, where, "NaN value");
             if (values == ExrValues::Compared) continue;
+            if (values == ExrValues::Reference) {
+                if (!v.allFinite())
+                    fail(path, where,
+                         "infinite value: every run's error against this reference would be "
+                         "infinite");
+                continue;
+            }
             if ((v < 0).any())
                 fail(path, where,
                      (v == -INFINITY).any() ? "negative infinite value" : "negative value");

@@ -2165,7 +2165,8 @@ TEST_F(Cli, BatchStopsBeforeItsNextRunAtASignalWhileARunWrites) {
 }
 
 // A given reference is compared as `shvol diff` compares it: negative values (another
-// renderer's filter rings below 0) are taken, as README says (batch refused them; helper 67).
+// renderer's filter rings below 0) are taken, as README says (batch refused them; helper 67);
+// infinite ones are refused (every run's metrics were infinite, null in the ledger; review).
 TEST_F(Cli, BatchTakesAReferenceWithNegativeValues) {
     write("s.json", scene(Homogeneous));
     ASSERT_EQ(run("render " + path("s.json") + " --quiet --spp 16 -o " + path("ref.exr")).code, 0);
@@ -2179,6 +2180,18 @@ TEST_F(Cli, BatchTakesAReferenceWithNegativeValues) {
     const auto rows = ledgerRows(path("out"));
     ASSERT_EQ(rows.size(), 1u);
     EXPECT_GT(rows.at("r0000").at("rmse").get<double>(), 0);
+    // An infinite value is refused, naming its pixel: every run's metrics would be infinite.
+    for (const float inf : {INFINITY, -INFINITY}) {
+        ref.set(1, 2, Spectrum(0.5, inf, 0.5));
+        writeExr(path("ref.exr"), ref);
+        std::filesystem::remove_all(path("out"));
+        const Result bad = run("batch " + path("sweep.json") + " --quiet");
+        EXPECT_EQ(bad.code, 1);
+        EXPECT_EQ(bad.err, "shvol: error: " + path("ref.exr") +
+                               ": pixel (1, 2): infinite value: every run's error against this "
+                               "reference would be infinite\n");
+        EXPECT_TRUE(ledgerRows(path("out")).empty());
+    }
 }
 
 // A signal while the batch checks its sweep's scenes (here an SH fit of order 256, seconds long)

@@ -13,6 +13,8 @@ enum class ExrValues {
                ///< --variance for an unknown standard error
     Compared,  ///< any but NaN: ±inf, and negative values (another renderer's filter can ring
                ///< below 0)
+    Reference,  ///< finite, negative too: a batch's given reference, against which an infinite
+                ///< value would make every run's error infinite
 };
 
 /// Reads the R, G, B channels (or a single Y channel, replicated) of an EXR file as floats.
