@@ -8,11 +8,11 @@ namespace shvol {
 
 /// The pixel values readExr accepts besides finite non-negative ones.
 enum class ExrValues {
-    Radiance,  ///< none: a sky, a reference, a run's image
-    Preview,   ///< +inf too: a render writes it for a mean beyond the float range, and
-               ///< --variance for an unknown standard error
-    Compared,  ///< any but NaN: ±inf, and negative values (another renderer's filter can ring
-               ///< below 0)
+    Radiance,   ///< none: a sky, a reference, a run's image
+    Preview,    ///< +inf too: a render writes it for a mean beyond the float range, and
+                ///< --variance for an unknown standard error
+    Compared,   ///< any but NaN: ±inf, and negative values (another renderer's filter can ring
+                ///< below 0)
     Reference,  ///< finite, negative too: a batch's given reference, against which an infinite
                 ///< value would make every run's error infinite
 };
