@@ -132,6 +132,7 @@ int renderReference(const Sweep& s, const BatchArgs& a, bool variance, const std
     r.quiet = a.quiet;
     r.variance = variance;
     r.lateSignalStops = false;
+    r.run = "the reference";
     // The stamp of the reference being replaced goes first: a render interrupted after writing
     // its partial image must not leave that image passing for the old, finished one.
     collectively([&] {  // (rank 0 removes it; the others wait, and fail with it)
@@ -294,6 +295,7 @@ Json runOne(const RunContext& c, const SweepRun& run, int& code) {
     r.variance = c.ztest;
     r.oneRank = true;
     r.lateSignalStops = false;
+    r.run = describe(run);
     code = runRender(r);
     if (code) return nullptr;
     const std::string stem = fs::path(r.output).replace_extension("").string();

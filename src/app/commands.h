@@ -39,6 +39,9 @@ struct RenderArgs {
     /// makes the exit code 130 (a command's own render). A batch's renders clear it: their
     /// outputs are whole and their rows go in; the batch then stops before its next run.
     bool lateSignalStops = true;
+    /// The batch run this render is ("r0003 albedo=0.9 spp=16", "the reference"), which its
+    /// warnings name; "" outside a batch.
+    std::string run;
 };
 /// Renders as `shvol render` does (images, stats, checkpoints); returns the exit code (130 when
 /// interrupted). Errors are shvol::Error. Under mpirun (and without oneRank) every rank must

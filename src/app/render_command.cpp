@@ -462,15 +462,18 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
     });
 }
 
-/// Prints "shvol: warning: SCENE: TEXT" unless this process printed it before: a batch's renders
-/// of one scene (repeats, other sample counts) give it the same warnings, which each run's stats
-/// keep, and stderr says once.
-void warnOnce(const std::string& scene, const std::string& text) {
+/// Prints "shvol: warning: SCENE: TEXT", or in a batch "shvol: warning: SCENE (run RUN): TEXT",
+/// unless this process said TEXT of SCENE before: a batch's renders of one scene (repeats, other
+/// sample counts) give it the same warnings, which each run's stats keep, and stderr says once,
+/// naming the first run that gave it (it named none: a warning of one run among many could not
+/// be placed; helper 67).
+void warnOnce(const std::string& scene, const std::string& run, const std::string& text) {
     static std::mutex mutex;
     static std::set<std::string> said;
-    const std::string line = "shvol: warning: " + scene + ": " + text;
     const std::lock_guard<std::mutex> lock(mutex);
-    if (said.insert(line).second) std::fprintf(stderr, "%s\n", line.c_str());
+    if (said.insert(scene + ": " + text).second)
+        std::fprintf(stderr, "shvol: warning: %s%s: %s\n", scene.c_str(),
+                     run.empty() ? "" : (" (run " + run + ")").c_str(), text.c_str());
 }
 
 /// --spp: "N" or increasing "N1,N2,…,N" (each Ni an image of its own). Gives the list; when the
@@ -657,7 +660,7 @@ int runRender(const RenderArgs& a) {
         },
         spread);
     if (speaks)
-        for (const std::string& w : warnings) warnOnce(a.scene, w);
+        for (const std::string& w : warnings) warnOnce(a.scene, a.run, w);
 
     const uint32_t spp = uint32_t(scene.settings.spp);
     RenderOptions opt;
@@ -729,7 +732,7 @@ int runRender(const RenderArgs& a) {
                              "pixel; that image is not written\n",
                              n, n);
     }
-    for (const std::string& w : renderWarnings(scene, r.stats)) warnOnce(a.scene, w);
+    for (const std::string& w : renderWarnings(scene, r.stats)) warnOnce(a.scene, a.run, w);
     if (!a.quiet)
         std::fprintf(stderr, "wrote %s%s and %s (%.2f s, %.3g paths/s, %s%d thread%s)\n",
                      final.image.c_str(), a.variance ? (", " + final.stderrImage).c_str() : "",
