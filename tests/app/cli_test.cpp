@@ -854,10 +854,10 @@ TEST_F(Cli, RenderWarnsOfUnreliablePhaseFits) {
         ++said;
     EXPECT_EQ(said, 1u) << r.err;
     // Named by the run that gave it first (--jobs 2: either of the first two).
-    EXPECT_TRUE(r.err.rfind("shvol: warning: " + path("s.json") + " (run r0000 repeat=0 spp=1): ",
-                            0) == 0 ||
-                r.err.rfind("shvol: warning: " + path("s.json") + " (run r0001 repeat=0 spp=2): ",
-                            0) == 0)
+    EXPECT_TRUE(
+        r.err.rfind("shvol: warning: " + path("s.json") + " (run r0000 repeat=0 spp=1): ", 0) ==
+            0 ||
+        r.err.rfind("shvol: warning: " + path("s.json") + " (run r0001 repeat=0 spp=2): ", 0) == 0)
         << r.err;
     const auto run3 = nlohmann::json::parse(std::ifstream(path("b/r0003.stats.json")));
     EXPECT_EQ(run3["warnings"].size(), 1u);
