@@ -316,6 +316,11 @@ Sweep readSweep(const std::string& path, double maxRuns) {
         s.metrics = {"rmse", "relmse", "mae", "bias"};
     }
     if (!s.metrics.empty() && !s.reference) r.error("metrics", "metrics need a \"reference\"");
+    // (A reference no metric reads would be rendered, or hashed, for nothing; helper 67.)
+    if (s.metrics.empty() && s.reference)
+        r.error("metrics",
+                "none, but the sweep has a \"reference\", which only metrics use; "
+                "name a metric or drop the reference");
     // The z-test needs standard errors, and so 2 samples per pixel in every run and in a rendered
     // reference: found here, not when the batch reaches that run.
     if (std::find(s.metrics.begin(), s.metrics.end(), "ztest") != s.metrics.end()) {

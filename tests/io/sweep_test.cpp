@@ -294,6 +294,9 @@ TEST(Sweep, ErrorsNameFileAndKey) {
               ": axes.seed: expected integers in [0, 2^53]");
     EXPECT_EQ(err("e4", R"({"scene": "scene.json", "metrics": ["rmse"]})"),
               ": metrics: metrics need a \"reference\"");
+    EXPECT_EQ(err("e4r", R"({"scene": "scene.json", "metrics": [], "reference": {"spp": 8}})"),
+              ": metrics: none, but the sweep has a \"reference\", which only metrics use; name "
+              "a metric or drop the reference");
     EXPECT_EQ(err("e5", R"({"scene": "scene.json", "axes": {"seed": [1]}, "repeats": 2})"),
               ": axes.seed: give either a seed axis or repeats, not both");
     // The repeats' seeds are integers a scene takes: the last of them at most 2^53.
