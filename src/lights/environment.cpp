@@ -38,10 +38,14 @@ Environment Environment::image(Image img, double scale, double rotationDegrees,
             weights[size_t(y) * W + x] = luminance(img.at(x, y)) * sinTheta * above;
     }
     e.texels_ = std::make_shared<const TexelSampler>(weights.data(), img.rgb.data(), W, H);
-    for (size_t i = 3; i < img.rgb.size() && e.uniform_; ++i)
-        e.uniform_ = img.rgb[i] == img.rgb[i % 3];  // (every pixel the first)
-    e.black_ =
-        !(scale > 0) || std::all_of(img.rgb.begin(), img.rgb.end(), [](float v) { return v <= 0; });
+    // Judged by the pixels seen: with lowerHemisphereBlack, the rows that reach above the
+    // horizon (a sky lit only below it is black, one uniform above it uniform; review).
+    int rows = H;
+    while (lowerHemisphereBlack && rows > 1 && Pi * (rows - 1) / H >= 0.5 * Pi) --rows;
+    const auto seen = img.rgb.begin(), seenEnd = img.rgb.begin() + size_t(3) * W * rows;
+    for (auto v = seen + 3; v < seenEnd && e.uniform_; ++v)
+        e.uniform_ = *v == seen[(v - seen) % 3];  // (every pixel the first)
+    e.black_ = !(scale > 0) || std::all_of(seen, seenEnd, [](float v) { return v <= 0; });
     e.image_ = std::make_shared<const Image>(std::move(img));
     return e;
 }

@@ -354,6 +354,20 @@ TEST(VolumePathIntegrator, NextEventEstimationIsDecidedFromTheScene) {
     EXPECT_FALSE(Effects::of(s).nextEvent);
     s.environment = Environment::image(Image(8, 4), 1.0, 0.0, false);
     EXPECT_FALSE(Effects::of(s).nextEvent);
+    // With the lower hemisphere black, by the rows above the horizon (4 rows: the first two):
+    // the pixel that differs is below it, and one lit only below it is black (review).
+    s.settings.nee.reset();
+    s.environment = Environment::image(img, 1.0, 0.0, true);
+    EXPECT_TRUE(s.environment.uniform());
+    EXPECT_FALSE(Effects::of(s).nextEvent);
+    img.set(0, 1, Spectrum(1, 0.5, 0.26));
+    EXPECT_FALSE(Environment::image(img, 1.0, 0.0, true).uniform());
+    Image below(8, 5);  // (odd: the middle row straddles the horizon, and is seen)
+    below.set(3, 3, Spectrum(1, 1, 1));
+    EXPECT_TRUE(Environment::image(below, 1.0, 0.0, true).black());
+    EXPECT_FALSE(Environment::image(below, 1.0, 0.0, false).black());
+    below.set(3, 2, Spectrum(1, 1, 1));
+    EXPECT_FALSE(Environment::image(below, 1.0, 0.0, true).black());
 }
 
 // The image depends on the seed only, never on the thread count.
