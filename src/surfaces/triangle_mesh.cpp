@@ -426,8 +426,10 @@ ShellLayout layoutOf(const TriangleMesh& mesh, const Shells& s, const MeshPlaces
         for (const size_t o : overlapping[i]) {
             if (inBox(x, o) && winding(x, o) > 0.5) ++depth;
             bool inside = false, outside = false;
-            for (uint32_t k = 0; k < std::min(count, 8u); ++k) {
-                const uint32_t* c = &mesh.indices[3 * faces[start[roots[i]] + k * count / 8]];
+            const uint32_t samples = std::min(count, 8u);  // (distinct faces: review)
+            for (uint32_t k = 0; k < samples; ++k) {
+                const uint32_t* c =
+                    &mesh.indices[3 * faces[start[roots[i]] + uint64_t(k) * count / samples]];
                 for (const Vec3& v :
                      {mesh.p[c[0]], Vec3((mesh.p[c[0]] + mesh.p[c[1]] + mesh.p[c[2]]) / 3)}) {
                     const double w = inBox(v, o) ? winding(v, o) : 0;

@@ -478,6 +478,11 @@ TEST(TriangleMesh, PartsThatCrossAreRefused) {
     EXPECT_EQ(meshSolidity(withShell(c, c, 1, Vec3(3, 0, 0), false)).defect, "");
     EXPECT_EQ(meshSolidity(withShell(c, c, 1, Vec3(2, 2, 0), false)).defect, "");
     EXPECT_FALSE(meshSolidity(withShell(c, c, 0.5, Vec3(0, 0, 0), true)).partsCross);
+    // Parts of fewer than 8 faces are judged at all their faces: the second tetrahedron holds
+    // the first one's corner (1, 0, 0), which only its last face shows, and the first holds the
+    // centroid of the second one's third face. Faces k·4/8 (0, 0, 1, 1) missed both (review).
+    const TriangleMesh t = tetrahedron();
+    EXPECT_TRUE(meshSolidity(withShell(t, t, 1.2, Vec3(0.7, -0.3, -0.3), false)).partsCross);
 }
 
 // Crossing parts have no nesting to judge, but each still has an outside: its inwardFaces are
