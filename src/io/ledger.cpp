@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <filesystem>
@@ -166,10 +167,40 @@ const Json* Ledger::find(const std::string& id) const {
     return it == index_.end() ? nullptr : &rows_[it->second];
 }
 
+int ledgerColumnPlace(const std::string& column) {
+    static const std::vector<std::string> order = {"run",
+                                                   "repeat",
+                                                   "",  // (the axes' place)
+                                                   "seed",
+                                                   "spp",
+                                                   "rmse",
+                                                   "relmse",
+                                                   "mae",
+                                                   "bias",
+                                                   "bias_ci95",
+                                                   "ztest_min_p",
+                                                   "ztest_threshold",
+                                                   "ztest_passed",
+                                                   "wall_time_s",
+                                                   "total_s",
+                                                   "paths_per_second",
+                                                   "image",
+                                                   "fingerprint",
+                                                   "settings_fingerprint",
+                                                   "git_revision",
+                                                   "reference_fingerprint"};
+    const auto it = std::find(order.begin(), order.end(), column);
+    return column.empty() || it == order.end() ? kLedgerAxisPlace : int(it - order.begin());
+}
+
 bool Ledger::addColumns(const Json& row) {
     bool added = false;
     for (auto it = row.begin(); it != row.end(); ++it)
         if (columnSet_.insert(it.key()).second) columns_.push_back(it.key()), added = true;
+    if (added)
+        std::stable_sort(columns_.begin(), columns_.end(), [](const auto& a, const auto& b) {
+            return ledgerColumnPlace(a) < ledgerColumnPlace(b);
+        });
     return added;
 }
 

@@ -34,10 +34,36 @@ TEST(Ledger, AppendsReloadsAndWritesCsv) {
     std::ifstream f(l.csvPath());
     std::stringstream csv;
     csv << f.rdbuf();
-    EXPECT_EQ(csv.str(), "rmse,run,note\n0.5,r0000,\n,r0001,\"a, \"\"b\"\"\"\n");
+    EXPECT_EQ(csv.str(), "run,note,rmse\nr0000,,0.5\nr0001,\"a, \"\"b\"\"\",\n");
     for (const auto& e : fs::directory_iterator(dir))  // no temporaries left behind
         EXPECT_TRUE(e.path().filename() == "results.jsonl" || e.path().filename() == "results.csv")
             << e.path();
+}
+
+// results.csv puts a row's run, repeat and axes first, then seed and spp, the metrics, the times
+// and the provenance (the rows' keys came alphabetically: axes among the metrics; helper 67).
+// Every column that is not an axis has a place of its own.
+TEST(Ledger, CsvColumnsGoRunAxesMetricsTimesProvenance) {
+    for (const std::string& c : ledgerColumnsBesideAxes())
+        EXPECT_NE(ledgerColumnPlace(c), kLedgerAxisPlace) << c;
+    const fs::path dir = fs::path(testing::TempDir()) / "shvol_ledger_columns";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    Ledger l(dir.string());
+    l.append({{"run", "r0000"},
+              {"repeat", 0},
+              {"spp", 4},
+              {"seed", 1},
+              {"rmse", 0.5},
+              {"bias", 0.1},
+              {"bias_ci95", 0.2},
+              {"media[0].albedo", 0.9},
+              {"git_revision", "abc"},
+              {"total_s", 2},
+              {"camera.fov", 30}});
+    EXPECT_EQ(test::fileBytes(l.csvPath()),
+              "run,repeat,camera.fov,media[0].albedo,seed,spp,rmse,bias,bias_ci95,total_s,"
+              "git_revision\nr0000,0,30,0.9,1,4,0.5,0.1,0.2,2,abc\n");
 }
 
 // A finished run adds a line to each file instead of rewriting them (a batch of n runs wrote
@@ -59,11 +85,11 @@ TEST(Ledger, AppendsALinePerRun) {
     l.append({{"run", "r0001"}, {"rmse", 0.25}});
     EXPECT_EQ(inode(dir / "results.jsonl"), jsonl);
     EXPECT_EQ(inode(dir / "results.csv"), csv);
-    EXPECT_EQ(test::fileBytes((dir / "results.csv").string()), "rmse,run\n0.5,r0000\n0.25,r0001\n");
+    EXPECT_EQ(test::fileBytes((dir / "results.csv").string()), "run,rmse\nr0000,0.5\nr0001,0.25\n");
     l.append({{"run", "r0002"}, {"rmse", 0.125}, {"mae", 0.1}});
     EXPECT_EQ(inode(dir / "results.jsonl"), jsonl);
     EXPECT_EQ(test::fileBytes((dir / "results.csv").string()),
-              "rmse,run,mae\n0.5,r0000,\n0.25,r0001,\n0.125,r0002,0.1\n");
+              "run,rmse,mae\nr0000,0.5,\nr0001,0.25,\nr0002,0.125,0.1\n");
     EXPECT_EQ(test::messageOf([&] {
                   l.append({{"run", "r0001"}});
               }),
@@ -83,7 +109,7 @@ TEST(Ledger, RepairsWhatAKillLeft) {
     EXPECT_EQ(l.find("r0001"), nullptr);
     EXPECT_EQ(test::fileBytes((dir / "results.jsonl").string()),
               "{\"run\": \"r0000\", \"rmse\": 1}\n");
-    EXPECT_EQ(test::fileBytes((dir / "results.csv").string()), "rmse,run\n1,r0000\n");
+    EXPECT_EQ(test::fileBytes((dir / "results.csv").string()), "run,rmse\nr0000,1\n");
 }
 
 // A last line that is a whole row without its newline (a hand-edited file) is kept and given
@@ -135,7 +161,7 @@ TEST(Ledger, AFailedWriteLeavesTheFileAsItWas) {
             EXPECT_EQ(message, jsonl + ": cannot write file (File too large)") << failing;
             EXPECT_EQ(test::fileBytes(jsonl), before);
             // The CSV too (its row had been written: it kept a run the JSONL does not count).
-            EXPECT_EQ(test::fileBytes(l.csvPath()), "rmse,run\n0.5,r0000\n0.25,r0001\n") << failing;
+            EXPECT_EQ(test::fileBytes(l.csvPath()), "run,rmse\nr0000,0.5\nr0001,0.25\n") << failing;
             EXPECT_EQ(l.rows().size(), 2u);
             EXPECT_EQ(l.find("r0002"), nullptr);
             EXPECT_EQ(test::messageOf([&] {
@@ -146,7 +172,7 @@ TEST(Ledger, AFailedWriteLeavesTheFileAsItWas) {
         }
         const Ledger l(dir.string());
         EXPECT_EQ(l.rows().size(), 2u);
-        EXPECT_EQ(test::fileBytes(l.csvPath()), "rmse,run\n0.5,r0000\n0.25,r0001\n");
+        EXPECT_EQ(test::fileBytes(l.csvPath()), "run,rmse\nr0000,0.5\nr0001,0.25\n");
     }
 }
 

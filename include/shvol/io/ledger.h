@@ -1,15 +1,15 @@
 #pragma once
 /// \file The ledger of a batch: DIR/results.jsonl, one JSON object per finished run, and
-/// DIR/results.csv, the same rows as a table (the union of the rows' keys in order of first
-/// appearance; nested values as JSON text). A finished run appends one line to each (the CSV
-/// first), with one write call; a row that adds a column rewrites the CSV whole through a temporary
-/// and a rename. A kill at any moment (kill -9 included) can leave at most a last JSONL line cut
-/// short, which the next Ledger drops (the run renders again; a last line that is a whole row is
-/// kept), and a CSV row more than the JSONL holds, which it writes again from the JSONL: no half
-/// row survives. A write that fails (a full disk) is cut back off the file, and the ledger then
-/// refuses more rows. A Ledger that may write (Open::Repair) holds an exclusive flock(2) on DIR
-/// while it lives: a second one, in this process or another, is refused; so is a file naming a
-/// run twice.
+/// DIR/results.csv, the same rows as a table (the union of the rows' keys, ordered by
+/// ledgerColumnPlace, in order of first appearance; nested values as JSON text). A finished run
+/// appends one line to each (the CSV first), with one write call; a row that adds a column rewrites
+/// the CSV whole through a temporary and a rename. A kill at any moment (kill -9 included) can
+/// leave at most a last JSONL line cut short, which the next Ledger drops (the run renders again; a
+/// last line that is a whole row is kept), and a CSV row more than the JSONL holds, which it writes
+/// again from the JSONL: no half row survives. A write that fails (a full disk) is cut back off the
+/// file, and the ledger then refuses more rows. A Ledger that may write (Open::Repair) holds an
+/// exclusive flock(2) on DIR while it lives: a second one, in this process or another, is refused;
+/// so is a file naming a run twice.
 #include <map>
 #include <set>
 #include <string>
@@ -52,6 +52,13 @@ inline std::set<std::string> ledgerColumnsBesideAxes() {
     return columns;
 }
 
+/// The place of a column in results.csv: what a row is looked up by first (the run, its repeat,
+/// then its axes), then seed and spp, the metrics, the times, and the provenance last. Axes (any
+/// column ledgerColumnsBesideAxes does not have) share one place, in order of first appearance.
+/// (The columns were in the rows' key order, alphabetical: axes among the metrics; helper 67.)
+int ledgerColumnPlace(const std::string& column);
+inline constexpr int kLedgerAxisPlace = 2;
+
 class Ledger {
   public:
     /// ReadOnly leaves the files as they are (a last line cut short is only skipped).
@@ -81,7 +88,7 @@ class Ledger {
     std::string dir_;
     std::vector<Json> rows_;
     std::unordered_map<std::string, size_t> index_;  ///< run id → row
-    std::vector<std::string> columns_;               ///< in order of first appearance
+    std::vector<std::string> columns_;  ///< by ledgerColumnPlace, then first appearance
     std::unordered_set<std::string> columnSet_;
     int lock_ = -1;        ///< DIR, flock'ed (Open::Repair)
     bool failed_ = false;  ///< a write failed: no more rows
