@@ -27,7 +27,6 @@
 #include "shvol/io/provenance.h"
 #include "shvol/io/scene_loader.h"
 #include "shvol/io/sweep.h"
-#include "shvol_git_revision.h"
 
 namespace shvol::app {
 
@@ -262,9 +261,9 @@ void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string& 
                  "finished with other contents of the files its scene names (grids, skies, "
                  "tables, meshes) than they have now; use another output directory");
         const std::string build = row.value("git_revision", "(none)");
-        if (build != SHVOL_GIT_REVISION)
+        if (build != gitRevision())
             fail(ledger.jsonlPath(), "run " + id,
-                 "finished by shvol " + build + ", this is " + SHVOL_GIT_REVISION +
+                 "finished by shvol " + build + ", this is " + gitRevision() +
                      "; use another output directory");
         if (row.value("reference_fingerprint", "") != reference)
             fail(ledger.jsonlPath(), "run " + id,

@@ -26,7 +26,6 @@
 #include "shvol/io/scene_loader.h"
 #include "shvol/render/renderer.h"
 #include "shvol/sampling/zonal_sh_sampler.h"
-#include "shvol_git_revision.h"
 
 namespace shvol::app {
 
@@ -286,7 +285,7 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
     const PathCounters& c = st.counters;
     nlohmann::json j;
     j["shvol_version"] = SHVOL_VERSION;
-    j["git_revision"] = SHVOL_GIT_REVISION;
+    j["git_revision"] = gitRevision();
     j["scene"] = scene.path;
     j["output"] = out;
     j["resolution"] = {scene.camera.width, scene.camera.height};
@@ -589,7 +588,7 @@ int runRender(const RenderArgs& a) {
             // The scene as the loader read it, defaults written out: a value given as its default
             // (--seed 1, render.rr_depth=3) is the same render as one left out.
             if (!a.checkpoint.empty())
-                identity = renderIdentity(resolved, provenance.at("inputs"), SHVOL_GIT_REVISION);
+                identity = renderIdentity(resolved, provenance.at("inputs"), gitRevision());
             if (a.resume) film = readCheckpoint(a.checkpoint, identity);
             if (a.variance && film.maxCount() > 0 && film.sumSq.empty())
                 fail(a.checkpoint, "",

@@ -2929,15 +2929,18 @@ TEST_F(Cli, NonUtf8FileNames) {
     EXPECT_NE(stats["scene"].get<std::string>().find("\xef\xbf\xbd"), std::string::npos);
 }
 
-// The stats name the source revision the program was built from: a 40-digit commit, "-dirty" when
-// the tree had uncommitted changes, or "unknown" outside a git checkout.
+// The stats name the source revision the program was built from: a 40-digit commit, with
+// "-dirty-" and 12 hex digits of its diff's hash when the tree had uncommitted changes (two
+// differently changed builds were both "-dirty"), or "unknown" outside a git checkout.
 TEST_F(Cli, StatsNameTheGitRevision) {
     write("s.json", scene(Homogeneous));
     ASSERT_EQ(run("render " + path("s.json") + " -o " + path("g.exr") + " --quiet").code, 0);
     std::ifstream f(path("g.stats.json"));
     const std::string rev = nlohmann::json::parse(f)["git_revision"];
     const bool commit = rev.size() >= 40 && rev.find_first_not_of("0123456789abcdef") >= 40 &&
-                        (rev.size() == 40 || rev.substr(40) == "-dirty");
+                        (rev.size() == 40 ||
+                         (rev.size() == 40 + 19 && rev.substr(40, 7) == "-dirty-" &&
+                          rev.find_first_not_of("0123456789abcdef", 47) == std::string::npos));
     EXPECT_TRUE(commit || rev == "unknown") << rev;
 }
 
