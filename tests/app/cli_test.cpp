@@ -2937,10 +2937,10 @@ TEST_F(Cli, StatsNameTheGitRevision) {
     ASSERT_EQ(run("render " + path("s.json") + " -o " + path("g.exr") + " --quiet").code, 0);
     std::ifstream f(path("g.stats.json"));
     const std::string rev = nlohmann::json::parse(f)["git_revision"];
-    const bool commit = rev.size() >= 40 && rev.find_first_not_of("0123456789abcdef") >= 40 &&
-                        (rev.size() == 40 ||
-                         (rev.size() == 40 + 19 && rev.substr(40, 7) == "-dirty-" &&
-                          rev.find_first_not_of("0123456789abcdef", 47) == std::string::npos));
+    const bool commit =
+        rev.size() >= 40 && rev.find_first_not_of("0123456789abcdef") >= 40 &&
+        (rev.size() == 40 || (rev.size() == 40 + 19 && rev.substr(40, 7) == "-dirty-" &&
+                              rev.find_first_not_of("0123456789abcdef", 47) == std::string::npos));
     EXPECT_TRUE(commit || rev == "unknown") << rev;
 }
 
