@@ -36,15 +36,17 @@ constexpr double kMinExrPixelLimit = 1 << 20;  // small files may still hold a 1
 // gives them: magic and version (8 bytes), then per attribute name\0 type\0, an int32 size
 // (little-endian) and the value; an empty name ends a header, and in a multi-part file (version
 // bit 12) an empty header ends the list. An attribute reaching beyond the file's end is refused;
-// whatever else is wrong (a truncated header, say) is left to OpenEXR to report.
-void checkExrAttributeSizes(const std::string& path, uintmax_t bytes) {
+// whatever else is wrong (a truncated header, say) is left to OpenEXR to report. Returns the
+// number of headers walked (parts; 0 for what is not EXR).
+int checkExrAttributeSizes(const std::string& path, uintmax_t bytes) {
     std::ifstream in(path, std::ios::binary);
     unsigned char start[8];
     if (!in.read(reinterpret_cast<char*>(start), 8) || start[0] != 0x76 || start[1] != 0x2f ||
         start[2] != 0x31 || start[3] != 0x01)
-        return;                              // not EXR's magic number: OpenEXR says so
+        return 0;                            // not EXR's magic number: OpenEXR says so
     const bool multipart = start[5] & 0x10;  // version bit 12
     uintmax_t at = 8;
+    int headers = 0;
     // Reads a name up to its \0 (control characters kept out of the error line as '?'); false at
     // the file's end or past 255 characters.
     auto readName = [&](std::string& s) {
@@ -62,7 +64,7 @@ void checkExrAttributeSizes(const std::string& path, uintmax_t bytes) {
         int attributes = 0;
         for (; readName(name) && !name.empty(); ++attributes) {
             unsigned char size[4];
-            if (!readName(type) || !in.read(reinterpret_cast<char*>(size), 4)) return;
+            if (!readName(type) || !in.read(reinterpret_cast<char*>(size), 4)) return headers;
             at += 4;
             const int32_t n = int32_t(uint32_t(size[0]) | uint32_t(size[1]) << 8 |
                                       uint32_t(size[2]) << 16 | uint32_t(size[3]) << 24);
@@ -73,7 +75,8 @@ void checkExrAttributeSizes(const std::string& path, uintmax_t bytes) {
             in.seekg(n, std::ios::cur);
             at += uintmax_t(n);
         }
-        if (!in || !multipart || attributes == 0) return;
+        headers += attributes > 0;
+        if (!in || !multipart || attributes == 0) return headers;
     }
 }
 
@@ -112,7 +115,13 @@ Image readExr(const std::string& path, ExrValues values) {
         Imf::Header::setMaxImageSize(kMaxExrSide, kMaxExrSide);
         Imf::Header::setMaxTileSize(kMaxExrSide, kMaxExrSide);
     });
-    checkExrAttributeSizes(path, bytes);
+    // A multi-part file (an image and its passes, say) was read as its first part, whichever
+    // that was (helper 68).
+    if (const int parts = checkExrAttributeSizes(path, bytes); parts > 1)
+        fail(path, "parts",
+             std::to_string(parts) +
+                 " (a multi-part file), and shvol reads single-part files only, whose part "
+                 "would be the picture; save the image you mean as a file of its own");
     Image img;
     int x0 = 0, y0 = 0;  // the data window's corner: errors name pixels as the file does
     Imath::Box2i dataWindow, displayWindow;
