@@ -353,9 +353,7 @@ TEST(Exr, MultiPartFilesOfOnePartOnly) {
     writeParts(tmp("one_part.exr"), 1);
     EXPECT_EQ(readExr(tmp("one_part.exr")).at(1, 1).x(), 0.25);
     writeParts(tmp("three_parts.exr"), 3);
-    EXPECT_EQ(messageOf([] {
-                  readExr(tmp("three_parts.exr"));
-              }),
+    EXPECT_EQ(messageOf([] { readExr(tmp("three_parts.exr")); }),
               tmp("three_parts.exr") +
                   ": parts: 3 (a multi-part file), and shvol reads single-part files only, whose "
                   "part would be the picture; save the image you mean as a file of its own");
