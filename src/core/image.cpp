@@ -21,7 +21,10 @@ ImageStatistics imageStatistics(const Image& image) {
         lo[c] = std::min(lo[c], v), hi[c] = std::max(hi[c], v);
     }
     for (int c = 0; c < 3; ++c)
-        if (count[c] > 0) st.mean[c] = sum[c] / count[c], st.min[c] = lo[c], st.max[c] = hi[c];
+        if (count[c] > 0)
+            st.mean[c] = sum[c] / count[c], st.min[c] = lo[c], st.max[c] = hi[c];
+        else
+            st.mean[c] = st.min[c] = st.max[c] = std::numeric_limits<double>::quiet_NaN();
     return st;
 }
 

@@ -1412,6 +1412,7 @@ TEST_F(Cli, RenderSaysWhenAPixelOverflowsFloat) {
     EXPECT_NE(stats["warnings"][0].get<std::string>().find("are written as inf"),
               std::string::npos);
     EXPECT_EQ(stats["image"]["non_finite"], 36);
+    EXPECT_TRUE(stats["image"]["mean"][0].is_null()) << stats["image"];  // (it read 0)
     // A checkerboard of 3·10⁶⁸ (scaled by 10³⁰) and 0: standard errors beyond float32 are said
     // too, on the file they are written to.
     Image board(64, 32);

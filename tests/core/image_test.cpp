@@ -23,13 +23,19 @@ TEST(Image, StatisticsSkipNonFiniteValues) {
     EXPECT_DOUBLE_EQ(st.mean[2], 3.0);
 }
 
-TEST(Image, StatisticsOfAnAllNaNChannelAreZero) {
+// A channel without a finite value has no mean, minimum or maximum: NaN (null in the stats),
+// not the 0 they read before (an image all overflowing had a mean of 0; helper 68).
+TEST(Image, StatisticsOfAChannelWithoutFiniteValuesAreUnknown) {
     Image img(1, 1);
-    img.set(0, 0, Spectrum(NAN, 1, 1));
+    img.set(0, 0, Spectrum(NAN, INFINITY, 1));
     const ImageStatistics st = imageStatistics(img);
-    EXPECT_EQ(st.nonFinite, 1);
-    EXPECT_EQ(st.mean[0], 0.0);
-    EXPECT_EQ(st.max[0], 0.0);
+    EXPECT_EQ(st.nonFinite, 2);
+    for (int c = 0; c < 2; ++c) {
+        EXPECT_TRUE(std::isnan(st.mean[c]));
+        EXPECT_TRUE(std::isnan(st.min[c]));
+        EXPECT_TRUE(std::isnan(st.max[c]));
+    }
+    EXPECT_EQ(st.mean[2], 1.0);
 }
 
 }  // namespace shvol

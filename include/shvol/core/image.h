@@ -22,8 +22,9 @@ struct Image {
     }
 };
 
-/// Per-channel summary of an image: mean, minimum and maximum over the finite values, and the
-/// number of non-finite values (which never enter the other three).
+/// Per-channel summary of an image: mean, minimum and maximum over the finite values (NaN for a
+/// channel without one: they read 0, a value the image did not have; helper 68), and the number
+/// of non-finite values (which never enter the other three).
 struct ImageStatistics {
     Spectrum mean = Spectrum::Zero(), min = Spectrum::Zero(), max = Spectrum::Zero();
     long long nonFinite = 0;
