@@ -179,22 +179,29 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
     return w;
 }
 
+/// Why next-event estimation towards the environment is on or off (Effects::of), in words: the
+/// stats' next_event_estimation.why, and the unused light sampler's warning.
+std::string neeReason(const Scene& scene, const Effects& effects) {
+    const Environment& env = scene.environment;
+    if (!effects.bounces) return "no path scatters or reflects";
+    if (env.black()) return "the environment is black";
+    if (scene.settings.nee)
+        return *scene.settings.nee ? "render.nee is true" : "render.nee is false";
+    if (effects.nextEvent) return "render.nee \"auto\" turns it on under a sky image that varies";
+    return std::string("render.nee \"auto\" leaves it off under a ") +
+           (env.isConstant() ? "constant sky" : "sky image of equal pixels") +
+           ", where phase sampling does better";
+}
+
 /// A light sampler other than the default asked for (render.light_sampling) where next-event
 /// estimation, which draws its samples, is off: it would go unused without a word (the stats'
 /// effects alone showed it). "" when it is used, or not asked for.
 std::string unusedLightSamplingWarning(const Scene& scene, const Effects& effects) {
     const RenderSettings& s = scene.settings;
     if (s.lightSampling == LightSampling::Environment || effects.nextEvent) return "";
-    const Environment& env = scene.environment;
-    const std::string why =
-        s.nee == false     ? "render.nee is false"
-        : !effects.bounces ? "no path scatters or reflects"
-        : env.black()      ? "the environment is black"
-                           : std::string("render.nee \"auto\" leaves it off under a ") +
-                            (env.isConstant() ? "constant sky" : "sky image of equal pixels") +
-                            ", where phase sampling does better; set render.nee to true to use it";
     return std::string("render.light_sampling: \"") + lightSamplingName(s.lightSampling) +
-           "\" is not used: next-event estimation, which draws its samples, is off (" + why + ")";
+           "\" is not used: next-event estimation, which draws its samples, is off (" +
+           neeReason(scene, effects) + (s.nee ? "" : "; set render.nee to true to use it") + ")";
 }
 
 /// environment.wavelet_coefficients where no sky hierarchy is built (light sampling "environment",
@@ -350,6 +357,13 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
     }
     j["peak_memory_mib"] = peakMemoryMiB();
     j["effects"] = st.effects;
+    // (The effects named only what was on: why NEE was off under a sky went unsaid; helper 68.)
+    const Effects effects = Effects::of(scene);
+    j["next_event_estimation"] = {
+        {"setting", scene.settings.nee ? nlohmann::json(*scene.settings.nee) : "auto"},
+        {"environment", effects.nextEvent},
+        {"area_lights", effects.areaLights},
+        {"why", neeReason(scene, effects)}};
     j["roulette_threshold"] = st.rouletteThreshold;
     j["sampler"] = sampleStreamName(scene.settings.sampler);
     if (const LightSamplingStats& ls = st.lightSampling; !ls.strategy.empty()) {

@@ -863,6 +863,29 @@ TEST_F(Cli, RenderWarnsOfUnreliablePhaseFits) {
     EXPECT_EQ(run3["warnings"].size(), 1u);
 }
 
+// The stats say whether next-event estimation is on, towards what, and why for the sky: under a
+// constant one "auto" leaves it off, which the effects' names did not say (helper 68).
+TEST_F(Cli, StatsSayWhyNextEventEstimationIsOnOrOff) {
+    write("s.json", scene(Homogeneous));
+    const auto nee = [&](const std::string& set) {
+        const Result r =
+            run("render " + path("s.json") + " -o " + path("n.exr") + " --spp 1 --quiet" + set);
+        EXPECT_EQ(r.code, 0) << r.err;
+        return nlohmann::json::parse(std::ifstream(path("n.stats.json")))["next_event_estimation"];
+    };
+    EXPECT_EQ(nee(""), nlohmann::json({{"setting", "auto"},
+                                       {"environment", false},
+                                       {"area_lights", false},
+                                       {"why",
+                                        "render.nee \"auto\" leaves it off under a "
+                                        "constant sky, where phase sampling does better"}}));
+    EXPECT_EQ(nee(" --set render.nee=true"), nlohmann::json({{"setting", true},
+                                                             {"environment", true},
+                                                             {"area_lights", false},
+                                                             {"why", "render.nee is true"}}));
+    EXPECT_EQ(nee(" --set environment.radiance=0")["why"], "the environment is black");
+}
+
 // Product light sampling names itself in the stats with what it built and drew; a wrong
 // strategy name is one line naming the key.
 TEST_F(Cli, ProductLightSamplingStats) {
