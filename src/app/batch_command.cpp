@@ -203,6 +203,26 @@ void checkRunScenes(const Sweep& s) {
     }
 }
 
+/// Warns of finished runs whose image is gone from the output directory (deleted, moved): their
+/// rows stand and they are not rendered again, which went unsaid (helper 67).
+void warnOfMissingImages(const Sweep& s, const Ledger& ledger) {
+    std::vector<std::string> missing;
+    for (const SweepRun& run : s.runs)
+        if (const Json* row = ledger.find(run.id))
+            if (const std::string image = (fs::path(s.output) / row->value("image", "")).string();
+                row->value("image", "").empty() || !fs::exists(image))
+                missing.push_back(image);
+    if (missing.empty()) return;
+    std::fprintf(
+        stderr,
+        "shvol: warning: %s: finished runs' images are missing: %s%s; their rows stand "
+        "and the runs are not rendered again (to render one again, delete its line from "
+        "%s)\n",
+        s.output.c_str(), missing[0].c_str(),
+        missing.size() > 1 ? (" and " + std::to_string(missing.size() - 1) + " more").c_str() : "",
+        ledger.jsonlPath().c_str());
+}
+
 /// Refuses, before anything renders, a run's output that cannot be written (a directory or a
 /// FIFO named rNNNN.exr, say): found after the reference's render and the runs before it, it
 /// wasted them. Runs the ledger has finished are not written again.
@@ -546,6 +566,7 @@ int runBatch(BatchArgs a) {
             checkFinishedRows(done, s, reference);
         }
         checkRunOutputs(s, done, ztest);
+        warnOfMissingImages(s, done);
         if (s.reference)
             std::printf("reference %s%s\n", s.reference->file.c_str(),
                         s.reference->render ? " (rendered once, cached)" : "");
@@ -579,6 +600,7 @@ int runBatch(BatchArgs a) {
         adoptFinishedIds(s, ledger->rows());
         checkFinishedRows(*ledger, s, reference);
         checkRunOutputs(s, *ledger, ztest);
+        warnOfMissingImages(s, *ledger);
     });
     RunContext c(s);
     c.ztest = ztest;

@@ -2224,6 +2224,29 @@ TEST_F(Cli, BatchTakesAReferenceWithNegativeValues) {
     }
 }
 
+// A finished run whose image is gone keeps its row and is not rendered again, and the batch (and
+// its dry run) says so: it went unnoticed (helper 67).
+TEST_F(Cli, BatchSaysWhenAFinishedRunsImageIsMissing) {
+    write("s.json", scene(Homogeneous));
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [1, 2, 3]}, "output": "out"})");
+    ASSERT_EQ(run("batch " + path("sweep.json") + " --quiet").code, 0);
+    fs::remove(path("out/r0001.exr"));
+    fs::remove(path("out/r0002.exr"));
+    const std::string warning =
+        "shvol: warning: " + path("out") +
+        ": finished runs' images are missing: " + path("out/r0001.exr") +
+        " and 1 more; their rows stand and the runs are not rendered again (to render one "
+        "again, delete its line from " +
+        path("out/results.jsonl") + ")\n";
+    Result r = run("batch " + path("sweep.json") + " --quiet");
+    EXPECT_EQ(r.code, 0);
+    EXPECT_EQ(r.err, warning);
+    EXPECT_FALSE(fs::exists(path("out/r0001.exr")));
+    r = run("batch " + path("sweep.json") + " --dry-run");
+    EXPECT_EQ(r.code, 0);
+    EXPECT_EQ(r.err, warning);
+}
+
 // A signal while the batch checks its sweep's scenes (here an SH fit of order 256, seconds long)
 // stops it as one during a run does, with exit code 130 and a word: caught only during renders,
 // SIGTERM ended it with 143 and nothing said (helper 67).
