@@ -80,6 +80,11 @@ def load(directory):
                 if not is_number(row[key]) or row[key] < 0 and key != "bias":
                     fail(f"{path}: line {n}: {key}: expected a finite number"
                          f"{'' if key == 'bias' else ' >= 0'}, got {json.dumps(row[key])}")
+            if "ztest_passed" in row and not (isinstance(row["ztest_passed"], bool) and
+                                              is_number(row.get("ztest_min_p"))):
+                fail(f"{path}: line {n}: ztest_passed: expected true or false with a finite "
+                     f"ztest_min_p, got {json.dumps(row['ztest_passed'])} and "
+                     f"{json.dumps(row.get('ztest_min_p'))}")
             if not (isinstance(row["spp"], int) and row["spp"] >= 1):  # (a log axis)
                 fail(f"{path}: line {n}: spp: expected an integer >= 1, got "
                      f"{json.dumps(row['spp'])}")
@@ -165,7 +170,10 @@ def main():
     # configurations added to a finished batch after those it had (shvol batch keeps the ids).
     by_run = sorted(rows, key=lambda r: (len(str(r.get("run", ""))), str(r.get("run", ""))))
     configs = list(dict.fromkeys(label(r, axes) for r in by_run))
-    summary = []  # (config, spp, n, err mean, err sd, time mean, efficiency)
+    # The z-test's column when every row has one: the runs that passed of the configuration's,
+    # and the smallest p of them (it was left out of the report; helper 67).
+    ztest = all("ztest_passed" in r for r in rows)
+    summary = []  # (config, spp, n, err mean, err sd, time mean, efficiency, z-test)
     for (c, spp), rs in sorted(groups.items(), key=lambda kv: (configs.index(kv[0][0]), kv[0][1])):
         t, _ = mean_sd([r[time_key] for r in rs])
         if error:
@@ -175,7 +183,9 @@ def main():
         # 1/(MSE x time) with the MSE's mean over the repeats (not the mean RMSE squared).
         mse = sum(r["rmse"] ** 2 for r in rs) / len(rs) if error == "rmse" else math.nan
         eff = 1 / (mse * t) if error == "rmse" and mse > 0 and t > 0 else math.nan
-        summary.append((c, spp, len(rs), e, sd, t, eff))
+        z = (f"{sum(r['ztest_passed'] for r in rs)}/{len(rs)} "
+             f"(min p {min(r['ztest_min_p'] for r in rs):.2g})" if ztest else "")
+        summary.append((c, spp, len(rs), e, sd, t, eff, z))
 
     figures = []
     # The error plots have log axes: an error of 0 (a run equal to the reference) or a time of 0
@@ -244,11 +254,12 @@ def main():
                               "pooled)"))
 
     head = ["configuration", "spp", "runs", f"{error or 'error'} (mean ± sd)", "time (s)",
-            "1/(MSE·time)"]
+            "1/(MSE·time)"] + (["z-test passed"] if ztest else [])
     table = [head]
-    for c, spp, n, e, sd, t, eff in summary:
+    for c, spp, n, e, sd, t, eff, z in summary:
         table.append([c, str(spp), str(n), (f"{e:.4g} ± {sd:.2g}" if n > 1 else f"{e:.4g}") if error else "",
-                      f"{t:.3g}", f"{eff:.4g}" if not math.isnan(eff) else ""])
+                      f"{t:.3g}", f"{eff:.4g}" if not math.isnan(eff) else ""] +
+                     ([z] if ztest else []))
     summary = (f"{counted(len(rows), 'run')}, {counted(len(configs), 'configuration')}; "
                f"error metric: {error or 'none'}; time: {time_key} ({time_label}).")
     if left_out:

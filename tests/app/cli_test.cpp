@@ -2928,6 +2928,26 @@ TEST_F(Cli, BatchReport) {
     EXPECT_NE(total.find("2 runs, 1 configuration; error metric: rmse; time: total_s"),
               std::string::npos)
         << total;
+    // The z-test's column, where every row has it: the runs that passed and the smallest p (it
+    // was left out; helper 67); a malformed z-test row is one line.
+    std::ofstream(ledger)
+        << R"({"run": "r0000", "spp": 8, "g": 1, "wall_time_s": 1, "rmse": 1, "ztest_passed": true, "ztest_min_p": 0.5})"
+        << "\n"
+        << R"({"run": "r0001", "spp": 8, "g": 1, "wall_time_s": 1, "rmse": 1, "ztest_passed": false, "ztest_min_p": 1e-9})"
+        << "\n";
+    c = run("report " + path("o"));
+    ASSERT_EQ(c.code, 0) << c.err;
+    const std::string z = test::fileBytes(path("o/report.md"));
+    EXPECT_NE(z.find("| 1/(MSE·time) | z-test passed |"), std::string::npos) << z;
+    EXPECT_NE(z.find("| g=1 | 8 | 2 | 1 ± 0 | 1 | 1 | 1/2 (min p 1e-09) |"), std::string::npos)
+        << z;
+    std::ofstream(ledger)
+        << R"({"run": "r0000", "spp": 8, "wall_time_s": 1, "rmse": 1, "ztest_passed": 1})"
+        << "\n";
+    c = run("report " + path("o"));
+    EXPECT_EQ(c.err, "shvol: error: " + ledger +
+                         ": line 1: ztest_passed: expected true or false with a finite "
+                         "ztest_min_p, got 1 and null\n");
     // An error of 0 (runs equal to the reference) stays in the table but not on the log axes,
     // which said so in matplotlib's warnings on stderr; an spp of 0 cannot be on them either.
     std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "g": 1, "wall_time_s": 1, "rmse": 0})"
