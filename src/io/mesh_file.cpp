@@ -844,14 +844,18 @@ TriangleMesh readObj(const std::string& path, const Eigen::Affine3d* toWorld,
               nvn = int(a.normals.size() / 3);
     // What scanObj let through and tinyobjloader still misreads ("0e999" is 0·∞ = NaN to it),
     // at its line (validateMesh knows only the vertex it became).
+    const auto misread = [](const char* what) {
+        return std::string("a ") + what +
+               " is not finite as tinyobjloader reads it (a number it misreads, such as 0e999 "
+               "for 0)";
+    };
     for (int i = 0; i < nv; ++i)
         if (const Vec3 p(a.vertices[3 * i], a.vertices[3 * i + 1], a.vertices[3 * i + 2]);
             !p.allFinite())
             fail(path,
                  lines.v.size() == size_t(nv) ? "line " + std::to_string(lines.v[i])
                                               : "v line " + std::to_string(i + 1),
-                 "a coordinate is not finite as tinyobjloader reads it (a number it misreads, "
-                 "such as 0e999 for 0)");
+                 misread("coordinate"));
 
     // num_face_vertices is an unsigned char: the count of a face of 256 or more vertices wraps
     // around, and the corners no longer add up.
@@ -884,16 +888,12 @@ TriangleMesh readObj(const std::string& path, const Eigen::Affine3d* toWorld,
         if (k.vn >= 0) {
             const Vec3 n(a.normals[3 * k.vn], a.normals[3 * k.vn + 1], a.normals[3 * k.vn + 2]);
             if (!n.allFinite())
-                fail(path, lineOr(lines.vn, nvn, k.vn, f),
-                     "a normal coordinate is not finite as tinyobjloader reads it (a number it "
-                     "misreads, such as 0e999 for 0)");
+                fail(path, lineOr(lines.vn, nvn, k.vn, f), misread("normal coordinate"));
             if (n.cwiseAbs().maxCoeff() == 0)
                 fail(path, lineOr(lines.vn, nvn, k.vn, f), "normal is zero");
         }
         if (k.vt >= 0 && !Vec2(a.texcoords[2 * k.vt], a.texcoords[2 * k.vt + 1]).allFinite())
-            fail(path, lineOr(lines.vt, nvt, k.vt, f),
-                 "a texture coordinate is not finite as tinyobjloader reads it (a number it "
-                 "misreads, such as 0e999 for 0)");
+            fail(path, lineOr(lines.vt, nvt, k.vt, f), misread("texture coordinate"));
     };
     std::vector<size_t> firstFaceOf;
     places.fileIndices = false;
