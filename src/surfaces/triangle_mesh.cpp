@@ -243,6 +243,18 @@ std::vector<uint64_t> directedEdges(const TriangleMesh& mesh, const std::vector<
     return keys;
 }
 
+/// The first face from `from` on that has the directed edge `key` of welded vertices (edgeKey),
+/// or the face count.
+size_t faceWithEdge(const TriangleMesh& mesh, const std::vector<uint32_t>& weld, uint64_t key,
+                    size_t from) {
+    for (size_t f = from; f < mesh.triangleCount(); ++f)
+        for (int j = 0; j < 3; ++j)
+            if (edgeKey(weld[mesh.indices[3 * f + j]], weld[mesh.indices[3 * f + (j + 1) % 3]]) ==
+                key)
+                return f;
+    return mesh.triangleCount();
+}
+
 /// The defect of the mesh with each vertex standing for weld[vertex]; where it finds none, it
 /// has computed the shells, and leaves them in *shells.
 std::string defectWith(const TriangleMesh& mesh, const std::vector<uint32_t>& weld,
@@ -280,12 +292,9 @@ std::string defectWith(const TriangleMesh& mesh, const std::vector<uint32_t>& we
             const uint64_t k = edgeOf(f, j);
             const auto range = std::equal_range(keys.begin(), keys.end(), k);
             if (range.second - range.first < 2) continue;
-            size_t other = f + 1;
-            while (other < nt && edgeOf(other, 0) != k && edgeOf(other, 1) != k &&
-                   edgeOf(other, 2) != k)
-                ++other;
             return defectAt(places, f,
-                            edgeName(k) + " appears twice (also at " + places.ofTriangle(other) +
+                            edgeName(k) + " appears twice (also at " +
+                                places.ofTriangle(faceWithEdge(mesh, weld, k, f + 1)) +
                                 "): inconsistent winding or non-manifold");
         }
     for (size_t f = 0; f < nt; ++f)
@@ -327,13 +336,7 @@ std::string defectWelded(const TriangleMesh& mesh, const std::vector<uint32_t>& 
         for (const bool second : {false, true}) {
             const Vec3 a = end(0, true) - end(0, false), b = end(i, second) - end(0, false);
             if (!(a.cross(b).norm() > 1e-9 * a.norm() * b.norm())) continue;
-            size_t f = 0;  // a face with that edge
-            while (
-                edgeKey(weld[mesh.indices[3 * f + 0]], weld[mesh.indices[3 * f + 1]]) != twice[i] &&
-                edgeKey(weld[mesh.indices[3 * f + 1]], weld[mesh.indices[3 * f + 2]]) != twice[i] &&
-                edgeKey(weld[mesh.indices[3 * f + 2]], weld[mesh.indices[3 * f + 0]]) != twice[i])
-                ++f;
-            return defectAt(places, f,
+            return defectAt(places, faceWithEdge(mesh, weld, twice[i], 0),
                             "solids touching over a face (at " + str(end(i, second), true) +
                                 "): a ray crosses only one of the faces there; give each solid a "
                                 "surface of its own");
