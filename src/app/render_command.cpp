@@ -139,8 +139,9 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
         if (s.kind == Surface::Kind::Mesh && s.bsdf.type == BsdfType::Dielectric &&
             !s.solidity().defect.empty())
             w.push_back(s.name +
-                        (s.solidity().partsCross
-                             ? ": dielectric, and its parts cross (" + s.solidity().defect +
+                        (s.solidity().partsMeet
+                             ? ": dielectric, and its parts cross or touch (" +
+                                   s.solidity().defect +
                                    "): where they overlap, a ray inside one part meets the "
                                    "other's faces as if from outside the glass and refracts "
                                    "there; each part was turned to face outwards on its own"
@@ -201,7 +202,11 @@ std::string unusedLightSamplingWarning(const Scene& scene, const Effects& effect
     if (s.lightSampling == LightSampling::Environment || effects.nextEvent) return "";
     return std::string("render.light_sampling: \"") + lightSamplingName(s.lightSampling) +
            "\" is not used: next-event estimation, which draws its samples, is off (" +
-           neeReason(scene, effects) + (s.nee ? "" : "; set render.nee to true to use it") + ")";
+           neeReason(scene, effects) +
+           (!s.nee && effects.bounces && !scene.environment.black()
+                ? "; set render.nee to true to use it"
+                : "") +
+           ")";
 }
 
 /// environment.wavelet_coefficients where no sky hierarchy is built (light sampling "environment",
