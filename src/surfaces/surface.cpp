@@ -54,11 +54,11 @@ void Surface::turnInsideOut() {
     emitsFromBack = !emitsFromBack;
     // The volume changes sign, and the shells that faced the wrong way are the others now; a
     // defect's message would name its edges the other way round.
-    if (!solidity_ || (!solidity_->defect.empty() && !solidity_->partsCross)) {
+    if (!solidity_ || (!solidity_->defect.empty() && !solidity_->partsMeet)) {
         solidity_ = nullptr;
         return;
     }
-    MeshSolidity m{solidity_->defect, -solidity_->signedVolume, {}, solidity_->partsCross};
+    MeshSolidity m{solidity_->defect, -solidity_->signedVolume, {}, solidity_->partsMeet};
     const std::vector<uint32_t>& was = solidity_->inwardFaces;
     for (uint32_t f = 0, k = 0; f < mesh.triangleCount(); ++f)
         if (k < was.size() && was[k] == f)
@@ -69,7 +69,7 @@ void Surface::turnInsideOut() {
 }
 
 bool Surface::faceOutwards() {
-    if (kind != Kind::Mesh || (!solidity().defect.empty() && !solidity().partsCross)) return true;
+    if (kind != Kind::Mesh || (!solidity().defect.empty() && !solidity().partsMeet)) return true;
     const std::vector<uint32_t>& inward = solidity().inwardFaces;
     if (inward.empty()) return true;
     if (inward.size() == mesh.triangleCount()) {

@@ -355,21 +355,22 @@ double solidAngle(const TriangleMesh& mesh, size_t f, const Vec3& x) {
                           la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la);
 }
 
-/// How the shells of a closed mesh lie: MeshSolidity's defect where two cross, else its
-/// inwardFaces.
+/// How the shells of a closed mesh lie: MeshSolidity's defect where two cross or touch over a
+/// face, and its inwardFaces.
 struct ShellLayout {
     std::string defect;
     std::vector<uint32_t> inwardFaces;
-    bool partsCross = false;
+    bool partsMeet = false;
 };
 
 /// The shells' layout: a shell nested in k others faces outwards if k is even, inwards if odd. A
 /// point lies inside another shell if its winding number with respect to that shell (Σ Ω / 4π,
-/// Jacobson et al. 2013) is ±1, outside if 0, and on it in between (two solids touching along an
-/// edge); only shells whose boxes hold the point are asked. A shell is inside another if its
-/// first face's centroid is; two shells cross if of a few of one's points (a corner and the
-/// centroid of up to 8 faces spread over it) some lie inside the other and some outside it (a
-/// check that can miss crossings no sampled point shows: two bars crossed like a plus sign).
+/// Jacobson et al. 2013) is ±1, outside if 0; a point on it (onShell) is neither. Only shells
+/// whose boxes hold the point are asked. A shell is inside another if its first face's centroid
+/// is; two shells cross if of a few of one's points (a corner and the centroid of up to 8 faces
+/// spread over it) some lie inside the other and some outside it (a check that can miss
+/// crossings no sampled point shows: two bars crossed like a plus sign), and touch over a face
+/// if one of those centroids lies on the other (touching along an edge or at a point is fine).
 ShellLayout layoutOf(const TriangleMesh& mesh, const Shells& s, const MeshPlaces& places) {
     const size_t nt = mesh.triangleCount();
     std::vector<uint32_t> roots, start(nt + 1, 0), faces(nt);
@@ -405,6 +406,26 @@ ShellLayout layoutOf(const TriangleMesh& mesh, const Shells& s, const MeshPlaces
             omega += solidAngle(mesh, faces[k], x);
         return std::abs(omega) / (2 * TwoPi);
     };
+    // Whether x lies on shell o (a face, an edge or a corner of it, within 10⁻⁹ of its box's
+    // diagonal), where its winding number is neither 0 nor 1 (a point on a face read 0 or 1 by
+    // the sign of a zero; review: a box standing on a larger one was said to cross it).
+    const auto onShell = [&](const Vec3& x, size_t o) {
+        const double tol = 1e-9 * (box[o].hi - box[o].lo).norm();
+        for (uint32_t k = start[roots[o]]; k < start[roots[o] + 1]; ++k) {
+            const uint32_t* t = &mesh.indices[3 * faces[k]];
+            const Vec3 corner[3] = {mesh.p[t[0]], mesh.p[t[1]], mesh.p[t[2]]};
+            const Vec3 n = (corner[1] - corner[0]).cross(corner[2] - corner[0]);
+            const double area2 = n.norm();
+            if (!(area2 > 0) || std::abs(n.dot(x - corner[0])) > tol * area2) continue;
+            bool in = true;  // on the inner side of each edge, within tol
+            for (int e = 0; e < 3 && in; ++e) {
+                const Vec3 edge = corner[(e + 1) % 3] - corner[e];
+                in = n.dot(edge.cross(x - corner[e])) >= -tol * area2 * edge.norm();
+            }
+            if (in) return true;
+        }
+        return false;
+    };
     // The pairs of shells whose boxes overlap, found by a sweep along x: only they can nest or
     // cross (asking every pair made a mesh of 20,000 separate beads 4·10⁸ pairs; review).
     std::vector<size_t> order(roots.size());
@@ -429,24 +450,39 @@ ShellLayout layoutOf(const TriangleMesh& mesh, const Shells& s, const MeshPlaces
         for (const size_t o : overlapping[i]) {
             if (inBox(x, o) && winding(x, o) > 0.5) ++depth;
             bool inside = false, outside = false;
+            uint32_t touching = nt;  // a sampled face whose centroid lies on shell o
             const uint32_t samples = std::min(count, 8u);  // (distinct faces: review)
             for (uint32_t k = 0; k < samples; ++k) {
-                const uint32_t* c =
-                    &mesh.indices[3 * faces[start[roots[i]] + uint64_t(k) * count / samples]];
-                for (const Vec3& v :
-                     {mesh.p[c[0]], Vec3((mesh.p[c[0]] + mesh.p[c[1]] + mesh.p[c[2]]) / 3)}) {
+                const uint32_t face = faces[start[roots[i]] + uint64_t(k) * count / samples];
+                const uint32_t* c = &mesh.indices[3 * face];
+                const Vec3 centroid = (mesh.p[c[0]] + mesh.p[c[1]] + mesh.p[c[2]]) / 3;
+                const Vec3 points[2] = {mesh.p[c[0]], centroid};
+                for (int q = 0; q < 2; ++q) {
+                    const Vec3& v = points[q];
+                    if (inBox(v, o) && onShell(v, o)) {  // neither inside nor outside
+                        if (q == 1 && touching == nt) touching = face;
+                        continue;
+                    }
                     const double w = inBox(v, o) ? winding(v, o) : 0;
                     inside |= w > 0.9, outside |= w < 0.1;
                 }
             }
-            if (inside && outside) {
-                layout.defect = defectAt(places, roots[i],
-                                         "the part of the mesh this face belongs to crosses the "
-                                         "part at " +
-                                             places.ofTriangle(roots[o]) +
-                                             ": the parts of one mesh must not intersect (a ray "
-                                             "would enter one solid inside the other)");
-                layout.partsCross = true;
+            if ((inside && outside) || touching < nt) {
+                const std::string other = places.ofTriangle(roots[o]);
+                layout.defect =
+                    inside && outside
+                        ? defectAt(places, roots[i],
+                                   "the part of the mesh this face belongs to crosses the part "
+                                   "at " +
+                                       other +
+                                       ": the parts of one mesh must not intersect (a ray "
+                                       "would enter one solid inside the other)")
+                        : defectAt(places, touching,
+                                   "this face lies on the part of the mesh at " + other +
+                                       ": solids touching over a face, where a ray crosses only "
+                                       "one of the two faces; give each solid a surface of its "
+                                       "own");
+                layout.partsMeet = true;
                 turned.clear();
                 for (uint32_t f = 0; f < nt; ++f)
                     if (s.volume[s.ofFace[f]] < 0) turned.push_back(f);
@@ -492,7 +528,7 @@ MeshSolidity meshSolidity(const TriangleMesh& mesh, const MeshPlaces& places) {
         ShellLayout layout = layoutOf(mesh, shells, places);
         m.defect = std::move(layout.defect);
         m.inwardFaces = std::move(layout.inwardFaces);
-        m.partsCross = layout.partsCross;
+        m.partsMeet = layout.partsMeet;
     }
     return m;
 }

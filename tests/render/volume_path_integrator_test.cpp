@@ -368,6 +368,16 @@ TEST(VolumePathIntegrator, NextEventEstimationIsDecidedFromTheScene) {
     EXPECT_FALSE(Environment::image(below, 1.0, 0.0, false).black());
     below.set(3, 2, Spectrum(1, 1, 1));
     EXPECT_FALSE(Environment::image(below, 1.0, 0.0, true).black());
+    // Row H/2 of an even height lies below the horizon, also where π(H/2)/H rounds below π/2
+    // (H = 22, 960; review); the middle row of an odd height straddles it.
+    for (const int h : {22, 960, 4, 23}) {
+        Image sky(4, h);
+        sky.set(1, h / 2, Spectrum(1, 1, 1));
+        EXPECT_EQ(Environment::image(sky, 1.0, 0.0, true).black(), h % 2 == 0) << h;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < 4; ++x) sky.set(x, y, Spectrum::Constant(y == h / 2 ? 5 : 1));
+        EXPECT_EQ(Environment::image(sky, 1.0, 0.0, true).uniform(), h % 2 == 0) << h;
+    }
 }
 
 // The image depends on the seed only, never on the thread count.

@@ -477,12 +477,30 @@ TEST(TriangleMesh, PartsThatCrossAreRefused) {
     EXPECT_EQ(meshSolidity(withShell(c, c, 0.5, Vec3(0, 0, 0), true)).defect, "");
     EXPECT_EQ(meshSolidity(withShell(c, c, 1, Vec3(3, 0, 0), false)).defect, "");
     EXPECT_EQ(meshSolidity(withShell(c, c, 1, Vec3(2, 2, 0), false)).defect, "");
-    EXPECT_FALSE(meshSolidity(withShell(c, c, 0.5, Vec3(0, 0, 0), true)).partsCross);
+    EXPECT_FALSE(meshSolidity(withShell(c, c, 0.5, Vec3(0, 0, 0), true)).partsMeet);
     // Parts of fewer than 8 faces are judged at all their faces: the second tetrahedron holds
     // the first one's corner (1, 0, 0), which only its last face shows, and the first holds the
     // centroid of the second one's third face. Faces k·4/8 (0, 0, 1, 1) missed both (review).
     const TriangleMesh t = tetrahedron();
-    EXPECT_TRUE(meshSolidity(withShell(t, t, 1.2, Vec3(0.7, -0.3, -0.3), false)).partsCross);
+    EXPECT_TRUE(meshSolidity(withShell(t, t, 1.2, Vec3(0.7, -0.3, -0.3), false)).partsMeet);
+}
+
+// Parts that touch over a face are refused as touching, not crossing (a box standing on a
+// larger one: a point on a face had winding number 0 or 1 by the sign of a zero; review), at
+// the face that lies on the other part; along an edge or at a corner they are fine.
+TEST(TriangleMesh, PartsThatTouchOverAFaceAreRefused) {
+    const TriangleMesh c = cube();  // [−1, 1]³
+    for (const Vec3& shift : {Vec3(0, 0, 1.5), Vec3(0.2, -0.3, 1.5), Vec3(0.5, 0.5, 1.5)}) {
+        const MeshSolidity m = meshSolidity(withShell(c, c, 0.5, shift, false));
+        EXPECT_NE(m.defect.find(": this face lies on the part of the mesh at face "),
+                  std::string::npos)
+            << shift.transpose() << ": " << m.defect;
+        EXPECT_EQ(m.defect.find("crosses the part"), std::string::npos) << m.defect;
+        EXPECT_TRUE(m.partsMeet);
+    }
+    EXPECT_EQ(meshSolidity(withShell(c, c, 1, Vec3(2, 2, 0), false)).defect, "");      // an edge
+    EXPECT_EQ(meshSolidity(withShell(c, c, 1, Vec3(2, 2, 2), false)).defect, "");      // a corner
+    EXPECT_EQ(meshSolidity(withShell(c, c, 0.5, Vec3(0, 0, 1.6), false)).defect, "");  // apart
 }
 
 // Crossing parts have no nesting to judge, but each still has an outside: its inwardFaces are
@@ -494,7 +512,7 @@ TEST(TriangleMesh, PartsThatCrossAreEachTurnedOutwards) {
     // Both wound inwards, and one of each.
     const TriangleMesh both = withShell(inward, inward, 1, Vec3(1, 0, 0), false);
     const MeshSolidity m = meshSolidity(both);
-    EXPECT_TRUE(m.partsCross);
+    EXPECT_TRUE(m.partsMeet);
     EXPECT_NE(m.defect, "");
     EXPECT_EQ(m.inwardFaces, faceRange(0, 24));
     const TriangleMesh mixed = withShell(cube(), cube(), 1, Vec3(1, 0, 0), true);
@@ -503,7 +521,7 @@ TEST(TriangleMesh, PartsThatCrossAreEachTurnedOutwards) {
         Surface sf;
         sf.mesh = mesh;
         EXPECT_TRUE(sf.faceOutwards());
-        EXPECT_TRUE(sf.solidity().partsCross);
+        EXPECT_TRUE(sf.solidity().partsMeet);
         EXPECT_EQ(sf.solidity().inwardFaces, std::vector<uint32_t>());
         EXPECT_EQ(sf.solidity().signedVolume, 16.0);  // (each part's own volume, 8)
         EXPECT_EQ(sf.solidity().defect, m.defect);
@@ -515,7 +533,7 @@ TEST(TriangleMesh, PartsThatCrossAreEachTurnedOutwards) {
     const std::vector<uint32_t> wound = open.mesh.indices;
     EXPECT_TRUE(open.faceOutwards());
     EXPECT_EQ(open.mesh.indices, wound);
-    EXPECT_FALSE(open.solidity().partsCross);
+    EXPECT_FALSE(open.solidity().partsMeet);
 }
 
 // A mesh surface's solidity is the mesh's, computed once; turned inside out, its volume changes

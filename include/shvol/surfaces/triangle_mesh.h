@@ -91,12 +91,13 @@ struct MeshSolidity {
     /// the wrong way for the surface of a solid. A shell faces outwards, or, nested inside an
     /// odd number of others (a hollow's inner wall), inwards; nesting is judged at a point of
     /// each shell by its generalised winding number (Σ solid angles / 4π, Jacobson et al. 2013)
-    /// with respect to each other shell. Shells that cross one another are a defect (judged at
-    /// a few points of each: README). Where they cross, nesting has no meaning: inwardFaces
-    /// are then the faces of the shells of negative volume (each part turned outwards on its
-    /// own, as glass still is), and partsCross is set.
+    /// with respect to each other shell. Shells that cross one another, or touch over a face
+    /// (a face's centroid on another shell), are a defect (judged at a few points of each:
+    /// README). Where they meet so, nesting has no meaning: inwardFaces are then the faces of
+    /// the shells of negative volume (each part turned outwards on its own, as glass still
+    /// is), and partsMeet is set.
     std::vector<uint32_t> inwardFaces;
-    bool partsCross = false;
+    bool partsMeet = false;
 };
 MeshSolidity meshSolidity(const TriangleMesh& mesh, const MeshPlaces& places = {});
 
