@@ -448,7 +448,6 @@ ShellLayout layoutOf(const TriangleMesh& mesh, const Shells& s, const MeshPlaces
         const uint32_t count = start[roots[i] + 1] - start[roots[i]];
         int depth = 0;
         for (const size_t o : overlapping[i]) {
-            if (inBox(x, o) && winding(x, o) > 0.5) ++depth;
             bool inside = false, outside = false;
             uint32_t touching = nt;  // a sampled face whose centroid lies on shell o
             const uint32_t samples = std::min(count, 8u);  // (distinct faces: review)
@@ -467,7 +466,9 @@ ShellLayout layoutOf(const TriangleMesh& mesh, const Shells& s, const MeshPlaces
                     inside |= w > 0.9, outside |= w < 0.1;
                 }
             }
-            if ((inside && outside) || touching < nt) {
+            // Parts that meet have no nesting: each is turned outwards on its own (a hollow's
+            // inner wall that meets no part stays inwards; review: it was turned too).
+            if (((inside && outside) || touching < nt) && !layout.partsMeet) {
                 const std::string other = places.ofTriangle(roots[o]);
                 layout.defect =
                     inside && outside
@@ -483,11 +484,9 @@ ShellLayout layoutOf(const TriangleMesh& mesh, const Shells& s, const MeshPlaces
                                        "one of the two faces; give each solid a surface of its "
                                        "own");
                 layout.partsMeet = true;
-                turned.clear();
-                for (uint32_t f = 0; f < nt; ++f)
-                    if (s.volume[s.ofFace[f]] < 0) turned.push_back(f);
-                return layout;
             }
+            if ((inside && outside) || touching < nt) continue;
+            if (inBox(x, o) && winding(x, o) > 0.5) ++depth;
         }
         if ((s.volume[roots[i]] < 0) != (depth % 2 == 1))
             turned.insert(turned.end(), faces.begin() + start[roots[i]],

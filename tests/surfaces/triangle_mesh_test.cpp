@@ -517,6 +517,14 @@ TEST(TriangleMesh, PartsThatCrossAreEachTurnedOutwards) {
     EXPECT_EQ(m.inwardFaces, faceRange(0, 24));
     const TriangleMesh mixed = withShell(cube(), cube(), 1, Vec3(1, 0, 0), true);
     EXPECT_EQ(meshSolidity(mixed).inwardFaces, faceRange(12, 12));
+    // A hollow whose inner wall meets no part keeps it inwards, beside a cube crossing its
+    // outer wall (it was turned outwards too, filling the hollow; review).
+    const TriangleMesh hollow = withShell(cube(), cube(), 0.5, Vec3(0, 0, 0), true);
+    const MeshSolidity h = meshSolidity(withShell(hollow, cube(), 0.2, Vec3(1, 0, 0), false));
+    EXPECT_TRUE(h.partsMeet);
+    EXPECT_EQ(h.inwardFaces, std::vector<uint32_t>());
+    EXPECT_EQ(meshSolidity(withShell(hollow, cube(), 0.2, Vec3(1, 0, 0), true)).inwardFaces,
+              faceRange(24, 12));
     for (const TriangleMesh& mesh : {both, mixed}) {
         Surface sf;
         sf.mesh = mesh;

@@ -93,9 +93,9 @@ struct MeshSolidity {
     /// each shell by its generalised winding number (Σ solid angles / 4π, Jacobson et al. 2013)
     /// with respect to each other shell. Shells that cross one another, or touch over a face
     /// (a face's centroid on another shell), are a defect (judged at a few points of each:
-    /// README). Where they meet so, nesting has no meaning: inwardFaces are then the faces of
-    /// the shells of negative volume (each part turned outwards on its own, as glass still
-    /// is), and partsMeet is set.
+    /// README), and set partsMeet; inwardFaces are still given, nesting judged only between
+    /// shells that do not meet (glass whose parts meet is turned so: each such part outwards on
+    /// its own, a hollow's inner wall that meets none inwards).
     std::vector<uint32_t> inwardFaces;
     bool partsMeet = false;
 };
