@@ -48,8 +48,9 @@ struct RenderArgs {
 /// call it: they render a share of the pixels each and rank 0 writes the outputs.
 int runRender(const RenderArgs& a);
 
-/// The commit this program was built from, "<commit>-dirty-<12 hex digits of the hash of the
-/// tracked files' diff>" if the tree had changes, or "unknown" (cmake/git_revision.cmake).
+/// The commit this program was built from, "<commit>-dirty-<12 hex digits of a hash of the
+/// changed and untracked files>" if the tree had changes, or "unknown"
+/// (cmake/git_revision.cmake).
 const char* gitRevision();
 
 /// The files a render with -o `out` writes: its image, statistics and (--variance) standard

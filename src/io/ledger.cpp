@@ -238,9 +238,9 @@ void Ledger::append(const Json& row) {
         failed_ = true;
         index_.erase(id);
         rows_.pop_back();
-        for (size_t c = columnsBefore.size(); c < columns_.size(); ++c)
-            columnSet_.erase(columns_[c]);
+        // (New columns are sorted among the old ones, not only appended: review.)
         columns_ = columnsBefore;
+        columnSet_ = std::unordered_set<std::string>(columns_.begin(), columns_.end());
         try {
             if (!csvExisted && csv != None) std::filesystem::remove(csvPath());
             if (csvExisted && csv == Appended) std::filesystem::resize_file(csvPath(), csvBefore);

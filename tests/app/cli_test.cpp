@@ -2997,7 +2997,7 @@ TEST_F(Cli, NonUtf8FileNames) {
 }
 
 // The stats name the source revision the program was built from: a 40-digit commit, with
-// "-dirty-" and 12 hex digits of its diff's hash when the tree had uncommitted changes (two
+// "-dirty-" and 12 hex digits of its changes' hash when the tree had uncommitted changes (two
 // differently changed builds were both "-dirty"), or "unknown" outside a git checkout.
 TEST_F(Cli, StatsNameTheGitRevision) {
     write("s.json", scene(Homogeneous));
