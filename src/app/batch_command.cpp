@@ -207,10 +207,11 @@ void checkRunScenes(const Sweep& s) {
 /// rows stand and they are not rendered again, which went unsaid (helper 67).
 void warnOfMissingImages(const Sweep& s, const Ledger& ledger) {
     std::vector<std::string> missing;
+    std::error_code ec;  // (a file that cannot be looked at counts as missing)
     for (const SweepRun& run : s.runs)
         if (const Json* row = ledger.find(run.id))
             if (const std::string image = (fs::path(s.output) / row->value("image", "")).string();
-                row->value("image", "").empty() || !fs::exists(image))
+                row->value("image", "").empty() || !fs::exists(image, ec))
                 missing.push_back(image);
     if (missing.empty()) return;
     std::fprintf(

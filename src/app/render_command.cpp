@@ -142,9 +142,10 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
                         (s.solidity().partsMeet
                              ? ": dielectric, and its parts cross or touch (" +
                                    s.solidity().defect +
-                                   "): where they overlap, a ray inside one part meets the "
-                                   "other's faces as if from outside the glass and refracts "
-                                   "there; each part was turned to face outwards on its own"
+                                   "): where they meet, a ray in one part meets the other's "
+                                   "faces as if from outside the glass and refracts there; each "
+                                   "part that meets another was turned to face outwards on its "
+                                   "own"
                              : ": dielectric, but not the closed surface of a solid (" +
                                    s.solidity().defect +
                                    "): light that enters it may leave it only where a face "
