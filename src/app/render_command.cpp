@@ -150,7 +150,8 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
                                    s.solidity().defect +
                                    "): light that enters it may leave it only where a face "
                                    "happens to lie, and its faces were not turned to face "
-                                   "outwards"));
+                                   "outwards (an open sheet meant so, a water surface, is "
+                                   "rendered as wound: its normals point out of the glass)"));
         const Bounds3 b = s.bounds();
         double size = (b.hi - b.lo).maxCoeff();
         // A closed mesh that rays pass through is judged by its thickness, 2V/A (a slab's: a pane

@@ -1389,7 +1389,9 @@ TEST_F(Cli, RenderWarnsOfGlassThatIsNotClosed) {
                          path("open.obj") +
                          ": line 6: edge from (0, 1, 0) to (1, 0, 0) has no opposite edge: the "
                          "mesh is not closed): light that enters it may leave it only where a "
-                         "face happens to lie, and its faces were not turned to face outwards\n");
+                         "face happens to lie, and its faces were not turned to face outwards "
+                         "(an open sheet meant so, a water surface, is rendered as wound: its "
+                         "normals point out of the glass)\n");
     // Closed, no warning.
     write("open.obj",
           "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n"
