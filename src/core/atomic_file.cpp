@@ -1,5 +1,6 @@
 #include "shvol/core/atomic_file.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -158,6 +159,25 @@ void failWriting(const std::string& path, int error) {
                     : "cannot write file (" + std::generic_category().message(error) + ")");
 }
 
+namespace {
+/// Flushes a file's data, or a directory's entries, to the disk (fsync, retried when a signal
+/// interrupts it); the error number, or 0. A rename is durable only once the data it puts in place
+/// are: without it a power cut could leave a checkpoint renamed into place and empty, and the
+/// render's work since it started lost (helper 71).
+int syncToDisk(const std::string& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return errno;
+    int error = 0;
+    while (::fsync(fd) != 0)
+        if (errno != EINTR) {
+            error = errno;
+            break;
+        }
+    ::close(fd);
+    return error;
+}
+}  // namespace
+
 void writeAtomically(const std::string& path,
                      const std::function<void(const std::string&)>& write) {
     // A symbolic link keeps pointing where it did and its target gets the new contents (the
@@ -169,6 +189,7 @@ void writeAtomically(const std::string& path,
     const TemporaryGuard guard(tmp);
     try {
         write(tmp);
+        if (const int error = syncToDisk(tmp); error != 0) failWriting(path, error);
     } catch (...) {
         std::remove(tmp.c_str());
         throw;
@@ -178,6 +199,10 @@ void writeAtomically(const std::string& path,
         std::remove(tmp.c_str());
         failWriting(path, error);
     }
+    // The rename itself (a directory that cannot be synced, on some file systems, is left so).
+    syncToDisk(std::filesystem::path(target).parent_path().empty()
+                   ? std::string(".")
+                   : std::filesystem::path(target).parent_path().string());
 }
 
 void writeTextAtomically(const std::string& path, const std::string& text) {

@@ -174,8 +174,11 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
         return integrator.Li(frame.generateRay(x + u.x(), y + u.y()), sampler, c);
     };
 
-    // Passes double, unless one would outlast options.maxPassSeconds at the last pass's pace.
-    uint64_t cap = std::numeric_limits<uint64_t>::max();
+    // Passes double, unless one would outlast options.maxPassSeconds at the last pass's pace. A
+    // continued film's first pass takes one sample, to learn the pace: doubling, it took as many
+    // samples as every session before it, with no checkpoint in all that time (helper 71).
+    uint64_t cap =
+        options.maxPassSeconds >= 0 && passEnd > 0 ? 1 : std::numeric_limits<uint64_t>::max();
     while (passEnd < spp) {
         const uint32_t end = nextPassEnd(passEnd, spp, options.stops, cap);
         const auto passStart = std::chrono::steady_clock::now();

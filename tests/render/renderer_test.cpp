@@ -138,6 +138,24 @@ TEST(Renderer, MaxPassSecondsKeepsPassesShortWithoutChangingTheImage) {
     expectSameImage(capped, doubling);
     expectSameImage(zero, doubling);
     expectSameImage(unlimited, doubling);
+    // A continued film (a resumed checkpoint) starts with a pass of one sample, which sets the
+    // pace: its first pass doubled, as long as every session before it (helper 71).
+    RenderOptions first;
+    first.threads = 1;
+    const Film film5 = render(smallScene(5), first).film;
+    for (const double limit : {1e9, 1e-12}) {
+        std::vector<uint32_t> seen;
+        RenderOptions opt;
+        opt.threads = 2;
+        opt.maxPassSeconds = limit;
+        opt.afterPass = [&](const Film&, const RenderStats& st) { seen.push_back(st.passEnd); };
+        const Image cont = render(smallScene(11), opt, film5).image;
+        ASSERT_FALSE(seen.empty());
+        EXPECT_EQ(seen.front(), 6u) << limit;
+        EXPECT_EQ(seen.back(), 11u);
+        if (limit < 1) EXPECT_EQ(seen.size(), 6u);  // (every sample a pass)
+        expectSameImage(cont, doubling);
+    }
 }
 
 // The parts of a render split by pixel rows (the ranks of an MPI render) add up to the whole
