@@ -21,7 +21,8 @@ void addReportCommand(CLI::App& app, std::function<int()>& run);
 /// The text of a failure for the error line: shvol::Error's message as it is, memory running out
 /// as "out of memory; …", any other exception's as "internal error: …" (isInternalError).
 std::string errorMessage(const std::exception& e);
-bool isInternalError(const std::exception& e);
+/// The whole error line: "shvol: error: " and errorMessage(e), or "shvol: internal error: …".
+std::string errorLine(const std::exception& e);
 
 /// What `shvol render` is asked to do (its options).
 struct RenderArgs {

@@ -15,8 +15,10 @@ std::string errorMessage(const std::exception& e) {
     return std::string("internal error: ") + e.what();
 }
 
-bool isInternalError(const std::exception& e) {
-    return !dynamic_cast<const Error*>(&e) && !dynamic_cast<const std::bad_alloc*>(&e);
+std::string errorLine(const std::exception& e) {
+    const bool internal =
+        !dynamic_cast<const Error*>(&e) && !dynamic_cast<const std::bad_alloc*>(&e);
+    return (internal ? "shvol: " : "shvol: error: ") + errorMessage(e);
 }
 
 }  // namespace shvol::app

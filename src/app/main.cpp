@@ -94,11 +94,11 @@ int runMain(int argc, char** argv) {
     } catch (const shvol::app::ReportedOnRoot&) {
         return 1;
     } catch (const std::exception& e) {  // shvol::Error, memory running out, or a defect
-        error = (shvol::app::isInternalError(e) ? "shvol: " : "shvol: error: ") +
-                shvol::app::errorMessage(e);
+        error = shvol::app::errorLine(e);
     }
     std::fprintf(stderr, "%s\n", error.c_str());
-    // An error on one rank only (rank 0's come after the others have finished their part).
+    // An error on one rank only (rank 0's come after the others have finished their part, but
+    // for an image of --spp N1,…: render_command's afterPass).
     if (!speaks) shvol::app::MpiWorld::abort(1);
     return 1;
 }

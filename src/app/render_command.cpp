@@ -713,7 +713,16 @@ int runRender(const RenderArgs& a) {
             asked["scene_resolved"]["render"]["spp"] = n;
             asked["total_s"] = secondsSoFar();
             const Outputs o = outputsFor(out, "spp" + std::to_string(n));
-            writeOutputs(o, scene, spread ? reduced : f, stats, warnings, asked, a.variance);
+            try {
+                writeOutputs(o, scene, spread ? reduced : f, stats, warnings, asked, a.variance);
+            } catch (const std::exception& e) {
+                // The other ranks render on, and would wait for this one at the next image or
+                // the final reduction for ever (a directory gone, a full disk; helper 71): the
+                // error ends them all.
+                if (!spread) throw;
+                std::fprintf(stderr, "%s\n", errorLine(e).c_str());
+                MpiWorld::abort(1);
+            }
             if (!a.quiet) std::fprintf(stderr, "wrote %s (%u spp)\n", o.image.c_str(), n);
         }
         const auto now = std::chrono::steady_clock::now();

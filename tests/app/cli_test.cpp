@@ -2762,6 +2762,24 @@ TEST_F(Cli, MpiRenderEqualsOneProcess) {
     EXPECT_FALSE(fs::exists(path("x.exr")));
 }
 
+// An image of --spp N1,… that rank 0 cannot write (its directory removed once the first is
+// written) ends every rank with the error: the others rendered on and waited for rank 0 at the
+// next reduction for ever (helper 71: killed after 60 s of a 4 s render).
+TEST_F(Cli, MpiRenderEndsEveryRankWhenAnImageCannotBeWritten) {
+    const std::string mpi = std::string(SHVOL_MPIEXEC) + " " + SHVOL_BINARY + " ";
+    fs::create_directories(path("od"));
+    const Result r = runCommand(
+        "timeout 120 " + mpi + "render " + SHVOL_SOURCE_DIR + "/media/default.json" +
+        " --set camera.resolution=[64,64] --set media.0.density_scale=3000"
+        " --set media.0.albedo=0.999 --set render.max_depth=100000 --spp 2,4,8,16,32,64 -o " +
+        path("od/x.exr") + " 2>" + path("err.txt") +
+        " & p=$!; for i in $(seq 3000); do grep -q 'x.spp2.exr' " + path("err.txt") +
+        " && break; sleep 0.01; done; rm -rf " + path("od") + "; wait $p");
+    const std::string err = test::fileBytes(path("err.txt"));
+    EXPECT_EQ(r.code, 1) << err;  // (124: the timeout)
+    EXPECT_NE(err.find("shvol: error: " + path("od/x.spp")), std::string::npos) << err;
+}
+
 // mpirun -np 2 shvol batch: the runs are shared out dynamically, rank 0 keeps the ledger, the
 // reference is rendered by both ranks; the rows equal a single process's, also after the batch
 // was stopped in the middle and started again. A run that fails on either rank ends the batch
