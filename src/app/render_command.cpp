@@ -746,21 +746,23 @@ int runRender(const RenderArgs& a) {
     if (!a.checkpoint.empty() && r.stats.stop != RenderStop::Completed)
         writeCheckpoint(a.checkpoint, r.film, identity);
     provenance["total_s"] = secondsSoFar();
-    writeOutputs(final, scene, r.film, r.stats, warnings, provenance, a.variance);
-    if (r.stats.stop != RenderStop::Completed) {
+    // The images of --spp N1,… that a stop came before (each is written at its pass's end), said
+    // on stderr and in the stats (they were on stderr only; helper 71).
+    std::vector<std::string> finalWarnings = warnings, notWritten;
+    for (const uint32_t n : stops)
+        if (r.stats.stop != RenderStop::Completed && n > r.stats.passEnd && n < spp)
+            notWritten.push_back("--spp " + std::to_string(n) + ": the render stopped before " +
+                                 std::to_string(n) +
+                                 " samples per pixel; that image is not written");
+    finalWarnings.insert(finalWarnings.end(), notWritten.begin(), notWritten.end());
+    writeOutputs(final, scene, r.film, r.stats, finalWarnings, provenance, a.variance);
+    if (r.stats.stop != RenderStop::Completed)
         std::fprintf(stderr,
                      "shvol: %s: wrote the samples finished so far (%u to %u per pixel of %d)%s\n",
                      interrupted ? "interrupted" : "time limit reached", r.stats.minSamples,
                      r.stats.maxSamples, scene.settings.spp,
                      a.checkpoint.empty() ? "" : "; continue with --resume");
-        // The images of --spp N1,… that the stop came before (each is written at its pass's end).
-        for (const uint32_t n : stops)
-            if (n > r.stats.passEnd && n < spp)
-                std::fprintf(stderr,
-                             "shvol: warning: --spp %u: the render stopped before %u samples per "
-                             "pixel; that image is not written\n",
-                             n, n);
-    }
+    for (const std::string& w : notWritten) std::fprintf(stderr, "shvol: warning: %s\n", w.c_str());
     for (const std::string& w : renderWarnings(scene, r.stats)) warnOnce(a.scene, a.run, w);
     if (!a.quiet)
         std::fprintf(stderr, "wrote %s%s and %s (%.2f s, %.3g paths/s, %s%d thread%s)\n",

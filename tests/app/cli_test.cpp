@@ -1911,6 +1911,11 @@ TEST_F(Cli, ProgressiveSppAndVariance) {
         << r.err;
     EXPECT_TRUE(fs::exists(path("z.spp1.exr")));
     EXPECT_FALSE(fs::exists(path("z.spp10000000.exr")));
+    // ... in the stats too (helper 71: on stderr only).
+    const auto zs = nlohmann::json::parse(std::ifstream(path("z.stats.json")));
+    EXPECT_NE(zs["warnings"].dump().find("--spp 10000000: the render stopped before"),
+              std::string::npos)
+        << zs["warnings"];
 }
 
 // shvol batch: killed with SIGKILL in the middle and started again, it finishes the remaining
