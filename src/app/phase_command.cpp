@@ -190,9 +190,9 @@ void writeSamples(const PhaseArgs& a, const Json& spec, Rows&& rows) {
     // The samples must not replace the table they are drawn from.
     if (spec.contains("file") && spec["file"].is_string() &&
         sameFile(a.out, spec["file"].get<std::string>()))
-        fail(a.out, "",
-             "is the phase table being sampled (the spec's file); write the samples "
-             "elsewhere");
+        failOption("--out", a.out +
+                                " is the phase table being sampled (the spec's file); write the "
+                                "samples elsewhere");
     WeightStats ws;
     writeAtomically(a.out, [&](const std::string& tmp) {
         errno = 0;

@@ -27,7 +27,8 @@ void addTonemapCommand(CLI::App& app, std::function<int()>& run) {
         run = [a] {
             // (-o is a .png and the input is read as an EXR, but a link can make them one file)
             if (sameFile(a->output, a->input))
-                fail(a->output, "", "is the image being tonemapped; write the PNG elsewhere");
+                failOption("--output",
+                           a->output + " is the image being tonemapped; write the PNG elsewhere");
             const Image img = readExr(a->input, ExrValues::Preview);
             writePng(a->output, img, a->exposure);
             return 0;

@@ -679,9 +679,9 @@ TEST_F(Cli, PhaseSampleRefusesToOverwriteItsTable) {
     Result r = run("phase sample tabulated:file=" + path("mie.csv") + " --count 5 --out " +
                    path("mie.csv"));
     EXPECT_EQ(r.code, 1);
-    EXPECT_EQ(r.err, "shvol: error: " + path("mie.csv") +
-                         ": is the phase table being sampled (the spec's file); write the samples "
-                         "elsewhere\n");
+    EXPECT_EQ(r.err, "shvol: error: --out: " + path("mie.csv") +
+                         " is the phase table being sampled (the spec's file); write the samples "
+                         "elsewhere (see --help)\n");
     EXPECT_EQ(test::fileBytes(path("mie.csv")), before);
     r = run("phase sample tabulated:file=" + path("mie.csv") + " --count 5 --out " + path("s.csv"));
     EXPECT_EQ(r.code, 0) << r.err;
@@ -1708,8 +1708,8 @@ TEST_F(Cli, RenderChecksEveryOutputFirst) {
     fs::create_symlink(path("in.exr"), path("in.png"));
     const Result t = run("tonemap " + path("in.exr") + " -o " + path("in.png"));
     EXPECT_EQ(t.code, 1);
-    EXPECT_EQ(t.err, "shvol: error: " + path("in.png") +
-                         ": is the image being tonemapped; write the PNG elsewhere\n");
+    EXPECT_EQ(t.err, "shvol: error: --output: " + path("in.png") +
+                         " is the image being tonemapped; write the PNG elsewhere (see --help)\n");
     EXPECT_EQ(readExr(path("in.exr")).width, 2);
 }
 
