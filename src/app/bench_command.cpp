@@ -290,15 +290,21 @@ int runBench(BenchArgs& a) {
     // With --accuracy: read or rendered now, not after minutes of timings.
     const Image ref = a.accuracy ? reference(a, a.sets) : Image();
     const std::vector<std::string> vdbLookups = withVdbKey(doc, a.sets, "lookup", "\"openvdb\"");
-    std::vector<Config> configs = {
-        {"defaults, 1 thread", a.sets, 1},
-        {"OpenVDB lookups, 1 thread", vdbLookups, 1},
-        {"no decomposition, 1 thread", withVdbKey(doc, a.sets, "decomposition", "false"), 1},
-        {"no regular tracking, 1 thread", withVdbKey(doc, a.sets, "regular_tracking", "false"), 1},
-        {"global majorant, 1 thread", withVdbKey(doc, a.sets, "majorant_grid", "false"), 1},
-        {"global majorant, OpenVDB lookups, 1 thread",
-         withVdbKey(doc, vdbLookups, "majorant_grid", "false"), 1},
-        {"defaults, 2 threads", a.sets, 2}};
+    // Without a VDB medium the lookup, tracking and majorant configurations are the defaults'
+    // render: they are not measured, and no ratio of noise is printed (helper 72).
+    const bool vdb = vdbLookups.size() > a.sets.size();
+    std::vector<Config> configs = {{"defaults, 1 thread", a.sets, 1}};
+    if (vdb)
+        configs.insert(
+            configs.end(),
+            {{"OpenVDB lookups, 1 thread", vdbLookups, 1},
+             {"no decomposition, 1 thread", withVdbKey(doc, a.sets, "decomposition", "false"), 1},
+             {"no regular tracking, 1 thread", withVdbKey(doc, a.sets, "regular_tracking", "false"),
+              1},
+             {"global majorant, 1 thread", withVdbKey(doc, a.sets, "majorant_grid", "false"), 1},
+             {"global majorant, OpenVDB lookups, 1 thread",
+              withVdbKey(doc, vdbLookups, "majorant_grid", "false"), 1}});
+    configs.push_back({"defaults, 2 threads", a.sets, 2});
     // The floor: what a path costs when no medium is there (camera, surfaces, lights, sky).
     const bool media = doc.contains("media") && !doc["media"].empty();
     if (media) {
@@ -306,35 +312,44 @@ int runBench(BenchArgs& a) {
         configs.back().sets.push_back("media=[]");
     }
     const std::vector<Row> rows = measure(a, configs, a.spp);
-    const Row &now = rows[0], &openvdb = rows[1], &plain = rows[2], &tentative = rows[3],
-              &global = rows[4], &globalVdb = rows[5], &two = rows[6];
+    const Row &now = rows[0], &two = rows[vdb ? 6 : 1];
     printRows(rows);
-    if (const double bricks = nsPerLookup(a, a.sets); bricks > 0)  // (0: no medium to look up)
-        std::printf(
-            "\nns per density lookup (Medium::sigmaT): bricks %.1f, OpenVDB accessor %.1f\n",
-            bricks, nsPerLookup(a, vdbLookups));
     auto ratio = [](const char* what, const Row& a, const Row& b) {
         std::printf("%s: %s\n", what, ratioText(a, b).c_str());
     };
-    ratio("bricks / OpenVDB lookups (1 thread)", now, openvdb);
-    ratio("decomposition / plain delta and ratio tracking (1 thread)", now, plain);
-    ratio("regular tracking where preferred / tentative collisions only (1 thread)", now,
-          tentative);
-    ratio("majorant grid / global majorant (1 thread)", now, global);
-    // What the grid saves grows with the cost of a lookup: OpenVDB is what a grid too large for
-    // bricks uses, and what every grid used before issue 11.
-    ratio("majorant grid / global majorant, both with OpenVDB lookups (1 thread)", openvdb,
-          globalVdb);
-    if (media) {
-        // Time per path above the floor: what the media add to a path (none, within noise, when
-        // the media cost no more than the floor).
-        const double floor = 1 / rows.back().pathsPerSecond, grid = 1 / now.pathsPerSecond - floor,
-                     one = 1 / global.pathsPerSecond - floor;
-        std::printf("majorant grid / global majorant, time above the floor (1 thread): ");
-        if (grid > 0 && one > 0)
-            std::printf("%.2fx (%.1f vs %.1f ns per path)\n", one / grid, 1e9 * grid, 1e9 * one);
-        else
-            std::printf("n/a (the media add no measurable time to a path)\n");
+    if (const double ns = nsPerLookup(a, a.sets); ns > 0 && !vdb)  // (0: no medium to look up)
+        std::printf("\nns per density lookup (Medium::sigmaT): %.1f\n", ns);
+    else if (ns > 0)
+        std::printf(
+            "\nns per density lookup (Medium::sigmaT): bricks %.1f, OpenVDB accessor %.1f\n", ns,
+            nsPerLookup(a, vdbLookups));
+    if (!vdb)
+        std::printf("no VDB medium: no lookup, tracking or majorant configurations to compare\n");
+    else {
+        const Row &openvdb = rows[1], &plain = rows[2], &tentative = rows[3], &global = rows[4],
+                  &globalVdb = rows[5];
+        ratio("bricks / OpenVDB lookups (1 thread)", now, openvdb);
+        ratio("decomposition / plain delta and ratio tracking (1 thread)", now, plain);
+        ratio("regular tracking where preferred / tentative collisions only (1 thread)", now,
+              tentative);
+        ratio("majorant grid / global majorant (1 thread)", now, global);
+        // What the grid saves grows with the cost of a lookup: OpenVDB is what a grid too large for
+        // bricks uses, and what every grid used before issue 11.
+        ratio("majorant grid / global majorant, both with OpenVDB lookups (1 thread)", openvdb,
+              globalVdb);
+        if (media) {
+            // Time per path above the floor: what the media add to a path (none, within noise, when
+            // the media cost no more than the floor).
+            const double floor = 1 / rows.back().pathsPerSecond,
+                         grid = 1 / now.pathsPerSecond - floor,
+                         one = 1 / global.pathsPerSecond - floor;
+            std::printf("majorant grid / global majorant, time above the floor (1 thread): ");
+            if (grid > 0 && one > 0)
+                std::printf("%.2fx (%.1f vs %.1f ns per path)\n", one / grid, 1e9 * grid,
+                            1e9 * one);
+            else
+                std::printf("n/a (the media add no measurable time to a path)\n");
+        }
     }
     ratio("2 threads / 1 thread", two, now);
     if (a.cellSweep) cellSweep(a, doc);

@@ -362,6 +362,13 @@ TEST_F(Cli, BenchCellSweepFitsTheCostPerPath) {
     r = run("bench " + path("s.json") + " --spp 1 --cell-sweep");
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("no VDB medium: no majorant cell sweep"), std::string::npos) << r.out;
+    // Nor the VDB configurations, the same render as the defaults: their ratios were noise
+    // (helper 72: "majorant grid / global majorant 0.69x").
+    EXPECT_NE(r.out.find("no VDB medium: no lookup, tracking or majorant configurations"),
+              std::string::npos)
+        << r.out;
+    EXPECT_EQ(r.out.find("global majorant"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("2 threads / 1 thread: "), std::string::npos) << r.out;
 
     // One tile over 4096³ voxels: every asked cell is doubled to 32 voxels (at most 2^22 cells),
     // and the rows say so; with one cell size there is nothing to fit.
