@@ -53,13 +53,18 @@ Camera readCamera(JsonReader r) {
     c.extent = r.number("extent", c.extent, 1e-9, 1e9);
     if (r.has("resolution")) {
         const Json& res = r.raw("resolution");
-        if (!res.is_array() || res.size() != 2 || !res[0].is_number_integer() ||
-            !res[1].is_number_integer() || res[0].get<long long>() < 1 ||
-            res[1].get<long long>() < 1 || res[0].get<long long>() > 16384 ||
-            res[1].get<long long>() > 16384)
+        // (An integral number however written, 4.0 or 4e0, as every integer key takes it: the
+        // type of the JSON number was asked; helper 74.)
+        const auto side = [&](size_t i) {
+            const double v = res.is_array() && res.size() == 2 && res[i].is_number()
+                                 ? res[i].get<double>()
+                                 : 0.0;
+            return v >= 1 && v <= 16384 && v == std::floor(v) ? int(v) : 0;
+        };
+        if (side(0) == 0 || side(1) == 0)
             r.error("resolution", "expected [width, height], integers in [1, 16384]");
-        c.width = res[0].get<int>();
-        c.height = res[1].get<int>();
+        c.width = side(0);
+        c.height = side(1);
     } else {
         r.note("resolution", {c.width, c.height});
     }
@@ -269,7 +274,7 @@ int readBoundary(JsonReader& r, const std::vector<Surface>& surfaces, Contents c
     const Json& b = r.raw("boundary");
     int s = -1;
     if (surfaces.empty()) r.error("boundary", "the scene has no surfaces");
-    if (b.is_number_integer()) {
+    if (b.is_number()) {  // (an index: 0 or 0.0, as integer keys take it; helper 74)
         s = r.integer("boundary", 0, 0, int(surfaces.size()) - 1);
     } else {
         const std::string name = r.string("boundary");

@@ -430,6 +430,13 @@ TEST(SceneLoader, MediumBoundedByAClosedSurface) {
     const Surface& glass = s.surfaces->surfaces()[0];
     EXPECT_EQ(glass.interiorMedium, 0);
     EXPECT_GT(signedVolume(glass.mesh), 0);  // turned outwards
+    // By index, an integral number however written (0.0 was "expected a string"; helper 74).
+    EXPECT_EQ(f.load(R"({"surfaces": [{"type": "mesh", "file": "inward.obj", "name": "glass",
+                                       "bsdf": {"type": "dielectric"}}],
+                         "media": [{"type": "homogeneous", "boundary": 0.0}]})")
+                  .surfaces->surfaces()[0]
+                  .interiorMedium,
+              0);
     EXPECT_TRUE(Effects::of(s).boundedMedia);
     EXPECT_EQ(s.media[0]->describe(), "homogeneous (inside its boundary)");
     // A closed glass mesh without a medium faces outwards too, flat-shaded or not (its faces
@@ -586,6 +593,14 @@ TEST(SceneLoader, ErrorsNameBoundsAndTheTypeAKeyBelongsTo) {
     };
     expectMessage(R"({"render": {"seed": -1}})",
                   "render.seed: value -1 out of range [0, 9007199254740992]");
+    // The resolution takes integral numbers however written, as integer keys do (4.0 was refused;
+    // helper 74), and only those.
+    const Scene res = f.load(R"({"camera": {"resolution": [4.0, 3e0]}})");
+    EXPECT_EQ(res.camera.width, 4);
+    EXPECT_EQ(res.camera.height, 3);
+    for (const char* bad : {"[4.5, 3]", "[0, 3]", "[16385, 3]", "[4]", "[\"4\", 3]", "[1e300, 3]"})
+        expectMessage(std::string(R"({"camera": {"resolution": )") + bad + "}}",
+                      "camera.resolution: expected [width, height], integers in [1, 16384]");
     expectMessage(R"({"render": {"max_depth": 2000000}})",
                   "render.max_depth: value 2000000 out of range [0, 1048576]");
     // Integers beyond 2^53 are compared and written exactly (as doubles they would round: 2^53 + 1
