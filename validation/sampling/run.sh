@@ -5,9 +5,19 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 shvol=../../build/shvol
+# A fresh run of each sweep: the runs of the last one go (batch refuses rows another build or
+# sweep finished: helper 74 found this script stopping at its first command); a cached rendered
+# reference stays, and batch renders it again if its fingerprint no longer matches.
+fresh() {
+  rm -f "$1"/results.jsonl "$1"/results.csv "$1"/r[0-9]*.exr "$1"/r[0-9]*.stats.json \
+    "$1"/r[0-9]*.stderr.exr
+}
+fresh sampler
 $shvol batch ../../media/sweeps/sampler.json --output sampler --report --quiet
 for s in ../../media/sweeps/nee/*.json; do
   name=$(basename "$s" .json)
+  fresh "nee/$name"
   $shvol batch "$s" --output "nee/$name" --report --quiet
 done
+fresh nee_and_sampler
 $shvol batch ../../media/sweeps/nee_and_sampler.json --output nee_and_sampler --report --quiet
