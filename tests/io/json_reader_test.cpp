@@ -220,6 +220,25 @@ TEST(JsonReader, OverrideSemantics) {
     EXPECT_EQ(j["media"][0]["phase"]["file"], expected);
     applyOverride(j, "media.0.phase.file=/abs/mie.csv", "s.json");
     EXPECT_EQ(j["media"][0]["phase"]["file"], "/abs/mie.csv");
+    // A camera, medium or surface keeps the keys every type of it reads (they went too, without
+    // a word: a camera's resolution, a medium's albedo, a surface's name; helper 73).
+    Json scene = Json::parse(R"({
+        "camera": {"type": "perspective", "position": [0, -6, 0], "fov": 20, "resolution": [8, 8]},
+        "media": [{"type": "homogeneous", "sigma_t": 3, "albedo": 0.2, "phase": {"type": "hg"},
+                   "boundary": "glass"}],
+        "surfaces": [{"type": "sphere", "radius": 2, "name": "glass", "bsdf": {"type": "null"},
+                      "emission": 2, "emission_two_sided": true, "transform": {"scale": 2}}]})");
+    applyOverride(scene, "camera.type=orthographic", "s.json");
+    EXPECT_EQ(scene["camera"], Json::parse(R"({"type": "orthographic", "position": [0, -6, 0],
+                                              "resolution": [8, 8]})"));
+    applyOverride(scene, "media.0.type=vdb", "s.json");
+    EXPECT_EQ(scene["media"][0], Json::parse(R"({"type": "vdb", "albedo": 0.2,
+                                                "phase": {"type": "hg"}, "boundary": "glass"})"));
+    applyOverride(scene, "surfaces[0].type=mesh", "s.json");
+    EXPECT_EQ(scene["surfaces"][0],
+              Json::parse(R"({"type": "mesh", "name": "glass", "bsdf": {"type": "null"},
+                              "emission": 2, "emission_two_sided": true,
+                              "transform": {"scale": 2}})"));
     // type=null is the null BSDF's type, not a deletion (which left the default BSDF).
     Json surface =
         Json::parse(R"({"surfaces": [{"bsdf": {"type": "lambert", "reflectance": 1}}]})");
