@@ -9,6 +9,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <set>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -711,7 +712,23 @@ ObjLines scanObj(std::string_view text, const std::string& path) {
             lines.vt.push_back(lineNo);
             least = 1, most = 3, what = "vt (u [v [w]])";
         } else {
-            continue;
+            // Any other statement must be one of OBJ's (groups, smoothing, materials, curves):
+            // an unknown one is a damaged line, skipped without a word, and a lost v line moved
+            // every later vertex (helper 73: `v1 1 0`, `F 2 4 3`, binary bytes).
+            static const std::set<std::string_view> statements = {
+                "vp",     "l",          "p",         "o",        "g",        "s",    "mg",
+                "mtllib", "usemtl",     "cstype",    "deg",      "bmat",     "step", "curv",
+                "curv2",  "surf",       "parm",      "trim",     "hole",     "scrv", "sp",
+                "end",    "con",        "bevel",     "c_interp", "d_interp", "lod",  "maplib",
+                "usemap", "shadow_obj", "trace_obj", "ctech",    "stech",    "call", "csh"};
+            const std::string_view word = line.substr(0, line.find_first_of(" \t"));
+            if (word.empty() || word[0] == '#' || statements.count(word)) continue;
+            fail(path, "line " + std::to_string(lineNo),
+                 word == "v" || word == "vn" || word == "vt" || word == "f"
+                     ? quote(word) + " without numbers"
+                     : "unknown statement " + quote(word) +
+                           " (a damaged line? OBJ's are v, vt, vn, f, g, o, s, usemtl, mtllib, "
+                           "l, p and those of curves and surfaces)");
         }
         size_t count = 0;
         for (std::string_view w : splitWords(line.substr(line.find_first_of(" \t")))) {
