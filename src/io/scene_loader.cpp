@@ -41,6 +41,14 @@ Camera readCamera(JsonReader r) {
     c.type = type == "perspective" ? Camera::Type::Perspective : Camera::Type::Orthographic;
     c.position = r.vec3("position", c.position);
     c.target = r.vec3("target", c.target);
+    // Within the ray tracer's range, as surfaces and transforms are: beyond about 10¹⁶ a medium
+    // in front of the camera vanished without a word (helper 73: an absorber's image mean 1.0 for
+    // e⁻²).
+    for (const char* key : {"position", "target"})
+        for (int i = 0; i < 3; ++i)
+            if (const double v = (key[0] == 'p' ? c.position : c.target)[i];
+                !(std::abs(v) <= kMaxSurfaceCoordinate))
+                r.rangeError(key, "component", v, -kMaxSurfaceCoordinate, kMaxSurfaceCoordinate);
     c.up = r.vec3("up", c.up);
     const Vec3 view = c.target - c.position;
     if (!view.allFinite())
@@ -171,7 +179,8 @@ Eigen::Affine3d readTransform(JsonReader r) {
         // (scaled by its largest component first: the norm of [0, 0, 1e200] overflowed and that
         // of [0, 0, 1e-300] underflowed, which shrank the object to nothing or refused the axis)
         if (axis.cwiseAbs().maxCoeff() == 0) rot.error("axis", "must not be zero");
-        const double deg = rot.number("degrees", 0.0);
+        // (Bounded: 1e308° overflowed to a rotation of NaN, blamed on the grid; helper 73.)
+        const double deg = rot.number("degrees", 0.0, -1e6, 1e6);
         rot.finish();
         m.rotate(Eigen::AngleAxisd(deg * Pi / 180, axis.stableNormalized()));
     }

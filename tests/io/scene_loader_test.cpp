@@ -593,6 +593,15 @@ TEST(SceneLoader, ErrorsNameBoundsAndTheTypeAKeyBelongsTo) {
     };
     expectMessage(R"({"render": {"seed": -1}})",
                   "render.seed: value -1 out of range [0, 9007199254740992]");
+    // The camera within the ray tracer's range, a rotation's angle bounded (media vanished
+    // beyond 1e16; 1e308° was a rotation of NaN; helper 73).
+    expectMessage(R"({"camera": {"position": [0, -1e17, 0]}})",
+                  "camera.position: component -1e17 out of range [-1e15, 1e15]");
+    expectMessage(R"({"camera": {"target": [0, 0, 2e15]}})",
+                  "camera.target: component 2e15 out of range [-1e15, 1e15]");
+    expectMessage(
+        R"({"surfaces": [{"type": "sphere", "transform": {"rotate": {"degrees": 1e308}}}]})",
+        "surfaces[0].transform.rotate.degrees: value 1e308 out of range [-1e6, 1e6]");
     // The resolution takes integral numbers however written, as integer keys do (4.0 was refused;
     // helper 74), and only those.
     const Scene res = f.load(R"({"camera": {"resolution": [4.0, 3e0]}})");
@@ -626,10 +635,12 @@ TEST(SceneLoader, ErrorsNameBoundsAndTheTypeAKeyBelongsTo) {
     expectMessage(R"({"environment": {"type": "constant", "radiance": [1, 2e30, 1]}})",
                   "environment.radiance: component 2e30 out of range (expected at most 1e30)");
     expectMessage(R"({"camera": {"up": [0, 0, 0]}})", "camera.up: is the zero vector");
-    // Far cameras: the view direction is taken without overflowing its norm.
+    // Far cameras are refused by their range (they were refused when the view direction
+    // overflowed, and accepted below that, where a medium vanished); a long up vector is taken
+    // without overflowing its norm.
     expectMessage(R"({"camera": {"position": [0, -1.7e308, 0], "target": [0, 1.7e308, 0]}})",
-                  "camera.target: is too far from the camera position (their distance overflows)");
-    expectMessage(R"({"camera": {"position": [0, -1e300, 0], "up": [0, 1e300, 0]}})",
+                  "camera.position: component -1.7e308 out of range [-1e15, 1e15]");
+    expectMessage(R"({"camera": {"position": [0, -1e15, 0], "up": [0, 1e300, 0]}})",
                   "camera.up: is parallel to the viewing direction");
     expectMessage(R"({"environment": {"type": "constant", "scale": 2}})",
                   "environment.scale: only with \"type\": \"image\"");
