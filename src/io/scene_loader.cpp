@@ -57,15 +57,8 @@ Camera readCamera(JsonReader r) {
     if (c.up.isZero(0)) r.error("up", "is the zero vector");
     if (view.stableNormalized().cross(c.up.stableNormalized()).norm() < 1e-9)
         r.error("up", "is parallel to the viewing direction");
-    // Each type reads its own key, and refuses the other's (both were read, and the one the type
-    // does not use was ignored without a word; helper 73).
-    if (c.type == Camera::Type::Perspective) {
-        if (r.has("extent")) r.error("extent", "only with \"type\": \"orthographic\"");
-        c.fovDegrees = r.number("fov", c.fovDegrees, 1e-3, 179);
-    } else {
-        if (r.has("fov")) r.error("fov", "only with \"type\": \"perspective\"");
-        c.extent = r.number("extent", c.extent, 1e-9, 1e9);
-    }
+    c.fovDegrees = r.number("fov", c.fovDegrees, 1e-3, 179);
+    c.extent = r.number("extent", c.extent, 1e-9, 1e9);
     if (r.has("resolution")) {
         const Json& res = r.raw("resolution");
         // (An integral number however written, 4.0 or 4e0, as every integer key takes it: the
