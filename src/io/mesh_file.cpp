@@ -715,14 +715,21 @@ ObjLines scanObj(std::string_view text, const std::string& path) {
             // Any other statement must be one of OBJ's (groups, smoothing, materials, curves):
             // an unknown one is a damaged line, skipped without a word, and a lost v line moved
             // every later vertex (helper 73: `v1 1 0`, `F 2 4 3`, binary bytes).
+            // (With the older specification's bsp, bzp, cdc, cdp, res, and tinyobjloader's vw, t
+            // and vc; helper 75.)
             static const std::set<std::string_view> statements = {
                 "vp",     "l",          "p",         "o",        "g",        "s",    "mg",
                 "mtllib", "usemtl",     "cstype",    "deg",      "bmat",     "step", "curv",
                 "curv2",  "surf",       "parm",      "trim",     "hole",     "scrv", "sp",
                 "end",    "con",        "bevel",     "c_interp", "d_interp", "lod",  "maplib",
-                "usemap", "shadow_obj", "trace_obj", "ctech",    "stech",    "call", "csh"};
+                "usemap", "shadow_obj", "trace_obj", "ctech",    "stech",    "call", "csh",
+                "bsp",    "bzp",        "cdc",       "cdp",      "res",      "vw",   "t",
+                "vc"};
             const std::string_view word = line.substr(0, line.find_first_of(" \t"));
-            if (word.empty() || word[0] == '#' || statements.count(word)) continue;
+            // Blank (a form feed, DOS's end-of-file byte), a comment, or one of OBJ's.
+            const bool blank = std::all_of(word.begin(), word.end(),
+                                           [](char c) { return (unsigned char)c < 0x20; });
+            if (blank || word[0] == '#' || statements.count(word)) continue;
             fail(path, "line " + std::to_string(lineNo),
                  word == "v" || word == "vn" || word == "vt" || word == "f"
                      ? quote(word) + " without numbers"
@@ -846,7 +853,10 @@ TriangleMesh readPly(const std::string& path, const Eigen::Affine3d* toWorld, Me
 
 TriangleMesh readObj(const std::string& path, const Eigen::Affine3d* toWorld,
                      MeshPlaces* placesOut) {
-    const std::string text = readWhole(path);
+    std::string text = readWhole(path);
+    // A UTF-8 byte-order mark (editors on Windows write one) is no part of the first statement:
+    // tinyobjloader would not know that statement, and a first v line was lost (helper 75).
+    if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
     ObjLines lines = scanObj(text, path);
     tinyobj::ObjReaderConfig config;
     config.triangulate = false;   // our own fan keeps the winding

@@ -523,6 +523,15 @@ TEST(MeshFile, ObjErrors) {
               std::string::npos);
     EXPECT_EQ(errorOf("bare.obj", tet + "v\n"),
               tmp("bare.obj") + ": line 5: \"v\" without numbers");
+    // A byte-order mark is no part of the first statement (helper 75: a first comment was
+    // refused, a first v line lost before), and a DOS end-of-file byte is blank.
+    const std::string faces = "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    EXPECT_EQ(readObj(write("bom.obj", "\xEF\xBB\xBF# made on Windows\r\n" + tet + faces + "\x1a"))
+                  .triangleCount(),
+              4u);
+    const TriangleMesh bomV = readObj(write("bomv.obj", "\xEF\xBB\xBF" + tet + faces));
+    ASSERT_EQ(bomV.p.size(), 4u);
+    EXPECT_EQ(bomV.p[0], Vec3(0, 0, 0));
     EXPECT_EQ(readObj(write("groups.obj", "# a tetrahedron\nmtllib a.mtl\no tet\ng side\n" + tet +
                                               "usemtl red\ns off\nl 1 2\nf 1 3 2\nf 1 2 4\n"
                                               "f 1 4 3\nf 2 3 4\n"))
