@@ -35,20 +35,23 @@ Spectrum spectrum(JsonReader& r, const std::string& key, double def, double lo, 
     return vec3OrScalarIn(r, key, Vec3::Constant(def), lo, hi).array();
 }
 
+/// A point of the scene, within the ray tracer's range (±kMaxSurfaceCoordinate, as surfaces and
+/// translations are): beyond about 10¹⁶ a medium in front of a camera there vanished without a
+/// word (helper 73: an absorber's image mean 1.0 for e⁻²).
+Vec3 pointInRange(JsonReader& r, const std::string& key, const Vec3& def) {
+    const Vec3 p = r.vec3(key, def);
+    for (int i = 0; i < 3; ++i)
+        if (!(std::abs(p[i]) <= kMaxSurfaceCoordinate))
+            r.rangeError(key, "component", p[i], -kMaxSurfaceCoordinate, kMaxSurfaceCoordinate);
+    return p;
+}
+
 Camera readCamera(JsonReader r) {
     Camera c;
     const std::string type = r.choice("type", "perspective", {"perspective", "orthographic"});
     c.type = type == "perspective" ? Camera::Type::Perspective : Camera::Type::Orthographic;
-    c.position = r.vec3("position", c.position);
-    c.target = r.vec3("target", c.target);
-    // Within the ray tracer's range, as surfaces and transforms are: beyond about 10¹⁶ a medium
-    // in front of the camera vanished without a word (helper 73: an absorber's image mean 1.0 for
-    // e⁻²).
-    for (const char* key : {"position", "target"})
-        for (int i = 0; i < 3; ++i)
-            if (const double v = (key[0] == 'p' ? c.position : c.target)[i];
-                !(std::abs(v) <= kMaxSurfaceCoordinate))
-                r.rangeError(key, "component", v, -kMaxSurfaceCoordinate, kMaxSurfaceCoordinate);
+    c.position = pointInRange(r, "position", c.position);
+    c.target = pointInRange(r, "target", c.target);
     c.up = r.vec3("up", c.up);
     const Vec3 view = c.target - c.position;
     if (!view.allFinite())
@@ -334,12 +337,12 @@ std::unique_ptr<Medium> readMedium(JsonReader r, std::vector<Surface>& surfaces,
         const std::string st = sh.choice("type", "box", {"box", "sphere"});
         if (st == "box") {
             shape.type = MediumShape::Type::Box;
-            shape.lo = sh.vec3("min", Vec3(-1, -1, -1));
-            shape.hi = sh.vec3("max", Vec3(1, 1, 1));
+            shape.lo = pointInRange(sh, "min", Vec3(-1, -1, -1));
+            shape.hi = pointInRange(sh, "max", Vec3(1, 1, 1));
             if ((shape.hi.array() <= shape.lo.array()).any()) sh.error("max", "must exceed min");
         } else {
             shape.type = MediumShape::Type::Sphere;
-            shape.center = sh.vec3("center", Vec3::Zero());
+            shape.center = pointInRange(sh, "center", Vec3::Zero());
             shape.radius = sh.number("radius", 1, 1e-12, 1e12);
         }
         sh.finish();

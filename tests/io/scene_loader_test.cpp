@@ -599,6 +599,11 @@ TEST(SceneLoader, ErrorsNameBoundsAndTheTypeAKeyBelongsTo) {
                   "camera.position: component -1e17 out of range [-1e15, 1e15]");
     expectMessage(R"({"camera": {"target": [0, 0, 2e15]}})",
                   "camera.target: component 2e15 out of range [-1e15, 1e15]");
+    expectMessage(R"({"media": [{"type": "homogeneous", "shape": {"max": [1, 1, 1e300]}}]})",
+                  "media[0].shape.max: component 1e300 out of range [-1e15, 1e15]");
+    expectMessage(
+        R"({"media": [{"type": "homogeneous", "shape": {"type": "sphere", "center": [-3e16, 0, 0]}}]})",
+        "media[0].shape.center: component -3e16 out of range [-1e15, 1e15]");
     expectMessage(
         R"({"surfaces": [{"type": "sphere", "transform": {"rotate": {"degrees": 1e308}}}]})",
         "surfaces[0].transform.rotate.degrees: value 1e308 out of range [-1e6, 1e6]");
