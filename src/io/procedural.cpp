@@ -366,7 +366,7 @@ Image makeSky(const SkyParams& s) {
     auto discShare = [&](int x, int y, int n) {
         const double t0 = y * dTheta, t1 = std::min((y + 1) * dTheta, simple ? Pi : 0.5 * Pi);
         const double row = 2 * std::sin((y + 0.5) * dTheta) * std::sin(0.5 * dTheta);  // ∫ sin θ
-        Spectrum acc = Spectrum::Zero();
+        double acc = 0;
         for (int i = 0; i < n && t1 > t0; ++i) {
             const double phi = latLongPhi(s.mapping, (x + (i + 0.5) / n) / W);
             const double cp = std::cos(phi), sp = std::sin(phi);
@@ -382,16 +382,10 @@ Image makeSky(const SkyParams& s) {
                 const double lo = std::max(t0, alpha - beta + turn),
                              hi = std::min(t1, alpha + beta + turn);
                 if (!(hi > lo)) continue;
-                const double share =
-                    2 * std::sin(0.5 * (lo + hi)) * std::sin(0.5 * (hi - lo)) / row;
-                // (The simple sun replaces the sky: less the sky where it lies.)
-                acc += share *
-                       (simple ? Spectrum(sum.sunRadiance - background(sphericalDirection(
-                                                                std::cos(0.5 * (lo + hi)), phi)))
-                               : sum.sunRadiance);
+                acc += 2 * std::sin(0.5 * (lo + hi)) * std::sin(0.5 * (hi - lo)) / row;
             }
         }
-        return Spectrum(acc / n);
+        return acc / n;
     };
 
     Image img(W, H);
@@ -402,27 +396,37 @@ Image makeSky(const SkyParams& s) {
         // weighted by sin θ (dω = sin θ dθ dφ). Rows equal-area in cos θ were up to 3× coarser
         // than Δθ/n in angle in the rows at the poles (dz ≈ θ dθ there): a sun at the zenith held
         // +32% of its energy at width 128 (helper 68).
-        auto average = [&](int x, int n, const auto& radiance) {
-            Spectrum acc = Spectrum::Zero();
-            double weights = 0;
+        // With `underDisc`, also the mean of `radiance` over the samples inside the sun's disc
+        // (unchanged where none is).
+        auto average = [&](int x, int n, const auto& radiance, Spectrum* underDisc = nullptr) {
+            Spectrum acc = Spectrum::Zero(), inside = Spectrum::Zero();
+            double weights = 0, insideWeights = 0;
             for (int j = 0; j < n; ++j) {
                 const double theta = (y + (j + 0.5) / n) * dTheta, w = std::sin(theta);
-                Spectrum row = Spectrum::Zero();
                 for (int i = 0; i < n; ++i) {
                     const double phi = latLongPhi(s.mapping, (x + (i + 0.5) / n) / W);
-                    row += radiance(sphericalDirection(std::cos(theta), phi));
+                    const Vec3 d = sphericalDirection(std::cos(theta), phi);
+                    const Spectrum L = radiance(d);
+                    acc += w * L, weights += w;
+                    if (underDisc && d.dot(sun) >= cosSun) inside += w * L, insideWeights += w;
                 }
-                acc += w * row, weights += w * n;
             }
+            if (insideWeights > 0) *underDisc = inside / insideWeights;
             return Spectrum(acc / weights);
         };
         for (int x = 0; x < W; ++x) {
             const Vec3 w = latLongDirection(s.mapping, (x + 0.5) / W, (y + 0.5) / H);
             const double c = w.dot(sun);
             Spectrum L;
-            if (!splatSun && c >= cosTouch && c < cosInside)
-                L = average(x, nSun, background) + discShare(x, y, 16 * nSun);
-            else if (straddlesHorizon)
+            if (!splatSun && c >= cosTouch && c < cosInside) {
+                // The simple sun replaces the sky: less the sky under it, the pixel's own grid's
+                // mean there, so that a pixel the disc covers is the sun's radiance (the sky at
+                // each covered interval's middle left 0.9% of it in such a pixel; helper 75).
+                Spectrum under = background(w);
+                const double f = discShare(x, y, 16 * nSun);
+                L = average(x, nSun, background, simple ? &under : nullptr) +
+                    f * (simple ? Spectrum(sum.sunRadiance - under) : sum.sunRadiance);
+            } else if (straddlesHorizon)
                 L = average(x, nHorizon, radianceAt);
             else
                 L = radianceAt(w);
