@@ -168,11 +168,7 @@ Eigen::Affine3d readTransform(JsonReader r) {
     // 1e-300 would pass a positivity check and make the medium's transform singular at load; a
     // translation of 1e308 overflowed the inverse, and the error blamed the .vdb; ±1e15 is the ray
     // tracer's range).
-    const Vec3 t = r.vec3("translate", Vec3::Zero());
-    for (int i = 0; i < 3; ++i)
-        if (!(std::abs(t[i]) <= kMaxSurfaceCoordinate))
-            r.rangeError("translate", "component", t[i], -kMaxSurfaceCoordinate,
-                         kMaxSurfaceCoordinate);
+    const Vec3 t = pointInRange(r, "translate", Vec3::Zero());
     const Vec3 s = vec3OrScalarIn(r, "scale", Vec3::Ones(), 1e-12, 1e12);
     Eigen::Affine3d m = Eigen::Affine3d::Identity();
     m.translate(t);

@@ -28,22 +28,20 @@ Environment Environment::image(Image img, double scale, double rotationDegrees,
     e.mapping_ = mapping;
     const int W = img.width, H = img.height;
     std::vector<double> weights(size_t(W) * H);
+    // The rows seen: with lowerHemisphereBlack those reaching above the horizon θ = π/2, counted
+    // exactly (rows y < H/2, and the middle row of an odd H, which straddles it; the float θ's
+    // put 10⁻¹⁶ of row H/2 of 142 even heights up to 4096 above it; review).
+    const int rows = lowerHemisphereBlack ? (H + 1) / 2 : H;
     for (int y = 0; y < H; ++y) {
         const double sinTheta = std::sin(Pi * (y + 0.5) / H);
-        // The fraction of the row above the horizon θ = π/2, exactly: rows y < H/2 lie above
-        // it, the middle row of an odd H straddles it (the float θ's put 10⁻¹⁶ of row H/2 of
-        // 142 even heights up to 4096 above it; review).
-        const double above = !lowerHemisphereBlack ? 1.0
-                             : 2 * y + 1 == H      ? 0.5
-                             : 2 * y < H           ? 1.0
-                                                   : 0.0;
+        // The fraction of the row above the horizon.
+        const double above = y >= rows ? 0.0 : lowerHemisphereBlack && 2 * y + 1 == H ? 0.5 : 1.0;
         for (int x = 0; x < W; ++x)
             weights[size_t(y) * W + x] = luminance(img.at(x, y)) * sinTheta * above;
     }
     e.texels_ = std::make_shared<const TexelSampler>(weights.data(), img.rgb.data(), W, H);
-    // Judged by the pixels seen: with lowerHemisphereBlack, the rows that reach above the
-    // horizon (a sky lit only below it is black, one uniform above it uniform; review).
-    const int rows = lowerHemisphereBlack ? (H + 1) / 2 : H;  // (those with above > 0)
+    // Judged by the pixels seen (a sky lit only below the horizon is black, one uniform above it
+    // uniform; review).
     const auto seen = img.rgb.begin(), seenEnd = img.rgb.begin() + size_t(3) * W * rows;
     for (auto v = seen + 3; v < seenEnd && e.uniform_; ++v)
         e.uniform_ = *v == seen[(v - seen) % 3];  // (every pixel the first)
