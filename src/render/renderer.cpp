@@ -82,6 +82,12 @@ void describeIntegrator(const VolumePathIntegrator& integrator, RenderStats& st)
 
 }  // namespace
 
+uint64_t passSampleCap(double maxPassSeconds, double seconds, uint64_t samples, uint64_t pixels) {
+    if (!(seconds > 0) || pixels == 0) return std::numeric_limits<uint64_t>::max();
+    return uint64_t(
+        std::clamp(maxPassSeconds * double(samples) / (seconds * double(pixels)), 1.0, 1e18));
+}
+
 RenderResult render(const Scene& scene, const RenderOptions& options, Film film) {
     const Camera& cam = scene.camera;
     const RenderSettings& s = scene.settings;
@@ -179,7 +185,15 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
     // samples as every session before it, with no checkpoint in all that time (helper 71).
     uint64_t cap =
         options.maxPassSeconds >= 0 && passEnd > 0 ? 1 : std::numeric_limits<uint64_t>::max();
+    const auto pathsSoFar = [&] {
+        uint64_t n = 0;
+        for (const PathCounters& c : counters) n += c.paths;
+        return n;
+    };
+    uint64_t partPixels = 0;  // the pixels this part renders
+    for (int y = options.part; y < cam.height; y += parts) partPixels += uint64_t(cam.width);
     while (passEnd < spp) {
+        const uint64_t pathsBefore = pathsSoFar();
         const uint32_t end = nextPassEnd(passEnd, spp, options.stops, cap);
         const auto passStart = std::chrono::steady_clock::now();
         arena.execute([&] {
@@ -219,8 +233,8 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - passStart).count();
         if (options.maxPassSeconds >= 0 && seconds > 0)
-            cap =
-                uint64_t(std::clamp(options.maxPassSeconds / seconds * (end - passEnd), 1.0, 1e18));
+            cap = passSampleCap(options.maxPassSeconds, seconds, pathsSoFar() - pathsBefore,
+                                partPixels);
         passEnd = end;
         if (options.afterPass) options.afterPass(film, snapshot());
     }

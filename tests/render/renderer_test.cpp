@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <thread>
 
 #include "shvol/core/error.h"
@@ -156,6 +157,34 @@ TEST(Renderer, MaxPassSecondsKeepsPassesShortWithoutChangingTheImage) {
         if (limit < 1) EXPECT_EQ(seen.size(), 6u);  // (every sample a pass)
         expectSameImage(cont, doubling);
     }
+    // A film stopped mid-pass (half its pixels at 8 samples, half at 5) continues to the same
+    // image; its first pass runs only on the pixels behind.
+    Film uneven = film5;
+    const Film film8 = render(smallScene(8), first).film;
+    for (size_t i = 0; i < uneven.pixels(); i += 2) {
+        uneven.count[i] = film8.count[i];
+        for (int c = 0; c < 3; ++c) uneven.sum[3 * i + c] = film8.sum[3 * i + c];
+    }
+    RenderOptions opt;
+    opt.threads = 2;
+    opt.maxPassSeconds = 1e-12;
+    std::vector<uint64_t> paths;
+    opt.afterPass = [&](const Film&, const RenderStats& st) { paths.push_back(st.counters.paths); };
+    expectSameImage(render(smallScene(11), opt, uneven).image, doubling);
+    ASSERT_EQ(paths.size(), 6u);
+    EXPECT_EQ(paths[0], uneven.pixels() / 2);  // the 6th samples of the pixels behind
+}
+
+// The pace of a pass is per sample taken: a pass that took one sample on a tenth of the pixels
+// in 0.1 s sets the next pass to one sample per pixel for a second, not ten (a film stopped
+// mid-pass continued that way; helper 75).
+TEST(Renderer, PassSampleCapIsPacedPerSampleTaken) {
+    EXPECT_EQ(passSampleCap(1.0, 0.1, 100, 1000), 1u);
+    EXPECT_EQ(passSampleCap(1.0, 0.1, 1000, 1000), 10u);  // a whole pass of one sample
+    EXPECT_EQ(passSampleCap(60.0, 2.0, 4000, 1000), 120u);
+    EXPECT_EQ(passSampleCap(0.0, 2.0, 4000, 1000), 1u);           // at least one sample
+    EXPECT_EQ(passSampleCap(1e300, 1e-9, 1, 1), uint64_t(1e18));  // at most 10¹⁸
+    EXPECT_EQ(passSampleCap(1.0, 0.0, 100, 1000), std::numeric_limits<uint64_t>::max());
 }
 
 // The parts of a render split by pixel rows (the ranks of an MPI render) add up to the whole

@@ -105,4 +105,12 @@ struct RenderResult {
 /// have the camera's resolution and no pixel beyond spp samples; shvol::Error otherwise).
 RenderResult render(const Scene& scene, const RenderOptions& options, Film film = {});
 
+/// Samples per pixel the next pass may take to last about maxPassSeconds (RenderOptions), at the
+/// pace of a pass that took `samples` samples in `seconds` over a part of `pixels` pixels:
+///   maxPassSeconds · samples / (seconds · pixels), clamped to [1, 10¹⁸].
+/// The pace is per sample taken, not per pass: the first pass of a film stopped mid-pass runs
+/// only on the pixels behind, and counted per pixel of the part it looked that many times faster
+/// (helper 75: its next pass lasted up to two intervals).
+uint64_t passSampleCap(double maxPassSeconds, double seconds, uint64_t samples, uint64_t pixels);
+
 }  // namespace shvol
