@@ -1,11 +1,11 @@
 #include "shvol/io/checkpoint.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <functional>
-#include <iterator>
 
 #include "shvol/core/atomic_file.h"
 #include "shvol/core/error.h"
@@ -131,20 +131,31 @@ std::string identityDifference(const Json& saved, const Json& current) {
 }
 
 void writeCheckpoint(const std::string& path, const Film& film, const Json& identity) {
-    std::string bytes(kMagic, sizeof kMagic);
+    std::string header(kMagic, sizeof kMagic);
     const std::string id = dumpJson(identity);
-    put(bytes, uint32_t(id.size()));
-    bytes += id;
-    put(bytes, int32_t(film.width));
-    put(bytes, int32_t(film.height));
-    put(bytes, uint32_t(film.sumSq.empty() ? 0 : kHasSumSq));
-    bytes.append(reinterpret_cast<const char*>(film.count.data()),
-                 film.count.size() * sizeof(uint32_t));
-    bytes.append(reinterpret_cast<const char*>(film.sum.data()), film.sum.size() * sizeof(double));
-    bytes.append(reinterpret_cast<const char*>(film.sumSq.data()),
-                 film.sumSq.size() * sizeof(double));
-    put(bytes, fnv1a(bytes.data(), bytes.size()));
-    writeTextAtomically(path, bytes);
+    put(header, uint32_t(id.size()));
+    header += id;
+    put(header, int32_t(film.width));
+    put(header, int32_t(film.height));
+    put(header, uint32_t(film.sumSq.empty() ? 0 : kHasSumSq));
+    // Streamed from the film, the checksum computed on the way: a copy of a 4K film with variance
+    // is 430 MB more (helper 71).
+    writeAtomically(path, [&](const std::string& tmp) {
+        errno = 0;
+        std::ofstream f(tmp, std::ios::binary);
+        uint64_t sum = kFnv1aOffset;
+        const auto write = [&](const void* data, size_t n) {
+            sum = fnv1a(data, n, sum);
+            f.write(static_cast<const char*>(data), std::streamsize(n));
+        };
+        write(header.data(), header.size());
+        write(film.count.data(), film.count.size() * sizeof(uint32_t));
+        write(film.sum.data(), film.sum.size() * sizeof(double));
+        write(film.sumSq.data(), film.sumSq.size() * sizeof(double));
+        f.write(reinterpret_cast<const char*>(&sum), sizeof sum);
+        f.close();
+        if (!f) failWriting(path, errno);
+    });
 }
 
 Film readCheckpoint(const std::string& path, const Json& identity) {
@@ -152,51 +163,70 @@ Film readCheckpoint(const std::string& path, const Json& identity) {
         fail(path, "", problem);  // (a directory opens, and fails only when read)
     std::ifstream f(path, std::ios::binary);
     if (!f) fail(path, "", "cannot open checkpoint");
-    // The magic first: another file given as the checkpoint (an image, say) is refused before it
-    // is read whole (a 300 MB one took 556 MB; helper 71).
-    char start[sizeof kMagic] = {};
-    f.read(start, sizeof start);
-    if (size_t(f.gcount()) < sizeof kMagic || (std::memcmp(start, kMagic, sizeof kMagic) != 0 &&
-                                               std::memcmp(start, kMagic1, sizeof kMagic1) != 0))
-        fail(path, "", "not a shvol checkpoint");
-    f.clear();
+    f.seekg(0, std::ios::end);
+    const std::streamoff end = f.tellg();
     f.seekg(0);
-    const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-    if (bytes.size() >= sizeof kMagic1 && std::memcmp(bytes.data(), kMagic1, sizeof kMagic1) == 0)
+    if (end < 0) fail(path, "", "cannot read checkpoint");
+    const size_t size = size_t(end);
+    // The file is read into the film as it is checked, never whole into memory: the magic first
+    // (another file given as the checkpoint, an image say, is refused before more is read; a
+    // 300 MB one took 556 MB, helper 71), then the header, then the film's arrays.
+    const auto read = [&](void* data, size_t n) {
+        f.read(static_cast<char*>(data), std::streamsize(n));
+        if (size_t(f.gcount()) != n)
+            fail(path, "", "cannot read checkpoint (it changed while read)");
+    };
+    char magic[sizeof kMagic] = {};
+    f.read(magic, sizeof magic);
+    if (size_t(f.gcount()) == sizeof kMagic1 && std::memcmp(magic, kMagic1, sizeof kMagic1) == 0)
         fail(path, "",
              "a checkpoint of an earlier shvol (checkpoint format 1), which this build "
              "cannot resume: start afresh");
-    uint32_t n = 0;
-    if (bytes.size() >= sizeof kMagic + 4) std::memcpy(&n, bytes.data() + sizeof kMagic, 4);
-    const size_t header = sizeof kMagic + 4 + size_t(n) + 4 + 4 + 4;
-    if (bytes.size() < sizeof kMagic + 4 || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    if (size_t(f.gcount()) < sizeof kMagic || std::memcmp(magic, kMagic, sizeof kMagic) != 0)
         fail(path, "", "not a shvol checkpoint");
-    if (bytes.size() < header + 8)
+    uint32_t n = 0;
+    if (size < sizeof kMagic + 4) fail(path, "", "not a shvol checkpoint");
+    read(&n, 4);
+    const size_t header = sizeof kMagic + 4 + size_t(n) + 4 + 4 + 4;
+    if (size < header + 8)
         fail(path, "header",
-             std::to_string(bytes.size()) + " bytes, too few for its header (an identity of " +
+             std::to_string(size) + " bytes, too few for its header (an identity of " +
                  std::to_string(n) + " bytes): truncated or corrupt");
-    uint64_t sum;
+    std::string head(magic, sizeof magic);
+    put(head, n);
+    head.resize(header);
+    read(head.data() + sizeof kMagic + 4, header - sizeof kMagic - 4);
     int32_t w, h;
     uint32_t flags;
-    std::memcpy(&w, bytes.data() + header - 12, 4);
-    std::memcpy(&h, bytes.data() + header - 8, 4);
-    std::memcpy(&flags, bytes.data() + header - 4, 4);
+    std::memcpy(&w, head.data() + header - 12, 4);
+    std::memcpy(&h, head.data() + header - 8, 4);
+    std::memcpy(&flags, head.data() + header - 4, 4);
     if (flags & ~kHasSumSq) fail(path, "header", "unknown flags " + std::to_string(flags));
     const bool hasSumSq = flags & kHasSumSq;
     if (w <= 0 || h <= 0 || w > (1 << 16) || h > (1 << 16))
         fail(path, "header", "invalid resolution " + std::to_string(w) + "x" + std::to_string(h));
     const size_t pixels = size_t(w) * size_t(h);
     const size_t expected = header + pixels * (4 + 3 * 8 * (hasSumSq ? 2 : 1)) + 8;
-    if (bytes.size() != expected)
+    if (size != expected)
         fail(path, "",
-             std::to_string(bytes.size()) + " bytes where its header (" + std::to_string(w) + "x" +
+             std::to_string(size) + " bytes where its header (" + std::to_string(w) + "x" +
                  std::to_string(h) + (hasSumSq ? ", with variance" : "") + ") needs " +
                  std::to_string(expected) + ": truncated, padded or corrupt");
-    std::memcpy(&sum, bytes.data() + expected - 8, 8);
-    if (fnv1a(bytes.data(), expected - 8) != sum)
-        fail(path, "", "checksum mismatch (corrupt file)");
-    const Json saved = Json::parse(bytes.begin() + sizeof kMagic + 4,
-                                   bytes.begin() + sizeof kMagic + 4 + n, nullptr, false);
+    Film film(w, h);
+    if (hasSumSq) film.sumSq.resize(pixels * 3);
+    uint64_t computed = fnv1a(head.data(), head.size());
+    const auto readHashed = [&](void* data, size_t bytes) {
+        read(data, bytes);
+        computed = fnv1a(data, bytes, computed);
+    };
+    readHashed(film.count.data(), pixels * 4);
+    readHashed(film.sum.data(), pixels * 3 * 8);
+    readHashed(film.sumSq.data(), film.sumSq.size() * 8);
+    uint64_t sum;
+    read(&sum, 8);
+    if (computed != sum) fail(path, "", "checksum mismatch (corrupt file)");
+    const Json saved = Json::parse(head.begin() + sizeof kMagic + 4,
+                                   head.begin() + sizeof kMagic + 4 + n, nullptr, false);
     if (saved.is_discarded()) fail(path, "header", "its identity is not JSON (corrupt file)");
     if (!isIdentity(saved))
         fail(path, "header", "its identity is not of the form shvol writes (corrupt file)");
@@ -204,14 +234,6 @@ Film readCheckpoint(const std::string& path, const Json& identity) {
         fail(path, "",
              "written for a different render: " + difference +
                  " (only the sample count may change)");
-    Film film(w, h);
-    const char* data = bytes.data() + header;
-    std::memcpy(film.count.data(), data, pixels * 4);
-    std::memcpy(film.sum.data(), data + pixels * 4, pixels * 3 * 8);
-    if (hasSumSq) {
-        film.sumSq.resize(pixels * 3);
-        std::memcpy(film.sumSq.data(), data + pixels * 28, pixels * 3 * 8);
-    }
     // A render's sums are finite (it drops NaN and infinite samples, and the light it reads,
     // at most 10³⁰ times a float's range, is far within a double's), so a sum that is not is
     // damage that would reach the image.
