@@ -20,11 +20,13 @@ namespace {
 /// What a forked child reports when it ends other than by the signal.
 enum Exit { kNotInterrupted = 2, kSurvived = 3, kThrew = 4, kInterrupted = 5 };
 
-/// Runs job() in a forked child, with SIGINT and SIGTERM at their defaults and unblocked
-/// whatever the test runner set, and returns its wait status. Note: ctest runs each test in a
-/// process of its own, so the temporaries' handlers are not yet installed when a job starts
-/// (the case the checkpoint regression needs); a whole test binary run in one process may have
-/// installed them earlier.
+/// Runs job() in a forked child, with SIGINT and SIGTERM unblocked and not ignored whatever the
+/// test runner set, and returns its wait status. ctest runs each test in a process of its own,
+/// so the temporaries' handlers are not yet installed when a job starts (the case the checkpoint
+/// regression needs); a whole test binary run in one process has installed them in an earlier
+/// test (removeTemporariesOnSignals does it once per process), and they are kept: reset to the
+/// default, the child would never install them again, and left its temporaries (the two tests
+/// below failed that way when test_core ran as one process).
 template <typename Job>
 int inChild(Job&& job) {
     const pid_t pid = ::fork();
@@ -32,7 +34,9 @@ int inChild(Job&& job) {
         sigset_t both;
         sigemptyset(&both);
         for (const int sig : {SIGINT, SIGTERM}) {
-            std::signal(sig, SIG_DFL);
+            struct sigaction now {};
+            if (::sigaction(sig, nullptr, &now) == 0 && now.sa_handler == SIG_IGN)
+                std::signal(sig, SIG_DFL);
             sigaddset(&both, sig);
         }
         ::sigprocmask(SIG_UNBLOCK, &both, nullptr);
