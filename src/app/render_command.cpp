@@ -463,23 +463,25 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
         warn(o.stderrImage, std::to_string(unknown) + of +
                                 "fewer than 2 samples (the render stopped early); their standard "
                                 "error is written as +inf (unknown)");
-    writeAtomically(o.stats, [&](const std::string& tmp) {
-        errno = 0;
-        std::ofstream f(tmp);
-        if (!f) failWriting(o.stats, errno);  // (the calls below may set errno too)
-        nlohmann::json j = statsJson(scene, image, st, o.image, all, provenance);
-        if (variance) j["standard_error"] = o.stderrImage;
-        f << dumpJson(j, 2) << "\n";
-        f.close();
-        if (!f) failWriting(o.stats, 0);
-        if (!variance) return writeExr(o.image, image);
-        // The standard errors are written into their temporary first and renamed only once the
-        // image is in place: a failure to write either leaves none of the three files.
-        writeAtomically(o.stderrImage, [&](const std::string& tmpSe) {
-            writeExrTo(tmpSe, se, o.stderrImage);
-            writeExr(o.image, image);
-        });
-    });
+    // The three appear together: a failure to write any of them, or a signal meanwhile, leaves
+    // none, and a second Ctrl-C at their renames can no longer put the image beside the previous
+    // render's statistics.
+    std::vector<FileWrite> files = {
+        {o.image, [&](const std::string& tmp) { writeExrTo(tmp, image, o.image); }}};
+    if (variance)
+        files.push_back(
+            {o.stderrImage, [&](const std::string& tmp) { writeExrTo(tmp, se, o.stderrImage); }});
+    files.push_back({o.stats, [&](const std::string& tmp) {
+                         errno = 0;
+                         std::ofstream f(tmp);
+                         if (!f) failWriting(o.stats, errno);  // (the calls below may set errno)
+                         nlohmann::json j = statsJson(scene, image, st, o.image, all, provenance);
+                         if (variance) j["standard_error"] = o.stderrImage;
+                         f << dumpJson(j, 2) << "\n";
+                         f.close();
+                         if (!f) failWriting(o.stats, 0);
+                     }});
+    writeTogether(files);
 }
 
 /// Prints "shvol: warning: SCENE: TEXT", or in a batch "shvol: warning: SCENE (run RUN): TEXT",

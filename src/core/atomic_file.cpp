@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <mutex>
 #include <system_error>
 
@@ -29,12 +30,30 @@ constexpr int kSlots = 64;
 TemporarySlot gSlots[kSlots];
 static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler reads the flags");
 
-/// SIGTERM, SIGHUP or SIGINT ends the process as it would have, without the temporaries.
-extern "C" void removeTemporariesAndDie(int sig) {
+/// writeTogether's renames under way, and a signal that came during them (0: none): it ends the
+/// process once the last of them is done, so a group of files is renamed whole or not at all.
+std::atomic<int> gRenaming{0}, gDeferredSignal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler reads them");
+
+/// Ends the process by `sig` as it would have, without the temporaries.
+void dieRemovingTemporaries(int sig) {
     for (TemporarySlot& s : gSlots)
         if (s.armed.load()) ::unlink(s.path);
     std::signal(sig, SIG_DFL);
     std::raise(sig);
+}
+
+/// SIGTERM, SIGHUP or SIGINT ends the process as it would have, without the temporaries; during
+/// writeTogether's renames, once they are done. (Whoever of this handler and the renames' end
+/// takes the deferred signal out of gDeferredSignal acts on it, so it is neither lost nor taken
+/// twice, whichever thread the signal came to.)
+extern "C" void removeTemporariesAndDie(int sig) {
+    if (gRenaming.load() > 0) {
+        gDeferredSignal.store(sig);
+        if (gRenaming.load() > 0) return;
+        if (gDeferredSignal.exchange(0) == 0) return;  // the renames' end took it
+    }
+    dieRemovingTemporaries(sig);
 }
 
 }  // namespace
@@ -178,31 +197,59 @@ int syncToDisk(const std::string& path) {
 }
 }  // namespace
 
-void writeAtomically(const std::string& path,
-                     const std::function<void(const std::string&)>& write) {
+void writeTogether(const std::vector<FileWrite>& files,
+                   const std::function<void(size_t)>& afterRename) {
     // A symbolic link keeps pointing where it did and its target gets the new contents (the
     // rename would replace the link itself); a device, FIFO or socket is never replaced.
-    const std::string target = linkTarget(path).string();
-    if (const std::string problem = replacementProblem(target); !problem.empty())
-        fail(path, "", "cannot write: " + problem);
-    const std::string tmp = target + ".tmp" + std::to_string(::getpid());
-    const TemporaryGuard guard(tmp);
+    std::vector<std::string> targets, temporaries;
+    for (const FileWrite& file : files) {
+        targets.push_back(linkTarget(file.path).string());
+        if (const std::string problem = replacementProblem(targets.back()); !problem.empty())
+            fail(file.path, "", "cannot write: " + problem);
+        temporaries.push_back(targets.back() + ".tmp" + std::to_string(::getpid()));
+    }
+    std::vector<std::unique_ptr<TemporaryGuard>> guards;
+    const auto removeFrom = [&](size_t first) {
+        for (size_t i = first; i < temporaries.size(); ++i) std::remove(temporaries[i].c_str());
+    };
     try {
-        write(tmp);
-        if (const int error = syncToDisk(tmp); error != 0) failWriting(path, error);
+        for (size_t i = 0; i < files.size(); ++i) {
+            guards.push_back(std::make_unique<TemporaryGuard>(temporaries[i]));
+            files[i].write(temporaries[i]);
+            if (const int error = syncToDisk(temporaries[i]); error != 0)
+                failWriting(files[i].path, error);
+        }
     } catch (...) {
-        std::remove(tmp.c_str());
+        removeFrom(0);
         throw;
     }
-    if (std::rename(tmp.c_str(), target.c_str()) != 0) {
-        const int error = errno;
-        std::remove(tmp.c_str());
-        failWriting(path, error);
+    // A signal now ends the process after the last rename, not between two: an image beside the
+    // statistics of the render before it (a second Ctrl-C as a stopped render wrote them).
+    ++gRenaming;
+    int error = 0;
+    size_t failed = files.size();
+    for (size_t i = 0; i < files.size() && failed == files.size(); ++i)
+        if (std::rename(temporaries[i].c_str(), targets[i].c_str()) != 0)
+            error = errno, failed = i;
+        else if (afterRename)
+            afterRename(i);
+    if (--gRenaming == 0)
+        if (const int sig = gDeferredSignal.exchange(0); sig != 0) dieRemovingTemporaries(sig);
+    if (failed < files.size()) {
+        removeFrom(failed);
+        failWriting(files[failed].path, error);
     }
-    // The rename itself (a directory that cannot be synced, on some file systems, is left so).
-    syncToDisk(std::filesystem::path(target).parent_path().empty()
-                   ? std::string(".")
-                   : std::filesystem::path(target).parent_path().string());
+    // The renames themselves (a directory that cannot be synced, on some file systems, is left
+    // so).
+    for (const std::string& target : targets)
+        syncToDisk(std::filesystem::path(target).parent_path().empty()
+                       ? std::string(".")
+                       : std::filesystem::path(target).parent_path().string());
+}
+
+void writeAtomically(const std::string& path,
+                     const std::function<void(const std::string&)>& write) {
+    writeTogether({{path, write}});
 }
 
 void writeTextAtomically(const std::string& path, const std::string& text) {

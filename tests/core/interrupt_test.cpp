@@ -7,7 +7,11 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <stdexcept>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include "shvol/core/atomic_file.h"
 
@@ -152,6 +156,55 @@ TEST(InterruptGuard, IgnoredSignalStaysIgnored) {
         std::raise(SIGINT);
     });
     EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == kSurvived) << describe(status);
+}
+
+// Files written together (an image, its standard errors, its statistics) appear whole or not at
+// all as a group: a second signal at their renames ends the process after the last one, a
+// signal or a failure while they are written leaves the old files, and no temporary is left.
+TEST(WriteTogether, FilesAppearAllOrNone) {
+    const auto read = [](const fs::path& p) {
+        std::ifstream f(p);
+        return std::string(std::istreambuf_iterator<char>(f), {});
+    };
+    const auto group = [](const fs::path& dir, const std::string& text, int stopAt, int sig) {
+        std::vector<FileWrite> files;
+        for (const char* name : {"image", "stderr", "stats"})
+            files.push_back({(dir / name).string(), [=](const std::string& tmp) {
+                                 std::ofstream(tmp) << text;
+                                 if (stopAt == 1 && std::string(name) == "stderr") {
+                                     if (sig == 0) throw std::runtime_error("disk full");
+                                     std::raise(sig);
+                                 }
+                             }});
+        writeTogether(files, [=](size_t i) {
+            if (stopAt == 2 && i == 0) std::raise(sig);
+        });
+    };
+    for (const int sig : {SIGINT, SIGTERM}) {
+        // stopAt 1: in the second file's write (sig 0: it throws); 2: after the first rename.
+        for (const auto& [stopAt, stopSig, expected] :
+             {std::tuple{1, sig, "old"}, std::tuple{1, 0, "old"}, std::tuple{2, sig, "new"}}) {
+            const ScratchDirectory dir("together" + std::to_string(sig));
+            group(dir.path, "old", 0, 0);
+            const int status = inChild([&, stopAt = stopAt, stopSig = stopSig] {
+                const InterruptGuard guard;
+                std::raise(sig);  // the first: a clean stop; the outputs are written next
+                if (!InterruptGuard::interrupted().load()) ::_exit(kNotInterrupted);
+                group(dir.path, "new", stopAt, stopSig);
+            });
+            const std::string what = "signal " + std::to_string(sig) + ", stop at " +
+                                     std::to_string(stopAt) + " by " + std::to_string(stopSig);
+            if (stopSig == 0)
+                EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == kThrew)
+                    << what << ": " << describe(status);
+            else
+                EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == sig)
+                    << what << ": " << describe(status);
+            for (const char* name : {"image", "stderr", "stats"})
+                EXPECT_EQ(read(dir.path / name), expected) << what << ": " << name;
+            EXPECT_EQ(dir.countOthers(""), 3) << what << ": a temporary was left in " << dir.path;
+        }
+    }
 }
 
 }  // namespace shvol

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace shvol {
 
@@ -15,6 +16,21 @@ namespace shvol {
 /// the first write began) removes the temporary too before the process ends as the signal would
 /// have ended it.
 void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write);
+
+/// One file of writeTogether: where it goes and what writes it (given its temporary's path).
+struct FileWrite {
+    std::string path;
+    std::function<void(const std::string&)> write;
+};
+
+/// Writes files that belong together (an image and its statistics) as writeAtomically does each,
+/// all into their temporaries first and then renamed in order, and a signal that would end the
+/// process during the renames ends it after the last: a failure or a signal while they are
+/// written leaves none of them, and one at their renames all of them. (Only a rename that itself
+/// fails, or a power cut, leaves the ones before it.) afterRename(i), when given, is called after
+/// the i-th rename (a test's signal comes there).
+void writeTogether(const std::vector<FileWrite>& files,
+                   const std::function<void(size_t)>& afterRename = {});
 
 /// Installs, once, the handlers behind that promise: for SIGTERM, SIGHUP and SIGINT whose action
 /// is still the default (not one the shell ignores, as nohup does SIGHUP), a handler that
