@@ -113,6 +113,18 @@ std::vector<double> benchCounts(const std::string& out, const std::string& name)
     return {cells[cells.size() - 3], cells[cells.size() - 2], cells.back()};
 }
 
+/// Shell text to follow a command started with `&`: sends SIGNAL (`sig`, number `number`) once
+/// the process catches it (its bit in SigCgt of /proc/PID/status; a fixed sleep could come before
+/// the handler on a loaded machine, and the signal's default action gives the same exit code),
+/// `settle` seconds after that, then waits for it, its exit code the command's.
+std::string killOnceCaught(const std::string& sig, int number, const std::string& settle = "0") {
+    const std::string bit = std::to_string(1ull << (number - 1));
+    return " & p=$!; for i in $(seq 1000); do m=$(sed -n 's/^SigCgt:\\t//p' /proc/$p/status); "
+           "[ $(( 0x$m & " +
+           bit + " )) -ne 0 ] && break; sleep 0.01; done; sleep " + settle + "; kill -" + sig +
+           " $p; wait $p";
+}
+
 }  // namespace
 
 TEST_F(Cli, HelpAndVersion) {
@@ -1539,10 +1551,9 @@ TEST_F(Cli, SignalsStopTheRadianceCacheFill) {
         "max_records": 1000, "rays_per_record": 1048576}},
         "environment": {"type": "constant", "radiance": 1},
         "surfaces": [{"type": "rectangle", "bsdf": {"type": "lambert", "reflectance": 0.5}}]})");
-    const Result r =
-        runCommand("env --default-signal=INT " + std::string(SHVOL_BINARY) + " render " +
-                   path("s.json") + " -o " + path("i.exr") + " --quiet 2>" + path("bg.txt") +
-                   " & p=$!; sleep 1; kill -INT $p; wait $p");
+    const Result r = runCommand("env --default-signal=INT " + std::string(SHVOL_BINARY) +
+                                " render " + path("s.json") + " -o " + path("i.exr") +
+                                " --quiet 2>" + path("bg.txt") + killOnceCaught("INT", SIGINT));
     EXPECT_EQ(r.code, 130) << test::fileBytes(path("bg.txt"));
     ASSERT_TRUE(fs::exists(path("i.stats.json"))) << test::fileBytes(path("bg.txt"));
     const auto stats = nlohmann::json::parse(std::ifstream(path("i.stats.json")));
@@ -1561,7 +1572,7 @@ TEST_F(Cli, InterruptedRenderWritesWhatItHas) {
         const Result r =
             runCommand("env --default-signal=INT " + std::string(SHVOL_BINARY) + " render " +
                        path("s.json") + " -o " + out + " --spp 10000000 2>" + path("bg.txt") +
-                       " & p=$!; sleep 1.5; " + "kill -" + sig + " $p; wait $p");
+                       killOnceCaught(sig, std::string(sig) == "INT" ? SIGINT : SIGTERM, "0.5"));
         std::ifstream bg(path("bg.txt"));
         const std::string err((std::istreambuf_iterator<char>(bg)), {});
         EXPECT_EQ(r.code, 130) << sig << ": " << err;
@@ -2272,13 +2283,10 @@ TEST_F(Cli, BatchStopsAtASignalOutsideItsRenders) {
                    "phase": {"type": "hg", "g": 0.999999, "sampling": "sh", "order": 256,
                              "sh_depth": 18}}]})");
     write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [1]}})");
-    // SIGTERM once the batch catches it (its bit in /proc's SigCgt; a fixed sleep could come
-    // before that on a loaded machine; review), while the scene is checked (2.6 s).
-    const std::string caught =
-        " & p=$!; for i in $(seq 200); do m=$(sed -n 's/^SigCgt:\\t//p' /proc/$p/status); "
-        "[ $(( 0x$m & 0x4000 )) -ne 0 ] && break; sleep 0.01; done; kill -TERM $p; wait $p";
+    // SIGTERM once the batch catches it, while the scene is checked (2.6 s).
     Result r = runCommand(std::string(SHVOL_BINARY) + " batch " + path("sweep.json") +
-                          " --quiet --output " + path("out") + " 2>" + path("bg.txt") + caught);
+                          " --quiet --output " + path("out") + " 2>" + path("bg.txt") +
+                          killOnceCaught("TERM", SIGTERM));
     EXPECT_EQ(r.code, 130);
     EXPECT_EQ(test::fileBytes(path("bg.txt")),
               "batch: stopped before a run finished; run again to finish\n");
