@@ -211,6 +211,7 @@ TEST(SkyHierarchy, BlackSkyGivesNoSamples) {
     EXPECT_EQ(h.pdf(Vec3(0, 0, 1)), 0.0);
     std::vector<WarpSample> out;
     h.sample({Vec2(0.1, 0.2), Vec2(0.9, 0.5)}, out);
+    ASSERT_EQ(out.size(), 2u);
     for (const WarpSample& o : out) EXPECT_EQ(o.pdf, 0.0);
 }
 

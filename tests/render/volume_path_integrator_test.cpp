@@ -53,6 +53,14 @@ TEST(VolumePathIntegrator, WhiteFurnaceHomogeneous) {
                 // 5σ plus a floor for the zero-variance case (no NEE: every path returns 1).
                 expectNear(e.mean, Spectrum::Ones(), 5 * e.stdErr + 1e-12, "furnace");
                 EXPECT_GT(e.counters.scatteringEvents, 0u);
+                // The spread too: without NEE each path's weight stays 1 through every bounce
+                // (phase sampling is exact, the albedo 1), so every path is exactly 1 unless
+                // max_depth ends it; a weight that drifts from bounce to bounce shows here
+                // before it shows in the mean (helper 78).
+                if (!nee) {
+                    EXPECT_EQ(e.counters.truncatedPaths, 0u);
+                    EXPECT_EQ(e.stdErr.maxCoeff(), 0.0);
+                }
             }
 }
 

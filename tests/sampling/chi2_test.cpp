@@ -66,6 +66,29 @@ TEST(Chi2, UniformPdfForCosineSamplesFails) {
     EXPECT_FALSE(r.passed) << r.report;
 }
 
+// Samples leaked where the claimed pdf is tiny but not zero (0.5% of them into a lower
+// hemisphere of density 10⁻⁹/(2π)): every cell there expects far below 5 and is pooled, and the
+// pool, filled up with the next cells to 5 expected, shows the leak (a pool left out of χ² while
+// below 5 would hide it; helper 78 asked).
+TEST(Chi2, SamplesLeakedWhereThePdfIsTinyFail) {
+    constexpr double eps = 1e-9;
+    const auto sample = [](Rng& rng) {
+        const Vec2 u = rng.uniform2();
+        if (rng.uniform() < 0.005) {
+            const Vec3 w = sampleUniformSphere(u);
+            return std::optional<Vec3>(Vec3(w.x(), w.y(), -std::abs(w.z())));
+        }
+        return std::optional<Vec3>(sampleCosine(u));
+    };
+    const auto pdf = [](const Vec3& w) {
+        return w.z() > 0 ? (1 - eps) * w.z() * InvPi : eps * Inv2Pi;
+    };
+    const Chi2Result r = chi2TestSphere(sample, pdf);
+    EXPECT_FALSE(r.passed) << r.report;
+    // The 40 × 80 grid's 1600 lower cells, and the one upper cell that fills the pool to 5.
+    EXPECT_NE(r.report.find("pooled 1601 cells"), std::string::npos) << r.report;
+}
+
 TEST(Chi2, CorrectHgSamplerPasses) {
     const auto r = chi2TestSphere(
         [](Rng& rng) { return std::optional<Vec3>(sampleHgAboutZ(rng.uniform2(), 0.6)); },
