@@ -26,6 +26,10 @@ Chi2Result chi2(const SHSampledPhase& sh, int numTests, uint64_t seed) {
         [&](Rng& rng) -> std::optional<Vec3> {
             const PhaseSample x = phase.sample(kWo, rng.uniform2());
             if (!(x.pdf > 0)) return std::nullopt;
+            // The claimed pdf is the mixture the cells below integrate (the zonal sampler's pdf
+            // is its cdf's derivative: ZonalSHSampler.CdfIsTheIntegralOfThePdfAndOfTheFunction).
+            const double pdf = (1 - a) * s.pdf(kWo.dot(x.wi)) + a / FourPi;
+            EXPECT_NEAR(x.pdf, pdf, 1e-12 * pdf);
             return frame.toLocal(x.wi);
         },
         [&](double z0, double z1, double p0, double p1) {

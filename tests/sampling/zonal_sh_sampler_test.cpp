@@ -49,6 +49,41 @@ TEST(ZonalSHSampler, Chi2AroundAnOffAxisDirection) {
     }
 }
 
+// The chi-squared test above takes its cells from cdf(): here cdf() is tied to the claimed pdf
+// (its derivative, 2π·pdf per unit of z, bin by bin: pdf is constant on each of the 2^depth bins)
+// and to the function (each bin's mass ∝ ∫ p̃ dz over it where p̃ > 0 on the whole bin,
+// integrated here by Simpson's rule), so neither can drift from what is sampled (helper 78).
+TEST(ZonalSHSampler, CdfIsTheIntegralOfThePdfAndOfTheFunction) {
+    struct Case {
+        double g;
+        int n;
+    } cases[] = {{0.5, 8}, {0.9, 32}, {-0.7, 16}, {0.99, 8}};
+    for (const Case& c : cases) {
+        const int depth = 8, bins = 1 << depth;
+        const ZonalSHSampler s(hg(c.g, c.n), depth);
+        const double dz = 2.0 / bins;
+        int compared = 0;
+        for (int k = 0; k < bins; ++k) {
+            const double z0 = -1 + k * dz, z1 = z0 + dz, mass = s.cdf(z1) - s.cdf(z0);
+            EXPECT_NEAR(mass, TwoPi * s.pdf(z0 + 0.5 * dz) * dz, 1e-12)
+                << "g " << c.g << " bin " << k;
+            // Simpson's rule on 64 intervals of the bin (p̃ is a polynomial of degree < 32).
+            double integral = 0, lowest = INFINITY;
+            for (int i = 0; i <= 64; ++i) {
+                const double f = s.eval(z0 + dz * i / 64);
+                lowest = std::min(lowest, f);
+                integral += f * (i == 0 || i == 64 ? 1 : i % 2 ? 4 : 2);
+            }
+            integral *= dz / 64 / 3;
+            if (!(lowest > 0)) continue;
+            ++compared;
+            EXPECT_NEAR(mass, TwoPi * integral / s.positiveMass(), 1e-9 * mass + 1e-15)
+                << "g " << c.g << " bin " << k;
+        }
+        EXPECT_GT(compared, bins / 4) << "g " << c.g;  // (truncated HG rings below 0)
+    }
+}
+
 // The guide-table inverse CDF is the 1D hierarchical warp: compare with the generic warp driven by
 // on-the-fly zonal integrals. The function must be non-negative: with negative regions the fast
 // sampler clamps leaves while the on-the-fly warp clamps per level, a legitimate difference.
