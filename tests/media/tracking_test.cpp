@@ -36,8 +36,11 @@ auto segments(bool control) {
 
 /// The χ² of n distances drawn by flight(i) against this medium's P(t < x) = 1 − e^{−τ(x)}
 /// on [0, 2.5) and its escapes (20 degrees of freedom).
+/// The χ² tests of free flights in this file: one family (Šidák).
+constexpr int kFreeFlightChi2Tests = 3;
+
 template <typename Flight>
-double freeFlightChi2(int n, Flight&& flight) {
+test::FreeFlightChi2 freeFlightChi2(int n, Flight&& flight) {
     return test::freeFlightChi2(n, 2.5, opticalDepth, flight);
 }
 
@@ -50,9 +53,9 @@ TEST(Tracking, DecompositionFreeFlightDistribution) {
     for (bool control : {false, true}) {
         Rng rng(3, control);
         TrackingCounters c;
-        const double chi2 = freeFlightChi2(
+        const auto chi2 = freeFlightChi2(
             200000, [&](int) { return deltaTrack(segments(control), sigmaT, rng, c); });
-        EXPECT_LT(chi2, 45.3) << "control " << control;  // χ²(20) at p = 0.001
+        EXPECT_TRUE(chi2.passes(kFreeFlightChi2Tests)) << "control " << control << ": " << chi2;
         lookups[control] = c.densityLookups;
     }
     // Lookups come at σ_maj − σ_min instead of σ_maj: 2 and 0.8 instead of 3 and 0.9 (measured
@@ -177,12 +180,12 @@ TEST(Tracking, BudgetEventsStayBeforeTheSegmentEnd) {
 TEST(Tracking, SobolFedFreeFlightDistribution) {
     TrackingCounters c;
     const SobolPixel pixel(7, 3);
-    const double chi2 = freeFlightChi2(1 << 16, [&](int i) {
+    const auto chi2 = freeFlightChi2(1 << 16, [&](int i) {
         SobolSampler sampler(pixel, uint32_t(i));
         const Vec2 first = sampler.next2D();
         return deltaTrack(segments(false), sigmaT, sampler.rng(), c, &first);
     });
-    EXPECT_LT(chi2, 45.3);  // χ²(20) at p = 0.001
+    EXPECT_TRUE(chi2.passes(kFreeFlightChi2Tests)) << chi2;
 }
 
 }  // namespace shvol
