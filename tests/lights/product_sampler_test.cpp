@@ -189,21 +189,34 @@ TEST(ProductSampler, MixtureChi2AndNoHoles) {
 
 // Point sets warp like single samples.
 TEST(ProductSampler, PointSetEqualsSingleSamples) {
-    const SkyHierarchy sky = sunSky(7, 0.05, 100);
-    const ProductSampler ps(sky, 8);
-    const std::vector<double> p = hgLobe(0.8, 8);
-    std::vector<double> c(64);
-    ps.rotateZonal(p.data(), sphericalDirection(0.1, 3.0), c.data());
-    std::vector<Vec2> u;
-    Rng rng(9, 9);
-    for (int i = 0; i < 100; ++i) u.push_back(rng.uniform2());
-    std::vector<WarpSample> out;
-    ps.sample(SH{c.data()}, u, out);
-    for (size_t i = 0; i < u.size(); ++i) {
-        const WarpSample s = ps.sample(SH{c.data()}, u[i]);
-        EXPECT_NEAR(out[i].z, s.z, 1e-12);
-        EXPECT_NEAR(out[i].phi, s.phi, 1e-12);
-        EXPECT_NEAR(out[i].pdf, s.pdf, 1e-9 * s.pdf);
+    // The full and a wavelet-compressed sky (K = 40 coefficients), and both lobes: the SH one and
+    // the zonal one the integrator uses (its point set was compared for neither; helper 78).
+    for (const size_t K : {size_t(0), size_t(40)}) {
+        const SkyHierarchy sky = sunSky(7, 0.05, 100, K);
+        ASSERT_EQ(sky.compressed(), K > 0);
+        const ProductSampler ps(sky, 8);
+        const std::vector<double> p = hgLobe(0.8, 8);
+        std::vector<double> c(64);
+        ProductSampler::ZonalLobe z;
+        ps.rotateZonal(p.data(), sphericalDirection(0.1, 3.0), c.data());
+        ps.rotateZonal(p.data(), sphericalDirection(0.1, 3.0), z);
+        std::vector<Vec2> u;
+        Rng rng(9, 9);
+        for (int i = 0; i < 100; ++i) u.push_back(rng.uniform2());
+        const auto compare = [&](const auto& lobe, const char* name) {
+            std::vector<WarpSample> out;
+            ps.sample(lobe, u, out);
+            ASSERT_EQ(out.size(), u.size()) << name;
+            for (size_t i = 0; i < u.size(); ++i) {
+                const WarpSample s = ps.sample(lobe, u[i]);
+                EXPECT_GT(s.pdf, 0) << name << " K " << K;
+                EXPECT_NEAR(out[i].z, s.z, 1e-12) << name << " K " << K;
+                EXPECT_NEAR(out[i].phi, s.phi, 1e-12) << name << " K " << K;
+                EXPECT_NEAR(out[i].pdf, s.pdf, 1e-9 * s.pdf) << name << " K " << K;
+            }
+        };
+        compare(SH{c.data()}, "SH lobe");
+        compare(z, "zonal lobe");
     }
 }
 

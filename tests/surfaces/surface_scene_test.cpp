@@ -1,6 +1,7 @@
 #include "shvol/surfaces/surface_scene.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 #include <tbb/info.h>
 #include <tbb/parallel_for.h>
 
@@ -354,7 +355,12 @@ TEST(SurfaceScene, RefusesSurfacesBeyondTheRayTracersRange) {
 // parallel loop must run at the same time: each waits (up to 10 s) until both have started.
 TEST(SurfaceScene, LeavesTbbParallelismAlone) {
     if (tbb::info::default_concurrency() < 2) GTEST_SKIP() << "one hardware thread";
+    const auto limit = [] {
+        return tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+    };
+    const size_t before = limit();
     const SurfaceScene scene(one(Surface::sphere(Vec3(0, 0, 0), 1)));
+    EXPECT_EQ(limit(), before);  // no global limit set (helper 78: a check that cannot flake)
     std::atomic<int> started{0};
     std::atomic<bool> together{true};
     tbb::parallel_for(
