@@ -331,6 +331,19 @@ bool applyOverride(Json& doc, const std::string& assignment, const std::string& 
             fail(file, walked, by + "index " + part + " out of range (" + size + ")");
         return i;
     };
+    // An index into a value the document lacks (media[0] of a scene without media): the walk
+    // would make an object {"0": …} of it, which the loader then refused as "expected an array of
+    // objects" (helper 77). No scene key is a number. Checked before the walk adds the key.
+    const auto indexIntoMissing = [&](size_t k) {
+        const std::string& next = parts[k + 1];
+        if (!(node->is_null() || (node->is_object() && !node->contains(parts[k]))) ||
+            next.find_first_not_of("0123456789") != std::string::npos)
+            return;
+        const std::string array = walked + (walked.empty() ? "" : ".") + parts[k];
+        fail(file, array,
+             by + "index " + next + " of an array the scene does not have: give the whole array " +
+                 "(--set '" + array + "=[…]')");
+    };
     // A deletion under a key the document lacks deletes nothing, and adds nothing either (the
     // walk would make each missing key null on its way, which the loader then refused).
     // (`bsdf.type=null` is no deletion: it names the null BSDF, below.)
@@ -345,6 +358,7 @@ bool applyOverride(Json& doc, const std::string& assignment, const std::string& 
             node = &(*node)[element(part)];
             walked += "[" + part + "]";
         } else if (node->is_object() || node->is_null()) {
+            if (!deleting) indexIntoMissing(k);
             node = &(*node)[part];
             walked += (walked.empty() ? "" : ".") + part;
         } else {

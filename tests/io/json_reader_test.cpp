@@ -198,6 +198,16 @@ TEST(JsonReader, Overrides) {
               "twice (the last would replace the first)");
     EXPECT_EQ(messageOf([&] { applyOverride(j, "nonsense", "s.json"); }),
               "s.json: --set nonsense: expected key.path=value");
+    // An index into an array the scene does not have (it made an object {"0": …}, refused by
+    // the loader as "surfaces: expected an array of objects"; helper 77).
+    EXPECT_EQ(messageOf([&] { applyOverride(j, "surfaces[0].bsdf.type=lambert", "s.json"); }),
+              "s.json: surfaces: --set: index 0 of an array the scene does not have: give the "
+              "whole array (--set 'surfaces=[…]')");
+    EXPECT_EQ(messageOf([&] { applyOverride(j, "camera.position.0=1", "s.json"); }),
+              "s.json: camera.position: --set: index 0 of an array the scene does not have: give "
+              "the whole array (--set 'camera.position=[…]')");
+    EXPECT_FALSE(j["camera"].contains("position"));
+    EXPECT_FALSE(applyOverride(j, "surfaces[0].bsdf=null", "s.json"));  // deletes nothing
 }
 
 // --set as a user expects it: the error messages' bracket notation, null deletes, a new type
