@@ -67,8 +67,13 @@ double PiecewiseLinear1D::sample(double u) const {
     const double num = v * (f0 + f1);
     const double den = f0 + std::sqrt((1 - v) * f0 * f0 + v * f1 * f1);
     const double s = den > 0 ? std::clamp(num / den, 0.0, 1.0) : 0.0;
-    const double x = x_[i] + s * (x_[i + 1] - x_[i]);
-    return std::clamp(x, x_[i], x_[i + 1]);
+    const double x = std::clamp(x_[i] + s * (x_[i + 1] - x_[i]), x_[i], x_[i + 1]);
+    // A segment a few doubles wide (a lobe of 10⁻⁶° in cos θ is one) holds no point but its ends:
+    // x rounds onto the end where f may be 0, and the sample had value and pdf 0 (a quarter of
+    // them for the 10⁻⁶° lobe, a furnace rendered 0.007; helper 76). The nearest double inside
+    // the segment has f̃ > 0. (Moves a sample by one double.)
+    if (eval(x) == 0 && f0 + f1 > 0) return std::nextafter(x, f0 > 0 ? x_[i] : x_[i + 1]);
+    return x;
 }
 
 }  // namespace shvol
