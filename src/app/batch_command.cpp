@@ -203,6 +203,19 @@ void checkRunScenes(const Sweep& s) {
     }
 }
 
+/// Warns of a reference file without standard errors beside it, which the z-test then takes as
+/// exact: every difference is tested against the run's errors alone, and a reference of 64 spp
+/// failed every run's z-test, said nowhere (helper 77).
+void warnOfExactReference(const Sweep& s, bool ztest) {
+    if (!ztest || !s.reference || s.reference->render) return;
+    if (const std::string se = standardErrorsOf(s.reference->file); !fs::exists(se))
+        std::fprintf(stderr,
+                     "shvol: warning: %s: reference.file: %s has no standard errors beside it "
+                     "(%s, as render --variance writes them): the z-test takes it as exact, so "
+                     "its own noise counts as the runs' error\n",
+                     s.path.c_str(), s.reference->file.c_str(), se.c_str());
+}
+
 /// Warns of finished runs whose image is gone from the output directory (deleted, moved): their
 /// rows stand and they are not rendered again, which went unsaid (helper 67).
 void warnOfMissingImages(const Sweep& s, const Ledger& ledger) {
@@ -553,6 +566,7 @@ int runBatch(BatchArgs a) {
                          "; keep it outside the output directory " + s.output);
     });
     const bool ztest = std::find(s.metrics.begin(), s.metrics.end(), "ztest") != s.metrics.end();
+    if (world.root()) warnOfExactReference(s, ztest);
     if (a.dryRun) {
         if (!world.root()) return 0;
         // Runs an earlier start finished, as its ledger has them (read, not repaired: a dry run

@@ -2699,6 +2699,17 @@ TEST_F(Cli, BatchChecksEveryRunsSceneFirst) {
             << flags;
         EXPECT_FALSE(fs::exists(path("out/r0000.exr"))) << flags;
     }
+    // Without them the z-test takes the reference as exact, which is said (helper 77: a 64-spp
+    // reference failed every run's z-test, and nothing said why).
+    fs::remove(path("ref.stderr.exr"));
+    r = run("batch " + path("sweep.json") + " --dry-run --output " + path("out"));
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("shvol: warning: " + path("sweep.json") +
+                         ": reference.file: " + path("ref.exr") +
+                         " has no standard errors beside it (" + path("ref.stderr.exr") +
+                         ", as render --variance writes them): the " + "z-test takes it as exact"),
+              std::string::npos)
+        << r.err;
     write("sweep.json", R"({"scene": "s.json", "axes": {"camera.resolution": [[8, 6], [4, 4]]},
         "reference": {"spp": 64}})");
     r = run("batch " + path("sweep.json") + " --dry-run");
