@@ -42,6 +42,12 @@ constexpr int kGeneralMaxDepth = 10;  ///< SHSampler's table mode
 /// replaced by its option when that is given; "sampling": "sh" is implied.
 SHSampledPhase shPhase(const PhaseArgs& a) {
     Json j = phaseSpecToJson(a.spec);
+    // (implied, not overridden: a spec that says "analytic", a medium's phase object pasted,
+    // would be fitted in silence against its word; helper 77)
+    if (j.contains("sampling") && j["sampling"] != "sh")
+        fail("phase spec \"" + a.spec + "\"", "sampling",
+             "the spec asks for " + j["sampling"].dump() +
+                 ", and this command fits an SH sampler (leave the key out)");
     j["sampling"] = "sh";
     if (!a.order.empty()) {
         if (a.order == "auto")

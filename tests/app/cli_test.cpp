@@ -251,6 +251,10 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
              path("m.csv"),
          "--sampler: analytic samples the phase function itself, and the spec asks for "
          "\"sampling\": \"sh\""},
+        // ... and the converse: fitted in silence against the spec's word (helper 77)
+        {"phase fit '{\"type\": \"hg\", \"g\": 0.5, \"sampling\": \"analytic\", "
+         "\"order\": 4}'",
+         "sampling: the spec asks for \"analytic\", and this command fits an SH sampler"},
         {"make-sky -o " + path("m.exr") + " --width 9",
          "--width: must be even (the height is width/2), got 9"},
         // A bare extension is no name, for every command that writes one.
