@@ -203,6 +203,30 @@ void checkRunScenes(const Sweep& s) {
     }
 }
 
+/// The files of a finished run's scene whose contents changed since it rendered, by the
+/// hashes its stats kept ("media[0].file: /data/sky.exr", …), or what they could be where its stats
+/// are gone: the batch named none (helper 77).
+std::string changedInputs(const Sweep& s, const SweepRun& run, const Json& row) {
+    const std::string generic = "grids, skies, tables, meshes";
+    const std::string image = row.value("image", "");
+    if (image.empty()) return generic;
+    const fs::path stats = fs::path(s.output) / fs::path(image).replace_extension(".stats.json");
+    std::ifstream f(stats);
+    const Json saved = Json::parse(f, nullptr, false);
+    if (saved.is_discarded() || !saved.contains("inputs") || !saved["inputs"].is_array())
+        return generic;
+    std::map<std::string, std::string> hashOf;
+    for (const Json& e : saved["inputs"])
+        if (e.is_object() && e.contains("key") && e.contains("fnv1a64"))
+            hashOf[e["key"].dump()] = e["fnv1a64"].dump();
+    std::string changed;
+    for (const Json& e : inputFiles(runDocument(s.sceneDoc, s.scene, run.sets), s.scene))
+        if (e.at("key") != "(scene)" && hashOf[e.at("key").dump()] != e.at("fnv1a64").dump())
+            changed += (changed.empty() ? "" : ", ") + e.at("key").get<std::string>() + ": " +
+                       e.value("path", "");
+    return changed.empty() ? generic : changed;
+}
+
 /// Warns of a reference file without standard errors beside it, which the z-test then takes as
 /// exact: every difference is tested against the run's errors alone, and a reference of 64 spp
 /// failed every run's z-test, said nowhere (helper 77).
@@ -292,8 +316,9 @@ void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string& 
                  "another output directory");
         if (row.value("fingerprint", "") != it->second->fingerprint)
             fail(ledger.jsonlPath(), "run " + id,
-                 "finished with other contents of the files its scene names (grids, skies, "
-                 "tables, meshes) than they have now; use another output directory");
+                 "finished with other contents of the files its scene names (" +
+                     changedInputs(s, *it->second, row) +
+                     ") than they have now; use another output directory");
         const std::string build = row.value("git_revision", "(none)");
         if (build != gitRevision())
             fail(ledger.jsonlPath(), "run " + id,

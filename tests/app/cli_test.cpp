@@ -2209,12 +2209,22 @@ TEST_F(Cli, BatchRefusesRunsWhoseInputFilesChanged) {
         r = run(batch + flags);
         EXPECT_EQ(r.code, 1) << flags;
         EXPECT_EQ(r.out, "") << flags;
+        // Named by the hashes the run's stats kept (it named none; helper 77).
         EXPECT_EQ(r.err, "shvol: error: " + path("out/results.jsonl") +
                              ": run r0000: finished with other contents of the files its scene "
-                             "names (grids, skies, tables, meshes) than they have now; use another "
-                             "output directory\n")
+                             "names (media[0].phase.file: " +
+                             fs::absolute(path("t.csv")).lexically_normal().string() +
+                             ") than they have now; use another output directory\n")
             << flags;
     }
+    // Without the run's stats, what they could be.
+    fs::remove(path("out/r0000.stats.json"));
+    r = run(batch);
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("finished with other contents of the files its scene names (grids, "
+                         "skies, tables, meshes) than they have now"),
+              std::string::npos)
+        << r.err;
 }
 
 // A signal while a batch's run writes its outputs: they are written whole and its row goes in,
