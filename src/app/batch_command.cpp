@@ -534,11 +534,6 @@ int runBatch(BatchArgs a) {
         if (world.parallel() && a.jobs > 1)
             failOption("--jobs",
                        "under mpirun each rank renders one run at a time; start more ranks");
-        // (accepted, it did nothing: a dry run writes nothing, a report included; helper 77)
-        if (a.dryRun && a.report)
-            failOption("--report",
-                       "not with --dry-run, which writes nothing (shvol report DIR reports the "
-                       "runs finished)");
         s = readSweep(a.sweep);
         if (world.root()) checkRunScenes(s);
     });

@@ -2103,14 +2103,6 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
         ++marked;
     EXPECT_EQ(marked, 2u) << r.out;
     EXPECT_EQ(test::fileBytes(ledger), firstTwo + "{\"run\": \"r00");
-    // ... a report included: --report beside it is refused (it was taken and did nothing;
-    // helper 77).
-    r = run("batch " + path("sweep.json") + " --dry-run --report --output " + path("clean"));
-    EXPECT_EQ(r.code, 1);
-    EXPECT_EQ(r.err,
-              "shvol: error: --report: not with --dry-run, which writes nothing (shvol report DIR "
-              "reports the runs finished) (see --help)\n");
-    EXPECT_EQ(test::fileBytes(ledger), firstTwo + "{\"run\": \"r00");
 }
 
 // Values added anywhere in a sweep's axes (and repeats raised) resume into the same output: the
