@@ -1,6 +1,10 @@
 // shvol: a participating-media simulator. See README.md for the command-line reference.
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "commands.h"
 #include "mpi_world.h"
@@ -76,6 +80,26 @@ int runMain(int argc, char** argv) {
             what.rfind(convert, 0) == 0 && eq != std::string::npos)
             what = what.substr(convert.size(), eq - convert.size()) + ": cannot read \"" +
                    what.substr(eq + 3) + "\" as a value of this option";
+        // (and "The following arguments were not expected: x.exr --outptu", listed backwards,
+        // as the arguments were given; helper 77)
+        const std::string extras = "The following arguments were not expected: ";
+        if (what.rfind(extras, 0) == 0) {
+            std::vector<std::string> args;
+            std::istringstream list(what.substr(extras.size()));
+            for (std::string arg; list >> arg;) args.push_back(arg);
+            const auto place = [&](const std::string& arg) {
+                return std::find(argv, argv + argc, arg) - argv;
+            };
+            std::stable_sort(
+                args.begin(), args.end(),
+                [&](const std::string& a, const std::string& b) { return place(a) < place(b); });
+            what = "unexpected argument" + std::string(args.size() > 1 ? "s" : "") +
+                   " (an unknown option, or a value no option takes):";
+            for (const std::string& arg : args) what += " " + arg;
+        }
+        // CLI11's other words start with a capital, shvol's do not ("A subcommand is required").
+        if (!what.empty() && std::isupper(static_cast<unsigned char>(what[0])))
+            what[0] = char(std::tolower(static_cast<unsigned char>(what[0])));
         if (speaks) std::fprintf(stderr, "shvol: error: %s (see --help)\n", what.c_str());
         return 1;
     }

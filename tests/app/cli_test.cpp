@@ -251,6 +251,11 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
              path("m.csv"),
          "--sampler: analytic samples the phase function itself, and the spec asks for "
          "\"sampling\": \"sh\""},
+        // CLI11's own words, as shvol's (they listed the arguments backwards, and started with
+        // a capital; helper 77).
+        {"render x.json --outptu y.exr",
+         "unexpected arguments (an unknown option, or a value no option takes): --outptu y.exr"},
+        {"phase", "shvol: error: a subcommand is required (see --help)"},
         // ... and the converse: fitted in silence against the spec's word (helper 77)
         {"phase fit '{\"type\": \"hg\", \"g\": 0.5, \"sampling\": \"analytic\", "
          "\"order\": 4}'",
