@@ -225,7 +225,7 @@ Json overrideValue(const std::string& text, const std::string& place) {
     try {
         value = Json::parse(text);
     } catch (const Json::out_of_range&) {  // a number beyond a double (1e400)
-        fail("--set value " + text, place, "number out of range");
+        fail("--set value " + text, place, "number beyond the range of a double (±1.8e308)");
     } catch (const Json::exception&) {  // not JSON: a string
         return text;
     }

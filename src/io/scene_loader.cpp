@@ -198,7 +198,15 @@ Bsdf readBsdf(JsonReader r) {
         const Spectrum rd = spectrum(r, "diffuse", 0, 0, 1);
         const Spectrum rs = spectrum(r, "specular", 0.5, 0, 1);
         // ρ_d + ρ_s ≤ 1 keeps the lobes energy-conserving (surfaces/bsdf.h).
-        if (((rd + rs) > 1 + 1e-12).any()) r.error("specular", "diffuse + specular exceeds 1");
+        if (((rd + rs) > 1 + 1e-12).any()) {
+            Eigen::Index c = 0;
+            (rd + rs).maxCoeff(&c);
+            char sum[64];  // (with the numbers behind it: helper 77)
+            std::snprintf(sum, sizeof sum, "%.6g + %.6g", rd[c], rs[c]);
+            const bool grey = (rd == rd[0]).all() && (rs == rs[0]).all();
+            r.error("specular", "diffuse + specular exceeds 1 (" + std::string(sum) +
+                                    (grey ? "" : std::string(" in channel ") + "rgb"[c]) + ")");
+        }
         if (type == "phong") {
             b = Bsdf::phong(rd, rs, r.number("exponent", 22, 0, 1e6));
         } else {

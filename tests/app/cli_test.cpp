@@ -531,7 +531,7 @@ TEST_F(Cli, NumberOverflowIsAnInputError) {
     const Result r = run("render " + path("s.json") + " -o " + path("out.exr") +
                          " --set camera.fov=1e999 --quiet");
     EXPECT_EQ(r.code, 1);
-    EXPECT_EQ(r.err, "shvol: error: --set value 1e999: camera.fov: number out of range\n");
+    EXPECT_EQ(r.err, "shvol: error: --set value 1e999: camera.fov: number beyond the range of a double (±1.8e308)\n");
     // The weight's second moment over 100 bounces, where it overflows a double, as a power of 10.
     const Result q = run("phase fit hg:g=0.999999");
     EXPECT_EQ(q.code, 0) << q.err;

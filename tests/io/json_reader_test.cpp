@@ -328,9 +328,9 @@ TEST(JsonReader, OverrideRefusesMalformedKeyPathsAndNumbers) {
     applyOverride(j, "m[1][0]=7", "s.json");
     EXPECT_EQ(j["m"], Json::parse("[[1,2],[7,4]]"));
     EXPECT_EQ(messageOf([&] { applyOverride(j, "media[0].albedo=1e400", "s.json"); }),
-              "--set value 1e400: media[0].albedo: number out of range");
+              "--set value 1e400: media[0].albedo: number beyond the range of a double (±1.8e308)");
     EXPECT_EQ(messageOf([&] { applyOverride(j, "render.spp=" + std::string(400, '9'), "s.json"); }),
-              "--set value " + std::string(400, '9') + ": render.spp: number out of range");
+              "--set value " + std::string(400, '9') + ": render.spp: number beyond the range of a double (±1.8e308)");
 }
 
 // Found by fuzz/scene_fuzzer and fuzz/phase_spec_fuzzer: a --set value that is not JSON is kept

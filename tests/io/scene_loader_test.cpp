@@ -550,7 +550,10 @@ TEST(SceneLoader, BadSurfacesGiveOneLineNamingThePlace) {
     }
     expectIn(message(R"({"surfaces": [{"bsdf": {"type": "phong", "diffuse": 0.6,
                                                  "specular": 0.6}, "file": "box.obj"}]})"),
-             "surfaces[0].bsdf.specular: diffuse + specular exceeds 1");
+             "surfaces[0].bsdf.specular: diffuse + specular exceeds 1 (0.6 + 0.6)");
+    expectIn(message(R"({"surfaces": [{"bsdf": {"type": "ward", "diffuse": [0.2, 0.7, 0.1],
+                                                 "specular": 0.5}, "file": "box.obj"}]})"),
+             "surfaces[0].bsdf.specular: diffuse + specular exceeds 1 (0.7 + 0.5 in channel g)");
     expectIn(message(R"({"surfaces": [{"type": "disk", "transform": {"scale": [1, 2, 1]}}]})"),
              "surfaces[0].transform: a disk needs the same scale along x and y");
     expectIn(message(R"({"surfaces": [{"type": "sphere", "transform": {"scale": [1, 2, 1]}}]})"),

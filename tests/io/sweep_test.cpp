@@ -19,7 +19,9 @@ std::string writeSweep(const std::string& name, const std::string& sweep) {
     const fs::path dir = fs::path(testing::TempDir()) / ("shvol_sweep_" + name);
     fs::remove_all(dir);
     fs::create_directories(dir);
-    std::ofstream(dir / "scene.json") << R"({"render": {"spp": 4}})";
+    // (two media: the sweeps below set keys of media[0] and media[1], and --set refuses an index
+    // into an array the scene lacks)
+    std::ofstream(dir / "scene.json") << R"({"render": {"spp": 4}, "media": [{}, {}]})";
     std::ofstream(dir / "sweep.json") << sweep;
     return (dir / "sweep.json").string();
 }
