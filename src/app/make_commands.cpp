@@ -34,7 +34,15 @@ void addMakeMediumCommand(CLI::App& app, std::function<int()>& run) {
         ->check(integerIn(4, 1024));
     c->add_option("--grid", a->grid, "Grid name")
         ->check(CLI::Validator(
-            [](std::string& name) { return name.empty() ? "a grid needs a name" : ""; }, "NAME"));
+            [](std::string& name) -> std::string {
+                if (name.empty()) return "a grid needs a name";
+                // (a newline in it made every later message naming the grid two lines; helper 77)
+                for (const char c : name)
+                    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+                        return "a control character in the grid name";
+                return "";
+            },
+            "NAME"));
     // Each kind's own options, and which kinds take them (a note says when one has no effect).
     const std::vector<std::pair<CLI::Option*, std::string>> kindOptions = {
         {c->add_option("--seed", a->seed, "Noise seed (cloud, plume)")

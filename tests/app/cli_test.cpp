@@ -251,6 +251,8 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
              path("m.csv"),
          "--sampler: analytic samples the phase function itself, and the spec asks for "
          "\"sampling\": \"sh\""},
+        {"make-medium sphere -o " + path("m.vdb") + " --grid \"$(printf 'x\\ny')\"",
+         "--grid: a control character in the grid name"},
         // CLI11's own words, as shvol's (they listed the arguments backwards, and started with
         // a capital; helper 77).
         {"render x.json --outptu y.exr",
@@ -531,7 +533,9 @@ TEST_F(Cli, NumberOverflowIsAnInputError) {
     const Result r = run("render " + path("s.json") + " -o " + path("out.exr") +
                          " --set camera.fov=1e999 --quiet");
     EXPECT_EQ(r.code, 1);
-    EXPECT_EQ(r.err, "shvol: error: --set value 1e999: camera.fov: number beyond the range of a double (±1.8e308)\n");
+    EXPECT_EQ(r.err,
+              "shvol: error: --set value 1e999: camera.fov: number beyond the range of a double "
+              "(±1.8e308)\n");
     // The weight's second moment over 100 bounces, where it overflows a double, as a power of 10.
     const Result q = run("phase fit hg:g=0.999999");
     EXPECT_EQ(q.code, 0) << q.err;
