@@ -40,10 +40,13 @@ struct BatchArgs {
     bool dryRun = false, quiet = false, report = false;
 };
 
-std::string describe(const SweepRun& run) {
+std::string describe(const SweepRun& run, const std::vector<std::string>& axes) {
     std::string s = run.id;
+    for (const std::string& axis : axes)  // the sweep's order (it was alphabetical; helper 77)
+        if (run.values.contains(axis)) s += " " + axis + "=" + dumpJson(run.values[axis]);
     for (auto it = run.values.begin(); it != run.values.end(); ++it)
-        s += " " + it.key() + "=" + dumpJson(it.value());
+        if (std::find(axes.begin(), axes.end(), it.key()) == axes.end())
+            s += " " + it.key() + "=" + dumpJson(it.value());
     return s;
 }
 
@@ -146,10 +149,10 @@ int renderReference(const Sweep& s, const BatchArgs& a, bool variance, const std
     return code;
 }
 
-/// errorMessage(e), with `run` followed by the run it stopped (whose scene the error names).
-std::string errorText(const std::exception& e, const SweepRun* run = nullptr) {
+/// errorMessage(e), followed by the run of sweep `s` it stopped (whose scene the error names).
+std::string errorText(const std::exception& e, const Sweep& s, const SweepRun* run) {
     const std::string text = errorMessage(e);
-    return run ? text + " (in run " + describe(*run) + ")" : text;
+    return run ? text + " (in run " + describe(*run, s.axes) + ")" : text;
 }
 
 /// Checks the scenes of every run and of a rendered reference as loading them would (checkScene:
@@ -198,7 +201,7 @@ void checkRunScenes(const Sweep& s) {
                          std::to_string(refSize->second) + ", the run's image " +
                          std::to_string(c.width) + "x" + std::to_string(c.height));
         } catch (const Error& e) {
-            throw Error(errorText(e, &run));
+            throw Error(errorText(e, s, &run));
         }
     }
 }
@@ -353,7 +356,7 @@ Json runOne(const RunContext& c, const SweepRun& run, int& code) {
     r.variance = c.ztest;
     r.oneRank = true;
     r.lateSignalStops = false;
-    r.run = describe(run);
+    r.run = describe(run, s.axes);
     code = runRender(r);
     if (code) return nullptr;
     const std::string stem = fs::path(r.output).replace_extension("").string();
@@ -431,7 +434,7 @@ class WorkQueue {
         else if (it != row.end())
             std::snprintf(rmse, sizeof rmse, " rmse %s", dumpJson(*it).c_str());
         std::fprintf(stderr, "batch: %zu/%zu %s%s, ETA %.0fs\n", ledger_.rows().size(),
-                     sweep_.runs.size(), describe(*run).c_str(), rmse,
+                     sweep_.runs.size(), describe(*run, sweep_.axes).c_str(), rmse,
                      elapsed / double(done) * double(todo_.size() - done));
     }
     void fail(int code, const std::string& error) {
@@ -451,7 +454,7 @@ class WorkQueue {
                     if (code) return fail(code, "");
                     finished(row);
                 } catch (const std::exception& e) {  // not past the thread: the batch ends
-                    return fail(1, errorText(e, run));
+                    return fail(1, errorText(e, c.sweep, run));
                 }
             }
         };
@@ -469,7 +472,7 @@ class WorkQueue {
             try {
                 if (report.rfind("row ", 0) == 0) finished(Json::parse(report.substr(4)));
             } catch (const std::exception& e) {  // e.g. the ledger cannot be written
-                fail(1, errorText(e));
+                fail(1, errorMessage(e));
             }
             if (report.rfind("code ", 0) == 0) fail(std::stoi(report.substr(5)), "");
             if (report.rfind("error ", 0) == 0) fail(1, report.substr(6));
@@ -495,7 +498,7 @@ class WorkQueue {
                 const Json row = runOne(c, run, code);
                 report = code ? "code " + std::to_string(code) : "row " + dumpJson(row);
             } catch (const std::exception& e) {
-                report = "error " + errorText(e, &run);
+                report = "error " + errorText(e, c.sweep, &run);
             }
         }
     }
@@ -597,7 +600,7 @@ int runBatch(BatchArgs a) {
         // Runs an earlier start finished, as its ledger has them (read, not repaired: a dry run
         // writes nothing), checked as the start checks them: the files their scenes name and
         // the reference are hashed when there are finished runs to compare them with.
-        const Ledger done(s.output, Ledger::Open::ReadOnly);
+        const Ledger done(s.output, Ledger::Open::ReadOnly, s.axes);
         adoptFinishedIds(s, done.rows());
         if (!done.rows().empty()) {
             std::map<std::string, Json> inputs;
@@ -614,7 +617,7 @@ int runBatch(BatchArgs a) {
         for (const SweepRun& run : s.runs) {
             const bool has = done.find(run.id);
             finished += has;
-            std::printf("%s%s\n", describe(run).c_str(), has ? " (finished)" : "");
+            std::printf("%s%s\n", describe(run, s.axes).c_str(), has ? " (finished)" : "");
         }
         std::printf("%s into %s", runsCounted(s.runs.size()).c_str(), s.output.c_str());
         if (finished > 0)
@@ -636,7 +639,7 @@ int runBatch(BatchArgs a) {
         stamp = now.stamp, reference = now.fingerprint;
         if (std::error_code ec; !fs::create_directories(s.output, ec) && ec)
             fail(s.output, "", "cannot make the directory (" + ec.message() + ")");
-        ledger.emplace(s.output);
+        ledger.emplace(s.output, Ledger::Open::Repair, s.axes);
         adoptFinishedIds(s, ledger->rows());
         checkFinishedRows(*ledger, s, reference);
         checkRunOutputs(s, *ledger, ztest);

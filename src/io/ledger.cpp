@@ -67,7 +67,8 @@ void appendToFile(const std::string& path, const std::string& text) {
 
 }  // namespace
 
-Ledger::Ledger(std::string dir, Open open) : dir_(std::move(dir)) {
+Ledger::Ledger(std::string dir, Open open, std::vector<std::string> axes)
+    : dir_(std::move(dir)), axes_(std::move(axes)) {
     // One writer per directory: two batches appending to one ledger would repeat runs.
     if (open == Open::Repair) {
         lock_ = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
@@ -190,10 +191,17 @@ bool Ledger::addColumns(const Json& row) {
     bool added = false;
     for (auto it = row.begin(); it != row.end(); ++it)
         if (columnSet_.insert(it.key()).second) columns_.push_back(it.key()), added = true;
+    // Axes in the sweep's order (a row's keys come alphabetically: helper 77 found the CSV's
+    // axes sorted, not in the order the experiment lists them).
+    const auto place = [&](const std::string& c) {
+        const int p = ledgerColumnPlace(c);
+        if (p != kLedgerAxisPlace) return std::pair<int, size_t>(p, 0);
+        return std::pair<int, size_t>(
+            p, size_t(std::find(axes_.begin(), axes_.end(), c) - axes_.begin()));
+    };
     if (added)
-        std::stable_sort(columns_.begin(), columns_.end(), [](const auto& a, const auto& b) {
-            return ledgerColumnPlace(a) < ledgerColumnPlace(b);
-        });
+        std::stable_sort(columns_.begin(), columns_.end(),
+                         [&](const auto& a, const auto& b) { return place(a) < place(b); });
     return added;
 }
 

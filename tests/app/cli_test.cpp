@@ -907,9 +907,9 @@ TEST_F(Cli, RenderWarnsOfUnreliablePhaseFits) {
     EXPECT_EQ(said, 1u) << r.err;
     // Named by the run that gave it first (--jobs 2: either of the first two).
     EXPECT_TRUE(
-        r.err.rfind("shvol: warning: " + path("s.json") + " (run r0000 repeat=0 spp=1): ", 0) ==
+        r.err.rfind("shvol: warning: " + path("s.json") + " (run r0000 spp=1 repeat=0): ", 0) ==
             0 ||
-        r.err.rfind("shvol: warning: " + path("s.json") + " (run r0001 repeat=0 spp=2): ", 0) == 0)
+        r.err.rfind("shvol: warning: " + path("s.json") + " (run r0001 spp=2 repeat=0): ", 0) == 0)
         << r.err;
     const auto run3 = nlohmann::json::parse(std::ifstream(path("b/r0003.stats.json")));
     EXPECT_EQ(run3["warnings"].size(), 1u);
@@ -2141,13 +2141,13 @@ TEST_F(Cli, BatchResumesASweepWithValuesAddedAnywhere) {
     EXPECT_NE(r.out.find("18 runs into " + path("out") + ", 4 of them finished"), std::string::npos)
         << r.out;
     // (0.9, 2) was r0002 and stays so; the new (0.5, 4) would have been r0001, (0.9, 8)'s.
-    EXPECT_NE(r.out.find("r0002 media[0].albedo=0.9 repeat=0 spp=2 (finished)\n"),
+    EXPECT_NE(r.out.find("r0002 media[0].albedo=0.9 spp=2 repeat=0 (finished)\n"),
               std::string::npos)
         << r.out;
-    EXPECT_NE(r.out.find("r0003 media[0].albedo=0.9 repeat=0 spp=8 (finished)\n"),
+    EXPECT_NE(r.out.find("r0003 media[0].albedo=0.9 spp=8 repeat=0 (finished)\n"),
               std::string::npos)
         << r.out;
-    EXPECT_EQ(r.out.find("r0001 media[0].albedo=0.5 repeat=0 spp=4"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("r0001 media[0].albedo=0.5 spp=4 repeat=0"), std::string::npos) << r.out;
     r = run(batch + path("out"));
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("4 of 18 runs already finished"), std::string::npos) << r.err;
@@ -2193,6 +2193,21 @@ TEST_F(Cli, BatchResumesValuesWrittenOtherwise) {
     r = run(batch);
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("2 of 3 runs already finished"), std::string::npos) << r.err;
+}
+
+// The axes come in the sweep's order wherever a batch shows them, in its dry run and its CSV (they
+// came alphabetically: a row's keys are sorted; helper 77).
+TEST_F(Cli, BatchShowsTheAxesInTheSweepsOrder) {
+    write("s.json", scene(Homogeneous));
+    write("sweep.json", R"({"scene": "s.json", "output": "out",
+        "axes": {"render.max_depth": [8], "media.0.albedo": [0.5]}})");
+    Result r = run("batch " + path("sweep.json") + " --dry-run");
+    EXPECT_EQ(r.out.substr(0, r.out.find('\n')),
+              "r0000 render.max_depth=8 media.0.albedo=0.5 repeat=0");
+    r = run("batch " + path("sweep.json") + " --quiet");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string csv = test::fileBytes(path("out/results.csv"));
+    EXPECT_EQ(csv.substr(0, csv.find(",seed,")), "run,repeat,render.max_depth,media.0.albedo");
 }
 
 // A file the scene names (here a phase table) changed since a run finished: the start refuses
@@ -2722,7 +2737,7 @@ TEST_F(Cli, BatchChecksEveryRunsSceneFirst) {
         r = run("batch " + path("sweep.json") + flags + " --quiet --output " + path("out"));
         EXPECT_EQ(r.code, 1) << flags;
         EXPECT_NE(r.err.find(path("sweep.json") + ": reference: " + path("ref.exr") +
-                             " is 16x16, the run's image 8x6 (in run r0000 repeat=0 spp=4)"),
+                             " is 16x16, the run's image 8x6 (in run r0000 spp=4 repeat=0)"),
                   std::string::npos)
             << flags << ": " << r.err;
         EXPECT_FALSE(fs::exists(path("out/r0000.exr"))) << flags;

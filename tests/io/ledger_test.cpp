@@ -64,6 +64,21 @@ TEST(Ledger, CsvColumnsGoRunAxesMetricsTimesProvenance) {
     EXPECT_EQ(test::fileBytes(l.csvPath()),
               "run,repeat,camera.fov,media[0].albedo,seed,spp,rmse,bias,bias_ci95,total_s,"
               "git_revision\nr0000,0,30,0.9,1,4,0.5,0.1,0.2,2,abc\n");
+    // With the sweep's axes given, theirs is the axes' order (a row's keys come alphabetically,
+    // and the CSV had them so; helper 77), also when the ledger is read again.
+    const std::string expected =
+        "run,repeat,media[0].albedo,camera.fov,seed,spp,rmse,bias,bias_ci95,total_s,"
+        "git_revision\nr0000,0,0.9,30,1,4,0.5,0.1,0.2,2,abc\n";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    {
+        Ledger ordered(dir.string(), Ledger::Open::Repair, {"media[0].albedo", "camera.fov"});
+        ordered.append(l.rows()[0]);
+        EXPECT_EQ(test::fileBytes(ordered.csvPath()), expected);
+    }
+    fs::remove(dir / "results.csv");
+    const Ledger again(dir.string(), Ledger::Open::Repair, {"media[0].albedo", "camera.fov"});
+    EXPECT_EQ(test::fileBytes(again.csvPath()), expected);
 }
 
 // A finished run adds a line to each file instead of rewriting them (a batch of n runs wrote

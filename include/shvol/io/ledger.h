@@ -64,7 +64,9 @@ class Ledger {
     /// ReadOnly leaves the files as they are (a last line cut short is only skipped).
     enum class Open { Repair, ReadOnly };
     /// Reads DIR/results.jsonl if it exists; a malformed line is an error naming file and line.
-    explicit Ledger(std::string dir, Open open = Open::Repair);
+    /// `axes`: the sweep's axes in its order, the order of their columns in results.csv (others
+    /// after them, in order of first appearance).
+    explicit Ledger(std::string dir, Open open = Open::Repair, std::vector<std::string> axes = {});
     ~Ledger();
     Ledger(const Ledger&) = delete;
     Ledger& operator=(const Ledger&) = delete;
@@ -86,9 +88,10 @@ class Ledger {
     void writeCsv() const;
 
     std::string dir_;
+    std::vector<std::string> axes_;
     std::vector<Json> rows_;
     std::unordered_map<std::string, size_t> index_;  ///< run id → row
-    std::vector<std::string> columns_;  ///< by ledgerColumnPlace, then first appearance
+    std::vector<std::string> columns_;  ///< by ledgerColumnPlace, axes_, then first appearance
     std::unordered_set<std::string> columnSet_;
     int lock_ = -1;        ///< DIR, flock'ed (Open::Repair)
     bool failed_ = false;  ///< a write failed: no more rows
