@@ -1290,6 +1290,14 @@ TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
     r = run("render " + path("lambert.json") + " -o " + path("b.exr") + " --quiet");
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(r.err, "");
+    // --variance's standard errors leave the records' error out (helper 80: z up to 32.6).
+    r = run("render " + path("lambert.json") + " -o " + path("b.exr") + " --quiet --variance");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "shvol: warning: " + path("lambert.json") +
+                         ": --variance: the standard errors leave out the radiance cache's own "
+                         "error, which every sample of a pixel shares: they can be far too small "
+                         "(a z-test against a path-traced reference fails where the records are "
+                         "noisy)\n");
     // Fewer than 4 rays per HSH coefficient: every record is a noisy fit (helper 63: 1 and 4 rays
     // put regions of the Cornell box off by up to 250%).
     r = run("render " + path("lambert.json") + " -o " + path("b.exr") +
@@ -1421,6 +1429,29 @@ TEST_F(Cli, RenderWarnsOfSurfacesSmallForTheRayOffset) {
                          "the surfaces' distance from the origin): rays leaving it skip more than "
                          "1% of it, and light near it is unreliable; bring the scene nearer the "
                          "origin\n");
+    // Two surfaces closer than the offset: a floor under an emitting ceiling 1 above it, both
+    // 2·10⁵ wide (ε = 1.53), rendered the floor black without a word (helper 80).
+    const auto gapScene = [](double scale) {
+        return R"({"camera": {"resolution": [4, 4], "position": [0, -3, 0.5],
+                   "target": [0, 0, 0]}, "render": {"spp": 1},
+                   "surfaces": [{"type": "rectangle", "name": "floor",
+                                 "transform": {"scale": )" +
+               std::to_string(scale) + R"(}},
+                                {"type": "rectangle", "name": "ceiling", "emission": 1,
+                                 "transform": {"translate": [0, 0, 1], "scale": )" +
+               std::to_string(scale) + R"(, "rotate": {"axis": [1, 0, 0], "degrees": 180}}}]})";
+    };
+    write("gap.json", gapScene(1e5));
+    r = run("render " + path("gap.json") + " -o " + path("out.exr") + " --quiet");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "shvol: warning: " + path("gap.json") +
+                         ": floor and ceiling are 1 apart, and the ray offset is 1.53 (2^-16 of "
+                         "the surfaces' extent): rays leaving one skip more than a tenth of the "
+                         "gap (all of it: they see past each other), and light between them is "
+                         "unreliable; bring the scene's surfaces closer together\n");
+    write("gap.json", gapScene(1e3));  // (ε = 0.0153: no warning)
+    r = run("render " + path("gap.json") + " -o " + path("out.exr") + " --quiet");
+    EXPECT_EQ(r.err, "");
 }
 
 // Glass that is not a solid's surface is named in a warning, with its defect's place in its
