@@ -14,7 +14,8 @@
 /// 2^k samples of a pixel then put one point in each 2^a × 2^b elementary interval (a + b = k).
 ///
 /// A path asks for its numbers in a fixed order (the camera jitter, then per bounce the free
-/// flight's first two numbers, the light sample and the phase sample). Request d
+/// flight's first two numbers, the light sample, the phase sample and, with next-event
+/// estimation, the roulette's number). Request d
 /// of a path is the (0,2)-sequence with its index shuffled and its coordinates scrambled by seeds
 /// hashed from (seed, pixel, d): each request is stratified over the pixel's samples, and different
 /// requests are decorrelated (padding, as pbrt-v4's PaddedSobolSampler). Beyond kDimensions
@@ -136,8 +137,8 @@ class DeferredPair {
 class SobolPixel {
   public:
     /// Requests served from the (0,2)-sequence before the stream falls back to rng(): the camera
-    /// jitter and the flight, light and phase numbers of the first 31 to 63 bounces (2 requests
-    /// a bounce, 3 with next-event estimation, 4 with area lights too).
+    /// jitter and the flight, light, phase and roulette numbers of the first 25 to 63 bounces (2
+    /// requests a bounce, 4 with next-event estimation, 5 with area lights too).
     static constexpr int kDimensions = 128;
     /// A request's seeds: of the scramble of the sample index, and of its two coordinates.
     struct Seeds {
