@@ -1,5 +1,6 @@
 #include "shvol/io/json_reader.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -658,9 +659,38 @@ std::string JsonReader::inputFile(const std::string& key, const std::string& dir
     return path;
 }
 
+namespace {
+/// Edits (insert, delete, substitute, or swap two neighbours) from a to b: the optimal string
+/// alignment distance.
+size_t editDistance(const std::string& a, const std::string& b) {
+    std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
+    for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+    for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+    for (size_t i = 1; i <= a.size(); ++i)
+        for (size_t j = 1; j <= b.size(); ++j) {
+            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1,
+                                d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+                d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+        }
+    return d[a.size()][b.size()];
+}
+}  // namespace
+
 void JsonReader::finish() const {
-    for (auto it = j_.begin(); it != j_.end(); ++it)
-        if (!used_.count(it.key())) error(it.key(), "unknown key");
+    for (auto it = j_.begin(); it != j_.end(); ++it) {
+        if (used_.count(it.key())) continue;
+        // The nearest key this object reads, within 2 edits and a third of the key: a typo's
+        // (helper 77: `camra: unknown key` said nothing of `camera`).
+        std::string nearest;
+        size_t best = std::min<size_t>(2, it.key().size() / 3);
+        for (const std::string& known : used_)
+            if (const size_t d = editDistance(it.key(), known);
+                d <= best && (nearest.empty() || d < best))
+                nearest = known, best = d;
+        error(it.key(),
+              nearest.empty() ? "unknown key" : "unknown key (did you mean \"" + nearest + "\"?)");
+    }
 }
 
 }  // namespace shvol

@@ -71,6 +71,31 @@ TEST(JsonReader, ErrorsNameFileAndPath) {
                   p.finish();
               }),
               "scene.json: media[0].phase.typo: unknown key");
+    // A key within 2 edits (and a third of its length) of one the object reads is named as the
+    // likely typo: a swap, a letter lost, one too many (helper 77).
+    for (const auto& [typo, meant] : std::vector<std::pair<std::string, std::string>>{
+             {"desnity_scale", "density_scale"}, {"albdo", "albedo"}, {"albedoo", "albedo"}}) {
+        const Json doc = {{typo, 1}};
+        EXPECT_EQ(
+            messageOf([&] {
+                JsonReader m(doc, "scene.json", "media[0]");
+                m.number("density_scale", 1.0);
+                m.number("albedo", 1.0);
+                m.finish();
+            }),
+            "scene.json: media[0]." + typo + ": unknown key (did you mean \"" + meant + "\"?)");
+    }
+    // ... and not a short key's nearest, nor one too far off.
+    for (const std::string& key : {std::string("gg"), std::string("density")}) {
+        const Json doc = {{key, 1}};
+        EXPECT_EQ(messageOf([&] {
+                      JsonReader m(doc, "scene.json", "media[0]");
+                      m.number("g", 0.0);
+                      m.number("density_scale", 1.0);
+                      m.finish();
+                  }),
+                  "scene.json: media[0]." + key + ": unknown key");
+    }
 }
 
 TEST(JsonReader, RangeAndChoice) {
@@ -330,7 +355,8 @@ TEST(JsonReader, OverrideRefusesMalformedKeyPathsAndNumbers) {
     EXPECT_EQ(messageOf([&] { applyOverride(j, "media[0].albedo=1e400", "s.json"); }),
               "--set value 1e400: media[0].albedo: number beyond the range of a double (±1.8e308)");
     EXPECT_EQ(messageOf([&] { applyOverride(j, "render.spp=" + std::string(400, '9'), "s.json"); }),
-              "--set value " + std::string(400, '9') + ": render.spp: number beyond the range of a double (±1.8e308)");
+              "--set value " + std::string(400, '9') +
+                  ": render.spp: number beyond the range of a double (±1.8e308)");
 }
 
 // Found by fuzz/scene_fuzzer and fuzz/phase_spec_fuzzer: a --set value that is not JSON is kept
