@@ -794,9 +794,10 @@ int runRender(const RenderArgs& a) {
     writeOutputs(final, scene, r.film, r.stats, finalWarnings, provenance, a.variance);
     if (r.stats.stop != RenderStop::Completed)
         std::fprintf(stderr,
-                     "shvol: %s: wrote the samples finished so far (%u to %u per pixel of %d)%s\n",
-                     interrupted ? "interrupted" : "time limit reached", r.stats.minSamples,
-                     r.stats.maxSamples, scene.settings.spp,
+                     "shvol: %s: wrote the samples finished so far to %s (%u to %u per pixel of "
+                     "%d)%s\n",
+                     interrupted ? "interrupted" : "time limit reached", final.image.c_str(),
+                     r.stats.minSamples, r.stats.maxSamples, scene.settings.spp,
                      a.checkpoint.empty() ? "" : "; continue with --resume");
     for (const std::string& w : notWritten) std::fprintf(stderr, "shvol: warning: %s\n", w.c_str());
     for (const std::string& w : renderWarnings(scene, r.stats)) warnOnce(a.scene, a.run, w);
