@@ -31,6 +31,9 @@ void addTonemapCommand(CLI::App& app, std::function<int()>& run) {
                            a->output + " is the image being tonemapped; write the PNG elsewhere");
             const Image img = readExr(a->input, ExrValues::Preview);
             writePng(a->output, img, a->exposure);
+            // (as make-medium and make-sky say what they wrote; it said nothing: helper 77)
+            std::fprintf(stderr, "wrote %s: %dx%d, exposure %g stops\n", a->output.c_str(),
+                         img.width, img.height, a->exposure);
             return 0;
         };
     });

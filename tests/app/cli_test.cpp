@@ -1794,6 +1794,11 @@ TEST_F(Cli, RenderChecksEveryOutputFirst) {
     EXPECT_EQ(t.err, "shvol: error: --output: " + path("in.png") +
                          " is the image being tonemapped; write the PNG elsewhere (see --help)\n");
     EXPECT_EQ(readExr(path("in.exr")).width, 2);
+    // Written, it says so, as make-medium and make-sky do (it said nothing; helper 77).
+    const Result ok = run("tonemap " + path("in.exr") + " -o " + path("out.png") + " --exposure 1");
+    EXPECT_EQ(ok.code, 0) << ok.err;
+    EXPECT_EQ(ok.err, "wrote " + path("out.png") + ": 2x2, exposure 1 stops\n");
+    EXPECT_EQ(test::fileBytes(path("out.png")).substr(1, 3), "PNG");
 }
 
 // diff's metrics over two small images, against the formulas of README worked by hand; values
