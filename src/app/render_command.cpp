@@ -17,6 +17,7 @@
 #include "mpi_world.h"
 #include "shvol/core/atomic_file.h"
 #include "shvol/core/error.h"
+#include "shvol/core/input_file.h"
 #include "shvol/core/interrupt.h"
 #include "shvol/core/progress.h"
 #include "shvol/io/checkpoint.h"
@@ -646,6 +647,11 @@ int runRender(const RenderArgs& a) {
             // (--seed 1, render.rr_depth=3) is the same render as one left out.
             if (!a.checkpoint.empty())
                 identity = renderIdentity(resolved, provenance.at("inputs"), gitRevision());
+            // (a missing one named neither option: "nock.bin: no such file"; helper 77)
+            if (a.resume)
+                if (const std::string problem = inputFileProblem(a.checkpoint); !problem.empty())
+                    failOption("--checkpoint",
+                               a.checkpoint + ": " + problem + ": --resume continues it");
             if (a.resume) film = readCheckpoint(a.checkpoint, identity);
             if (a.variance && film.maxCount() > 0 && film.sumSq.empty())
                 fail(a.checkpoint, "",

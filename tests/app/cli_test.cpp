@@ -1752,6 +1752,11 @@ TEST_F(Cli, RenderChecksEveryOutputFirst) {
              ": the checkpoint would be written over the image at 1 spp"},
         {"--checkpoint " + path("d") + " --resume",
          "--checkpoint: " + path("d") + ": cannot write: is a directory"},
+        // (it named neither option; helper 77)
+        {"--checkpoint " + path("nock.bin") + " --resume",
+         "--checkpoint: " + path("nock.bin") +
+             ": no such file: --resume continues it (see "
+             "--help)"},
         {"--checkpoint " + path("fifo"), "--checkpoint: " + path("fifo") +
                                              ": cannot write: is not a regular file (a device, "
                                              "FIFO or socket"},
