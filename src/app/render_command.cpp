@@ -805,7 +805,8 @@ int runRender(const RenderArgs& a) {
                      interrupted ? "interrupted" : "time limit reached", final.image.c_str(),
                      r.stats.minSamples, r.stats.maxSamples, scene.settings.spp,
                      a.checkpoint.empty() ? "" : "; continue with --resume");
-    for (const std::string& w : notWritten) std::fprintf(stderr, "shvol: warning: %s\n", w.c_str());
+    // (named by the scene, as every other warning of a render: helper 77)
+    for (const std::string& w : notWritten) warnOnce(a.scene, a.run, w);
     for (const std::string& w : renderWarnings(scene, r.stats)) warnOnce(a.scene, a.run, w);
     if (!a.quiet)
         std::fprintf(stderr, "wrote %s%s and %s (%.2f s, %.3g paths/s, %s%d thread%s)\n",

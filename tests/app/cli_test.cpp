@@ -1998,7 +1998,8 @@ TEST_F(Cli, ProgressiveSppAndVariance) {
     // An image the render stopped before is said not to be written (it was left out silently).
     r = run(s + "-o " + path("z.exr") + " --spp 1,10000000,16000000 --time-limit 0.05");
     EXPECT_EQ(r.code, 0) << r.err;
-    EXPECT_NE(r.err.find("shvol: warning: --spp 10000000: the render stopped before 10000000 "
+    EXPECT_NE(r.err.find("shvol: warning: " + path("s.json") +
+                         ": --spp 10000000: the render stopped before 10000000 "
                          "samples per pixel; that image is not written\n"),
               std::string::npos)
         << r.err;
