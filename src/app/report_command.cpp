@@ -49,7 +49,11 @@ std::vector<std::string> reportOutputs(const std::vector<std::string>& axes,
 
 int runReport(const std::string& dir) {
     namespace fs = std::filesystem;
-    if (!fs::exists(fs::path(dir) / "results.jsonl"))
+    std::error_code ec;  // (what is there first: every case said "no results.jsonl here")
+    if (!fs::exists(dir, ec)) fail(dir, "", "no such directory");
+    if (!fs::is_directory(dir, ec))
+        fail(dir, "", "not a directory (report reads the output directory of shvol batch)");
+    if (!fs::exists(fs::path(dir) / "results.jsonl", ec))
         fail(dir, "", "no results.jsonl here: not the output directory of shvol batch");
     const std::string script = sourceTreePath("tools/report.py");
     if (script.empty())

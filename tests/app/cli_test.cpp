@@ -3003,7 +3003,21 @@ TEST_F(Cli, BatchReport) {
     write("one.json", R"({"scene": "s.json", "axes": {"spp": [2]}})");  // counted in the singular
     const Result one = run("batch " + path("one.json") + " --dry-run --output " + path("one"));
     EXPECT_NE(one.out.find("\n1 run into " + path("one") + "\n"), std::string::npos) << one.out;
-    EXPECT_EQ(run("report " + path("nothing")).code, 1);
+    // What is there is said (each case said "no results.jsonl here"; helper 77).
+    const auto reportError = [&](const std::string& dir) {
+        const Result r = run("report " + dir);
+        EXPECT_EQ(r.code, 1) << dir;
+        return r.err;
+    };
+    EXPECT_EQ(reportError(path("nothing")),
+              "shvol: error: " + path("nothing") + ": no such directory\n");
+    EXPECT_EQ(reportError(path("one.json")),
+              "shvol: error: " + path("one.json") +
+                  ": not a directory (report reads the output directory of shvol batch)\n");
+    fs::create_directories(path("empty"));
+    EXPECT_EQ(reportError(path("empty")),
+              "shvol: error: " + path("empty") +
+                  ": no results.jsonl here: not the output directory of shvol batch\n");
     // A copy of the program outside its build tree finds tools/report.py in the source tree it
     // was built from.
     fs::copy_file(SHVOL_BINARY, path("shvol_copy"));
