@@ -765,7 +765,10 @@ int runRender(const RenderArgs& a) {
                 std::fprintf(stderr, "%s\n", errorLine(e).c_str());
                 MpiWorld::abort(1);
             }
-            if (!a.quiet) std::fprintf(stderr, "wrote %s (%u spp)\n", o.image.c_str(), n);
+            // (its stats and standard errors too, as the final line names them; helper 77)
+            if (!a.quiet)
+                std::fprintf(stderr, "wrote %s%s and %s (%u spp)\n", o.image.c_str(),
+                             a.variance ? (", " + o.stderrImage).c_str() : "", o.stats.c_str(), n);
         }
         const auto now = std::chrono::steady_clock::now();
         if (!a.checkpoint.empty() &&

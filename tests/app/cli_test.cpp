@@ -1995,6 +1995,14 @@ TEST_F(Cli, ProgressiveSppAndVariance) {
             << r.err;
         EXPECT_FALSE(fs::exists(path("x.exr")));
     }
+    // An intermediate image's line names its stats and standard errors, as the final one does
+    // (helper 77).
+    r = run("render " + path("s.json") + " -o " + path("l.exr") + " --spp 2,4 --variance");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("wrote " + path("l.spp2.exr") + ", " + path("l.spp2.stderr.exr") +
+                         " and " + path("l.spp2.stats.json") + " (2 spp)\n"),
+              std::string::npos)
+        << r.err;
     // An image the render stopped before is said not to be written (it was left out silently).
     r = run(s + "-o " + path("z.exr") + " --spp 1,10000000,16000000 --time-limit 0.05");
     EXPECT_EQ(r.code, 0) << r.err;
