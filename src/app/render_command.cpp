@@ -189,23 +189,35 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
     // Two surfaces whose boxes are less than 10 ε apart (and not touching, where nothing can be
     // told): rays leaving one skip more than a tenth of the gap, all of it below ε (helper 80: a
     // floor 10⁵ wide under an emitting ceiling 1 above it, ε = 1.53, rendered black without a
-    // word). Boxes: the surfaces themselves may be farther apart.
+    // word). Boxes: the surfaces themselves may be farther apart. One warning, naming the closest
+    // pair (a tiled scene would give one per pair), each surface's box computed once.
     const std::vector<Surface>& all = scene.surfaces->surfaces();
+    std::vector<Bounds3> boxes;
+    for (const Surface& s : all) boxes.push_back(s.bounds());
+    size_t pairs = 0, closestA = 0, closestB = 0;
+    double closest = INFINITY;
     for (size_t i = 0; i < all.size(); ++i)
         for (size_t j = i + 1; j < all.size(); ++j) {
-            const Bounds3 a = all[i].bounds(), b = all[j].bounds();
+            const Bounds3 &a = boxes[i], &b = boxes[j];
             const double gap = (a.lo - b.hi).cwiseMax(b.lo - a.hi).cwiseMax(Vec3::Zero()).norm();
             if (!(gap > 0 && gap < 10 * eps)) continue;
-            char msg[400];
-            std::snprintf(msg, sizeof msg,
-                          " and %s are %.3g apart, and the ray offset is %.3g (%s): rays leaving "
-                          "one skip more than a tenth of the gap%s, and light between them is "
-                          "unreliable; %s",
-                          all[j].name.c_str(), gap, eps, offsetOrigin.c_str(),
-                          gap <= eps ? " (all of it: they see past each other)" : "",
-                          remedy.c_str());
-            w.push_back(all[i].name + msg);
+            ++pairs;
+            if (gap < closest) closest = gap, closestA = i, closestB = j;
         }
+    if (pairs > 0) {
+        char msg[500];
+        std::snprintf(
+            msg, sizeof msg,
+            " and %s are %.3g apart%s, and the ray offset is %.3g (%s): rays leaving one skip "
+            "more than a tenth of the gap%s, and light between them is unreliable; %s",
+            all[closestB].name.c_str(), closest,
+            pairs > 1 ? (" (the closest of " + std::to_string(pairs) + " such pairs)").c_str() : "",
+            eps, offsetOrigin.c_str(),
+            closest <= eps ? " (all of it: they see past each other)" : "",
+            far ? "bring the scene nearer the origin"
+                : "make the surfaces' extent smaller, which sets the offset, or the gap wider");
+        w.push_back(all[closestA].name + msg);
+    }
     return w;
 }
 
@@ -446,9 +458,8 @@ Outputs outputsFor(const std::string& out, const std::string& tag) {
 
 namespace {
 
-/// Writes an image with its statistics (and standard errors). The statistics appear only once
-/// the images are in place: the EXRs are written (atomically) while the stats file is still a
-/// temporary, and the image while the standard errors' file is.
+/// Writes an image with its statistics (and standard errors), together (writeTogether): all into
+/// temporaries, then renamed one after another.
 void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const RenderStats& st,
                   const std::vector<std::string>& warnings, const nlohmann::json& provenance,
                   bool variance) {
@@ -492,7 +503,7 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
                                 "error is written as +inf (unknown)");
     // The three appear together: a failure to write any of them, or a signal meanwhile, leaves
     // none, and a second Ctrl-C at their renames can no longer put the image beside the previous
-    // render's statistics.
+    // render's statistics (a rename that itself fails leaves the ones before it, and says so).
     std::vector<FileWrite> files = {
         {o.image, [&](const std::string& tmp) { writeExrTo(tmp, image, o.image); }}};
     if (variance)

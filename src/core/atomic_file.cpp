@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <csignal>
@@ -12,6 +13,7 @@
 #include <fstream>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <system_error>
 
 #include "shvol/core/error.h"
@@ -224,27 +226,48 @@ void writeTogether(const std::vector<FileWrite>& files,
         throw;
     }
     // A signal now ends the process after the last rename, not between two: an image beside the
-    // statistics of the render before it (a second Ctrl-C as a stopped render wrote them).
-    ++gRenaming;
+    // statistics of the render before it (a second Ctrl-C as a stopped render wrote them). A
+    // guard, so that no exception (afterRename's) leaves signals deferred for good.
+    struct Renaming {
+        Renaming() { ++gRenaming; }
+        ~Renaming() {
+            if (--gRenaming == 0)
+                if (const int sig = gDeferredSignal.exchange(0); sig != 0)
+                    dieRemovingTemporaries(sig);
+        }
+    };
     int error = 0;
     size_t failed = files.size();
-    for (size_t i = 0; i < files.size() && failed == files.size(); ++i)
-        if (std::rename(temporaries[i].c_str(), targets[i].c_str()) != 0)
-            error = errno, failed = i;
-        else if (afterRename)
-            afterRename(i);
-    if (--gRenaming == 0)
-        if (const int sig = gDeferredSignal.exchange(0); sig != 0) dieRemovingTemporaries(sig);
+    {
+        const Renaming renaming;
+        try {
+            for (size_t i = 0; i < files.size() && failed == files.size(); ++i)
+                if (std::rename(temporaries[i].c_str(), targets[i].c_str()) != 0)
+                    error = errno, failed = i;
+                else if (afterRename)
+                    afterRename(i);
+        } catch (...) {
+            removeFrom(0);  // (the renamed ones are gone from their temporaries' names)
+            throw;
+        }
+    }
+    // The renames themselves, each directory once (one that cannot be synced, on some file
+    // systems, is left so).
+    std::set<std::string> directories;
+    for (size_t i = 0; i < std::min(failed, files.size()); ++i)
+        directories.insert(std::filesystem::path(targets[i]).parent_path().empty()
+                               ? std::string(".")
+                               : std::filesystem::path(targets[i]).parent_path().string());
+    for (const std::string& directory : directories) syncToDisk(directory);
     if (failed < files.size()) {
         removeFrom(failed);
-        failWriting(files[failed].path, error);
+        // The files renamed before it stay: a rename cannot be undone (the old files are gone).
+        std::string replaced;
+        for (size_t i = 0; i < failed; ++i) replaced += (i ? ", " : "") + files[i].path;
+        fail(files[failed].path, "",
+             "cannot write file (" + std::generic_category().message(error) + ")" +
+                 (replaced.empty() ? "" : "; " + replaced + " already replaced"));
     }
-    // The renames themselves (a directory that cannot be synced, on some file systems, is left
-    // so).
-    for (const std::string& target : targets)
-        syncToDisk(std::filesystem::path(target).parent_path().empty()
-                       ? std::string(".")
-                       : std::filesystem::path(target).parent_path().string());
 }
 
 void writeAtomically(const std::string& path,

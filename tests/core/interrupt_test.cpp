@@ -205,6 +205,41 @@ TEST(WriteTogether, FilesAppearAllOrNone) {
             EXPECT_EQ(dir.countOthers(""), 3) << what << ": a temporary was left in " << dir.path;
         }
     }
+    // An exception at the renames leaves no temporary and signals not deferred for good (a
+    // counter left raised deferred them: helper 81).
+    const ScratchDirectory dir("together_throw");
+    const int status = inChild([&] {
+        try {
+            writeTogether({{(dir.path / "a").string(),
+                            [](const std::string& tmp) { std::ofstream(tmp) << "a"; }},
+                           {(dir.path / "b").string(),
+                            [](const std::string& tmp) { std::ofstream(tmp) << "b"; }}},
+                          [](size_t) { throw std::runtime_error("afterRename"); });
+        } catch (const std::runtime_error&) {
+        }
+        std::raise(SIGTERM);  // must end the child now
+        ::_exit(kSurvived);
+    });
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << describe(status);
+    EXPECT_EQ(dir.countOthers("a"), 0) << "a temporary was left in " << dir.path;
+    // A rename that fails midway (its directory removed) names the files it already replaced.
+    const ScratchDirectory mid("together_mid");
+    fs::create_directories(mid.path / "sub");
+    const std::string first = (mid.path / "a").string(), second = (mid.path / "sub/b").string();
+    std::string message;
+    try {
+        writeTogether({{first, [](const std::string& tmp) { std::ofstream(tmp) << "a"; }},
+                       {second, [](const std::string& tmp) { std::ofstream(tmp) << "b"; }}},
+                      [&](size_t i) {
+                          if (i == 0) fs::remove_all(mid.path / "sub");
+                      });
+    } catch (const std::exception& e) {
+        message = e.what();
+    }
+    EXPECT_EQ(message, second + ": cannot write file (No such file or directory); " + first +
+                           " already replaced");
+    EXPECT_EQ(read(first), "a");
+    EXPECT_EQ(mid.countOthers("a"), 0);
 }
 
 }  // namespace shvol

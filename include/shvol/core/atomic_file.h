@@ -27,8 +27,10 @@ struct FileWrite {
 /// all into their temporaries first and then renamed in order, and a signal that would end the
 /// process during the renames ends it after the last: a failure or a signal while they are
 /// written leaves none of them, and one at their renames all of them. (Only a rename that itself
-/// fails, or a power cut, leaves the ones before it.) afterRename(i), when given, is called after
-/// the i-th rename (a test's signal comes there).
+/// fails, or a power cut, leaves the ones before it: the error names them. Groups written at once
+/// on several threads, batch --jobs: a signal deferred by one group's renames lets another group
+/// that reaches its renames meanwhile finish them, whole.) afterRename(i), when given, is called
+/// after the i-th rename (a test's signal comes there).
 void writeTogether(const std::vector<FileWrite>& files,
                    const std::function<void(size_t)>& afterRename = {});
 
