@@ -442,8 +442,8 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
         }
 
         if (depth >= s.rrDepth) {
-            // The roulette's number: with next-event estimation the roulette is on the throughput
-            // (θ = 1) and plays at nearly every bounce, and a Sobol' request of its own every
+            // The roulette's number: with next-event estimation (towards the sky or area lights)
+            // the roulette is on the throughput (θ = 1) and plays at nearly every bounce, and a Sobol' request of its own every
             // bounce keeps it stratified (from the independent stream, as below, the RMSE of the
             // NEE sweeps of validation/sampling rose 2–10%: helper 79). Without NEE the survival
             // weight (θ = 0.25) rarely plays it: then the independent stream, only when needed
@@ -451,7 +451,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             // README, "Sample streams").
             const double q =
                 rouletteSurvival(maxComponent(beta) * etaScale, effects_.rouletteThreshold);
-            const double u = effects_.nextEvent ? sampler.next1D() : q < 1 ? rng.uniform() : 0;
+            const double u = nee ? sampler.next1D() : q < 1 ? rng.uniform() : 0;
             if (q < 1) {
                 if (u >= q) break;
                 beta /= q;
