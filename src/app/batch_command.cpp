@@ -22,6 +22,7 @@
 #include "shvol/core/image_metrics.h"
 #include "shvol/core/interrupt.h"
 #include "shvol/core/progress.h"
+#include "shvol/io/checkpoint.h"
 #include "shvol/io/exr.h"
 #include "shvol/io/ledger.h"
 #include "shvol/io/provenance.h"
@@ -206,28 +207,23 @@ void checkRunScenes(const Sweep& s) {
     }
 }
 
-/// The files of a finished run's scene whose contents changed since it rendered, by the
-/// hashes its stats kept ("media[0].file: /data/sky.exr", …), or what they could be where its stats
-/// are gone: the batch named none (helper 77).
+/// Which files of a finished run's scene changed since it rendered ("the file named by
+/// media[0].file differs in contents"), as a resumed render says it (identityDifference), by the
+/// hashes the run's stats kept; what they could be where its stats are gone (the batch named
+/// none: helper 77).
 std::string changedInputs(const Sweep& s, const SweepRun& run, const Json& row) {
-    const std::string generic = "grids, skies, tables, meshes";
+    const std::string unknown = "which of them (grids, skies, tables, meshes) cannot be told";
     const std::string image = row.value("image", "");
-    if (image.empty()) return generic;
-    const fs::path stats = fs::path(s.output) / fs::path(image).replace_extension(".stats.json");
-    std::ifstream f(stats);
+    if (image.empty()) return unknown;
+    std::ifstream f(fs::path(s.output) / fs::path(image).replace_extension(".stats.json"));
     const Json saved = Json::parse(f, nullptr, false);
     if (saved.is_discarded() || !saved.contains("inputs") || !saved["inputs"].is_array())
-        return generic;
-    std::map<std::string, std::string> hashOf;
-    for (const Json& e : saved["inputs"])
-        if (e.is_object() && e.contains("key") && e.contains("fnv1a64"))
-            hashOf[e["key"].dump()] = e["fnv1a64"].dump();
-    std::string changed;
-    for (const Json& e : inputFiles(runDocument(s.sceneDoc, s.scene, run.sets), s.scene))
-        if (e.at("key") != "(scene)" && hashOf[e.at("key").dump()] != e.at("fnv1a64").dump())
-            changed += (changed.empty() ? "" : ", ") + e.at("key").get<std::string>() + ": " +
-                       e.value("path", "");
-    return changed.empty() ? generic : changed;
+        return unknown;
+    const std::string difference = identityDifference(
+        renderIdentity(Json::object(), saved["inputs"], ""),
+        renderIdentity(Json::object(),
+                       inputFiles(runDocument(s.sceneDoc, s.scene, run.sets), s.scene), ""));
+    return difference.empty() ? unknown : difference;
 }
 
 /// Warns of a reference file without standard errors beside it, which the z-test then takes as
@@ -319,9 +315,8 @@ void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string& 
                  "another output directory");
         if (row.value("fingerprint", "") != it->second->fingerprint)
             fail(ledger.jsonlPath(), "run " + id,
-                 "finished with other contents of the files its scene names (" +
-                     changedInputs(s, *it->second, row) +
-                     ") than they have now; use another output directory");
+                 "finished when the files its scene names had other contents: " +
+                     changedInputs(s, *it->second, row) + "; use another output directory");
         const std::string build = row.value("git_revision", "(none)");
         if (build != gitRevision())
             fail(ledger.jsonlPath(), "run " + id,

@@ -12,6 +12,48 @@
 
 namespace {
 
+/// CLI11's message of a command line it cannot parse, in shvol's words.
+std::string plainParseError(std::string what, int argc, char** argv) {
+    // An option given twice: "--spp: At Most 1 required but received 2".
+    const std::string twice = "At Most 1 required but received ";
+    if (const size_t at = what.find(twice); at != std::string::npos)
+        what =
+            what.substr(0, at) + "given " + what.substr(at + twice.size()) + " times; give it once";
+    // A value the option's type cannot hold: "Could not convert: --width = 8.5", in the form of
+    // the other option errors.
+    const std::string convert = "Could not convert: ";
+    if (const size_t eq = what.find(" = "); what.rfind(convert, 0) == 0 && eq != std::string::npos)
+        what = what.substr(convert.size(), eq - convert.size()) + ": cannot read \"" +
+               what.substr(eq + 3) + "\" as a value of this option";
+    // Arguments no option takes: "The following arguments were not expected: x.exr --outptu",
+    // listed backwards ("The following argument was not expected: --outptu" for one), in the
+    // order given (helper 77). The list is split at spaces: one with an argument holding a
+    // space is left in CLI11's words.
+    for (const std::string extras : {"The following argument was not expected: ",
+                                     "The following arguments were not expected: "}) {
+        if (what.rfind(extras, 0) != 0) continue;
+        std::vector<std::string> args;
+        std::istringstream list(what.substr(extras.size()));
+        for (std::string arg; list >> arg;) args.push_back(arg);
+        const auto place = [&](const std::string& arg) {
+            return std::find(argv, argv + argc, arg) - argv;
+        };
+        if (args.empty() || !std::all_of(args.begin(), args.end(),
+                                         [&](const std::string& arg) { return place(arg) < argc; }))
+            break;
+        std::stable_sort(args.begin(), args.end(), [&](const std::string& a, const std::string& b) {
+            return place(a) < place(b);
+        });
+        what = std::string(args.size() > 1 ? "unexpected arguments" : "an unexpected argument") +
+               " (an unknown option, or a value no option takes):";
+        for (const std::string& arg : args) what += " " + arg;
+    }
+    // CLI11's other words start with a capital, shvol's do not ("A subcommand is required").
+    if (!what.empty() && std::isupper(static_cast<unsigned char>(what[0])))
+        what[0] = char(std::tolower(static_cast<unsigned char>(what[0])));
+    return what;
+}
+
 int runMain(int argc, char** argv) {
     // Under mpirun every rank parses the same command line: rank 0 alone speaks for them.
     const bool speaks = shvol::app::MpiWorld::get().root();
@@ -66,40 +108,7 @@ int runMain(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         // Like every other error: one line and exit code 1 (CLI11 would print two lines and use
         // its own codes).
-        // (CLI11's words for an option given twice, "--spp: At Most 1 required but received 2",
-        // said plainly.)
-        std::string what = e.what();
-        const std::string twice = "At Most 1 required but received ";
-        if (const size_t at = what.find(twice); at != std::string::npos)
-            what = what.substr(0, at) + "given " + what.substr(at + twice.size()) +
-                   " times; give it once";
-        // (and "Could not convert: --width = 8.5", a value the option's type cannot hold, in
-        // the form of the other option errors)
-        const std::string convert = "Could not convert: ";
-        if (const size_t eq = what.find(" = ");
-            what.rfind(convert, 0) == 0 && eq != std::string::npos)
-            what = what.substr(convert.size(), eq - convert.size()) + ": cannot read \"" +
-                   what.substr(eq + 3) + "\" as a value of this option";
-        // (and "The following arguments were not expected: x.exr --outptu", listed backwards,
-        // as the arguments were given; helper 77)
-        const std::string extras = "The following arguments were not expected: ";
-        if (what.rfind(extras, 0) == 0) {
-            std::vector<std::string> args;
-            std::istringstream list(what.substr(extras.size()));
-            for (std::string arg; list >> arg;) args.push_back(arg);
-            const auto place = [&](const std::string& arg) {
-                return std::find(argv, argv + argc, arg) - argv;
-            };
-            std::stable_sort(
-                args.begin(), args.end(),
-                [&](const std::string& a, const std::string& b) { return place(a) < place(b); });
-            what = "unexpected argument" + std::string(args.size() > 1 ? "s" : "") +
-                   " (an unknown option, or a value no option takes):";
-            for (const std::string& arg : args) what += " " + arg;
-        }
-        // CLI11's other words start with a capital, shvol's do not ("A subcommand is required").
-        if (!what.empty() && std::isupper(static_cast<unsigned char>(what[0])))
-            what[0] = char(std::tolower(static_cast<unsigned char>(what[0])));
+        const std::string what = plainParseError(e.what(), argc, argv);
         if (speaks) std::fprintf(stderr, "shvol: error: %s (see --help)\n", what.c_str());
         return 1;
     }

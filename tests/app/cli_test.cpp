@@ -257,6 +257,8 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
         // a capital; helper 77).
         {"render x.json --outptu y.exr",
          "unexpected arguments (an unknown option, or a value no option takes): --outptu y.exr"},
+        {"render x.json --outptu",
+         "an unexpected argument (an unknown option, or a value no option takes): --outptu"},
         {"phase", "shvol: error: a subcommand is required (see --help)"},
         // ... and the converse: fitted in silence against the spec's word (helper 77)
         {"phase fit '{\"type\": \"hg\", \"g\": 0.5, \"sampling\": \"analytic\", "
@@ -1448,7 +1450,8 @@ TEST_F(Cli, RenderWarnsOfSurfacesSmallForTheRayOffset) {
                          ": floor and ceiling are 1 apart, and the ray offset is 1.53 (2^-16 of "
                          "the surfaces' extent): rays leaving one skip more than a tenth of the "
                          "gap (all of it: they see past each other), and light between them is "
-                         "unreliable; bring the scene's surfaces closer together\n");
+                         "unreliable; make the surfaces' extent smaller, which sets the offset, "
+                         "or the gap wider\n");
     write("gap.json", gapScene(1e3));  // (ε = 0.0153: no warning)
     r = run("render " + path("gap.json") + " -o " + path("out.exr") + " --quiet");
     EXPECT_EQ(r.err, "");
@@ -2276,20 +2279,20 @@ TEST_F(Cli, BatchRefusesRunsWhoseInputFilesChanged) {
         r = run(batch + flags);
         EXPECT_EQ(r.code, 1) << flags;
         EXPECT_EQ(r.out, "") << flags;
-        // Named by the hashes the run's stats kept (it named none; helper 77).
+        // Named by the hashes the run's stats kept, as a resumed render names them (it named
+        // none; helper 77).
         EXPECT_EQ(r.err, "shvol: error: " + path("out/results.jsonl") +
-                             ": run r0000: finished with other contents of the files its scene "
-                             "names (media[0].phase.file: " +
-                             fs::absolute(path("t.csv")).lexically_normal().string() +
-                             ") than they have now; use another output directory\n")
+                             ": run r0000: finished when the files its scene names had other "
+                             "contents: the file named by media[0].phase.file differs in "
+                             "contents; use another output directory\n")
             << flags;
     }
     // Without the run's stats, what they could be.
     fs::remove(path("out/r0000.stats.json"));
     r = run(batch);
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find("finished with other contents of the files its scene names (grids, "
-                         "skies, tables, meshes) than they have now"),
+    EXPECT_NE(r.err.find("run r0000: finished when the files its scene names had other contents: "
+                         "which of them (grids, skies, tables, meshes) cannot be told; use "),
               std::string::npos)
         << r.err;
 }

@@ -34,11 +34,11 @@ auto segments(bool control) {
     };
 }
 
-/// The χ² of n distances drawn by flight(i) against this medium's P(t < x) = 1 − e^{−τ(x)}
-/// on [0, 2.5) and its escapes (20 degrees of freedom).
 /// The χ² tests of free flights in this file: one family (Šidák).
 constexpr int kFreeFlightChi2Tests = 3;
 
+/// The χ² of n distances drawn by flight(i) against this medium's P(t < x) = 1 − e^{−τ(x)}
+/// on [0, 2.5) and its escapes (test::freeFlightChi2).
 template <typename Flight>
 test::FreeFlightChi2 freeFlightChi2(int n, Flight&& flight) {
     return test::freeFlightChi2(n, 2.5, opticalDepth, flight);
