@@ -443,12 +443,12 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
 
         if (depth >= s.rrDepth) {
             // The roulette's number: with next-event estimation (towards the sky or area lights)
-            // the roulette is on the throughput (θ = 1) and plays at nearly every bounce, and a Sobol' request of its own every
-            // bounce keeps it stratified (from the independent stream, as below, the RMSE of the
-            // NEE sweeps of validation/sampling rose 2–10%: helper 79). Without NEE the survival
-            // weight (θ = 0.25) rarely plays it: then the independent stream, only when needed
-            // (a request every bounce did not lower the error and cost up to 3% of the time;
-            // README, "Sample streams").
+            // the roulette is on the throughput (θ = 1) and plays at nearly every bounce, and a
+            // Sobol' request of its own every bounce keeps it stratified (from the independent
+            // stream, as below, the RMSE of the NEE sweeps of validation/sampling rose 2–10%:
+            // helper 79). Without NEE the survival weight (θ = 0.25) rarely plays it: then the
+            // independent stream, only when needed (a request every bounce did not lower the
+            // error and cost up to 3% of the time; README, "Sample streams").
             const double q =
                 rouletteSurvival(maxComponent(beta) * etaScale, effects_.rouletteThreshold);
             const double u = nee ? sampler.next1D() : q < 1 ? rng.uniform() : 0;
