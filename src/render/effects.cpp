@@ -34,6 +34,7 @@ Effects Effects::of(const Scene& scene) {
     const bool bounces = e.scattering || (e.surfaces && scene.settings.maxDepth >= 1);
     e.nextEvent = bounces && !env.black() && scene.settings.nee.value_or(!env.uniform());
     e.environmentImage = !env.isConstant();
+    e.environmentBlack = env.black();
     if (e.nextEvent || e.areaLights) e.mis = scene.settings.mis;
     if (e.nextEvent) {
         e.lightSampling = scene.settings.lightSampling;
@@ -50,7 +51,10 @@ Effects Effects::of(const Scene& scene) {
 
 std::vector<std::string> Effects::names() const {
     std::vector<std::string> n;
-    n.push_back(environmentImage ? "environment-image" : "environment-constant");
+    // (a black one was named "environment-constant", which misled: helper 77)
+    n.push_back(environmentBlack   ? "environment-black"
+                : environmentImage ? "environment-image"
+                                   : "environment-constant");
     if (volumes) n.push_back(scattering ? "volume-tracking" : "volume-transmittance");
     if (scattering) n.push_back(multipleScattering ? "multiple-scattering" : "single-scattering");
     if (surfaces) n.push_back("surfaces");

@@ -266,6 +266,10 @@ TEST(VolumePathIntegrator, EffectsThatAreOffAreNotSimulated) {
         EXPECT_NE(std::find(names.begin(), names.end(), "single-scattering"), names.end());
         EXPECT_EQ(std::find(names.begin(), names.end(), "nee-environment-uniform"), names.end());
         EXPECT_EQ(e.counters.lightSamples, 0u);
+        EXPECT_EQ(names.front(), "environment-constant");
+        // A black environment is named so (it was "environment-constant"; helper 77).
+        s.environment = Environment::constant(Spectrum::Zero(), false);
+        EXPECT_EQ(Effects::of(s).names().front(), "environment-black");
     }
 }
 

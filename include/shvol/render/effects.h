@@ -16,6 +16,7 @@ struct Effects {
     bool multipleScattering = false;  ///< scattering and max depth > 1
     bool nextEvent = false;           ///< NEE towards the environment (with MIS)
     bool environmentImage = false;    ///< the environment is an image (importance-sampled)
+    bool environmentBlack = false;    ///< the environment gives no light (none, or all zeros)
     bool surfaces = false;            ///< the scene has surfaces (Embree closest hits)
     bool areaLights = false;     ///< some surface emits and render.nee is not false: NEE to it, MIS
     bool boundedMedia = false;   ///< some medium exists only inside a closed surface
