@@ -17,14 +17,16 @@ std::vector<double> hg(double g, int n) {
     return p;
 }
 const Vec3 kAxis = Vec3(-0.2, 0.7, 0.4).normalized();
+/// Truncated HG lobes (g, order) that the chi-squared test and the cdf test share.
+struct Case {
+    double g;
+    int n;
+};
+constexpr Case kCases[] = {{0.5, 8}, {0.9, 32}, {-0.7, 16}, {0.99, 8}};
 }  // namespace
 
 TEST(ZonalSHSampler, Chi2AroundAnOffAxisDirection) {
-    struct Case {
-        double g;
-        int n;
-    } cases[] = {{0.5, 8}, {0.9, 32}, {-0.7, 16}, {0.99, 8}};
-    for (const Case& c : cases) {
+    for (const Case& c : kCases) {
         const ZonalSHSampler s(hg(c.g, c.n));
         Chi2Options opt;
         opt.numTests = 4;
@@ -54,11 +56,7 @@ TEST(ZonalSHSampler, Chi2AroundAnOffAxisDirection) {
 // and to the function (each bin's mass ∝ ∫ p̃ dz over it where p̃ > 0 on the whole bin,
 // integrated here by Simpson's rule), so neither can drift from what is sampled (helper 78).
 TEST(ZonalSHSampler, CdfIsTheIntegralOfThePdfAndOfTheFunction) {
-    struct Case {
-        double g;
-        int n;
-    } cases[] = {{0.5, 8}, {0.9, 32}, {-0.7, 16}, {0.99, 8}};
-    for (const Case& c : cases) {
+    for (const Case& c : kCases) {
         const int depth = 8, bins = 1 << depth;
         const ZonalSHSampler s(hg(c.g, c.n), depth);
         const double dz = 2.0 / bins;
