@@ -185,6 +185,10 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
     // samples as every session before it, with no checkpoint in all that time (helper 71).
     uint64_t cap =
         options.maxPassSeconds >= 0 && passEnd > 0 ? 1 : std::numeric_limits<uint64_t>::max();
+    const std::function<double()> passClock = options.passClock ? options.passClock : [] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+            .count();
+    };
     const auto pathsSoFar = [&] {
         uint64_t n = 0;
         for (const PathCounters& c : counters) n += c.paths;
@@ -195,7 +199,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
     while (passEnd < spp) {
         const uint64_t pathsBefore = pathsSoFar();
         const uint32_t end = nextPassEnd(passEnd, spp, options.stops, cap);
-        const auto passStart = std::chrono::steady_clock::now();
+        const double passStart = passClock();
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 1), [&](const auto& r) {
                 PathCounters& c = counters.local();
@@ -230,8 +234,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
             });
         });
         if (stopped) break;
-        const double seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - passStart).count();
+        const double seconds = passClock() - passStart;
         if (options.maxPassSeconds >= 0 && seconds > 0)
             cap = passSampleCap(options.maxPassSeconds, seconds, pathsSoFar() - pathsBefore,
                                 partPixels);

@@ -173,6 +173,20 @@ TEST(Renderer, MaxPassSecondsKeepsPassesShortWithoutChangingTheImage) {
     expectSameImage(render(smallScene(11), opt, uneven).image, doubling);
     ASSERT_EQ(paths.size(), 6u);
     EXPECT_EQ(paths[0], uneven.pixels() / 2);  // the 6th samples of the pixels behind
+    // Its passes paced by the samples they took, on a clock where every pass lasts 1 s and 2 s
+    // are allowed: 1 sample for the pixels behind, then passes of P/2 samples (P pixels) set
+    // the next to 1 per pixel, of P samples to 2, … (6, 7, 8, 9, 11, 15, 16). Paced per pixel
+    // of the part, the first pass looked twice as fast: 6, 8, 12, 16 (helper 81: the render
+    // itself was not tested for it).
+    std::vector<uint32_t> ends;
+    RenderOptions paced;
+    paced.threads = 2;
+    paced.maxPassSeconds = 2;
+    int reads = 0;
+    paced.passClock = [&] { return double((reads++ + 1) / 2); };
+    paced.afterPass = [&](const Film&, const RenderStats& st) { ends.push_back(st.passEnd); };
+    render(smallScene(16), paced, uneven);
+    EXPECT_EQ(ends, (std::vector<uint32_t>{6, 7, 8, 9, 11, 15, 16}));
 }
 
 // The pace of a pass is per sample taken: a pass that took one sample on a tenth of the pixels

@@ -36,6 +36,9 @@ struct RenderOptions {
     /// the first is one sample). < 0: passes double. The image does not depend on the passes;
     /// only how often afterPass comes does (--checkpoint-interval).
     double maxPassSeconds = -1;
+    /// Seconds on a monotonic clock, read at each pass's start and end to pace the passes; empty:
+    /// std::chrono::steady_clock. (A test gives a scripted one, so that the pace is exact.)
+    std::function<double()> passClock;
     /// Accumulate per-pixel sums of squares too (Film::standardError).
     bool variance = false;
     /// Render only the pixel rows y with y mod parts = part (every sample of them, in the order
