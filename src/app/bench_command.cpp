@@ -304,6 +304,7 @@ int runBench(BenchArgs& a) {
              {"global majorant, 1 thread", withVdbKey(doc, a.sets, "majorant_grid", "false"), 1},
              {"global majorant, OpenVDB lookups, 1 thread",
               withVdbKey(doc, vdbLookups, "majorant_grid", "false"), 1}});
+    const size_t twoThreads = configs.size();
     configs.push_back({"defaults, 2 threads", a.sets, 2});
     // The floor: what a path costs when no medium is there (camera, surfaces, lights, sky).
     const bool media = doc.contains("media") && !doc["media"].empty();
@@ -312,7 +313,7 @@ int runBench(BenchArgs& a) {
         configs.back().sets.push_back("media=[]");
     }
     const std::vector<Row> rows = measure(a, configs, a.spp);
-    const Row &now = rows[0], &two = rows[vdb ? 6 : 1];
+    const Row &now = rows[0], &two = rows[twoThreads];
     printRows(rows);
     auto ratio = [](const char* what, const Row& a, const Row& b) {
         std::printf("%s: %s\n", what, ratioText(a, b).c_str());
@@ -327,12 +328,11 @@ int runBench(BenchArgs& a) {
         else
             ratio(what, a, b);
     };
-    if (const double ns = nsPerLookup(a, a.sets); ns > 0 && !vdb)  // (0: no medium to look up)
-        std::printf("\nns per density lookup (Medium::sigmaT): %.1f\n", ns);
-    else if (ns > 0)
-        std::printf(
-            "\nns per density lookup (Medium::sigmaT): bricks %.1f, OpenVDB accessor %.1f\n", ns,
-            nsPerLookup(a, vdbLookups));
+    if (const double ns = nsPerLookup(a, a.sets); ns > 0) {  // (0: no medium to look up)
+        std::printf("\nns per density lookup (Medium::sigmaT): %s%.1f", vdb ? "bricks " : "", ns);
+        if (vdb) std::printf(", OpenVDB accessor %.1f", nsPerLookup(a, vdbLookups));
+        std::printf("\n");
+    }
     if (!vdb)
         std::printf("no VDB medium: no lookup, tracking or majorant configurations to compare\n");
     else {

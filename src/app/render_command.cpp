@@ -146,7 +146,12 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
             : "2^-16 of the surfaces' extent";
     const std::string remedy =
         far ? "bring the scene nearer the origin" : "bring the scene's surfaces closer together";
-    for (const Surface& s : scene.surfaces->surfaces()) {
+    // Each surface's box once (a mesh's walks its vertices), for its size and the gaps below.
+    const std::vector<Surface>& all = scene.surfaces->surfaces();
+    std::vector<Bounds3> boxes;
+    for (const Surface& s : all) boxes.push_back(s.bounds());
+    for (size_t k = 0; k < all.size(); ++k) {
+        const Surface& s = all[k];
         // Glass that is not a solid's surface (a medium's boundary must be one: refused): a ray
         // that enters it need not meet a face to leave by, and its faces are not turned to face
         // outwards (helper 66: open, flipped and non-manifold glass rendered without a word).
@@ -166,8 +171,7 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
                                    "happens to lie, and its faces were not turned to face "
                                    "outwards (an open sheet meant so, a water surface, is "
                                    "rendered as wound: its normals point out of the glass)"));
-        const Bounds3 b = s.bounds();
-        double size = (b.hi - b.lo).maxCoeff();
+        double size = (boxes[k].hi - boxes[k].lo).maxCoeff();
         // A closed mesh that rays pass through is judged by its thickness, 2V/A (a slab's: a pane
         // 2 wide and 0.0002 thick, under an offset beyond 0.0002, kept every refracted ray inside
         // it, and its 1/η² radiance scale: the wall behind it 0.44 where 0.95 is right).
@@ -190,10 +194,7 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
     // told): rays leaving one skip more than a tenth of the gap, all of it below ε (helper 80: a
     // floor 10⁵ wide under an emitting ceiling 1 above it, ε = 1.53, rendered black without a
     // word). Boxes: the surfaces themselves may be farther apart. One warning, naming the closest
-    // pair (a tiled scene would give one per pair), each surface's box computed once.
-    const std::vector<Surface>& all = scene.surfaces->surfaces();
-    std::vector<Bounds3> boxes;
-    for (const Surface& s : all) boxes.push_back(s.bounds());
+    // pair (a tiled scene would give one per pair).
     size_t pairs = 0, closestA = 0, closestB = 0;
     double closest = INFINITY;
     for (size_t i = 0; i < all.size(); ++i)
@@ -214,7 +215,7 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
             pairs > 1 ? (" (the closest of " + std::to_string(pairs) + " such pairs)").c_str() : "",
             eps, offsetOrigin.c_str(),
             closest <= eps ? " (all of it: they see past each other)" : "",
-            far ? "bring the scene nearer the origin"
+            far ? remedy.c_str()
                 : "make the surfaces' extent smaller, which sets the offset, or the gap wider");
         w.push_back(all[closestA].name + msg);
     }

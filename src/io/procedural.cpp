@@ -462,8 +462,8 @@ Image makeSky(const SkyParams& s) {
                 const double omega = (std::cos(y * dTheta) - std::cos((y + 1) * dTheta)) * dPhi;
                 const Spectrum add =
                     simple ? Spectrum(sum.sunRadiance - background(w)) : sum.sunRadiance;
-                auto [it, first] = splat.try_emplace(size_t(y) * W + x, Spectrum::Zero());
-                it->second += add * (weight / omega);
+                splat.try_emplace(size_t(y) * W + x, Spectrum::Zero()).first->second +=
+                    add * (weight / omega);
             }
         }
         for (const auto& [pixel, add] : splat) {
