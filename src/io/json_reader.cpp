@@ -302,6 +302,36 @@ const std::vector<std::string>& keysOfEveryType(const std::string& path) {
 }
 }  // namespace
 
+namespace {
+/// Edits (insert, delete, substitute, or swap two neighbours) from a to b: the optimal string
+/// alignment distance.
+size_t editDistance(const std::string& a, const std::string& b) {
+    std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
+    for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+    for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+    for (size_t i = 1; i <= a.size(); ++i)
+        for (size_t j = 1; j <= b.size(); ++j) {
+            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1,
+                                d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+                d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+        }
+    return d[a.size()][b.size()];
+}
+
+/// "unknown key", with the nearest of `known` to `key` when one is within 2 edits and a third
+/// of the key: a typo's (helper 77: `camra: unknown key` said nothing of `camera`).
+template <typename Keys>
+std::string unknownKey(const std::string& key, const Keys& known) {
+    std::string nearest;
+    size_t best = std::min<size_t>(2, key.size() / 3);
+    for (const std::string& k : known)
+        if (const size_t d = editDistance(key, k); d <= best && (nearest.empty() || d < best))
+            nearest = k, best = d;
+    return nearest.empty() ? "unknown key" : "unknown key (did you mean \"" + nearest + "\"?)";
+}
+}  // namespace
+
 bool applyOverride(Json& doc, const std::string& assignment, const std::string& file,
                    const std::string& source) {
     const std::string by = source.empty() ? "" : source + ": ";
@@ -341,6 +371,17 @@ bool applyOverride(Json& doc, const std::string& assignment, const std::string& 
             next.find_first_not_of("0123456789") != std::string::npos)
             return;
         const std::string array = walked + (walked.empty() ? "" : ".") + parts[k];
+        // A misspelt key is more likely than a missing array: its object's keys (and the
+        // scene's arrays) are the candidates (helper 81: `medai[0]` was told to give the whole
+        // array).
+        std::vector<std::string> known;
+        if (node->is_object())
+            for (auto it = node->begin(); it != node->end(); ++it) known.push_back(it.key());
+        if (walked.empty())
+            for (const char* array : {"media", "surfaces"})
+                if (parts[k] != array) known.push_back(array);
+        if (const std::string unknown = unknownKey(parts[k], known); unknown != "unknown key")
+            fail(file, array, by + unknown);
         fail(file, array,
              by + "index " + next + " of an array the scene does not have: give the whole array " +
                  "(--set '" + array + "=[…]')");
@@ -659,38 +700,9 @@ std::string JsonReader::inputFile(const std::string& key, const std::string& dir
     return path;
 }
 
-namespace {
-/// Edits (insert, delete, substitute, or swap two neighbours) from a to b: the optimal string
-/// alignment distance.
-size_t editDistance(const std::string& a, const std::string& b) {
-    std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
-    for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
-    for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
-    for (size_t i = 1; i <= a.size(); ++i)
-        for (size_t j = 1; j <= b.size(); ++j) {
-            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1,
-                                d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
-            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
-                d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-        }
-    return d[a.size()][b.size()];
-}
-}  // namespace
-
 void JsonReader::finish() const {
-    for (auto it = j_.begin(); it != j_.end(); ++it) {
-        if (used_.count(it.key())) continue;
-        // The nearest key this object reads, within 2 edits and a third of the key: a typo's
-        // (helper 77: `camra: unknown key` said nothing of `camera`).
-        std::string nearest;
-        size_t best = std::min<size_t>(2, it.key().size() / 3);
-        for (const std::string& known : used_)
-            if (const size_t d = editDistance(it.key(), known);
-                d <= best && (nearest.empty() || d < best))
-                nearest = known, best = d;
-        error(it.key(),
-              nearest.empty() ? "unknown key" : "unknown key (did you mean \"" + nearest + "\"?)");
-    }
+    for (auto it = j_.begin(); it != j_.end(); ++it)
+        if (!used_.count(it.key())) error(it.key(), unknownKey(it.key(), used_));
 }
 
 }  // namespace shvol

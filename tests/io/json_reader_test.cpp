@@ -232,6 +232,13 @@ TEST(JsonReader, Overrides) {
               "s.json: camera.position: --set: index 0 of an array the scene does not have: give "
               "the whole array (--set 'camera.position=[…]')");
     EXPECT_FALSE(j["camera"].contains("position"));
+    // ... unless the key is a typo of one its object has, or of a scene array (helper 81)
+    EXPECT_EQ(messageOf([&] { applyOverride(j, "medai[0].albedo=0.5", "s.json"); }),
+              "s.json: medai: --set: unknown key (did you mean \"media\"?)");
+    EXPECT_EQ(messageOf([&] { applyOverride(j, "surfacs[0].bsdf.type=lambert", "s.json"); }),
+              "s.json: surfacs: --set: unknown key (did you mean \"surfaces\"?)");
+    EXPECT_EQ(messageOf([&] { applyOverride(j, "camera.tpye.0=1", "s.json"); }),
+              "s.json: camera.tpye: --set: unknown key (did you mean \"type\"?)");
     EXPECT_FALSE(applyOverride(j, "surfaces[0].bsdf=null", "s.json"));  // deletes nothing
 }
 
