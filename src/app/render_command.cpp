@@ -521,6 +521,19 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
                          if (!f) failWriting(o.stats, 0);
                      }});
     writeTogether(files);
+    // Standard errors an earlier render left under this image's name would pass for this one's
+    // (batch's z-test reads ref.stderr.exr beside a reference file): removed, and said (helper
+    // 83: a render resumed without --variance left the last session's beside its image).
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (variance || !fs::is_regular_file(o.stderrImage, ec)) return;
+    std::fprintf(stderr, "shvol: warning: %s: %s\n", o.stderrImage.c_str(),
+                 fs::remove(o.stderrImage, ec)
+                     ? "removed: the standard errors of an earlier render of this image name "
+                       "(this render has none; --variance writes them)"
+                     : ("cannot remove it (" + ec.message() +
+                        "): it holds the standard errors of an earlier render, not this one's")
+                           .c_str());
 }
 
 /// Prints "shvol: warning: SCENE: TEXT", or in a batch "shvol: warning: SCENE (run RUN): TEXT",
@@ -644,7 +657,8 @@ int runRender(const RenderArgs& a) {
             // Every sample of a pixel reads the same records, so the spread of its samples does
             // not hold their error (helper 80: z-scores up to 32.6 against a path-traced
             // reference on milk_glass at the default 1024 rays per record).
-            if (a.variance && effects.radianceCache)
+            // (A cache of max_records 0 holds no record: the errors are exact; helper 83.)
+            if (a.variance && effects.radianceCache && scene.settings.radianceCache.maxRecords > 0)
                 warnings.push_back(
                     "--variance: the standard errors leave out the radiance cache's own error, "
                     "which every sample of a pixel shares: they can be far too small (a z-test "

@@ -1300,6 +1300,13 @@ TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
                          "error, which every sample of a pixel shares: they can be far too small "
                          "(a z-test against a path-traced reference fails where the records are "
                          "noisy)\n");
+    // ... not those of a cache of max_records 0, which holds none (helper 83); only its fill's
+    // warning stays.
+    r = run("render " + path("lambert.json") + " -o " + path("b.exr") +
+            " --quiet --variance --set render.radiance_cache.max_records=0");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err.find("--variance"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("the fill stopped at max_records (0)"), std::string::npos) << r.err;
     // Fewer than 4 rays per HSH coefficient: every record is a noisy fit (helper 63: 1 and 4 rays
     // put regions of the Cornell box off by up to 250%).
     r = run("render " + path("lambert.json") + " -o " + path("b.exr") +
@@ -1981,6 +1988,16 @@ TEST_F(Cli, ProgressiveSppAndVariance) {
     for (size_t i = 0; i < se4.rgb.size(); ++i) sum4 += se4.rgb[i], sum16 += se16.rgb[i];
     EXPECT_GT(sum16, 0);
     EXPECT_LT(sum16, sum4);  // 4× the samples: about half the standard error
+    // Rendered again without --variance, the image loses its old standard errors, which would
+    // pass for its own (helper 83); p.spp4's stay with p.spp4.exr, which this render leaves.
+    r = run(s + "-o " + path("p.exr") + " --spp 8");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_FALSE(fs::exists(path("p.stderr.exr")));
+    EXPECT_TRUE(fs::exists(path("p.spp4.stderr.exr")));
+    EXPECT_NE(r.err.find("shvol: warning: " + path("p.stderr.exr") +
+                         ": removed: the standard errors of an earlier render"),
+              std::string::npos)
+        << r.err;
     r = run(s + "-o " + path("x.exr") + " --spp 16,4");
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("--spp: sample counts must increase, got 16,4"), std::string::npos)
