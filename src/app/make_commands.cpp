@@ -192,6 +192,10 @@ void addMakeSkyCommand(CLI::App& app, std::function<int()>& run) {
                 std::fprintf(stderr,
                              "  note: the Preetham model does not cover twilight; the sky is "
                              "that of a sun on the horizon and the disc is below the ground\n");
+            if (!preetham && p.sunElevationDegrees < 0)
+                std::fprintf(stderr,
+                             "  note: the simple model's ground does not hide the sun: its disc "
+                             "is drawn below the horizon\n");
             if (!preetham && turbidityGiven)
                 std::fprintf(stderr, "  note: --turbidity has no effect with --model simple\n");
             return 0;

@@ -21,13 +21,19 @@ std::string sceneDir(const JsonReader& r) {
     return fs::path(r.file()).parent_path().string();
 }
 
-/// r[key] as a number or three, each in [lo, hi]: "value 2 out of range" for a number,
-/// "component 2 out of range" for an element of [x, y, z].
+/// key, or its element i (key[i]) when r[key] is an array: where an error in component i is.
+std::string componentKey(JsonReader& r, const std::string& key, int i) {
+    return r.has(key) && r.raw(key).is_array() ? key + "[" + std::to_string(i) + "]" : key;
+}
+
+/// r[key] as a number or three, each in [lo, hi]: "albedo: value 2 out of range" for a number,
+/// "albedo[0]: value 2 out of range" for an element of [x, y, z] (it said "component 2", which
+/// read as the index; helper 84).
 Vec3 vec3OrScalarIn(JsonReader& r, const std::string& key, const Vec3& def, double lo, double hi) {
     const Vec3 v = r.vec3OrScalar(key, def);
-    const char* what = r.has(key) && r.raw(key).is_array() ? "component" : "value";
     for (int i = 0; i < 3; ++i)
-        if (!(v[i] >= lo && v[i] <= hi)) r.rangeError(key, what, v[i], lo, hi);
+        if (!(v[i] >= lo && v[i] <= hi))
+            r.rangeError(componentKey(r, key, i), "value", v[i], lo, hi);
     return v;
 }
 
@@ -42,7 +48,8 @@ Vec3 pointInRange(JsonReader& r, const std::string& key, const Vec3& def) {
     const Vec3 p = r.vec3(key, def);
     for (int i = 0; i < 3; ++i)
         if (!(std::abs(p[i]) <= kMaxSurfaceCoordinate))
-            r.rangeError(key, "component", p[i], -kMaxSurfaceCoordinate, kMaxSurfaceCoordinate);
+            r.rangeError(componentKey(r, key, i), "value", p[i], -kMaxSurfaceCoordinate,
+                         kMaxSurfaceCoordinate);
     return p;
 }
 

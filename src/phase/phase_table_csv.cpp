@@ -95,6 +95,7 @@ TabulatedPhase readPhaseTableCsv(const std::string& path) {
     }
     if (in.bad()) fail(path, "", "read error");
     const std::string end = "line " + std::to_string(lineNo);
+    if (lineNo == 0) fail(path, "", "empty file: expected at least 2 (angle, value) rows");
     if (angles.size() < 2)
         fail(path, end,
              "expected at least 2 (angle, value) rows, got " + std::to_string(angles.size()));

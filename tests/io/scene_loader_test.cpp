@@ -599,14 +599,14 @@ TEST(SceneLoader, ErrorsNameBoundsAndTheTypeAKeyBelongsTo) {
     // The camera within the ray tracer's range, a rotation's angle bounded (media vanished
     // beyond 1e16; 1e308° was a rotation of NaN; helper 73).
     expectMessage(R"({"camera": {"position": [0, -1e17, 0]}})",
-                  "camera.position: component -1e17 out of range [-1e15, 1e15]");
+                  "camera.position[1]: value -1e17 out of range [-1e15, 1e15]");
     expectMessage(R"({"camera": {"target": [0, 0, 2e15]}})",
-                  "camera.target: component 2e15 out of range [-1e15, 1e15]");
+                  "camera.target[2]: value 2e15 out of range [-1e15, 1e15]");
     expectMessage(R"({"media": [{"type": "homogeneous", "shape": {"max": [1, 1, 1e300]}}]})",
-                  "media[0].shape.max: component 1e300 out of range [-1e15, 1e15]");
+                  "media[0].shape.max[2]: value 1e300 out of range [-1e15, 1e15]");
     expectMessage(
         R"({"media": [{"type": "homogeneous", "shape": {"type": "sphere", "center": [-3e16, 0, 0]}}]})",
-        "media[0].shape.center: component -3e16 out of range [-1e15, 1e15]");
+        "media[0].shape.center[0]: value -3e16 out of range [-1e15, 1e15]");
     expectMessage(
         R"({"surfaces": [{"type": "sphere", "transform": {"rotate": {"degrees": 1e308}}}]})",
         "surfaces[0].transform.rotate.degrees: value 1e308 out of range [-1e6, 1e6]");
@@ -627,27 +627,27 @@ TEST(SceneLoader, ErrorsNameBoundsAndTheTypeAKeyBelongsTo) {
     expectMessage(R"({"render": {"max_depth": 100000000000000001}})",
                   "render.max_depth: value 100000000000000001 out of range [0, 1048576]");
     expectMessage(R"({"environment": {"type": "constant", "radiance": [1, -0.5, 1]}})",
-                  "environment.radiance: component -0.5 out of range (expected ≥ 0)");
+                  "environment.radiance[1]: value -0.5 out of range (expected ≥ 0)");
     expectMessage(R"({"media": [{"type": "homogeneous", "albedo": 1.5}]})",
                   "media[0].albedo: value 1.5 out of range [0, 1]");
     expectMessage(R"({"surfaces": [{"type": "rectangle", "transform": {"scale": 1e300}}]})",
                   "surfaces[0].transform.scale: value 1e300 out of range [1e-12, 1e12]");
     expectMessage(R"({"surfaces": [{"type": "rectangle", "transform": {"scale": [1, 0, 1]}}]})",
-                  "surfaces[0].transform.scale: component 0 out of range [1e-12, 1e12]");
+                  "surfaces[0].transform.scale[1]: value 0 out of range [1e-12, 1e12]");
     // (A translation of 1e308 overflowed the grid's inverse transform, and the error named the
     // .vdb file.)
     expectMessage(R"({"surfaces": [{"type": "rectangle",
                                     "transform": {"translate": [0, 1e308, 0]}}]})",
-                  "surfaces[0].transform.translate: component 1e308 out of range [-1e15, 1e15]");
+                  "surfaces[0].transform.translate[1]: value 1e308 out of range [-1e15, 1e15]");
     // The cap of an unbounded range (1e30) is said only to a value beyond it.
     expectMessage(R"({"environment": {"type": "constant", "radiance": [1, 2e30, 1]}})",
-                  "environment.radiance: component 2e30 out of range (expected at most 1e30)");
+                  "environment.radiance[1]: value 2e30 out of range (expected at most 1e30)");
     expectMessage(R"({"camera": {"up": [0, 0, 0]}})", "camera.up: is the zero vector");
     // Far cameras are refused by their range (they were refused when the view direction
     // overflowed, and accepted below that, where a medium vanished); a long up vector is taken
     // without overflowing its norm.
     expectMessage(R"({"camera": {"position": [0, -1.7e308, 0], "target": [0, 1.7e308, 0]}})",
-                  "camera.position: component -1.7e308 out of range [-1e15, 1e15]");
+                  "camera.position[1]: value -1.7e308 out of range [-1e15, 1e15]");
     expectMessage(R"({"camera": {"position": [0, -1e15, 0], "up": [0, 1e300, 0]}})",
                   "camera.up: is parallel to the viewing direction");
     expectMessage(R"({"environment": {"type": "constant", "scale": 2}})",

@@ -146,7 +146,8 @@ TEST(TabulatedCsv, OneLineErrors) {
               "strictly)");
     EXPECT_EQ(err("one.csv", "angle,value\n0,1\n"),
               "line 2: expected at least 2 (angle, value) rows, got 1");
-    EXPECT_EQ(err("empty.csv", ""), "line 0: expected at least 2 (angle, value) rows, got 0");
+    // (an empty file has no line to name: it was "line 0"; helper 84)
+    EXPECT_EQ(err("empty.csv", ""), "empty file: expected at least 2 (angle, value) rows");
     EXPECT_EQ(err("cols.csv", "0,1\n90,1,5\n"),
               "line 2: expected 2 columns (angle in degrees, value), got 3");
     EXPECT_EQ(err("emptycell.csv", "0,1\n90,\n"), "line 2: value \"\" is not a number");
