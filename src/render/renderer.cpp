@@ -59,7 +59,8 @@ void describeIntegrator(const VolumePathIntegrator& integrator, RenderStats& st)
                             b.tableErrors,
                             b.uncached,
                             b.counters.paths,
-                            b.counters.truncatedPaths};
+                            b.counters.truncatedPaths,
+                            b.counters.nonFiniteSamples};
     }
     const Effects& e = integrator.effects();
     if (!e.nextEvent) return;
@@ -221,6 +222,8 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
                                         : pathSample(Rng::forSample(s.seed, pixel, n), x, y, c);
                                 if (L.allFinite()) {
                                     sum[0] += L[0], sum[1] += L[1], sum[2] += L[2];
+                                    const double y = luminance(L);
+                                    c.luminanceSum += y, c.luminanceSumSq += y * y;
                                     if (sq)
                                         sq[0] += L[0] * L[0], sq[1] += L[1] * L[1],
                                             sq[2] += L[2] * L[2];

@@ -21,6 +21,8 @@ void PathCounters::add(const PathCounters& o) {
     transmittanceRays += o.transmittanceRays;
     nonFiniteSamples += o.nonFiniteSamples;
     truncatedPaths += o.truncatedPaths;
+    luminanceSum += o.luminanceSum;
+    luminanceSumSq += o.luminanceSumSq;
     surfaceHits += o.surfaceHits;
     cacheLookups += o.cacheLookups;
     cacheHits += o.cacheHits;
@@ -589,7 +591,9 @@ void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop)
                         Rng rng =
                             Rng::forSample(seed, (uint64_t(1) << 40) + index, uint32_t(k + 1));
                         sample.L = Li(r, rng, counters[k], PathKind::CacheRecord);
-                        if (!sample.L.allFinite()) sample.L = Spectrum::Zero();
+                        // (counted: it was taken as 0 without a word; helper 82)
+                        if (!sample.L.allFinite())
+                            sample.L = Spectrum::Zero(), ++counters[k].nonFiniteSamples;
                         // The first surface met that is not a null boundary (for R and gradients).
                         SurfaceHit h;
                         sample.hit = firstNonNullHit(surf, r, &h);

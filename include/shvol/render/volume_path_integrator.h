@@ -80,6 +80,9 @@ struct PathCounters {
     uint64_t cacheLookupNs = 0;      ///< time spent in them (steady clock)
     uint64_t nonFiniteSamples = 0;   ///< samples discarded because Li was NaN or Inf
     uint64_t truncatedPaths = 0;     ///< paths ended by max_depth (the light beyond it is lost)
+    /// Σ y and Σ y² over the finite samples' luminances y (the renderer's): the image mean's
+    /// standard error, against which max_depth's loss is judged.
+    double luminanceSum = 0, luminanceSumSq = 0;
     TrackingCounters tracking;
     void add(const PathCounters& o);
 };
