@@ -211,14 +211,36 @@ void checkRunScenes(const Sweep& s) {
 /// media[0].file differs in contents"), as a resumed render says it (identityDifference), by the
 /// hashes the run's stats kept; what they could be where its stats are gone (the batch named
 /// none: helper 77).
-std::string changedInputs(const Sweep& s, const SweepRun& run, const Json& row) {
-    const std::string unknown = "which of them (grids, skies, tables, meshes) cannot be told";
+/// The stats a finished run's render wrote (an empty object when they cannot be read).
+Json savedStats(const Sweep& s, const Json& row) {
     const std::string image = row.value("image", "");
-    if (image.empty()) return unknown;
+    if (image.empty()) return Json::object();
     std::ifstream f(fs::path(s.output) / fs::path(image).replace_extension(".stats.json"));
     const Json saved = Json::parse(f, nullptr, false);
-    if (saved.is_discarded() || !saved.contains("inputs") || !saved["inputs"].is_array())
-        return unknown;
+    return saved.is_object() ? saved : Json::object();
+}
+
+/// The scene values in which a finished run (its stats' scene_resolved) and the render the sweep
+/// now gives it differ, as a resumed render names them (`scene values camera.fov differ`); ""
+/// when that cannot be told. The render's sample count is no scene value here (a checkpoint may
+/// be continued to more): the caller names it.
+std::string changedSettings(const Sweep& s, const SweepRun& run, const Json& row) {
+    const Json saved = savedStats(s, row);
+    if (!saved.contains("scene_resolved")) return "";
+    Json resolved;
+    try {
+        checkScene(runDocument(s.sceneDoc, s.scene, run.sets), s.scene, &resolved);
+    } catch (const Error&) {
+        return "";
+    }
+    return identityDifference(renderIdentity(saved["scene_resolved"], Json::object(), ""),
+                              renderIdentity(resolved, Json::object(), ""));
+}
+
+std::string changedInputs(const Sweep& s, const SweepRun& run, const Json& row) {
+    const std::string unknown = "which of them (grids, skies, tables, meshes) cannot be told";
+    const Json saved = savedStats(s, row);
+    if (!saved.contains("inputs") || !saved["inputs"].is_array()) return unknown;
     const std::string difference = identityDifference(
         renderIdentity(Json::object(), saved["inputs"], ""),
         renderIdentity(Json::object(),
@@ -309,10 +331,13 @@ void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string& 
                 fail(ledger.jsonlPath(), "run " + id,
                      "finished with " + key + "=" + dumpJson(value) +
                          ", an axis the sweep no longer has; use another output directory");
-        if (row.value("settings_fingerprint", "") != it->second->settingsFingerprint)
+        if (row.value("settings_fingerprint", "") != it->second->settingsFingerprint) {
+            // (named as a resumed render names them; helper 84: it said only "other settings")
+            const std::string what = changedSettings(s, *it->second, row);
             fail(ledger.jsonlPath(), "run " + id,
-                 "finished with other settings or another scene than the sweep now gives; use "
-                 "another output directory");
+                 "finished with other settings or another scene than the sweep now gives" +
+                     (what.empty() ? "" : " (" + what + ")") + "; use another output directory");
+        }
         if (row.value("fingerprint", "") != it->second->fingerprint)
             fail(ledger.jsonlPath(), "run " + id,
                  "finished when the files its scene names had other contents: " +

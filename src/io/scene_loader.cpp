@@ -438,8 +438,8 @@ Scene sceneFromJson(const Json& doc, const std::string& path, Json* resolved) {
     return readScene(doc, path, resolved, Contents::Load);
 }
 
-Camera checkScene(const Json& doc, const std::string& path) {
-    return readScene(doc, path, nullptr, Contents::Check).camera;
+Camera checkScene(const Json& doc, const std::string& path, Json* resolved) {
+    return readScene(doc, path, resolved, Contents::Check).camera;
 }
 
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides,

@@ -32,7 +32,8 @@ Scene sceneFromJson(const Json& doc, const std::string& path, Json* resolved = n
 /// building the surfaces' BVH: cheap enough to check every run of a batch before the first one
 /// renders. Phase functions are built (their tables read, their SH fits made). What only a
 /// file's contents can show (a corrupt .vdb, a mesh bounding a medium that is not closed) is
-/// found when loading. Returns the scene's camera (its image size, say).
-Camera checkScene(const Json& doc, const std::string& path);
+/// found when loading. Returns the scene's camera (its image size, say), and in *resolved the
+/// document as sceneFromJson resolves it.
+Camera checkScene(const Json& doc, const std::string& path, Json* resolved = nullptr);
 
 }  // namespace shvol
