@@ -9,6 +9,7 @@
 #include "commands.h"
 #include "mpi_world.h"
 #include "shvol/core/error.h"
+#include "shvol/core/spelling.h"
 
 namespace {
 
@@ -82,16 +83,21 @@ int runMain(int argc, char** argv) {
             parent->get_subcommands([](const CLI::App* a) { return !a->get_name().empty(); });
         if (subs.empty()) break;
         std::string names;
+        std::vector<std::string> nameList;
         CLI::App* known = nullptr;
         for (CLI::App* sub : subs) {
             if (sub->get_name() == argv[level]) known = sub;
             names += (names.empty() ? "" : ", ") + sub->get_name();
+            nameList.push_back(sub->get_name());
         }
         if (!known) {
+            // (a typo is named, as a scene key's is; helper 84)
+            const std::string nearest = shvol::nearestSpelling(argv[level], nameList);
             if (speaks)
                 std::fprintf(stderr,
-                             "shvol: error: unknown subcommand \"%s\"%s; expected one of %s\n",
+                             "shvol: error: unknown subcommand \"%s\"%s; %sexpected one of %s\n",
                              argv[level], level == 1 ? "" : (" of " + parent->get_name()).c_str(),
+                             nearest.empty() ? "" : ("did you mean \"" + nearest + "\"? ").c_str(),
                              names.c_str());
             return 1;
         }

@@ -16,6 +16,7 @@
 
 #include "shvol/core/error.h"
 #include "shvol/core/input_file.h"
+#include "shvol/core/spelling.h"
 
 namespace shvol {
 
@@ -303,31 +304,10 @@ const std::vector<std::string>& keysOfEveryType(const std::string& path) {
 }  // namespace
 
 namespace {
-/// Edits (insert, delete, substitute, or swap two neighbours) from a to b: the optimal string
-/// alignment distance.
-size_t editDistance(const std::string& a, const std::string& b) {
-    std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
-    for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
-    for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
-    for (size_t i = 1; i <= a.size(); ++i)
-        for (size_t j = 1; j <= b.size(); ++j) {
-            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1,
-                                d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
-            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
-                d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-        }
-    return d[a.size()][b.size()];
-}
-
-/// "unknown key", with the nearest of `known` to `key` when one is within 2 edits and a third
-/// of the key: a typo's (helper 77: `camra: unknown key` said nothing of `camera`).
-template <typename Keys>
-std::string unknownKey(const std::string& key, const Keys& known) {
-    std::string nearest;
-    size_t best = std::min<size_t>(2, key.size() / 3);
-    for (const std::string& k : known)
-        if (const size_t d = editDistance(key, k); d <= best && (nearest.empty() || d < best))
-            nearest = k, best = d;
+/// "unknown key", with the nearest of `known` to `key` when there is one (nearestSpelling; helper
+/// 77: `camra: unknown key` said nothing of `camera`).
+std::string unknownKey(const std::string& key, const std::vector<std::string>& known) {
+    const std::string nearest = nearestSpelling(key, known);
     return nearest.empty() ? "unknown key" : "unknown key (did you mean \"" + nearest + "\"?)";
 }
 }  // namespace
@@ -377,9 +357,7 @@ bool applyOverride(Json& doc, const std::string& assignment, const std::string& 
         std::vector<std::string> known;
         if (node->is_object())
             for (auto it = node->begin(); it != node->end(); ++it) known.push_back(it.key());
-        if (walked.empty())
-            for (const char* array : {"media", "surfaces"})
-                if (parts[k] != array) known.push_back(array);
+        if (walked.empty()) known.insert(known.end(), {"media", "surfaces"});
         if (const std::string unknown = unknownKey(parts[k], known); unknown != "unknown key")
             fail(file, array, by + unknown);
         fail(file, array,
@@ -702,7 +680,8 @@ std::string JsonReader::inputFile(const std::string& key, const std::string& dir
 
 void JsonReader::finish() const {
     for (auto it = j_.begin(); it != j_.end(); ++it)
-        if (!used_.count(it.key())) error(it.key(), unknownKey(it.key(), used_));
+        if (!used_.count(it.key()))
+            error(it.key(), unknownKey(it.key(), {used_.begin(), used_.end()}));
 }
 
 }  // namespace shvol

@@ -234,6 +234,13 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
         {"frobnicate --help", "unknown subcommand \"frobnicate\""},
         // One level down too (it said "A subcommand is required", one being given).
         {"phase hg:g=0.9", "unknown subcommand \"hg:g=0.9\" of phase; expected one of fit, sample"},
+        // A typo is named, as a scene key's is (helper 84).
+        {"rendr x.json",
+         "unknown subcommand \"rendr\"; did you mean \"render\"? expected one of "
+         "render,"},
+        {"phase smaple",
+         "unknown subcommand \"smaple\" of phase; did you mean \"sample\"? "
+         "expected one of fit, sample"},
         // Seeds are range-checked everywhere, not wrapped modulo 2^64.
         {"make-medium cloud -o " + path("m.vdb") + " --seed -1",
          "--seed: must be an integer in [0, 9007199254740992], got -1"},
