@@ -483,11 +483,32 @@ Outputs outputsFor(const std::string& out, const std::string& tag) {
 
 namespace {
 
+/// Whether o.stderrImage holds the standard errors of an earlier render of this image, which
+/// would pass for this one's: the stats that render wrote under this name name it, and it is no
+/// file this render reads (the scene's inputs, in `provenance`) or keeps (`checkpoint`).
+bool staleStandardErrors(const Outputs& o, const nlohmann::json& provenance,
+                         const std::string& checkpoint) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (!fs::is_regular_file(o.stderrImage, ec)) return false;
+    std::ifstream f(o.stats);
+    const nlohmann::json old = nlohmann::json::parse(f, nullptr, false);
+    if (!old.is_object() || old.value("standard_error", std::string()) != o.stderrImage)
+        return false;
+    std::vector<std::string> kept = {checkpoint};
+    for (const nlohmann::json& in : provenance.value("inputs", nlohmann::json::array()))
+        kept.push_back(in.value("path", std::string()));
+    for (const std::string& k : kept)
+        if (!k.empty() && fs::equivalent(k, o.stderrImage, ec)) return false;
+    return true;
+}
+
 /// Writes an image with its statistics (and standard errors), together (writeTogether): all into
-/// temporaries, then renamed one after another.
+/// temporaries, then renamed one after another. Without standard errors, those an earlier render
+/// of the image left are removed (staleStandardErrors; `checkpoint` is kept).
 void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const RenderStats& st,
                   const std::vector<std::string>& warnings, const nlohmann::json& provenance,
-                  bool variance) {
+                  bool variance, const std::string& checkpoint) {
     const Image image = film.image();
     const Image se = variance ? film.standardError() : Image();
     std::vector<std::string> all = warnings;
@@ -526,6 +547,11 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
         warn(o.stderrImage, std::to_string(unknown) + of +
                                 "fewer than 2 samples (the render stopped early); their standard "
                                 "error is written as +inf (unknown)");
+    const bool removeStale = !variance && staleStandardErrors(o, provenance, checkpoint);
+    if (removeStale)
+        warn(o.stderrImage,
+             "removed: the standard errors of an earlier render of this image (this render has "
+             "none; --variance writes them)");
     // The three appear together: a failure to write any of them, or a signal meanwhile, leaves
     // none, and a second Ctrl-C at their renames can no longer put the image beside the previous
     // render's statistics (a rename that itself fails leaves the ones before it, and says so).
@@ -548,16 +574,12 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
     // Standard errors an earlier render left under this image's name would pass for this one's
     // (batch's z-test reads ref.stderr.exr beside a reference file): removed, and said (helper
     // 83: a render resumed without --variance left the last session's beside its image).
-    namespace fs = std::filesystem;
     std::error_code ec;
-    if (variance || !fs::is_regular_file(o.stderrImage, ec)) return;
-    std::fprintf(stderr, "shvol: warning: %s: %s\n", o.stderrImage.c_str(),
-                 fs::remove(o.stderrImage, ec)
-                     ? "removed: the standard errors of an earlier render of this image name "
-                       "(this render has none; --variance writes them)"
-                     : ("cannot remove it (" + ec.message() +
-                        "): it holds the standard errors of an earlier render, not this one's")
-                           .c_str());
+    if (removeStale && !std::filesystem::remove(o.stderrImage, ec) && ec)
+        std::fprintf(stderr,
+                     "shvol: warning: %s: cannot remove it (%s): it holds the standard errors of "
+                     "an earlier render, not this one's\n",
+                     o.stderrImage.c_str(), ec.message().c_str());
 }
 
 /// Prints "shvol: warning: SCENE: TEXT", or in a batch "shvol: warning: SCENE (run RUN): TEXT",
@@ -806,7 +828,8 @@ int runRender(const RenderArgs& a) {
             asked["total_s"] = secondsSoFar();
             const Outputs o = outputsFor(out, "spp" + std::to_string(n));
             try {
-                writeOutputs(o, scene, spread ? reduced : f, stats, warnings, asked, a.variance);
+                writeOutputs(o, scene, spread ? reduced : f, stats, warnings, asked, a.variance,
+                             a.checkpoint);
             } catch (const std::exception& e) {
                 // The other ranks render on, and would wait for this one at the next image or
                 // the final reduction for ever (a directory gone, a full disk; helper 71): the
@@ -850,7 +873,8 @@ int runRender(const RenderArgs& a) {
                                  std::to_string(n) +
                                  " samples per pixel; that image is not written");
     finalWarnings.insert(finalWarnings.end(), notWritten.begin(), notWritten.end());
-    writeOutputs(final, scene, r.film, r.stats, finalWarnings, provenance, a.variance);
+    writeOutputs(final, scene, r.film, r.stats, finalWarnings, provenance, a.variance,
+                 a.checkpoint);
     if (r.stats.stop != RenderStop::Completed)
         std::fprintf(stderr,
                      "shvol: %s: wrote the samples finished so far to %s (%u to %u per pixel of "

@@ -2009,6 +2009,34 @@ TEST_F(Cli, UnsampledPixelsAreAWarningInTheStats) {
                   least == 0);
 }
 
+// Only the standard errors an earlier render of the image wrote are removed (its stats name
+// them), never a file of that name the render reads or keeps (helper 87: a checkpoint or a sky
+// named OUT.stderr.exr was deleted).
+TEST_F(Cli, RenderRemovesOnlyItsOwnStaleStandardErrors) {
+    write("s.json", scene(Homogeneous));
+    const std::string s = "render " + path("s.json") + " --quiet ";
+    ASSERT_EQ(run(s + "-o " + path("c.exr") + " --variance").code, 0);
+    // The checkpoint is kept (and resumes).
+    Result r = run(s + "-o " + path("c.exr") + " --checkpoint " + path("c.stderr.exr"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err.find("removed"), std::string::npos) << r.err;
+    r = run(s + "-o " + path("c.exr") + " --checkpoint " + path("c.stderr.exr") +
+            " --resume --spp 4");
+    EXPECT_EQ(r.code, 0) << r.err;
+    // A sky named like the image's old standard errors is read, and kept.
+    ASSERT_EQ(run(s + "-o " + path("k.exr") + " --variance").code, 0);
+    write("sky.json", R"({"camera": {"resolution": [4, 3]}, "render": {"spp": 2},
+        "environment": {"type": "image", "file": "k.stderr.exr"}})");
+    r = run("render " + path("sky.json") + " --quiet -o " + path("k.exr"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(fs::exists(path("k.stderr.exr")));
+    // A file of that name that no render of the image wrote (its stats do not name it) stays.
+    write("o.stderr.exr", "mine");
+    r = run(s + "-o " + path("o.exr"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(fs::exists(path("o.stderr.exr")));
+}
+
 // --spp 4,16 writes the 4-spp image on the way (identical to a separate 4-spp render) and
 // --variance the standard error of every pixel's mean beside each image.
 TEST_F(Cli, ProgressiveSppAndVariance) {
