@@ -1,6 +1,7 @@
 #include "mpi_world.h"
 
 #include <chrono>
+#include <cstddef>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -42,9 +43,15 @@ bool launchedByMpi() {
 
 bool gInitialised = false;
 
-// PathCounters is a run of uint64_t counters (TrackingCounters included), reduced as one array.
-constexpr int kCounterWords = int(sizeof(PathCounters) / sizeof(uint64_t));
-static_assert(sizeof(PathCounters) % sizeof(uint64_t) == 0, "PathCounters holds uint64_t only");
+// PathCounters is a run of uint64_t counters (TrackingCounters included), reduced as one array,
+// and two doubles after them, reduced as doubles (helper 87: summed as integers, their bit
+// patterns made the max_depth warning's standard error negative).
+constexpr size_t kDoublesAt = offsetof(PathCounters, luminanceSum);
+constexpr int kCounterWords = int(kDoublesAt / sizeof(uint64_t));
+static_assert(kDoublesAt % sizeof(uint64_t) == 0 &&
+                  offsetof(PathCounters, withinPixelSumSq) == kDoublesAt + sizeof(double) &&
+                  sizeof(PathCounters) == kDoublesAt + 2 * sizeof(double),
+              "PathCounters: uint64_t counters, then luminanceSum and withinPixelSumSq");
 
 template <typename T>
 void reduce(std::vector<T>& v, MPI_Datatype type, bool root, MPI_Op op = MPI_SUM) {
@@ -117,12 +124,15 @@ void MpiWorld::reduceToRoot(Film& film, RenderStats& stats) const {
     reduce(film.count, MPI_UINT32_T, root());
     reduce(film.sumSq, MPI_DOUBLE, root());
     std::vector<uint64_t> c(kCounterWords);
-    std::memcpy(c.data(), &stats.counters, sizeof(PathCounters));
+    std::memcpy(c.data(), &stats.counters, kDoublesAt);
     reduce(c, MPI_UINT64_T, root());
+    std::vector<double> moments{stats.counters.luminanceSum, stats.counters.withinPixelSumSq};
+    reduce(moments, MPI_DOUBLE, root());
     std::vector<double> wall{stats.wallSeconds};  // the slowest rank's
     reduce(wall, MPI_DOUBLE, root(), MPI_MAX);
     if (!root()) return;
-    std::memcpy(&stats.counters, c.data(), sizeof(PathCounters));
+    std::memcpy(&stats.counters, c.data(), kDoublesAt);
+    stats.counters.luminanceSum = moments[0], stats.counters.withinPixelSumSq = moments[1];
     stats.wallSeconds = wall[0];
     stats.minSamples = film.minCount();
     stats.maxSamples = film.maxCount();

@@ -42,23 +42,27 @@ constexpr const char* kRenderWritesExr = "render writes OpenEXR (shvol tonemap m
 
 /// A rendered SH fit looser than this (relative L2 error) is worth a warning.
 constexpr double kLooseFit = 0.1;
-/// A render whose share of paths ended by max_depth exceeds this is worth a warning, from this
-/// depth on (below, a low-order render is taken as meant: single scattering is max_depth 1).
+/// A render whose share of paths ended by max_depth exceeds this (or the image mean's relative
+/// standard error) is worth a warning, from this depth on (below, a low-order render is taken as
+/// meant: single scattering is max_depth 1).
 constexpr double kTruncatedPathsShare = 1e-3;
 constexpr int kTruncationWarningDepth = 8;
-/// ... and once at least this many paths were ended there: the shipped default scene ends 0.07%
-/// of its paths at max_depth 128, and a small render of it warned by chance, one path in 768
-/// (helper 77). Ten give the share to about ±30%.
+/// ... and once at least this many paths were ended there: the shipped default scene ended 0.07%
+/// of its paths at its max_depth of 128 then, and a small render of it warned by chance, one path
+/// in 768 (helper 77). Ten give the share to about ±30%.
 constexpr uint64_t kTruncatedPathsMin = 10;
 
-/// The relative standard error of the image's mean luminance, taking its samples as independent:
-/// √(s²/n)/ȳ over the n finite samples (∞ without two, or without light).
+/// The relative standard error of the image's mean luminance: √(s_w²/n)/ȳ over the n finite
+/// samples, s_w² the pooled variance of samples within a pixel (PathCounters::withinPixelSumSq;
+/// the pooled variance of all samples counted the picture's contrast as noise, 1.18× too large on
+/// media/default.json; helper 87), ∞ when it cannot be told (no pixel pass of two samples, or no
+/// light). Sums of doubles taken in the threads' order: at the last digit it can depend on the
+/// thread count, which matters only to a share equal to it.
 double imageMeanRelativeError(const PathCounters& c) {
     const double n = double(c.paths - std::min(c.paths, c.nonFiniteSamples));
-    if (n < 2 || !(c.luminanceSum > 0)) return INFINITY;
-    const double mean = c.luminanceSum / n;
-    const double variance = std::max(0.0, c.luminanceSumSq / n - mean * mean) * n / (n - 1);
-    return std::sqrt(variance / n) / mean;
+    if (c.withinPixelDof == 0 || !(c.luminanceSum > 0)) return INFINITY;
+    const double variance = c.withinPixelSumSq / double(c.withinPixelDof);
+    return std::sqrt(variance / n) / (c.luminanceSum / n);
 }
 
 /// The phase function of each medium as rendered; for SH-sampled ones the resolved fit (automatic

@@ -214,22 +214,23 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
                             double* sum = &film.sum[3 * pixel];
                             double* sq = film.sumSq.empty() ? nullptr : &film.sumSq[3 * pixel];
                             const SobolPixel sobolPixel(s.seed, pixel);
+                            PixelMoments moments;  // this pass's samples of the pixel
                             for (; n < end; ++n) {
-                                if (shouldStop()) return;
+                                if (shouldStop()) return c.add(moments);
                                 const Spectrum L =
                                     s.sampler == SampleStream::Sobol
                                         ? pathSample(SobolSampler(sobolPixel, n), x, y, c)
                                         : pathSample(Rng::forSample(s.seed, pixel, n), x, y, c);
                                 if (L.allFinite()) {
                                     sum[0] += L[0], sum[1] += L[1], sum[2] += L[2];
-                                    const double y = luminance(L);
-                                    c.luminanceSum += y, c.luminanceSumSq += y * y;
+                                    moments.add(luminance(L));
                                     if (sq)
                                         sq[0] += L[0] * L[0], sq[1] += L[1] * L[1],
                                             sq[2] += L[2] * L[2];
                                 } else
                                     ++c.nonFiniteSamples;
                             }
+                            c.add(moments);
                         }
                     }
                     progress.advance(end - passEnd);

@@ -11,6 +11,14 @@
 
 namespace shvol {
 
+void PathCounters::add(const PixelMoments& m) {
+    luminanceSum += m.sum;
+    if (m.count < 2) return;
+    // Σ (y − ȳ)² = Σ y² − (Σ y)²/k, never below 0 once rounded
+    withinPixelSumSq += std::max(0.0, m.sumSq - m.sum * m.sum / m.count);
+    withinPixelDof += m.count - 1;
+}
+
 void PathCounters::add(const PathCounters& o) {
     paths += o.paths;
     scatteringEvents += o.scatteringEvents;
@@ -21,8 +29,9 @@ void PathCounters::add(const PathCounters& o) {
     transmittanceRays += o.transmittanceRays;
     nonFiniteSamples += o.nonFiniteSamples;
     truncatedPaths += o.truncatedPaths;
+    withinPixelDof += o.withinPixelDof;
     luminanceSum += o.luminanceSum;
-    luminanceSumSq += o.luminanceSumSq;
+    withinPixelSumSq += o.withinPixelSumSq;
     surfaceHits += o.surfaceHits;
     cacheLookups += o.cacheLookups;
     cacheHits += o.cacheHits;

@@ -63,6 +63,13 @@
 namespace shvol {
 
 /// Per-thread counters, summed into the render statistics.
+/// The luminances of one pixel's samples in one pass: their count, sum and sum of squares.
+struct PixelMoments {
+    uint32_t count = 0;
+    double sum = 0, sumSq = 0;
+    void add(double y) { ++count, sum += y, sumSq += y * y; }
+};
+
 struct PathCounters {
     uint64_t paths = 0;
     uint64_t scatteringEvents = 0;  ///< real collisions that scattered
@@ -80,11 +87,17 @@ struct PathCounters {
     uint64_t cacheLookupNs = 0;      ///< time spent in them (steady clock)
     uint64_t nonFiniteSamples = 0;   ///< samples discarded because Li was NaN or Inf
     uint64_t truncatedPaths = 0;     ///< paths ended by max_depth (the light beyond it is lost)
-    /// Σ y and Σ y² over the finite samples' luminances y (the renderer's): the image mean's
-    /// standard error, against which max_depth's loss is judged.
-    double luminanceSum = 0, luminanceSumSq = 0;
+    /// Degrees of freedom of withinPixelSumSq: Σ (k − 1) over the renderer's pixel passes of k
+    /// finite samples.
+    uint64_t withinPixelDof = 0;
     TrackingCounters tracking;
+    /// Σ y over the finite camera samples' luminances y, and Σ over pixel passes of Σ (y − ȳ)²
+    /// about the pass's mean: the spread of samples within a pixel, which the image mean's
+    /// standard error is made of (the spread between pixels, the picture itself, is not noise).
+    /// Doubles last: MPI reduces the words before them as integers (mpi_world.cpp).
+    double luminanceSum = 0, withinPixelSumSq = 0;
     void add(const PathCounters& o);
+    void add(const PixelMoments& m);
 };
 
 class VolumePathIntegrator {
