@@ -222,19 +222,30 @@ Json savedStats(const Sweep& s, const Json& row) {
 
 /// The scene values in which a finished run (its stats' scene_resolved) and the render the sweep
 /// now gives it differ, as a resumed render names them (`scene values camera.fov differ`); ""
-/// when that cannot be told. The render's sample count is no scene value here (a checkpoint may
-/// be continued to more): the caller names it.
+/// when that cannot be told. (A checkpoint's identity leaves render.spp out: a render may be
+/// continued to more samples; a run's sample count is compared here.)
 std::string changedSettings(const Sweep& s, const SweepRun& run, const Json& row) {
     const Json saved = savedStats(s, row);
-    if (!saved.contains("scene_resolved")) return "";
+    if (!saved.contains("scene_resolved") || !saved["scene_resolved"].is_object()) return "";
     Json resolved;
     try {
         checkScene(runDocument(s.sceneDoc, s.scene, run.sets), s.scene, &resolved);
-    } catch (const Error&) {
+    } catch (const std::exception&) {
         return "";
     }
-    return identityDifference(renderIdentity(saved["scene_resolved"], Json::object(), ""),
-                              renderIdentity(resolved, Json::object(), ""));
+    Json was = saved["scene_resolved"];
+    const auto spp = [](const Json& doc) {
+        return doc.contains("render") && doc["render"].is_object()
+                   ? doc["render"].value("spp", Json())
+                   : Json();
+    };
+    std::string difference;
+    if (spp(was) != spp(resolved))
+        difference = "render.spp was " + dumpJson(spp(was)) + ", is " + dumpJson(spp(resolved));
+    const std::string rest =
+        identityDifference(renderIdentity(was, Json::object(), ""),
+                           renderIdentity(resolved, Json::object(), ""), "set, axes or scene file");
+    return difference + (difference.empty() || rest.empty() ? "" : "; ") + rest;
 }
 
 std::string changedInputs(const Sweep& s, const SweepRun& run, const Json& row) {
@@ -336,7 +347,7 @@ void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string& 
             const std::string what = changedSettings(s, *it->second, row);
             fail(ledger.jsonlPath(), "run " + id,
                  "finished with other settings or another scene than the sweep now gives" +
-                     (what.empty() ? "" : " (" + what + ")") + "; use another output directory");
+                     (what.empty() ? "" : ": " + what) + "; use another output directory");
         }
         if (row.value("fingerprint", "") != it->second->fingerprint)
             fail(ledger.jsonlPath(), "run " + id,

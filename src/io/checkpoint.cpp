@@ -99,7 +99,7 @@ Json renderIdentity(const Json& sceneDoc, const Json& inputFiles, const std::str
     return {{"scene", scene}, {"inputs", inputs}, {"build", build}};
 }
 
-std::string identityDifference(const Json& saved, const Json& current) {
+std::string identityDifference(const Json& saved, const Json& current, const std::string& sources) {
     std::vector<std::string> clauses;
     const auto part = [](const Json& id, const char* key) {
         return id.is_object() && id.contains(key) && id.at(key).is_object() ? id.at(key)
@@ -108,8 +108,7 @@ std::string identityDifference(const Json& saved, const Json& current) {
     if (const auto keys = differingKeys(part(saved, "scene"), part(current, "scene"), false);
         !keys.empty())
         clauses.push_back((keys.size() > 1 ? "scene values " : "scene value ") + listed(keys) +
-                          (keys.size() > 1 ? " differ" : " differs") +
-                          " (scene file, --set or --seed)");
+                          (keys.size() > 1 ? " differ" : " differs") + " (" + sources + ")");
     // (A file only one of them reads follows from a scene value, named above.)
     if (const auto keys = differingKeys(part(saved, "inputs"), part(current, "inputs"), true);
         !keys.empty())

@@ -2238,7 +2238,8 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
     EXPECT_EQ(r.code, 1);
     // (naming the value, as a resumed render does; helper 84)
     EXPECT_NE(r.err.find("results.jsonl: run r0000: finished with other settings or another "
-                         "scene than the sweep now gives (scene value render.max_depth differs"),
+                         "scene than the sweep now gives: scene value render.max_depth differs "
+                         "(set, axes or scene file); use another output directory"),
               std::string::npos)
         << r.err;
     // --dry-run, which reads no grid, refuses changed settings too (it listed the runs as
@@ -2272,6 +2273,22 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
 // Values added anywhere in a sweep's axes (and repeats raised) resume into the same output: the
 // finished runs are found by their values and keep their ids, rows and images, and only the new
 // points render, each the same render as in a batch of the new sweep from the start.
+// A finished run whose sample count the sweep's `set` changed names it (helper 87: the values
+// were named, the sample count, which a checkpoint's identity leaves out, was not).
+TEST_F(Cli, BatchNamesAChangedSampleCount) {
+    write("s.json", scene(Homogeneous));
+    write("sweep.json", R"({"scene": "s.json", "set": ["render.spp=2"], "axes": {}})");
+    const std::string batch = "batch " + path("sweep.json") + " --quiet --output " + path("out");
+    ASSERT_EQ(run(batch).code, 0);
+    write("sweep.json", R"({"scene": "s.json", "set": ["render.spp=3"], "axes": {}})");
+    const Result r = run(batch);
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("finished with other settings or another scene than the sweep now "
+                         "gives: render.spp was 2, is 3; use another output directory"),
+              std::string::npos)
+        << r.err;
+}
+
 TEST_F(Cli, BatchResumesASweepWithValuesAddedAnywhere) {
     write("s.json", scene(Homogeneous));
     const auto sweep = [&](const std::string& albedos, const std::string& spps, int repeats) {

@@ -36,8 +36,10 @@ namespace shvol {
 Json renderIdentity(const Json& sceneDoc, const Json& inputFiles, const std::string& build);
 
 /// What differs between the identity a checkpoint was saved with and the current one, as one
-/// clause for a message ("" when they match): the scene parts, the input files, the build.
-std::string identityDifference(const Json& saved, const Json& current);
+/// clause for a message ("" when they match): the scene parts (said to come from `sources`), the
+/// input files, the build.
+std::string identityDifference(const Json& saved, const Json& current,
+                               const std::string& sources = "scene file, --set or --seed");
 
 void writeCheckpoint(const std::string& path, const Film& film, const Json& identity);
 
