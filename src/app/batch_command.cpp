@@ -207,10 +207,6 @@ void checkRunScenes(const Sweep& s) {
     }
 }
 
-/// Which files of a finished run's scene changed since it rendered ("the file named by
-/// media[0].file differs in contents"), as a resumed render says it (identityDifference), by the
-/// hashes the run's stats kept; what they could be where its stats are gone (the batch named
-/// none: helper 77).
 /// The stats a finished run's render wrote (an empty object when they cannot be read).
 Json savedStats(const Sweep& s, const Json& row) {
     const std::string image = row.value("image", "");
@@ -248,6 +244,10 @@ std::string changedSettings(const Sweep& s, const SweepRun& run, const Json& row
     return difference + (difference.empty() || rest.empty() ? "" : "; ") + rest;
 }
 
+/// Which files of a finished run's scene changed since it rendered ("the file named by
+/// media[0].file differs in contents"), as a resumed render says it (identityDifference), by the
+/// hashes the run's stats kept; what they could be where its stats are gone (the batch named
+/// none: helper 77).
 std::string changedInputs(const Sweep& s, const SweepRun& run, const Json& row) {
     const std::string unknown = "which of them (grids, skies, tables, meshes) cannot be told";
     const Json saved = savedStats(s, row);

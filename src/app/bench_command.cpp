@@ -121,7 +121,7 @@ std::vector<Row> measure(const BenchArgs& a, const std::vector<Config>& configs,
     // runs, and a 9.3× ratio that was 1.06× at 64×48.
     const auto ms = [&](const Row& row) { return 1e3 * row.secondsPerSpp * spp; };
     const auto shortest = std::min_element(
-        rows.begin(), rows.end(), [&](const Row& a, const Row& b) { return ms(a) < ms(b); });
+        rows.begin(), rows.end(), [&](const Row& p, const Row& q) { return ms(p) < ms(q); });
     if (shortest != rows.end() && ms(*shortest) < kShortestMeasuredMs)
         std::fprintf(
             stderr,

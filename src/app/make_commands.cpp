@@ -188,14 +188,13 @@ void addMakeSkyCommand(CLI::App& app, std::function<int()>& run) {
                          0.2126 * s.groundRadiance[0] + 0.7152 * s.groundRadiance[1] +
                              0.0722 * s.groundRadiance[2],
                          unit);
-            if (preetham && p.sunElevationDegrees < 0)
-                std::fprintf(stderr,
-                             "  note: the Preetham model does not cover twilight; the sky is "
-                             "that of a sun on the horizon and the disc is below the ground\n");
-            if (!preetham && p.sunElevationDegrees < 0)
-                std::fprintf(stderr,
-                             "  note: the simple model's ground does not hide the sun: its disc "
-                             "is drawn below the horizon\n");
+            if (p.sunElevationDegrees < 0)
+                std::fprintf(stderr, "  note: %s\n",
+                             preetham ? "the Preetham model does not cover twilight; the sky is "
+                                        "that of a sun on the horizon and the disc is below the "
+                                        "ground"
+                                      : "the simple model's ground does not hide the sun: its "
+                                        "disc is drawn below the horizon");
             if (!preetham && turbidityGiven)
                 std::fprintf(stderr, "  note: --turbidity has no effect with --model simple\n");
             return 0;

@@ -358,8 +358,8 @@ bool applyOverride(Json& doc, const std::string& assignment, const std::string& 
         if (node->is_object())
             for (auto it = node->begin(); it != node->end(); ++it) known.push_back(it.key());
         if (walked.empty()) known.insert(known.end(), {"media", "surfaces"});
-        if (const std::string unknown = unknownKey(parts[k], known); unknown != "unknown key")
-            fail(file, array, by + unknown);
+        if (!nearestSpelling(parts[k], known).empty())
+            fail(file, array, by + unknownKey(parts[k], known));
         fail(file, array,
              by + "index " + next + " of an array the scene does not have: give the whole array " +
                  "(--set '" + array + "=[…]')");

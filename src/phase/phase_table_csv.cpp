@@ -94,8 +94,8 @@ TabulatedPhase readPhaseTableCsv(const std::string& path) {
         values.push_back(value);
     }
     if (in.bad()) fail(path, "", "read error");
-    const std::string end = "line " + std::to_string(lineNo);
     if (lineNo == 0) fail(path, "", "empty file: expected at least 2 (angle, value) rows");
+    const std::string end = "line " + std::to_string(lineNo);
     if (angles.size() < 2)
         fail(path, end,
              "expected at least 2 (angle, value) rows, got " + std::to_string(angles.size()));
