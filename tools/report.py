@@ -111,12 +111,30 @@ def load(directory):
     return rows
 
 
+def canonical(v):
+    """v with integral floats as integers, in objects and arrays too: 38.0 is 38, as shvol batch
+    takes it (the batch resumed [38.0] as [38], and the report split them; helper 86)."""
+    if isinstance(v, float) and v.is_integer():
+        return int(v)
+    if isinstance(v, dict):
+        return {k: canonical(x) for k, x in v.items()}
+    if isinstance(v, list):
+        return [canonical(x) for x in v]
+    return v
+
+
+def value_text(v):
+    return json.dumps(canonical(v), separators=(",", ":"))
+
+
 def label(row, axes):
-    parts = []
-    for a in axes:
-        v = row.get(a)
-        parts.append(f"{a}={json.dumps(v, separators=(',', ':'))}")
+    parts = [f"{a}={value_text(row.get(a))}" for a in axes]
     return ", ".join(parts) if parts else "(all runs)"
+
+
+def md_cell(text):
+    """A table cell of report.md: a | would end it (helper 86: an axis value sky|2.exr)."""
+    return text.replace("|", "\\|")
 
 
 def counted(n, noun):
@@ -173,7 +191,13 @@ def main():
     # The z-test's column when every row has one: the runs that passed of the configuration's,
     # and the smallest p of them (it was left out of the report; helper 67).
     ztest = all("ztest_passed" in r for r in rows)
-    summary = []  # (config, spp, n, err mean, err sd, time mean, efficiency, z-test)
+    # The bias with its 95% interval when every row has them: a configuration every repeat of
+    # which lies outside its interval is biased against the reference, and its 1/(MSE·time) ranks
+    # it against unbiased ones unfairly (helper 86: an SH fit of order 4, biased in every repeat,
+    # read twice HG's efficiency at 64 spp).
+    biased_col = all("bias" in r and "bias_ci95" in r for r in rows)
+    flagged = []
+    summary = []  # (config, spp, n, err mean, err sd, time mean, efficiency, z-test, bias)
     for (c, spp), rs in sorted(groups.items(), key=lambda kv: (configs.index(kv[0][0]), kv[0][1])):
         t, _ = mean_sd([r[time_key] for r in rs])
         if error:
@@ -185,7 +209,13 @@ def main():
         eff = 1 / (mse * t) if error == "rmse" and mse > 0 and t > 0 else math.nan
         z = (f"{sum(r['ztest_passed'] for r in rs)}/{len(rs)} "
              f"(min p {min(r['ztest_min_p'] for r in rs):.2g})" if ztest else "")
-        summary.append((c, spp, len(rs), e, sd, t, eff, z))
+        b = ""
+        if biased_col:
+            b = f"{mean_sd([r['bias'] for r in rs])[0]:.3g}"
+            if all(abs(r["bias"]) > r["bias_ci95"] for r in rs):
+                b += " ‡"
+                flagged.append(f"{c} at {spp} spp")
+        summary.append((c, spp, len(rs), e, sd, t, eff, z, b))
 
     figures = []
     # The error plots have log axes: an error of 0 (a run equal to the reference) or a time of 0
@@ -234,7 +264,7 @@ def main():
     for a in axes + ["spp"]:
         vals = {}
         for r in rows:
-            vals.setdefault(json.dumps(r.get(a), separators=(",", ":")), []).append(
+            vals.setdefault(value_text(r.get(a)), []).append(
                 r[time_key])
         keys = list(vals)
         fig, ax = plt.subplots(figsize=(7, 4))
@@ -254,23 +284,29 @@ def main():
                               "pooled)"))
 
     head = ["configuration", "spp", "runs", f"{error or 'error'} (mean ± sd)", "time (s)",
-            "1/(MSE·time)"] + (["z-test passed"] if ztest else [])
+            "1/(MSE·time)"] + (["z-test passed"] if ztest else []) + (
+                ["bias (mean)"] if biased_col else [])
     table = [head]
-    for c, spp, n, e, sd, t, eff, z in summary:
+    for c, spp, n, e, sd, t, eff, z, b in summary:
         table.append([c, str(spp), str(n), (f"{e:.4g} ± {sd:.2g}" if n > 1 else f"{e:.4g}") if error else "",
                       f"{t:.3g}", f"{eff:.4g}" if not math.isnan(eff) else ""] +
-                     ([z] if ztest else []))
+                     ([z] if ztest else []) + ([b] if biased_col else []))
     summary = (f"{counted(len(rows), 'run')}, {counted(len(configs), 'configuration')}; "
                f"error metric: {error or 'none'}; time: {time_key} ({time_label}).")
     if left_out:
         summary += (f" Left out of the error plots (log axes): {counted(left_out, 'row')} of "
                     f"the table with an error or a time of 0.")
+    if flagged:
+        summary += (f" ‡ Biased against the reference (every repeat's bias outside its 95% "
+                    f"interval): {'; '.join(flagged)}. A biased configuration's error levels off at "
+                    f"its bias as samples grow: 1/(MSE·time) ranks fairly between unbiased "
+                    f"configurations only.")
     md = [f"# Batch report: {directory}", "", summary, ""]
     for f, caption in figures:
         md += [f"![{caption}]({f})", "", f"*{caption}*", ""]
     md.append("| " + " | ".join(head) + " |")
     md.append("|" + "---|" * len(head))
-    md += ["| " + " | ".join(r) + " |" for r in table[1:]]
+    md += ["| " + " | ".join(md_cell(x) for x in r) + " |" for r in table[1:]]
     write(os.path.join(directory, "report.md"), "\n".join(md) + "\n")
 
     body = [f"<h1>Batch report</h1><p>{html.escape(directory)}: {html.escape(summary)}</p>"]

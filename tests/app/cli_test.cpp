@@ -3114,6 +3114,32 @@ TEST_F(Cli, MpiBatchEqualsOneProcess) {
 #endif
 
 // batch --report: the report has the plots and one table row per (configuration, spp).
+// The report's configurations: one value however written (38 and 38.0: the batch takes them as
+// one, the report split them), a | in a value kept inside its cell of report.md, and a
+// configuration biased in every repeat marked, since 1/(MSE·time) favours it (helper 86).
+TEST_F(Cli, ReportGroupsValuesAsTheBatchDoesAndMarksBias) {
+    fs::create_directories(path("o"));
+    std::ofstream(path("o/results.jsonl"))
+        << R"({"run": "r0000", "spp": 8, "wall_time_s": 1, "rmse": 0.1, "bias": 0.5, "bias_ci95": 0.1, "x": 38})"
+        << "\n"
+        << R"({"run": "r0001", "spp": 8, "wall_time_s": 1, "rmse": 0.1, "bias": 0.5, "bias_ci95": 0.1, "x": 38.0})"
+        << "\n"
+        << R"({"run": "r0002", "spp": 8, "wall_time_s": 1, "rmse": 0.2, "bias": 0.01, "bias_ci95": 0.1, "x": "a|b"})"
+        << "\n";
+    const Result r = run("report " + path("o"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string report = test::fileBytes(path("o/report.md"));
+    EXPECT_NE(report.find("\n3 runs, 2 configurations; "), std::string::npos) << report;
+    EXPECT_NE(report.find("| x=38 | 8 | 2 | 0.1 ± 0 | 1 | 100 | 0.5 ‡ |"), std::string::npos)
+        << report;
+    EXPECT_NE(report.find("| x=\"a\\|b\" | 8 | 1 | 0.2 | 1 | 25 | 0.01 |"), std::string::npos)
+        << report;
+    EXPECT_NE(report.find("‡ Biased against the reference (every repeat's bias outside its 95% "
+                          "interval): x=38 at 8 spp."),
+              std::string::npos)
+        << report;
+}
+
 TEST_F(Cli, BatchReport) {
     write("s.json", scene(Homogeneous));
     write("sweep.json", R"({"scene": "s.json", "axes": {"media[0].albedo": [0.8, 0.5],
