@@ -272,6 +272,32 @@ void warnOfExactReference(const Sweep& s, bool ztest) {
                      s.path.c_str(), s.reference->file.c_str(), se.c_str());
 }
 
+/// The samples per pixel a run's document renders (the loader's default, 16, where it says none).
+double sppOf(const Json& doc) {
+    const Json render = doc.value("render", Json::object());
+    return render.is_object() && render.value("spp", Json()).is_number()
+               ? render["spp"].get<double>()
+               : 16;
+}
+
+/// Warns of a rendered reference with fewer than 10 times the samples of the sweep's largest
+/// run: its noise adds about spp_run/spp_reference to that run's MSE (at equal noise per sample),
+/// which every metric counts as the run's own error (helper 86: runs of 1024 spp against a
+/// reference of 1024 had half their MSE from the reference, their efficiency halved).
+void warnOfNoisyReference(const Sweep& s) {
+    if (!s.reference || !s.reference->render || s.runs.empty()) return;
+    const double reference = sppOf(runDocument(s.sceneDoc, s.scene, s.reference->sets));
+    double most = 0;
+    for (const SweepRun& run : s.runs)
+        most = std::max(most, sppOf(runDocument(s.sceneDoc, s.scene, run.sets)));
+    if (10 * most <= reference) return;
+    std::fprintf(stderr,
+                 "shvol: warning: %s: reference.spp: %g samples per pixel, fewer than 10 times the "
+                 "runs' largest (%g): the reference's own noise adds about %.0f%% to that run's "
+                 "MSE, counted as the run's error; give the reference more samples\n",
+                 s.path.c_str(), reference, most, 100 * most / reference);
+}
+
 /// Warns of finished runs whose image is gone from the output directory (deleted, moved): their
 /// rows stand and they are not rendered again, which went unsaid (helper 67).
 void warnOfMissingImages(const Sweep& s, const Ledger& ledger) {
@@ -625,7 +651,7 @@ int runBatch(BatchArgs a) {
                          "; keep it outside the output directory " + s.output);
     });
     const bool ztest = std::find(s.metrics.begin(), s.metrics.end(), "ztest") != s.metrics.end();
-    if (world.root()) warnOfExactReference(s, ztest);
+    if (world.root()) warnOfExactReference(s, ztest), warnOfNoisyReference(s);
     if (a.dryRun) {
         if (!world.root()) return 0;
         // Runs an earlier start finished, as its ledger has them (read, not repaired: a dry run

@@ -2288,6 +2288,27 @@ TEST_F(Cli, BatchNamesAChangedSampleCount) {
         << r.err;
 }
 
+// A rendered reference of fewer than 10 times the largest run's samples is warned of: its noise
+// counts as the runs' error (helper 86: half the MSE of 1024-spp runs against 1024).
+TEST_F(Cli, BatchWarnsOfANoisyReference) {
+    write("s.json", scene(Homogeneous));
+    for (const std::string spp : {"16", "40"}) {
+        write("sweep.json",
+              R"({"scene": "s.json", "axes": {"spp": [2, 4]}, "reference": {"spp": )" + spp +
+                  R"(}, "metrics": ["rmse"]})");
+        const Result r = run("batch " + path("sweep.json") + " --dry-run");
+        EXPECT_EQ(r.code, 0) << r.err;
+        if (spp == "16")
+            EXPECT_EQ(r.err, "shvol: warning: " + path("sweep.json") +
+                                 ": reference.spp: 16 samples per pixel, fewer than 10 times the "
+                                 "runs' largest (4): the reference's own noise adds about 25% to "
+                                 "that run's MSE, counted as the run's error; give the reference "
+                                 "more samples\n");
+        else
+            EXPECT_EQ(r.err, "");
+    }
+}
+
 TEST_F(Cli, BatchResumesASweepWithValuesAddedAnywhere) {
     write("s.json", scene(Homogeneous));
     const auto sweep = [&](const std::string& albedos, const std::string& spps, int repeats) {
@@ -2538,7 +2559,7 @@ TEST_F(Cli, BatchRefusesRowsOfOtherAxesOrMetrics) {
     const auto sweep = [&](const std::string& axes, const std::string& metrics) {
         write("sweep.json", R"({"scene": "s.json", "set": ["render.spp=2"], )" +
                                 (axes.empty() ? "" : R"("axes": {)" + axes + "}, ") +
-                                R"("reference": {"spp": 8, "seed": 99}, "metrics": [)" + metrics +
+                                R"("reference": {"spp": 32, "seed": 99}, "metrics": [)" + metrics +
                                 R"(], "output": "out"})");
     };
     sweep(R"("media[0].albedo": [0.5, 0.9])", R"("rmse")");
@@ -2795,7 +2816,7 @@ TEST_F(Cli, BatchOutputMustBeADirectory) {
 TEST_F(Cli, BatchChecksTheFilesItWritesBeforeItRenders) {
     write("s.json", scene(Homogeneous));
     write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [2, 4], "media.0.albedo": [0.5]},
-                           "reference": {"spp": 4}, "metrics": ["rmse", "ztest"],
+                           "reference": {"spp": 64}, "metrics": ["rmse", "ztest"],
                            "output": "out"})");
     for (const char* name :
          {"results.jsonl", "results.csv", "reference.exr", "reference.stats.json",
@@ -2847,7 +2868,7 @@ TEST_F(Cli, OutputOptionsAreSpelledAlike) {
 // two appended the same runs to one ledger, which report then counted twice.
 TEST_F(Cli, BatchRefusesADirectoryAnotherBatchWrites) {
     write("s.json", scene(Homogeneous));
-    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [1]}, "reference": {"spp": 2},
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [1]}, "reference": {"spp": 16},
                            "metrics": ["rmse"], "output": "out"})");
     fs::create_directories(path("out"));
     const int held = ::open(path("out").c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
