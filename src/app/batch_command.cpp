@@ -298,6 +298,34 @@ void warnOfNoisyReference(const Sweep& s) {
                  s.path.c_str(), reference, most, 100 * most / reference);
 }
 
+/// Warns when runs are left to render on another thread count per render than the finished runs
+/// had (their stats say): their times, and the report's efficiencies, would not compare (helper
+/// 86: a batch resumed with --threads 1 after --threads 2 flipped two configurations' order).
+void warnOfOtherThreadCounts(const Sweep& s, const Ledger& ledger, int threads) {
+    std::set<int> other;
+    size_t left = 0, finished = 0;
+    for (const SweepRun& run : s.runs) {
+        const Json* row = ledger.find(run.id);
+        if (!row) {
+            ++left;
+            continue;
+        }
+        const Json saved = savedStats(s, *row);
+        if (saved.value("threads", Json()).is_number_integer() && saved["threads"] != threads)
+            other.insert(saved["threads"].get<int>()), ++finished;
+    }
+    if (left == 0 || other.empty()) return;
+    std::string counts;
+    for (const int t : other) counts += (counts.empty() ? "" : ", ") + std::to_string(t);
+    std::fprintf(stderr,
+                 "shvol: warning: %s: %zu finished run%s rendered on %s threads each, this batch "
+                 "renders on %d: their times, and the report's efficiencies, do not compare with "
+                 "the %zu run%s left (--threads and --jobs as before, or another output directory, "
+                 "time them alike)\n",
+                 ledger.jsonlPath().c_str(), finished, finished == 1 ? " was" : "s were",
+                 counts.c_str(), threads, left, left == 1 ? "" : "s");
+}
+
 /// Warns of finished runs whose image is gone from the output directory (deleted, moved): their
 /// rows stand and they are not rendered again, which went unsaid (helper 67).
 void warnOfMissingImages(const Sweep& s, const Ledger& ledger) {
@@ -705,6 +733,7 @@ int runBatch(BatchArgs a) {
     RunContext c(s);
     c.ztest = ztest;
     c.threads = a.threads > 0 ? a.threads : threadsPerRender(a.jobs);
+    if (world.root()) warnOfOtherThreadCounts(s, *ledger, c.threads);
     // With every run finished the reference is not needed: one deleted since is not rendered
     // again for nothing (its fingerprint was checked with the rows above).
     const bool allFinished = world.broadcast(

@@ -2309,6 +2309,28 @@ TEST_F(Cli, BatchWarnsOfANoisyReference) {
     }
 }
 
+// Runs added to a finished batch on another thread count are warned of: their times would not
+// compare with the finished runs' (helper 86); on the same count nothing is said.
+TEST_F(Cli, BatchWarnsOfRunsTimedOnOtherThreadCounts) {
+    write("s.json", scene(Homogeneous));
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [2]}})");
+    const std::string batch = "batch " + path("sweep.json") + " --quiet --output " + path("out");
+    ASSERT_EQ(run(batch + " --threads 2").code, 0);
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [2, 3]}})");
+    Result r = run(batch + " --threads 1");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("results.jsonl: 1 finished run was rendered on 2 threads each, this "
+                         "batch renders on 1: their times, and the report's efficiencies, do not "
+                         "compare with the 1 run left"),
+              std::string::npos)
+        << r.err;
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [2, 3, 4]}})");
+    r = run(batch + " --threads 1");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("1 finished run was rendered on 2 threads each"), std::string::npos)
+        << r.err;  // (spp 3 was rendered on 1, as this batch renders)
+}
+
 TEST_F(Cli, BatchResumesASweepWithValuesAddedAnywhere) {
     write("s.json", scene(Homogeneous));
     const auto sweep = [&](const std::string& albedos, const std::string& spps, int repeats) {
