@@ -695,9 +695,16 @@ int runBatch(BatchArgs a) {
         }
         checkRunOutputs(s, done, ztest);
         warnOfMissingImages(s, done);
-        if (s.reference)
+        // A rendered reference is said to be cached or to render first (helper 86: the same
+        // words whether it was finished, half-rendered or missing).
+        if (s.reference) {
+            std::map<std::string, Json> memo;
             std::printf("reference %s%s\n", s.reference->file.c_str(),
-                        s.reference->render ? " (rendered once, cached)" : "");
+                        !s.reference->render ? ""
+                        : referenceCached(s, currentReference(s, ztest, memo).stamp, ztest)
+                            ? " (rendered, cached)"
+                            : " (rendered first, then cached)");
+        }
         size_t finished = 0;
         for (const SweepRun& run : s.runs) {
             const bool has = done.find(run.id);

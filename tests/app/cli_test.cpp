@@ -2307,6 +2307,13 @@ TEST_F(Cli, BatchWarnsOfANoisyReference) {
         else
             EXPECT_EQ(r.err, "");
     }
+    // The dry run says whether the reference is rendered yet (it said "rendered once, cached"
+    // whether it was or not; helper 86).
+    const std::string dry = "batch " + path("sweep.json") + " --dry-run --output " + path("o");
+    EXPECT_NE(run(dry).out.find("reference.exr (rendered first, then cached)\n"),
+              std::string::npos);
+    ASSERT_EQ(run("batch " + path("sweep.json") + " --quiet --output " + path("o")).code, 0);
+    EXPECT_NE(run(dry).out.find("reference.exr (rendered, cached)\n"), std::string::npos);
 }
 
 // Runs added to a finished batch on another thread count are warned of: their times would not
