@@ -475,6 +475,7 @@ void JsonReader::rangeError(const std::string& key, const std::string& what, con
 }
 
 bool JsonReader::has(const std::string& key) const {
+    asked_.insert(key);
     return j_.contains(key);
 }
 
@@ -680,8 +681,11 @@ std::string JsonReader::inputFile(const std::string& key, const std::string& dir
 
 void JsonReader::finish() const {
     for (auto it = j_.begin(); it != j_.end(); ++it)
-        if (!used_.count(it.key()))
-            error(it.key(), unknownKey(it.key(), {used_.begin(), used_.end()}));
+        if (!used_.count(it.key())) {
+            std::vector<std::string> known(used_.begin(), used_.end());
+            known.insert(known.end(), asked_.begin(), asked_.end());
+            error(it.key(), unknownKey(it.key(), known));
+        }
 }
 
 }  // namespace shvol

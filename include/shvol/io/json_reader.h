@@ -138,6 +138,9 @@ class JsonReader {
     const Json& j_;
     std::string file_, path_;
     std::set<std::string> used_;
+    /// Keys asked about with has(): known to the reader, so finish() suggests them for a typo
+    /// (helper 86: a sweep's "axis" got no "did you mean", its "repeat" did), though not used.
+    mutable std::set<std::string> asked_;
     Json* resolved_ = nullptr;
 };
 
