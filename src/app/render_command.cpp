@@ -497,7 +497,11 @@ bool staleStandardErrors(const Outputs& o, const nlohmann::json& provenance,
     if (!fs::is_regular_file(o.stderrImage, ec)) return false;
     std::ifstream f(o.stats);
     const nlohmann::json old = nlohmann::json::parse(f, nullptr, false);
-    if (!old.is_object() || old.value("standard_error", std::string()) != o.stderrImage)
+    // (by file name: the stats and the errors sit side by side, and the earlier render may have
+    // named the directory otherwise, ./d/y.exr for d/y.exr; helper 88)
+    if (!old.is_object() || !old.value("standard_error", nlohmann::json()).is_string() ||
+        fs::path(old["standard_error"].get<std::string>()).filename() !=
+            fs::path(o.stderrImage).filename())
         return false;
     std::vector<std::string> kept = {checkpoint};
     for (const nlohmann::json& in : provenance.value("inputs", nlohmann::json::array()))

@@ -2041,6 +2041,13 @@ TEST_F(Cli, RenderRemovesOnlyItsOwnStaleStandardErrors) {
     r = run("render " + path("sky.json") + " --quiet -o " + path("k.exr"));
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_TRUE(fs::exists(path("k.stderr.exr")));
+    // The errors of an earlier render of the image, its directory named otherwise, go (they were
+    // compared as paths, ./d/y.exr against d/y.exr; helper 88).
+    fs::create_directories(path("d"));
+    ASSERT_EQ(run(s + "-o " + path("d") + "/./y.exr --variance").code, 0);
+    r = run(s + "-o " + path("d") + "/y.exr");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_FALSE(fs::exists(path("d/y.stderr.exr"))) << r.err;
     // A file of that name that no render of the image wrote (its stats do not name it) stays.
     write("o.stderr.exr", "mine");
     r = run(s + "-o " + path("o.exr"));
@@ -3175,17 +3182,29 @@ TEST_F(Cli, ReportGroupsValuesAsTheBatchDoesAndMarksBias) {
         << R"({"run": "r0001", "spp": 8, "wall_time_s": 1, "rmse": 0.1, "bias": 0.5, "bias_ci95": 0.1, "x": 38.0})"
         << "\n"
         << R"({"run": "r0002", "spp": 8, "wall_time_s": 1, "rmse": 0.2, "bias": 0.01, "bias_ci95": 0.1, "x": "a|b"})"
+        << "\n"
+        // outside on both sides, and an interval unknown: no mark (helper 88; null crashed)
+        << R"({"run": "r0003", "spp": 8, "wall_time_s": 1, "rmse": 0.1, "bias": 0.5, "bias_ci95": 0.1, "x": 1})"
+        << "\n"
+        << R"({"run": "r0004", "spp": 8, "wall_time_s": 1, "rmse": 0.1, "bias": -0.5, "bias_ci95": 0.1, "x": 1})"
+        << "\n"
+        << R"({"run": "r0005", "spp": 8, "wall_time_s": 1, "rmse": 0.1, "bias": 0.5, "bias_ci95": null, "x": 2})"
+        << "\n"
+        << R"({"run": "r0006", "spp": 8, "wall_time_s": 1, "rmse": 0.1, "bias": 0.5, "bias_ci95": 0.1, "x": 2})"
         << "\n";
     const Result r = run("report " + path("o"));
     ASSERT_EQ(r.code, 0) << r.err;
     const std::string report = test::fileBytes(path("o/report.md"));
-    EXPECT_NE(report.find("\n3 runs, 2 configurations; "), std::string::npos) << report;
+    EXPECT_NE(report.find("\n7 runs, 4 configurations; "), std::string::npos) << report;
+    EXPECT_NE(report.find("| x=1 | 8 | 2 | 0.1 ± 0 | 1 | 100 | 0 |"), std::string::npos) << report;
+    EXPECT_NE(report.find("| x=2 | 8 | 2 | 0.1 ± 0 | 1 | 100 | 0.5 |"), std::string::npos)
+        << report;
     EXPECT_NE(report.find("| x=38 | 8 | 2 | 0.1 ± 0 | 1 | 100 | 0.5 ‡ |"), std::string::npos)
         << report;
     EXPECT_NE(report.find("| x=\"a\\|b\" | 8 | 1 | 0.2 | 1 | 25 | 0.01 |"), std::string::npos)
         << report;
     EXPECT_NE(report.find("‡ Biased against the reference (every repeat's bias outside its 95% "
-                          "interval): x=38 at 8 spp."),
+                          "interval, on one side, over two repeats or more): x=38 at 8 spp."),
               std::string::npos)
         << report;
 }
