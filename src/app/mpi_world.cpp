@@ -44,14 +44,17 @@ bool launchedByMpi() {
 bool gInitialised = false;
 
 // PathCounters is a run of uint64_t counters (TrackingCounters included), reduced as one array,
-// and two doubles after them, reduced as doubles (helper 87: summed as integers, their bit
-// patterns made the max_depth warning's standard error negative).
+// and three doubles after them, reduced as doubles (helper 87: summed as integers, their bit
+// patterns made the max_depth warning's standard error negative). A double counter must go
+// among those three, and here.
 constexpr size_t kDoublesAt = offsetof(PathCounters, luminanceSum);
 constexpr int kCounterWords = int(kDoublesAt / sizeof(uint64_t));
 static_assert(kDoublesAt % sizeof(uint64_t) == 0 &&
-                  offsetof(PathCounters, withinPixelSumSq) == kDoublesAt + sizeof(double) &&
-                  sizeof(PathCounters) == kDoublesAt + 2 * sizeof(double),
-              "PathCounters: uint64_t counters, then luminanceSum and withinPixelSumSq");
+                  offsetof(PathCounters, luminanceSumSq) == kDoublesAt + sizeof(double) &&
+                  offsetof(PathCounters, withinPixelSumSq) == kDoublesAt + 2 * sizeof(double) &&
+                  sizeof(PathCounters) == kDoublesAt + 3 * sizeof(double),
+              "PathCounters: uint64_t counters, then luminanceSum, luminanceSumSq and "
+              "withinPixelSumSq");
 
 template <typename T>
 void reduce(std::vector<T>& v, MPI_Datatype type, bool root, MPI_Op op = MPI_SUM) {
@@ -126,13 +129,15 @@ void MpiWorld::reduceToRoot(Film& film, RenderStats& stats) const {
     std::vector<uint64_t> c(kCounterWords);
     std::memcpy(c.data(), &stats.counters, kDoublesAt);
     reduce(c, MPI_UINT64_T, root());
-    std::vector<double> moments{stats.counters.luminanceSum, stats.counters.withinPixelSumSq};
+    std::vector<double> moments{stats.counters.luminanceSum, stats.counters.luminanceSumSq,
+                                stats.counters.withinPixelSumSq};
     reduce(moments, MPI_DOUBLE, root());
     std::vector<double> wall{stats.wallSeconds};  // the slowest rank's
     reduce(wall, MPI_DOUBLE, root(), MPI_MAX);
     if (!root()) return;
     std::memcpy(&stats.counters, c.data(), kDoublesAt);
-    stats.counters.luminanceSum = moments[0], stats.counters.withinPixelSumSq = moments[1];
+    stats.counters.luminanceSum = moments[0], stats.counters.luminanceSumSq = moments[1],
+    stats.counters.withinPixelSumSq = moments[2];
     stats.wallSeconds = wall[0];
     stats.minSamples = film.minCount();
     stats.maxSamples = film.maxCount();

@@ -52,19 +52,6 @@ constexpr int kTruncationWarningDepth = 8;
 /// in 768 (helper 77). Ten give the share to about ±30%.
 constexpr uint64_t kTruncatedPathsMin = 10;
 
-/// The relative standard error of the image's mean luminance: √(s_w²/n)/ȳ over the n finite
-/// samples, s_w² the pooled variance of samples within a pixel (PathCounters::withinPixelSumSq;
-/// the pooled variance of all samples counted the picture's contrast as noise, 1.18× too large on
-/// media/default.json; helper 87), ∞ when it cannot be told (no pixel pass of two samples, or no
-/// light). Sums of doubles taken in the threads' order: at the last digit it can depend on the
-/// thread count, which matters only to a share equal to it.
-double imageMeanRelativeError(const PathCounters& c) {
-    const double n = double(c.paths - std::min(c.paths, c.nonFiniteSamples));
-    if (c.withinPixelDof == 0 || !(c.luminanceSum > 0)) return INFINITY;
-    const double variance = c.withinPixelSumSq / double(c.withinPixelDof);
-    return std::sqrt(variance / n) / (c.luminanceSum / n);
-}
-
 /// The phase function of each medium as rendered; for SH-sampled ones the resolved fit (automatic
 /// order and window filled in), its error and the per-bounce weight moment m₂.
 nlohmann::json phaseJson(const PhaseFunction& p) {
@@ -340,7 +327,7 @@ std::vector<std::string> renderWarnings(const Scene& scene, const RenderStats& s
     const uint64_t paths = st.counters.paths + st.radianceCache.recordPaths,
                    truncated = st.counters.truncatedPaths + st.radianceCache.recordPathsTruncated;
     const double share = paths > 0 ? double(truncated) / double(paths) : 0,
-                 relativeError = imageMeanRelativeError(st.counters);
+                 relativeError = st.counters.imageMeanRelativeError();
     if (scene.settings.maxDepth >= kTruncationWarningDepth && truncated >= kTruncatedPathsMin &&
         (share > kTruncatedPathsShare || share > relativeError)) {
         char msg[400], beyondNoise[160] = "";

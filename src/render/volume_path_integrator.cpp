@@ -12,11 +12,21 @@
 namespace shvol {
 
 void PathCounters::add(const PixelMoments& m) {
-    luminanceSum += m.sum;
+    luminanceSum += m.sum, luminanceSumSq += m.sumSq;
     if (m.count < 2) return;
     // Σ (y − ȳ)² = Σ y² − (Σ y)²/k, never below 0 once rounded
     withinPixelSumSq += std::max(0.0, m.sumSq - m.sum * m.sum / m.count);
     withinPixelDof += m.count - 1;
+}
+
+double PathCounters::imageMeanRelativeError() const {
+    const double n = double(paths - std::min(paths, nonFiniteSamples));
+    if (n < 2 || !(luminanceSum > 0)) return INFINITY;
+    const double mean = luminanceSum / n;
+    const double variance = withinPixelDof > 0
+                                ? withinPixelSumSq / double(withinPixelDof)
+                                : std::max(0.0, luminanceSumSq / n - mean * mean) * n / (n - 1);
+    return std::sqrt(variance / n) / mean;
 }
 
 void PathCounters::add(const PathCounters& o) {
@@ -31,6 +41,7 @@ void PathCounters::add(const PathCounters& o) {
     truncatedPaths += o.truncatedPaths;
     withinPixelDof += o.withinPixelDof;
     luminanceSum += o.luminanceSum;
+    luminanceSumSq += o.luminanceSumSq;
     withinPixelSumSq += o.withinPixelSumSq;
     surfaceHits += o.surfaceHits;
     cacheLookups += o.cacheLookups;

@@ -1,0 +1,51 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "shvol/render/volume_path_integrator.h"
+
+namespace shvol {
+
+namespace {
+/// Counters of `pixels` pixels in one pass of `samples` each, pixel i's samples alternating
+/// between mean_i − spread and mean_i + spread, mean_i from 0.5 to 1.5 across the pixels.
+PathCounters picture(int pixels, int samples, double spread, int passes = 1) {
+    PathCounters c;
+    for (int i = 0; i < pixels; ++i) {
+        const double mean = 0.5 + double(i) / (pixels - 1);
+        for (int p = 0; p < passes; ++p) {
+            PixelMoments m;
+            for (int k = 0; k < samples / passes; ++k) m.add(mean + (k % 2 ? spread : -spread));
+            c.add(m);
+            c.paths += uint64_t(samples / passes);
+        }
+    }
+    return c;
+}
+}  // namespace
+
+// The image mean's standard error comes from the spread within pixels, not from the picture's
+// contrast (helper 87): √(s²/n)/ȳ with s² the pooled within-pixel variance, here spread²·k/(k−1).
+TEST(PathCounters, ImageMeanRelativeErrorIsOfTheSpreadWithinPixels) {
+    const int pixels = 100, samples = 16;
+    const double n = pixels * samples, spread = 0.01;
+    const double s2 = spread * spread * samples / (samples - 1);
+    EXPECT_NEAR(picture(pixels, samples, spread).imageMeanRelativeError(), std::sqrt(s2 / n) / 1.0,
+                1e-12);
+    // No spread within pixels: no error but rounding (Σy² − (Σy)²/k), however strong the
+    // contrast (the variance of all samples would give about √(1/12 / n) here, 0.72%).
+    EXPECT_LT(picture(pixels, samples, 0).imageMeanRelativeError(), 1e-8);
+    // Passes of two samples each: the same spread, pooled over 8 passes.
+    const double s2Pairs = spread * spread * 2;
+    EXPECT_NEAR(picture(pixels, samples, spread, 8).imageMeanRelativeError(),
+                std::sqrt(s2Pairs / n), 1e-12);
+    // Passes of one sample (--checkpoint-interval 0): the variance of all samples, larger, not ∞
+    // (helper 88).
+    const double all = picture(pixels, samples, spread, 16).imageMeanRelativeError();
+    EXPECT_TRUE(std::isfinite(all));
+    EXPECT_GT(all, 10 * std::sqrt(s2 / n));
+    // No light: nothing to be relative to.
+    EXPECT_EQ(PathCounters{}.imageMeanRelativeError(), INFINITY);
+}
+
+}  // namespace shvol
