@@ -216,6 +216,14 @@ Json savedStats(const Sweep& s, const Json& row) {
     return saved.is_object() ? saved : Json::object();
 }
 
+/// The samples per pixel a run's document renders (the loader's default, 16, where it says none).
+double sppOf(const Json& doc) {
+    const Json render = doc.value("render", Json::object());
+    return render.is_object() && render.value("spp", Json()).is_number()
+               ? render["spp"].get<double>()
+               : 16;
+}
+
 /// The scene values in which a finished run (its stats' scene_resolved) and the render the sweep
 /// now gives it differ, as a resumed render names them (`scene values camera.fov differ`); ""
 /// when that cannot be told. (A checkpoint's identity leaves render.spp out: a render may be
@@ -229,15 +237,13 @@ std::string changedSettings(const Sweep& s, const SweepRun& run, const Json& row
     } catch (const std::exception&) {
         return "";
     }
-    Json was = saved["scene_resolved"];
-    const auto spp = [](const Json& doc) {
-        return doc.contains("render") && doc["render"].is_object()
-                   ? doc["render"].value("spp", Json())
-                   : Json();
-    };
+    const Json& was = saved["scene_resolved"];
     std::string difference;
-    if (spp(was) != spp(resolved))
-        difference = "render.spp was " + dumpJson(spp(was)) + ", is " + dumpJson(spp(resolved));
+    if (const double a = sppOf(was), b = sppOf(resolved); a != b) {
+        char text[96];
+        std::snprintf(text, sizeof text, "render.spp was %.17g, is %.17g", a, b);
+        difference = text;
+    }
     const std::string rest =
         identityDifference(renderIdentity(was, Json::object(), ""),
                            renderIdentity(resolved, Json::object(), ""), "set, axes or scene file");
@@ -270,14 +276,6 @@ void warnOfExactReference(const Sweep& s, bool ztest) {
                      "(%s, as render --variance writes them): the z-test takes it as exact, so "
                      "its own noise counts as the runs' error\n",
                      s.path.c_str(), s.reference->file.c_str(), se.c_str());
-}
-
-/// The samples per pixel a run's document renders (the loader's default, 16, where it says none).
-double sppOf(const Json& doc) {
-    const Json render = doc.value("render", Json::object());
-    return render.is_object() && render.value("spp", Json()).is_number()
-               ? render["spp"].get<double>()
-               : 16;
 }
 
 /// Warns of a rendered reference with fewer than 10 times the samples of the sweep's largest

@@ -82,15 +82,15 @@ int runMain(int argc, char** argv) {
         const std::vector<CLI::App*> subs =
             parent->get_subcommands([](const CLI::App* a) { return !a->get_name().empty(); });
         if (subs.empty()) break;
-        std::string names;
         std::vector<std::string> nameList;
         CLI::App* known = nullptr;
         for (CLI::App* sub : subs) {
             if (sub->get_name() == argv[level]) known = sub;
-            names += (names.empty() ? "" : ", ") + sub->get_name();
             nameList.push_back(sub->get_name());
         }
         if (!known) {
+            std::string names;
+            for (const std::string& n : nameList) names += (names.empty() ? "" : ", ") + n;
             // (a typo is named, as a scene key's is; helper 84)
             const std::string nearest = shvol::nearestSpelling(argv[level], nameList);
             if (speaks)
