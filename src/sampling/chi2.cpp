@@ -157,6 +157,14 @@ Chi2Result runChi2(const std::function<std::optional<Vec3>(Rng&)>& sample,
     rep << "chi2 test: " << nz << "x" << np << " cells, " << opt.sampleCount << " samples, "
         << res.failedSamples << " failed; pdf integral = " << res.pdfIntegral << "\n";
 
+    if (res.failedSamples > 0 && !opt.allowFailedSamples) {
+        rep << "FAIL: " << res.failedSamples << " samples were empty or not finite\n";
+        res.passed = false;
+        res.pValue = 0;
+        res.report = rep.str();
+        return res;
+    }
+
     // 3. Cells with samples where the pdf is zero fail at once.
     for (size_t i = 0; i < nCells; ++i) {
         if (observed[i] > 0 && !(expected[i] > 0)) {

@@ -111,6 +111,22 @@ TEST(Chi2, SlightlyWrongGFailsToo) {
     EXPECT_FALSE(r.passed) << r.report;
 }
 
+// A sampler that returns NaN once in 10⁴ draws fails, which χ² alone cannot see (it adds about
+// f²·N = 0.01 to the statistic; helper 89); allowed, the same samples pass.
+TEST(Chi2, AnyNonFiniteSampleFails) {
+    const auto sample = [](Rng& rng) -> std::optional<Vec3> {
+        const Vec2 u = rng.uniform2();
+        return rng.uniform() < 1e-4 ? Vec3::Constant(NAN) : sampleUniformSphere(u);
+    };
+    const auto pdf = [](const Vec3&) { return Inv4Pi; };
+    const auto r = chi2TestSphere(sample, pdf);
+    EXPECT_FALSE(r.passed) << r.report;
+    EXPECT_GT(r.failedSamples, 0);
+    Chi2Options allowed;
+    allowed.allowFailedSamples = true;
+    EXPECT_TRUE(chi2TestSphere(sample, pdf, allowed).passed);
+}
+
 TEST(Chi2, LostSamplesFail) {
     // 2% of the samples come back empty, yet the pdf claims they are all there.
     const auto r = chi2TestSphere(
