@@ -685,30 +685,29 @@ int runBatch(BatchArgs a) {
         // the reference are hashed when there are finished runs to compare them with.
         const Ledger done(s.output, Ledger::Open::ReadOnly, s.axes);
         adoptFinishedIds(s, done.rows());
+        std::map<std::string, Json> inputs;  // each named file hashed once
         if (!done.rows().empty()) {
-            std::map<std::string, Json> inputs;
             fingerprintInputs(s, inputs);
             const std::string reference = currentReference(s, ztest, inputs).fingerprint;
             checkFinishedRows(done, s, reference);
         }
         checkRunOutputs(s, done, ztest);
         warnOfMissingImages(s, done);
-        // A rendered reference is said to be cached or to render first (helper 86: the same
-        // words whether it was finished, half-rendered or missing).
-        if (s.reference) {
-            std::map<std::string, Json> memo;
+        const size_t finished = size_t(std::count_if(
+            s.runs.begin(), s.runs.end(), [&](const SweepRun& run) { return done.find(run.id); }));
+        // A rendered reference is said to be cached or to render first, or not to be needed
+        // when every run is finished, as the start decides (helper 86: the same words whether
+        // it was finished, half-rendered or missing; helper 90: or not needed).
+        if (s.reference)
             std::printf("reference %s%s\n", s.reference->file.c_str(),
-                        !s.reference->render ? ""
-                        : referenceCached(s, currentReference(s, ztest, memo).stamp, ztest)
+                        !s.reference->render        ? ""
+                        : finished == s.runs.size() ? " (not needed: every run is finished)"
+                        : referenceCached(s, currentReference(s, ztest, inputs).stamp, ztest)
                             ? " (rendered, cached)"
                             : " (rendered first, then cached)");
-        }
-        size_t finished = 0;
-        for (const SweepRun& run : s.runs) {
-            const bool has = done.find(run.id);
-            finished += has;
-            std::printf("%s%s\n", describe(run, s.axes).c_str(), has ? " (finished)" : "");
-        }
+        for (const SweepRun& run : s.runs)
+            std::printf("%s%s\n", describe(run, s.axes).c_str(),
+                        done.find(run.id) ? " (finished)" : "");
         std::printf("%s into %s", runsCounted(s.runs.size()).c_str(), s.output.c_str());
         if (finished > 0)
             std::printf(", %zu of them finished (the start checks that they match this sweep)",

@@ -23,7 +23,9 @@ double PathCounters::imageMeanRelativeError() const {
     const double n = double(paths - std::min(paths, nonFiniteSamples));
     if (n < 2 || !(luminanceSum > 0)) return INFINITY;
     const double mean = luminanceSum / n;
-    const double variance = withinPixelDof > 0
+    // (from a quarter of the samples' degrees of freedom on: one pass of two equal samples
+    // among passes of one would give 0; helper 90)
+    const double variance = double(withinPixelDof) >= 0.25 * n
                                 ? withinPixelSumSq / double(withinPixelDof)
                                 : std::max(0.0, luminanceSumSq / n - mean * mean) * n / (n - 1);
     return std::sqrt(variance / n) / mean;

@@ -132,6 +132,7 @@ Chi2Result runChi2(const std::function<std::optional<Vec3>(Rng&)>& sample,
         const std::optional<Vec3> w = sample(rng);
         if (!w || !w->allFinite()) {
             ++res.failedSamples;
+            res.nonFiniteSamples += w.has_value();
             continue;
         }
         const Vec3 d = w->normalized();
@@ -157,8 +158,9 @@ Chi2Result runChi2(const std::function<std::optional<Vec3>(Rng&)>& sample,
     rep << "chi2 test: " << nz << "x" << np << " cells, " << opt.sampleCount << " samples, "
         << res.failedSamples << " failed; pdf integral = " << res.pdfIntegral << "\n";
 
-    if (res.failedSamples > 0 && !opt.allowFailedSamples) {
-        rep << "FAIL: " << res.failedSamples << " samples were empty or not finite\n";
+    if (res.nonFiniteSamples > 0 || (res.failedSamples > 0 && !opt.allowFailedSamples)) {
+        rep << "FAIL: " << res.failedSamples << " samples were empty or not finite ("
+            << res.nonFiniteSamples << " not finite)\n";
         res.passed = false;
         res.pValue = 0;
         res.report = rep.str();

@@ -2320,6 +2320,10 @@ TEST_F(Cli, BatchWarnsOfANoisyReference) {
     EXPECT_NE(run(dry).out.find("reference.exr (rendered first, then cached)\n"),
               std::string::npos);
     ASSERT_EQ(run("batch " + path("sweep.json") + " --quiet --output " + path("o")).code, 0);
+    EXPECT_NE(run(dry).out.find("reference.exr (not needed: every run is finished)\n"),
+              std::string::npos);
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [2, 4, 3]}, "reference": {"spp": )"
+                        R"(40}, "metrics": ["rmse"]})");
     EXPECT_NE(run(dry).out.find("reference.exr (rendered, cached)\n"), std::string::npos);
 }
 

@@ -420,8 +420,12 @@ TEST(Vdb, BadInputGivesOneClearLine) {
 
 // White furnace through a real VDB medium (albedo 1, constant environment 1): without
 // next-event estimation and with no path cut, every path returns exactly 1, whichever fast path
-// is on (bricks, the majorant grid, decomposition, regular tracking), each checked against its
-// slower alternative this way too (a mean within 5σ let a spread pass; helper 89).
+// is off (bricks, the majorant grid, decomposition, regular tracking): one that lost or made
+// energy, or a NaN, would show (a mean within 5σ let a spread pass; helper 89). What a furnace
+// cannot see, the free flights' distribution, is compared elsewhere (helper 90):
+// Vdb.TrackingMatchesQuadrature, Vdb.DecompositionSparesLookupsNotFlights,
+// Vdb.RegularTrackingWhereTheMajorantIsHigh, and the bricks against OpenVDB in
+// density_bricks_test.
 TEST(Vdb, WhiteFurnace) {
     writeVdb(tmp("cloud.vdb"), {[] {
                  VdbGridSpec s;
@@ -435,6 +439,7 @@ TEST(Vdb, WhiteFurnace) {
             Scene scene;
             scene.environment = Environment::constant(Spectrum::Ones(), false);
             scene.settings.maxDepth = 1 << 20;
+            scene.settings.nee = false;
             VdbMediumDesc d;
             d.file = tmp("cloud.vdb");
             d.densityScale = 40;

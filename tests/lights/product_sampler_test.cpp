@@ -52,7 +52,10 @@ Chi2Result productChi2(const ProductSampler& ps, const Lobe& c, double beta, uin
     opt.numTests = kChi2Tests;
     opt.seed = seed;
     opt.sampleCount = 400000;
-    return chi2TestSphereCells(
+    // Its lost mass, 1 − total ≤ 10⁻⁶, comes back empty: at most 0.4 of the draws in expectation
+    // (five would be a Poisson tail of 10⁻⁶; helper 90).
+    opt.allowFailedSamples = true;
+    const Chi2Result r = chi2TestSphereCells(
         [&](Rng& rng) -> std::optional<Vec3> {
             const WarpSample s = ps.sample(c, beta, rng.uniform2());
             if (!(s.pdf > 0)) return std::nullopt;
@@ -61,6 +64,8 @@ Chi2Result productChi2(const ProductSampler& ps, const Lobe& c, double beta, uin
             return s.direction();
         },
         prob, opt);
+    EXPECT_LE(r.failedSamples, 5) << r.report;
+    return r;
 }
 
 }  // namespace

@@ -112,7 +112,8 @@ TEST(Chi2, SlightlyWrongGFailsToo) {
 }
 
 // A sampler that returns NaN once in 10⁴ draws fails, which χ² alone cannot see (it adds about
-// f²·N = 0.01 to the statistic; helper 89); allowed, the same samples pass.
+// f²·N = 0.01 to the statistic; helper 89); one that returns nothing as often fails unless that
+// is allowed.
 TEST(Chi2, AnyNonFiniteSampleFails) {
     const auto sample = [](Rng& rng) -> std::optional<Vec3> {
         const Vec2 u = rng.uniform2();
@@ -122,9 +123,17 @@ TEST(Chi2, AnyNonFiniteSampleFails) {
     const auto r = chi2TestSphere(sample, pdf);
     EXPECT_FALSE(r.passed) << r.report;
     EXPECT_GT(r.failedSamples, 0);
+    // ... also where empty samples are allowed (helper 90: NaN hid among them), which pass.
     Chi2Options allowed;
     allowed.allowFailedSamples = true;
-    EXPECT_TRUE(chi2TestSphere(sample, pdf, allowed).passed);
+    EXPECT_FALSE(chi2TestSphere(sample, pdf, allowed).passed);
+    const auto empty = [](Rng& rng) -> std::optional<Vec3> {
+        const Vec2 u = rng.uniform2();
+        if (rng.uniform() < 1e-4) return std::nullopt;
+        return sampleUniformSphere(u);
+    };
+    EXPECT_FALSE(chi2TestSphere(empty, pdf).passed);
+    EXPECT_TRUE(chi2TestSphere(empty, pdf, allowed).passed);
 }
 
 TEST(Chi2, LostSamplesFail) {

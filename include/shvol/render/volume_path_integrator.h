@@ -101,12 +101,12 @@ struct PathCounters {
     /// The relative standard error of the image's mean luminance, √(s²/n)/ȳ over the n finite
     /// samples, s² the pooled variance of the samples within a pixel pass, ΣSS/Σ(k − 1) (the
     /// variance of all samples counted the picture's contrast as noise, 1.18× too large on
-    /// media/default.json; helper 87), or where no pass held two samples of a pixel (passes of
-    /// one sample: --checkpoint-interval 0) that of all samples, which overstates it (helper
-    /// 88: it was ∞ there); ∞ without light. Samples are taken as independent, which overstates
-    /// a stratified render's error and leaves out what its samples share (radiance-cache
-    /// records). Sums of doubles in the threads' order: the last digit can depend on the thread
-    /// count.
+    /// media/default.json; helper 87), or where passes of two samples or more hold less than a
+    /// quarter of the degrees of freedom (passes of one sample: --checkpoint-interval 0) that
+    /// of all samples, which overstates it (helper 88: it was ∞ there); ∞ without light. Samples
+    /// are taken as independent, which overstates a stratified render's error and leaves out what
+    /// its samples share (radiance-cache records). Sums of doubles in the threads' order: the last
+    /// digit can depend on the thread count.
     double imageMeanRelativeError() const;
 };
 

@@ -15,7 +15,7 @@
 ///   p = Q(dof/2, χ²/2)  (regularised upper incomplete gamma, boost::math::gamma_q).
 /// With the Šidák correction for numTests tests the test passes iff p > 1 − (1 − α)^(1/numTests).
 /// Samples that come back empty (std::nullopt) or non-finite count towards N but fall in no cell;
-/// unless Chi2Options::allowFailedSamples, any such sample fails the test.
+/// a non-finite one fails the test, an empty one unless Chi2Options::allowFailedSamples.
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -34,9 +34,10 @@ struct Chi2Options {
     int numTests = 1;     ///< size of the family (Šidák correction)
     double minExpected = 5;
     uint64_t seed = 1;  ///< the sampler is driven by Rng(seed, 0)
-    /// Samples that come back empty or non-finite fail the test, however few, unless allowed:
-    /// a fraction f of them adds only about f²·N to χ², so 1% NaN of 10⁶ samples passed (helper
-    /// 89). A BSDF's samples below the horizon are legitimately empty.
+    /// Samples that come back empty fail the test, however few, unless allowed (a BSDF's samples
+    /// below the horizon are legitimately empty); non-finite ones always do: a fraction f of them
+    /// adds only about f²·N to χ², so 1% NaN of 10⁶ samples passed (helper 89), and allowing
+    /// the empty ones let NaN hide among them (helper 90).
     bool allowFailedSamples = false;
 };
 
@@ -47,7 +48,8 @@ struct Chi2Result {
     int dof = 0;
     std::string report;      ///< statistic, dof, p, pdf integral, failed samples and worst cells
     double pdfIntegral = 0;  ///< ∫ pdf dω over the sphere (should be ≈ 1)
-    long long failedSamples = 0;  ///< samples that were std::nullopt or not finite
+    long long failedSamples = 0;     ///< samples that were std::nullopt or not finite
+    long long nonFiniteSamples = 0;  ///< of those, not finite
 };
 
 /// Runs the test. \param sample draws one direction (unit vector) from the generator, or
