@@ -698,7 +698,8 @@ int runRender(const RenderArgs& a) {
             // Every sample of a pixel reads the same records, so the spread of its samples does
             // not hold their error (helper 80: z-scores up to 32.6 against a path-traced
             // reference on milk_glass at the default 1024 rays per record).
-            // (A cache of max_records 0 holds no record: the errors are exact; helper 83.)
+            // (A cache of max_records 0 holds no record: the errors are those of a render
+            // without it; helper 83.)
             if (a.variance && effects.radianceCache && scene.settings.radianceCache.maxRecords > 0)
                 warnings.push_back(
                     "--variance: the standard errors leave out the radiance cache's own error, "
