@@ -254,10 +254,10 @@ void writeTogether(const std::vector<FileWrite>& files,
     // The renames themselves, each directory once (one that cannot be synced, on some file
     // systems, is left so).
     std::set<std::string> directories;
-    for (size_t i = 0; i < std::min(failed, files.size()); ++i)
-        directories.insert(std::filesystem::path(targets[i]).parent_path().empty()
-                               ? std::string(".")
-                               : std::filesystem::path(targets[i]).parent_path().string());
+    for (size_t i = 0; i < std::min(failed, files.size()); ++i) {
+        const std::filesystem::path parent = std::filesystem::path(targets[i]).parent_path();
+        directories.insert(parent.empty() ? std::string(".") : parent.string());
+    }
     for (const std::string& directory : directories) syncToDisk(directory);
     if (failed < files.size()) {
         removeFrom(failed);

@@ -304,10 +304,9 @@ const std::vector<std::string>& keysOfEveryType(const std::string& path) {
 }  // namespace
 
 namespace {
-/// "unknown key", with the nearest of `known` to `key` when there is one (nearestSpelling; helper
-/// 77: `camra: unknown key` said nothing of `camera`).
-std::string unknownKey(const std::string& key, const std::vector<std::string>& known) {
-    const std::string nearest = nearestSpelling(key, known);
+/// "unknown key", with `nearest`, the nearest known key (nearestSpelling), when there is one
+/// (helper 77: `camra: unknown key` said nothing of `camera`).
+std::string unknownKey(const std::string& nearest) {
     return nearest.empty() ? "unknown key" : "unknown key (did you mean \"" + nearest + "\"?)";
 }
 }  // namespace
@@ -358,8 +357,8 @@ bool applyOverride(Json& doc, const std::string& assignment, const std::string& 
         if (node->is_object())
             for (auto it = node->begin(); it != node->end(); ++it) known.push_back(it.key());
         if (walked.empty()) known.insert(known.end(), {"media", "surfaces"});
-        if (!nearestSpelling(parts[k], known).empty())
-            fail(file, array, by + unknownKey(parts[k], known));
+        if (const std::string nearest = nearestSpelling(parts[k], known); !nearest.empty())
+            fail(file, array, by + unknownKey(nearest));
         fail(file, array,
              by + "index " + next + " of an array the scene does not have: give the whole array " +
                  "(--set '" + array + "=[…]')");
@@ -684,7 +683,7 @@ void JsonReader::finish() const {
         if (!used_.count(it.key())) {
             std::vector<std::string> known(used_.begin(), used_.end());
             known.insert(known.end(), asked_.begin(), asked_.end());
-            error(it.key(), unknownKey(it.key(), known));
+            error(it.key(), unknownKey(nearestSpelling(it.key(), known)));
         }
 }
 
