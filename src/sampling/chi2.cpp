@@ -135,7 +135,10 @@ Chi2Result runChi2(const std::function<std::optional<Vec3>(Rng&)>& sample,
             res.nonFiniteSamples += w.has_value();
             continue;
         }
-        const Vec3 d = w->normalized();
+        // Binned as they come: a sampler's directions are used unnormalised by its callers, so
+        // one of another length is a defect the test must show, not hide.
+        if (!(std::abs(w->squaredNorm() - 1) < 2e-6)) ++res.nonUnitSamples;
+        const Vec3& d = *w;
         const int iz = std::clamp(int((d.z() + 1) * 0.5 * nz), 0, nz - 1);
         const int ip = std::clamp(int(sphericalPhi(d) * Inv2Pi * np), 0, np - 1);
         ++observed[size_t(iz) * np + ip];
@@ -158,6 +161,13 @@ Chi2Result runChi2(const std::function<std::optional<Vec3>(Rng&)>& sample,
     rep << "chi2 test: " << nz << "x" << np << " cells, " << opt.sampleCount << " samples, "
         << res.failedSamples << " failed; pdf integral = " << res.pdfIntegral << "\n";
 
+    if (res.nonUnitSamples > 0) {
+        rep << "FAIL: " << res.nonUnitSamples << " directions are not of unit length\n";
+        res.passed = false;
+        res.pValue = 0;
+        res.report = rep.str();
+        return res;
+    }
     if (res.nonFiniteSamples > 0 || (res.failedSamples > 0 && !opt.allowFailedSamples)) {
         rep << "FAIL: " << res.failedSamples << " samples were empty or not finite ("
             << res.nonFiniteSamples << " not finite)\n";

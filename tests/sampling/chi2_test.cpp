@@ -136,6 +136,23 @@ TEST(Chi2, AnyNonFiniteSampleFails) {
     EXPECT_TRUE(chi2TestSphere(empty, pdf, allowed).passed);
 }
 
+TEST(Chi2, NonUnitDirectionsFail) {
+    // Right in direction, 1% too long in one sample of 10⁴: binning normalised them (before
+    // 6 Dec), so the test passed a sampler whose directions its callers use as they are.
+    const auto sample = [](Rng& rng) -> std::optional<Vec3> {
+        const Vec3 w = sampleUniformSphere(rng.uniform2());
+        return rng.uniform() < 1e-4 ? Vec3(1.01 * w) : w;
+    };
+    const auto r = chi2TestSphere(sample, [](const Vec3&) { return Inv4Pi; });
+    EXPECT_FALSE(r.passed) << r.report;
+    EXPECT_GT(r.nonUnitSamples, 0);
+    // Rounding (a length within 10⁻⁶ of 1) passes.
+    const auto rounded = [](Rng& rng) -> std::optional<Vec3> {
+        return Vec3((1 + 1e-9) * sampleUniformSphere(rng.uniform2()));
+    };
+    EXPECT_TRUE(chi2TestSphere(rounded, [](const Vec3&) { return Inv4Pi; }).passed);
+}
+
 TEST(Chi2, LostSamplesFail) {
     // 2% of the samples come back empty, yet the pdf claims they are all there.
     const auto r = chi2TestSphere(

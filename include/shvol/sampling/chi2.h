@@ -50,10 +50,13 @@ struct Chi2Result {
     double pdfIntegral = 0;  ///< ∫ pdf dω over the sphere (should be ≈ 1)
     long long failedSamples = 0;     ///< samples that were std::nullopt or not finite
     long long nonFiniteSamples = 0;  ///< of those, not finite
+    long long nonUnitSamples = 0;    ///< finite directions whose length is not 1 (± 10⁻⁶)
 };
 
 /// Runs the test. \param sample draws one direction (unit vector) from the generator, or
-/// std::nullopt for a failed sample. \param pdf the claimed solid-angle density of sample.
+/// std::nullopt for a failed sample. A direction that is not finite, or whose length is not 1
+/// within 10⁻⁶ (the integrator uses directions as they come), fails the test. \param pdf the
+/// claimed solid-angle density of sample.
 Chi2Result chi2TestSphere(const std::function<std::optional<Vec3>(Rng&)>& sample,
                           const std::function<double(const Vec3&)>& pdf,
                           const Chi2Options& opt = {});
