@@ -36,6 +36,25 @@ void expectSameImage(const Image& a, const Image& b) {
 
 }  // namespace
 
+// The image depends on the seed only, never on the thread count.
+TEST(Renderer, ImageIndependentOfThreadCount) {
+    Scene s = smallScene(4);
+    s.camera.width = 40, s.camera.height = 36;  // partial tiles on both axes
+    auto threads = [](int n) {
+        RenderOptions o;
+        o.threads = n;
+        return o;
+    };
+    const RenderResult a = render(s, threads(1)), b = render(s, threads(2)),
+                       c = render(s, threads(3));
+    EXPECT_EQ(a.image.rgb, b.image.rgb);
+    EXPECT_EQ(a.image.rgb, c.image.rgb);
+    s.settings.seed = 2;
+    const RenderResult d = render(s, threads(2));
+    EXPECT_NE(a.image.rgb, d.image.rgb);
+    EXPECT_EQ(a.stats.counters.paths, uint64_t(40 * 36 * 4));
+}
+
 // A render continued from the film of a shorter one is the longer render, bit for bit, whatever
 // the thread counts.
 TEST(Renderer, ContinuingAFilmReproducesTheUninterruptedImage) {

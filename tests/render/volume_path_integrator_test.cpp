@@ -452,24 +452,4 @@ TEST(VolumePathIntegrator, NextEventEstimationIsDecidedFromTheScene) {
     }
 }
 
-// The image depends on the seed only, never on the thread count.
-TEST(Renderer, ImageIndependentOfThreadCount) {
-    Scene s = furnaceScene(2.0, Spectrum(0.9, 0.7, 0.5), PhaseFunction(HenyeyGreensteinPhase(0.6)));
-    s.camera.width = 40, s.camera.height = 36;  // partial tiles on both axes
-    s.settings.spp = 4;
-    auto threads = [](int n) {
-        RenderOptions o;
-        o.threads = n;
-        return o;
-    };
-    const RenderResult a = render(s, threads(1)), b = render(s, threads(2)),
-                       c = render(s, threads(3));
-    EXPECT_EQ(a.image.rgb, b.image.rgb);
-    EXPECT_EQ(a.image.rgb, c.image.rgb);
-    s.settings.seed = 2;
-    const RenderResult d = render(s, threads(2));
-    EXPECT_NE(a.image.rgb, d.image.rgb);
-    EXPECT_EQ(a.stats.counters.paths, uint64_t(40 * 36 * 4));
-}
-
 }  // namespace shvol
