@@ -150,6 +150,60 @@ TEST(Vdb, DecompositionSparesLookupsNotFlights) {
     }
 }
 
+// The lower bounds of decomposition tracking hold everywhere a flight goes: on the procedural
+// cloud over a ramp that falls linearly from the centre (a positive floor under most of it, so
+// the bounds are used, and neighbouring voxels differing everywhere, so a lookup near a cell's
+// face interpolates towards lower voxels outside it), rotated and scaled (windows rounded at the
+// cells' faces), flights along random rays through its box end where plain delta tracking ends
+// them, for each cell size. A bound above the density anywhere along a ray would make a tentative
+// collision there real without a lookup (helper 92: only the upper bound had a test everywhere;
+// the lower one was checked on two rays through spheres).
+TEST(Vdb, DecompositionBoundsHoldAlongRandomRays) {
+    VdbGridSpec s;
+    s.resolution = 40;
+    CloudParams params;
+    params.seed = 7;
+    s.density = [params](const Vec3& x) {
+        return float(0.5 * cloudDensity(x, params) + std::max(0.0, 1 - 2.2 * x.norm()));
+    };
+    writeVdb(tmp("bound_below.vdb"), {s});
+    for (int cell : {0, 1, 3, 8}) {
+        VdbMediumDesc d;
+        d.file = tmp("bound_below.vdb");
+        d.densityScale = 4;  // flights reach the inside, where the bounds are positive
+        d.majorantCellVoxels = cell;
+        d.toWorld = Eigen::Translation3d(0.3, -0.2, 1) *
+                    Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()) * Eigen::Scaling(1.7);
+        d.decomposition = true;
+        const auto on = loadVdbMedium(d);
+        d.decomposition = false;
+        const auto off = loadVdbMedium(d);
+        const Bounds3 b = on->bounds();
+        const Vec3 centre = 0.5 * (b.lo + b.hi), extent = b.hi - b.lo;
+        Rng rays(19, uint64_t(cell));
+        TrackingCounters cOn, cOff;
+        int collisions = 0;
+        for (int i = 0; i < 20000; ++i) {
+            // From outside the box towards a random point of it.
+            const Vec3 to =
+                b.lo + extent.cwiseProduct(Vec3(rays.uniform(), rays.uniform(), rays.uniform()));
+            const Vec3 from = centre + extent.norm() * sampleUniformSphere(rays.uniform2());
+            const Ray r{from, (to - from).normalized()};
+            Rng a(8, uint64_t(i)), bb(8, uint64_t(i));
+            const double tOn = on->sampleCollision(r, NoCollision, a, cOn);
+            ASSERT_EQ(tOn, off->sampleCollision(r, NoCollision, bb, cOff))
+                << "cell " << cell << ", ray " << i;
+            collisions += tOn != NoCollision;
+        }
+        EXPECT_GT(collisions, 4000) << "cell " << cell;  // the rays meet the cloud
+        // ... and the bounds are used: lookups are spared
+        // (20,000 rays: 300 at cells of 8 voxels, 1,000–2,800 at the others; each decided a
+        // tentative collision by a bound, and would have ended a flight elsewhere were the bound
+        // above the density there.)
+        EXPECT_GT(cOff.densityLookups, cOn.densityLookups + 200) << "cell " << cell;
+    }
+}
+
 // Regular tracking (media/trilinear_depth.h) where a cell's majorant is high against its
 // density: a single voxel of density 1 in a 16³ grid at density scale 1000 (cells of 1 voxel,
 // majorant 1000 over the 2³ cells its interpolation reaches) and rays passing 0.8–0.95 voxels
