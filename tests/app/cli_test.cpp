@@ -1278,6 +1278,33 @@ TEST_F(Cli, RenderWarnsOfAnUnusedLightSampler) {
               "");
 }
 
+// render.mis "none" with fewer samples per pixel than the phase lobe's peak over the isotropic
+// value (HG 0.9: 190) is said, naming the medium and the peak (helper 91: most pixels come out
+// low, silently); not with as many samples, with MIS, without next-event estimation or where the
+// medium does not scatter.
+TEST_F(Cli, RenderWarnsOfLightSamplesAloneMissingASharpLobe) {
+    write("s.json", scene(Homogeneous));
+    const std::string base = "render " + path("s.json") + " -o " + path("a.exr") +
+                             " --quiet --set media[0].phase='{\"type\": \"hg\", \"g\": 0.9}'"
+                             " --set render.nee=true";
+    const Result r = run(base + " --set render.mis='\"none\"' --spp 16");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err.rfind("shvol: warning: " + path("s.json") +
+                              ": render.mis: \"none\" with 16 samples per pixel, and media[0]'s "
+                              "phase function peaks at 190 times the isotropic value",
+                          0),
+              0u)
+        << r.err;
+    EXPECT_NE(test::fileBytes(path("a.stats.json")).find("light samples alone rarely"),
+              std::string::npos);
+    for (const std::string& quiet :
+         {" --set render.mis='\"none\"' --spp 200", " --spp 16",
+          " --set render.mis='\"none\"' --spp 16 --set render.nee=false",
+          " --set render.mis='\"none\"' --spp 16 --set media[0].albedo=0",
+          " --set render.mis='\"none\"' --spp 16 --set media[0].phase.g=0.5"})
+        EXPECT_EQ(run(base + quiet).err, "") << quiet;
+}
+
 // A radiance cache that cannot be used, or whose BRDF table holds a sharp lobe poorly (the cached
 // light then comes out too dark), is said, on stderr and in the stats.
 TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
