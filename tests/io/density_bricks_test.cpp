@@ -70,6 +70,44 @@ TEST(DensityBricks, SameValuesAsOpenVdb) {
     EXPECT_EQ(bricks->sigmaT(Vec3(-100, 40, 7)), 3 * 2.5);
 }
 
+// Regular tracking reads whole voxel cells (DensityBricks::corners, or OpenVDB's accessor): on the
+// awkward grid, at a density scale where it takes most cells, free flights and both transmittance
+// estimates along rays through negative coordinates, brick boundaries, the lone voxel and the
+// 128³ tile are the same, number for number, through bricks and through OpenVDB (helper 92: only
+// the single-voxel grid compared corners() with OpenVDB).
+TEST(DensityBricks, RegularTrackingReadsTheSameCells) {
+    VdbMediumDesc d;
+    d.file = writeAwkwardGrid();
+    d.densityScale = 40;
+    const auto bricks = loadVdbMedium(d);
+    d.bricks = false;
+    const auto openvdb = loadVdbMedium(d);
+    Rng rays(23, 4);
+    TrackingCounters cb, co;
+    // (box corners, rays): the cloud of leaves about the origin, the lone voxel, the tile.
+    const std::vector<std::pair<Vec3, Vec3>> boxes = {{Vec3(-21, -10, -4), Vec3(13, 8, 31)},
+                                                      {Vec3(-101, 39, 6), Vec3(-99, 41, 8)},
+                                                      {Vec3(126, -2, -2), Vec3(258, 130, 130)}};
+    for (const auto& [lo, hi] : boxes)
+        for (int i = 0; i < 3000; ++i) {
+            const Vec3 to =
+                lo + (hi - lo).cwiseProduct(Vec3(rays.uniform(), rays.uniform(), rays.uniform()));
+            const Vec3 from = to + 1.5 * (hi - lo).norm() * sampleUniformSphere(rays.uniform2());
+            const Ray r{from, (to - from).normalized()};
+            const double tMax = 3 * (hi - lo).norm();
+            Rng a(9, uint64_t(i)), b(9, uint64_t(i));
+            ASSERT_EQ(bricks->sampleCollision(r, tMax, a, cb),
+                      openvdb->sampleCollision(r, tMax, b, co))
+                << "ray " << i << " towards " << to.transpose();
+            for (const auto est : {TransmittanceEstimator::Ratio, TransmittanceEstimator::Delta})
+                ASSERT_EQ(bricks->transmittance(r, tMax, est, a, cb),
+                          openvdb->transmittance(r, tMax, est, b, co))
+                    << "ray " << i << " towards " << to.transpose();
+        }
+    EXPECT_EQ(cb.exactCells, co.exactCells);
+    EXPECT_GT(cb.exactCells, 10000u);  // regular tracking was used
+}
+
 // The default cloud renders the same image, with the same number of density lookups, through
 // bricks and through OpenVDB.
 TEST(DensityBricks, RendersTheSameImage) {
