@@ -64,7 +64,11 @@ AreaLightSample AreaLights::sample(const Vec3& x, double uSelect, const Vec2& u)
         const double cosTheta = 1 - oneMinusCos;
         const double sin2Theta = oneMinusCos * (2 - oneMinusCos);
         const Frame f(toC / dc);
-        ls.wi = f.toWorld(sphericalDirection2Pi(cosTheta, u.y()));
+        // sin θ from 1 − cos θ itself: from the rounded cos θ it lost its digits for distant
+        // spheres (relative 10⁻⁴ at r/d = 10⁻⁶, where cos θ rounds in steps of 10⁻⁴ of
+        // 1 − cos θ_max; the direction then disagreed with dist by 1.6·10⁻⁹ of 50).
+        ls.wi = f.toWorld(
+            sphericalDirection2Pi(AngleCosine{cosTheta, oneMinusCos, 2 - oneMinusCos}, u.y()));
         // Nearest point of the sphere along wi (the root is clamped at the silhouette).
         ls.dist = dc * cosTheta - safeSqrt(sqr(s.radius) - dc * dc * sin2Theta);
         ls.ny = (x + ls.dist * ls.wi - s.center).normalized();
