@@ -14,6 +14,29 @@ using testing::checkSamples;
 using testing::evalIntegral;
 using testing::phaseChi2;
 
+// Two-term HG with one lobe at the end of its range, forward (g₁ = 0.999999 beside g₂ = −0.3,
+// w = 0.2) and backward (g₂ = −0.999999 beside g₁ = 0.5, w = 0.7), binned from the sharp lobe's
+// pole against the mixture's formula: the equal-area χ² cannot see either spike (helper 92).
+// From the forward pole 1 + g² − 2gμ = (1 − g)² + 2gd (d = 1 − μ), from the backward one
+// (1 + g)² − 2gd (d = 1 + μ).
+TEST(TwoTermHg, NarrowLobeChi2) {
+    // HG over d (φ integrated out) from the forward pole, and from the backward one.
+    const auto fromFront = [](double d, double g) {
+        return (1 - g * g) / (2 * std::pow((1 - g) * (1 - g) + 2 * g * d, 1.5));
+    };
+    const auto fromBack = [](double d, double g) {
+        return (1 - g * g) / (2 * std::pow((1 + g) * (1 + g) - 2 * g * d, 1.5));
+    };
+    const Chi2Result forward = testing::narrowLobeChi2(
+        PhaseFunction(TwoTermHenyeyGreensteinPhase(0.999999, -0.3, 0.2)), false,
+        [&](double d) { return 0.2 * fromFront(d, 0.999999) + 0.8 * fromFront(d, -0.3); }, 2, 31);
+    EXPECT_TRUE(forward.passed) << forward.report;
+    const Chi2Result backward = testing::narrowLobeChi2(
+        PhaseFunction(TwoTermHenyeyGreensteinPhase(0.5, -0.999999, 0.7)), true,
+        [&](double d) { return 0.7 * fromBack(d, 0.5) + 0.3 * fromBack(d, -0.999999); }, 2, 32);
+    EXPECT_TRUE(backward.passed) << backward.report;
+}
+
 TEST(TwoTermHg, IsTheMixture) {
     const TwoTermHenyeyGreensteinPhase p(0.9, -0.3, 0.8);
     const Vec3 wo(0, 0, 1);
