@@ -5,6 +5,7 @@
 #include "shvol/core/rng.h"
 #include "shvol/sampling/chi2.h"
 #include "shvol/sampling/hierarchical_warp.h"
+#include "shvol/sh/sh_basis.h"
 #include "shvol/sh/sh_integrals.h"
 
 namespace shvol {
@@ -86,29 +87,46 @@ TEST(ZonalSHSampler, CdfIsTheIntegralOfThePdfAndOfTheFunction) {
 // on-the-fly zonal integrals. The function must be non-negative: with negative regions the fast
 // sampler clamps leaves while the on-the-fly warp clamps per level, a legitimate difference.
 TEST(ZonalSHSampler, MatchesGenericHierarchicalWarp) {
-    // Truncated HG(0.6) at order 6 dips to −0.2/(4π) at μ = −1; lift it by 0.1 so it is ≥ 0.
-    auto p = hg(0.6, 6);
-    p[0] += 0.1 * std::sqrt(FourPi);
-    const int depth = 10;
-    const ZonalSHSampler fast(p, depth);
-    auto children = [&](const WarpNode& node, double c[4]) {
-        double Z[6];
-        for (int r = 0; r < 2; ++r) {
-            sh::legendreIntegralsZonal(6, r ? node.zMid() : node.z0, r ? node.z1 : node.zMid(), Z);
-            double m = 0;
-            for (int l = 0; l < 6; ++l) m += p[l] * Z[l];
-            c[2 * r] = c[2 * r + 1] = m * 0.5 * (node.phi1 - node.phi0);
+    // (g, order, depth): the order-6 lobe at depth 10, and sharp lobes at high orders at the
+    // default depth 16 (helper 92: only the first was compared). Each truncated lobe is lifted
+    // by its most negative value (on 20,001 cosines) and 1% of its peak, so it is ≥ 0.
+    const struct {
+        double g;
+        int n, depth;
+    } cases[] = {{0.6, 6, 10}, {0.9, 32, 16}, {0.97, 96, 16}};
+    for (const auto& c : cases) {
+        auto p = hg(c.g, c.n);
+        std::vector<double> y(c.n);
+        double lo = 0, hi = 0;
+        for (int i = 0; i <= 20000; ++i) {
+            sh::shEvalZonal(c.n, -1 + i / 10000.0, y.data());
+            double f = 0;
+            for (int l = 0; l < c.n; ++l) f += p[l] * y[l];
+            lo = std::min(lo, f), hi = std::max(hi, f);
         }
-    };
-    Rng rng(4, 4);
-    for (int i = 0; i < 5000; ++i) {
-        const Vec2 u = rng.uniform2();
-        // The generic warp splits φ at every level too; a uniform-in-φ target leaves φ = 2πu.y.
-        const WarpSample slow = hierarchicalWarp(children, depth, u);
-        const ZonalSHSampler::LocalSample f = fast.sampleLocal(u);
-        ASSERT_NEAR(f.cosTheta, slow.z, 1e-9);
-        ASSERT_NEAR(f.phi, slow.phi, 1e-9);
-        ASSERT_NEAR(f.pdf, slow.pdf, 1e-9 * slow.pdf);
+        p[0] += (0.01 * hi - lo) * std::sqrt(FourPi);
+        const ZonalSHSampler fast(p, c.depth);
+        std::vector<double> Z(c.n);
+        auto children = [&](const WarpNode& node, double m4[4]) {
+            for (int r = 0; r < 2; ++r) {
+                sh::legendreIntegralsZonal(c.n, r ? node.zMid() : node.z0,
+                                           r ? node.z1 : node.zMid(), Z.data());
+                double m = 0;
+                for (int l = 0; l < c.n; ++l) m += p[l] * Z[l];
+                m4[2 * r] = m4[2 * r + 1] = m * 0.5 * (node.phi1 - node.phi0);
+            }
+        };
+        Rng rng(4, uint64_t(c.n));
+        for (int i = 0; i < 5000; ++i) {
+            const Vec2 u = rng.uniform2();
+            // The generic warp splits φ at every level too; a uniform-in-φ target leaves
+            // φ = 2πu.y.
+            const WarpSample slow = hierarchicalWarp(children, c.depth, u);
+            const ZonalSHSampler::LocalSample f = fast.sampleLocal(u);
+            ASSERT_NEAR(f.cosTheta, slow.z, 1e-9) << "order " << c.n;
+            ASSERT_NEAR(f.phi, slow.phi, 1e-9) << "order " << c.n;
+            ASSERT_NEAR(f.pdf, slow.pdf, 1e-9 * slow.pdf) << "order " << c.n;
+        }
     }
 }
 
