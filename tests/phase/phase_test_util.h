@@ -41,16 +41,10 @@ inline Chi2Result phaseChi2(const PhaseFunction& phase, int numTests, uint64_t s
 inline Chi2Result narrowLobeChi2(const PhaseFunction& phase, bool backward,
                                  const std::function<double(double)>& density, int numTests,
                                  uint64_t seed) {
-    constexpr double dMin = 1e-15;
-    const double s0 = std::log(dMin), s1 = std::log(2.0);
-    // Cell coordinate z' ∈ (−1, 1] of a distance d, and back. (Not −1 itself: at the pole the
-    // direction binned would lose its φ.)
-    const auto zOf = [&](double d) {
-        return d <= dMin ? -1 + 1e-9 : std::min(1.0, 2 * (std::log(d) - s0) / (s1 - s0) - 1);
-    };
-    const auto dOf = [&](double z) {
-        return z <= -1 ? 0.0 : std::exp(s0 + (z + 1) / 2 * (s1 - s0));
-    };
+    const LogDistanceCells cells;
+    const double dMin = cells.dMin;
+    const auto zOf = [&](double d) { return cells.z(d); };
+    const auto dOf = [&](double z) { return cells.d(z); };
     const auto integral = [&](double a, double b, bool logScale) {  // ∫_a^b density(d) dd
         std::vector<double> x, w;
         sh::gaussLegendre(16, 0.0, 1.0, x, w);

@@ -49,27 +49,38 @@ std::string describe(const Bsdf& b, const Vec3& wo) {
     return buf;
 }
 
-// χ² of b.sample against b.pdf at wo (one of a Šidák family of numTests), and ∫ pdf dω against
-// the fraction of samples that were not lost below the horizon (binomial, 5σ).
-void expectChi2(const Bsdf& b, const Vec3& wo, int numTests, uint64_t seed) {
+// The options of a BSDF's χ² test: one of a Šidák family of numTests, samples lost below the
+// horizon allowed (their share is checked by expectPassedWithKeptShare).
+Chi2Options bsdfChi2Options(int numTests, uint64_t seed) {
     Chi2Options opt;
     opt.numTests = numTests;
     opt.seed = seed;
     opt.sampleCount = kChi2Samples;
-    opt.allowFailedSamples = true;  // (below the horizon; their share is checked below)
+    opt.allowFailedSamples = true;
+    return opt;
+}
+
+// The test passed, and ∫ pdf dω is the share of samples not lost below the horizon (binomial,
+// 5σ, plus `tol` for the quadrature of the expected counts).
+void expectPassedWithKeptShare(const Chi2Result& r, const Bsdf& b, const Vec3& wo, double tol) {
+    if (verbose()) std::cout << describe(b, wo) << "\n" << r.report;
+    EXPECT_TRUE(r.passed) << describe(b, wo) << "\n" << r.report;
+    const double N = double(kChi2Samples), kept = 1 - r.failedSamples / N;
+    EXPECT_NEAR(r.pdfIntegral, kept, 5 * std::sqrt(kept * (1 - kept) / N) + tol) << describe(b, wo);
+    EXPECT_LE(r.pdfIntegral, 1 + 1e-6) << describe(b, wo);
+}
+
+// χ² of b.sample against b.pdf at wo (one of a Šidák family of numTests), and ∫ pdf dω against
+// the fraction of samples that were not lost below the horizon.
+void expectChi2(const Bsdf& b, const Vec3& wo, int numTests, uint64_t seed) {
     const Chi2Result r = chi2TestSphere(
         [&](Rng& rng) -> std::optional<Vec3> {
             const auto s = b.sample(wo, rng.uniform2());
             if (!s) return std::nullopt;
             return s->wi;
         },
-        [&](const Vec3& wi) { return b.pdf(wo, wi); }, opt);
-    if (verbose()) std::cout << describe(b, wo) << "\n" << r.report;
-    EXPECT_TRUE(r.passed) << describe(b, wo) << "\n" << r.report;
-    const double N = double(kChi2Samples), kept = 1 - r.failedSamples / N;
-    const double sigma = std::sqrt(kept * (1 - kept) / N);
-    EXPECT_NEAR(r.pdfIntegral, kept, 5 * sigma + 1e-6) << describe(b, wo);
-    EXPECT_LE(r.pdfIntegral, 1 + 1e-6) << describe(b, wo);
+        [&](const Vec3& wi) { return b.pdf(wo, wi); }, bsdfChi2Options(numTests, seed));
+    expectPassedWithKeptShare(r, b, wo, 1e-6);
 }
 
 // ∫ f dω for f symmetric about the z axis: a few φ cells suffice (each cell is still integrated
@@ -186,14 +197,8 @@ TEST(Bsdf, WardChi2) {
 // by φ about r in 8 (as phase functions' narrowLobeChi2). Expected counts integrate b.pdf over
 // each cell, dω = dd dφ, by Gauss–Legendre in ln d (in d below 10⁻¹⁵) and adaptively in φ.
 void expectNarrowLobeChi2(const Bsdf& b, const Vec3& wo, int numTests, uint64_t seed) {
-    constexpr double dMin = 1e-15;
-    const double s0 = std::log(dMin), s1 = std::log(2.0);
-    const auto zOf = [&](double d) {
-        return d <= dMin ? -1 + 1e-9 : std::min(1.0, 2 * (std::log(d) - s0) / (s1 - s0) - 1);
-    };
-    const auto dOf = [&](double z) {
-        return z <= -1 ? 0.0 : std::exp(s0 + (z + 1) / 2 * (s1 - s0));
-    };
+    const LogDistanceCells cells;
+    const double dMin = cells.dMin;
     const Vec3 r(-wo.x(), -wo.y(), wo.z());
     const Frame frame(r);
     // The direction at distance d from r and angle φ about it (sin from d, without cancellation).
@@ -232,13 +237,9 @@ void expectNarrowLobeChi2(const Bsdf& b, const Vec3& wo, int numTests, uint64_t 
         }
         return sum;
     };
-    Chi2Options opt;
+    Chi2Options opt = bsdfChi2Options(numTests, seed);
     opt.zBins = 64;
     opt.phiBins = 8;
-    opt.numTests = numTests;
-    opt.seed = seed;
-    opt.sampleCount = kChi2Samples;
-    opt.allowFailedSamples = true;  // (below the horizon; their share is checked below)
     const Chi2Result res = chi2TestSphereCells(
         [&](Rng& rng) -> std::optional<Vec3> {
             const auto smp = b.sample(wo, rng.uniform2());
@@ -247,19 +248,15 @@ void expectNarrowLobeChi2(const Bsdf& b, const Vec3& wo, int numTests, uint64_t 
             const Vec3 l = frame.toLocal(smp->wi);
             double phi = std::atan2(l.y(), l.x());
             if (phi < 0) phi += TwoPi;
-            return sphericalDirection(zOf(d), phi);
+            return sphericalDirection(cells.z(d), phi);
         },
         [&](double z0, double z1, double p0, double p1) {
-            const double d0 = dOf(z0), d1 = dOf(z1);
+            const double d0 = cells.d(z0), d1 = cells.d(z1);
             return d0 == 0 ? cellMass(0, dMin, false, p0, p1) + cellMass(dMin, d1, true, p0, p1)
                            : cellMass(d0, d1, true, p0, p1);
         },
         opt);
-    if (verbose()) std::cout << describe(b, wo) << "\n" << res.report;
-    EXPECT_TRUE(res.passed) << describe(b, wo) << "\n" << res.report;
-    const double N = double(kChi2Samples), kept = 1 - res.failedSamples / N;
-    EXPECT_NEAR(res.pdfIntegral, kept, 5 * std::sqrt(kept * (1 - kept) / N) + 1e-4)
-        << describe(b, wo);
+    expectPassedWithKeptShare(res, b, wo, 1e-4);
 }
 
 // The lobes as narrow as the loader allows (Phong n up to 10⁶, Ward α down to 10⁻⁴, isotropic

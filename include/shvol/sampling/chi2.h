@@ -16,6 +16,8 @@
 /// With the Šidák correction for numTests tests the test passes iff p > 1 − (1 − α)^(1/numTests).
 /// Samples that come back empty (std::nullopt) or non-finite count towards N but fall in no cell;
 /// a non-finite one fails the test, an empty one unless Chi2Options::allowFailedSamples.
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -68,6 +70,25 @@ Chi2Result chi2TestSphereCells(
     const std::function<std::optional<Vec3>(Rng&)>& sample,
     const std::function<double(double z0, double z1, double phi0, double phi1)>& cellProbability,
     const Chi2Options& opt = {});
+
+/// Cells for a lobe too narrow for equal-area cells (HG g = 0.999999 is about 10⁻¹² wide in
+/// 1 − μ): a sample's distance d ∈ [0, 2] from the lobe's pole (1 − cos of the angle, from
+/// |w − pole|²/2 without the rounding of a dot product) becomes the cell coordinate
+/// z' = 2 (ln d − ln dMin)/(ln 2 − ln dMin) − 1, equal steps in ln d from dMin to 2, with d < dMin
+/// in the first cell; chi2TestSphereCells bins z' (and φ about the pole) as it bins z.
+struct LogDistanceCells {
+    double dMin = 1e-15;
+    /// z' of d (not −1 itself: at the pole the direction binned would lose its φ).
+    double z(double d) const {
+        const double s0 = std::log(dMin), s1 = std::log(2.0);
+        return d <= dMin ? -1 + 1e-9 : std::min(1.0, 2 * (std::log(d) - s0) / (s1 - s0) - 1);
+    }
+    /// d of z', 0 at z' ≤ −1.
+    double d(double z) const {
+        const double s0 = std::log(dMin), s1 = std::log(2.0);
+        return z <= -1 ? 0.0 : std::exp(s0 + (z + 1) / 2 * (s1 - s0));
+    }
+};
 
 /// ∫_{S²} f dω, summed over zBins × phiBins (z, φ) cells, each integrated by the same nested
 /// adaptive Simpson rule as the chi² expected counts (relative accuracy ≈ 1e-7 per cell).
