@@ -40,6 +40,7 @@ SHSampledPhase::SHSampledPhase(const PhaseFunction& base, const ZonalFitRequest&
     } else {
         renderedError_ = renderedError();
     }
+    forEachNode([&](double p, double, double w) { quadratureMass_ += w * p; });
 }
 
 double SHSampledPhase::baseCos(double mu) const {

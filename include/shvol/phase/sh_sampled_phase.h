@@ -82,6 +82,13 @@ class SHSampledPhase {
     /// bins clamped, sends three quarters of its light outside the forward cone (0.993 for 0.952;
     /// helper 62's audit).
     double renderedRelativeL2Error() const { return renderedError_; }
+    /// ∫ p dω of the wrapped function by the quadrature of weightSecondMoment() (which the fit's
+    /// own nodes resemble): 1 to within 10⁻⁶ wherever that quadrature sees the whole function.
+    /// Far from 1, the function has structure finer than its nodes (a tabulated spike between
+    /// 10⁻⁶° and 2·10⁻⁶°: 0; helper 94), and the fit, m₂ and the rendered error are blind to it.
+    double quadratureMass() const { return quadratureMass_; }
+    /// A render is flagged when |quadratureMass() − 1| exceeds this.
+    static constexpr double kBlindQuadrature = 1e-3;
 
   private:
     double baseCos(double mu) const;  ///< the wrapped function at cos θ = mu
@@ -99,7 +106,7 @@ class SHSampledPhase {
     std::shared_ptr<const ZonalFit> fit_;
     std::shared_ptr<const ZonalSHSampler> sampler_;
     Evaluate evaluate_;
-    double alpha_ = 0, m2_ = 1, renderedError_ = 0;
+    double alpha_ = 0, m2_ = 1, renderedError_ = 0, quadratureMass_ = 0;
 };
 
 }  // namespace shvol
