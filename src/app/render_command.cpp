@@ -184,6 +184,19 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
                                    "happens to lie, and its faces were not turned to face "
                                    "outwards (an open sheet meant so, a water surface, is "
                                    "rendered as wound: its normals point out of the glass)"));
+        // A rectangle or disk is a sheet, never a solid's surface: the same case (helper 94: a
+        // glass disk rendered a white furnace at 0.48 from its front, 1 from behind, silently).
+        if ((s.kind == Surface::Kind::Rectangle || s.kind == Surface::Kind::Disk) &&
+            s.bsdf.type == BsdfType::Dielectric)
+            w.push_back(
+                s.name + ": dielectric, but a " +
+                (s.kind == Surface::Kind::Disk ? "disk" : "rectangle") +
+                " is an open sheet, not the closed surface of a solid: light that "
+                "enters it through its front leaves only where another face happens to "
+                "lie (a white furnace seen through a glass disk renders 0.48 to 0.55 for 1); it "
+                "is rendered as "
+                "the front of glass, its normal pointing out of it; for a pane, use a "
+                "closed mesh");
         double size = (boxes[k].hi - boxes[k].lo).maxCoeff();
         // A closed mesh that rays pass through is judged by its thickness, 2V/A (a slab's: a pane
         // 2 wide and 0.0002 thick, under an offset beyond 0.0002, kept every refracted ray inside
