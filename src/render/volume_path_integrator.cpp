@@ -2,6 +2,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <boost/math/special_functions/gamma.hpp>
+
 #include <chrono>
 #include <limits>
 
@@ -17,6 +19,11 @@ void PathCounters::add(const PixelMoments& m) {
     // Σ (y − ȳ)² = Σ y² − (Σ y)²/k, never below 0 once rounded
     withinPixelSumSq += std::max(0.0, m.sumSq - m.sum * m.sum / m.count);
     withinPixelDof += m.count - 1;
+}
+
+double truncatedShareLowerBound(uint64_t truncated, uint64_t paths) {
+    if (truncated == 0 || paths == 0) return 0;
+    return boost::math::gamma_p_inv(double(truncated), 0.05) / double(paths);
 }
 
 double PathCounters::imageMeanRelativeError() const {

@@ -841,17 +841,19 @@ TEST_F(Cli, RenderWarnsOfPathsEndedByMaxDepth) {
     EXPECT_EQ(r.err, "");
     stats = nlohmann::json::parse(std::ifstream(path("out.stats.json")));
     EXPECT_GT(stats["paths_truncated"].get<uint64_t>(), 0u);
-    // Nor are fewer than 10 such paths, a share that chance gives: one path of 768 in a small
-    // render of the shipped default scene (0.07% of its paths) warned (helper 77).
+    // A few paths, most of them cut, are said too: the share's 95% lower bound is what must exceed
+    // 0.1% (truncatedShareLowerBound, which keeps one path of 768 below it, a share chance gives
+    // in a small render of the shipped default scene, helper 77); the rule of at least 10 paths
+    // that was there let 9 of 9 say nothing (helper 94).
     write("few.json", R"({"camera": {"resolution": [2, 2], "position": [0, -3, 0]},
         "render": {"spp": 2, "max_depth": 8}, "environment": {"type": "constant", "radiance": 1},
         "media": [{"type": "homogeneous", "sigma_t": 300, "albedo": 1, "phase": {"type": "hg",
         "g": 0.99}, "shape": {"type": "sphere"}}]})");
     r = run("render " + path("few.json") + " --quiet -o " + path("out.exr"));
-    EXPECT_EQ(r.err, "");
     stats = nlohmann::json::parse(std::ifstream(path("out.stats.json")));
     EXPECT_GT(stats["paths_truncated"].get<uint64_t>(), 0u);
     EXPECT_LT(stats["paths_truncated"].get<uint64_t>(), 10u);
+    EXPECT_NE(r.err.find("reached depth 8 and were ended there"), std::string::npos) << r.err;
     // A share below 0.1% is warned of once it exceeds the image mean's relative standard error:
     // this furnace cuts 0.086% of its paths, 0.99914 for 1 where the noise is about 0.0001
     // (helper 82; it said nothing).
