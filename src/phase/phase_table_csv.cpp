@@ -88,7 +88,12 @@ TabulatedPhase readPhaseTableCsv(const std::string& path) {
                          str(angles.back()) + " (angles must increase strictly)");
             // Distinct angles whose cosines round to the same double cannot be interpolated in μ.
             if (std::cos(angle * (Pi / 180)) == std::cos(angles.back() * (Pi / 180)))
-                fail(path, place, "angle " + cells[0] + " is too close to the previous angle");
+                fail(path, place,
+                     "angle " + cells[0] + " is too close to the previous angle " +
+                         str(angles.back()) +
+                         ": their cosines round to the same double, and the table is linear in "
+                         "the cosine (near 0° and 180° angles must differ by about 10⁻⁶° or "
+                         "more)");
         }
         angles.push_back(angle);
         values.push_back(value);

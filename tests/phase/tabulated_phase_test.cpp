@@ -144,6 +144,11 @@ TEST(TabulatedCsv, OneLineErrors) {
     EXPECT_EQ(err("decr.csv", "0,1\n90,1\n45,2\n"),
               "line 3: angle 45 is not greater than the previous angle 90 (angles must increase "
               "strictly)");
+    // (why it is too close, and by how much: helper 94 found the bare "too close" unclear)
+    EXPECT_EQ(err("close.csv", "0,1\n1e-9,2\n180,1\n"),
+              "line 2: angle 1e-9 is too close to the previous angle 0: their cosines round to "
+              "the same double, and the table is linear in the cosine (near 0° and 180° angles "
+              "must differ by about 10⁻⁶° or more)");
     EXPECT_EQ(err("one.csv", "angle,value\n0,1\n"),
               "line 2: expected at least 2 (angle, value) rows, got 1");
     // (an empty file has no line to name: it was "line 0"; helper 84)
