@@ -43,18 +43,11 @@ bool launchedByMpi() {
 
 bool gInitialised = false;
 
-// PathCounters is a run of uint64_t counters (TrackingCounters included), reduced as one array,
-// and three doubles after them, reduced as doubles (helper 87: summed as integers, their bit
-// patterns made the max_depth warning's standard error negative). A double counter must go
-// among those three, and here.
-constexpr size_t kDoublesAt = offsetof(PathCounters, luminanceSum);
-constexpr int kCounterWords = int(kDoublesAt / sizeof(uint64_t));
-static_assert(kDoublesAt % sizeof(uint64_t) == 0 &&
-                  offsetof(PathCounters, luminanceSumSq) == kDoublesAt + sizeof(double) &&
-                  offsetof(PathCounters, withinPixelSumSq) == kDoublesAt + 2 * sizeof(double) &&
-                  sizeof(PathCounters) == kDoublesAt + 3 * sizeof(double),
-              "PathCounters: uint64_t counters, then luminanceSum, luminanceSumSq and "
-              "withinPixelSumSq");
+// PathCounters is a run of uint64_t counters (TrackingCounters included), reduced as one array
+// (the spread of the image, a double, is recomputed from the reduced film: helper 87 found doubles
+// summed as integers; it was a counter then). A counter of another type needs its own reduction.
+constexpr int kCounterWords = int(sizeof(PathCounters) / sizeof(uint64_t));
+static_assert(sizeof(PathCounters) % sizeof(uint64_t) == 0, "PathCounters: uint64_t counters only");
 
 template <typename T>
 void reduce(std::vector<T>& v, MPI_Datatype type, bool root, MPI_Op op = MPI_SUM) {
@@ -126,18 +119,16 @@ void MpiWorld::reduceToRoot(Film& film, RenderStats& stats) const {
     reduce(film.sum, MPI_DOUBLE, root());
     reduce(film.count, MPI_UINT32_T, root());
     reduce(film.sumSq, MPI_DOUBLE, root());
+    reduce(film.luminanceSumSq, MPI_DOUBLE, root());
     std::vector<uint64_t> c(kCounterWords);
-    std::memcpy(c.data(), &stats.counters, kDoublesAt);
+    std::memcpy(c.data(), &stats.counters, sizeof(PathCounters));
     reduce(c, MPI_UINT64_T, root());
-    std::vector<double> moments{stats.counters.luminanceSum, stats.counters.luminanceSumSq,
-                                stats.counters.withinPixelSumSq};
-    reduce(moments, MPI_DOUBLE, root());
     std::vector<double> wall{stats.wallSeconds};  // the slowest rank's
     reduce(wall, MPI_DOUBLE, root(), MPI_MAX);
     if (!root()) return;
-    std::memcpy(&stats.counters, c.data(), kDoublesAt);
-    stats.counters.luminanceSum = moments[0], stats.counters.luminanceSumSq = moments[1],
-    stats.counters.withinPixelSumSq = moments[2];
+    std::memcpy(&stats.counters, c.data(), sizeof(PathCounters));
+    // From the whole film, in pixel order: the one process's value, bit for bit.
+    stats.imageMeanRelativeError = film.meanRelativeError();
     stats.wallSeconds = wall[0];
     stats.minSamples = film.minCount();
     stats.maxSamples = film.maxCount();

@@ -379,7 +379,7 @@ std::vector<std::string> renderWarnings(const Scene& scene, const RenderStats& s
     const uint64_t paths = st.counters.paths + st.radianceCache.recordPaths,
                    truncated = st.counters.truncatedPaths + st.radianceCache.recordPathsTruncated;
     const double share = paths > 0 ? double(truncated) / double(paths) : 0,
-                 relativeError = st.counters.imageMeanRelativeError();
+                 relativeError = st.imageMeanRelativeError;
     const double surely = truncatedShareLowerBound(truncated, paths);
     if (scene.settings.maxDepth >= kTruncationWarningDepth &&
         (surely > kTruncatedPathsShare || surely > relativeError)) {
@@ -434,6 +434,10 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
     j["exact_cells"] = c.tracking.exactCells;
     j["non_finite_samples"] = c.nonFiniteSamples;
     j["paths_truncated"] = c.truncatedPaths;
+    // (null where unknown: no light, or a film resumed from a checkpoint without its squares)
+    j["image_mean_relative_error"] = std::isfinite(st.imageMeanRelativeError)
+                                         ? nlohmann::json(st.imageMeanRelativeError)
+                                         : nlohmann::json(nullptr);
     if (const SurfaceScene* surf = scene.surfaces.get()) {
         nlohmann::json& sj = j["surfaces"];
         sj["count"] = surf->surfaces().size();

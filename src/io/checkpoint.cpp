@@ -20,6 +20,8 @@ namespace {
 constexpr char kMagic[8] = {'S', 'H', 'V', 'O', 'L', 'C', 'K', '2'};
 constexpr char kMagic1[8] = {'S', 'H', 'V', 'O', 'L', 'C', 'K', '1'};  ///< format 1
 constexpr uint32_t kHasSumSq = 1;  ///< flags: the film has sums of squares (--variance)
+/// flags: the film has its luminances' sums of squares (from 6 Dec; without, they are unknown)
+constexpr uint32_t kHasLuminanceSumSq = 2;
 
 template <class T>
 void put(std::string& out, const T& v) {
@@ -136,7 +138,8 @@ void writeCheckpoint(const std::string& path, const Film& film, const Json& iden
     header += id;
     put(header, int32_t(film.width));
     put(header, int32_t(film.height));
-    put(header, uint32_t(film.sumSq.empty() ? 0 : kHasSumSq));
+    put(header, uint32_t((film.sumSq.empty() ? 0 : kHasSumSq) |
+                         (film.luminanceSumSq.empty() ? 0 : kHasLuminanceSumSq)));
     // Streamed from the film, the checksum computed on the way: a copy of a 4K film with variance
     // is 430 MB more (helper 71).
     writeAtomically(path, [&](const std::string& tmp) {
@@ -151,6 +154,7 @@ void writeCheckpoint(const std::string& path, const Film& film, const Json& iden
         write(film.count.data(), film.count.size() * sizeof(uint32_t));
         write(film.sum.data(), film.sum.size() * sizeof(double));
         write(film.sumSq.data(), film.sumSq.size() * sizeof(double));
+        write(film.luminanceSumSq.data(), film.luminanceSumSq.size() * sizeof(double));
         f.write(reinterpret_cast<const char*>(&sum), sizeof sum);
         f.close();
         if (!f) failWriting(path, errno);
@@ -200,12 +204,14 @@ Film readCheckpoint(const std::string& path, const Json& identity) {
     std::memcpy(&w, head.data() + header - 12, 4);
     std::memcpy(&h, head.data() + header - 8, 4);
     std::memcpy(&flags, head.data() + header - 4, 4);
-    if (flags & ~kHasSumSq) fail(path, "header", "unknown flags " + std::to_string(flags));
-    const bool hasSumSq = flags & kHasSumSq;
+    if (flags & ~(kHasSumSq | kHasLuminanceSumSq))
+        fail(path, "header", "unknown flags " + std::to_string(flags));
+    const bool hasSumSq = flags & kHasSumSq, hasLuminanceSumSq = flags & kHasLuminanceSumSq;
     if (w <= 0 || h <= 0 || w > (1 << 16) || h > (1 << 16))
         fail(path, "header", "invalid resolution " + std::to_string(w) + "x" + std::to_string(h));
     const size_t pixels = size_t(w) * size_t(h);
-    const size_t expected = header + pixels * (4 + 3 * 8 * (hasSumSq ? 2 : 1)) + 8;
+    const size_t expected =
+        header + pixels * (4 + 3 * 8 * (hasSumSq ? 2 : 1) + (hasLuminanceSumSq ? 8 : 0)) + 8;
     if (size != expected)
         fail(path, "",
              std::to_string(size) + " bytes where its header (" + std::to_string(w) + "x" +
@@ -213,6 +219,7 @@ Film readCheckpoint(const std::string& path, const Json& identity) {
                  std::to_string(expected) + ": truncated, padded or corrupt");
     Film film(w, h);
     if (hasSumSq) film.sumSq.resize(pixels * 3);
+    if (!hasLuminanceSumSq) film.luminanceSumSq.clear();  // unknown
     uint64_t computed = fnv1a(head.data(), head.size());
     const auto readHashed = [&](void* data, size_t bytes) {
         read(data, bytes);
@@ -221,6 +228,7 @@ Film readCheckpoint(const std::string& path, const Json& identity) {
     readHashed(film.count.data(), pixels * 4);
     readHashed(film.sum.data(), pixels * 3 * 8);
     readHashed(film.sumSq.data(), film.sumSq.size() * 8);
+    readHashed(film.luminanceSumSq.data(), film.luminanceSumSq.size() * 8);
     uint64_t sum;
     read(&sum, 8);
     if (computed != sum) fail(path, "", "checksum mismatch (corrupt file)");
@@ -240,6 +248,9 @@ Film readCheckpoint(const std::string& path, const Json& identity) {
         const char* bad = !std::isfinite(film.sum[i]) ? "a sum that is not finite"
                           : hasSumSq && !(std::isfinite(film.sumSq[i]) && film.sumSq[i] >= 0)
                               ? "a sum of squares that is negative or not finite"
+                          : hasLuminanceSumSq && !(std::isfinite(film.luminanceSumSq[i / 3]) &&
+                                                   film.luminanceSumSq[i / 3] >= 0)
+                              ? "a sum of squared luminances that is negative or not finite"
                               : nullptr;
         if (bad)
             fail(path,

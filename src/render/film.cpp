@@ -36,6 +36,27 @@ Image Film::standardError() const {
     return img;
 }
 
+double Film::meanRelativeError() const {
+    if (luminanceSumSq.empty()) return INFINITY;
+    double n = 0, ySum = 0, ySumSq = 0, within = 0, dof = 0;
+    for (size_t i = 0; i < pixels(); ++i) {
+        const double k = count[i];
+        if (k == 0) continue;
+        const double s = luminance(Spectrum(sum[3 * i], sum[3 * i + 1], sum[3 * i + 2]));
+        n += k, ySum += s, ySumSq += luminanceSumSq[i];
+        if (k < 2) continue;
+        // Σ (y − ȳ)² = Σ y² − (Σ y)²/k, never below 0 once rounded
+        within += std::max(0.0, luminanceSumSq[i] - s * s / k);
+        dof += k - 1;
+    }
+    if (n < 2 || !(ySum > 0)) return INFINITY;
+    const double mean = ySum / n;
+    // (from a quarter of the samples' degrees of freedom on: at 1 spp there are none within)
+    const double variance =
+        dof >= 0.25 * n ? within / dof : std::max(0.0, ySumSq / n - mean * mean) * n / (n - 1);
+    return std::sqrt(variance / n) / mean;
+}
+
 uint32_t Film::minCount() const {
     return count.empty() ? 0 : *std::min_element(count.begin(), count.end());
 }

@@ -170,6 +170,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
         st.resumedFromSamples = resumedFrom;
         st.passEnd = passEnd;
         for (const PathCounters& c : counters) st.counters.add(c);
+        st.imageMeanRelativeError = film.meanRelativeError();
         describeIntegrator(integrator, st);
         return st;
     };
@@ -213,24 +214,24 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
                             uint32_t& n = film.count[pixel];
                             double* sum = &film.sum[3 * pixel];
                             double* sq = film.sumSq.empty() ? nullptr : &film.sumSq[3 * pixel];
+                            double* ySq =
+                                film.luminanceSumSq.empty() ? nullptr : &film.luminanceSumSq[pixel];
                             const SobolPixel sobolPixel(s.seed, pixel);
-                            PixelMoments moments;  // this pass's samples of the pixel
                             for (; n < end; ++n) {
-                                if (shouldStop()) return c.add(moments);
+                                if (shouldStop()) return;
                                 const Spectrum L =
                                     s.sampler == SampleStream::Sobol
                                         ? pathSample(SobolSampler(sobolPixel, n), x, y, c)
                                         : pathSample(Rng::forSample(s.seed, pixel, n), x, y, c);
                                 if (L.allFinite()) {
                                     sum[0] += L[0], sum[1] += L[1], sum[2] += L[2];
-                                    moments.add(luminance(L));
+                                    if (ySq) *ySq += sqr(luminance(L));
                                     if (sq)
                                         sq[0] += L[0] * L[0], sq[1] += L[1] * L[1],
                                             sq[2] += L[2] * L[2];
                                 } else
                                     ++c.nonFiniteSamples;
                             }
-                            c.add(moments);
                         }
                     }
                     progress.advance(end - passEnd);

@@ -13,29 +13,9 @@
 
 namespace shvol {
 
-void PathCounters::add(const PixelMoments& m) {
-    luminanceSum += m.sum, luminanceSumSq += m.sumSq;
-    if (m.count < 2) return;
-    // Σ (y − ȳ)² = Σ y² − (Σ y)²/k, never below 0 once rounded
-    withinPixelSumSq += std::max(0.0, m.sumSq - m.sum * m.sum / m.count);
-    withinPixelDof += m.count - 1;
-}
-
 double truncatedShareLowerBound(uint64_t truncated, uint64_t paths) {
     if (truncated == 0 || paths == 0) return 0;
     return boost::math::gamma_p_inv(double(truncated), 0.05) / double(paths);
-}
-
-double PathCounters::imageMeanRelativeError() const {
-    const double n = double(paths - std::min(paths, nonFiniteSamples));
-    if (n < 2 || !(luminanceSum > 0)) return INFINITY;
-    const double mean = luminanceSum / n;
-    // (from a quarter of the samples' degrees of freedom on: one pass of two equal samples
-    // among passes of one would give 0; helper 90)
-    const double variance = double(withinPixelDof) >= 0.25 * n
-                                ? withinPixelSumSq / double(withinPixelDof)
-                                : std::max(0.0, luminanceSumSq / n - mean * mean) * n / (n - 1);
-    return std::sqrt(variance / n) / mean;
 }
 
 void PathCounters::add(const PathCounters& o) {
@@ -48,10 +28,6 @@ void PathCounters::add(const PathCounters& o) {
     transmittanceRays += o.transmittanceRays;
     nonFiniteSamples += o.nonFiniteSamples;
     truncatedPaths += o.truncatedPaths;
-    withinPixelDof += o.withinPixelDof;
-    luminanceSum += o.luminanceSum;
-    luminanceSumSq += o.luminanceSumSq;
-    withinPixelSumSq += o.withinPixelSumSq;
     surfaceHits += o.surfaceHits;
     cacheLookups += o.cacheLookups;
     cacheHits += o.cacheHits;

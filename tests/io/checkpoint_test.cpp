@@ -34,6 +34,7 @@ Film sampleFilm() {
     for (size_t i = 0; i < f.pixels(); ++i) {
         f.count[i] = uint32_t(i + 1);
         for (int c = 0; c < 3; ++c) f.sum[3 * i + c] = 0.1 * double(i) + c + 1e-17 * double(i);
+        f.luminanceSumSq[i] = 0.3 * double(i) + 1e-17;
     }
     return f;
 }
@@ -61,6 +62,12 @@ TEST(Checkpoint, RoundTripIsExact) {
     EXPECT_EQ(g.count, f.count);
     EXPECT_EQ(g.sum, f.sum);  // bit-exact doubles
     EXPECT_TRUE(g.sumSq.empty());
+    EXPECT_EQ(g.luminanceSumSq, f.luminanceSumSq);
+    // A film whose luminances' squares are unknown is read back so (flags bit 1 clear).
+    Film unknown = sampleFilm();
+    unknown.luminanceSumSq.clear();
+    writeCheckpoint(p, unknown, sampleIdentity());
+    EXPECT_TRUE(readCheckpoint(p, sampleIdentity()).luminanceSumSq.empty());
     Film v = sampleFilm();  // with sums of squares (--variance)
     v.sumSq.assign(v.sum.size(), 0.25);
     v.sumSq[5] = 7.5;
@@ -78,9 +85,9 @@ TEST(Checkpoint, DamagedOrForeignFilesAreRefused) {
               p + ": written for a different render: it was saved by shvol build abc, this is abd "
                   "(only the sample count may change)");
     // (the layout of checkpoint.h: magic and identity length, the identity, width, height and
-    // flags, 4 + 3·8 bytes per pixel, a checksum of 8)
+    // flags, 4 + 3·8 + 8 bytes per pixel, a checksum of 8)
     const size_t header = 8 + 4 + dumpJson(id).size() + 12;
-    ASSERT_EQ(std::filesystem::file_size(p), header + 6 * (4 + 3 * 8) + 8);
+    ASSERT_EQ(std::filesystem::file_size(p), header + 6 * (4 + 3 * 8 + 8) + 8);
     {  // flip one byte of the sums
         std::fstream f(p, std::ios::in | std::ios::out | std::ios::binary);
         f.seekp(std::streamoff(header + 6 * 4 + 5));
@@ -91,7 +98,8 @@ TEST(Checkpoint, DamagedOrForeignFilesAreRefused) {
     std::filesystem::resize_file(p, header + 10);
     EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
               p + ": " + std::to_string(header + 10) + " bytes where its header (3x2) needs " +
-                  std::to_string(header + 6 * (4 + 3 * 8) + 8) + ": truncated, padded or corrupt");
+                  std::to_string(header + 6 * (4 + 3 * 8 + 8) + 8) +
+                  ": truncated, padded or corrupt");
     std::filesystem::resize_file(p, 40);
     EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
               p + ": header: 40 bytes, too few for its header (an identity of " +
@@ -139,6 +147,14 @@ TEST(Checkpoint, DamageBehindAValidChecksumIsRefused) {
     });
     EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
               p + ": pixel (2, 1): a sum of squares that is negative or not finite (corrupt file)");
+    writeCheckpoint(p, sampleFilm(), id);  // the luminances' squares follow the sums
+    rewriteWithChecksum(p, [&](std::string& b) {
+        const double v = std::nan("");
+        std::memcpy(&b[sums + 6 * 3 * 8 + 4 * 8], &v, 8);  // pixel 4 = (1, 1)
+    });
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
+              p + ": pixel (1, 1): a sum of squared luminances that is negative or not finite "
+                  "(corrupt file)");
 
     for (const char* identity : {R"({"scene": 5, "inputs": {}, "build": "abc"})",
                                  R"({"scene": {"a": 1}, "inputs": {}, "build": "abc"})",

@@ -55,6 +55,28 @@ TEST(Renderer, ImageIndependentOfThreadCount) {
     EXPECT_EQ(a.stats.counters.paths, uint64_t(40 * 36 * 4));
 }
 
+// The image's relative standard error (the max_depth warning's measure of noise) depends on the
+// seed only: not on the thread count, nor on the passes (one sample each, as
+// --checkpoint-interval 0 makes them), nor on a resume (helper 93: it was pooled per pass and
+// summed per thread, and the warning came and went with --checkpoint-interval 0).
+TEST(Renderer, ImageMeanRelativeErrorDependsOnTheSeedOnly) {
+    const Scene s = smallScene(16);
+    RenderOptions one;
+    one.threads = 1;
+    const RenderResult a = render(s, one);
+    RenderOptions passes;
+    passes.threads = 3;
+    passes.maxPassSeconds = 0;  // every pass after the first is one sample
+    const RenderResult b = render(s, passes);
+    RenderOptions first;
+    first.threads = 2;
+    const RenderResult c = render(s, first, render(smallScene(5), first).film);
+    EXPECT_TRUE(std::isfinite(a.stats.imageMeanRelativeError));
+    EXPECT_GT(a.stats.imageMeanRelativeError, 0);
+    EXPECT_EQ(a.stats.imageMeanRelativeError, b.stats.imageMeanRelativeError);
+    EXPECT_EQ(a.stats.imageMeanRelativeError, c.stats.imageMeanRelativeError);
+}
+
 // A render continued from the film of a shorter one is the longer render, bit for bit, whatever
 // the thread counts.
 TEST(Renderer, ContinuingAFilmReproducesTheUninterruptedImage) {

@@ -6,7 +6,8 @@
 /// Binary layout (little-endian, as the machines shvol runs on):
 ///   "SHVOLCK2" | u32 n | identity (renderIdentity as compact JSON, n bytes) | i32 width |
 ///   i32 height | u32 flags | u32 count[w·h] | f64 sum[3·w·h] | (flags bit 0: f64 sumSq[3·w·h]) |
-///   u64 FNV-1a checksum of all before it.
+///   (flags bit 1: f64 luminanceSumSq[w·h]; since 6 Dec, unknown without) | u64 FNV-1a checksum
+///   of all before it.
 /// Format 1 ("SHVOLCK1") held one 64-bit hash of the identity, so a mismatch could not say what
 /// differed; its files are recognised and refused (the build they name is not this one anyway).
 /// Files are written atomically (temporary + rename), so a kill during a write leaves the previous

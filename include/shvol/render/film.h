@@ -16,10 +16,18 @@ struct Film {
     std::vector<double> sum;      ///< 3 per pixel
     std::vector<uint32_t> count;  ///< samples taken per pixel (dropped NaN/Inf samples count)
     std::vector<double> sumSq;    ///< 3 per pixel, sums of squares; empty unless asked for
+    /// 1 per pixel: Σ y² over its finite samples' luminances y (Σ y is the luminance of `sum`),
+    /// the spread within the pixel that meanRelativeError() is made of; empty where unknown (a
+    /// checkpoint written before 6 Dec).
+    std::vector<double> luminanceSumSq;
 
     Film() = default;
     Film(int w, int h)
-        : width(w), height(h), sum(size_t(3) * w * h, 0.0), count(size_t(w) * h, 0) {}
+        : width(w),
+          height(h),
+          sum(size_t(3) * w * h, 0.0),
+          count(size_t(w) * h, 0),
+          luminanceSumSq(size_t(w) * h, 0.0) {}
     size_t pixels() const { return count.size(); }
     /// sum / count per pixel (0 where no sample was taken yet).
     Image image() const;
@@ -27,6 +35,17 @@ struct Film {
     /// the unbiased sample variance, i.e. √((Σx²/n − x̄²)/(n − 1)), from the sample moments; +∞
     /// (unknown) where fewer than 2 samples were taken or Σx² overflowed. Needs sumSq.
     Image standardError() const;
+    /// The relative standard error of the image's mean luminance, √(s²/n)/ȳ over its n samples,
+    /// s² the pooled variance of the samples within a pixel, Σ_p Σ (y − ȳ_p)² / Σ_p (n_p − 1)
+    /// (the spread between pixels is the picture, not noise: the variance of all samples was
+    /// 1.18× too large on media/default.json; helper 87), or, where pixels of two samples or more
+    /// hold less than a quarter of the samples' degrees of freedom (1 spp), that of all samples,
+    /// which overstates it. Samples are taken as independent, which overstates a stratified
+    /// render's error and leaves out what its samples share (radiance-cache records); a dropped
+    /// (NaN) sample counts in n. Summed in pixel order from the film, so it depends on the seed
+    /// and the samples only, never on the threads, the passes or a resume (it was summed per pass
+    /// and thread before 6 Dec; helper 93). ∞ without light or where luminanceSumSq is unknown.
+    double meanRelativeError() const;
     uint32_t minCount() const;
     uint32_t maxCount() const;
 };

@@ -84,6 +84,9 @@ struct RenderStats {
     int spp = 0;
     uint64_t seed = 0;
     PathCounters counters;
+    /// The relative standard error of the image's mean luminance (Film::meanRelativeError): of
+    /// the whole film, a resumed render's earlier samples too.
+    double imageMeanRelativeError = INFINITY;
     std::vector<std::string> effects;
     double rouletteThreshold = 1;  ///< Russian roulette's threshold θ as decided (Effects)
     LightSamplingStats lightSampling;

@@ -62,13 +62,6 @@
 
 namespace shvol {
 
-/// The luminances of one pixel's samples in one pass: their count, sum and sum of squares.
-struct PixelMoments {
-    uint32_t count = 0;
-    double sum = 0, sumSq = 0;
-    void add(double y) { ++count, sum += y, sumSq += y * y; }
-};
-
 /// Counters of the paths a thread traced, summed over threads into the render statistics.
 struct PathCounters {
     uint64_t paths = 0;
@@ -87,27 +80,8 @@ struct PathCounters {
     uint64_t cacheLookupNs = 0;      ///< time spent in them (steady clock)
     uint64_t nonFiniteSamples = 0;   ///< samples discarded because Li was NaN or Inf
     uint64_t truncatedPaths = 0;     ///< paths ended by max_depth (the light beyond it is lost)
-    /// Degrees of freedom of withinPixelSumSq: Σ (k − 1) over the renderer's pixel passes of k
-    /// finite samples.
-    uint64_t withinPixelDof = 0;
     TrackingCounters tracking;
-    /// Σ y and Σ y² over the finite camera samples' luminances y, and Σ over pixel passes of
-    /// Σ (y − ȳ)² about the pass's mean: the spread of samples within a pixel, which the image
-    /// mean's standard error is made of (the spread between pixels, the picture itself, is not
-    /// noise). Doubles last: MPI reduces the words before them as integers (mpi_world.cpp).
-    double luminanceSum = 0, luminanceSumSq = 0, withinPixelSumSq = 0;
     void add(const PathCounters& o);
-    void add(const PixelMoments& m);
-    /// The relative standard error of the image's mean luminance, √(s²/n)/ȳ over the n finite
-    /// samples, s² the pooled variance of the samples within a pixel pass, ΣSS/Σ(k − 1) (the
-    /// variance of all samples counted the picture's contrast as noise, 1.18× too large on
-    /// media/default.json; helper 87), or where passes of two samples or more hold less than a
-    /// quarter of the degrees of freedom (passes of one sample: --checkpoint-interval 0) that
-    /// of all samples, which overstates it (helper 88: it was ∞ there); ∞ without light. Samples
-    /// are taken as independent, which overstates a stratified render's error and leaves out what
-    /// its samples share (radiance-cache records). Sums of doubles in the threads' order: the last
-    /// digit can depend on the thread count.
-    double imageMeanRelativeError() const;
 };
 
 /// The share of paths ended by max_depth that is exceeded with 95% confidence: the one-sided lower
