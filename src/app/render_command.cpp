@@ -278,29 +278,35 @@ std::string unusedLightSamplingWarning(const Scene& scene, const Effects& effect
 }
 
 /// render.mis "none" where light samples alone cannot converge at the render's samples per
-/// pixel: a light sample meets a phase lobe that peaks at P = 4π·p_max times the isotropic value
+/// pixel: a light sample meets a phase lobe (or a BSDF's, Bsdf's peakOverIsotropic) that peaks
+/// at P = 4π·p_max times the isotropic value
 /// about once in P draws, and with fewer samples per pixel than P most pixels come out low, a few
 /// far too high (white furnace, τ = 4, 15 phase functions: the median pixel over the truth depends
 /// on spp/P alone, 0.95 at 1.3, 0.82 at 0.35, 0.57 at 0.08, 0.3 at 0.02; balance MIS 1.000 at
-/// every spp; helper 91). "" where it does not apply or spp ≥ P for every scattering medium.
+/// every spp; helper 91). "" where it does not apply or spp ≥ P for every scattering medium and
+/// surface.
 std::string misNoneWarning(const Scene& scene, const Effects& effects) {
     if (!effects.nextEvent || effects.mis != MisHeuristic::None) return "";
     double peak = 0;
-    size_t which = 0;
+    std::string which;
     for (size_t i = 0; i < scene.media.size(); ++i)
         if (scene.media[i]->scatters())
             if (const double p = peakOverIsotropic(scene.media[i]->phase()); p > peak)
-                peak = p, which = i;
+                peak = p, which = "media[" + std::to_string(i) + "]'s phase function";
+    // (A glossy BSDF's lobe is met by light samples alone as rarely.)
+    if (scene.surfaces)
+        for (const Surface& s : scene.surfaces->surfaces())
+            if (const double p = peakOverIsotropic(s.bsdf); p > peak)
+                peak = p, which = s.name + "'s BSDF";
     if (!(peak > scene.settings.spp)) return "";
-    char msg[700];
+    char msg[800];
     std::snprintf(msg, sizeof msg,
-                  "render.mis: \"none\" with %d samples per pixel, and media[%zu]'s phase "
-                  "function peaks at %.3g times the isotropic value: light samples alone rarely "
-                  "meet its lobe, so most pixels come out low and a few far too high (a white "
-                  "furnace's median pixel is 5%% low at 1.3 times as many samples as the peak, "
-                  "43%% at 0.08 times); use \"balance\" or \"power\", or several times %.3g "
-                  "samples per pixel",
-                  scene.settings.spp, which, peak, peak);
+                  "render.mis: \"none\" with %d samples per pixel, and %s peaks at %.3g times "
+                  "the isotropic value: light samples alone rarely meet its lobe, so most pixels "
+                  "come out low and a few far too high (a white furnace's median pixel is 5%% "
+                  "low at 1.3 times as many samples as the peak, 43%% at 0.08 times); use "
+                  "\"balance\" or \"power\", or several times %.3g samples per pixel",
+                  scene.settings.spp, which.c_str(), peak, peak);
     return msg;
 }
 

@@ -1323,6 +1323,17 @@ TEST_F(Cli, RenderWarnsOfLightSamplesAloneMissingASharpLobe) {
         << r.err;
     EXPECT_NE(test::fileBytes(path("a.stats.json")).find("light samples alone rarely"),
               std::string::npos);
+    // A glossy surface's lobe as well (Phong n = 10⁴: 20,002).
+    write("g.json", R"({"camera": {"resolution": [4, 4], "position": [0, -3, 2]},
+        "render": {"spp": 4, "nee": true, "mis": "none"}, "environment": {"type": "constant",
+        "radiance": 1}, "surfaces": [{"type": "rectangle", "name": "floor", "bsdf": {"type":
+        "phong", "diffuse": 0, "specular": 0.5, "exponent": 10000}}]})");
+    const Result glossy = run("render " + path("g.json") + " -o " + path("g.exr") + " --quiet");
+    EXPECT_EQ(glossy.code, 0) << glossy.err;
+    EXPECT_NE(glossy.err.find("render.mis: \"none\" with 4 samples per pixel, and floor's BSDF "
+                              "peaks at 2e+04 times the isotropic value"),
+              std::string::npos)
+        << glossy.err;
     for (const std::string& quiet :
          {" --set render.mis='\"none\"' --spp 200", " --spp 16",
           " --set render.mis='\"none\"' --spp 16 --set render.nee=false",

@@ -278,6 +278,22 @@ TEST(Bsdf, NarrowLobeChi2) {
         for (const Vec3& wo : wos) expectNarrowLobeChi2(b, wo, family, seed++);
 }
 
+// The sampling density's peak over the uniform sphere's, against the closed forms at normal
+// incidence: (n + 1)/(2π) for Phong's lobe, 1/(4π α_x α_y) for Ward's half-vector sampling,
+// 1/π for Lambert; 0 for the delta types.
+TEST(Bsdf, PeakOverIsotropic) {
+    const Spectrum zero = Spectrum::Zero(), half = Spectrum::Constant(0.5);
+    for (double n : {1.0, 22.0, 1e4, 1e6})
+        EXPECT_NEAR(peakOverIsotropic(Bsdf::phong(zero, half, n)), 2 * (n + 1), 1e-9 * n) << n;
+    for (const auto& [ax, ay] : {std::pair{0.1, 0.1}, {1e-4, 1e-4}, {0.01, 0.04}})
+        EXPECT_NEAR(peakOverIsotropic(Bsdf::ward(zero, half, ax, ay)), 1 / (ax * ay),
+                    1e-9 / (ax * ay))
+            << ax << " " << ay;
+    EXPECT_NEAR(peakOverIsotropic(Bsdf::lambert(half)), 4, 1e-12);
+    EXPECT_EQ(peakOverIsotropic(Bsdf::mirror(half)), 0);
+    EXPECT_EQ(peakOverIsotropic(Bsdf::dielectric(1.5)), 0);
+}
+
 TEST(Bsdf, PdfIntegratesToOneWhenNothingIsLost) {
     // Lambert always; phong at normal incidence (its lobe about +z stays above the horizon).
     for (const Vec3& wo : kWos) {
