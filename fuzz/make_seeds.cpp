@@ -210,15 +210,20 @@ int main(int argc, char** argv) {
         }
         truncateCopy(vdb + "sphere8.vdb", vdb + "bad_truncated.vdb", 0.6);
 
-        // Checkpoints of the fuzzer's render (4x3), without and with sums of squares; one of
-        // another render (the seed and a file's contents differ).
+        // Checkpoints of the fuzzer's render (4x3), without and with sums of squares, with the
+        // luminances' squares unknown (flags bit 1 clear, as before 6 Dec); one of another render
+        // (the seed and a file's contents differ).
         const shvol::Json identity = shvol::fuzz::checkpointIdentity();
         shvol::Film film(4, 3);
         for (size_t i = 0; i < film.pixels(); ++i) {
             film.count[i] = uint32_t(i % 5);
             for (int c = 0; c < 3; ++c) film.sum[3 * i + c] = 0.25 * double(i + c);
+            film.luminanceSumSq[i] = 0.0625 * double(i);
         }
         writeCheckpointSeed(ckpt + "film.ckpt", film, identity);
+        shvol::Film unknown = film;
+        unknown.luminanceSumSq.clear();
+        writeCheckpointSeed(ckpt + "unknown_squares.ckpt", unknown, identity);
         film.sumSq = film.sum;
         writeCheckpointSeed(ckpt + "variance.ckpt", film, identity);
         shvol::Json other = identity;

@@ -41,6 +41,9 @@ namespace {
 
 constexpr const char* kRenderWritesExr = "render writes OpenEXR (shvol tonemap makes a PNG)";
 
+/// render.mis "none" warns below this many samples per pixel per unit of the sharpest lobe's peak
+/// over the isotropic value (misNoneWarning).
+constexpr double kMisNoneSamplesPerPeak = 4;
 /// A rendered SH fit looser than this (relative L2 error) is worth a warning.
 constexpr double kLooseFit = 0.1;
 /// A render whose share of paths ended by max_depth exceeds this (or the image mean's relative
@@ -81,14 +84,19 @@ std::vector<std::string> phaseWarnings(const Scene& scene) {
         char msg[600];
         const int order = int(sh->fit().p.size());
         // Structure finer than the nodes of the fit and of the checks below: they cannot speak
-        // for it (a tabulated spike 10⁻⁶° wide rendered a furnace at 0.76, m₂ reading 0).
+        // for it (a tabulated spike 2·10⁻⁶° wide rendered a furnace at 0.76, m₂ reading 0).
         if (std::abs(sh->quadratureMass() - 1) > SHSampledPhase::kBlindQuadrature) {
+            // Exact: the weight p/pdf is 0 where the fit has none of the lobe, and its light is
+            // lost (the furnace); sh: the function rendered is the fit, not the table.
             std::snprintf(msg, sizeof msg,
                           "media[%zu].phase: the function has structure finer than the "
                           "quadrature of its SH fit sees (it finds %.4g of its integral, 1): the "
-                          "fit, and the checks of its error and weight, are blind to it, and the "
-                          "render can lose its light; use \"sampling\": \"analytic\"",
-                          i, sh->quadratureMass());
+                          "fit, and the checks of its error and weight, are blind to it, and %s; "
+                          "use \"sampling\": \"analytic\"",
+                          i, sh->quadratureMass(),
+                          sh->evaluate() == SHSampledPhase::Evaluate::Exact
+                              ? "the render can lose its light"
+                              : "the function rendered, the fit, need not resemble it");
             w.push_back(msg);
         }
         if (sh->evaluate() == SHSampledPhase::Evaluate::Exact &&
@@ -279,12 +287,12 @@ std::string unusedLightSamplingWarning(const Scene& scene, const Effects& effect
 
 /// render.mis "none" where light samples alone cannot converge at the render's samples per
 /// pixel: a light sample meets a phase lobe (or a BSDF's, Bsdf's peakOverIsotropic) that peaks
-/// at P = 4π·p_max times the isotropic value
-/// about once in P draws, and with fewer samples per pixel than P most pixels come out low, a few
-/// far too high (white furnace, τ = 4, 15 phase functions: the median pixel over the truth depends
-/// on spp/P alone, 0.95 at 1.3, 0.82 at 0.35, 0.57 at 0.08, 0.3 at 0.02; balance MIS 1.000 at
-/// every spp; helper 91). "" where it does not apply or spp ≥ P for every scattering medium and
-/// surface.
+/// at P = 4π·p_max times the isotropic value about once in P draws, and with fewer samples per
+/// pixel than a few times P most pixels come out low, a few far too high (white furnace, τ = 4,
+/// 15 phase functions: the median pixel over the truth depends on spp/P alone, 0.3 at 0.02, 0.57
+/// at 0.08, 0.82 at 0.35, 0.95 at 1.3, 0.976 or more from 3.4; balance MIS 1.000 at every spp;
+/// helper 91). "" where it does not apply or spp ≥ kMisNoneSamplesPerPeak·P for every scattering
+/// medium and surface.
 std::string misNoneWarning(const Scene& scene, const Effects& effects) {
     if (!effects.nextEvent || effects.mis != MisHeuristic::None) return "";
     double peak = 0;
@@ -298,15 +306,16 @@ std::string misNoneWarning(const Scene& scene, const Effects& effects) {
         for (const Surface& s : scene.surfaces->surfaces())
             if (const double p = peakOverIsotropic(s.bsdf); p > peak)
                 peak = p, which = s.name + "'s BSDF";
-    if (!(peak > scene.settings.spp)) return "";
+    if (!(kMisNoneSamplesPerPeak * peak > scene.settings.spp)) return "";
     char msg[800];
     std::snprintf(msg, sizeof msg,
                   "render.mis: \"none\" with %d samples per pixel, and %s peaks at %.3g times "
                   "the isotropic value: light samples alone rarely meet its lobe, so most pixels "
                   "come out low and a few far too high (a white furnace's median pixel is 5%% "
-                  "low at 1.3 times as many samples as the peak, 43%% at 0.08 times); use "
-                  "\"balance\" or \"power\", or several times %.3g samples per pixel",
-                  scene.settings.spp, which.c_str(), peak, peak);
+                  "low at 1.3 times as many samples as the peak, 43%% at 0.08 times, within 2.5%% "
+                  "from 3.4 times); use \"balance\" or \"power\", or %.3g samples per pixel or "
+                  "more",
+                  scene.settings.spp, which.c_str(), peak, kMisNoneSamplesPerPeak * peak);
     return msg;
 }
 

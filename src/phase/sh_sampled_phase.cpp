@@ -34,13 +34,9 @@ SHSampledPhase::SHSampledPhase(const PhaseFunction& base, const ZonalFitRequest&
         fitZonal([&](const AngleCosine& c) { return base_->evalAngle(c); }, request));
     sampler_ = std::make_shared<const ZonalSHSampler>(fit_->p, depth);
     if (!(sampler_->positiveMass() > 0)) throw Error("the SH fit has no positive mass");
-    if (evaluate_ == Evaluate::Exact) {
-        if (sampler_->clampedFraction() > 0) alpha_ = kDefensiveFraction;
-        m2_ = exactSecondMoment();
-    } else {
-        renderedError_ = renderedError();
-    }
-    forEachNode([&](double p, double, double w) { quadratureMass_ += w * p; });
+    if (evaluate_ == Evaluate::Exact && sampler_->clampedFraction() > 0)
+        alpha_ = kDefensiveFraction;
+    checkByQuadrature();
 }
 
 double SHSampledPhase::baseCos(double mu) const {
@@ -67,24 +63,25 @@ void SHSampledPhase::forEachNode(Node&& node) const {
     }
 }
 
-double SHSampledPhase::exactSecondMoment() const {
-    double m2 = 0;
+void SHSampledPhase::checkByQuadrature() {
+    // One pass over the nodes: ∫p (quadratureMass), and m₂ (Exact) or the rendered error.
+    double m2 = 0, error = 0, energy = 0;
     bool unsampled = false;  // p > 0 where pdf = 0
     forEachNode([&](double p, double pdf, double w) {
-        if (p > 0 && !(pdf > 0)) unsampled = true;
-        if (p > 0 && pdf > 0) m2 += w * p * p / pdf;
+        quadratureMass_ += w * p;
+        if (evaluate_ == Evaluate::Exact) {
+            if (p > 0 && !(pdf > 0)) unsampled = true;
+            if (p > 0 && pdf > 0) m2 += w * p * p / pdf;
+        } else {
+            // (Reconstruction: eval = pdf, constant on the interval; α = 0.)
+            error += w * (pdf - p) * (pdf - p);
+            energy += w * p * p;
+        }
     });
-    return unsampled ? INFINITY : m2;
-}
-
-double SHSampledPhase::renderedError() const {
-    double error = 0, energy = 0;
-    forEachNode([&](double p, double pdf, double w) {
-        // (Reconstruction: eval = pdf, constant on the interval; α = 0.)
-        error += w * (pdf - p) * (pdf - p);
-        energy += w * p * p;
-    });
-    return energy > 0 ? std::sqrt(error / energy) : 0.0;
+    if (evaluate_ == Evaluate::Exact)
+        m2_ = unsampled ? INFINITY : m2;
+    else
+        renderedError_ = energy > 0 ? std::sqrt(error / energy) : 0.0;
 }
 
 double SHSampledPhase::evalCos(double mu) const {

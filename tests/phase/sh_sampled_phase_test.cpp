@@ -165,9 +165,10 @@ TEST(SHSampledPhase, RenderedErrorIsTheErrorOfTheFunctionRendered) {
 // Reconstruction use: p_SH is non-negative, integrates to 1 and is exactly what gets sampled
 // (f/pdf = 1), also at a coarse depth where bins straddle the zeros of the ringing fit.
 // The quadrature behind the fit and its checks finds the whole integral of an ordinary phase
-// function, and none of a tabulated spike between 10⁻⁶° and 2·10⁻⁶° (helper 94: a white furnace
-// rendered 0.76 with it, m₂ read 0 and the rendered error 0, without a warning): the render is
-// warned of by quadratureMass() (Cli.RenderWarnsOfSHSamplingBlindToItsPhaseFunction).
+// function, and none of a tabulated spike 2·10⁻⁶° wide (from 0 at 0° to its peak at 10⁻⁶° and back
+// to 0 at 2·10⁻⁶°) (helper 94: a white furnace rendered 0.76 with it, m₂ read 0 and the rendered
+// error 0, without a warning): the render is warned of by quadratureMass()
+// (Cli.RenderWarnsOfSHSamplingBlindToItsPhaseFunction).
 TEST(SHSampledPhase, QuadratureMassShowsWhatTheFitCannotSee) {
     for (auto use : {SHSampledPhase::Evaluate::Exact, SHSampledPhase::Evaluate::Reconstruction}) {
         const SHSampledPhase hg(HenyeyGreensteinPhase(0.99), 64, SHWindow::Hann, use);

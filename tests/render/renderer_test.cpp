@@ -60,7 +60,12 @@ TEST(Renderer, ImageIndependentOfThreadCount) {
 // --checkpoint-interval 0 makes them), nor on a resume (helper 93: it was pooled per pass and
 // summed per thread, and the warning came and went with --checkpoint-interval 0).
 TEST(Renderer, ImageMeanRelativeErrorDependsOnTheSeedOnly) {
-    const Scene s = smallScene(16);
+    const auto tiled = [](int spp) {
+        Scene s = smallScene(spp);
+        s.camera.width = 40, s.camera.height = 36;  // tiles for every thread
+        return s;
+    };
+    const Scene s = tiled(16);
     RenderOptions one;
     one.threads = 1;
     const RenderResult a = render(s, one);
@@ -70,7 +75,7 @@ TEST(Renderer, ImageMeanRelativeErrorDependsOnTheSeedOnly) {
     const RenderResult b = render(s, passes);
     RenderOptions first;
     first.threads = 2;
-    const RenderResult c = render(s, first, render(smallScene(5), first).film);
+    const RenderResult c = render(s, first, render(tiled(5), first).film);
     EXPECT_TRUE(std::isfinite(a.stats.imageMeanRelativeError));
     EXPECT_GT(a.stats.imageMeanRelativeError, 0);
     EXPECT_EQ(a.stats.imageMeanRelativeError, b.stats.imageMeanRelativeError);
@@ -264,6 +269,7 @@ TEST(Renderer, PartsAddUpToTheWholeFilm) {
             const bool mine = int(i / 12) % 3 == opt.part;
             EXPECT_EQ(part.film.count[i], mine ? 7u : 0u);
             sum.count[i] += part.film.count[i];
+            sum.luminanceSumSq[i] += part.film.luminanceSumSq[i];
             for (int c = 0; c < 3; ++c) {
                 sum.sum[3 * i + c] += part.film.sum[3 * i + c];
                 sum.sumSq[3 * i + c] += part.film.sumSq[3 * i + c];
@@ -273,6 +279,10 @@ TEST(Renderer, PartsAddUpToTheWholeFilm) {
     EXPECT_EQ(sum.sum, whole.film.sum);
     EXPECT_EQ(sum.sumSq, whole.film.sumSq);
     EXPECT_EQ(sum.count, whole.film.count);
+    // ... and so do the luminances' squares (MPI reduces them too), whose image error is then the
+    // one process's, bit for bit.
+    EXPECT_EQ(sum.luminanceSumSq, whole.film.luminanceSumSq);
+    EXPECT_EQ(sum.meanRelativeError(), whole.stats.imageMeanRelativeError);
     opt.part = 3;
     EXPECT_THROW(render(s, opt), Error);
 }

@@ -84,8 +84,9 @@ class SHSampledPhase {
     double renderedRelativeL2Error() const { return renderedError_; }
     /// ∫ p dω of the wrapped function by the quadrature of weightSecondMoment() (which the fit's
     /// own nodes resemble): 1 to within 10⁻⁶ wherever that quadrature sees the whole function.
-    /// Far from 1, the function has structure finer than its nodes (a tabulated spike between
-    /// 10⁻⁶° and 2·10⁻⁶°: 0; helper 94), and the fit, m₂ and the rendered error are blind to it.
+    /// Far from 1, the function has structure finer than its nodes (a tabulated spike rising from 0
+    /// at 0° to its peak at 10⁻⁶° and back to 0 at 2·10⁻⁶°: 0; helper 94), and the fit, m₂ and the
+    /// rendered error are blind to it.
     double quadratureMass() const { return quadratureMass_; }
     /// A render is flagged when |quadratureMass() − 1| exceeds this.
     static constexpr double kBlindQuadrature = 1e-3;
@@ -100,8 +101,8 @@ class SHSampledPhase {
     /// gradedThetaEdges() (where p is peaked).
     template <typename Node>
     void forEachNode(Node&& node) const;
-    double exactSecondMoment() const;
-    double renderedError() const;
+    /// Sets quadratureMass_ and m2_ (Exact) or renderedError_ (Reconstruction), by forEachNode.
+    void checkByQuadrature();
     std::shared_ptr<const PhaseFunction> base_;
     std::shared_ptr<const ZonalFit> fit_;
     std::shared_ptr<const ZonalSHSampler> sampler_;

@@ -16,7 +16,8 @@ struct Film {
     std::vector<double> sum;      ///< 3 per pixel
     std::vector<uint32_t> count;  ///< samples taken per pixel (dropped NaN/Inf samples count)
     std::vector<double> sumSq;    ///< 3 per pixel, sums of squares; empty unless asked for
-    /// 1 per pixel: Σ y² over its finite samples' luminances y (Σ y is the luminance of `sum`),
+    /// 1 per pixel: Σ y² over its finite samples' luminances y (Σ y is the luminance of `sum`,
+    /// luminance being linear for the non-negative radiance a render's samples carry),
     /// the spread within the pixel that meanRelativeError() is made of; empty where unknown (a
     /// checkpoint written before 6 Dec).
     std::vector<double> luminanceSumSq;
