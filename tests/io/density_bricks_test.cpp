@@ -16,7 +16,7 @@ namespace {
 
 /// A grid with leaves on both sides of the origin, a lone voxel, leaves touching each other and
 /// a 128³ tile, written to a file; returns its path.
-std::string writeAwkwardGrid() {
+std::string writeAwkwardGrid(const std::string& name) {
     openvdb::initialize();
     auto grid = openvdb::FloatGrid::create(0.f);
     auto acc = grid->getAccessor();
@@ -29,7 +29,9 @@ std::string writeAwkwardGrid() {
     acc.setValue(openvdb::Coord(-100, 40, 7), 2.5f);
     grid->tree().addTile(2, openvdb::Coord(128, 0, 0), 0.75f, true);  // a level-2 tile, 128³
     grid->setName("density");
-    const std::string path = testing::TempDir() + "/shvol_bricks_awkward.vdb";
+    // (one file per test: ctest runs them side by side, and one rewrote the other's file while it
+    // was read)
+    const std::string path = testing::TempDir() + "/shvol_bricks_" + name + ".vdb";
     openvdb::io::File file(path);
     file.write({grid});
     file.close();
@@ -55,7 +57,7 @@ void expectSameDensity(const Medium& a, const Medium& b, const Vec3& lo, const V
 // outside all data.
 TEST(DensityBricks, SameValuesAsOpenVdb) {
     VdbMediumDesc d;
-    d.file = writeAwkwardGrid();  // index space = world space (identity transform)
+    d.file = writeAwkwardGrid("values");  // index space = world space (identity transform)
     d.densityScale = 3;
     const auto bricks = loadVdbMedium(d);
     d.bricks = false;
@@ -77,7 +79,7 @@ TEST(DensityBricks, SameValuesAsOpenVdb) {
 // the single-voxel grid compared corners() with OpenVDB).
 TEST(DensityBricks, RegularTrackingReadsTheSameCells) {
     VdbMediumDesc d;
-    d.file = writeAwkwardGrid();
+    d.file = writeAwkwardGrid("regular");
     d.densityScale = 40;
     const auto bricks = loadVdbMedium(d);
     d.bricks = false;
