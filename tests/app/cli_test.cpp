@@ -124,11 +124,16 @@ std::vector<double> benchCounts(const std::string& out, const std::string& name)
 /// Shell text to follow a command started with `&`: sends SIGNAL (`sig`, number `number`) once
 /// the process catches it (its bit in SigCgt of /proc/PID/status; a fixed sleep could come before
 /// the handler on a loaded machine, and the signal's default action gives the same exit code),
-/// `settle` seconds after that, then waits for it, its exit code the command's.
+/// `settle` seconds after that, then waits for it, its exit code the command's. The process must
+/// have left the shell's image first: a background job is a fork of the shell until it execs, and
+/// the shell catches SIGINT itself, so on a loaded machine the signal went to the fork, which then
+/// exec'd a render that never saw it (Cli.SignalsStopTheRadianceCacheFill completed, 1 run in a
+/// few under load).
 std::string killOnceCaught(const std::string& sig, int number, const std::string& settle = "0") {
     const std::string bit = std::to_string(1ull << (number - 1));
-    return " & p=$!; for i in $(seq 1000); do m=$(sed -n 's/^SigCgt:\\t//p' /proc/$p/status); "
-           "[ $(( 0x$m & " +
+    return " & p=$!; s=$(readlink /proc/$$/exe); for i in $(seq 1000); do "
+           "m=$(sed -n 's/^SigCgt:\\t//p' /proc/$p/status); "
+           "[ \"$(readlink /proc/$p/exe)\" != \"$s\" ] && [ $(( 0x$m & " +
            bit + " )) -ne 0 ] && break; sleep 0.01; done; sleep " + settle + "; kill -" + sig +
            " $p; wait $p";
 }
