@@ -199,12 +199,11 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
             w.push_back(
                 s.name + ": dielectric, but a " +
                 (s.kind == Surface::Kind::Disk ? "disk" : "rectangle") +
-                " is an open sheet, not the closed surface of a solid: light that "
-                "enters it through its front leaves only where another face happens to "
-                "lie (a white furnace seen through a glass disk renders 0.48 to 0.55 for 1); it "
-                "is rendered as "
-                "the front of glass, its normal pointing out of it; for a pane, use a "
-                "closed mesh");
+                " is an open sheet, not the closed surface of a solid: light that enters it "
+                "through its front leaves only where another face happens to lie (a white "
+                "furnace seen through a glass disk renders 0.48 to 0.55 for 1); it is rendered "
+                "as the front of glass, its normal pointing out of it; for a pane, use a closed "
+                "mesh");
         double size = (boxes[k].hi - boxes[k].lo).maxCoeff();
         // A closed mesh that rays pass through is judged by its thickness, 2V/A (a slab's: a pane
         // 2 wide and 0.0002 thick, under an offset beyond 0.0002, kept every refracted ray inside

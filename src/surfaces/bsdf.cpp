@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "shvol/sampling/density_peak.h"
 #include "shvol/sampling/warp.h"
 
 namespace shvol {
@@ -270,16 +271,13 @@ const char* Bsdf::name() const {
 double peakOverIsotropic(const Bsdf& b) {
     if (b.isDelta()) return 0;
     const Vec3 n(0, 0, 1);
-    double peak = 0;
-    const auto at = [&](double theta) {
-        for (const double phi : {0.0, 0.5 * Pi})
-            peak = std::max(peak, b.pdf(n, sphericalDirection(std::cos(theta), phi)));
-    };
-    at(0);
-    for (double theta = 1e-7; theta < 0.5 * Pi; theta *= 1.25) at(theta);
-    constexpr int kSteps = 4096;
-    for (int i = 1; i < kSteps; ++i) at(0.5 * Pi * i / kSteps);
-    return FourPi * peak;
+    return densityPeakOverIsotropic(
+        [&](double theta) {
+            const double c = std::cos(theta);
+            return std::max(b.pdf(n, sphericalDirection(c, 0)),
+                            b.pdf(n, sphericalDirection(c, 0.5 * Pi)));
+        },
+        0.5 * Pi);
 }
 
 }  // namespace shvol

@@ -43,8 +43,6 @@ inline Chi2Result narrowLobeChi2(const PhaseFunction& phase, bool backward,
                                  uint64_t seed) {
     const LogDistanceCells cells;
     const double dMin = cells.dMin;
-    const auto zOf = [&](double d) { return cells.z(d); };
-    const auto dOf = [&](double z) { return cells.d(z); };
     const auto integral = [&](double a, double b, bool logScale) {  // ∫_a^b density(d) dd
         std::vector<double> x, w;
         sh::gaussLegendre(16, 0.0, 1.0, x, w);
@@ -67,10 +65,10 @@ inline Chi2Result narrowLobeChi2(const PhaseFunction& phase, bool backward,
             const Vec3 wi = phase.sample(kWo, rng.uniform2()).wi;
             const double d = 0.5 * (backward ? Vec3(kWo + wi) : Vec3(kWo - wi)).squaredNorm();
             const Vec3 l = frame.toLocal(wi);
-            return sphericalDirection(zOf(d), std::atan2(l.y(), l.x()));
+            return sphericalDirection(cells.z(d), std::atan2(l.y(), l.x()));
         },
         [&](double z0, double z1, double phi0, double phi1) {
-            const double d0 = dOf(z0), d1 = dOf(z1);
+            const double d0 = cells.d(z0), d1 = cells.d(z1);
             const double mass = d0 == 0 ? integral(0, dMin, false) + integral(dMin, d1, true)
                                         : integral(d0, d1, true);
             return mass * (phi1 - phi0) / TwoPi;

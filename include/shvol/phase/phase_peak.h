@@ -5,10 +5,8 @@
 
 namespace shvol {
 
-/// 4π·max_θ p(θ), the maximum taken over θ = 0, π, the graded edges of gradedThetaEdges() (steps
-/// of 1.25× from 10⁻⁷ rad at either pole) and 4096 even steps between: exact for lobes peaked at a
-/// pole (HG: (1 + |g|)/(1 − |g|)²), and for others to the lobe's variation within a step.
-/// 1 for the isotropic phase function.
+/// 4π·max_θ p(θ) by densityPeakOverIsotropic over θ ∈ [0, π]: exact for lobes peaked at a pole
+/// (HG: (1 + |g|)/(1 − |g|)²). 1 for the isotropic phase function.
 double peakOverIsotropic(const PhaseFunction& phase);
 
 }  // namespace shvol

@@ -131,8 +131,8 @@ struct Bsdf {
 /// 4π·max_wi pdf(n, wi) at normal incidence: how many times more concentrated than the uniform
 /// sphere the directions b's sampling draws are; a light sample meets the lobe about once in that
 /// many draws (the warning for light samples alone, render.mis "none"; phase/phase_peak.h for
-/// phase functions). The maximum is over θ = 0, steps of 1.25× from 10⁻⁷ rad and 4096 even steps
-/// to π/2, at φ = 0 and π/2: 2(n + 1) for a specular-only Phong lobe, 1/(α_x α_y) for Ward's,
+/// phase functions). The maximum is densityPeakOverIsotropic's over θ ∈ [0, π/2], at φ = 0 and
+/// π/2: 2(n + 1) for a specular-only Phong lobe, 1/(α_x α_y) for Ward's,
 /// 4 for Lambert; 0 for the delta types (their vertices take no light samples).
 double peakOverIsotropic(const Bsdf& b);
 
