@@ -378,6 +378,15 @@ std::vector<std::string> renderWarnings(const Scene& scene, const RenderStats& s
     if (st.counters.nonFiniteSamples > 0)
         w.push_back(std::to_string(st.counters.nonFiniteSamples) +
                     " samples were NaN or infinite and were dropped");
+    InvalidDraws invalid = st.counters.invalid;
+    invalid.add(st.radianceCache.recordInvalid);
+    if (invalid.total() > 0)
+        w.push_back(std::to_string(invalid.total()) +
+                    " draws of samplers or media were NaN or negative (" +
+                    describeInvalidDraws(invalid) +
+                    "): the paths or light samples that met them were dropped, so the image "
+                    "lacks their light; this is a defect of shvol: please report it with the "
+                    "scene");
     if (st.radianceCache.recordNonFinite > 0)
         w.push_back("render.radiance_cache: " + std::to_string(st.radianceCache.recordNonFinite) +
                     " record paths were NaN or infinite and were taken as 0");
@@ -410,6 +419,14 @@ std::vector<std::string> renderWarnings(const Scene& scene, const RenderStats& s
         w.push_back(msg);
     }
     return w;
+}
+
+nlohmann::json invalidDrawsJson(const InvalidDraws& d) {
+    return {{"phase", d.phase},
+            {"bsdf", d.bsdf},
+            {"light", d.light},
+            {"flight", d.flight},
+            {"transmittance", d.transmittance}};
 }
 
 /// Everything the stats file says about one image; `provenance` (inputs, overrides, command line,
@@ -448,6 +465,7 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
     j["exact_cells"] = c.tracking.exactCells;
     j["non_finite_samples"] = c.nonFiniteSamples;
     j["paths_truncated"] = c.truncatedPaths;
+    j["invalid_draws"] = invalidDrawsJson(c.invalid);
     // (null where unknown: no light, or a film resumed from a checkpoint without its squares)
     j["image_mean_relative_error"] = std::isfinite(st.imageMeanRelativeError)
                                          ? nlohmann::json(st.imageMeanRelativeError)
@@ -484,6 +502,7 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
         cj["record_paths"] = rc.recordPaths;
         cj["record_paths_truncated"] = rc.recordPathsTruncated;
         cj["record_non_finite_samples"] = rc.recordNonFinite;
+        cj["record_invalid_draws"] = invalidDrawsJson(rc.recordInvalid);
         cj["lookups"] = c.cacheLookups;
         cj["lookups_answered"] = c.cacheHits;
         cj["lookup_s"] = double(c.cacheLookupNs) * 1e-9;

@@ -60,7 +60,8 @@ void describeIntegrator(const VolumePathIntegrator& integrator, RenderStats& st)
                             b.uncached,
                             b.counters.paths,
                             b.counters.truncatedPaths,
-                            b.counters.nonFiniteSamples};
+                            b.counters.nonFiniteSamples,
+                            b.counters.invalid};
     }
     const Effects& e = integrator.effects();
     if (!e.nextEvent) return;

@@ -895,6 +895,11 @@ TEST_F(Cli, RenderWarnsOfPathsEndedByMaxDepth) {
     EXPECT_GT(stats["radiance_cache"]["record_paths_truncated"].get<uint64_t>(),
               stats["paths_truncated"].get<uint64_t>());
     EXPECT_EQ(stats["radiance_cache"]["record_non_finite_samples"], 0);  // (none is NaN here)
+    // Unusable draws (InvalidDraws), by source, of the render and of the records: none here.
+    for (const char* source : {"phase", "bsdf", "light", "flight", "transmittance"}) {
+        EXPECT_EQ(stats["invalid_draws"].at(source), 0) << source;
+        EXPECT_EQ(stats["radiance_cache"]["record_invalid_draws"].at(source), 0) << source;
+    }
 }
 
 // A render whose SH-sampled phase function is unreliable says so on stderr and in its stats, with

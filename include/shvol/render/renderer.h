@@ -76,6 +76,7 @@ struct RadianceCacheStats {
     uint64_t recordPaths = 0;           ///< paths traced to fill the records
     uint64_t recordPathsTruncated = 0;  ///< of those, ended by max_depth
     uint64_t recordNonFinite = 0;       ///< of those, NaN or infinite (taken as 0)
+    InvalidDraws recordInvalid;         ///< unusable draws the record paths met
 };
 
 struct RenderStats {

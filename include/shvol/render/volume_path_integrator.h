@@ -63,6 +63,25 @@
 namespace shvol {
 
 /// Counters of the paths a thread traced, summed over threads into the render statistics.
+/// Numbers from a sampler or a medium that no path can use: a NaN or negative pdf, value or
+/// transmittance, a direction that is not finite, a NaN or negative flight distance. The path
+/// (or light sample) that meets one is dropped, as a pdf of 0 drops it: its light is lost, and
+/// the image is too dark by its share. Each is a defect (the loader refuses the parameters that
+/// could make one), so they are counted by source and warned of, never dropped silently. An
+/// infinite pdf or value is not counted here: the sample it makes is, as non-finite.
+struct InvalidDraws {
+    uint64_t phase = 0;          ///< phase-function samples and evaluations
+    uint64_t bsdf = 0;           ///< BSDF samples and evaluations
+    uint64_t light = 0;          ///< light samples (environment, emitting surfaces)
+    uint64_t flight = 0;         ///< free-flight distances
+    uint64_t transmittance = 0;  ///< transmittance estimates of shadow rays
+    uint64_t total() const { return phase + bsdf + light + flight + transmittance; }
+    void add(const InvalidDraws& o);
+};
+
+/// "12 from phase functions, 3 transmittances": the sources with a count, in the order above.
+std::string describeInvalidDraws(const InvalidDraws& d);
+
 struct PathCounters {
     uint64_t paths = 0;
     uint64_t scatteringEvents = 0;  ///< real collisions that scattered
@@ -80,6 +99,7 @@ struct PathCounters {
     uint64_t cacheLookupNs = 0;      ///< time spent in them (steady clock)
     uint64_t nonFiniteSamples = 0;   ///< samples discarded because Li was NaN or Inf
     uint64_t truncatedPaths = 0;     ///< paths ended by max_depth (the light beyond it is lost)
+    InvalidDraws invalid;            ///< unusable draws met (and dropped)
     TrackingCounters tracking;
     void add(const PathCounters& o);
 };
@@ -162,6 +182,8 @@ class VolumePathIntegrator {
     template <typename Sampler>
     LightDraw sampleLights(const Vec3& x, Vertex v, const EventLobe& lobe, Sampler& sampler,
                            PathCounters& c) const;
+    /// ls, or (counted in c.invalid.light) a draw of pdf 0 where it is not usable (InvalidDraws).
+    static LightDraw usableLightDraw(LightDraw ls, PathCounters& c);
     LightDraw sampleEnvironment(Vertex v, const EventLobe& lobe, const Vec2& u,
                                 PathCounters& c) const;
     /// Density of sampleLights for the environment direction w (choice included).
