@@ -380,13 +380,7 @@ std::vector<std::string> renderWarnings(const Scene& scene, const RenderStats& s
                     " samples were NaN or infinite and were dropped");
     InvalidDraws invalid = st.counters.invalid;
     invalid.add(st.radianceCache.recordInvalid);
-    if (invalid.total() > 0)
-        w.push_back(std::to_string(invalid.total()) +
-                    " draws of samplers or media were NaN or negative (" +
-                    describeInvalidDraws(invalid) +
-                    "): the paths or light samples that met them were dropped, so the image "
-                    "lacks their light; this is a defect of shvol: please report it with the "
-                    "scene");
+    if (invalid.total() > 0) w.push_back(invalidDrawsWarning(invalid));
     if (st.radianceCache.recordNonFinite > 0)
         w.push_back("render.radiance_cache: " + std::to_string(st.radianceCache.recordNonFinite) +
                     " record paths were NaN or infinite and were taken as 0");

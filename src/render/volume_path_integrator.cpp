@@ -42,7 +42,8 @@ void InvalidDraws::add(const InvalidDraws& o) {
     transmittance += o.transmittance;
 }
 
-std::string describeInvalidDraws(const InvalidDraws& d) {
+std::string invalidDrawsWarning(const InvalidDraws& d) {
+    if (d.total() == 0) return "";
     std::string text;
     const auto part = [&](uint64_t n, const char* what) {
         if (n > 0) text += (text.empty() ? "" : ", ") + std::to_string(n) + " " + what;
@@ -52,7 +53,9 @@ std::string describeInvalidDraws(const InvalidDraws& d) {
     part(d.light, "from light sampling");
     part(d.flight, "free-flight distances");
     part(d.transmittance, "transmittances");
-    return text;
+    return std::to_string(d.total()) + " draws of samplers or media were NaN or negative (" + text +
+           "): the paths or light samples that met them were dropped, so the image lacks their "
+           "light; this is a defect of shvol: please report it with the scene";
 }
 
 void PathCounters::add(const PathCounters& o) {

@@ -178,18 +178,25 @@ TEST(InvalidDraws, BsdfSamplesOfNaNAreCountedAndEndTheirPaths) {
     }
 }
 
-TEST(InvalidDraws, DescribeNamesTheSourcesCounted) {
+TEST(InvalidDraws, WarningNamesTheSourcesCounted) {
     InvalidDraws d;
-    EXPECT_EQ(describeInvalidDraws(d), "");
+    EXPECT_EQ(invalidDrawsWarning(d), "");
     d.phase = 12, d.transmittance = 3;
-    EXPECT_EQ(describeInvalidDraws(d), "12 from phase functions, 3 transmittances");
+    const std::string tail =
+        "): the paths or light samples that met them were dropped, so the image lacks their "
+        "light; this is a defect of shvol: please report it with the scene";
+    EXPECT_EQ(invalidDrawsWarning(d),
+              "15 draws of samplers or media were NaN or negative (12 from phase functions, 3 "
+              "transmittances" +
+                  tail);
     InvalidDraws e;
     e.bsdf = 1, e.light = 2, e.flight = 4;
     d.add(e);
     EXPECT_EQ(d.total(), 22u);
-    EXPECT_EQ(describeInvalidDraws(d),
-              "12 from phase functions, 1 from BSDFs, 2 from light sampling, 4 free-flight "
-              "distances, 3 transmittances");
+    EXPECT_EQ(invalidDrawsWarning(d),
+              "22 draws of samplers or media were NaN or negative (12 from phase functions, 1 "
+              "from BSDFs, 2 from light sampling, 4 free-flight distances, 3 transmittances" +
+                  tail);
 }
 
 }  // namespace shvol

@@ -79,8 +79,9 @@ struct InvalidDraws {
     void add(const InvalidDraws& o);
 };
 
-/// "12 from phase functions, 3 transmittances": the sources with a count, in the order above.
-std::string describeInvalidDraws(const InvalidDraws& d);
+/// The render's warning of d's draws, naming the sources with a count ("… (12 from phase
+/// functions, 3 transmittances): …"), or "" if there are none.
+std::string invalidDrawsWarning(const InvalidDraws& d);
 
 struct PathCounters {
     uint64_t paths = 0;
