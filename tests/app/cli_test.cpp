@@ -3546,7 +3546,67 @@ TEST_F(Cli, StatsNameTheGitRevision) {
     if (inGit)
         EXPECT_TRUE(commit) << rev;
     else
-        EXPECT_EQ(rev, "unknown");
+        EXPECT_EQ(rev.substr(0, 7), "no-git-") << rev;
+}
+
+// cmake/git_revision.cmake on trees of its own: outside git a build is named by its sources
+// (src/, include/, cmake/, CMakeLists.txt), so two archives' builds differ (both were "unknown"
+// before 6 Dec, and one resumed the other's checkpoints); in a checkout, by its commit, with the
+// hash of its changes when it has any.
+TEST_F(Cli, BuildRevisionNamesTheSources) {
+    const std::string tree = path("tree"), out = path("rev.h");
+    fs::create_directories(tree + "/src"), fs::create_directories(tree + "/include/x");
+    const auto put = [&](const std::string& file, const std::string& text) {
+        std::ofstream(tree + "/" + file) << text;
+    };
+    put("src/a.cpp", "int a;\n"), put("include/x/b.h", "int b;\n");
+    put("CMakeLists.txt", "project(t)\n"), put("README.md", "r\n");
+    const auto revision = [&] {
+        const Result r = runCommand("cmake -DSRC=" + tree + " -DOUT=" + out + " -P " +
+                                    SHVOL_SOURCE_DIR + "/cmake/git_revision.cmake");
+        EXPECT_EQ(r.code, 0) << r.err;
+        std::stringstream text;
+        text << std::ifstream(out).rdbuf();
+        const std::string s = text.str(), head = "#define SHVOL_GIT_REVISION \"";
+        EXPECT_EQ(s.substr(0, head.size()), head) << s;
+        return s.size() > head.size() + 2 ? s.substr(head.size(), s.size() - head.size() - 2) : s;
+    };
+    const auto hex = [](const std::string& s) {
+        return !s.empty() && s.find_first_not_of("0123456789abcdef") == std::string::npos;
+    };
+    const std::string first = revision();
+    ASSERT_EQ(first.size(), 7u + 12) << first;
+    EXPECT_EQ(first.substr(0, 7), "no-git-");
+    EXPECT_TRUE(hex(first.substr(7))) << first;
+    put("src/a.cpp", "int a2;\n");
+    const std::string changed = revision();
+    EXPECT_NE(changed, first);
+    put("include/x/c.h", "int c;\n");  // a new header
+    EXPECT_NE(revision(), changed);
+    fs::remove(tree + "/include/x/c.h");
+    put("src/a.cpp", "int a;\n");
+    EXPECT_EQ(revision(), first);  // the same sources, the same name
+    put("README.md", "r2\n");      // not built from
+    EXPECT_EQ(revision(), first);
+    fs::create_directories(tree + "/cmake");
+    put("cmake/f.cmake", "x\n");
+    EXPECT_NE(revision(), first);
+    fs::remove_all(tree + "/cmake");
+
+    // A checkout: its commit, and "-dirty-" with the hash of its changes.
+    const std::string git = "git -C " + tree + " -c user.name=t -c user.email=t@t ";
+    ASSERT_EQ(runCommand(git + "init -q && " + git + "add -A && " + git + "commit -qm t").code, 0);
+    const std::string commit = revision();
+    EXPECT_EQ(commit.size(), 40u) << commit;
+    EXPECT_TRUE(hex(commit)) << commit;
+    put("src/a.cpp", "int a3;\n");
+    const std::string dirty = revision();
+    ASSERT_EQ(dirty.size(), 40u + 7 + 12) << dirty;
+    EXPECT_EQ(dirty.substr(0, 47), commit + "-dirty-");
+    put("src/a.cpp", "int a4;\n");
+    EXPECT_NE(revision(), dirty);
+    put("src/a.cpp", "int a;\n");
+    EXPECT_EQ(revision(), commit);
 }
 
 }  // namespace shvol
