@@ -2,7 +2,8 @@
 // optical depths from 1e−6 to 1e6, albedo 1 with ~1e5 bounces per path, g = ±0.999999, a 1e6×
 // hot environment pixel, a black environment, empty and zero-density grids, transforms scaled by
 // 1e−6 and 1e6, a camera inside a medium, rays grazing a box face. Every case is rendered through
-// the scene loader and the renderer as a user would, and must have no NaN/Inf pixel; where an
+// the scene loader and the renderer as a user would, and must have no NaN/Inf pixel and no
+// unusable draw (InvalidDraws: a NaN or negative pdf, value, distance or transmittance); where an
 // analytic answer exists the image mean must match it within 5 standard errors of the pixel
 // mean (plus 1e−6 relative for float output), and where only bounds exist every pixel must lie
 // within them.
@@ -44,6 +45,7 @@ struct Outcome {
     double mean = 0, se = 0, min = 0, max = 0, seconds = 0, pathLength = 0;
     long long samples = 0;
     long long nonFinite = 0;
+    uint64_t invalidDraws = 0;  ///< InvalidDraws::total()
     bool pass = false;
 };
 
@@ -99,7 +101,8 @@ Outcome run(const Case& c) {
     for (size_t i = 0; i < n; ++i) s2 += std::pow(r.image.rgb[3 * i] - o.mean, 2);
     o.se = n > 1 ? std::sqrt(s2 / (n - 1) / n) : 0;
     o.samples = (long long)n * scene.settings.spp;
-    o.pass = o.nonFinite == 0 && o.min >= c.lo && o.max <= c.hi;
+    o.invalidDraws = r.stats.counters.invalid.total();
+    o.pass = o.nonFinite == 0 && o.invalidDraws == 0 && o.min >= c.lo && o.max <= c.hi;
     if (c.expected) {
         // A [0, 1]-valued estimator of mean e has variance at most e(1 − e): a floor for the
         // measured standard error, which is 0 when every sample happened to agree (delta tracking
@@ -272,7 +275,8 @@ int main(int argc, char** argv) {
 
     std::ostringstream table;
     table << "| group | case | expected | image mean ± se | min | max | non-finite | "
-             "bounces per path | time (s) | result |\n|---|---|---|---|---|---|---|---|---|---|\n";
+             "invalid draws | bounces per path | time (s) | result |\n"
+             "|---|---|---|---|---|---|---|---|---|---|---|\n";
     int failed = 0;
     for (const Case& c : cases) {
         Outcome o;
@@ -285,7 +289,7 @@ int main(int argc, char** argv) {
         if (!error.empty()) {
             ++failed;
             table << "| " << c.group << " | " << c.name << " | | error: " << error
-                  << " | | | | | | **FAIL** |\n";
+                  << " | | | | | | | **FAIL** |\n";
             continue;
         }
         failed += !o.pass;
@@ -296,8 +300,8 @@ int main(int argc, char** argv) {
         if (!c.expected && c.lo == 0 && !std::isfinite(c.hi)) expected = "finite, ≥ 0";
         table << "| " << c.group << " | " << c.name << " | " << expected << " | " << number(o.mean)
               << " ± " << number(o.se) << " | " << number(o.min) << " | " << number(o.max) << " | "
-              << o.nonFinite << " | " << number(o.pathLength) << " | " << number(o.seconds) << " | "
-              << (o.pass ? "pass" : "**FAIL**") << " |\n";
+              << o.nonFinite << " | " << o.invalidDraws << " | " << number(o.pathLength) << " | "
+              << number(o.seconds) << " | " << (o.pass ? "pass" : "**FAIL**") << " |\n";
         std::fprintf(stderr, "%-14s %-50s %s\n", c.group.c_str(), c.name.c_str(),
                      o.pass ? "pass" : "FAIL");
     }
