@@ -47,7 +47,7 @@ void briefInto(const Json& j, std::string& out, size_t limit) {
 std::string brief(const Json& j) {
     std::string s;
     briefInto(j, s, 40);
-    return s.size() > 40 ? s.substr(0, 37) + "..." : s;
+    return briefText(s);
 }
 
 /// The offset of the first JSON number in `text` spelled `token`: outside strings, and not part
@@ -94,6 +94,10 @@ Json integralAsInteger(const Json& j) {
 
 std::string canonicalJson(const Json& j) {
     return dumpJson(integralAsInteger(j));
+}
+
+std::string briefText(const std::string& text, size_t limit) {
+    return text.size() > limit ? text.substr(0, limit - 3) + "..." : text;
 }
 
 Json parseJsonFile(const std::string& path) {
@@ -146,9 +150,13 @@ Json parseJsonText(const std::string& text, const std::string& path, const std::
         const bool element =
             event == E::value || event == E::object_start || event == E::array_start;
         if (element && !frames.empty() && frames.back().array) ++frames.back().index;
-        if (event == E::object_start || event == E::array_start)
+        if (event == E::object_start || event == E::array_start) {
             frames.push_back({event == E::array_start});
-        else if (event == E::object_end || event == E::array_end)
+            if (frames.size() > kMaxJsonDepth)  // (named by its first levels)
+                fail(path, where(std::min<size_t>(frames.size() - 1, 4)) + "…",
+                     "objects and arrays nested more than " + std::to_string(kMaxJsonDepth) +
+                         " levels deep");
+        } else if (event == E::object_end || event == E::array_end)
             frames.pop_back();
         else if (event == E::key) {
             Frame& f = frames.back();
@@ -227,12 +235,14 @@ Json overrideValue(const std::string& text, const std::string& place) {
     try {
         value = Json::parse(text);
     } catch (const Json::out_of_range&) {  // a number beyond a double (1e400)
-        fail("--set value " + text, place, "number beyond the range of a double (±1.8e308)");
+        fail("--set value " + briefText(text, 80), place,
+             "number beyond the range of a double (±1.8e308)");
     } catch (const Json::exception&) {  // not JSON: a string
         return text;
     }
     // JSON, so refused as a file's would be if it repeats a key, named at its place.
-    return value.is_structured() ? parseJsonText(text, "--set value " + text, place) : value;
+    return value.is_structured() ? parseJsonText(text, "--set value " + briefText(text, 80), place)
+                                 : value;
 }
 
 std::string canonicalKeyPath(const std::string& key) {

@@ -69,7 +69,7 @@ PhaseFunction readPhase(JsonReader& r, const std::string& baseDir) {
 }
 
 std::string specName(const std::string& spec) {
-    return "phase spec \"" + spec + "\"";
+    return "phase spec \"" + briefText(spec, 80) + "\"";
 }
 
 }  // namespace

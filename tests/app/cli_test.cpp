@@ -3549,6 +3549,20 @@ TEST_F(Cli, StatsNameTheGitRevision) {
         EXPECT_EQ(rev.substr(0, 7), "no-git-") << rev;
 }
 
+// Hostile nesting, 100 000 arrays deep in a 200 kB scene, is refused in one line wherever it is
+// (under "media", in a medium's value, in a surface): it crashed the loader's recursive copies
+// (exit 139, nothing said; helper 96), while the same depth under "camera" was refused.
+TEST_F(Cli, DeeplyNestedScenesAreRefused) {
+    const std::string deep = std::string(100000, '[') + std::string(100000, ']');
+    const std::string limit = "objects and arrays nested more than 256 levels deep";
+    write("s.json", R"({"media": )" + deep + "}");
+    expectOneLineError("s.json", "s.json: media[0][0][0]…: " + limit);
+    write("s.json", R"({"media": [{"type": "homogeneous", "albedo": )" + deep + "}]}");
+    expectOneLineError("s.json", "s.json: media[0].albedo[0]…: " + limit);
+    write("s.json", R"({"surfaces": [{"type": "sphere", "x": )" + deep + "}]}");
+    expectOneLineError("s.json", "s.json: surfaces[0].x[0]…: " + limit);
+}
+
 // cmake/git_revision.cmake on trees of its own: outside git a build is named by its sources
 // (src/, include/, cmake/, CMakeLists.txt), so two archives' builds differ (both were "unknown"
 // before 6 Dec, and one resumed the other's checkpoints); in a checkout, by its commit, with the

@@ -185,6 +185,21 @@ TEST(PhaseSpec, JsonErrorsNameFileAndPath) {
               "scene.json: media[0].phase.g: expected a number, got string \"high\"");
 }
 
+// A long spec is quoted by its first 77 characters (a 120 kB one came back whole, helper 96),
+// and one nested deeper than kMaxJsonDepth is refused as it is parsed.
+TEST(PhaseSpec, LongAndDeepSpecsAreQuotedBriefly) {
+    const auto err = [](const std::string& spec) {
+        return messageOf([&] { parsePhaseSpec(spec, ""); });
+    };
+    const std::string deep =
+        R"({"type": "hg", "g": )" + std::string(60000, '[') + std::string(60000, ']') + "}";
+    EXPECT_EQ(err(deep), "phase spec \"" + deep.substr(0, 77) +
+                             "...\": g[0][0][0]…: objects and arrays nested more than 256 "
+                             "levels deep");
+    const std::string wide = R"({"type": "hg", "g": 0.5, "x": ")" + std::string(200, 'x') + "\"}";
+    EXPECT_EQ(err(wide), "phase spec \"" + wide.substr(0, 77) + "...\": x: unknown key");
+}
+
 TEST(PhaseSpec, ShortFormErrorsNameTheSpec) {
     const auto err = [](const std::string& spec) {
         return messageOf([&] { parsePhaseSpec(spec, ""); });

@@ -24,12 +24,24 @@ inline std::string dumpJson(const Json& j, int indent = -1) {
 /// twice) it compares these texts, so that 1 and 1.0 are one value, as they are one render.
 std::string canonicalJson(const Json& j);
 
+/// Objects and arrays inside each other deeper than any scene, sweep or phase specification needs
+/// (the deepest value of a scene or a sweep, a tabulated phase function's [angle, value] pair in
+/// an axis's value, is under 12 levels down): the recursive copies and walks of a value 10⁵ levels
+/// deep overflow the stack (helper 96: 100 000 nested arrays under "media", a 200 kB file, crashed
+/// `render`).
+inline constexpr size_t kMaxJsonDepth = 256;
+
+/// text as a message quotes it: whole up to `limit` characters, else its first limit − 3 and
+/// "..." (a --set value or a phase specification of 200 kB was quoted whole: helper 96).
+std::string briefText(const std::string& text, size_t limit = 40);
+
 /// Parses a whole file; errors name the file and the line/column.
 Json parseJsonFile(const std::string& path);
 /// Parses JSON text from `file` (a file name, or what names the text in errors): a malformed text
 /// or a NUL byte is refused at its line and column, a key given twice in one object (which the
 /// parser would keep silently, the last value winning) at the object's JSON path, which starts
-/// at `root` (the text's place in a larger document; empty: the top level).
+/// at `root` (the text's place in a larger document; empty: the top level). Nesting deeper than
+/// kMaxJsonDepth is refused where it passes that depth, before the value is built.
 Json parseJsonText(const std::string& text, const std::string& file, const std::string& root = "");
 
 /// Applies an override "a.b.0.c=value" (or "a.b[0].c=value") to a document, creating objects
