@@ -211,8 +211,8 @@ void checkRunScenes(const Sweep& s) {
 Json savedStats(const Sweep& s, const Json& row) {
     const std::string image = row.value("image", "");
     if (image.empty()) return Json::object();
-    std::ifstream f(fs::path(s.output) / fs::path(image).replace_extension(".stats.json"));
-    const Json saved = Json::parse(f, nullptr, false);
+    Json saved = parseOwnJsonFile(
+        (fs::path(s.output) / fs::path(image).replace_extension(".stats.json")).string());
     return saved.is_object() ? saved : Json::object();
 }
 

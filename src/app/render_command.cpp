@@ -566,8 +566,7 @@ bool staleStandardErrors(const Outputs& o, const nlohmann::json& provenance,
     namespace fs = std::filesystem;
     std::error_code ec;
     if (!fs::is_regular_file(o.stderrImage, ec)) return false;
-    std::ifstream f(o.stats);
-    const nlohmann::json old = nlohmann::json::parse(f, nullptr, false);
+    const nlohmann::json old = parseOwnJsonFile(o.stats);
     // (by file name: the stats and the errors sit side by side, and the earlier render may have
     // named the directory otherwise, ./d/y.exr for d/y.exr; helper 88)
     if (!old.is_object() || !old.value("standard_error", nlohmann::json()).is_string() ||

@@ -100,6 +100,20 @@ std::string briefText(const std::string& text, size_t limit) {
     return text.size() > limit ? text.substr(0, limit - 3) + "..." : text;
 }
 
+Json parseOwnJsonFile(const std::string& path) {
+    std::ifstream f(path);
+    struct TooDeep {};
+    try {
+        return Json::parse(f, [](int depth, Json::parse_event_t, Json&) {
+            if (depth > int(kMaxJsonDepth)) throw TooDeep{};
+            return true;
+        });
+    } catch (const TooDeep&) {
+    } catch (const Json::exception&) {
+    }
+    return Json(Json::value_t::discarded);
+}
+
 Json parseJsonFile(const std::string& path) {
     if (const std::string problem = inputFileProblem(path); !problem.empty())
         fail(path, "", problem);  // (a directory opens, and reads as empty)
@@ -151,7 +165,7 @@ Json parseJsonText(const std::string& text, const std::string& path, const std::
             event == E::value || event == E::object_start || event == E::array_start;
         if (element && !frames.empty() && frames.back().array) ++frames.back().index;
         if (event == E::object_start || event == E::array_start) {
-            frames.push_back({event == E::array_start});
+            frames.push_back(Frame{event == E::array_start, -1, {}, {}});
             if (frames.size() > kMaxJsonDepth)  // (named by its first levels)
                 fail(path, where(std::min<size_t>(frames.size() - 1, 4)) + "…",
                      "objects and arrays nested more than " + std::to_string(kMaxJsonDepth) +

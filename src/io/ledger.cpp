@@ -123,8 +123,17 @@ void Ledger::read(Open open) {
     for (std::string row; std::getline(lines, row);) {
         ++line;
         if (row.find_first_not_of(" \t\r") == std::string::npos) continue;
+        // (A row nested deeper than any the batch writes is refused before it is built: its
+        // recursive walks would overflow the stack, as a scene's did; json_reader.h.)
+        const auto shallow = [&](int depth, Json::parse_event_t, Json&) {
+            if (depth > int(kMaxJsonDepth))
+                fail(jsonlPath(), "line " + std::to_string(line),
+                     "objects and arrays nested more than " + std::to_string(kMaxJsonDepth) +
+                         " levels deep");
+            return true;
+        };
         try {
-            rows_.push_back(Json::parse(row));
+            rows_.push_back(Json::parse(row, shallow));
         } catch (const Json::exception&) {
             fail(jsonlPath(), "line " + std::to_string(line), "malformed JSON row");
         }

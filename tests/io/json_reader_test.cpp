@@ -419,4 +419,18 @@ TEST(JsonReader, NestingDeeperThanTheLimitIsRefused) {
               path + ": a.a.a.a…: objects and arrays nested more than 256 levels deep");
 }
 
+// A file shvol wrote, read where it is only consulted (a render's stats): its JSON, or discarded
+// when malformed or nested deeper than the limit (the batch copied a stats file's value, and a
+// deep one would overflow the stack as a scene did).
+TEST(JsonReader, OwnFilesTooDeepOrMalformedAreDiscarded) {
+    const std::string path = testing::TempDir() + "/own.stats.json";
+    std::ofstream(path) << R"({"spp": 4, "x": [[1]]})";
+    EXPECT_EQ(parseOwnJsonFile(path), Json::parse(R"({"spp": 4, "x": [[1]]})"));
+    std::ofstream(path) << R"({"spp": )";
+    EXPECT_TRUE(parseOwnJsonFile(path).is_discarded());
+    std::ofstream(path) << "{\"x\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
+    EXPECT_TRUE(parseOwnJsonFile(path).is_discarded());
+    EXPECT_TRUE(parseOwnJsonFile(path + ".missing").is_discarded());
+}
+
 }  // namespace shvol

@@ -230,6 +230,14 @@ TEST(Ledger, MalformedRowIsAnError) {
     std::ofstream(dir / "results.jsonl") << "{\"run\": \"r0\"}\n{\"run\": \n";
     EXPECT_EQ(test::messageOf([&] { Ledger l(dir.string()); }),
               (dir / "results.jsonl").string() + ": line 2: malformed JSON row");
+    // A row nested deeper than kMaxJsonDepth is refused before it is built (its walks would
+    // overflow the stack, as a scene's did).
+    std::ofstream(dir / "results.jsonl")
+        << "{\"run\": \"r0\"}\n{\"run\": \"r1\", \"x\": " << std::string(100000, '[')
+        << std::string(100000, ']') << "}\n";
+    EXPECT_EQ(test::messageOf([&] { Ledger l(dir.string()); }),
+              (dir / "results.jsonl").string() +
+                  ": line 2: objects and arrays nested more than 256 levels deep");
     // The refused Ledger released its lock (a constructor that throws runs no destructor).
     std::ofstream(dir / "results.jsonl") << "{\"run\": \"r0\"}\n";
     EXPECT_EQ(Ledger(dir.string()).rows().size(), 1u);

@@ -35,6 +35,10 @@ inline constexpr size_t kMaxJsonDepth = 256;
 /// "..." (a --set value or a phase specification of 200 kB was quoted whole: helper 96).
 std::string briefText(const std::string& text, size_t limit = 40);
 
+/// A file shvol wrote itself (a render's stats), read where it is only consulted: its JSON, or a
+/// discarded value (is_discarded()) if it is malformed or nested deeper than kMaxJsonDepth.
+Json parseOwnJsonFile(const std::string& path);
+
 /// Parses a whole file; errors name the file and the line/column.
 Json parseJsonFile(const std::string& path);
 /// Parses JSON text from `file` (a file name, or what names the text in errors): a malformed text
