@@ -436,8 +436,7 @@ void addBenchCommand(CLI::App& app, std::function<int()>& run) {
                   "Rounds of the measurements, each configuration once per round in turn; the "
                   "best of each is kept")
         ->check(integerIn(1, 1000));
-    c->add_option("--set", a->sets, "Override a scene value: key.path=value (repeatable)")
-        ->default_str("");
+    addSetOption(c, a->sets);
     CLI::Option* accuracy =
         c->add_flag("--accuracy", a->accuracy,
                     "Also measure RMSE against a converged reference (rendered once, cached)");

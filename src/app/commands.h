@@ -93,6 +93,10 @@ bool hasExtension(const std::string& path, const std::string& ext);
 /// (".exr", "dir/.exr"); empty when it is fine. `what` says what the command writes.
 std::string outputNameProblem(const std::string& path, const std::string& ext,
                               const std::string& what);
+/// The --set option of render and bench: key.path=value, one value per --set, repeatable (taking
+/// several values, it swallowed a scene written after it: `render --set a=1 s.json --threads 1`
+/// said "scene is required"; helper 96).
+CLI::Option* addSetOption(CLI::App* c, std::vector<std::string>& sets);
 /// A CLI11 check that a file or directory argument is not an empty string ("scene: an empty
 /// name"; the empty name reached the file's reader, whose error could name no file).
 CLI::Validator nonEmptyName();

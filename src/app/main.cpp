@@ -48,6 +48,11 @@ std::string plainParseError(std::string what, int argc, char** argv) {
         what = std::string(args.size() > 1 ? "unexpected arguments" : "an unexpected argument") +
                " (an unknown option, or a value no option takes):";
         for (const std::string& arg : args) what += " " + arg;
+        // key=value after an override: each --set takes one (it took several before 6 Dec).
+        if (std::any_of(args.begin(), args.end(), [](const std::string& arg) {
+                return arg.find('=') != std::string::npos && arg[0] != '-';
+            }))
+            what += "; each --set takes one key.path=value: give --set before each";
     }
     // CLI11's other words start with a capital, shvol's do not ("A subcommand is required").
     if (!what.empty() && std::isupper(static_cast<unsigned char>(what[0])))

@@ -1006,8 +1006,7 @@ void addRenderCommand(CLI::App& app, std::function<int()>& run) {
         ->default_str("the scene's render.seed");
     c->add_option("--threads", args->threads, "Worker threads (0: all cores)")
         ->check(integerIn(0, 4096));
-    c->add_option("--set", args->sets, "Override a scene value: key.path=value (repeatable)")
-        ->default_str("");
+    addSetOption(c, args->sets);
     c->add_flag("--quiet", args->quiet, "No progress bar or summary");
     c->add_option("--time-limit", args->timeLimit,
                   "Stop after this many seconds of rendering and write what is finished")

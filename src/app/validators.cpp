@@ -48,6 +48,14 @@ std::string outputNameProblem(const std::string& path, const std::string& ext,
     return "";
 }
 
+CLI::Option* addSetOption(CLI::App* c, std::vector<std::string>& sets) {
+    return c->add_option("--set", sets, "Override a scene value: key.path=value (repeatable)")
+        ->expected(1)
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+        ->allow_extra_args(false)
+        ->default_str("");
+}
+
 CLI::Validator nonEmptyName() {
     return CLI::Validator(
         [](std::string& name) {

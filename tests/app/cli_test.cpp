@@ -3549,6 +3549,30 @@ TEST_F(Cli, StatsNameTheGitRevision) {
         EXPECT_EQ(rev.substr(0, 7), "no-git-") << rev;
 }
 
+// --set takes one value, so a scene may follow it: with several, `--set k=v s.json --threads 1`
+// took s.json for a second override and said "scene is required" (helper 96). A second value
+// without its --set is refused, with the hint.
+TEST_F(Cli, SetTakesOneValueSoTheSceneMayFollowIt) {
+    write("s.json", scene(Homogeneous));
+    Result r = run("render --set camera.resolution=[4,4] " + path("s.json") +
+                   " --spp 1 --quiet -o " + path("out.exr"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    auto stats = nlohmann::json::parse(std::ifstream(path("out.stats.json")));
+    EXPECT_EQ(stats["scene_resolved"]["camera"]["resolution"], nlohmann::json::parse("[4, 4]"));
+    r = run("render --set camera.resolution=[4,4] --set render.spp=1 " + path("s.json") +
+            " --quiet -o " + path("out.exr"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    stats = nlohmann::json::parse(std::ifstream(path("out.stats.json")));
+    EXPECT_EQ(stats["spp"], 1);
+    r = run("render " + path("s.json") + " --set camera.resolution=[4,4] render.spp=1 --quiet -o " +
+            path("out.exr"));
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err,
+              "shvol: error: an unexpected argument (an unknown option, or a value no option "
+              "takes): render.spp=1; each --set takes one key.path=value: give --set before each "
+              "(see --help)\n");
+}
+
 // Hostile nesting, 100 000 arrays deep in a 200 kB scene, is refused in one line wherever it is
 // (under "media", in a medium's value, in a surface): it crashed the loader's recursive copies
 // (exit 139, nothing said; helper 96), while the same depth under "camera" was refused.
