@@ -196,9 +196,9 @@ void writeSamples(const PhaseArgs& a, const Json& spec, Rows&& rows) {
     // The samples must not replace the table they are drawn from.
     if (spec.contains("file") && spec["file"].is_string() &&
         sameFile(a.out, spec["file"].get<std::string>()))
-        failOption("--out", a.out +
-                                " is the phase table being sampled (the spec's file); write the "
-                                "samples elsewhere");
+        failOption("--output", a.out +
+                                   " is the phase table being sampled (the spec's file); write the "
+                                   "samples elsewhere");
     WeightStats ws;
     writeAtomically(a.out, [&](const std::string& tmp) {
         errno = 0;
@@ -354,7 +354,8 @@ void addPhaseCommand(CLI::App& app, std::function<int()>& run) {
     commonOptions(sample, *a);
     sample->add_option("--count", a->count, "Number of samples")->check(integerIn(1, 1LL << 32));
     sample->add_option("--seed", a->seed, "Random seed")->check(integerIn(0, kMaxSeed));
-    sample->add_option("-o,--out,--output", a->out, "Output CSV (x,y,z,pdf,weight)")
+    // (named --output in errors, as every other command's output: helper 96)
+    sample->add_option("-o,--output,--out", a->out, "Output CSV (x,y,z,pdf,weight)")
         ->required()
         ->check(nonEmptyName())
         ->check(outputNamed(".csv", "phase sample writes CSV"));

@@ -211,7 +211,7 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
         {"render ''", "scene: an empty name"},
         {"diff " + path("s.json") + " ''", "reference: an empty name"},
         {"tonemap '' -o " + path("t.png"), "image: an empty name"},
-        {"phase sample hg:g=0.5 --out ''", "--out: an empty name"},
+        {"phase sample hg:g=0.5 --out ''", "--output: an empty name"},
         {"batch ''", "sweep: an empty name"},
         {"report ''", "dir: an empty name"},
         // Found as the command runs, not as the options are read: the same form.
@@ -745,7 +745,7 @@ TEST_F(Cli, PhaseSampleRefusesToOverwriteItsTable) {
     Result r = run("phase sample tabulated:file=" + path("mie.csv") + " --count 5 --out " +
                    path("mie.csv"));
     EXPECT_EQ(r.code, 1);
-    EXPECT_EQ(r.err, "shvol: error: --out: " + path("mie.csv") +
+    EXPECT_EQ(r.err, "shvol: error: --output: " + path("mie.csv") +
                          " is the phase table being sampled (the spec's file); write the samples "
                          "elsewhere (see --help)\n");
     EXPECT_EQ(test::fileBytes(path("mie.csv")), before);
