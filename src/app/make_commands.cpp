@@ -62,8 +62,8 @@ void addMakeMediumCommand(CLI::App& app, std::function<int()>& run) {
     c->callback([&run, a, kindOptions] {
         for (const auto& [option, kinds] : kindOptions)
             if (option->count() > 0 && kinds.find(a->kind) == std::string::npos)
-                std::fprintf(stderr, "note: %s has no effect with %s\n", option->get_name().c_str(),
-                             a->kind.c_str());
+                std::fprintf(stderr, "shvol: note: %s has no effect with %s\n",
+                             option->get_name().c_str(), a->kind.c_str());
         run = [a] {
             VdbGridSpec s;
             s.name = a->grid;

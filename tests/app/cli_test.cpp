@@ -1756,8 +1756,8 @@ TEST_F(Cli, MakeMediumAndSkyRoundTrip) {
     // empty grid names the option of its own kind.
     r = run("make-medium sphere --resolution 8 --seed 3 --coverage 0.5 -o " + path("s8.vdb"));
     EXPECT_EQ(r.code, 0) << r.err;
-    EXPECT_EQ(r.err.rfind("note: --seed has no effect with sphere\n"
-                          "note: --coverage has no effect with sphere\nwrote ",
+    EXPECT_EQ(r.err.rfind("shvol: note: --seed has no effect with sphere\n"
+                          "shvol: note: --coverage has no effect with sphere\nwrote ",
                           0),
               0u)
         << r.err;
