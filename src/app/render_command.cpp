@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -660,18 +661,43 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
                      o.stderrImage.c_str(), ec.message().c_str());
 }
 
+/// text with each number in it (12, 62.5, 1.5e-05) written '#'.
+std::string numbersAsHashes(const std::string& text) {
+    const auto digit = [&](size_t i) {
+        return i < text.size() && std::isdigit(static_cast<unsigned char>(text[i]));
+    };
+    std::string shape;
+    for (size_t i = 0; i < text.size();) {
+        if (!digit(i)) {
+            shape += text[i++];
+            continue;
+        }
+        shape += '#';
+        while (digit(i) || (text[i] == '.' && digit(i + 1)) ||
+               ((text[i] == 'e' || text[i] == 'E') &&
+                (digit(i + 1) || ((text[i + 1] == '-' || text[i + 1] == '+') && digit(i + 2)))))
+            i += digit(i) || text[i] == '.' ? 1 : digit(i + 1) ? 2 : 3;
+    }
+    return shape;
+}
+
 /// Prints "shvol: warning: SCENE: TEXT", or in a batch "shvol: warning: SCENE (run RUN): TEXT",
-/// unless this process said TEXT of SCENE before: a batch's renders of one scene (repeats, other
-/// sample counts) give it the same warnings, which each run's stats keep, and stderr says once,
-/// naming the first run that gave it (it named none: a warning of one run among many could not
-/// be placed; helper 67).
+/// unless this process said TEXT of SCENE before, or another run said a TEXT that differs from it
+/// in its numbers only: a batch's renders of one scene (repeats, other sample counts) give it the
+/// same warnings, which each run's stats keep, and stderr says once, naming the first run that
+/// gave it (it named none: a warning of one run among many could not be placed; helper 67). The
+/// max_depth warning's counts differ from run to run, and an 80-run sweep said it 80 times
+/// (helper 98); one run's warnings of media[0] and media[1] are two.
 void warnOnce(const std::string& scene, const std::string& run, const std::string& text) {
     static std::mutex mutex;
-    static std::set<std::string> said;
+    static std::set<std::string> said;                 // "SCENE: TEXT"
+    static std::map<std::string, std::string> shapes;  // "SCENE: shape" → the run that said it
     const std::lock_guard<std::mutex> lock(mutex);
-    if (said.insert(scene + ": " + text).second)
-        std::fprintf(stderr, "shvol: warning: %s%s: %s\n", scene.c_str(),
-                     run.empty() ? "" : (" (run " + run + ")").c_str(), text.c_str());
+    if (!said.insert(scene + ": " + text).second) return;
+    const auto [first, isNew] = shapes.emplace(scene + ": " + numbersAsHashes(text), run);
+    if (!isNew && first->second != run) return;
+    std::fprintf(stderr, "shvol: warning: %s%s: %s\n", scene.c_str(),
+                 run.empty() ? "" : (" (run " + run + ")").c_str(), text.c_str());
 }
 
 /// --spp: "N" or increasing "N1,N2,…,N" (each Ni an image of its own). Gives the list; when the

@@ -859,6 +859,36 @@ TEST_F(Cli, RenderWarnsOfPathsEndedByMaxDepth) {
     EXPECT_GT(stats["paths_truncated"].get<uint64_t>(), 0u);
     EXPECT_EQ(stats["paths"].get<uint64_t>(), 8u);
     EXPECT_NE(r.err.find("reached depth 8 and were ended there"), std::string::npos) << r.err;
+    // A batch of such runs says it once, though each run's counts differ (an 80-run sweep said
+    // it for every run: helper 98); each run's stats keep their own.
+    write("few_sweep.json", R"({"scene": "few.json", "axes": {"seed": [1, 2, 3, 4]}})");
+    r = run("batch " + path("few_sweep.json") + " --quiet --output " + path("few_runs"));
+    EXPECT_EQ(r.code, 0) << r.err;
+    size_t said = 0;
+    for (size_t at = r.err.find("render.max_depth: "); at != std::string::npos;
+         at = r.err.find("render.max_depth: ", at + 1))
+        ++said;
+    EXPECT_EQ(said, 1u) << r.err;
+    std::set<std::string> texts;
+    for (const char* run : {"r0000", "r0001", "r0002", "r0003"}) {
+        stats = nlohmann::json::parse(
+            std::ifstream(path("few_runs/" + std::string(run) + ".stats.json")));
+        ASSERT_EQ(stats["warnings"].size(), 1u) << run;
+        texts.insert(stats["warnings"][0].get<std::string>());
+    }
+    EXPECT_GT(texts.size(), 1u);  // the counts differ: the texts did
+    // One render's warnings that differ in a number only are all said (media[0] and media[1]).
+    write("two.json", scene(std::string(R"({"type": "homogeneous", "sigma_t": 300, "albedo": 1,
+        "phase": {"type": "hg", "g": 0.99, "sampling": "sh", "order": 100},
+        "shape": {"type": "sphere", "radius": 0.5}})") +
+                            ", " +
+                            R"({"type": "homogeneous", "sigma_t": 300, "albedo": 1,
+        "phase": {"type": "hg", "g": 0.99, "sampling": "sh", "order": 100},
+        "shape": {"type": "sphere", "center": [0, 0, 2], "radius": 0.5}})"));
+    r = run("render " + path("two.json") + " --quiet -o " + path("out.exr"));
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find(": media[0].phase: "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(": media[1].phase: "), std::string::npos) << r.err;
     // A share below 0.1% is warned of once it exceeds the image mean's relative standard error:
     // this furnace cuts 0.086% of its paths, 0.99914 for 1 where the noise is about 0.0001
     // (helper 82; it said nothing).
