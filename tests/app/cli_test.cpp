@@ -3559,7 +3559,8 @@ TEST_F(Cli, NonUtf8FileNames) {
 
 // The stats name the source revision the program was built from: a 40-digit commit, with
 // "-dirty-" and 12 hex digits of its changes' hash when the tree had uncommitted changes (two
-// differently changed builds were both "-dirty"), or "unknown" outside a git checkout.
+// differently changed builds were both "-dirty"), or "no-git-" and 12 hex digits of its sources'
+// hash outside a checkout of its own.
 TEST_F(Cli, StatsNameTheGitRevision) {
     write("s.json", scene(Homogeneous));
     ASSERT_EQ(run("render " + path("s.json") + " -o " + path("g.exr") + " --quiet").code, 0);
@@ -3570,13 +3571,18 @@ TEST_F(Cli, StatsNameTheGitRevision) {
         (rev.size() == 40 || (rev.size() == 40 + 19 && rev.substr(40, 7) == "-dirty-" &&
                               rev.find_first_not_of("0123456789abcdef", 47) == std::string::npos));
     // A build from a git checkout names its commit (if the stamp broke and said "unknown", a
-    // test accepting either passed; helper 78); one from a tree outside git says "unknown".
+    // test accepting either passed; helper 78); one from a tree outside git says "no-git-<hash>".
+    // (a checkout of its own: the top of its work tree is the source directory)
+    const Result top =
+        runCommand("git -C " + std::string(SHVOL_SOURCE_DIR) + " rev-parse --show-toplevel");
     const bool inGit =
-        runCommand("git -C " + std::string(SHVOL_SOURCE_DIR) + " rev-parse HEAD").code == 0;
+        top.code == 0 && fs::equivalent(top.out.substr(0, top.out.find('\n')), SHVOL_SOURCE_DIR);
     if (inGit)
         EXPECT_TRUE(commit) << rev;
     else
-        EXPECT_EQ(rev.substr(0, 7), "no-git-") << rev;
+        EXPECT_TRUE(rev.size() == 19 && rev.substr(0, 7) == "no-git-" &&
+                    rev.find_first_not_of("0123456789abcdef", 7) == std::string::npos)
+            << rev;
 }
 
 // --set takes one value, so a scene may follow it: with several, `--set k=v s.json --threads 1`
@@ -3660,10 +3666,30 @@ TEST_F(Cli, BuildRevisionNamesTheSources) {
     put("cmake/f.cmake", "x\n");
     EXPECT_NE(revision(), first);
     fs::remove_all(tree + "/cmake");
+    // Weird names are sources too (a CMake list split them at ';' and paired '[' with ']').
+    put("include/x/a[1;b.h", "w\n");
+    const std::string weird = revision();
+    EXPECT_NE(weird, first);
+    put("include/x/zz.h", "z\n");  // sorted after it
+    EXPECT_NE(revision(), weird);
+    fs::remove(tree + "/include/x/a[1;b.h"), fs::remove(tree + "/include/x/zz.h");
+    EXPECT_EQ(revision(), first);
+
+    // Inside another repository's work tree, still named by its sources (it was named by that
+    // repository's commit: helper 99).
+    const std::string outer = "git -C " + path("") + " -c user.name=t -c user.email=t@t ";
+    ASSERT_EQ(runCommand(outer + "init -q && " + outer + "add rev.h && " + outer +
+                         "-c commit.gpgsign=false commit -qm o")
+                  .code,
+              0);
+    EXPECT_EQ(revision(), first);
 
     // A checkout: its commit, and "-dirty-" with the hash of its changes.
     const std::string git = "git -C " + tree + " -c user.name=t -c user.email=t@t ";
-    ASSERT_EQ(runCommand(git + "init -q && " + git + "add -A && " + git + "commit -qm t").code, 0);
+    ASSERT_EQ(runCommand(git + "init -q && " + git + "add -A && " + git +
+                         "-c commit.gpgsign=false commit -qm t")
+                  .code,
+              0);
     const std::string commit = revision();
     EXPECT_EQ(commit.size(), 40u) << commit;
     EXPECT_TRUE(hex(commit)) << commit;
