@@ -267,7 +267,8 @@ VolumePathIntegrator::LightDraw VolumePathIntegrator::sampleEnvironment(Vertex v
             s = product_->sample(lobe.lobe, lobe.beta, u);
             break;
     }
-    if (!(s.pdf > 0)) return {Vec3(0, 0, 1), Spectrum::Zero(), 0.0};
+    // (A NaN or negative pdf is passed on, to be counted: InvalidDraws.)
+    if (!(s.pdf > 0)) return {Vec3(0, 0, 1), Spectrum::Zero(), s.pdf};
     const Vec3 w = s.direction();
     return {w, env.Le(w), s.pdf};
 }

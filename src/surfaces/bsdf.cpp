@@ -206,13 +206,14 @@ std::optional<BsdfSample> Bsdf::sample(const Vec3& wo, const Vec2& u) const {
                     const Vec3 h = sampleWardHalfVector(v, alphaX, alphaY);
                     wi = 2 * woU.dot(h) * h - woU;
                 }
-                if (!(wi.z() > 0)) return std::nullopt;  // below the horizon: lost
+                // Below the horizon: lost. (A NaN goes on, to be counted: InvalidDraws.)
+                if (wi.z() <= 0) return std::nullopt;
             } else {
                 wi = sampleCosineHemisphere(Vec2(rescale(u.x(), ps, 1 - ps), u.y()));
             }
             wi.normalize();
             const double p = pdfGlossy(*this, woU, wi);
-            if (!(p > 0)) return std::nullopt;
+            if (p == 0) return std::nullopt;  // (a NaN or negative one is the path's to count)
             return BsdfSample{upper(wi, side), evalGlossy(*this, woU, wi), p, false};
         }
         case BsdfType::Mirror:

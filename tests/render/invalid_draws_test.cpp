@@ -153,8 +153,10 @@ TEST(InvalidDraws, TransmittancesOfNaNOrNegativeValueAreCountedAndDropped) {
 }
 
 TEST(InvalidDraws, BsdfSamplesOfNaNAreCountedAndEndTheirPaths) {
-    // Inside a closed sphere of a Phong BSDF whose specular reflectance is NaN, lit by its own
-    // emission.
+    // Inside a closed sphere of a Phong BSDF whose specular reflectance is NaN (its samples'
+    // values and pdfs), lit by its own emission. (A NaN exponent is not counted: the lobe's
+    // density, 0 where cos α > 0 fails, turns its NaN directions into "no sample" before the path
+    // sees them; README, invalid_draws.)
     Surface shell = Surface::sphere(Vec3(0, 0, 0), 1);
     shell.bsdf = Bsdf::phong(Spectrum::Constant(0.5), Spectrum::Constant(std::nan("")), 10);
     shell.emission = Spectrum::Constant(0.3);

@@ -67,8 +67,9 @@ namespace shvol {
 /// transmittance, a direction that is not finite, a NaN or negative flight distance. The path
 /// (or light sample) that meets one is dropped, as a pdf of 0 drops it: its light is lost, and
 /// the image is too dark by its share. Each is a defect (the loader refuses the parameters that
-/// could make one), so they are counted by source and warned of, never dropped silently. An
-/// infinite pdf or value is not counted here: the sample it makes is, as non-finite.
+/// could make one), so they are counted by source and warned of, never dropped silently. The
+/// samplers pass such numbers on rather than turn them into "no sample" (a pdf of 0). An infinite
+/// value is not counted here: the sample it makes is, as non-finite; an infinite pdf adds 0.
 struct InvalidDraws {
     uint64_t phase = 0;          ///< phase-function samples and evaluations
     uint64_t bsdf = 0;           ///< BSDF samples and evaluations
