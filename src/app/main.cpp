@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
+#include <cstring>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -48,11 +49,15 @@ std::string plainParseError(std::string what, int argc, char** argv) {
         what = std::string(args.size() > 1 ? "unexpected arguments" : "an unexpected argument") +
                " (an unknown option, or a value no option takes):";
         for (const std::string& arg : args) what += " " + arg;
-        // key=value after an override: each --set takes one (it took several before 6 Dec).
-        if (std::any_of(args.begin(), args.end(), [](const std::string& arg) {
-                return arg.find('=') != std::string::npos && arg[0] != '-';
-            }))
-            what += "; each --set takes one key.path=value: give --set before each";
+        // key=value right after an override's value: each --set takes one (it took several
+        // before 6 Dec; `--set a=1 b=2 s.json` reads b=2 as the scene and s.json as extra).
+        bool stray = false;
+        for (int i = 2; i < argc; ++i)
+            stray = stray || (std::strchr(argv[i], '=') && argv[i][0] != '-' &&
+                              std::string(argv[i - 1]).find('=') != std::string::npos &&
+                              (std::string(argv[i - 2]) == "--set" ||
+                               std::string(argv[i - 1]).rfind("--set=", 0) == 0));
+        if (stray) what += "; each --set takes one key.path=value: give --set before each";
     }
     // CLI11's other words start with a capital, shvol's do not ("A subcommand is required").
     if (!what.empty() && std::isupper(static_cast<unsigned char>(what[0])))
