@@ -45,7 +45,7 @@ SHSampledPhase shPhase(const PhaseArgs& a) {
     // (implied, not overridden: a spec that says "analytic", a medium's phase object pasted,
     // would be fitted in silence against its word; helper 77)
     if (j.contains("sampling") && j["sampling"] != "sh")
-        fail("phase spec \"" + a.spec + "\"", "sampling",
+        fail(specName(a.spec), "sampling",
              "the spec asks for " + j["sampling"].dump() +
                  ", and this command fits an SH sampler (leave the key out)");
     j["sampling"] = "sh";
@@ -69,7 +69,7 @@ SHSampledPhase shPhase(const PhaseArgs& a) {
     if (!a.window.empty()) j["window"] = a.window;
     if (!a.evaluate.empty()) j["evaluate"] = a.evaluate;
     if (a.depth > 0) j["sh_depth"] = a.depth;
-    const PhaseFunction p = readPhaseFunction(j, "phase spec \"" + a.spec + "\"", "");
+    const PhaseFunction p = readPhaseFunction(j, specName(a.spec), "");
     return std::get<SHSampledPhase>(p.variant());
 }
 
@@ -186,7 +186,7 @@ PhaseFunction analyticPhase(const PhaseArgs& a, const Json& j) {
         failOption("--sampler",
                    "analytic samples the phase function itself, and the spec asks "
                    "for \"sampling\": \"sh\"");
-    return readPhaseFunction(j, "phase spec \"" + a.spec + "\"", "");
+    return readPhaseFunction(j, specName(a.spec), "");
 }
 
 /// Writes the samples' CSV (x,y,z,pdf,weight) through a temporary and prints the weights' mean,

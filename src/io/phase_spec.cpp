@@ -68,11 +68,11 @@ PhaseFunction readPhase(JsonReader& r, const std::string& baseDir) {
     }
 }
 
+}  // namespace
+
 std::string specName(const std::string& spec) {
     return "phase spec \"" + briefText(spec, 80) + "\"";
 }
-
-}  // namespace
 
 SHPhaseKeys readSHPhaseKeys(JsonReader& r) {
     SHPhaseKeys k;

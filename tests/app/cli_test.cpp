@@ -3585,6 +3585,19 @@ TEST_F(Cli, StatsNameTheGitRevision) {
             << rev;
 }
 
+// The phase command quotes a long spec by its first 77 characters, as the loader does (its own
+// messages quoted the whole spec: helper 99).
+TEST_F(Cli, PhaseCommandQuotesLongSpecsBriefly) {
+    const std::string spec =
+        R"({"type":"hg","g":0.5,"sampling":"analytic","x":")" + std::string(200, 'y') + "\"}";
+    const Result r = run("phase fit '" + spec + "'");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(
+        r.err.rfind("shvol: error: phase spec \"" + spec.substr(0, 77) + "...\": sampling: ", 0),
+        0u)
+        << r.err;
+}
+
 // --set takes one value, so a scene may follow it: with several, `--set k=v s.json --threads 1`
 // took s.json for a second override and said "scene is required" (helper 96). A second value
 // without its --set is refused, with the hint.

@@ -53,6 +53,10 @@ PhaseFunction readPhaseFunction(const Json& j, const std::string& where,
 /// the short form above. Relative table files are resolved against baseDir ("" = the current
 /// directory). Errors are shvol::Error naming the spec, e.g.
 ///   phase spec "hg:g=2": g: value 2 out of range [-0.999999, 0.999999]
+/// How messages name a command line's phase specification: phase spec "SPEC", a long one by its
+/// first 77 characters (a 120 kB spec was quoted whole: helper 96).
+std::string specName(const std::string& spec);
+
 PhaseFunction parsePhaseSpec(const std::string& spec, const std::string& baseDir);
 
 /// The JSON object a short-form spec stands for ({"type": name, key: value, …}); JSON-object
