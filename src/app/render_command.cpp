@@ -417,11 +417,9 @@ std::vector<std::string> renderWarnings(const Scene& scene, const RenderStats& s
 }
 
 nlohmann::json invalidDrawsJson(const InvalidDraws& d) {
-    return {{"phase", d.phase},
-            {"bsdf", d.bsdf},
-            {"light", d.light},
-            {"flight", d.flight},
-            {"transmittance", d.transmittance}};
+    nlohmann::json j = nlohmann::json::object();
+    d.forEachSource([&](const char* key, const char*, uint64_t n) { j[key] = n; });
+    return j;
 }
 
 /// Everything the stats file says about one image; `provenance` (inputs, overrides, command line,

@@ -45,14 +45,9 @@ void InvalidDraws::add(const InvalidDraws& o) {
 std::string invalidDrawsWarning(const InvalidDraws& d) {
     if (d.total() == 0) return "";
     std::string text;
-    const auto part = [&](uint64_t n, const char* what) {
-        if (n > 0) text += (text.empty() ? "" : ", ") + std::to_string(n) + " " + what;
-    };
-    part(d.phase, "from phase functions");
-    part(d.bsdf, "from BSDFs");
-    part(d.light, "from light sampling");
-    part(d.flight, "free-flight distances");
-    part(d.transmittance, "transmittances");
+    d.forEachSource([&](const char*, const char* words, uint64_t n) {
+        if (n > 0) text += (text.empty() ? "" : ", ") + std::to_string(n) + " " + words;
+    });
     return std::to_string(d.total()) + " draws of samplers or media were NaN or negative (" + text +
            "): the paths or light samples that met them were dropped, so the image lacks their "
            "light; this is a defect of shvol: please report it with the scene";

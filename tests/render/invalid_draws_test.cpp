@@ -180,6 +180,19 @@ TEST(InvalidDraws, BsdfSamplesOfNaNAreCountedAndEndTheirPaths) {
     }
 }
 
+// Each source's key and words go with its own count (the stats' keys come from this list).
+TEST(InvalidDraws, EachSourceIsNamedWithItsCount) {
+    InvalidDraws d;
+    d.phase = 1, d.bsdf = 2, d.light = 3, d.flight = 4, d.transmittance = 5;
+    std::string seen;
+    d.forEachSource([&](const char* key, const char* words, uint64_t n) {
+        seen += std::string(key) + " " + words + " " + std::to_string(n) + "; ";
+    });
+    EXPECT_EQ(seen,
+              "phase from phase functions 1; bsdf from BSDFs 2; light from light sampling 3; "
+              "flight free-flight distances 4; transmittance transmittances 5; ");
+}
+
 TEST(InvalidDraws, WarningNamesTheSourcesCounted) {
     InvalidDraws d;
     EXPECT_EQ(invalidDrawsWarning(d), "");

@@ -78,6 +78,16 @@ struct InvalidDraws {
     uint64_t transmittance = 0;  ///< transmittance estimates of shadow rays
     uint64_t total() const { return phase + bsdf + light + flight + transmittance; }
     void add(const InvalidDraws& o);
+    /// f(key, words, count) for each source, in the order above: the stats' key and the
+    /// warning's words (one list for both).
+    template <typename F>
+    void forEachSource(F&& f) const {
+        f("phase", "from phase functions", phase);
+        f("bsdf", "from BSDFs", bsdf);
+        f("light", "from light sampling", light);
+        f("flight", "free-flight distances", flight);
+        f("transmittance", "transmittances", transmittance);
+    }
 };
 
 /// The render's warning of d's draws, naming the sources with a count ("… (12 from phase
