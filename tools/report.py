@@ -63,14 +63,22 @@ def load(directory):
                 try:
                     if not isinstance(json.loads(line), dict):
                         continue
-                except json.JSONDecodeError:
+                except (json.JSONDecodeError, RecursionError):
                     continue
             try:
                 row = json.loads(line)
             except json.JSONDecodeError:
                 fail(f"{path}: line {n}: malformed JSON row")
+            except RecursionError:  # (a traceback before; the batch refuses it too: helper 99)
+                fail(f"{path}: line {n}: objects and arrays nested too deep")
             if not isinstance(row, dict):
                 fail(f"{path}: line {n}: a row must be a JSON object")
+            # The columns the batch compares are strings, as the batch's own reading requires
+            # (the report took other types: helper 98).
+            for key in ("fingerprint", "settings_fingerprint", "git_revision",
+                        "reference_fingerprint"):
+                if key in row and not isinstance(row[key], str):
+                    fail(f"{path}: line {n}: \"{key}\" is not a string")
             # What the report reads of every row: a ledger written by shvol batch has them.
             for key in ("wall_time_s", "spp"):
                 if key not in row:

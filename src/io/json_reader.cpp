@@ -105,7 +105,7 @@ Json parseOwnJsonFile(const std::string& path) {
     struct TooDeep {};
     try {
         return Json::parse(f, [](int depth, Json::parse_event_t, Json&) {
-            if (depth > int(kMaxJsonDepth)) throw TooDeep{};
+            if (pastMaxJsonDepth(depth)) throw TooDeep{};
             return true;
         });
     } catch (const TooDeep&) {

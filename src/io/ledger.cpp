@@ -126,7 +126,7 @@ void Ledger::read(Open open) {
         // (A row nested deeper than any the batch writes is refused before it is built: its
         // recursive walks would overflow the stack, as a scene's did; json_reader.h.)
         const auto shallow = [&](int depth, Json::parse_event_t, Json&) {
-            if (depth > int(kMaxJsonDepth))
+            if (pastMaxJsonDepth(depth))
                 fail(jsonlPath(), "line " + std::to_string(line),
                      "objects and arrays nested more than " + std::to_string(kMaxJsonDepth) +
                          " levels deep");

@@ -3438,6 +3438,16 @@ TEST_F(Cli, BatchReport) {
     c = run("report " + path("o"));
     EXPECT_EQ(c.code, 1);
     EXPECT_EQ(c.err, "shvol: error: " + ledger + ": line 1: malformed JSON row\n");
+    // A row nested 100 000 deep (a Python traceback before), and the compared columns as strings
+    // only, as batch reads them (helpers 98, 99).
+    std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "wall_time_s": 1, "x": )"
+                          << std::string(100000, '[') << std::string(100000, ']') << "}\n";
+    c = run("report " + path("o"));
+    EXPECT_EQ(c.err, "shvol: error: " + ledger + ": line 1: objects and arrays nested too deep\n");
+    std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "wall_time_s": 1, "git_revision": 5})"
+                          << "\n";
+    c = run("report " + path("o"));
+    EXPECT_EQ(c.err, "shvol: error: " + ledger + ": line 1: \"git_revision\" is not a string\n");
     std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "wall_time_s": 1})"
                           << "\n"
                           << R"({"run": "r0001", "spp": 8, "wall_time_s": 1})"

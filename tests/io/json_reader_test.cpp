@@ -431,6 +431,12 @@ TEST(JsonReader, OwnFilesTooDeepOrMalformedAreDiscarded) {
     std::ofstream(path) << "{\"x\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
     EXPECT_TRUE(parseOwnJsonFile(path).is_discarded());
     EXPECT_TRUE(parseOwnJsonFile(path + ".missing").is_discarded());
+    // The same limit as a scene's: 255 arrays in the object pass, 256 do not.
+    for (const size_t arrays : {kMaxJsonDepth - 1, kMaxJsonDepth}) {
+        std::ofstream(path) << "{\"x\": " + std::string(arrays, '[') + std::string(arrays, ']') +
+                                   "}";
+        EXPECT_EQ(parseOwnJsonFile(path).is_discarded(), arrays == kMaxJsonDepth) << arrays;
+    }
 }
 
 }  // namespace shvol

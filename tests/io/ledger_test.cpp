@@ -238,6 +238,18 @@ TEST(Ledger, MalformedRowIsAnError) {
     EXPECT_EQ(test::messageOf([&] { Ledger l(dir.string()); }),
               (dir / "results.jsonl").string() +
                   ": line 2: objects and arrays nested more than 256 levels deep");
+    // The same limit as a scene's: 255 arrays in the row's object pass, 256 do not.
+    for (const size_t arrays : {kMaxJsonDepth - 1, kMaxJsonDepth}) {
+        std::ofstream(dir / "results.jsonl")
+            << "{\"run\": \"r0\", \"x\": " << std::string(arrays, '[') << std::string(arrays, ']')
+            << "}\n";
+        EXPECT_EQ(test::messageOf([&] { Ledger l(dir.string()); }),
+                  arrays < kMaxJsonDepth
+                      ? "(no error)"
+                      : (dir / "results.jsonl").string() +
+                            ": line 1: objects and arrays nested more than 256 levels deep")
+            << arrays;
+    }
     // The refused Ledger released its lock (a constructor that throws runs no destructor).
     std::ofstream(dir / "results.jsonl") << "{\"run\": \"r0\"}\n";
     EXPECT_EQ(Ledger(dir.string()).rows().size(), 1u);

@@ -30,6 +30,11 @@ std::string canonicalJson(const Json& j);
 /// deep overflow the stack (helper 96: 100 000 nested arrays under "media", a 200 kB file, crashed
 /// `render`).
 inline constexpr size_t kMaxJsonDepth = 256;
+/// Whether the depth an nlohmann parser callback is given (the top level's value at 0) is past
+/// kMaxJsonDepth, counted as parseJsonText counts: kMaxJsonDepth objects and arrays nested pass.
+inline bool pastMaxJsonDepth(int callbackDepth) {
+    return callbackDepth >= int(kMaxJsonDepth);
+}
 
 /// text as a message quotes it: whole up to `limit` characters, else its first limit − 3 and
 /// "..." (a --set value or a phase specification of 200 kB was quoted whole: helper 96).
