@@ -104,6 +104,14 @@ class Cli : public testing::Test {
     fs::path dir_;
 };
 
+/// How many times `needle` occurs in `text`.
+size_t occurrences(const std::string& text, const std::string& needle) {
+    size_t n = 0;
+    for (size_t at = text.find(needle); at != std::string::npos; at = text.find(needle, at + 1))
+        ++n;
+    return n;
+}
+
 const std::string Homogeneous =
     R"({"type": "homogeneous", "sigma_t": 2, "albedo": 0.8, "shape": {"type": "sphere"}})";
 
@@ -864,11 +872,7 @@ TEST_F(Cli, RenderWarnsOfPathsEndedByMaxDepth) {
     write("few_sweep.json", R"({"scene": "few.json", "axes": {"seed": [1, 2, 3, 4]}})");
     r = run("batch " + path("few_sweep.json") + " --quiet --output " + path("few_runs"));
     EXPECT_EQ(r.code, 0) << r.err;
-    size_t said = 0;
-    for (size_t at = r.err.find("render.max_depth: "); at != std::string::npos;
-         at = r.err.find("render.max_depth: ", at + 1))
-        ++said;
-    EXPECT_EQ(said, 1u) << r.err;
+    EXPECT_EQ(occurrences(r.err, "render.max_depth: "), 1u) << r.err;
     std::set<std::string> texts;
     for (const char* run : {"r0000", "r0001", "r0002", "r0003"}) {
         stats = nlohmann::json::parse(
@@ -984,11 +988,7 @@ TEST_F(Cli, RenderWarnsOfUnreliablePhaseFits) {
         "axes": {"spp": [1, 2]}, "repeats": 2})");
     r = run("batch " + path("sweep.json") + " --quiet --jobs 2 --output " + path("b"));
     EXPECT_EQ(r.code, 0) << r.err;
-    size_t said = 0;
-    for (size_t at = r.err.find("order-100 SH fit"); at != std::string::npos;
-         at = r.err.find("order-100 SH fit", at + 1))
-        ++said;
-    EXPECT_EQ(said, 1u) << r.err;
+    EXPECT_EQ(occurrences(r.err, "order-100 SH fit"), 1u) << r.err;
     // Named by the run that gave it first (--jobs 2: either of the first two).
     EXPECT_TRUE(
         r.err.rfind("shvol: warning: " + path("s.json") + " (run r0000 spp=1 repeat=0): ", 0) ==
@@ -2423,11 +2423,7 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
     EXPECT_NE(r.out.find("9 runs into " + path("clean") + ", 2 of them finished"),
               std::string::npos)
         << r.out;
-    size_t marked = 0;
-    for (size_t at = r.out.find(" (finished)\n"); at != std::string::npos;
-         at = r.out.find(" (finished)\n", at + 1))
-        ++marked;
-    EXPECT_EQ(marked, 2u) << r.out;
+    EXPECT_EQ(occurrences(r.out, " (finished)\n"), 2u) << r.out;
     EXPECT_EQ(test::fileBytes(ledger), firstTwo + "{\"run\": \"r00");
 }
 
