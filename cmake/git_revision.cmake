@@ -8,8 +8,8 @@
 # source archive, also one unpacked inside another repository's work tree) it is "no-git-<hash>",
 # <hash> being of the files the program is built from: src/, include/, cmake/ and CMakeLists.txt
 # (the builds of two different archives were both "unknown", and one resumed the other's
-# checkpoints). Run at every build; the file is rewritten only when
-# the text changes (src/app/git_revision.cpp alone includes it).
+# checkpoints). Run at every build; the file is rewritten only when the text changes
+# (src/app/git_revision.cpp alone includes it).
 cmake_policy(SET CMP0007 NEW)  # (list(REMOVE_ITEM) of the empty item)
 
 # The first 12 hex digits of the SHA-256 of the files' (paths relative to SRC, sorted) paths and

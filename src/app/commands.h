@@ -50,8 +50,8 @@ struct RenderArgs {
 int runRender(const RenderArgs& a);
 
 /// The commit this program was built from, "<commit>-dirty-<12 hex digits of a hash of the
-/// changed and untracked files>" if the tree had changes, or, built outside a git checkout,
-/// "no-git-<12 hex digits of a hash of the sources>" (cmake/git_revision.cmake).
+/// changed and untracked files>" if the tree had changes, or, built outside a checkout of its
+/// own, "no-git-<12 hex digits of a hash of the sources>" (cmake/git_revision.cmake).
 const char* gitRevision();
 
 /// The files a render with -o `out` writes: its image, statistics and (--variance) standard

@@ -49,14 +49,14 @@ PhaseFunction readPhaseFunction(JsonReader r);
 PhaseFunction readPhaseFunction(const Json& j, const std::string& where,
                                 const std::string& baseDir);
 
-/// Reads a phase function from either a JSON object string (first non-blank character '{') or
-/// the short form above. Relative table files are resolved against baseDir ("" = the current
-/// directory). Errors are shvol::Error naming the spec, e.g.
-///   phase spec "hg:g=2": g: value 2 out of range [-0.999999, 0.999999]
 /// How messages name a command line's phase specification: phase spec "SPEC", a long one by its
 /// first 77 characters (a 120 kB spec was quoted whole: helper 96).
 std::string specName(const std::string& spec);
 
+/// Reads a phase function from either a JSON object string (first non-blank character '{') or
+/// the short form above. Relative table files are resolved against baseDir ("" = the current
+/// directory). Errors are shvol::Error naming the spec, e.g.
+///   phase spec "hg:g=2": g: value 2 out of range [-0.999999, 0.999999]
 PhaseFunction parsePhaseSpec(const std::string& spec, const std::string& baseDir);
 
 /// The JSON object a short-form spec stands for ({"type": name, key: value, …}); JSON-object
