@@ -96,6 +96,10 @@ std::string canonicalJson(const Json& j) {
     return dumpJson(integralAsInteger(j));
 }
 
+std::string tooDeepMessage() {
+    return "objects and arrays nested more than " + std::to_string(kMaxJsonDepth) + " levels deep";
+}
+
 std::string briefText(const std::string& text, size_t limit) {
     return text.size() > limit ? text.substr(0, limit - 3) + "..." : text;
 }
@@ -167,9 +171,7 @@ Json parseJsonText(const std::string& text, const std::string& path, const std::
         if (event == E::object_start || event == E::array_start) {
             frames.push_back(Frame{event == E::array_start, -1, {}, {}});
             if (frames.size() > kMaxJsonDepth)  // (named by its first levels)
-                fail(path, where(std::min<size_t>(frames.size() - 1, 4)) + "…",
-                     "objects and arrays nested more than " + std::to_string(kMaxJsonDepth) +
-                         " levels deep");
+                fail(path, where(std::min<size_t>(frames.size() - 1, 4)) + "…", tooDeepMessage());
         } else if (event == E::object_end || event == E::array_end)
             frames.pop_back();
         else if (event == E::key) {

@@ -127,9 +127,7 @@ void Ledger::read(Open open) {
         // recursive walks would overflow the stack, as a scene's did; json_reader.h.)
         const auto shallow = [&](int depth, Json::parse_event_t, Json&) {
             if (pastMaxJsonDepth(depth))
-                fail(jsonlPath(), "line " + std::to_string(line),
-                     "objects and arrays nested more than " + std::to_string(kMaxJsonDepth) +
-                         " levels deep");
+                fail(jsonlPath(), "line " + std::to_string(line), tooDeepMessage());
             return true;
         };
         try {

@@ -35,6 +35,8 @@ inline constexpr size_t kMaxJsonDepth = 256;
 inline bool pastMaxJsonDepth(int callbackDepth) {
     return callbackDepth >= int(kMaxJsonDepth);
 }
+/// The refusal's words: "objects and arrays nested more than 256 levels deep".
+std::string tooDeepMessage();
 
 /// text as a message quotes it: whole up to `limit` characters, else its first limit − 3 and
 /// "..." (a --set value or a phase specification of 200 kB was quoted whole: helper 96).
