@@ -429,7 +429,8 @@ void addBenchCommand(CLI::App& app, std::function<int()>& run) {
     c->add_option("scene", a->scene,
                   "Scene file (default: media/default.json here, else in the source tree of this "
                   "shvol program)")
-        ->check(nonEmptyName());
+        ->check(nonEmptyName())
+        ->check(notAStrayOverride());
     c->add_option("--spp", a->spp, "Samples per pixel per measurement")
         ->check(integerIn(1, 1 << 24));
     c->add_option("--repeats", a->repeats,

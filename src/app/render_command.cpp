@@ -1007,7 +1007,10 @@ int runRender(const RenderArgs& a) {
 void addRenderCommand(CLI::App& app, std::function<int()>& run) {
     auto args = std::make_shared<RenderArgs>();
     CLI::App* c = app.add_subcommand("render", "Render a scene to a float32 EXR and a stats JSON");
-    c->add_option("scene", args->scene, "Scene file (JSON)")->required()->check(nonEmptyName());
+    c->add_option("scene", args->scene, "Scene file (JSON)")
+        ->required()
+        ->check(nonEmptyName())
+        ->check(notAStrayOverride());
     c->add_option("-o,--output", args->output,
                   "Output EXR (default: <scene name>.exr); statistics go to NAME.stats.json for -o "
                   "NAME.exr")

@@ -56,6 +56,18 @@ CLI::Option* addSetOption(CLI::App* c, std::vector<std::string>& sets) {
         ->default_str("");
 }
 
+CLI::Validator notAStrayOverride() {
+    return CLI::Validator(
+        [](std::string& name) {
+            std::error_code ec;
+            if (name.find('=') == std::string::npos || std::filesystem::exists(name, ec))
+                return std::string();
+            return name +
+                   ": no such file; each --set takes one key.path=value: give --set before each";
+        },
+        "");
+}
+
 CLI::Validator nonEmptyName() {
     return CLI::Validator(
         [](std::string& name) {
