@@ -82,8 +82,8 @@ LightSample Environment::sample(const Vec2& u) const {
     const Vec2 csTheta = cosSin(theta), csPhi = cosSin(phi);
     const double sinTheta = csTheta.y();
     const Vec3 w(sinTheta * csPhi.x(), sinTheta * csPhi.y(), csTheta.x());
-    // (A NaN or negative pdf goes on, for the path tracer to count: InvalidDraws.)
-    if (!(sinTheta > 0) || d.pdf == 0) return {w, Spectrum::Zero(), 0.0};
+    // (A NaN pdf goes on, for the path tracer to count: InvalidDraws.)
+    if (!(sinTheta > 0) || d.pdf <= 0) return {w, Spectrum::Zero(), 0.0};
     // The radiance of the texel drawn, from its sampling record (the one Le(w) finds, without the
     // round trip through w's angles or another read of the image).
     return {w, texelRadiance(d.rgb, w), d.pdf / (2 * Pi * Pi * sinTheta)};

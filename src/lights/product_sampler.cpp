@@ -285,16 +285,16 @@ template <class Lobe>
 WarpSample ProductSampler::sample(const Lobe& lobe, double beta, Vec2 u) const {
     if (beta <= 0) return sample(lobe, u);
     // The branch that drew the sample knows its own density; only the other one is evaluated.
-    // A failed branch yields no sample (its lost mass is what its pdf leaves out); a NaN or
-    // negative density goes on, for the path tracer to count (InvalidDraws).
+    // A failed branch yields no sample (its lost mass is what its pdf leaves out); a NaN density
+    // goes on, for the path tracer to count (InvalidDraws).
     WarpSample s;
     if (u.x() < beta) {
         s = sky_.sample(Vec2(u.x() / beta, u.y()));
-        if (s.pdf == 0) return {};
+        if (s.pdf <= 0) return {};
         s.pdf = (1 - beta) * pdf(lobe, s.direction()) + beta * s.pdf;
     } else {
         s = sample(lobe, Vec2((u.x() - beta) / (1 - beta), u.y()));
-        if (s.pdf == 0) return {};
+        if (s.pdf <= 0) return {};
         s.pdf = (1 - beta) * s.pdf + beta * sky_.pdf(s.direction());
     }
     return s;

@@ -256,7 +256,7 @@ WarpSample SkyHierarchy::sample(Vec2 u) const {
         // A descent into a node whose children all reconstruct ≤ 0 fails (pdf 0): that lost
         // mass is exactly what warpPdf() leaves out, so returning no sample keeps it unbiased.
         s = warp(Vec2((u.x() - alpha) / (1 - alpha), u.y()));
-        if (s.pdf == 0) return {};  // (a NaN goes on, for the path tracer to count)
+        if (s.pdf <= 0) return {};  // (a NaN goes on, for the path tracer to count)
     }
     s.pdf = pdf(s.direction());
     return s;

@@ -262,8 +262,9 @@ VolumePathIntegrator::LightDraw VolumePathIntegrator::sampleEnvironment(Vertex v
             s = product_->sample(lobe.lobe, lobe.beta, u);
             break;
     }
-    // (A NaN or negative pdf is passed on, to be counted: InvalidDraws.)
-    if (!(s.pdf > 0)) return {Vec3(0, 0, 1), Spectrum::Zero(), s.pdf};
+    // (A NaN pdf is passed on, to be counted: InvalidDraws. A negative one stays a failed draw,
+    // as the samplers' own failed branches are.)
+    if (!(s.pdf > 0)) return {Vec3(0, 0, 1), Spectrum::Zero(), std::isnan(s.pdf) ? s.pdf : 0.0};
     const Vec3 w = s.direction();
     return {w, env.Le(w), s.pdf};
 }

@@ -213,7 +213,7 @@ std::optional<BsdfSample> Bsdf::sample(const Vec3& wo, const Vec2& u) const {
             }
             wi.normalize();
             const double p = pdfGlossy(*this, woU, wi);
-            if (p == 0) return std::nullopt;  // (a NaN or negative one is the path's to count)
+            if (p <= 0) return std::nullopt;  // (a NaN goes on: the path's to count)
             return BsdfSample{upper(wi, side), evalGlossy(*this, woU, wi), p, false};
         }
         case BsdfType::Mirror:

@@ -68,7 +68,8 @@ namespace shvol {
 /// (or light sample) that meets one is dropped, as a pdf of 0 drops it: its light is lost, and
 /// the image is too dark by its share. Each is a defect (the loader refuses the parameters that
 /// could make one), so they are counted by source and warned of, never dropped silently. The
-/// samplers pass such numbers on rather than turn them into "no sample" (a pdf of 0). An infinite
+/// BSDF and sky samplers pass a NaN density on rather than turn it into "no sample" (a pdf of
+/// 0); a negative one stays a failed draw there, as their own failed branches are. An infinite
 /// value is not counted here: the sample it makes is, as non-finite; an infinite pdf adds 0.
 struct InvalidDraws {
     uint64_t phase = 0;          ///< phase-function samples and evaluations
