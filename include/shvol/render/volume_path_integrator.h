@@ -62,7 +62,6 @@
 
 namespace shvol {
 
-/// Counters of the paths a thread traced, summed over threads into the render statistics.
 /// Numbers from a sampler or a medium that no path can use: a NaN or negative pdf, value or
 /// transmittance, a direction that is not finite, a NaN or negative flight distance. The path
 /// (or light sample) that meets one is dropped, as a pdf of 0 drops it: its light is lost, and
@@ -95,6 +94,7 @@ struct InvalidDraws {
 /// functions, 3 transmittances): …"), or "" if there are none.
 std::string invalidDrawsWarning(const InvalidDraws& d);
 
+/// Counters of the paths a thread traced, summed over threads into the render statistics.
 struct PathCounters {
     uint64_t paths = 0;
     uint64_t scatteringEvents = 0;  ///< real collisions that scattered
