@@ -8,11 +8,12 @@ set -euo pipefail
 cd "$(dirname "$0")"
 
 # libclang-rt-14-dev: the sanitizer and libFuzzer runtimes (only recommended by clang, and
-# recommendations are not installed).
+# recommendations are not installed). git: the build names its revision by it, and a test makes
+# checkouts of its own (a source archive on a machine without git failed it).
 packages=(cmake ninja-build clang libclang-rt-14-dev g++ pkg-config
           libopenvdb-dev libboost-iostreams-dev libembree-dev libeigen3-dev libopenexr-dev
           libtbb-dev libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libtinyobjloader-dev
-          libboost-math-dev zlib1g-dev python3-matplotlib libopenmpi-dev openmpi-bin)
+          libboost-math-dev zlib1g-dev python3-matplotlib libopenmpi-dev openmpi-bin git)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
