@@ -97,6 +97,9 @@ std::string outputNameProblem(const std::string& path, const std::string& ext,
 /// several values, it swallowed a scene written after it: `render --set a=1 s.json --threads 1`
 /// said "scene is required"; helper 96).
 CLI::Option* addSetOption(CLI::App* c, std::vector<std::string>& sets);
+/// The hint of the errors a second value given to one --set makes.
+inline constexpr const char* kOneValuePerSet =
+    "each --set takes one key.path=value: give --set before each";
 /// A CLI11 check of a scene argument: a name holding '=' that is no file is a second value given
 /// to one --set, taken for the scene (`render --set a=1 b=2`): "b=2: no such file; …" with that
 /// hint (it said "no such file" only; helper 99).

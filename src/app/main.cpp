@@ -57,7 +57,7 @@ std::string plainParseError(std::string what, int argc, char** argv) {
                               std::string(argv[i - 1]).find('=') != std::string::npos &&
                               (std::string(argv[i - 2]) == "--set" ||
                                std::string(argv[i - 1]).rfind("--set=", 0) == 0));
-        if (stray) what += "; each --set takes one key.path=value: give --set before each";
+        if (stray) what += std::string("; ") + shvol::app::kOneValuePerSet;
     }
     // CLI11's other words start with a capital, shvol's do not ("A subcommand is required").
     if (!what.empty() && std::isupper(static_cast<unsigned char>(what[0])))

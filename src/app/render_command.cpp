@@ -684,8 +684,8 @@ std::string numbersAsHashes(const std::string& text) {
 /// in its numbers only: a batch's renders of one scene (repeats, other sample counts) give it the
 /// same warnings, which each run's stats keep, and stderr says once, naming the first run that
 /// gave it (it named none: a warning of one run among many could not be placed; helper 67). The
-/// max_depth warning's counts differ from run to run, and an 80-run sweep said it 80 times
-/// (helper 98); one run's warnings of media[0] and media[1] are two.
+/// max_depth warning's counts differ from run to run, and an 80-run sweep said it for nearly every
+/// run (helper 98); one run's warnings of media[0] and media[1] are two.
 void warnOnce(const std::string& scene, const std::string& run, const std::string& text) {
     static std::mutex mutex;
     static std::set<std::string> said;                 // "SCENE: TEXT"

@@ -62,8 +62,7 @@ CLI::Validator notAStrayOverride() {
             std::error_code ec;
             if (name.find('=') == std::string::npos || std::filesystem::exists(name, ec))
                 return std::string();
-            return name +
-                   ": no such file; each --set takes one key.path=value: give --set before each";
+            return name + ": no such file; " + kOneValuePerSet;
         },
         "");
 }

@@ -104,14 +104,19 @@ std::string briefText(const std::string& text, size_t limit) {
     return text.size() > limit ? text.substr(0, limit - 3) + "..." : text;
 }
 
+Json::parser_callback_t depthLimit(std::function<void()> tooDeep) {
+    // (The callback's depth is the top level's value's at 0.)
+    return [tooDeep = std::move(tooDeep)](int depth, Json::parse_event_t, Json&) {
+        if (depth >= int(kMaxJsonDepth)) tooDeep();
+        return true;
+    };
+}
+
 Json parseOwnJsonFile(const std::string& path) {
     std::ifstream f(path);
     struct TooDeep {};
     try {
-        return Json::parse(f, [](int depth, Json::parse_event_t, Json&) {
-            if (pastMaxJsonDepth(depth)) throw TooDeep{};
-            return true;
-        });
+        return Json::parse(f, depthLimit([] { throw TooDeep{}; }));
     } catch (const TooDeep&) {
     } catch (const Json::exception&) {
     }

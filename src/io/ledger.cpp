@@ -125,13 +125,11 @@ void Ledger::read(Open open) {
         if (row.find_first_not_of(" \t\r") == std::string::npos) continue;
         // (A row nested deeper than any the batch writes is refused before it is built: its
         // recursive walks would overflow the stack, as a scene's did; json_reader.h.)
-        const auto shallow = [&](int depth, Json::parse_event_t, Json&) {
-            if (pastMaxJsonDepth(depth))
-                fail(jsonlPath(), "line " + std::to_string(line), tooDeepMessage());
-            return true;
+        const auto tooDeep = [&] {
+            fail(jsonlPath(), "line " + std::to_string(line), tooDeepMessage());
         };
         try {
-            rows_.push_back(Json::parse(row, shallow));
+            rows_.push_back(Json::parse(row, depthLimit(tooDeep)));
         } catch (const Json::exception&) {
             fail(jsonlPath(), "line " + std::to_string(line), "malformed JSON row");
         }

@@ -1,6 +1,7 @@
 #pragma once
 /// \file Strict, path-aware reading of JSON objects: every key is typed and checked, unknown keys
 /// are errors, and every message names the file and the JSON path (e.g. media[0].phase.g).
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
@@ -30,11 +31,10 @@ std::string canonicalJson(const Json& j);
 /// deep overflow the stack (helper 96: 100 000 nested arrays under "media", a 200 kB file, crashed
 /// `render`).
 inline constexpr size_t kMaxJsonDepth = 256;
-/// Whether the depth an nlohmann parser callback is given (the top level's value at 0) is past
-/// kMaxJsonDepth, counted as parseJsonText counts: kMaxJsonDepth objects and arrays nested pass.
-inline bool pastMaxJsonDepth(int callbackDepth) {
-    return callbackDepth >= int(kMaxJsonDepth);
-}
+/// A parser callback for nlohmann's Json::parse that calls tooDeep(), which must throw, where the
+/// nesting passes kMaxJsonDepth, counted as parseJsonText counts (kMaxJsonDepth objects and
+/// arrays inside each other pass): for texts read without parseJsonText's messages.
+Json::parser_callback_t depthLimit(std::function<void()> tooDeep);
 /// The refusal's words: "objects and arrays nested more than 256 levels deep".
 std::string tooDeepMessage();
 
