@@ -244,26 +244,31 @@ const std::string* overrideSetting(const std::vector<std::string>& sets,
                                    const std::vector<std::string>& target) {
     for (const std::string& set : sets)
         if (const size_t eq = set.find('=');  // (one without '=' is refused as the scene is read)
-            eq != std::string::npos &&
-            overrideSets(set.substr(0, eq), overrideValue(set.substr(eq + 1), set.substr(0, eq)),
-                         target))
-            return &set;
+            eq != std::string::npos) {
+            Json value;
+            try {
+                value = overrideValue(set.substr(eq + 1), set.substr(0, eq));
+            } catch (const Error&) {  // (refused as the scene is read, with the scene's name)
+                continue;
+            }
+            if (overrideSets(set.substr(0, eq), value, target)) return &set;
+        }
     return nullptr;
 }
 
-Json overrideValue(const std::string& text, const std::string& place) {
+Json overrideValue(const std::string& text, const std::string& place, const std::string& file,
+                   const std::string& where) {
+    const std::string named = file.empty() || where.empty() ? file + where : file + ": " + where;
     Json value;
     try {
         value = Json::parse(text);
     } catch (const Json::out_of_range&) {  // a number beyond a double (1e400)
-        fail("--set value " + briefText(text, 80), place,
-             "number beyond the range of a double (±1.8e308)");
+        fail(named, where.empty() ? place : "", "number beyond the range of a double (±1.8e308)");
     } catch (const Json::exception&) {  // not JSON: a string
         return text;
     }
     // JSON, so refused as a file's would be if it repeats a key, named at its place.
-    return value.is_structured() ? parseJsonText(text, "--set value " + briefText(text, 80), place)
-                                 : value;
+    return value.is_structured() ? parseJsonText(text, named, place) : value;
 }
 
 std::string canonicalKeyPath(const std::string& key) {
@@ -346,12 +351,16 @@ bool applyOverride(Json& doc, const std::string& assignment, const std::string& 
                    const std::string& source) {
     const std::string by = source.empty() ? "" : source + ": ";
     const auto eq = assignment.find('=');
-    if (eq == std::string::npos || eq == 0)
-        fail(file, "--set " + assignment, "expected key.path=value");
+    // The assignment as errors quote it: a long value by its beginning (briefText).
+    const std::string given =
+        "--set " + (eq == std::string::npos
+                        ? briefText(assignment, 80)
+                        : assignment.substr(0, eq + 1) + briefText(assignment.substr(eq + 1), 80));
+    if (eq == std::string::npos || eq == 0) fail(file, given, "expected key.path=value");
     std::vector<std::string> parts;
     if (const std::string problem = keyPathProblem(assignment.substr(0, eq), &parts);
         !problem.empty())
-        fail(file, "--set " + assignment, problem);
+        fail(file, given, problem);
     // The document itself must be an object (a scene or a sweep), overrides or not.
     if (!doc.is_object()) fail(file, "(top level)", "expected an object, got " + typeName(doc));
     Json* node = &doc;
@@ -417,9 +426,11 @@ bool applyOverride(Json& doc, const std::string& assignment, const std::string& 
     }
     const std::string& last = parts.back();
     // (read once the path is walked: errors in the value are named at its place, media[0].phase)
+    // (a sweep, without `source`, names the assignment itself: the value is the sweep file's)
     Json value = overrideValue(
         assignment.substr(eq + 1),
-        node->is_array() ? walked + "[" + last + "]" : (walked.empty() ? "" : walked + ".") + last);
+        node->is_array() ? walked + "[" + last + "]" : (walked.empty() ? "" : walked + ".") + last,
+        source.empty() ? "" : file, source.empty() ? "" : given);
     if (node->is_array()) {
         if (value.is_null()) fail(file, walked, by + "array elements cannot be deleted");
         (*node)[element(last)] = std::move(value);

@@ -61,8 +61,9 @@ std::vector<std::string> stringList(JsonReader& r, const std::string& key,
         if (const std::string problem = keyPathProblem(path); !problem.empty())
             r.error(place, problem);
         const bool render = canonicalKeyPath(path).rfind("render", 0) == 0;
-        const Json value =
-            namesFile(path) || render ? overrideValue(a.substr(eq + 1), path) : Json();
+        // (read here for every key: a value no scene takes, 1e999 or a repeated key, is named
+        // in the sweep, not in each run)
+        const Json value = overrideValue(a.substr(eq + 1), path, r.file(), r.keyPath(place));
         if (render && overrideSets(path, value, {"render", "seed"}))
             r.error(place, kSeedIsTheSweeps);
         if (render && reference && overrideSets(path, value, {"render", "spp"}))

@@ -567,8 +567,14 @@ TEST_F(Cli, NumberOverflowIsAnInputError) {
                          " --set camera.fov=1e999 --quiet");
     EXPECT_EQ(r.code, 1);
     EXPECT_EQ(r.err,
-              "shvol: error: --set value 1e999: camera.fov: number beyond the range of a double "
-              "(±1.8e308)\n");
+              "shvol: error: " + path("s.json") +
+                  ": --set camera.fov=1e999: number beyond the range of a double (±1.8e308)\n");
+    // ... also with --spp, whose check of the --set options read the value first (and named no
+    // file).
+    EXPECT_EQ(run("render " + path("s.json") + " -o " + path("out.exr") +
+                  " --set camera.fov=1e999 --spp 2 --quiet")
+                  .err,
+              r.err);
     // The weight's second moment over 100 bounces, where it overflows a double, as a power of 10.
     const Result q = run("phase fit hg:g=0.999999");
     EXPECT_EQ(q.code, 0) << q.err;
@@ -3631,7 +3637,7 @@ TEST_F(Cli, SetTakesOneValueSoTheSceneMayFollowIt) {
     const std::string stray =
         "shvol: error: scene: render.spp=1: no such file; each --set takes "
         "one key.path=value: give --set before each (see --help)\n";
-    for (const std::string after :
+    for (const std::string& after :
          {" " + path("s.json") + " -o " + path("out.exr"), std::string()}) {
         r = run("render --set camera.resolution=[4,4] render.spp=1 --quiet" + after);
         EXPECT_EQ(r.code, 1);

@@ -213,14 +213,15 @@ TEST(JsonReader, Overrides) {
     EXPECT_EQ(messageOf([&] { applyOverride(null, "render.spp=1", "s.json"); }),
               "s.json: (top level): expected an object, got null");
     // (named at the key's place in the scene, not at the value's "(top level)")
-    EXPECT_EQ(messageOf([&] { applyOverride(j, "camera={\"fov\": 30, \"fov\": 40}", "s.json"); }),
-              "--set value {\"fov\": 30, \"fov\": 40}: camera: key \"fov\" appears twice (the "
-              "last would replace the first)");
+    EXPECT_EQ(
+        messageOf([&] { applyOverride(j, "camera={\"fov\": 30, \"fov\": 40}", "s.json"); }),
+        "s.json: --set camera={\"fov\": 30, \"fov\": 40}: camera: key \"fov\" appears twice (the "
+        "last would replace the first)");
     EXPECT_EQ(messageOf([&] {
                   applyOverride(j, "media.0.phase={\"a\": [{\"g\": 1, \"g\": 2}]}", "s.json");
               }),
-              "--set value {\"a\": [{\"g\": 1, \"g\": 2}]}: media[0].phase.a[0]: key \"g\" appears "
-              "twice (the last would replace the first)");
+              "s.json: --set media.0.phase={\"a\": [{\"g\": 1, \"g\": 2}]}: media[0].phase.a[0]: "
+              "key \"g\" appears twice (the last would replace the first)");
     EXPECT_EQ(messageOf([&] { applyOverride(j, "nonsense", "s.json"); }),
               "s.json: --set nonsense: expected key.path=value");
     // An index into an array the scene does not have (it made an object {"0": …}, refused by
@@ -359,11 +360,12 @@ TEST(JsonReader, OverrideRefusesMalformedKeyPathsAndNumbers) {
     applyOverride(j, "m=[[1,2],[3,4]]", "s.json");
     applyOverride(j, "m[1][0]=7", "s.json");
     EXPECT_EQ(j["m"], Json::parse("[[1,2],[7,4]]"));
-    EXPECT_EQ(messageOf([&] { applyOverride(j, "media[0].albedo=1e400", "s.json"); }),
-              "--set value 1e400: media[0].albedo: number beyond the range of a double (±1.8e308)");
+    EXPECT_EQ(
+        messageOf([&] { applyOverride(j, "media[0].albedo=1e400", "s.json"); }),
+        "s.json: --set media[0].albedo=1e400: number beyond the range of a double (±1.8e308)");
     EXPECT_EQ(messageOf([&] { applyOverride(j, "render.spp=" + std::string(400, '9'), "s.json"); }),
-              "--set value " + std::string(77, '9') +
-                  "...: render.spp: number beyond the range of a double (±1.8e308)");
+              "s.json: --set render.spp=" + std::string(77, '9') +
+                  "...: number beyond the range of a double (±1.8e308)");
 }
 
 // Found by fuzz/scene_fuzzer and fuzz/phase_spec_fuzzer: a --set value that is not JSON is kept
@@ -392,7 +394,7 @@ TEST(JsonReader, DeeplyNestedValueInAMessage) {
     // Deeper is refused as it is parsed (100 000 levels were taken, and a scene file's crashed
     // the recursive copies after it: helper 96).
     EXPECT_EQ(messageOf([&] { applyOverride(j, "render.spp=" + nested(100000), "s.json"); }),
-              "--set value " + std::string(77, '[') +
+              "s.json: --set render.spp=" + std::string(77, '[') +
                   "...: render.spp[0][0][0][0]…: objects and arrays nested more than 256 levels "
                   "deep");
 }

@@ -290,6 +290,15 @@ TEST(Sweep, ErrorsNameFileAndKey) {
     EXPECT_EQ(err("e3l", R"({"scene": "scene.json", "axes": {"spp": [1]},
                             "set": ["camera]fov=30"]})"),
               ": set[0]: ']' without '[' in key path");
+    // So is a value no scene takes, at the sweep's key (it said "--set value 1e999: …", a --set
+    // nobody gave, and no file).
+    EXPECT_EQ(err("e3m", R"({"scene": "scene.json", "set": ["media[0].albedo=1e999"]})"),
+              ": set[0]: number beyond the range of a double (±1.8e308)");
+    EXPECT_EQ(
+        err("e3n",
+            R"({"scene": "scene.json", "reference": {"set": ["camera={\"fov\": 1, \"fov\": 2}"]}})"),
+        ": reference.set[0]: camera: key \"fov\" appears twice (the last would replace the "
+        "first)");
     EXPECT_EQ(err("e3s", R"({"scene": "scene.json", "axes": {"seed": [-1]}})"),
               ": axes.seed: expected integers in [0, 2^53]");
     EXPECT_EQ(err("e3t", R"({"scene": "scene.json", "axes": {"seed": [1e16]}})"),

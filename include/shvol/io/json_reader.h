@@ -83,9 +83,12 @@ const std::string* overrideSetting(const std::vector<std::string>& sets,
                                    const std::vector<std::string>& target);
 /// The value of an override "key=text" as applyOverride reads it: the JSON text parsed, or the
 /// text itself as a string when it is not valid JSON; a number beyond a double's range (1e400)
-/// is an error. `place`, the JSON path it is assigned to
-/// (media[0].phase), places a repeated key in errors.
-Json overrideValue(const std::string& text, const std::string& place);
+/// is an error. Errors name `file` and `where`, the override as its source gives it ("--set
+/// key=value" on the command line, "set[2]" in a sweep file), and a key repeated inside the
+/// value by its JSON path under `place`, the path the value is assigned to (media[0].phase),
+/// which also names an error without `where`.
+Json overrideValue(const std::string& text, const std::string& place, const std::string& file = "",
+                   const std::string& where = "");
 
 class JsonReader {
   public:
