@@ -10,24 +10,10 @@
 # (the builds of two different archives were both "unknown", and one resumed the other's
 # checkpoints). Run at every build; the file is rewritten only when the text changes
 # (src/app/git_revision.cpp alone includes it).
-cmake_policy(SET CMP0007 NEW)  # (list(REMOVE_ITEM) of the empty item)
 
-# The first 12 hex digits of the SHA-256 of the files' (paths relative to SRC, sorted) paths and
-# contents ("deleted" for a path that is not a file).
-function(hash_files out)
-  set(files ${ARGN})
-  list(SORT files)
-  list(REMOVE_DUPLICATES files)
-  set(state "")
-  foreach(f IN LISTS files)
-    if(EXISTS "${SRC}/${f}" AND NOT IS_DIRECTORY "${SRC}/${f}")
-      file(SHA256 "${SRC}/${f}" h)
-    else()
-      set(h "deleted")
-    endif()
-    string(APPEND state "${f}\n${h}\n")
-  endforeach()
-  string(SHA256 h "${state}")
+# The first 12 hex digits of the SHA-256 of `text`.
+function(short_hash out text)
+  string(SHA256 h "${text}")
   string(SUBSTRING "${h}" 0 12 h)
   set(${out} "${h}" PARENT_SCOPE)
 endfunction()
@@ -49,19 +35,19 @@ if(NOT rc EQUAL 0 OR rev STREQUAL "" OR NOT top STREQUAL src_real)
                   COMMAND env LC_ALL=C sort -z
                   COMMAND xargs -0 -r sha256sum --
                   WORKING_DIRECTORY "${SRC}" OUTPUT_VARIABLE sums ERROR_QUIET)
-  string(SHA256 h "${sums}")
-  string(SUBSTRING "${h}" 0 12 h)
+  short_hash(h "${sums}")
   set(rev "no-git-${h}")
 else()
-  execute_process(COMMAND git -C "${SRC}" -c core.quotepath=off diff HEAD --name-only --no-renames
-                  OUTPUT_VARIABLE changed ERROR_QUIET)
-  execute_process(COMMAND git -C "${SRC}" -c core.quotepath=off ls-files --others
-                          --exclude-standard
-                  OUTPUT_VARIABLE untracked ERROR_QUIET)
-  string(REPLACE "\n" ";" files "${changed}${untracked}")
-  list(REMOVE_ITEM files "")
-  if(files)
-    hash_files(h ${files})
+  # The changed and untracked files' contents (or "deleted") and paths, NUL-separated from git to
+  # sha256sum as above: a CMake list of the names hashed "a[1;b.cpp" as two deleted files, so its
+  # changes left the name as it was (before 7 Dec).
+  execute_process(COMMAND sh -c "{ git diff HEAD --name-only -z --no-renames && \
+git ls-files --others --exclude-standard -z; } | LC_ALL=C sort -zu | xargs -0 -r sh -c '\
+for f; do if [ -f \"$f\" ]; then sha256sum -- \"$f\"; else printf \"deleted  %s\\n\" \"$f\"; fi; \
+done' sh"
+                  WORKING_DIRECTORY "${SRC}" OUTPUT_VARIABLE sums ERROR_QUIET)
+  if(NOT sums STREQUAL "")
+    short_hash(h "${sums}")
     set(rev "${rev}-dirty-${h}")
   endif()
 endif()

@@ -3742,6 +3742,17 @@ TEST_F(Cli, BuildRevisionNamesTheSources) {
     EXPECT_NE(revision(), dirty);
     put("src/a.cpp", "int a;\n");
     EXPECT_EQ(revision(), commit);
+    // A weird name's changes change the name too (the list of changed files was a CMake list,
+    // which hashed a[1;b.cpp as the two deleted files "src/a[1" and "b.cpp").
+    put("src/a[1;b.cpp", "w\n");
+    const std::string weirdDirty = revision();
+    EXPECT_EQ(weirdDirty.substr(0, 47), commit + "-dirty-");
+    put("src/a[1;b.cpp", "w2\n");
+    EXPECT_NE(revision(), weirdDirty);
+    fs::remove(tree + "/src/a[1;b.cpp");
+    EXPECT_EQ(revision(), commit);
+    fs::remove(tree + "/src/a.cpp");  // a deleted file is a change
+    EXPECT_EQ(revision().substr(0, 47), commit + "-dirty-");
 }
 
 }  // namespace shvol
