@@ -146,7 +146,7 @@ int renderReference(const Sweep& s, const BatchArgs& a, bool variance, const std
     const int code = runRender(r);
     world.barrier();  // the other ranks read it once rank 0 has written it
     if (code == 0 && world.root())
-        std::ofstream(ref.file + ".fingerprint") << referenceRecord(stamp, ref.file, variance);
+        writeTextAtomically(ref.file + ".fingerprint", referenceRecord(stamp, ref.file, variance));
     return code;
 }
 

@@ -1,6 +1,7 @@
 // shvol: a participating-media simulator. See README.md for the command-line reference.
 #include <algorithm>
 #include <cctype>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <sstream>
@@ -155,6 +156,13 @@ int runMain(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    // A file-size limit (ulimit -f) ends a process that writes past it by SIGXFSZ: no message,
+    // exit 153 and the temporaries left (helper 100). Ignored (unless whoever started shvol
+    // chose otherwise), the write fails with EFBIG instead, which each writer reports as it does
+    // a full disk: one line naming the file, exit 1, nothing left.
+    struct sigaction fileSize {};
+    if (::sigaction(SIGXFSZ, nullptr, &fileSize) == 0 && fileSize.sa_handler == SIG_DFL)
+        std::signal(SIGXFSZ, SIG_IGN);
     shvol::app::MpiWorld::init(argc, argv);
     const int code = runMain(argc, argv);
     shvol::app::MpiWorld::finalize();

@@ -210,9 +210,12 @@ void writeSamples(const PhaseArgs& a, const Json& spec, Rows&& rows) {
             const double weight = pdf > 0 ? value / pdf : 0.0;
             ws.add(weight);
             csv << w.x() << ',' << w.y() << ',' << w.z() << ',' << pdf << ',' << weight << '\n';
+            // (at once, while errno is the failed write's: the sampling may set it later)
+            if (!csv) failWriting(a.out, errno);
         });
+        errno = 0;
         csv.close();
-        if (!csv) failWriting(a.out, 0);  // (errno may come from the sampling in between)
+        if (!csv) failWriting(a.out, errno);
     });
     std::fprintf(stderr,
                  "wrote %lld samples to %s\nweight p/pdf: mean %.6g, variance %.6g, max %.6g",

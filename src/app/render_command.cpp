@@ -638,14 +638,9 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
         files.push_back(
             {o.stderrImage, [&](const std::string& tmp) { writeExrTo(tmp, se, o.stderrImage); }});
     files.push_back({o.stats, [&](const std::string& tmp) {
-                         errno = 0;
-                         std::ofstream f(tmp);
-                         if (!f) failWriting(o.stats, errno);  // (the calls below may set errno)
                          nlohmann::json j = statsJson(scene, image, st, o.image, all, provenance);
                          if (variance) j["standard_error"] = o.stderrImage;
-                         f << dumpJson(j, 2) << "\n";
-                         f.close();
-                         if (!f) failWriting(o.stats, 0);
+                         writeTextTo(tmp, dumpJson(j, 2) + "\n", o.stats);
                      }});
     writeTogether(files);
     // Standard errors an earlier render left under this image's name would pass for this one's

@@ -5,8 +5,10 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfStdIO.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -227,10 +229,18 @@ Image readExr(const std::string& path, ExrValues values) {
 }
 
 void writeExrTo(const std::string& tmp, const Image& image, const std::string& path) {
+    // The stream is ours, and checked once OpenEXR is done with it: its OutputFile writes the
+    // scan lines' offsets as it is destroyed, and the stream's last buffer is written as it
+    // closes, both without a word when the disk is full (a truncated image was renamed into
+    // place and reported written, exit 0, before 7 Dec; helper 100).
+    errno = 0;
+    std::ofstream os(tmp, std::ios::binary);
+    if (!os) failWriting(path, errno);
     try {
+        Imf::StdOFStream stream(os, tmp.c_str());
         Imf::Header header(image.width, image.height);
         for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
-        Imf::OutputFile file(tmp.c_str(), header);
+        Imf::OutputFile file(stream, header);
         Imf::FrameBuffer fb;
         const size_t xs = 3 * sizeof(float), ys = xs * image.width;
         char* base = reinterpret_cast<char*>(const_cast<float*>(image.rgb.data()));
@@ -240,8 +250,11 @@ void writeExrTo(const std::string& tmp, const Image& image, const std::string& p
         file.setFrameBuffer(fb);
         file.writePixels(image.height);
     } catch (const std::exception& e) {
+        if (!os) failWriting(path, errno);  // (as below: "cannot write file (File too large)")
         fail(path, "", std::string("cannot write EXR (") + e.what() + ")");
     }
+    os.close();
+    if (!os) failWriting(path, errno);
 }
 
 void writeExr(const std::string& path, const Image& image) {

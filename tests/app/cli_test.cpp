@@ -1808,6 +1808,36 @@ TEST_F(Cli, MakeMediumAndSkyRoundTrip) {
 // A signal that comes once the render has finished, while its outputs are written, lets them be
 // written whole and exits 130 (it ended the process with none of them: the guard was gone). The
 // signal is sent once the stats file's temporary appears, which is before the EXRs are written.
+// A full disk, as a file-size limit (ulimit -f, in KiB) makes one: an output that does not fit
+// is one line naming it with the reason, exit 1, and nothing left behind, also with SIGXFSZ at
+// its default (a truncated image or VDB was renamed into place and reported written, exit 0,
+// where the last bytes were still in a stream's buffer as it closed; the image's stats and the
+// phase samples were refused without the reason; the limit's SIGXFSZ ended shvol without a word,
+// exit 153, leaving the temporaries; helper 100).
+TEST_F(Cli, OutputsThatDoNotFitAreRefused) {
+    write("s.json", scene(Homogeneous));
+    const std::string render = "render " + path("s.json") + " -o " + path("out.exr") + " --quiet";
+    const std::vector<std::tuple<std::string, int, std::string>> cases = {
+        // the image (6 kB: all of it in the stream's buffer until it closes)
+        {render + " --spp 1 --set camera.resolution=[64,64]", 4, "out.exr"},
+        {render, 2, "out.stats.json"},  // an 8 × 6 image (510 bytes), then its stats (3.7 kB)
+        {"make-medium sphere -o " + path("out.vdb") + " --resolution 32", 16, "out.vdb"},
+        {"make-sky -o " + path("out_sky.exr") + " --width 256", 16, "out_sky.exr"},
+        {"phase sample hg:g=0.5 --count 100000 -o " + path("out.csv"), 16, "out.csv"}};
+    for (const auto& [args, kib, output] : cases)
+        for (const char* xfsz : {"", "trap - XFSZ; "}) {
+            const Result r = runCommand(std::string(xfsz) + "ulimit -f " + std::to_string(kib) +
+                                        "; exec " + SHVOL_BINARY + " " + args);
+            EXPECT_EQ(r.code, 1) << args;
+            EXPECT_EQ(r.err,
+                      "shvol: error: " + path(output) + ": cannot write file (File too large)\n")
+                << args;
+            for (const auto& e : fs::directory_iterator(dir_))
+                if (e.path().filename().string().find("out") != std::string::npos)
+                    ADD_FAILURE() << args << " left " << e.path(), fs::remove(e.path());
+        }
+}
+
 TEST_F(Cli, SignalWhileWritingStillWritesEverything) {
     write("s.json", scene(Homogeneous));
     const std::string out = path("w.exr");
