@@ -19,7 +19,46 @@ import html
 import json
 import math
 import os
+import signal
 import sys
+
+SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
+class Interrupted(Exception):
+    """A signal that ends the report (SIGINT, SIGTERM or SIGHUP): raised where the script can
+    stop cleanly (stop_if_signalled), so that its temporaries are removed on the way out
+    (Python's own SIGTERM and SIGHUP ended it at once, leaving a plot's temporary; helper 100)."""
+
+    def __init__(self, number):
+        super().__init__(number)
+        self.number = number
+
+
+def on_signal(number, frame):
+    # Only noted: an exception raised from a handler can land in a finaliser or in importlib,
+    # which print it and carry on (a Ctrl-C during the import of matplotlib came out as a
+    # traceback and "needs matplotlib"). Later signals (Ctrl-C reaches the whole process group,
+    # and shvol passes its own signal on too) change nothing.
+    if not on_signal.number:
+        on_signal.number = number
+
+
+on_signal.number = 0
+
+
+def stop_if_signalled():
+    if on_signal.number:
+        raise Interrupted(on_signal.number)
+
+
+# A signal the caller ignores stays ignored. shvol report starts the script with these signals
+# blocked, released once the handlers are in place: a Ctrl-C while Python started up made it
+# print "Fatal Python error" and a traceback.
+for _s in SIGNALS:
+    if signal.getsignal(_s) in (signal.SIG_DFL, signal.default_int_handler):
+        signal.signal(_s, on_signal)
+signal.pthread_sigmask(signal.SIG_UNBLOCK, SIGNALS)
 
 try:
     import matplotlib
@@ -172,7 +211,9 @@ def main():
         fail("usage: report.py DIR COLUMNS (run by shvol report, which passes the ledger's "
              "columns that are no axes, comma-separated)")
     directory, meta = sys.argv[1], set(sys.argv[2].split(","))
+    stop_if_signalled()
     rows = load(directory)
+    stop_if_signalled()
     axes = [k for k in rows[0] if k not in meta]
     for r in rows[1:]:
         axes += [k for k in r if k not in meta and k not in axes]
@@ -341,10 +382,10 @@ def main():
         problem = output_problem(path)
         if problem:
             fail(f"{path}: cannot write: {problem}")
-    for path, write_to in pending:
-        replace_atomically(path, write_to)
+    replace_together(pending)
     plt.close("all")
     print(os.path.join(directory, "report.md"))
+    stop_if_signalled()  # (one that came during the renames: the report is whole)
 
 
 pending = []  # (path, write_to(tmp)) of every output, written once all are made
@@ -363,18 +404,30 @@ def output_problem(path):
     return None
 
 
-def replace_atomically(path, write_to):
-    """write_to(tmp), then rename tmp to path: no half-written file, and no temporary left when
-    it fails or is interrupted."""
-    tmp = path + ".tmp"
+def replace_together(outputs):
+    """Each write_to(tmp) of outputs [(path, write_to)], then every tmp renamed to its path: the
+    report is replaced whole or not at all (each output was renamed as soon as it was written,
+    so a full disk or a Ctrl-C part-way left new plots beside the last report; helper 100), and
+    no temporary is left. A signal stops it before the renames, not during them."""
+    temporaries = []
     try:
-        write_to(tmp)
-        os.replace(tmp, path)
-    except OSError as e:
-        fail(f"{path}: cannot write ({e.strerror or e})")
+        for path, write_to in outputs:
+            stop_if_signalled()
+            temporaries.append(path + ".tmp")
+            try:
+                write_to(temporaries[-1])
+            except OSError as e:
+                fail(f"{path}: cannot write ({e.strerror or e})")
+        stop_if_signalled()
+        for (path, _), tmp in zip(outputs, temporaries):
+            try:
+                os.replace(tmp, path)
+            except OSError as e:
+                fail(f"{path}: cannot write ({e.strerror or e})")
     finally:
-        if os.path.lexists(tmp) and not os.path.isdir(tmp):
-            os.remove(tmp)
+        for tmp in temporaries:
+            if os.path.lexists(tmp) and not os.path.isdir(tmp):
+                os.remove(tmp)
 
 
 def write(path, text):
@@ -386,11 +439,12 @@ def write(path, text):
 
 def save(fig, path):
     """A figure as a PNG."""
+    stop_if_signalled()
     pending.append((path, lambda tmp: fig.savefig(tmp, dpi=110, format="png")))
 
 
 if __name__ == "__main__":
     try:
         main()
-    except KeyboardInterrupt:  # Ctrl-C: no traceback, and 130 as shvol's commands exit with
-        sys.exit(130)
+    except Interrupted as e:  # no traceback, and 128 + the signal as shvol's commands exit with
+        sys.exit(128 + e.number)

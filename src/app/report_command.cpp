@@ -1,10 +1,15 @@
 // shvol report DIR: plots and tables of a batch's ledger, made by tools/report.py.
+#include <spawn.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
+#include <cerrno>
 #include <csignal>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 
 #include "commands.h"
@@ -15,10 +20,62 @@ namespace shvol::app {
 
 namespace {
 
-std::string shellQuote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
+/// The script's process while it runs (0: none yet), and a signal that came before it was known.
+std::atomic<pid_t> gScript{0};
+std::atomic<int> gEarlySignal{0};
+static_assert(std::atomic<pid_t>::is_always_lock_free, "the signal handler reads it");
+
+/// Passes SIGINT, SIGTERM or SIGHUP on to the script, which ends, its temporaries removed, with
+/// 128 + the signal.
+extern "C" void passToScript(int sig) {
+    if (const pid_t pid = gScript.load(); pid > 0)
+        ::kill(pid, sig);
+    else
+        gEarlySignal.store(sig);
+}
+
+/// Runs /usr/bin/python3 with `args` and waits for it, passing the signals that would end shvol
+/// on to it: std::system ignored SIGINT while it waited (`kill -INT` did nothing), and a SIGTERM
+/// ended shvol at once while the script went on and wrote the report a second later (helper
+/// 100). The exit status of waitpid.
+int runPython(const std::vector<std::string>& args) {
+    std::vector<char*> argv = {const_cast<char*>("/usr/bin/python3")};
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
+    struct sigaction pass {
+    }, old[3];
+    pass.sa_handler = passToScript;
+    sigemptyset(&pass.sa_mask);
+    for (int i = 0; i < 3; ++i) {
+        ::sigaction(kSignals[i], nullptr, &old[i]);
+        if (old[i].sa_handler != SIG_IGN) ::sigaction(kSignals[i], &pass, nullptr);
+    }
+    // The script starts with the signals blocked and unblocks them once its handlers are in
+    // place: a Ctrl-C while Python starts up made it print "Fatal Python error" and a traceback.
+    posix_spawnattr_t attr;
+    sigset_t held;
+    sigemptyset(&held);
+    for (const int sig : kSignals) sigaddset(&held, sig);
+    posix_spawnattr_init(&attr);
+    posix_spawnattr_setsigmask(&attr, &held);
+    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK);
+    pid_t pid = 0;
+    const int error = ::posix_spawn(&pid, argv[0], nullptr, &attr, argv.data(), environ);
+    posix_spawnattr_destroy(&attr);
+    int status = 0;
+    if (error == 0) {
+        gScript.store(pid);
+        if (const int sig = gEarlySignal.exchange(0); sig != 0) ::kill(pid, sig);
+        while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+        }
+        gScript.store(0);
+    }
+    for (int i = 0; i < 3; ++i) ::sigaction(kSignals[i], &old[i], nullptr);
+    if (error != 0)
+        fail("/usr/bin/python3", "",
+             "cannot be started (" + std::string(std::strerror(error)) + ")");
+    return status;
 }
 
 }  // namespace
@@ -63,10 +120,8 @@ int runReport(const std::string& dir) {
     std::string columns;  // the ledger's columns that are no axes, for report.py
     for (const std::string& c : ledgerColumnsBesideAxes())
         columns += (columns.empty() ? "" : ",") + c;
-    const int status = std::system(("/usr/bin/python3 " + shellQuote(script) + " " +
-                                    shellQuote(dir) + " " + shellQuote(columns))
-                                       .c_str());
-    if (WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) return 130;
+    const int status = runPython({script, dir, columns});
+    if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);  // (as the shell reports it)
     if (!WIFEXITED(status))
         fail(script, "", "ended without an exit code (status " + std::to_string(status) + ")");
     return WEXITSTATUS(status);

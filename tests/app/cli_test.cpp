@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 #include <sys/file.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -3398,6 +3400,78 @@ TEST_F(Cli, ReportGroupsValuesAsTheBatchDoesAndMarksBias) {
                           "interval, on one side, over two repeats or more): x=38 at 8 spp."),
               std::string::npos)
         << report;
+}
+
+// A ledger of three runs of two configurations, for the report tests.
+void writeLedger(const std::string& dir, double rmse) {
+    fs::create_directories(dir);
+    std::ofstream(dir + "/results.jsonl")
+        << R"({"run": "r0000", "spp": 8, "g": 1, "wall_time_s": 1, "rmse": )" << rmse << "}\n"
+        << R"({"run": "r0001", "spp": 16, "g": 1, "wall_time_s": 2, "rmse": 0.5})"
+        << "\n"
+        << R"({"run": "r0002", "spp": 8, "g": 2, "wall_time_s": 2, "rmse": 1})"
+        << "\n";
+}
+
+// The report is replaced whole or not at all: an output that cannot be written leaves the last
+// report as it was (each output was renamed as soon as it was written, and the new plots stood
+// beside the old tables; helper 100), and no temporary.
+TEST_F(Cli, ReportIsReplacedWhole) {
+    const std::string dir = path("o");
+    writeLedger(dir, 1);
+    ASSERT_EQ(run("report " + dir).code, 0);
+    std::map<std::string, std::string> before;
+    for (const auto& e : fs::directory_iterator(dir))
+        if (e.path().filename() != "results.jsonl")
+            before[e.path().string()] = test::fileBytes(e.path().string());
+    ASSERT_GE(before.size(), 5u);
+    writeLedger(dir, 3);  // other numbers: every plot and table changes
+    fs::create_directories(dir + "/report.html.tmp");  // the last output's temporary cannot be made
+    const Result r = run("report " + dir);
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "shvol: error: " + dir + "/report.html: cannot write (Is a directory)\n");
+    for (const auto& [file, bytes] : before)
+        EXPECT_TRUE(test::fileBytes(file) == bytes) << file << " changed";
+    for (const auto& e : fs::directory_iterator(dir))
+        EXPECT_TRUE(e.path().extension() != ".tmp" || fs::is_directory(e.path())) << e.path();
+}
+
+// A signal to shvol report ends the script too, which writes nothing and removes its
+// temporaries; shvol waits for it and exits as the signal asks (std::system ignored SIGINT, and
+// at a SIGTERM shvol ended at once while the script went on and wrote the report a second
+// later; helper 100).
+TEST_F(Cli, ReportStopsAtASignal) {
+    for (const int sig : {SIGTERM, SIGINT}) {
+        const std::string dir = path("o" + std::to_string(sig));
+        writeLedger(dir, 1);
+        const pid_t pid = fork();
+        ASSERT_GE(pid, 0);
+        if (pid == 0) {
+            std::signal(SIGINT, SIG_DFL), std::signal(SIGTERM, SIG_DFL);
+            const int null = ::open("/dev/null", O_WRONLY);
+            ::dup2(null, 1), ::dup2(null, 2);
+            ::execl(SHVOL_BINARY, SHVOL_BINARY, "report", dir.c_str(), static_cast<char*>(nullptr));
+            ::_exit(127);
+        }
+        // Once the script runs (its start, the import of matplotlib, takes a good part of a
+        // second before it writes anything).
+        const std::string children =
+            "/proc/" + std::to_string(pid) + "/task/" + std::to_string(pid) + "/children";
+        pid_t script = 0;
+        for (int i = 0; i < 2000 && script == 0; ++i) {
+            std::ifstream(children) >> script;
+            if (script == 0) ::usleep(1000);
+        }
+        ASSERT_GT(script, 0) << "no script started";
+        ::kill(pid, sig);
+        int status = 0;
+        ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+        ASSERT_TRUE(WIFEXITED(status));
+        EXPECT_EQ(WEXITSTATUS(status), 128 + sig);
+        EXPECT_NE(::kill(script, 0), 0) << "the script outlived shvol";
+        for (const auto& e : fs::directory_iterator(dir))
+            EXPECT_EQ(e.path().filename(), "results.jsonl") << e.path();
+    }
 }
 
 TEST_F(Cli, BatchReport) {
