@@ -117,8 +117,8 @@ std::string directoryProblem(const std::filesystem::path& dir, const std::string
     std::error_code ec;
     if (!std::filesystem::is_directory(dir, ec)) return name + " is not a directory";
     if (::access(dir.c_str(), W_OK | X_OK) != 0)
-        return "directory " + name + " is not writable (" + std::generic_category().message(errno) +
-               ")";
+        return (name == "it" ? name : "directory " + name) + " is not writable (" +
+               std::generic_category().message(errno) + ")";
     return "";
 }
 

@@ -1,6 +1,7 @@
 #include "shvol/core/atomic_file.h"
 
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -62,6 +63,46 @@ TEST(AtomicFile, WritesThroughSymbolicLinks) {
 // A FIFO (or a device: /dev/null is only checked here, never written) is refused before
 // anything is written, and stays what it was: the rename used to replace it by a regular file,
 // which as root replaced /dev/null itself. A link to one is refused too.
+// A directory that cannot be written into is named as such, itself as "it" ("directory it is
+// not writable" before 7 Dec; helper 100). Checked as an unprivileged user: root may write
+// anywhere.
+TEST(AtomicFile, UnwritableDirectoriesAreNamed) {
+    const ScratchDir d;
+    const fs::path ro = d.path / "ro";
+    fs::create_directories(ro);
+    ::chmod(d.path.c_str(), 0755);
+    ::chmod(ro.c_str(), 0555);
+    const auto problems = [&] {
+        return outputDirectoryProblem(ro.string()) + "|" +
+               outputDirectoryProblem((ro / "runs").string()) + "|" +
+               outputFileProblem((ro / "x.exr").string());
+    };
+    const std::string expected = "it is not writable (Permission denied)|directory " + ro.string() +
+                                 " is not writable (Permission denied)|directory " + ro.string() +
+                                 " is not writable (Permission denied)";
+    if (::geteuid() != 0) {
+        EXPECT_EQ(problems(), expected);
+        return;
+    }
+    int pipe[2];
+    ASSERT_EQ(::pipe(pipe), 0);
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {  // as nobody
+        ::close(pipe[0]);
+        const std::string text = ::setuid(65534) == 0 ? problems() : "setuid failed";
+        (void)!::write(pipe[1], text.data(), text.size());
+        ::_exit(0);
+    }
+    ::close(pipe[1]);
+    std::string text;
+    char buffer[512];
+    for (ssize_t n; (n = ::read(pipe[0], buffer, sizeof buffer)) > 0;) text.append(buffer, n);
+    ::close(pipe[0]);
+    ::waitpid(pid, nullptr, 0);
+    EXPECT_EQ(text, expected);
+}
+
 TEST(AtomicFile, RefusesToReplaceWhatIsNotARegularFile) {
     const ScratchDir dir;
     const fs::path fifo = dir.path / "fifo";
