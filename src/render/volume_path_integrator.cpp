@@ -219,7 +219,7 @@ double VolumePathIntegrator::visibility(const Vec3& x, const Vec3& ng, const Lig
             if (effects_.volumes) T *= transmittance(ray, hit.t, inside, rng, c);
             if (T <= 0) return 0;
             for (int k = 0; k < nulls.count; ++k) inside = crossed(nulls.hit[k], ray.d, inside);
-            ray = surf->spawn(hit.p, hit.ng, ray.d);
+            ray = surf->spawn(hit, ray.d);
             continue;
         }
         return effects_.volumes ? T * transmittance(ray, tMax, inside, rng, c) : T;
@@ -400,7 +400,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             if (bsdf.type == BsdfType::Null) {
                 if (++nullCrossings > kMaxNullCrossings) break;
                 for (int k = 0; k < nulls.count; ++k) inside = crossed(nulls.hit[k], ray.d, inside);
-                ray = surf->spawn(hit.p, hit.ng, ray.d);
+                ray = surf->spawn(hit, ray.d);
                 continue;
             }
             if (++depth > s.maxDepth) {
@@ -476,7 +476,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             for (int k = 0; k < nulls.count; ++k)
                 if (wi.dot(nulls.hit[k].ng) * ray.d.dot(nulls.hit[k].ng) > 0)
                     inside = crossed(nulls.hit[k], ray.d, inside);
-            ray = surf->spawn(hit.p, hit.ng, wi);
+            ray = surf->spawn(hit, wi);
         } else {  // a real collision in media[mi]
             if (++depth > s.maxDepth) {
                 if (scene_.media[mi]->scatters()) ++c.truncatedPaths;  // (absorbed: nothing lost)
@@ -596,7 +596,7 @@ bool firstNonNullHit(const SurfaceScene& surf, Ray ray, SurfaceHit* hit) {
          ++k) {
         SurfaceScene::NullCrossings nulls;
         if (surf.resolveCrossing(ray, NoHit, hit, &nulls)) return true;  // (as Li finds it)
-        ray = surf.spawn(hit->p, hit->ng, ray.d);
+        ray = surf.spawn(*hit, ray.d);
     }
     return false;
 }
@@ -666,7 +666,7 @@ void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop)
                             sample.below = true;
                             return;
                         }
-                        const Ray r = surf.spawn(hit.p, hit.ng, w);
+                        const Ray r = surf.spawn(hit, w);
                         Rng rng =
                             Rng::forSample(seed, (uint64_t(1) << 40) + index, uint32_t(k + 1));
                         sample.L = Li(r, rng, counters[k], PathKind::CacheRecord);

@@ -416,7 +416,7 @@ bool SurfaceScene::inside(int s, const Vec3& p) const {
         return hit.ng.dot(ray.d) > 0;
     for (int crossings = 0; crossings < 100000 && intersect(ray, NoHit, &hit); ++crossings) {
         if (hit.surface == s) return hit.ng.dot(ray.d) > 0;
-        ray = spawn(hit.p, hit.ng, ray.d);
+        ray = spawn(hit, ray.d);
     }
     return false;
 }

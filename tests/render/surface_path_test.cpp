@@ -265,6 +265,43 @@ TEST(SurfacePath, GlassFurnaceFarFromTheOrigin) {
     }
 }
 
+/// Hollow glass balls under a constant sky of 1 (glass of η 1.5 and radius 1 around a vacuum
+/// core, a sphere of η 1/1.5; and four shells of alternating index) return exactly 1 on every
+/// path of rays that enter within 10⁻⁴ of the silhouette, near the critical angle. Spawned ε off
+/// along the normal, each bounce shifted the ray's line, the shifts between the walls added up,
+/// carried the line past the critical angle, and 1.6% of these paths were reflected totally
+/// until max_depth (helper 101). Radial rays, which the normal offset never shifted, stay exact.
+TEST(SurfacePath, HollowGlassBallsTrapNoPath) {
+    const auto check = [](const std::vector<double>& radii, double maxEvents) {
+        Scene scene;
+        scene.settings.maxDepth = 10000;
+        scene.environment = Environment::constant(Spectrum::Ones(), false);
+        std::vector<Surface> v;
+        for (size_t k = 0; k < radii.size(); ++k) {
+            v.push_back(Surface::sphere(Vec3::Zero(), radii[k]));
+            v.back().bsdf = Bsdf::dielectric(k % 2 == 0 ? 1.5 : 1 / 1.5);
+        }
+        scene.surfaces = surfaces(std::move(v));
+        const VolumePathIntegrator integrator(scene);
+        PathCounters counters;
+        int off = 0;
+        for (int i = 0; i < 4000; ++i) {
+            Rng rng = Rng::forSample(1, uint64_t(i), 0);
+            const Vec2 u = rng.uniform2();
+            const Ray rim{Vec3(1 - 1e-4 * u.x(), -4, 1e-4 * (u.y() - 0.5)), Vec3(0, 1, 0)};
+            off += ((integrator.Li(rim, rng, counters) - 1).abs() > 1e-9).any();
+            const Ray radial{Vec3(0, -4, 0), Vec3(0, 1, 0)};
+            off += ((integrator.Li(radial, rng, counters) - 1).abs() > 1e-9).any();
+        }
+        EXPECT_EQ(counters.truncatedPaths, 0u);
+        EXPECT_EQ(off, 0);
+        // (3.6 and 5.5 events a path now; each trapped path made 10⁴)
+        EXPECT_LT(double(counters.surfaceEvents), maxEvents * 8000) << counters.surfaceEvents;
+    };
+    check({1, 0.9}, 20);
+    check({1, 0.9, 0.8, 0.7}, 20);
+}
+
 /// The same furnace in a coarse glass mesh with interpolated normals: where the shading normal
 /// and the geometric one disagree about a crossing (near silhouettes), the radiance scale of
 /// refraction must follow the region the path is in, or the 1/η² of entering and the η² of
