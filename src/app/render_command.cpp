@@ -638,9 +638,16 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
         files.push_back(
             {o.stderrImage, [&](const std::string& tmp) { writeExrTo(tmp, se, o.stderrImage); }});
     files.push_back({o.stats, [&](const std::string& tmp) {
+                         errno = 0;
+                         std::ofstream f(tmp);  // (made first: Cli tests signal when it appears)
+                         if (!f) failWriting(o.stats, errno);
                          nlohmann::json j = statsJson(scene, image, st, o.image, all, provenance);
                          if (variance) j["standard_error"] = o.stderrImage;
-                         writeTextTo(tmp, dumpJson(j, 2) + "\n", o.stats);
+                         const std::string text = dumpJson(j, 2) + "\n";
+                         errno = 0;  // (the calls above may have set it)
+                         f << text;
+                         f.close();
+                         if (!f) failWriting(o.stats, errno);
                      }});
     writeTogether(files);
     // Standard errors an earlier render left under this image's name would pass for this one's

@@ -275,16 +275,14 @@ void writeAtomically(const std::string& path,
     writeTogether({{path, write}});
 }
 
-void writeTextTo(const std::string& tmp, const std::string& text, const std::string& path) {
-    errno = 0;
-    std::ofstream f(tmp, std::ios::binary);
-    f << text;
-    f.close();
-    if (!f) failWriting(path, errno);
-}
-
 void writeTextAtomically(const std::string& path, const std::string& text) {
-    writeAtomically(path, [&](const std::string& tmp) { writeTextTo(tmp, text, path); });
+    writeAtomically(path, [&](const std::string& tmp) {
+        errno = 0;
+        std::ofstream f(tmp, std::ios::binary);
+        f << text;
+        f.close();
+        if (!f) failWriting(path, errno);
+    });
 }
 
 }  // namespace shvol

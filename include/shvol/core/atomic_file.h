@@ -63,9 +63,6 @@ std::string outputDirectoryProblem(const std::string& path);
 /// value `error` (the errno a failed open, write or rename left; 0: no reason known).
 [[noreturn]] void failWriting(const std::string& path, int error);
 
-/// Writes text (any bytes) to the temporary tmp of `path`, checked: failWriting(path, reason)
-/// if it cannot be written whole.
-void writeTextTo(const std::string& tmp, const std::string& text, const std::string& path);
 /// Writes text (any bytes) to path atomically.
 void writeTextAtomically(const std::string& path, const std::string& text);
 
