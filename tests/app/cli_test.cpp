@@ -1641,6 +1641,29 @@ TEST_F(Cli, RenderWarnsOfSurfacesSmallForTheRayOffset) {
     write("gap.json", gapScene(1e3));  // (ε = 0.0153: no warning)
     r = run("render " + path("gap.json") + " -o " + path("out.exr") + " --quiet");
     EXPECT_EQ(r.err, "");
+    // Nested spheres by their own gap (their boxes overlap: a shell 10⁻⁵ thick, under ε 1.5·10⁻⁵,
+    // was jumped without a word; helper 101); crossing spheres have none.
+    const auto spheres = [](double inner, double x) {
+        return R"({"camera": {"resolution": [4, 4], "position": [0, -4, 0]}, "render": {"spp": 1},
+                   "surfaces": [{"type": "sphere", "name": "outer", "radius": 1,
+                                 "bsdf": {"type": "dielectric"}},
+                                {"type": "sphere", "name": "inner", "radius": )" +
+               std::to_string(inner) + R"(, "transform": {"translate": [)" + std::to_string(x) +
+               R"(, 0, 0]}, "bsdf": {"type": "dielectric", "ior": 0.6667}}]})";
+    };
+    write("nested.json", spheres(0.99999, 0));
+    r = run("render " + path("nested.json") + " -o " + path("out.exr") + " --quiet");
+    EXPECT_EQ(r.err, "shvol: warning: " + path("nested.json") +
+                         ": outer and inner are 1e-05 apart, and the ray offset is 1.53e-05 (2^-16 "
+                         "of the surfaces' extent): rays leaving one skip more than a tenth of the "
+                         "gap (all of it: they see past each other), and light between them is "
+                         "unreliable; make the surfaces' extent smaller, which sets the offset, or "
+                         "the gap wider\n");
+    for (const auto& [inner, x] : {std::pair{0.999, 0.0}, std::pair{0.5, 0.6}}) {
+        write("nested.json", spheres(inner, x));  // 10⁻³ apart; crossing
+        r = run("render " + path("nested.json") + " -o " + path("out.exr") + " --quiet");
+        EXPECT_EQ(r.err, "") << inner;
+    }
 }
 
 // Glass that is not a solid's surface is named in a warning, with its defect's place in its
