@@ -94,6 +94,8 @@ def load(directory):
     with f:
         lines = f.readlines()
         for n, line in enumerate(lines, 1):
+            if n % 10000 == 0:  # (a ledger of a million rows takes seconds)
+                stop_if_signalled()
             if not line.strip():
                 continue
             # A last line without its newline is a row a kill cut short: the next start of the
@@ -419,11 +421,13 @@ def replace_together(outputs):
             except OSError as e:
                 fail(f"{path}: cannot write ({e.strerror or e})")
         stop_if_signalled()
-        for (path, _), tmp in zip(outputs, temporaries):
+        for k, ((path, _), tmp) in enumerate(zip(outputs, temporaries)):
             try:
                 os.replace(tmp, path)
-            except OSError as e:
-                fail(f"{path}: cannot write ({e.strerror or e})")
+            except OSError as e:  # (only here are some outputs new and others old: said)
+                done = ", ".join(os.path.basename(p) for p, _ in outputs[:k])
+                fail(f"{path}: cannot write ({e.strerror or e})"
+                     + (f"; {done} already replaced" if done else ""))
     finally:
         for tmp in temporaries:
             if os.path.lexists(tmp) and not os.path.isdir(tmp):

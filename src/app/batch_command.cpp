@@ -144,9 +144,13 @@ int renderReference(const Sweep& s, const BatchArgs& a, bool variance, const std
                  "cannot remove the old stamp (" + ec.message() + ")");
     });
     const int code = runRender(r);
-    world.barrier();  // the other ranks read it once rank 0 has written it
-    if (code == 0 && world.root())
-        writeTextAtomically(ref.file + ".fingerprint", referenceRecord(stamp, ref.file, variance));
+    // Rank 0 stamps it (a stamp that cannot be written is an error, on every rank: failing on
+    // rank 0 alone left the others waiting for it for ever; review); the others read it after.
+    collectively([&] {
+        if (code == 0 && world.root())
+            writeTextAtomically(ref.file + ".fingerprint",
+                                referenceRecord(stamp, ref.file, variance));
+    });
     return code;
 }
 

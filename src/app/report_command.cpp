@@ -67,11 +67,19 @@ int runPython(const std::vector<std::string>& args) {
     if (error == 0) {
         gScript.store(pid);
         if (const int sig = gEarlySignal.exchange(0); sig != 0) ::kill(pid, sig);
-        while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+        // Waited for without reaping it first, so that its pid cannot be another process's by
+        // the time a signal is passed on; then reaped.
+        siginfo_t info{};
+        while (::waitid(P_PID, id_t(pid), &info, WEXITED | WNOWAIT) < 0 && errno == EINTR) {
         }
         gScript.store(0);
+        while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+        }
     }
     for (int i = 0; i < 3; ++i) ::sigaction(kSignals[i], &old[i], nullptr);
+    // A signal that came once the script had ended is acted on as it would have been without it
+    // (the command's own handler, or the default action), not dropped (review).
+    if (const int sig = gEarlySignal.exchange(0); sig != 0) std::raise(sig);
     if (error != 0)
         fail("/usr/bin/python3", "",
              "cannot be started (" + std::string(std::strerror(error)) + ")");

@@ -112,12 +112,14 @@ std::filesystem::path nearestExisting(const std::string& path) {
     return fs::exists(p, ec) ? p : fs::path();
 }
 
-/// Why files cannot be made in the existing `dir`: not a directory, or not writable.
+/// Why files cannot be made in the existing `dir`: not a directory, or not writable. `name` is
+/// how the message names it, empty for "it" (the path the user gave).
 std::string directoryProblem(const std::filesystem::path& dir, const std::string& name) {
     std::error_code ec;
-    if (!std::filesystem::is_directory(dir, ec)) return name + " is not a directory";
+    if (!std::filesystem::is_directory(dir, ec))
+        return (name.empty() ? "it" : name) + " is not a directory";
     if (::access(dir.c_str(), W_OK | X_OK) != 0)
-        return (name == "it" ? name : "directory " + name) + " is not writable (" +
+        return (name.empty() ? "it" : "directory " + name) + " is not writable (" +
                std::generic_category().message(errno) + ")";
     return "";
 }
@@ -171,7 +173,7 @@ std::string outputDirectoryProblem(const std::string& path) {
     if (up.empty()) return "cannot be made (no part of it exists)";
     std::error_code ec;
     const bool itself = std::filesystem::equivalent(up, path, ec);
-    return directoryProblem(up, itself ? "it" : up.string());
+    return directoryProblem(up, itself ? "" : up.string());
 }
 
 void failWriting(const std::string& path, int error) {

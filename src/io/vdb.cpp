@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cctype>
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -18,6 +19,7 @@
 #include <mutex>
 #include <optional>
 #include <sstream>
+#include <vector>
 
 #include <Eigen/SVD>
 
@@ -867,17 +869,25 @@ namespace {
 /// made again would change the fingerprints of checkpoints and batch ledgers that name it. The
 /// UUID is replaced by one hashed from the rest of the file (RFC 9562 version 8, "custom"): the
 /// same grids give the same bytes. A file whose header is not laid out so is left as written.
-void makeUuidFromContents(std::string& bytes) {
+/// Read in pieces, so that a large grid is not held in memory again.
+void makeUuidFromContents(const std::string& file, const std::string& name) {
     constexpr size_t kAt = 21, kLength = 36;
-    if (bytes.size() < kAt + kLength) return;
-    std::string uuid = bytes.substr(kAt, kLength);
+    std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+    std::string head(kAt + kLength, '\0');
+    if (!f.read(head.data(), std::streamsize(head.size()))) return;
+    std::string uuid = head.substr(kAt, kLength);
     for (size_t i = 0; i < kLength; ++i) {
         const bool dash = i == 8 || i == 13 || i == 18 || i == 23;
         if (dash != (uuid[i] == '-') || (!dash && !std::isxdigit((unsigned char)uuid[i]))) return;
     }
-    std::fill(bytes.begin() + kAt, bytes.begin() + kAt + kLength, '0');
-    const uint64_t h[2] = {fnv1a(bytes.data(), bytes.size()),
-                           fnv1a(bytes.data(), bytes.size(), 0x9e3779b97f4a7c15ULL)};
+    std::fill(head.begin() + kAt, head.end(), '0');
+    uint64_t h[2] = {fnv1a(head.data(), head.size()),
+                     fnv1a(head.data(), head.size(), 0x9e3779b97f4a7c15ULL)};
+    std::vector<char> piece(1 << 20);
+    while (f.read(piece.data(), std::streamsize(piece.size())) || f.gcount() > 0) {
+        h[0] = fnv1a(piece.data(), size_t(f.gcount()), h[0]);
+        h[1] = fnv1a(piece.data(), size_t(f.gcount()), h[1]);
+    }
     char hex[33];
     std::snprintf(hex, sizeof hex, "%016llx%016llx", (unsigned long long)h[0],
                   (unsigned long long)h[1]);
@@ -886,19 +896,21 @@ void makeUuidFromContents(std::string& bytes) {
     hex[16] = "89ab"[(std::isdigit((unsigned char)c) ? c - '0' : c - 'a' + 10) & 3];  // 10xx
     for (size_t i = 0, k = 0; i < kLength; ++i)
         if (uuid[i] != '-') uuid[i] = hex[k++];
-    bytes.replace(kAt, kLength, uuid);
+    f.clear();
+    f.seekp(std::streamoff(kAt));
+    errno = 0;
+    f.write(uuid.data(), std::streamsize(kLength));
+    f.close();
+    if (!f) failWriting(name, errno);
 }
 
-/// The bytes io::File writes (its header, with the grids' offsets: "seekable"), into memory:
+/// io::File's writer (its header, with the grids' offsets: "seekable") into a stream of ours:
 /// io::File writes through a std::ofstream of its own that it never checks, and a full disk
-/// left a truncated file that was reported written, exit 0 (before 7 Dec; helper 100). The
-/// caller writes them, checked.
-class VdbBytes : public openvdb::io::Archive {
+/// left a truncated file that was reported written, exit 0 (before 7 Dec; helper 100).
+class VdbWriter : public openvdb::io::Archive {
   public:
-    std::string operator()(const openvdb::GridPtrVec& grids) const {
-        std::ostringstream os(std::ios::binary);
+    void operator()(std::ostream& os, const openvdb::GridPtrVec& grids) const {
         write(os, grids, /*seekable=*/true);
-        return os.str();
     }
 };
 }  // namespace
@@ -934,14 +946,22 @@ size_t writeVdb(const std::string& path, const std::vector<VdbGridSpec>& specs) 
         else
             fill(openvdb::Vec3SGrid::create(), [](float v) { return openvdb::Vec3s(v); });
     }
-    std::string bytes;
-    try {
-        bytes = VdbBytes()(grids);
-    } catch (const std::exception& e) {
-        fail(path, "", std::string("cannot write VDB (") + e.what() + ")");
-    }
-    makeUuidFromContents(bytes);
-    writeTextAtomically(path, bytes);
+    writeAtomically(path, [&](const std::string& tmp) {
+        errno = 0;
+        std::ofstream os(tmp, std::ios::binary);
+        if (!os) failWriting(path, errno);
+        try {
+            VdbWriter()(os, grids);
+        } catch (const std::exception& e) {
+            if (!os) failWriting(path, errno);
+            fail(path, "", std::string("cannot write VDB (") + e.what() + ")");
+        }
+        if (!os) failWriting(path, errno);  // (the failed write's errno)
+        errno = 0;
+        os.close();
+        if (!os) failWriting(path, errno);
+        makeUuidFromContents(tmp, path);
+    });
     return active;
 }
 

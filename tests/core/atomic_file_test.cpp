@@ -64,33 +64,26 @@ TEST(AtomicFile, WritesThroughSymbolicLinks) {
 // anything is written, and stays what it was: the rename used to replace it by a regular file,
 // which as root replaced /dev/null itself. A link to one is refused too.
 // A directory that cannot be written into is named as such, itself as "it" ("directory it is
-// not writable" before 7 Dec; helper 100). Checked as an unprivileged user: root may write
-// anywhere.
+// not writable" before 7 Dec; helper 100), and a directory named "it" by its name (review).
+// Checked in a child process, as an unprivileged user (root may write anywhere) and in the
+// scratch directory (relative names).
 TEST(AtomicFile, UnwritableDirectoriesAreNamed) {
     const ScratchDir d;
-    const fs::path ro = d.path / "ro";
+    const fs::path ro = d.path / "it";
     fs::create_directories(ro);
     ::chmod(d.path.c_str(), 0755);
     ::chmod(ro.c_str(), 0555);
-    const auto problems = [&] {
-        return outputDirectoryProblem(ro.string()) + "|" +
-               outputDirectoryProblem((ro / "runs").string()) + "|" +
-               outputFileProblem((ro / "x.exr").string());
-    };
-    const std::string expected = "it is not writable (Permission denied)|directory " + ro.string() +
-                                 " is not writable (Permission denied)|directory " + ro.string() +
-                                 " is not writable (Permission denied)";
-    if (::geteuid() != 0) {
-        EXPECT_EQ(problems(), expected);
-        return;
-    }
     int pipe[2];
     ASSERT_EQ(::pipe(pipe), 0);
     const pid_t pid = ::fork();
     ASSERT_GE(pid, 0);
-    if (pid == 0) {  // as nobody
+    if (pid == 0) {
         ::close(pipe[0]);
-        const std::string text = ::setuid(65534) == 0 ? problems() : "setuid failed";
+        std::string text = "setuid or chdir failed";
+        if ((::geteuid() != 0 || ::setuid(65534) == 0) && ::chdir(d.path.c_str()) == 0)
+            text = outputDirectoryProblem(ro.string()) + "|" +
+                   outputDirectoryProblem((ro / "runs").string()) + "|" +
+                   outputFileProblem("it/x.exr") + "|" + outputDirectoryProblem("it");
         (void)!::write(pipe[1], text.data(), text.size());
         ::_exit(0);
     }
@@ -100,7 +93,9 @@ TEST(AtomicFile, UnwritableDirectoriesAreNamed) {
     for (ssize_t n; (n = ::read(pipe[0], buffer, sizeof buffer)) > 0;) text.append(buffer, n);
     ::close(pipe[0]);
     ::waitpid(pid, nullptr, 0);
-    EXPECT_EQ(text, expected);
+    const std::string denied = " is not writable (Permission denied)";
+    EXPECT_EQ(text, "it" + denied + "|directory " + ro.string() + denied + "|directory it" +
+                        denied + "|it" + denied);
 }
 
 TEST(AtomicFile, RefusesToReplaceWhatIsNotARegularFile) {

@@ -5,7 +5,8 @@
 /// geometry intersected in double precision. Embree intersects triangles in single precision;
 /// the hit point is then recomputed in double from the shape (barycentric combination of the
 /// triangle's vertices, projection onto the sphere, the disk's plane), so it lies on the surface
-/// to double rounding, and rays leaving a surface start at p ± ε n_g on the side they leave by.
+/// to double rounding, and rays leaving a surface start ε off it on the side they leave by: at
+/// p ± ε n_g, or off a sphere along the ray itself (spawn(hit, d)).
 /// ε = 2⁻¹⁶ · (largest coordinate magnitude of the scene's surfaces, measured from the centre of
 /// their box, where Embree's space has its origin), which exceeds the error of Embree's float
 /// vertices (2⁻²⁴ relative) by 2⁸, at every scene scale (tests at 1e−4 and 1e4) and distance
@@ -148,7 +149,10 @@ class SurfaceScene {
     bool intersectInRange(const Ray& ray, double tMax, SurfaceHit* hit, unsigned hidden) const;
     /// How far along the ray the slab of thickness ε on either side of hit's surface reaches:
     /// what spawn() jumps (at most 10³ ε, at grazing angles). No further: a null surface found
-    /// beyond it would be met again by the spawned ray (a light there was counted twice).
+    /// beyond it would be met again by the spawned ray (a light there was counted twice). (Into a
+    /// sphere whose half chord is shorter, |cos|² < ε/r, spawn(hit, d) starts the ray short of
+    /// it, so that the ray still meets the sphere's far side: a surface found in between would
+    /// be met again; review.)
     double jump(const Ray& ray, const SurfaceHit& hit) const {
         return epsilon_ / std::max(std::abs(ray.d.dot(hit.ng)), 1e-3);
     }
