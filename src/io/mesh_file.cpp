@@ -3,6 +3,7 @@
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -649,6 +650,27 @@ std::string objCornerDefect(std::string_view w) {
     return parts > 2 ? quote(w) + form : "";
 }
 
+/// Why a relative (negative) index of the well-formed face corner w (objCornerDefect) points
+/// before the first line of its kind, given how many v, vt and vn lines come before the face;
+/// empty if none does. Checked here, in the text: tinyobjloader makes an index that points just
+/// before the first line −1, its mark for "no index", so `f 1//-2 2//-2 3//-2` under one vn line
+/// rendered as a face without normals, without a word (helper 103).
+std::string objRelativeIndexDefect(std::string_view w, const std::array<size_t, 3>& before) {
+    static const char* const kind[] = {"v", "vt", "vn"};
+    size_t i = 0;
+    for (int part = 0; part < 3; ++part) {
+        const size_t slash = std::min(w.find('/', i), w.size());
+        const std::string_view n = w.substr(i, slash - i);
+        // (at most 10 digits, objCornerDefect: no overflow)
+        if (!n.empty() && n[0] == '-' && std::stoull(std::string(n.substr(1))) > before[part])
+            return std::string("relative ") + kind[part] + " index " + std::string(n) +
+                   " points before the first " + kind[part] + " line";
+        if (slash == w.size()) break;
+        i = slash + 1;
+    }
+    return "";
+}
+
 /// The line numbers of an OBJ file's f and v lines: the k-th face tinyobjloader reports is on
 /// line f[k], its k-th position on line v[k].
 struct ObjLines {
@@ -683,7 +705,10 @@ ObjLines scanObj(std::string_view text, const std::string& path) {
                     fail(path, "line " + std::to_string(lineNo),
                          "a comment after a face's corners (tinyobjloader cannot read it); put "
                          "it on a line of its own");
-                const std::string defect = objCornerDefect(w);
+                std::string defect = objCornerDefect(w);
+                if (defect.empty())
+                    defect = objRelativeIndexDefect(
+                        w, {lines.v.size(), lines.vt.size(), lines.vn.size()});
                 if (!defect.empty()) fail(path, "line " + std::to_string(lineNo), defect);
                 ++corners;
             }

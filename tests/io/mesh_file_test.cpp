@@ -582,7 +582,13 @@ TEST(MeshFile, ObjErrors) {
     EXPECT_EQ(errorOf("range.obj", tet + "f 1 3 2\nf 1 2 4\n\nf 1 4 5\n"),
               tmp("range.obj") + ": line 8: v index 5 out of range (4 v lines)");
     EXPECT_EQ(errorOf("relative.obj", tet + "f -1 -2 -5\n"),
-              tmp("relative.obj") + ": line 5: relative v index points before the first v line");
+              tmp("relative.obj") + ": line 5: relative v index -5 points before the first v line");
+    // Just before the first vn or vt line: tinyobjloader's −1, its "no index", was read as a face
+    // without normals (or uvs), without a word (helper 103); counted from the face's own line.
+    EXPECT_EQ(errorOf("relvn.obj", tet + "vn 1 -1 0\nf 1//-2 2//-2 3//-2\n"),
+              tmp("relvn.obj") + ": line 6: relative vn index -2 points before the first vn line");
+    EXPECT_EQ(errorOf("relvt.obj", tet + "f 1/-1 2/-1 3/-1\nvt 0 0\n"),
+              tmp("relvt.obj") + ": line 5: relative vt index -1 points before the first vt line");
     // Face corners tinyobjloader would misread: its integer parser wraps (4294967299 would be
     // vertex 3) and stops at the first character that is not a digit.
     EXPECT_EQ(errorOf("wrap.obj", tet + "f 1 2 4294967299\n"),
