@@ -719,6 +719,9 @@ std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc) {
     const uintmax_t size = regularFileSize(path);
 
     openvdb::FloatGrid::Ptr grid;
+    // Where OpenVDB's own errors are (decompression, a tree's masks): the grid being read and its
+    // bytes, once known (they named no place; helper 103).
+    std::string reading;
     try {
         std::ifstream in(path, std::ios::binary);
         if (!in) fail(path, "", "cannot open file");
@@ -741,6 +744,8 @@ std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc) {
             fail(path, where, "no such grid; the file has: " + (names.empty() ? "(none)" : names));
         }
         if (entry->instance) fail(path, where, "instanced grids are not supported");
+        reading = where + " (bytes " + std::to_string(entry->descriptorPos) + " to " +
+                  std::to_string(entry->endPos) + ")";
         const openvdb::GridBase::Ptr base =
             VdbGridReader().read(in, *entry, [&](const openvdb::GridBase& g) {
                 if (!g.isType<openvdb::FloatGrid>())
@@ -758,7 +763,7 @@ std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc) {
                  "1.5e-5, which OpenVDB refuses; for the last, store the grid with larger voxels "
                  "and scale it down with the medium's transform");
     } catch (const std::exception& e) {
-        fail(path, "", std::string("not a readable OpenVDB file (") + e.what() + ")");
+        fail(path, reading, std::string("not a readable OpenVDB file (") + e.what() + ")");
     }
     if (!grid->transform().isLinear()) fail(path, where, "non-linear transforms are not supported");
     if (grid->background() != 0.f)
