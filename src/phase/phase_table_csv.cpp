@@ -43,13 +43,20 @@ TabulatedPhase readPhaseTableCsv(const std::string& path) {
     // Only a regular file: /dev/zero or a terminal (tabulated:file=/dev/stdin) would never end.
     const std::string problem = inputFileProblem(path);
     if (!problem.empty()) fail(path, "", problem);
-    std::ifstream in(path);
+    std::ifstream in(path, std::ios::binary);
     if (!in) fail(path, "", "cannot open phase table");
+    const std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     std::vector<double> angles, values;
     std::string text;
     int lineNo = 0;
     bool first = true;
-    while (std::getline(in, text)) {
+    // Lines end at "\n", "\r\n" or "\r" (classic Mac OS files: read as one line before 7 Dec, a
+    // header, and refused as having no rows; helper 103).
+    for (size_t pos = 0; pos < all.size();) {
+        size_t end = all.find_first_of("\r\n", pos);
+        if (end == std::string::npos) end = all.size();
+        text = all.substr(pos, end - pos);
+        pos = end + (all.compare(end, 2, "\r\n") == 0 ? 2 : 1);
         ++lineNo;
         // A UTF-8 byte-order mark (spreadsheets write one) is not part of the first cell.
         if (lineNo == 1 && text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);

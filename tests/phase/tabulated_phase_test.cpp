@@ -192,6 +192,23 @@ TEST(TabulatedCsv, ByteOrderMark) {
     EXPECT_DOUBLE_EQ(header.evalCos(1.0), plain.evalCos(1.0));
 }
 
+// Lines end at "\n", "\r\n" or "\r" alike (a classic Mac OS file, "\r" only, was one line: taken
+// for a header and refused as "expected at least 2 (angle, value) rows, got 0"; helper 103), and
+// an error names the line as the file has it.
+TEST(TabulatedCsv, LineEndings) {
+    const TabulatedPhase plain =
+        readPhaseTableCsv(writeCsv("lf.csv", "angle,value\n0,10\n90,1\n180,2\n"));
+    for (const char* text :
+         {"angle,value\r0,10\r90,1\r180,2\r", "angle,value\r\n0,10\r\n90,1\r\n180,2"}) {
+        const TabulatedPhase t = readPhaseTableCsv(writeCsv("cr.csv", text));
+        EXPECT_EQ(t.table().nodes().size(), plain.table().nodes().size()) << text;
+        for (const double mu : {1.0, 0.3, -1.0}) EXPECT_DOUBLE_EQ(t.evalCos(mu), plain.evalCos(mu));
+    }
+    const std::string p = writeCsv("crbad.csv", "angle,value\r0,10\r\n90,x\r180,2\r");
+    EXPECT_EQ(messageOf([&] { readPhaseTableCsv(p); }),
+              p + ": line 3: value \"x\" is not a number");
+}
+
 // Found by fuzz/phase_csv_fuzzer: a table starting at 1e-7° (or ending at 179.9999999°) was held
 // constant out to 0° (180°) at a μ that rounds to the same double, and PiecewiseLinear1D threw
 // std::invalid_argument, not a shvol::Error. Such an end angle now is the end.
