@@ -33,7 +33,14 @@ SHSampledPhase::SHSampledPhase(const PhaseFunction& base, const ZonalFitRequest&
     fit_ = std::make_shared<const ZonalFit>(
         fitZonal([&](const AngleCosine& c) { return base_->evalAngle(c); }, request));
     sampler_ = std::make_shared<const ZonalSHSampler>(fit_->p, depth);
-    if (!(sampler_->positiveMass() > 0)) throw Error("the SH fit has no positive mass");
+    // (a table's spike narrower than the fit's quadrature nodes, 10⁻⁵° at 90°, is invisible to
+    // it: the message said only this much, at "order", a key the user need not have given;
+    // helper 103)
+    if (!(sampler_->positiveMass() > 0))
+        throw Error(
+            "the SH fit has no positive mass: the phase function is 0 wherever the fit's "
+            "quadrature looks (structure narrower than its nodes, such as a spike of a table); "
+            "sample it with \"sampling\": \"analytic\"");
     if (evaluate_ == Evaluate::Exact && sampler_->clampedFraction() > 0)
         alpha_ = kDefensiveFraction;
     checkByQuadrature();

@@ -81,6 +81,20 @@ TEST(PhaseSpec, TableFileIsRelativeToTheJsonFile) {
               "phase spec \"tabulated:file=nope.csv\": file: no such file: /tmp/dir/nope.csv");
 }
 
+// A table whose only light is a spike narrower than the SH fit's quadrature nodes (10⁻⁵° wide at
+// 90°) gives a fit of no mass: the error says why and what to use (it said only "the SH fit has
+// no positive mass"; helper 103).
+TEST(PhaseSpec, SHFitThatSeesNothingSaysWhy) {
+    const std::string table = testing::TempDir() + "/shvol_phase_spec_spike.csv";
+    std::ofstream(table) << "0,0\n89.99999,0\n90,1\n90.00001,0\n180,0\n";
+    EXPECT_EQ(messageOf([&] { parsePhaseSpec("tabulated:file=" + table + ",sampling=sh", ""); }),
+              "phase spec \"tabulated:file=" + table +
+                  ",sampling=sh\": order: the SH fit has no positive mass: the phase function is "
+                  "0 wherever the fit's quadrature looks (structure narrower than its nodes, such "
+                  "as a spike of a table); sample it with \"sampling\": \"analytic\"");
+    EXPECT_EQ(messageOf([&] { parsePhaseSpec("tabulated:file=" + table, ""); }), "(no error)");
+}
+
 // "sampling": "sh" wraps any phase function in an SHSampledPhase with the given settings; the
 // short form reaches the same keys.
 /// The SH-sampled phase function a short-form spec names (by value: it owns its tables).
