@@ -82,6 +82,12 @@ int checkExrAttributeSizes(const std::string& path, uintmax_t bytes) {
     }
 }
 
+/// "(x0, y0) to (x1, y1)", a window's corners.
+std::string boxText(const Imath::Box2i& b) {
+    return "(" + std::to_string(b.min.x) + ", " + std::to_string(b.min.y) + ") to (" +
+           std::to_string(b.max.x) + ", " + std::to_string(b.max.y) + ")";
+}
+
 /// The image of the file's display window, which is the picture (a lat-long sky's whole sphere),
 /// from its data window's pixels `img`: 0 where the data window leaves out part of it (a file
 /// cropped to its non-zero part), and the data window's pixels outside it left out (overscan).
@@ -98,6 +104,12 @@ Image inDisplayWindow(Image img, const Imath::Box2i& data, const Imath::Box2i& d
              std::to_string(w) + " x " + std::to_string(h) + " pixels; expected 1 to " +
                  std::to_string(kMaxExrSide) +
                  " on each side, and no more than the file can describe");
+    // (the picture would be black: a sky of it rendered black without a word; helper 103)
+    if (data.max.x < display.min.x || data.min.x > display.max.x || data.max.y < display.min.y ||
+        data.min.y > display.max.y)
+        fail(path, "data window",
+             boxText(data) + " lies wholly outside the display window " + boxText(display) +
+                 ": no pixel of the picture has data");
     Image out{int(w), int(h)};
     for (int64_t y = std::max(data.min.y, display.min.y); y <= std::min(data.max.y, display.max.y);
          ++y)

@@ -236,6 +236,17 @@ TEST(Exr, TheDisplayWindowIsThePicture) {
               path +
                   ": display window: 32769 x 1 pixels; expected 1 to 32768 on each side, and "
                   "no more than the file can describe");
+    // A data window wholly outside the display window leaves the picture without data: refused
+    // (a sky of it rendered black without a word; helper 103). Touching it at a corner is data.
+    writeWindowed(path, Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(3, 3)),
+                  Imath::Box2i(Imath::V2i(4, 0), Imath::V2i(5, 1)), y);
+    EXPECT_EQ(messageOf([&] { readExr(path); }),
+              path +
+                  ": data window: (4, 0) to (5, 1) lies wholly outside the display window (0, "
+                  "0) to (3, 3): no pixel of the picture has data");
+    writeWindowed(path, Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(3, 3)),
+                  Imath::Box2i(Imath::V2i(3, 3), Imath::V2i(4, 4)), y);
+    EXPECT_EQ(readExr(path).at(3, 3)[0], 1.f);
 }
 
 // Luminance and chroma channels are refused (read as Y alone they were grey).
