@@ -379,8 +379,9 @@ std::vector<std::string> renderWarnings(const Scene& scene, const RenderStats& s
                       100 * error);
         w.push_back(surface + msg);
     }
+    // (not of max_records 0, which asks for no records: it advised raising it; helper 105)
     if (const int cap = scene.settings.radianceCache.maxRecords;
-        st.radianceCache.used && st.radianceCache.records >= size_t(cap))
+        st.radianceCache.used && cap > 0 && st.radianceCache.records >= size_t(cap))
         w.push_back("render.radiance_cache: the fill stopped at max_records (" +
                     std::to_string(cap) +
                     "): lookups beyond the records' reach are traced instead (the stats' "
