@@ -143,13 +143,17 @@ int runMain(int argc, char** argv) {
         return run();
     } catch (const shvol::app::ReportedOnRoot&) {
         return 1;
+    } catch (const shvol::app::KnownToEveryRank& e) {  // (the others end with ReportedOnRoot)
+        std::fprintf(stderr, "%s\n", shvol::app::errorLine(e).c_str());
+        return 1;
     } catch (const std::exception& e) {  // shvol::Error, memory running out, or a defect
         error = shvol::app::errorLine(e);
     }
     std::fprintf(stderr, "%s\n", error.c_str());
-    // An error on one rank only (rank 0's come after the others have finished their part, but
-    // for an image of --spp N1,…: render_command's afterPass).
-    if (!speaks) shvol::app::MpiWorld::abort(1);
+    // An error on one rank only ends every rank, rank 0's too: the others may be waiting for it
+    // (rank 0 alone out of memory in a render, or unable to write a batch's reference, left them
+    // in a reduction for ever; helper 104).
+    if (shvol::app::MpiWorld::get().parallel()) shvol::app::MpiWorld::abort(1);
     return 1;
 }
 

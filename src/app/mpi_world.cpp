@@ -193,7 +193,7 @@ void collectively(const std::function<void()>& setup, bool together) {
     }
     error = MpiWorld::get().firstError(error);
     if (error.empty()) return;
-    if (MpiWorld::get().root()) throw Error(error);
+    if (MpiWorld::get().root()) throw KnownToEveryRank(error);
     throw ReportedOnRoot{};
 }
 

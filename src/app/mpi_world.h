@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "shvol/core/error.h"
 #include "shvol/render/film.h"
 #include "shvol/render/renderer.h"
 
@@ -55,8 +56,8 @@ class MpiWorld {
 
 /// Runs `setup` on every rank (the part of a command before the ranks split the work): when it
 /// throws shvol::Error (or another std::exception, an internal error) on any rank, rank 0 throws
-/// the first rank's error as shvol::Error and the others throw ReportedOnRoot. With together =
-/// false it only runs `setup` (work of this rank alone).
+/// the first rank's error as KnownToEveryRank and the others throw ReportedOnRoot. With together
+/// = false it only runs `setup` (work of this rank alone).
 void collectively(const std::function<void()>& setup, bool together = true);
 
 /// Worker threads for each of `jobs` renders side by side: the machine's cores shared between
@@ -65,5 +66,11 @@ int threadsPerRender(int jobs);
 
 /// Thrown on the ranks other than 0 for an error rank 0 reports (main prints nothing for it).
 struct ReportedOnRoot {};
+/// Thrown on rank 0 for an error every rank has met in collectively(): main reports it and ends
+/// normally, as the others do. Any other error ends every rank (MPI_Abort): the others may be
+/// waiting for this one.
+struct KnownToEveryRank : Error {
+    using Error::Error;
+};
 
 }  // namespace shvol::app

@@ -3322,6 +3322,25 @@ TEST_F(Cli, MpiRenderEndsEveryRankWhenAnImageCannotBeWritten) {
     EXPECT_NE(err.find("shvol: error: " + path("od/x.spp")), std::string::npos) << err;
 }
 
+// An error rank 0 alone meets after the set-up ends every rank: a batch's reference that rank 0
+// cannot write (a file-size limit on every rank, of which rank 0 alone writes) left the other rank
+// waiting for it for ever, as did rank 0 alone running out of memory in a render (helper 104).
+TEST_F(Cli, MpiBatchEndsEveryRankWhenTheReferenceCannotBeWritten) {
+    write("s.json", scene(Homogeneous));
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [2]}, "reference": {"spp": 8},
+                            "metrics": ["rmse"]})");
+    // (OpenMPI's shared memory through SysV: its default maps a file, which the limit refuses)
+    const Result r =
+        runCommand("timeout 120 " + std::string(SHVOL_MPIEXEC) +
+                   " --mca shmem sysv sh -c 'ulimit -f 2; exec " + SHVOL_BINARY + " batch " +
+                   path("sweep.json") + " --threads 1 --quiet -o " + path("o") + "'");
+    EXPECT_EQ(r.code, 1) << r.err;  // (124: the timeout)
+    EXPECT_NE(r.err.find("shvol: error: " + path("o/reference.stats.json") +
+                         ": cannot write file (File too large)"),
+              std::string::npos)
+        << r.err;
+}
+
 // mpirun -np 2 shvol batch: the runs are shared out dynamically, rank 0 keeps the ledger, the
 // reference is rendered by both ranks; the rows equal a single process's, also after the batch
 // was stopped in the middle and started again. A run that fails on either rank ends the batch
