@@ -40,7 +40,7 @@ if(NOT rc EQUAL 0 OR rev STREQUAL "" OR NOT top STREQUAL src_real)
 else()
   # The changed and untracked files' contents (or "deleted") and paths, NUL-separated from git to
   # sha256sum as above: a CMake list of the names hashed "a[1;b.cpp" as two deleted files, so its
-  # changes left the name as it was (before 7 Dec).
+  # changes left the name as it was (before 6 Dec).
   execute_process(COMMAND sh -c "{ git diff HEAD --name-only -z --no-renames && \
 git ls-files --others --exclude-standard -z; } | LC_ALL=C sort -zu | xargs -0 -r sh -c '\
 for f; do if [ -f \"$f\" ]; then sha256sum -- \"$f\"; else printf \"deleted  %s\\n\" \"$f\"; fi; \

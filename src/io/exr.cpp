@@ -244,7 +244,7 @@ void writeExrTo(const std::string& tmp, const Image& image, const std::string& p
     // The stream is ours, and checked once OpenEXR is done with it: its OutputFile writes the
     // scan lines' offsets as it is destroyed, and the stream's last buffer is written as it
     // closes, both without a word when the disk is full (a truncated image was renamed into
-    // place and reported written, exit 0, before 7 Dec; helper 100).
+    // place and reported written, exit 0, before 6 Dec; helper 100).
     errno = 0;
     std::ofstream os(tmp, std::ios::binary);
     if (!os) failWriting(path, errno);

@@ -911,7 +911,7 @@ void makeUuidFromContents(const std::string& file, const std::string& name) {
 
 /// io::File's writer (its header, with the grids' offsets: "seekable") into a stream of ours:
 /// io::File writes through a std::ofstream of its own that it never checks, and a full disk
-/// left a truncated file that was reported written, exit 0 (before 7 Dec; helper 100).
+/// left a truncated file that was reported written, exit 0 (before 6 Dec; helper 100).
 class VdbWriter : public openvdb::io::Archive {
   public:
     void operator()(std::ostream& os, const openvdb::GridPtrVec& grids) const {

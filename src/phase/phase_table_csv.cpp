@@ -50,7 +50,7 @@ TabulatedPhase readPhaseTableCsv(const std::string& path) {
     std::string text;
     int lineNo = 0;
     bool first = true;
-    // Lines end at "\n", "\r\n" or "\r" (classic Mac OS files: read as one line before 7 Dec, a
+    // Lines end at "\n", "\r\n" or "\r" (classic Mac OS files: read as one line before 6 Dec, a
     // header, and refused as having no rows; helper 103).
     for (size_t pos = 0; pos < all.size();) {
         size_t end = all.find_first_of("\r\n", pos);

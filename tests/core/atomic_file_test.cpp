@@ -64,7 +64,7 @@ TEST(AtomicFile, WritesThroughSymbolicLinks) {
 // anything is written, and stays what it was: the rename used to replace it by a regular file,
 // which as root replaced /dev/null itself. A link to one is refused too.
 // A directory that cannot be written into is named as such, itself as "it" ("directory it is
-// not writable" before 7 Dec; helper 100), and a directory named "it" by its name (review).
+// not writable" before 6 Dec; helper 100), and a directory named "it" by its name (review).
 // Checked in a child process, as an unprivileged user (root may write anywhere) and in the
 // scratch directory (relative names).
 TEST(AtomicFile, UnwritableDirectoriesAreNamed) {
