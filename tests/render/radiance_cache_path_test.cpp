@@ -140,6 +140,33 @@ TEST(RadianceCachePath, FurnaceWithAnOccluderStaysOne) {
     EXPECT_LT(largest, 0.005);
 }
 
+// A floor under a parallel shelf 0.02 above it (over x from 0 to 4), under a constant sky with
+// next-event estimation off (the records carry the sky), seen from inside the gap towards its
+// opening: the cached image is the path-traced one. Its records see the sky through the opening
+// alone, a few per cent of their rays; taking c, what a displacement uncovers, as that sky made
+// their gradients large where the radiance falls off like 1/x, and the floor deep inside came
+// out 10–50 times too bright, +15.6% over the image (helper 105). c is now the sky only for a
+// record that sees it in at least half its rays.
+TEST(RadianceCachePath, NoLightLeaksUnderAShelf) {
+    Scene scene = cachedScene(Vec3(1, 0, 0.01), Vec3(-5, 0, 0.01), 6, 32, 32, 16, 1);
+    scene.settings.nee = false;
+    std::vector<Surface> v;
+    v.push_back(Surface::rectangle(Eigen::Affine3d(Eigen::Scaling(4.0))));  // the floor
+    Eigen::Affine3d shelf = Eigen::Affine3d::Identity();
+    shelf.translate(Vec3(2, 0, 0.02)).rotate(Eigen::AngleAxisd(Pi, Vec3::UnitX()));
+    shelf.scale(Vec3(2, 3, 1));
+    v.push_back(Surface::rectangle(shelf));
+    for (Surface& sf : v) sf.bsdf = Bsdf::lambert(Spectrum::Constant(0.8));
+    scene.surfaces = std::make_unique<const SurfaceScene>(std::move(v));
+    const Image cached = render(scene, RenderOptions{}).film.image();
+    scene.settings.radianceCache.enabled = false;
+    const Image traced = render(scene, RenderOptions{}).film.image();
+    double a = 0, b = 0;
+    for (size_t k = 0; k < cached.rgb.size(); ++k) a += cached.rgb[k], b += traced.rgb[k];
+    ASSERT_GT(b, 0);
+    EXPECT_NEAR(a / b, 1, 0.04);
+}
+
 // A floor split by a wall of no thickness, a lamp on one side and a black sky: no light reaches
 // the floor on the other side. Records at the wall's foot on the lit side reached past it (R is
 // at least 1% of the scene's diagonal), and the dark floor beside the wall got 0.216 in its first
