@@ -782,7 +782,8 @@ int runBatch(BatchArgs a) {
     queue.work(c, a.jobs);
     if (server.joinable()) server.join();
     queue.done();
-    if (!queue.error().empty()) throw Error(queue.error());
+    // (every other rank has been told to stop: none waits for this one)
+    if (!queue.error().empty()) throw KnownToEveryRank(queue.error());
     if (queue.code()) {
         const size_t n = ledger->rows().size();
         if (n == s.runs.size())  // (a signal while the last run wrote its outputs)

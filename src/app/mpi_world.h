@@ -66,9 +66,11 @@ int threadsPerRender(int jobs);
 
 /// Thrown on the ranks other than 0 for an error rank 0 reports (main prints nothing for it).
 struct ReportedOnRoot {};
-/// Thrown on rank 0 for an error every rank has met in collectively(): main reports it and ends
-/// normally, as the others do. Any other error ends every rank (MPI_Abort): the others may be
-/// waiting for this one.
+/// Thrown on rank 0 for an error after which no other rank waits for it: every rank has met it in
+/// collectively(), or the others have all been told to stop (a batch's runs). main reports it and
+/// ends normally, as the others do. Any other error ends every rank (MPI_Abort, with OpenMPI's
+/// banner): the others may be waiting for this one (a render's film reduced, rank 0's final
+/// write can still fail inside a batch's reference, which the others then wait to read).
 struct KnownToEveryRank : Error {
     using Error::Error;
 };

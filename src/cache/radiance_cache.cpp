@@ -80,15 +80,15 @@ RadianceCache::Record RadianceCache::build(const Vec3& p, const Vec3& n,
     // not dip below it), c is their mean radiance, the background's: exact for a constant
     // background (a white furnace with an occluder had gradients of a constant, and came out up
     // to 1.1% off 1 at a = 0.25 and 9.8% at a = 1), and 0 for a black one. A record that sees the
-    // background in fewer than half its rays, or none, takes the mean of the farther half of its
-    // hits, which lie behind the nearer: exact for constant radiance there too. (Under a shelf
-    // 0.02 above a floor, the sky seen through the opening in a few per cent of the rays made
-    // gradients of L − sky that, extrapolated where the radiance falls off like 1/x, put the
-    // floor deep inside 10–50 times too bright, +15.6% over the image; helper 105.) (With c = 0, as
-    // until 4 Dec, a render inside an emitting shell with an occluder had twice the error: RMSE
-    // 0.017 against 0.0089 at a = 1, HSH order 20; README). (It is not a control variate: the
-    // estimate's expectation changes with c. The mean of all samples, tried first, was 26% low for
-    // a lit occluder against a black background.)
+    // background in fewer than half its rays that are not below its surface, or none, takes the
+    // mean of the farther half of its hits, which lie behind the nearer: exact for constant
+    // radiance there too. (Under a shelf 0.02 above a floor, the sky seen through the opening in a
+    // few per cent of the rays made gradients of L − sky that, extrapolated where the radiance
+    // falls off like 1/x, put the floor deep inside 10–50 times too bright, +15.6% over the image;
+    // helper 105.) (With c = 0, as until 4 Dec, a render inside an emitting shell with an occluder
+    // had twice the error: RMSE 0.017 against 0.0089 at a = 1, HSH order 20; README). (It is not a
+    // control variate: the estimate's expectation changes with c. The mean of all samples, tried
+    // first, was 26% low for a lit occluder against a black background.)
     Spectrum c = Spectrum::Zero();
     int misses = 0, seen = 0;
     for (const IncomingSample& s : samples) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -46,6 +47,12 @@ TabulatedPhase readPhaseTableCsv(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) fail(path, "", "cannot open phase table");
     const std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // (a read error ends the text early without setting the stream's state: the size tells)
+    std::error_code ec;
+    if (const uintmax_t size = std::filesystem::file_size(path, ec); !ec && all.size() != size)
+        fail(path, "",
+             "read error (" + std::to_string(all.size()) + " of " + std::to_string(size) +
+                 " bytes read)");
     std::vector<double> angles, values;
     std::string text;
     int lineNo = 0;
@@ -105,7 +112,6 @@ TabulatedPhase readPhaseTableCsv(const std::string& path) {
         angles.push_back(angle);
         values.push_back(value);
     }
-    if (in.bad()) fail(path, "", "read error");
     if (lineNo == 0) fail(path, "", "empty file: expected at least 2 (angle, value) rows");
     const std::string end = "line " + std::to_string(lineNo);
     if (angles.size() < 2)

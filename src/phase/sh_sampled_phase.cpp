@@ -34,8 +34,7 @@ SHSampledPhase::SHSampledPhase(const PhaseFunction& base, const ZonalFitRequest&
         fitZonal([&](const AngleCosine& c) { return base_->evalAngle(c); }, request));
     sampler_ = std::make_shared<const ZonalSHSampler>(fit_->p, depth);
     // (a table's spike narrower than the fit's quadrature nodes, 10⁻⁵° at 90°, is invisible to
-    // it: the message said only this much, at "order", a key the user need not have given;
-    // helper 103)
+    // it: the message said only that there was no mass, not why or what to do; helper 103)
     if (!(sampler_->positiveMass() > 0))
         throw Error(
             "the SH fit has no positive mass: the phase function is 0 wherever the fit's "

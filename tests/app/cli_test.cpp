@@ -3339,6 +3339,18 @@ TEST_F(Cli, MpiBatchEndsEveryRankWhenTheReferenceCannotBeWritten) {
                          ": cannot write file (File too large)"),
               std::string::npos)
         << r.err;
+    // A run that fails ends the batch with its one line and no abort: every other rank has been
+    // told to stop by then, and none waits for rank 0 (review: an abort's banner followed it).
+    write("runs.json", R"({"scene": "s.json", "axes": {"spp": [2, 3]}})");
+    const Result run =
+        runCommand("timeout 120 " + std::string(SHVOL_MPIEXEC) +
+                   " --mca shmem sysv sh -c 'ulimit -f 2; exec " + SHVOL_BINARY + " batch " +
+                   path("runs.json") + " --threads 1 --quiet -o " + path("o2") + "'");
+    EXPECT_EQ(run.code, 1) << run.err;
+    EXPECT_NE(run.err.find(".stats.json: cannot write file (File too large) (in run r000"),
+              std::string::npos)
+        << run.err;
+    EXPECT_EQ(run.err.find("MPI_ABORT"), std::string::npos) << run.err;
 }
 
 // mpirun -np 2 shvol batch: the runs are shared out dynamically, rank 0 keeps the ledger, the
