@@ -201,21 +201,17 @@ void writeSamples(const PhaseArgs& a, const Json& spec, Rows&& rows) {
                                    "samples elsewhere");
     WeightStats ws;
     writeAtomically(a.out, [&](const std::string& tmp) {
-        errno = 0;
-        std::ofstream csv(tmp);
-        if (!csv) failWriting(a.out, errno);
-        csv << std::setprecision(17) << "x,y,z,pdf,weight\n";
-        Rng rng(a.seed, 0);
-        rows(rng, [&](const Vec3& w, double value, double pdf) {
-            const double weight = pdf > 0 ? value / pdf : 0.0;
-            ws.add(weight);
-            csv << w.x() << ',' << w.y() << ',' << w.z() << ',' << pdf << ',' << weight << '\n';
-            // (at once, while errno is the failed write's: the sampling may set it later)
-            if (!csv) failWriting(a.out, errno);
+        writeStreamTo(tmp, a.out, "CSV", [&](std::ofstream& csv) {
+            csv << std::setprecision(17) << "x,y,z,pdf,weight\n";
+            Rng rng(a.seed, 0);
+            rows(rng, [&](const Vec3& w, double value, double pdf) {
+                const double weight = pdf > 0 ? value / pdf : 0.0;
+                ws.add(weight);
+                csv << w.x() << ',' << w.y() << ',' << w.z() << ',' << pdf << ',' << weight << '\n';
+                // (at once, while errno is the failed write's: the sampling may set it later)
+                if (!csv) failWriting(a.out, errno);
+            });
         });
-        errno = 0;
-        csv.close();
-        if (!csv) failWriting(a.out, errno);
     });
     std::fprintf(stderr,
                  "wrote %lld samples to %s\nweight p/pdf: mean %.6g, variance %.6g, max %.6g",

@@ -647,17 +647,16 @@ void writeOutputs(const Outputs& o, const Scene& scene, const Film& film, const 
     if (variance)
         files.push_back(
             {o.stderrImage, [&](const std::string& tmp) { writeExrTo(tmp, se, o.stderrImage); }});
+    // (the temporary is made before the statistics are computed: Cli tests signal while it exists)
     files.push_back({o.stats, [&](const std::string& tmp) {
-                         errno = 0;
-                         std::ofstream f(tmp);  // (made first: Cli tests signal when it appears)
-                         if (!f) failWriting(o.stats, errno);
-                         nlohmann::json j = statsJson(scene, image, st, o.image, all, provenance);
-                         if (variance) j["standard_error"] = o.stderrImage;
-                         const std::string text = dumpJson(j, 2) + "\n";
-                         errno = 0;  // (the calls above may have set it)
-                         f << text;
-                         f.close();
-                         if (!f) failWriting(o.stats, errno);
+                         writeStreamTo(tmp, o.stats, "file", [&](std::ofstream& f) {
+                             nlohmann::json j =
+                                 statsJson(scene, image, st, o.image, all, provenance);
+                             if (variance) j["standard_error"] = o.stderrImage;
+                             const std::string text = dumpJson(j, 2) + "\n";
+                             errno = 0;  // (the calls above may have set it)
+                             f << text;
+                         });
                      }});
     writeTogether(files);
     // Standard errors an earlier render left under this image's name would pass for this one's

@@ -89,16 +89,15 @@ RadianceCache::Record RadianceCache::build(const Vec3& p, const Vec3& n,
     // had twice the error: RMSE 0.017 against 0.0089 at a = 1, HSH order 20; README). (It is not a
     // control variate: the estimate's expectation changes with c. The mean of all samples, tried
     // first, was 26% low for a lit occluder against a black background.)
-    Spectrum c = Spectrum::Zero();
+    Spectrum background = Spectrum::Zero(), c = Spectrum::Zero();
     int misses = 0, seen = 0;
     for (const IncomingSample& s : samples) {
-        if (!s.hit && !s.below) c += s.L, ++misses;
+        if (!s.hit && !s.below) background += s.L, ++misses;
         seen += !s.below;
     }
     if (2 * misses >= seen && misses > 0) {
-        c /= double(misses);
+        c = background / double(misses);
     } else {
-        c = Spectrum::Zero();
         // (squared distance, index: ties go by index, the same on every standard library)
         std::vector<std::pair<double, size_t>> byDistance;
         for (size_t k = 0; k < samples.size(); ++k)

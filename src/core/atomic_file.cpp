@@ -277,13 +277,28 @@ void writeAtomically(const std::string& path,
     writeTogether({{path, write}});
 }
 
+void writeStreamTo(const std::string& tmp, const std::string& path, const std::string& format,
+                   const std::function<void(std::ofstream&)>& write) {
+    errno = 0;
+    std::ofstream os(tmp, std::ios::binary);
+    if (!os) failWriting(path, errno);
+    try {
+        write(os);
+    } catch (const Error&) {
+        throw;
+    } catch (const std::exception& e) {
+        if (!os) failWriting(path, errno);
+        fail(path, "", "cannot write " + format + " (" + e.what() + ")");
+    }
+    if (!os) failWriting(path, errno);  // (the failed write's errno)
+    errno = 0;
+    os.close();
+    if (!os) failWriting(path, errno);
+}
+
 void writeTextAtomically(const std::string& path, const std::string& text) {
     writeAtomically(path, [&](const std::string& tmp) {
-        errno = 0;
-        std::ofstream f(tmp, std::ios::binary);
-        f << text;
-        f.close();
-        if (!f) failWriting(path, errno);
+        writeStreamTo(tmp, path, "file", [&](std::ofstream& os) { os << text; });
     });
 }
 

@@ -143,21 +143,19 @@ void writeCheckpoint(const std::string& path, const Film& film, const Json& iden
     // Streamed from the film, the checksum computed on the way: a copy of a 4K film with variance
     // is 498 MB more (430 MB before the luminances' squares; helper 71).
     writeAtomically(path, [&](const std::string& tmp) {
-        errno = 0;
-        std::ofstream f(tmp, std::ios::binary);
-        uint64_t sum = kFnv1aOffset;
-        const auto write = [&](const void* data, size_t n) {
-            sum = fnv1a(data, n, sum);
-            f.write(static_cast<const char*>(data), std::streamsize(n));
-        };
-        write(header.data(), header.size());
-        write(film.count.data(), film.count.size() * sizeof(uint32_t));
-        write(film.sum.data(), film.sum.size() * sizeof(double));
-        write(film.sumSq.data(), film.sumSq.size() * sizeof(double));
-        write(film.luminanceSumSq.data(), film.luminanceSumSq.size() * sizeof(double));
-        f.write(reinterpret_cast<const char*>(&sum), sizeof sum);
-        f.close();
-        if (!f) failWriting(path, errno);
+        writeStreamTo(tmp, path, "checkpoint", [&](std::ofstream& f) {
+            uint64_t sum = kFnv1aOffset;
+            const auto write = [&](const void* data, size_t n) {
+                sum = fnv1a(data, n, sum);
+                f.write(static_cast<const char*>(data), std::streamsize(n));
+            };
+            write(header.data(), header.size());
+            write(film.count.data(), film.count.size() * sizeof(uint32_t));
+            write(film.sum.data(), film.sum.size() * sizeof(double));
+            write(film.sumSq.data(), film.sumSq.size() * sizeof(double));
+            write(film.luminanceSumSq.data(), film.luminanceSumSq.size() * sizeof(double));
+            f.write(reinterpret_cast<const char*>(&sum), sizeof sum);
+        });
     });
 }
 

@@ -8,7 +8,6 @@
 #include <ImfStdIO.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -241,14 +240,9 @@ Image readExr(const std::string& path, ExrValues values) {
 }
 
 void writeExrTo(const std::string& tmp, const Image& image, const std::string& path) {
-    // The stream is ours, and checked once OpenEXR is done with it: its OutputFile writes the
-    // scan lines' offsets as it is destroyed, and the stream's last buffer is written as it
-    // closes, both without a word when the disk is full (a truncated image was renamed into
-    // place and reported written, exit 0, before 6 Dec; helper 100).
-    errno = 0;
-    std::ofstream os(tmp, std::ios::binary);
-    if (!os) failWriting(path, errno);
-    try {
+    // Through a stream of ours (writeStreamTo): OpenEXR's OutputFile writes the scan lines'
+    // offsets as it is destroyed, and nothing it writes then is checked.
+    writeStreamTo(tmp, path, "EXR", [&](std::ofstream& os) {
         Imf::StdOFStream stream(os, tmp.c_str());
         Imf::Header header(image.width, image.height);
         for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
@@ -261,12 +255,7 @@ void writeExrTo(const std::string& tmp, const Image& image, const std::string& p
                       Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xs, ys));
         file.setFrameBuffer(fb);
         file.writePixels(image.height);
-    } catch (const std::exception& e) {
-        if (!os) failWriting(path, errno);  // (as below: "cannot write file (File too large)")
-        fail(path, "", std::string("cannot write EXR (") + e.what() + ")");
-    }
-    os.close();
-    if (!os) failWriting(path, errno);
+    });
 }
 
 void writeExr(const std::string& path, const Image& image) {

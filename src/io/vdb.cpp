@@ -952,19 +952,7 @@ size_t writeVdb(const std::string& path, const std::vector<VdbGridSpec>& specs) 
             fill(openvdb::Vec3SGrid::create(), [](float v) { return openvdb::Vec3s(v); });
     }
     writeAtomically(path, [&](const std::string& tmp) {
-        errno = 0;
-        std::ofstream os(tmp, std::ios::binary);
-        if (!os) failWriting(path, errno);
-        try {
-            VdbWriter()(os, grids);
-        } catch (const std::exception& e) {
-            if (!os) failWriting(path, errno);
-            fail(path, "", std::string("cannot write VDB (") + e.what() + ")");
-        }
-        if (!os) failWriting(path, errno);  // (the failed write's errno)
-        errno = 0;
-        os.close();
-        if (!os) failWriting(path, errno);
+        writeStreamTo(tmp, path, "VDB", [&](std::ofstream& os) { VdbWriter()(os, grids); });
         makeUuidFromContents(tmp, path);
     });
     return active;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -42,14 +41,12 @@ std::string str(double x) {
 
 TabulatedPhase readPhaseTableCsv(const std::string& path) {
     // Only a regular file: /dev/zero or a terminal (tabulated:file=/dev/stdin) would never end.
-    const std::string problem = inputFileProblem(path);
-    if (!problem.empty()) fail(path, "", problem);
+    const uintmax_t size = regularFileSize(path);
     std::ifstream in(path, std::ios::binary);
     if (!in) fail(path, "", "cannot open phase table");
     const std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     // (a read error ends the text early without setting the stream's state: the size tells)
-    std::error_code ec;
-    if (const uintmax_t size = std::filesystem::file_size(path, ec); !ec && all.size() != size)
+    if (all.size() != size)
         fail(path, "",
              "read error (" + std::to_string(all.size()) + " of " + std::to_string(size) +
                  " bytes read)");

@@ -3,6 +3,7 @@
 /// rename (rename(2) is atomic within a file system).
 #include <filesystem>
 #include <functional>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,15 @@ std::string outputDirectoryProblem(const std::string& path);
 /// Throws shvol::Error "path: cannot write file (reason)", the reason being the message of errno
 /// value `error` (the errno a failed open, write or rename left; 0: no reason known).
 [[noreturn]] void failWriting(const std::string& path, int error);
+
+/// Writes the temporary `tmp` of `path` (writeAtomically's, writeTogether's) through write(os),
+/// os a binary stream on it, checked once it is closed: a write that failed, also in a library's
+/// destructor or the stream's last flush, is failWriting(path, its reason); an exception write
+/// throws is "path: cannot write FORMAT (its message)", or failWriting where the stream failed.
+/// (A library writing its own stream never checked it: a full disk left a truncated EXR or VDB
+/// renamed into place and reported written; helper 100.)
+void writeStreamTo(const std::string& tmp, const std::string& path, const std::string& format,
+                   const std::function<void(std::ofstream&)>& write);
 
 /// Writes text (any bytes) to path atomically.
 void writeTextAtomically(const std::string& path, const std::string& text);
