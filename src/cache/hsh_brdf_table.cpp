@@ -24,24 +24,41 @@ Vec3 directionFromParabolic(const Vec2& uv) {
 
 namespace {
 
-/// Coefficients of g(ω_i) = f(ω_o, ω_i) cos θ_i and the fraction of ∫g² they miss.
-double project(const Bsdf& shape, const Vec3& wo, int n, const sh::SphereQuadrature& q, double* c) {
-    std::fill(c, c + n * n, 0.0);
-    std::vector<double> h(n * n);
-    double g2 = 0;
-    for (int i = 0; i < int(q.z.size()); ++i)
-        for (int j = 0; j < q.nphi; ++j) {
-            const Vec3 wi = q.direction(i, j);
-            const double g = shape.eval(wo, wi)[0] * wi.z();
-            if (g == 0) continue;
-            sh::hshEval(n, wi, h.data());
-            const double wg = q.weight(i) * g;
-            for (int k = 0; k < n * n; ++k) c[k] += wg * h[k];
-            g2 += q.weight(i) * g * g;
-        }
-    double c2 = 0;
-    for (int k = 0; k < n * n; ++k) c2 += c[k] * c[k];
-    return g2 > 0 ? std::max(0.0, 1 - c2 / g2) : 0.0;
+/// The rule's nodes with what every lobe's projection needs of them: the basis H_i at each
+/// node (a row per node) and the node's direction and weight. Evaluated once per table rather
+/// than once per outgoing direction.
+struct BasisAtNodes {
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> H;
+    std::vector<Vec3> w;
+    Eigen::VectorXd weight;
+    BasisAtNodes(int n, const sh::SphereQuadrature& q)
+        : H(q.size(), n * n), w(q.size()), weight(q.size()) {
+        for (int i = 0, k = 0; i < int(q.z.size()); ++i)
+            for (int j = 0; j < q.nphi; ++j, ++k) {
+                w[k] = q.direction(i, j);
+                weight[k] = q.weight(i);
+                sh::hshEval(n, w[k], H.row(k).data());
+            }
+    }
+};
+
+/// What the order-n projection P g of g(ω_i) = f(ω_o, ω_i) cos θ_i misses: the fraction of ∫g²
+/// (energy) and the largest |g − P g| at the rule's nodes over the largest g (peak).
+struct ProjectionErrors {
+    double energy = 0, peak = 0;
+};
+
+/// The coefficients c of g = f(ω_o, ·) cos θ_i (c = Σ_nodes weight·g·H) and what they miss.
+ProjectionErrors project(const Bsdf& shape, const Vec3& wo, const BasisAtNodes& b, double* c) {
+    Eigen::VectorXd g(b.w.size());
+    for (size_t k = 0; k < b.w.size(); ++k) g[k] = shape.eval(wo, b.w[k])[0] * b.w[k].z();
+    Eigen::Map<Eigen::VectorXd> coefficients(c, b.H.cols());
+    coefficients.noalias() = b.H.transpose() * b.weight.cwiseProduct(g);
+    const double g2 = b.weight.dot(g.cwiseAbs2()), gMax = g.maxCoeff();
+    if (!(g2 > 0) || !(gMax > 0)) return {};
+    const Eigen::VectorXd residual = g - b.H * coefficients;
+    return {std::max(0.0, 1 - coefficients.squaredNorm() / g2),
+            residual.cwiseAbs().maxCoeff() / gMax};
 }
 
 /// The directional albedo ∫ f(ω_o, ω_i) cos θ_i dω_i of the (single-channel) `shape`, by
@@ -79,30 +96,36 @@ HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
     rhoS_ = bsdf.type == BsdfType::Lambert ? Spectrum::Zero() : bsdf.specular;
     // At least 64 × 128 nodes: tests/cache checks Phong 22 and Ward α = 0.2/0.4 against a rule
     // of 400 × 800 to 2e-4 (HshBrdfTable.ReflectsBandLimitedRadianceExactlyAtANode).
-    const sh::SphereQuadrature q =
-        sh::hemisphereQuadrature(std::max(64, 2 * n_), std::max(128, 4 * n_));
+    const BasisAtNodes nodes(n_,
+                             sh::hemisphereQuadrature(std::max(64, 2 * n_), std::max(128, 4 * n_)));
     const Vec3 up(0, 0, 1);
-    const double errD = project(Bsdf::lambert(Spectrum::Ones()), up, n_, q, diffuse_.data());
+    const ProjectionErrors errD =
+        project(Bsdf::lambert(Spectrum::Ones()), up, nodes, diffuse_.data());
     if (bsdf.type == BsdfType::Lambert) {
-        projectionError_ = errD;
+        projectionError_ = errD.energy;
+        peakError_ = errD.peak;
         return;
     }
     Bsdf shape = bsdf;
     shape.reflectance = Spectrum::Zero();
     shape.specular = Spectrum::Ones();
     specular_.assign(size_t(res_) * res_ * n_ * n_, 0.0);
-    std::vector<double> err(size_t(res_) * res_), albedoErr(err.size());
+    std::vector<double> err(size_t(res_) * res_), peakErr(err.size()), albedoErr(err.size());
     tbb::parallel_for(0, res_ * res_, [&](int k) {  // nodes are independent: any thread count
         const int x = k % res_, y = k / res_;
         const Vec2 uv(-1 + 2.0 * x / (res_ - 1), -1 + 2.0 * y / (res_ - 1));
         Vec3 wo = directionFromParabolic(uv);
         wo.z() = std::max(wo.z(), 1e-4);  // the rim: just above the horizon
         wo.normalize();
-        err[k] = project(shape, wo, n_, q, &specular_[size_t(k) * n_ * n_]);
-        if (wo.z() >= kAlbedoCheckCos)
+        const ProjectionErrors e = project(shape, wo, nodes, &specular_[size_t(k) * n_ * n_]);
+        err[k] = e.energy;
+        if (wo.z() >= kAlbedoCheckCos) {
+            peakErr[k] = e.peak;
             albedoErr[k] = tableAlbedoError(shape, wo, n_, &specular_[size_t(k) * n_ * n_]);
+        }
     });
     for (double e : err) projectionError_ += e / err.size();
+    peakError_ = *std::max_element(peakErr.begin(), peakErr.end());
     albedoError_ = *std::max_element(albedoErr.begin(), albedoErr.end());
 }
 

@@ -620,7 +620,8 @@ void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop)
             continue;
         }
         cacheBuild_.tableBytes += tables_.back()->memoryBytes();
-        cacheBuild_.tableErrors.emplace_back(s.name, tables_.back()->projectionError());
+        cacheBuild_.tableErrors.push_back(
+            {s.name, tables_.back()->projectionError(), tables_.back()->peakError()});
     }
     auto now = std::chrono::steady_clock::now();
     cacheBuild_.tableSeconds = std::chrono::duration<double>(now - start).count();

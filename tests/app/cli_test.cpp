@@ -1453,6 +1453,40 @@ TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
     EXPECT_EQ(cache["brdf_table_projection_errors"]["floor"], cache["brdf_table_projection_error"]);
     EXPECT_LT(cache["brdf_table_projection_errors"]["wall"].get<double>(), 0.1);
     EXPECT_EQ(cache["uncached_surfaces"], nlohmann::json::object());
+    EXPECT_GT(cache["brdf_table_peak_errors"]["floor"].get<double>(), 0.5);
+    EXPECT_LT(cache["brdf_table_peak_errors"]["wall"].get<double>(), 1e-6);
+    // Phong 30 at order 8 keeps all but 8% of the lobe's energy, yet its peak is 22% off (a
+    // highlight of a small lamp came out 7.9% dark): the peak error warns of it where the records
+    // carry a small lamp's light (render.nee false), and not where next-event estimation takes it
+    // or the light is a constant sky.
+    write("lamp.json", R"({"camera": {"resolution": [4, 4], "position": [0, -3, 1],
+                                      "target": [0, 0, 0]},
+        "render": {"spp": 1, "nee": false,
+                   "radiance_cache": {"enabled": true, "max_records": 16, "rays_per_record": 256}},
+        "surfaces": [{"type": "rectangle", "name": "floor",
+                      "bsdf": {"type": "phong", "diffuse": 0, "specular": 1, "exponent": 30}},
+                     {"type": "rectangle", "name": "lamp", "emission": 5,
+                      "bsdf": {"type": "lambert", "reflectance": 0},
+                      "transform": {"translate": [0, 2, 1.2], "scale": 0.3,
+                                    "rotate": {"axis": [1, 0, 0], "degrees": 120}}}]})");
+    r = run("render " + path("lamp.json") + " -o " + path("a.exr") + " --quiet");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find(": floor: its BRDF table holds the BRDF with relative projection error "
+                         "0.0821 and peak error 0.219 at HSH order 8: cached light on it is biased "
+                         "(light straight from small sources, which the records carry without "
+                         "next-event estimation, by up to 21.9% of the lobe's peak); raise "),
+              std::string::npos)
+        << r.err;
+    stats = nlohmann::json::parse(std::ifstream(path("a.stats.json")));
+    EXPECT_EQ(stats["radiance_cache"]["brdf_table_peak_error"],
+              stats["radiance_cache"]["brdf_table_peak_errors"]["floor"]);
+    for (const std::string& quiet :
+         {std::string(" --set render.nee=true"),
+          std::string(" --set surfaces.1.emission=0 --set environment.radiance=1")}) {
+        r = run("render " + path("lamp.json") + " -o " + path("a.exr") + " --quiet" + quiet);
+        EXPECT_EQ(r.code, 0) << r.err;
+        EXPECT_EQ(r.err.find("floor"), std::string::npos) << quiet << ": " << r.err;
+    }
     // A lobe too narrow for the table's quadrature (Phong 10⁶) is path traced, not cached.
     r = run("render " + path("sharp.json") + " -o " + path("a.exr") +
             " --quiet --set surfaces.1.bsdf.exponent=1e6");

@@ -127,6 +127,40 @@ TEST(HshBrdfTable, AlbedoErrorFindsLobesTheQuadratureMisses) {
     EXPECT_EQ(HshBrdfTable(Bsdf::lambert(Spectrum::Ones()), 8).albedoError(), 0);
 }
 
+// A point light's reflection: a record's λ of light from a small source in direction ω_i reflects
+// P_n g(ω_i) (the table's coefficients at ω_i's HSH values), not g(ω_i). For Phong 30 at order 8
+// the peak, the light's mirror direction, comes out more than 10% dark, which the energy fraction
+// (projection error 0.082) did not warn of and the peak error bounds; at order 12 both are small.
+TEST(HshBrdfTable, PeakErrorBoundsAPointLightsHighlight) {
+    const Bsdf phong = Bsdf::phong(Spectrum::Zero(), Spectrum::Ones(), 30);
+    // ω_o at a node of the 32² grid (no interpolation), 40° from the normal.
+    const int res = 32, x = 10, y = 15;
+    const Vec3 wo =
+        directionFromParabolic(Vec2(-1 + 2.0 * x / (res - 1), -1 + 2.0 * y / (res - 1)));
+    ASSERT_GT(wo.z(), 0.7);
+    ASSERT_LT(wo.z(), 0.8);
+    const Vec3 mirror(-wo.x(), -wo.y(), wo.z());
+    const double g = phong.eval(wo, mirror)[0] * mirror.z();
+    const auto reflectedPeak = [&](const HshBrdfTable& t) {
+        const int n = t.order();
+        std::vector<double> c(3 * n * n);
+        t.coefficients(wo, c.data());
+        return sh::hshReconstruct(n, c.data(), mirror);
+    };
+    const HshBrdfTable t8(phong, 8, res), t12(phong, 12, res);
+    EXPECT_LT(t8.projectionError(), 0.1);
+    EXPECT_GT(t8.peakError(), 0.1);
+    const double dark8 = (g - reflectedPeak(t8)) / g;
+    EXPECT_GT(dark8, 0.1);
+    EXPECT_LE(dark8, t8.peakError());
+    const double dark12 = (g - reflectedPeak(t12)) / g;
+    EXPECT_LT(std::abs(dark12), 0.1);
+    EXPECT_LE(std::abs(dark12), t12.peakError());
+    EXPECT_LT(t12.peakError(), 0.1);
+    // Lambert's cos θ_i is in the span of the basis from order 2.
+    EXPECT_LT(HshBrdfTable(Bsdf::lambert(Spectrum::Ones()), 2).peakError(), 1e-9);
+}
+
 TEST(HshBrdfTable, RefusesDeltaBsdfs) {
     EXPECT_THROW(HshBrdfTable(Bsdf::mirror(Spectrum::Ones()), 4), Error);
     EXPECT_THROW(HshBrdfTable(Bsdf::dielectric(1.5), 4), Error);

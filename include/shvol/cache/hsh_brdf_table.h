@@ -14,6 +14,7 @@
 /// holds the scalar coefficients of f_d (one vector: they do not depend on ω_o) and of f_s per
 /// node, and RGB coefficients are ρ_d c_d + ρ_s c_s. The integrals use a Gauss–Legendre × uniform
 /// hemisphere rule fine enough for the lobe (hemisphereQuadrature in sh/hsh.h).
+#include <string>
 #include <vector>
 
 #include "shvol/core/math.h"
@@ -45,6 +46,18 @@ class HshBrdfTable {
     /// grid's outgoing directions, for the specular part (the diffuse part's, if it has no
     /// specular part).
     double projectionError() const { return projectionError_; }
+    /// How far a point light's reflection can be from the lobe's: the largest, over the grid's
+    /// outgoing directions within acos(0.2) = 78.5° of the normal (as albedoError), of
+    ///   max_{ω_i} |g(ω_i) − P_n g(ω_i)| / max_{ω_i} g(ω_i)
+    /// at the table's quadrature nodes ω_i (the specular part's; the diffuse part's for lambert).
+    /// A record's λ is the projection P_n L of its incoming radiance, and Σ λ_i c_i = ∫ P_n L g =
+    /// ∫ L P_n g, so light from a small source in direction ω_i is reflected by P_n g(ω_i): a
+    /// highlight off by up to this fraction of the lobe's peak, too dark at the peak where the
+    /// truncation rounds it off, and rings (clamped at 0) in its tail. It can be large where the
+    /// energy fraction projectionError is small (Phong 30 at order 8: 0.22 against 0.082; an
+    /// audit found its highlight under a small lamp 7.9% dark and its dim edges 88%, helper
+    /// 105). Lambert's cos θ_i is held exactly from order 2.
+    double peakError() const { return peakError_; }
     /// The largest relative error, over the grid's outgoing directions within acos(0.2) = 78.5°
     /// of the normal, of the specular part's directional albedo as the table gives it (what a
     /// cached surface reflects of uniform light) against the lobe's own, found by importance
@@ -67,7 +80,13 @@ class HshBrdfTable {
     bool anisotropic_ = false;
     std::vector<double> diffuse_;  ///< n² coefficients of f_d cos θ_i
     std::vector<double> specular_;  ///< res² × n² coefficients of f_s cos θ_i (empty for lambert)
-    double projectionError_ = 0, albedoError_ = 0;
+    double projectionError_ = 0, peakError_ = 0, albedoError_ = 0;
+};
+
+/// A surface's BRDF table's errors (projectionError and peakError), under the surface's name.
+struct BrdfTableErrors {
+    std::string surface;
+    double projection = 0, peak = 0;
 };
 
 /// Parabolic map of Heidrich & Seidel 1999 and its inverse, for directions with z ≥ 0.

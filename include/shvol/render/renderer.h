@@ -68,9 +68,8 @@ struct RadianceCacheStats {
     bool used = false;
     size_t records = 0, memoryBytes = 0, tableBytes = 0;
     double tableSeconds = 0, fillSeconds = 0;
-    /// Each BRDF table's projection error (1 − Gautron eq. 15), by surface name, in the scene's
-    /// order.
-    std::vector<std::pair<std::string, double>> tableErrors;
+    /// Each BRDF table's projection and peak errors (HshBrdfTable), in the scene's order.
+    std::vector<BrdfTableErrors> tableErrors;
     /// Surfaces left uncached (their lobe's albedo error, HshBrdfTable::albedoError), by name.
     std::vector<std::pair<std::string, double>> uncached;
     uint64_t recordPaths = 0;           ///< paths traced to fill the records

@@ -158,8 +158,8 @@ class VolumePathIntegrator {
     const RadianceCache* radianceCache() const { return cache_.get(); }
     struct CacheBuild {
         double tableSeconds = 0, fillSeconds = 0;
-        /// Each BRDF table's projection error, by surface name, in the scene's order.
-        std::vector<std::pair<std::string, double>> tableErrors;
+        /// Each BRDF table's projection and peak errors, in the scene's order.
+        std::vector<BrdfTableErrors> tableErrors;
         /// Surfaces whose lobe their BRDF table does not hold (HshBrdfTable::albedoError above
         /// kMaxTableAlbedoError): path traced, not cached; with that error, in the scene's order.
         std::vector<std::pair<std::string, double>> uncached;
