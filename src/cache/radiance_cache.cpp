@@ -16,6 +16,20 @@ RadianceCache::RadianceCache(int order, double accuracy, const Vec3& lo, const V
 
 RadianceCache::~RadianceCache() = default;
 
+double irradianceRelativeError(const std::vector<IncomingSample>& samples) {
+    const size_t n = samples.size();
+    if (n < 2) return 0;
+    double sum = 0, sumSq = 0;
+    for (const IncomingSample& s : samples) {
+        const double y = s.L.mean() * s.w.z();
+        sum += y, sumSq += y * y;
+    }
+    const double mean = sum / double(n);
+    if (!(mean > 0)) return 0;
+    const double variance = std::max(0.0, (sumSq - sum * mean) / double(n - 1));
+    return std::sqrt(variance / double(n)) / mean;
+}
+
 std::vector<Vec3> RadianceCache::directions(int count, const std::vector<Vec2>& jitter) {
     // The first k² = ⌊√N⌋² samples tile the (z, φ) square in k × k strata, the rest are
     // uniform in all of it: every sample is uniformly distributed, so eq. 22's weight 2π/N holds.

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <optional>
 
@@ -62,6 +63,17 @@ void describeIntegrator(const VolumePathIntegrator& integrator, RenderStats& st)
                             b.counters.truncatedPaths,
                             b.counters.nonFiniteSamples,
                             b.counters.invalid};
+        if (!b.recordErrors.empty()) {
+            std::vector<float> e = b.recordErrors;
+            std::sort(e.begin(), e.end());
+            // Nearest rank: the smallest value that q of the records are at or below.
+            const auto rank = [&](double q) {
+                return double(e[size_t(std::ceil(q * double(e.size()))) - 1]);
+            };
+            st.radianceCache.recordErrorMedian = rank(0.5);
+            st.radianceCache.recordErrorP90 = rank(0.9);
+            st.radianceCache.recordErrorMax = e.back();
+        }
     }
     const Effects& e = integrator.effects();
     if (!e.nextEvent) return;

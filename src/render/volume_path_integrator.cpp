@@ -680,6 +680,7 @@ void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop)
                         if (sample.hit) sample.W = h.p, sample.nW = h.ng;
                     });
                     for (const PathCounters& pc : counters) cacheBuild_.counters.add(pc);
+                    cacheBuild_.recordErrors.push_back(float(irradianceRelativeError(samples)));
                     cache_->add(hit.p, n, ng, samples);
                 }
     };

@@ -30,6 +30,37 @@ const Vec3 kLo(-1, -1, -1), kHi(1, 1, 1);
 
 // Constant radiance c: the record's irradiance ∫ L cos θ dω = π c, read through the HSH
 // coefficients of cos θ.
+// The records' noise figure: 0 for constant or no light; one ray of N seeing all the light (cos 1)
+// gives exactly 1; and for independent samples it predicts the spread of the irradiance estimate
+// over many records.
+TEST(RadianceCache, IrradianceRelativeErrorOfARecord) {
+    const int N = 64;
+    std::vector<IncomingSample> s(N);
+    for (IncomingSample& x : s) x.w = Vec3(0, 0, 1), x.L = Spectrum::Constant(2);
+    EXPECT_EQ(irradianceRelativeError(s), 0);
+    for (IncomingSample& x : s) x.L = Spectrum::Zero();
+    EXPECT_EQ(irradianceRelativeError(s), 0);
+    s[5].L = Spectrum(N, 2 * N, 0);  // (a channels' mean of N)
+    EXPECT_NEAR(irradianceRelativeError(s), 1, 1e-12);
+    EXPECT_EQ(irradianceRelativeError({s[5]}), 0);  // (one ray: no spread to measure)
+    // A bright patch (z > 0.95: 5% of the uniform hemisphere's rays) over a dim one, 2000 records.
+    Rng rng(7, 0);
+    double sum = 0, sumSq = 0, predicted = 0;
+    const int records = 2000;
+    for (int r = 0; r < records; ++r) {
+        for (IncomingSample& x : s) {
+            x.w = sphericalDirection2Pi(rng.uniform(), rng.uniform());
+            x.L = Spectrum::Constant(x.w.z() > 0.95 ? 50.0 : 0.1);
+        }
+        double E = 0;
+        for (const IncomingSample& x : s) E += TwoPi / N * x.L.mean() * x.w.z();
+        sum += E, sumSq += E * E;
+        predicted += irradianceRelativeError(s) / records;
+    }
+    const double mean = sum / records, sd = std::sqrt(sumSq / records - mean * mean);
+    EXPECT_NEAR(predicted, sd / mean, 0.15 * sd / mean) << predicted << " " << sd / mean;
+}
+
 TEST(RadianceCache, ConstantRadianceGivesTheIrradiance) {
     const int n = 4;
     RadianceCache cache(n, 0.3, kLo, kHi);

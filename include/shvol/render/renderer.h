@@ -76,6 +76,9 @@ struct RadianceCacheStats {
     uint64_t recordPathsTruncated = 0;  ///< of those, ended by max_depth
     uint64_t recordNonFinite = 0;       ///< of those, NaN or infinite (taken as 0)
     InvalidDraws recordInvalid;         ///< unusable draws the record paths met
+    /// The records' irradiance relative errors (radiance_cache.h, irradianceRelativeError): the
+    /// median, the 90th percentile (the value 90% of records are at or below) and the largest.
+    double recordErrorMedian = 0, recordErrorP90 = 0, recordErrorMax = 0;
 };
 
 struct RenderStats {

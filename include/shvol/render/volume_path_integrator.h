@@ -165,6 +165,8 @@ class VolumePathIntegrator {
         std::vector<std::pair<std::string, double>> uncached;
         size_t tableBytes = 0;
         PathCounters counters;  ///< of the record paths
+        /// Each record's irradianceRelativeError, in the order the records were made.
+        std::vector<float> recordErrors;
     };
     const CacheBuild& cacheBuild() const { return cacheBuild_; }
 
