@@ -508,8 +508,7 @@ class WorkQueue {
         ledger_.append(row);
         progress_.advance();
         if (quiet_ || Progress::stderrIsTerminal()) return;
-        const auto run = std::find_if(sweep_.runs.begin(), sweep_.runs.end(),
-                                      [&](const SweepRun& r) { return r.id == row["run"]; });
+        const SweepRun* run = runOf(row);
         // Time per run so far × runs left (this start's runs only).
         const double elapsed =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
@@ -521,7 +520,8 @@ class WorkQueue {
         else if (it != row.end())
             std::snprintf(rmse, sizeof rmse, " rmse %s", dumpJson(*it).c_str());
         std::fprintf(stderr, "batch: %zu/%zu %s%s, ETA %.0fs\n", ledger_.rows().size(),
-                     sweep_.runs.size(), describe(*run, sweep_.axes).c_str(), rmse,
+                     sweep_.runs.size(),
+                     (run ? describe(*run, sweep_.axes) : dumpJson(row["run"])).c_str(), rmse,
                      elapsed / double(done) * double(todo_.size() - done));
     }
     void fail(int code, const std::string& error) {
@@ -556,10 +556,14 @@ class WorkQueue {
         for (int active = world.size() - 1; active > 0;) {
             int from = 0;
             const std::string report = world.recv(kRequest, from);
-            try {
-                if (report.rfind("row ", 0) == 0) finished(Json::parse(report.substr(4)));
-            } catch (const std::exception& e) {  // e.g. the ledger cannot be written
-                fail(1, errorMessage(e));
+            if (report.rfind("row ", 0) == 0) {
+                const Json row = Json::parse(report.substr(4));
+                try {
+                    finished(row);
+                } catch (const std::exception& e) {  // e.g. the ledger cannot be written
+                    // (named by its run, as a local job's failure is; it named none)
+                    fail(1, errorText(e, sweep_, runOf(row)));
+                }
             }
             if (report.rfind("code ", 0) == 0) fail(std::stoi(report.substr(5)), "");
             if (report.rfind("error ", 0) == 0) fail(1, report.substr(6));
@@ -595,6 +599,12 @@ class WorkQueue {
 
   private:
     static constexpr int kRequest = 1, kReply = 2;  // MPI message tags
+    /// The run of a finished row (by its id), or null.
+    const SweepRun* runOf(const Json& row) const {
+        const auto run = std::find_if(sweep_.runs.begin(), sweep_.runs.end(),
+                                      [&](const SweepRun& r) { return r.id == row["run"]; });
+        return run == sweep_.runs.end() ? nullptr : &*run;
+    }
     const Sweep& sweep_;
     Ledger& ledger_;
     std::vector<const SweepRun*> todo_;
