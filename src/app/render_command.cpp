@@ -45,7 +45,8 @@ constexpr const char* kRenderWritesExr = "render writes OpenEXR (shvol tonemap m
 /// render.mis "none" warns below this many samples per pixel per unit of the sharpest lobe's peak
 /// over the isotropic value (misNoneWarning).
 constexpr double kMisNoneSamplesPerPeak = 4;
-/// A rendered SH fit looser than this (relative L2 error) is worth a warning.
+/// A rendered SH fit looser than this (relative L2 error), or a BRDF table whose projection or
+/// peak error exceeds it, is worth a warning.
 constexpr double kLooseFit = 0.1;
 /// The 90th percentile of the records' irradiance relative errors above which the render warns
 /// (noisyRecordsWarning).
@@ -361,11 +362,12 @@ std::string fewRaysPerRecordWarning(const Scene& scene, const Effects& effects) 
 
 /// Records whose irradiance estimates are noisy (RadianceCacheStats::recordErrorP90 above
 /// kNoisyRecords): their noise is frozen into every pixel they serve, as blotches that more
-/// samples per pixel do not remove. The threshold lies between the Cornell box at the defaults
-/// (0.107; its cached image as accurate as path tracing at equal samples, validation/cache) and a
-/// wall lit by a tiny bulb (0.344 at 1024 rays, regions of the image 31–49% off; 0.096 at 16,384,
-/// within 2%; helper 105). Advises the rays that would bring the 90th percentile to 0.1 (the error
-/// falls as 1/√N), as a power of two. "" when the records are not noisy.
+/// samples per pixel do not remove. The figure does not tell harm near the threshold (README,
+/// "Record noise"): `cornell_fog.json` at the defaults, 0.174, has records' noise of 3.4% of its
+/// mean pixel; a wall lit by a tiny bulb, 0.18–0.22 at 1024 rays, regions 8–49% off by the seed
+/// (helper 105); neither is warned of, the bulb at 256 rays (0.44) is. Advises the rays that would
+/// bring the 90th percentile to 0.1 if the error fell as 1/√N, as a power of two. "" when the
+/// records are not noisy.
 std::string noisyRecordsWarning(const Scene& scene, const RadianceCacheStats& rc) {
     if (!rc.used || !(rc.recordErrorP90 > kNoisyRecords)) return "";
     const int rays = scene.settings.radianceCache.raysPerRecord;
@@ -389,19 +391,13 @@ std::string noisyRecordsWarning(const Scene& scene, const RadianceCacheStats& rc
 /// such surface.
 std::vector<std::string> renderWarnings(const Scene& scene, const RenderStats& st) {
     std::vector<std::string> w;
-    // The records carry light straight from its sources where next-event estimation does not
-    // take it: emitting surfaces under render.nee false, a sky image without NEE. Such light can
-    // come from a small source, whose highlight is off by up to the table's peak error (Phong 30
-    // at order 8, projection error 0.082, gave no warning while its highlight under a small lamp
-    // was 7.9% dark and its dim edges 88%; helper 105). Otherwise the records hold indirect
-    // light (and a constant sky), and the projection error alone decides.
-    const Effects effects = Effects::of(scene);
-    bool emitters = false;
-    if (scene.surfaces)
-        for (const Surface& s : scene.surfaces->surfaces()) emitters |= s.emits();
-    const bool smallSources =
-        (emitters && !effects.areaLights) ||
-        (effects.environmentImage && !effects.environmentBlack && !effects.nextEvent);
+    // Where the records take light straight from sources that may be small
+    // (Effects::recordsSeeSmallSources), a highlight is off by up to the table's peak error (Phong
+    // 30 at order 8, projection error 0.082, gave no warning while its highlight under a small
+    // lamp was 7.9% dark and its dim edges 88%; helper 105). Otherwise the projection error alone
+    // decides: the records then hold a uniform sky and light that has bounced (small sources seen
+    // through a mirror or glass too, which this does not weigh).
+    const bool smallSources = Effects::of(scene).recordsSeeSmallSources;
     for (const BrdfTableErrors& e : st.radianceCache.tableErrors) {
         const bool peaked = smallSources && e.peak > kLooseFit;
         if (!(e.projection > kLooseFit) && !peaked) continue;

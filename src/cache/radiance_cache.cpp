@@ -16,7 +16,7 @@ RadianceCache::RadianceCache(int order, double accuracy, const Vec3& lo, const V
 
 RadianceCache::~RadianceCache() = default;
 
-double irradianceRelativeError(const std::vector<IncomingSample>& samples) {
+double irradianceRelativeError(const std::vector<IncomingSample>& samples, double direct) {
     const size_t n = samples.size();
     if (n < 2) return 0;
     double sum = 0, sumSq = 0;
@@ -24,10 +24,10 @@ double irradianceRelativeError(const std::vector<IncomingSample>& samples) {
         const double y = s.L.mean() * s.w.z();
         sum += y, sumSq += y * y;
     }
-    const double mean = sum / double(n);
-    if (!(mean > 0)) return 0;
+    const double mean = sum / double(n), E = TwoPi * mean + std::max(0.0, direct);
+    if (!(E > 0)) return 0;
     const double variance = std::max(0.0, (sumSq - sum * mean) / double(n - 1));
-    return std::sqrt(variance / double(n)) / mean;
+    return TwoPi * std::sqrt(variance / double(n)) / E;
 }
 
 std::vector<Vec3> RadianceCache::directions(int count, const std::vector<Vec2>& jitter) {

@@ -602,6 +602,24 @@ bool firstNonNullHit(const SurfaceScene& surf, Ray ray, SurfaceHit* hit) {
 }
 }  // namespace
 
+double VolumePathIntegrator::directIrradiance(const SurfaceHit& hit, const Vec3& n, Rng rng) {
+    const bool nee = effects_.nextEvent || effects_.areaLights;
+    if (!nee) return 0;
+    constexpr int kSamples = 16;
+    PathCounters c;
+    double E = 0;
+    for (int k = 0; k < kSamples; ++k) {
+        const LightDraw ls = sampleLights(hit.p, Vertex::Surface, EventLobe{}, rng, c);
+        const double cosine = ls.wi.dot(n);
+        if (!(ls.pdf > 0) || !(cosine > 0) || !(ls.wi.dot(hit.ng) * n.dot(hit.ng) > 0)) continue;
+        const Ray r = scene_.surfaces->spawn(hit, ls.wi);
+        const Inside inside = effects_.boundedMedia ? insideAt(r.o) : 0;
+        E += ls.Le.mean() * visibility(r.o, Vec3::Zero(), ls, inside, rng, c) * cosine / ls.pdf;
+    }
+    cacheBuild_.counters.invalid.add(c.invalid);  // (dropped draws are counted, as elsewhere)
+    return E / kSamples;
+}
+
 void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop) {
     const RadianceCacheSettings& rc = scene_.settings.radianceCache;
     const SurfaceScene& surf = *scene_.surfaces;
@@ -680,7 +698,10 @@ void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop)
                         if (sample.hit) sample.W = h.p, sample.nW = h.ng;
                     });
                     for (const PathCounters& pc : counters) cacheBuild_.counters.add(pc);
-                    cacheBuild_.recordErrors.push_back(float(irradianceRelativeError(samples)));
+                    const double direct = directIrradiance(
+                        hit, n, Rng::forSample(seed, (uint64_t(1) << 40) + index, uint32_t(N + 1)));
+                    cacheBuild_.recordErrors.push_back(
+                        float(irradianceRelativeError(samples, direct)));
                     cache_->add(hit.p, n, ng, samples);
                 }
     };

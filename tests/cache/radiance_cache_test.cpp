@@ -42,6 +42,9 @@ TEST(RadianceCache, IrradianceRelativeErrorOfARecord) {
     EXPECT_EQ(irradianceRelativeError(s), 0);
     s[5].L = Spectrum(N, 2 * N, 0);  // (a channels' mean of N)
     EXPECT_NEAR(irradianceRelativeError(s), 1, 1e-12);
+    // The same error against twice the irradiance, the record's own E = 2π and as much direct
+    // light that next-event estimation adds.
+    EXPECT_NEAR(irradianceRelativeError(s, TwoPi), 0.5, 1e-12);
     EXPECT_EQ(irradianceRelativeError({s[5]}), 0);  // (one ray: no spread to measure)
     // A bright patch (z > 0.95: 5% of the uniform hemisphere's rays) over a dim one, 2000 records.
     Rng rng(7, 0);

@@ -597,5 +597,38 @@ TEST(SurfacePath, SceneWithoutSurfacesRunsNoSurfaceCode) {
     EXPECT_FALSE(fx.areaLights);
 }
 
+// The radiance cache's records take light straight from a source only where next-event estimation
+// does not: an emitter under render.nee false, a sky that varies without NEE. An image of equal
+// pixels is no small source (helper 107: it was taken for one, as any image was).
+TEST(SurfacePath, RecordsSeeSmallSourcesWhereNeeDoesNotTakeThem) {
+    const auto scene = [](bool emitter, std::optional<bool> nee, const Environment& env) {
+        Scene s;
+        s.environment = env;
+        s.settings.nee = nee;
+        s.settings.radianceCache.enabled = true;
+        std::vector<Surface> v;
+        v.push_back(Surface::rectangle(Eigen::Affine3d::Identity()));
+        v.back().bsdf = Bsdf::lambert(Spectrum::Constant(0.5));
+        if (emitter) v.back().emission = Spectrum::Constant(3);
+        s.surfaces = surfaces(std::move(v));
+        return Effects::of(s).recordsSeeSmallSources;
+    };
+    const Environment black = Environment::constant(Spectrum::Zero(), false);
+    const Environment constant = Environment::constant(Spectrum::Ones(), false);
+    Image equal(8, 4), varying(8, 4);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 8; ++x)
+            equal.set(x, y, Spectrum::Ones()), varying.set(x, y, Spectrum::Constant(1 + x * y));
+    const Environment flat = Environment::image(equal, 1, 0, false);
+    const Environment sky = Environment::image(varying, 1, 0, false);
+    EXPECT_TRUE(scene(true, false, black));
+    EXPECT_FALSE(scene(true, std::nullopt, black));
+    EXPECT_FALSE(scene(false, false, constant));
+    EXPECT_FALSE(scene(false, false, flat));
+    EXPECT_TRUE(scene(false, false, sky));
+    EXPECT_FALSE(scene(false, std::nullopt, sky));  // ("auto": NEE under a sky that varies)
+    EXPECT_FALSE(scene(false, true, sky));
+}
+
 }  // namespace
 }  // namespace shvol

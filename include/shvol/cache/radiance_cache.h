@@ -59,14 +59,17 @@ struct IncomingSample {
     bool below = false;
 };
 
-/// The relative standard error of a record's irradiance estimate E = (2π/N) Σ_k L_k cos θ_k (the
-/// channels' mean of L), as if its N samples were independent:
-///   s_y / (√N · ȳ),  y_k = L_k cos θ_k,  s_y² = Σ (y_k − ȳ)² / (N − 1);
-/// 0 for a record that saw no light (or N < 2). The records' strata make the true error smaller
-/// where the light varies smoothly over the hemisphere; where it comes from a small bright patch
-/// that few rays meet, the error is about this, and the record's noise is in every pixel it serves
-/// (a wall lit by a tiny bulb: regions 31–49% off at 1024 rays, within 2% at 16,384; helper 105).
-double irradianceRelativeError(const std::vector<IncomingSample>& samples);
+/// The standard error of a record's irradiance estimate E = (2π/N) Σ_k L_k cos θ_k (the channels'
+/// mean of L), as if its N samples were independent, relative to the irradiance at its point:
+///   2π s_y / √N / (E + E_direct),  y_k = L_k cos θ_k,  s_y² = Σ (y_k − ȳ)² / (N − 1),
+/// E_direct the irradiance that next-event estimation adds there and the record leaves out (0
+/// without it); 0 where there is no light (or N < 2). The records' strata make the true error
+/// smaller where the light varies smoothly over the hemisphere; where it comes from a small bright
+/// patch that few rays meet, the error is about this, and the record's noise is in every pixel it
+/// serves (a wall lit by a tiny bulb: regions 31–49% off at 1024 rays, within 2% at 16,384; helper
+/// 105). Against E alone, records that hold a faint indirect share beside bright direct light
+/// counted as noisy (a ground under a sunlit cloud: 0.67 at the median; helper 107).
+double irradianceRelativeError(const std::vector<IncomingSample>& samples, double direct = 0);
 
 class RadianceCache {
   public:

@@ -21,6 +21,11 @@ struct Effects {
     bool areaLights = false;     ///< some surface emits and render.nee is not false: NEE to it, MIS
     bool boundedMedia = false;   ///< some medium exists only inside a closed surface
     bool radianceCache = false;  ///< render.radiance_cache on and some surface can be cached
+    /// The radiance cache's records take light straight from sources that may be small, which
+    /// next-event estimation does not take for them (VolumePathIntegrator::Li leaves out what it
+    /// takes): emitting surfaces without area-light sampling, or a sky that varies (not uniform,
+    /// not black) without NEE towards it.
+    bool recordsSeeSmallSources = false;
     LightSampling lightSampling = LightSampling::Environment;  ///< strategy when nextEvent
     MisHeuristic mis = MisHeuristic::Balance;                  ///< when nextEvent
     bool skyCompressed = false;  ///< the sky hierarchy is top-K compressed (set by the integrator)

@@ -257,6 +257,11 @@ class VolumePathIntegrator {
     void buildLightSamplers();
     /// The cache's first pass (constructor): records at visible cacheable points.
     void buildRadianceCache(const std::function<bool()>& stop);
+    /// The irradiance ∫ L cos θ dω that next-event estimation adds at a record's point (hit, with
+    /// the records' normal n) and its records leave out, from 16 light samples drawn with rng: the
+    /// light a record's noise is measured against besides its own (irradianceRelativeError). 0
+    /// without next-event estimation. Draws no path can use are counted in the cache build's.
+    double directIrradiance(const SurfaceHit& hit, const Vec3& n, Rng rng);
     /// Outgoing radiance from the cache at a camera path's first surface vertex; false if no record
     /// is valid there.
     bool cachedRadiance(const SurfaceHit& hit, const Vec3& wo, Spectrum* L, PathCounters& c) const;
