@@ -307,7 +307,8 @@ std::string unusedLightSamplingWarning(const Scene& scene, const Effects& effect
 /// helper 91). "" where it does not apply or spp ≥ kMisNoneSamplesPerPeak·P for every scattering
 /// medium and surface.
 std::string misNoneWarning(const Scene& scene, const Effects& effects) {
-    if (!effects.nextEvent || effects.mis != MisHeuristic::None) return "";
+    // (Next-event estimation to area lights alone too: helper 108 found it unwarned.)
+    if (!(effects.nextEvent || effects.areaLights) || effects.mis != MisHeuristic::None) return "";
     double peak = 0;
     std::string which;
     for (size_t i = 0; i < scene.media.size(); ++i)

@@ -1386,6 +1386,19 @@ TEST_F(Cli, RenderWarnsOfLightSamplesAloneMissingASharpLobe) {
                               "peaks at 2e+04 times the isotropic value"),
               std::string::npos)
         << glossy.err;
+    // The same lobe lit by an emitting surface alone, which next-event estimation samples.
+    write("l.json", R"({"camera": {"resolution": [4, 4], "position": [0, -3, 2]},
+        "render": {"spp": 4, "mis": "none"}, "surfaces": [{"type": "rectangle", "name": "floor",
+        "bsdf": {"type": "phong", "diffuse": 0, "specular": 0.5, "exponent": 10000}},
+        {"type": "rectangle", "name": "lamp", "emission": 2, "bsdf": {"type": "lambert",
+        "reflectance": 0}, "transform": {"translate": [0, 0, 2],
+        "rotate": {"axis": [1, 0, 0], "degrees": 180}}}]})");
+    const Result lamp = run("render " + path("l.json") + " -o " + path("l.exr") + " --quiet");
+    EXPECT_EQ(lamp.code, 0) << lamp.err;
+    EXPECT_NE(lamp.err.find("render.mis: \"none\" with 4 samples per pixel, and floor's BSDF "
+                            "peaks at 2e+04 times the isotropic value"),
+              std::string::npos)
+        << lamp.err;
     for (const std::string& quiet :
          {" --set render.mis='\"none\"' --spp 800", " --spp 16",
           " --set render.mis='\"none\"' --spp 16 --set render.nee=false",
