@@ -588,19 +588,63 @@ bool VolumePathIntegrator::cachedRadiance(const SurfaceHit& hit, const Vec3& wo,
     return found;
 }
 
-namespace {
-/// The first surface along the ray that is not a `null` one, crossing at most
-/// VolumePathIntegrator::kMaxNullCrossings of those.
-bool firstNonNullHit(const SurfaceScene& surf, Ray ray, SurfaceHit* hit) {
-    for (int k = 0; k < VolumePathIntegrator::kMaxNullCrossings && surf.intersect(ray, NoHit, hit);
-         ++k) {
+template <typename Stretch>
+bool VolumePathIntegrator::walkToSolid(Ray ray, Stretch&& stretch, SurfaceHit* end) const {
+    const SurfaceScene& surf = *scene_.surfaces;
+    Inside inside = effects_.boundedMedia ? insideAt(ray.o) : 0;
+    for (int k = 0; k <= kMaxNullCrossings; ++k) {
+        SurfaceHit hit;
         SurfaceScene::NullCrossings nulls;
-        if (surf.resolveCrossing(ray, NoHit, hit, &nulls)) return true;  // (as Li finds it)
-        ray = surf.spawn(*hit, ray.d);
+        const bool hitSurface = surf.intersect(ray, NoHit, &hit);
+        const bool solid = hitSurface && surf.resolveCrossing(ray, NoHit, &hit, &nulls);
+        if (effects_.volumes && anyActive(inside) &&
+            !stretch(ray, hitSurface ? hit.t : NoHit, inside))
+            return false;
+        if (!hitSurface) return false;
+        if (solid) {
+            *end = hit;
+            return true;
+        }
+        for (int j = 0; j < nulls.count; ++j) inside = crossed(nulls.hit[j], ray.d, inside);
+        ray = surf.spawn(hit, ray.d);
     }
     return false;
 }
-}  // namespace
+
+bool VolumePathIntegrator::firstMet(const Ray& ray, Rng& rng, Vec3* W, Vec3* nW) const {
+    PathCounters c;  // (a flight no path can use is counted where Li meets it)
+    int medium = -1;
+    Vec3 collision;
+    SurfaceHit end;
+    bool solid = walkToSolid(
+        ray,
+        [&](const Ray& r, double tMax, Inside inside) {
+            const double t = sampleCollision(r, tMax, inside, rng, deferred2D(rng), c, &medium);
+            if (medium >= 0) collision = r(t);
+            return medium < 0;
+        },
+        &end);
+    if (medium >= 0) {
+        // Whether the media hide what lies behind them: their transmittance along the whole ray
+        // (asked only of the rays that collided).
+        double T = 1;
+        solid = walkToSolid(
+            ray,
+            [&](const Ray& r, double tMax, Inside inside) {
+                T *= transmittance(r, tMax, inside, rng, c);
+                return T > 0;
+            },
+            &end);
+        if (T < kOpaqueTransmittance) {
+            *W = collision, *nW = -ray.d;
+            return true;
+        }
+        // (Thin: the ray met what lies beyond the collision. A walk stopped by T = 0 is opaque.)
+    }
+    if (!solid) return false;
+    *W = end.p, *nW = end.ng;
+    return true;
+}
 
 double VolumePathIntegrator::directIrradiance(const SurfaceHit& hit, const Vec3& n, Rng rng) {
     const bool nee = effects_.nextEvent || effects_.areaLights;
@@ -652,6 +696,7 @@ void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop)
     std::vector<IncomingSample> samples(N);
     std::vector<PathCounters> counters(N);
     // Pixel centres coarse to fine: every 16th pixel, then the new ones of every 8th, ….
+    const auto passThrough = [](const Ray&, double, Inside) { return true; };  // (no media asked)
     const auto fill = [&] {
         for (int stride = 16; stride >= 1 && int(cache_->size()) < rc.maxRecords; stride /= 2)
             for (int y = 0; y < scene_.camera.height; y += stride)
@@ -659,10 +704,11 @@ void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop)
                     if (stop()) return;
                     if (stride < 16 && x % (2 * stride) == 0 && y % (2 * stride) == 0) continue;
                     if (int(cache_->size()) >= rc.maxRecords) break;
-                    // The first surface seen through the pixel centre, past null surfaces.
+                    // The first surface seen through the pixel centre, past null surfaces (and
+                    // through media: a record is made wherever a camera path can reach).
                     const Ray ray = camera.generateRay(x + 0.5, y + 0.5);
                     SurfaceHit hit;
-                    if (!firstNonNullHit(surf, ray, &hit) || !tables_[hit.surface]) continue;
+                    if (!walkToSolid(ray, passThrough, &hit) || !tables_[hit.surface]) continue;
                     const double cosOg = -ray.d.dot(hit.ng);
                     const auto [n, ng] = cacheNormals(hit, -ray.d);
                     if (cosOg == 0 || cache_->covers(hit.p, n, ng)) continue;
@@ -692,10 +738,10 @@ void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop)
                         // (counted: it was taken as 0 without a word; helper 82)
                         if (!sample.L.allFinite())
                             sample.L = Spectrum::Zero(), ++counters[k].nonFiniteSamples;
-                        // The first surface met that is not a null boundary (for R and gradients).
-                        SurfaceHit h;
-                        sample.hit = firstNonNullHit(surf, r, &h);
-                        if (sample.hit) sample.W = h.p, sample.nW = h.ng;
+                        // What the ray meets first (for R, the walls and the gradients).
+                        Rng metRng =
+                            Rng::forSample(seed, (uint64_t(1) << 40) + index, uint32_t(N + 2 + k));
+                        sample.hit = firstMet(r, metRng, &sample.W, &sample.nW);
                     });
                     for (const PathCounters& pc : counters) cacheBuild_.counters.add(pc);
                     const double direct = directIrradiance(

@@ -4,6 +4,8 @@
 
 #include <functional>
 
+#include "shvol/media/homogeneous_medium.h"
+#include "shvol/phase/henyey_greenstein_phase.h"
 #include "shvol/render/renderer.h"
 #include "shvol/render/volume_path_integrator.h"
 #include "shvol/sh/hsh.h"
@@ -165,6 +167,48 @@ TEST(RadianceCachePath, NoLightLeaksUnderAShelf) {
     for (size_t k = 0; k < cached.rgb.size(); ++k) a += cached.rgb[k], b += traced.rgb[k];
     ASSERT_GT(b, 0);
     EXPECT_NEAR(a / b, 1, 0.04);
+}
+
+// A cube of dense black fog standing on a floor under a constant sky hides the floor under it and
+// shades the floor beside it, as a wall would. Its absorptions are what the records' rays meet:
+// taken for misses, records beside it reached under and across it, and the image came out 3.5%
+// dark (9.4% at a = 0.5), its pixels by the fog up to 0.43 too dark (helper 108).
+TEST(RadianceCachePath, DenseFogOccludesAsAWall) {
+    Scene scene = cachedScene(Vec3(0, -5, 4), Vec3(0, 0, 0.5), 50, 24, 24, 16, 1);
+    std::vector<Surface> v;
+    v.push_back(Surface::rectangle(Eigen::Affine3d(Eigen::Scaling(4.0))));
+    v.back().bsdf = Bsdf::lambert(Spectrum::Constant(0.8));
+    scene.surfaces = std::make_unique<const SurfaceScene>(std::move(v));
+    MediumShape cube;
+    cube.lo = Vec3(-1, -1, 0), cube.hi = Vec3(1, 1, 2);
+    scene.media.push_back(std::make_unique<HomogeneousMedium>(
+        cube, 50, Spectrum::Zero(), PhaseFunction(HenyeyGreensteinPhase(0))));
+    for (const double a : {0.3, 0.5}) {
+        scene.settings.radianceCache.enabled = true;
+        scene.settings.radianceCache.accuracy = a;
+        const RenderResult r = render(scene, RenderOptions{});
+        ASSERT_GT(r.stats.counters.cacheHits, r.stats.counters.cacheLookups / 2);
+        const Image cached = r.film.image();
+        scene.settings.radianceCache.enabled = false;
+        const Image traced = render(scene, RenderOptions{}).film.image();
+        double sc = 0, st = 0, worst = 0;
+        for (size_t k = 0; k < cached.rgb.size(); ++k) {
+            sc += cached.rgb[k], st += traced.rgb[k];
+            worst = std::max(worst, double(std::abs(cached.rgb[k] - traced.rgb[k])));
+        }
+        EXPECT_NEAR(sc / st, 1, 0.01) << a;
+        EXPECT_LT(worst, 0.2) << a;
+    }
+    // A thin fog (optical depth below 0.1 across the cube) hides nothing: the records are those
+    // of the floor alone. (Its collisions taken for walls, near ones ruled the records' harmonic
+    // mean distance: a Cornell box of thin fog made 20,000 records in 23 s, against 2547 in 2.9.)
+    scene.settings.radianceCache.enabled = true;
+    scene.settings.radianceCache.accuracy = 0.3;
+    scene.media.clear();
+    const size_t bare = render(scene, RenderOptions{}).stats.radianceCache.records;
+    scene.media.push_back(std::make_unique<HomogeneousMedium>(
+        cube, 0.02, Spectrum::Constant(0.5), PhaseFunction(HenyeyGreensteinPhase(0))));
+    EXPECT_EQ(render(scene, RenderOptions{}).stats.radianceCache.records, bare);
 }
 
 // A floor split by a wall of no thickness, a lamp on one side and a black sky: no light reaches
