@@ -93,6 +93,11 @@ VolumePathIntegrator::VolumePathIntegrator(const Scene& scene, std::function<boo
         }
         // (The loader refuses more: Inside is a 64-bit set.)
         if (boundaryOf_.size() > 64) throw Error(scene.path + ": more than 64 bounded media");
+        // Without area lights the only light is the sky, which no shadow ray from inside a closed
+        // surface that is not a null one reaches (glass around fog).
+        if (!effects_.areaLights)
+            for (size_t b = 0; b < boundaryOf_.size(); ++b)
+                if (surfaces[boundaryOf_[b]].bsdf.type != BsdfType::Null) sealed_ |= Inside(1) << b;
         cameraInside_ = insideOf(scene.camera.position);
     }
     buildLightSamplers();
@@ -420,7 +425,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
                                    tables_[hit.surface] && cachedRadiance(hit, -ray.d, &cached, c);
             // A cached vertex ends the path, so its direct light can afford several samples.
             const int lightSamples = fromCache ? s.radianceCache.lightSamples : 1;
-            for (int k = 0; nee && !bsdf.isDelta() && k < lightSamples; ++k) {
+            for (int k = 0; nee && !sealed(inside) && !bsdf.isDelta() && k < lightSamples; ++k) {
                 const LightDraw ls = sampleLights(hit.p, Vertex::Surface, lobe, sampler, c);
                 // Reflection stays on the side it came from, judged by the geometric normal too,
                 // so that shading normals cannot leak light through a surface.
@@ -492,7 +497,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             const Vec3 p = hitSurface ? surf->offSurfaceAhead(ray(t), hit, ray.d) : ray(t);
             const PhaseFunction& phase = medium.phase();
 
-            if (nee) {
+            if (nee && !sealed(inside)) {
                 if (product) {
                     product_->rotateZonal(lobes_[mi].p.data(), ray.d, lobe.lobe, lobes_[mi].bands);
                     lobe.beta = lobes_[mi].beta;

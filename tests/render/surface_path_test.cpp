@@ -330,6 +330,48 @@ TEST(SurfacePath, GlassFurnaceOfThickFogStaysExact) {
                       4000, 2e5);
 }
 
+// Fog sealed in a glass ball under a constant sky, NEE forced on: no shadow ray from inside can
+// reach the sky, so none is traced (helper 108: each was blocked by the glass, about twice the
+// time), and the furnace stays exactly 1. With an area light in the scene NEE stays on inside.
+TEST(SurfacePath, NoShadowRaysFromInsideGlass) {
+    for (const bool lamp : {false, true}) {
+        Scene scene;
+        scene.settings.maxDepth = 100000;
+        scene.settings.nee = true;
+        scene.environment = Environment::constant(Spectrum::Ones(), false);
+        std::vector<Surface> v;
+        v.push_back(glassSphere(Vec3::Zero(), 1.5));
+        v.back().interiorMedium = 0;
+        if (lamp) {
+            v.push_back(Surface::rectangle(Eigen::Affine3d(Eigen::Translation3d(0, 0, 5))));
+            v.back().bsdf = Bsdf::lambert(Spectrum::Zero());
+            v.back().emission = Spectrum::Constant(1e-9);
+        }
+        scene.surfaces = surfaces(std::move(v));
+        MediumShape everywhere;
+        everywhere.type = MediumShape::Type::Everywhere;
+        scene.media.push_back(std::make_unique<HomogeneousMedium>(
+            everywhere, 4, Spectrum::Ones(), PhaseFunction(HenyeyGreensteinPhase(0.5))));
+        const VolumePathIntegrator integrator(scene);
+        PathCounters counters;
+        double worst = 0;
+        for (int i = 0; i < 500; ++i) {
+            Rng rng = Rng::forSample(1, uint64_t(i), 0);
+            const Vec2 u = rng.uniform2();
+            const Ray ray{Vec3(0, -3, 0), Vec3(u.x() - 0.5, 3, u.y() - 0.5).normalized()};
+            worst = std::max(worst, std::abs(integrator.Li(ray, rng, counters)[0] - 1));
+        }
+        EXPECT_GT(counters.scatteringEvents, 500u) << lamp;
+        if (!lamp) {
+            EXPECT_LT(worst, 1e-9);
+            EXPECT_EQ(counters.lightSamples, 0u);
+            EXPECT_EQ(counters.shadowRays, 0u);
+        } else {
+            EXPECT_GT(counters.lightSamples, 0u);
+        }
+    }
+}
+
 /// A box of light-grey Lambertian walls with a glossy Phong back wall, a rectangle light and fog:
 /// next-event estimation with MIS and pure BSDF/phase sampling estimate the same radiance.
 TEST(SurfacePath, NextEventEstimationAgreesWithBsdfSampling) {

@@ -220,6 +220,12 @@ class VolumePathIntegrator {
             if (active(i, inside)) return true;
         return false;
     }
+    /// Whether no light can be seen from inside `inside`: the scene has no area light, and the
+    /// set holds a medium bounded by a surface that is not a `null` one (closed, as boundaries
+    /// are), which blocks every shadow ray to the sky. Next-event estimation is skipped there: it
+    /// drew a light sample and traced a shadow ray for nothing at every vertex inside (fog in a
+    /// glass ball with NEE on: about twice the time; helper 108).
+    bool sealed(Inside inside) const { return (inside & sealed_) != 0; }
     /// The bounded media containing p (asked of Embree), and the same answered from the cache
     /// for the camera position.
     Inside insideOf(const Vec3& p) const;
@@ -286,6 +292,7 @@ class VolumePathIntegrator {
     CacheBuild cacheBuild_;
     Vec3 cameraPosition_;
     Inside cameraInside_ = 0;  ///< the bounded media containing the camera position
+    Inside sealed_ = 0;        ///< bounded media whose boundary hides every light (sealed)
     double setupSeconds_ = 0;
 };
 
