@@ -620,31 +620,36 @@ bool VolumePathIntegrator::firstMet(const Ray& ray, Rng& rng, Vec3* W, Vec3* nW)
     PathCounters c;  // (a flight no path can use is counted where Li meets it)
     int medium = -1;
     Vec3 collision;
+    double depth = 0;  // σ_t at the collision × its distance from the ray's origin
     SurfaceHit end;
     bool solid = walkToSolid(
         ray,
         [&](const Ray& r, double tMax, Inside inside) {
             const double t = sampleCollision(r, tMax, inside, rng, deferred2D(rng), c, &medium);
-            if (medium >= 0) collision = r(t);
+            if (medium >= 0)
+                collision = r(t),
+                depth = scene_.media[medium]->sigmaT(collision) * (collision - ray.o).norm();
             return medium < 0;
         },
         &end);
     if (medium >= 0) {
-        // Whether the media hide what lies behind them: their transmittance along the whole ray
-        // (asked only of the rays that collided).
+        // Whether the media hide what lies behind it: the collision is farther than a mean free
+        // path there (nearer ones, in a deep fog, ruled R's harmonic mean and made records by
+        // the thousand: a Cornell box filled with fog of optical depth 8 across made 3844
+        // records for 785 and answered 39 lookups for 553, with no gain where it was measured),
+        // and the media's transmittance along the whole ray (asked only of such rays) is small.
         double T = 1;
-        solid = walkToSolid(
-            ray,
-            [&](const Ray& r, double tMax, Inside inside) {
-                T *= transmittance(r, tMax, inside, rng, c);
-                return T > 0;
-            },
-            &end);
-        if (T < kOpaqueTransmittance) {
+        const auto dim = [&](const Ray& r, double tMax, Inside inside) {
+            T *= transmittance(r, tMax, inside, rng, c);
+            return T > 0;
+        };
+        const auto through = [](const Ray&, double, Inside) { return true; };
+        solid = depth >= 1 ? walkToSolid(ray, dim, &end) : walkToSolid(ray, through, &end);
+        if (depth >= 1 && T < kOpaqueTransmittance) {
             *W = collision, *nW = -ray.d;
             return true;
         }
-        // (Thin: the ray met what lies beyond the collision. A walk stopped by T = 0 is opaque.)
+        // (A walk stopped by T = 0 is opaque.)
     }
     if (!solid) return false;
     *W = end.p, *nW = end.ng;
