@@ -184,13 +184,14 @@ __attribute__((always_inline)) inline double VolumePathIntegrator::sampleCollisi
 }
 
 double VolumePathIntegrator::transmittance(const Ray& ray, double tMax, Inside inside, Rng& rng,
-                                           PathCounters& c) const {
+                                           PathCounters& c,
+                                           std::optional<TransmittanceEstimator> est) const {
     ++c.transmittanceRays;
     double T = 1;
     for (size_t i = 0; i < scene_.media.size(); ++i) {
         if (!active(i, inside) || !meets(i, ray, tMax)) continue;
-        const double Ti = scene_.media[i]->transmittance(ray, tMax, scene_.settings.transmittance,
-                                                         rng, c.tracking);
+        const double Ti = scene_.media[i]->transmittance(
+            ray, tMax, est.value_or(scene_.settings.transmittance), rng, c.tracking);
         if (!(Ti >= 0)) {
             ++c.invalid.transmittance;
             return 0;
@@ -640,7 +641,10 @@ bool VolumePathIntegrator::firstMet(const Ray& ray, Rng& rng, Vec3* W, Vec3* nW)
         // and the media's transmittance along the whole ray (asked only of such rays) is small.
         double T = 1;
         const auto dim = [&](const Ray& r, double tMax, Inside inside) {
-            T *= transmittance(r, tMax, inside, rng, c);
+            // (Ratio tracking whatever render.transmittance says: a delta-tracked estimate is 0
+            // or 1, and "delta" doubled the records of a fog; helper 109. Its roulette below 0.1
+            // makes the cut at 0.1 soft: a T of 0.05 is called opaque half the time.)
+            T *= transmittance(r, tMax, inside, rng, c, TransmittanceEstimator::Ratio);
             return T > 0;
         };
         const auto through = [](const Ray&, double, Inside) { return true; };

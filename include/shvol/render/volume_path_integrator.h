@@ -48,6 +48,7 @@
 /// on the thread count.
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -242,9 +243,10 @@ class VolumePathIntegrator {
     bool meets(size_t i, const Ray& ray, double tMax) const {
         return mediumBounds_[i].hits(ray, tMax);
     }
-    /// Product of the active media's transmittance estimates along [0, tMax).
-    double transmittance(const Ray& ray, double tMax, Inside inside, Rng& rng,
-                         PathCounters& c) const;
+    /// Product of the active media's transmittance estimates along [0, tMax), by `est` (the
+    /// scene's render.transmittance unless given).
+    double transmittance(const Ray& ray, double tMax, Inside inside, Rng& rng, PathCounters& c,
+                         std::optional<TransmittanceEstimator> est = std::nullopt) const;
     /// Transmittance from x (a surface point with normal ng when ng ≠ 0) to the light of ls:
     /// 0 when a surface other than a `null` one is in the way.
     double visibility(const Vec3& x, const Vec3& ng, const LightDraw& ls, Inside inside, Rng& rng,
