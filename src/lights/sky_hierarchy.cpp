@@ -171,6 +171,27 @@ void SkyHierarchy::compress(size_t K) {
     kept_ = all.size();
     l2Error_ = total2 > 0 ? std::sqrt(dropped2 / total2) : 0.0;
     compressed_ = true;
+    // The second moment against the exact masses, on the cells of level ℓ (the mip-map is still
+    // whole here): a descent by the compressed sampler's splits.
+    const int level = std::min(levels_, kMomentLevel);
+    const double alpha = kDefensiveFraction, cells = std::ldexp(1.0, 2 * level);
+    const double root = mip_[0][0];
+    secondMoment_ = 0;
+    const auto descend = [&](const auto& self, int d, uint64_t node, double avg,
+                             double prob) -> void {
+        if (d == level) {
+            const double m = double(mip_[level][node]) / (root * cells);
+            if (m > 0) secondMoment_ += m * m / ((1 - alpha) * prob + alpha / cells);
+            return;
+        }
+        double c[4];
+        compressedChildren(d, node, avg, c);
+        const detail::Split s(c);
+        for (int k = 0; k < 4; ++k)
+            self(self, d + 1, 4 * node + k, c[k],
+                 s.total > 0 && s.c[k] > 0 ? prob * s.c[k] / s.total : 0.0);
+    };
+    if (root > 0) descend(descend, 0, 0, root, 1.0);
     mip_.resize(1);  // the sampler only reads the root and the kept details
     mip_.shrink_to_fit();
 }

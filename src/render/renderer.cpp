@@ -87,6 +87,7 @@ void describeIntegrator(const VolumePathIntegrator& integrator, RenderStats& st)
         ls.waveletKept = sky->keptDetails();
         ls.waveletDetails = sky->detailCount();
         ls.waveletL2Error = sky->relativeL2Error();
+        ls.waveletSecondMoment = sky->lightSecondMoment();
     }
     if (const ProductSampler* ps = integrator.product()) {
         ls.productOrder = ps->order();

@@ -184,6 +184,35 @@ TEST(SkyHierarchy, SamplerChi2) {
         }
 }
 
+// The light samples' second moment of a compressed sky, Σ m_i² / P_i, against the same sum taken
+// by brute force from the sampler's pdf at each leaf's centre (the sky has fewer levels than
+// kMomentLevel, so the cells are its leaves): a sun that few coefficients keep makes it large,
+// all of them bring it to the defensive share's 1/(1 − α) or below.
+TEST(SkyHierarchy, LightSecondMomentOfACompressedSky) {
+    const int k = 5, n = 32;
+    std::vector<double> leaves(n * n);
+    Rng rng(3, 0);
+    for (double& v : leaves) v = 0.5 + rng.uniform();
+    leaves[size_t(20) * n + 7] = 5000;  // a sun
+    double total = 0;
+    for (const double v : leaves) total += v;
+    EXPECT_EQ(SkyHierarchy::fromLeaves(k, leaves).lightSecondMoment(), 1);
+    const double area = (2.0 / n) * (TwoPi / n);
+    for (const size_t K : {size_t(4), size_t(64), size_t(1023)}) {
+        const SkyHierarchy h = SkyHierarchy::fromLeaves(k, leaves, K);
+        double M = 0;
+        for (int iz = 0; iz < n; ++iz)
+            for (int ip = 0; ip < n; ++ip) {
+                const double m = leaves[size_t(iz) * n + ip] / total;
+                const Vec3 w = sphericalDirection(-1 + (iz + 0.5) * 2 / n, (ip + 0.5) * TwoPi / n);
+                M += m * m / (h.pdf(w) * area);
+            }
+        EXPECT_NEAR(h.lightSecondMoment(), M, 1e-6 * M) << K;
+        if (K == 4) EXPECT_GT(M, 10);
+        if (K == 1023) EXPECT_LT(M, 1 / (1 - SkyHierarchy::kDefensiveFraction) + 1e-9);
+    }
+}
+
 // A sky that is black except one leaf: every sample lands in that leaf, with the pdf 1/area.
 TEST(SkyHierarchy, SingleLitLeaf) {
     std::vector<double> leaves(64 * 64, 0.0);

@@ -59,8 +59,9 @@ struct LightSamplingStats {
     int productOrder = 0, productDepth = 0;  ///< product strategy only
     int skyResolution = 0;                   ///< 2^k of the sky hierarchy (wavelet, product)
     size_t skyBytes = 0, waveletKept = 0, waveletDetails = 0;
-    double waveletL2Error = 0;  ///< relative L2 error of the compressed sky
-    double setupSeconds = 0;    ///< building the sky hierarchy, tables and lobes
+    double waveletL2Error = 0;       ///< relative L2 error of the compressed sky
+    double waveletSecondMoment = 1;  ///< SkyHierarchy::lightSecondMoment
+    double setupSeconds = 0;         ///< building the sky hierarchy, tables and lobes
 };
 
 /// What the radiance cache held and cost (render.radiance_cache; records 0 when not used).
