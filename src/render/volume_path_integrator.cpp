@@ -634,7 +634,7 @@ bool VolumePathIntegrator::firstMet(const Ray& ray, Rng& rng, Vec3* W, Vec3* nW)
         },
         &end);
     if (medium >= 0) {
-        // Whether the media hide what lies behind it: the collision is farther than a mean free
+        // Whether the media hide what lies behind them: the collision is farther than a mean free
         // path there (nearer ones, in a deep fog, ruled R's harmonic mean and made records by
         // the thousand: a Cornell box filled with fog of optical depth 8 across made 3844
         // records for 785 and answered 39 lookups for 553, with no gain where it was measured),
