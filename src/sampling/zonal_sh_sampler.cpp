@@ -17,7 +17,9 @@ int checkedDepth(size_t order, int depth) {
 }  // namespace
 
 ZonalSHSampler::ZonalSHSampler(std::vector<double> p, int depth)
-    : p_(std::move(p)), depth_(checkedDepth(p_.size(), depth)), bins_(1 << depth_),
+    : p_(std::move(p)),
+      depth_(checkedDepth(p_.size(), depth)),
+      bins_(1 << depth_),
       binWidth_(2.0 / bins_) {
     const int n = int(p_.size());
     std::vector<double> Z(n), mass(bins_);

@@ -28,9 +28,8 @@ int main() {
     };
     std::function<double(const Vec3&)> window = [&](const Vec3& w) {
         const Vec3 l = wf.toLocal(w);  // a square of half-width tan 15° around `win`
-        return l.z() > 0 && std::abs(l.x() / l.z()) < 0.27 && std::abs(l.y() / l.z()) < 0.27
-                   ? 10.0
-                   : 0.0;
+        return l.z() > 0 && std::abs(l.x() / l.z()) < 0.27 && std::abs(l.y() / l.z()) < 0.27 ? 10.0
+                                                                                             : 0.0;
     };
     std::function<double(const Vec3&)> both = [&](const Vec3& w) { return smooth(w) + window(w); };
     const sh::SphereQuadrature hemi = sh::hemisphereQuadrature(120, 240);
@@ -75,6 +74,7 @@ int main() {
         }
         for (int f = 0; f < 3; ++f)
             std::printf("%-8s %5d %6d %14.5f %14.5f %8.2f\n", names[f], n, n * n,
-                        std::sqrt(eh[f] / r2[f]), std::sqrt(es[f] / r2[f]), std::sqrt(es[f] / eh[f]));
+                        std::sqrt(eh[f] / r2[f]), std::sqrt(es[f] / r2[f]),
+                        std::sqrt(es[f] / eh[f]));
     }
 }

@@ -237,7 +237,8 @@ int main(int argc, char** argv) {
              "min_value,min_over_peak,clamped_fraction,defensive_alpha,chi2_sh_p,chi2_sh_passed,"
              "chi2_analytic_p,chi2_analytic_passed,chi2_analytic_stat,chi2_analytic_dof,"
              "var_analytic,var_sh,var_ratio_sh_over_analytic,mean_sh,z_sh,I_ref,I_recon,"
-             "recon_rel_bias,mean_recon,var_recon,ns_analytic,ns_sh,ns_sh_local,build_ms,max_weight,mu_max_weight\n";
+             "recon_rel_bias,mean_recon,var_recon,ns_analytic,ns_sh,ns_sh_local,build_ms,max_"
+             "weight,mu_max_weight\n";
 
     for (const Case& c : cases) {
         const auto tCase = Clock::now();
@@ -246,11 +247,13 @@ int main(int argc, char** argv) {
         std::vector<double> slab(kChi2ZBins);
         double slabSum = 0;
         for (int i = 0; i < kChi2ZBins; ++i) {
-            slab[i] = slabProbability(p, -1 + 2.0 * i / kChi2ZBins, -1 + 2.0 * (i + 1) / kChi2ZBins);
+            slab[i] =
+                slabProbability(p, -1 + 2.0 * i / kChi2ZBins, -1 + 2.0 * (i + 1) / kChi2ZBins);
             slabSum += slab[i];
         }
         const auto analyticCell = [&](double z0, double z1, double phi0, double phi1) {
-            const int i = std::clamp(int(std::lround((z0 + 1) / 2 * kChi2ZBins)), 0, kChi2ZBins - 1);
+            const int i =
+                std::clamp(int(std::lround((z0 + 1) / 2 * kChi2ZBins)), 0, kChi2ZBins - 1);
             (void)z1;
             return slab[i] * (phi1 - phi0) / TwoPi;
         };
@@ -261,7 +264,9 @@ int main(int argc, char** argv) {
             nsAnalytic = std::min(nsAnalytic, nsPerSample(c.phase, us));
         // Sanity: the analytic sampler against the analytic cell probabilities.
         const Chi2Result anChi2 = chi2TestSphereCells(
-            [&](Rng& rng) -> std::optional<Vec3> { return c.phase.sample(zAxis, rng.uniform2()).wi; },
+            [&](Rng& rng) -> std::optional<Vec3> {
+                return c.phase.sample(zAxis, rng.uniform2()).wi;
+            },
             analyticCell, chi2Options(int(cases.size())));
         analytic << c.name << ',' << iRef << ',' << an.mean << ',' << an.var << ','
                  << (an.mean - iRef) / std::sqrt(an.var / double(an.n)) << ',' << nsAnalytic << ','
@@ -306,8 +311,8 @@ int main(int argc, char** argv) {
                 const int bins = 1 << sampler.depth();
                 for (int i = 0; i < bins; ++i) {
                     const double mu = -1 + (i + 0.5) * 2.0 / bins;
-                    const double w = evalCos(c.phase, mu) /
-                                     sh.pdf(zAxis, sphericalDirection(mu, 0));
+                    const double w =
+                        evalCos(c.phase, mu) / sh.pdf(zAxis, sphericalDirection(mu, 0));
                     if (w > maxWeight) maxWeight = w, muMaxWeight = mu;
                 }
 
@@ -315,14 +320,13 @@ int main(int argc, char** argv) {
                       << fit.energyFraction << ',' << fit.l2Error << ',' << fit.relativeL2Error
                       << ',' << fit.maxError << ',' << fit.peakValue << ',' << fit.minValue << ','
                       << fit.minValue / fit.peakValue << ',' << sampler.clampedFraction() << ','
-                      << alpha << ',' << chiSH.pValue << ',' << chiSH.passed << ','
-                      << chiAn.pValue << ',' << chiAn.passed << ',' << chiAn.statistic << ','
-                      << chiAn.dof << ',' << an.var << ',' << est.var << ',' << est.var / an.var
-                      << ',' << est.mean << ','
-                      << (est.mean - iRef) / std::sqrt(est.var / double(est.n)) << ',' << iRef
-                      << ',' << iRecon << ',' << (iRecon - iRef) / iRef << ',' << rec.mean << ','
-                      << rec.var << ',' << tm.analytic << ',' << tm.sh << ',' << tm.local << ','
-                      << buildMs << ',' << maxWeight << ',' << muMaxWeight << '\n';
+                      << alpha << ',' << chiSH.pValue << ',' << chiSH.passed << ',' << chiAn.pValue
+                      << ',' << chiAn.passed << ',' << chiAn.statistic << ',' << chiAn.dof << ','
+                      << an.var << ',' << est.var << ',' << est.var / an.var << ',' << est.mean
+                      << ',' << (est.mean - iRef) / std::sqrt(est.var / double(est.n)) << ','
+                      << iRef << ',' << iRecon << ',' << (iRecon - iRef) / iRef << ',' << rec.mean
+                      << ',' << rec.var << ',' << tm.analytic << ',' << tm.sh << ',' << tm.local
+                      << ',' << buildMs << ',' << maxWeight << ',' << muMaxWeight << '\n';
                 table.flush();
                 std::printf(
                     "  %-4s n=%2d E=%.5f relL2=%.3g min/peak=%+.3g clamp=%.3f chi2(SH) p=%.3g "

@@ -269,12 +269,12 @@ class VolumePathIntegrator {
     /// media along the ray let less than kOpaqueTransmittance through (ratio tracking), their
     /// first real collision, drawn by delta tracking (where the ray's light is absorbed or
     /// scattered), if it lies more than a mean free path away (σ_t there × distance ≥ 1; nearer
-    /// ones, in a deep fog, ruled R's harmonic mean): a dense fog is as much an occluder to a record as a wall, and taken for a miss
-    /// it let records reach across and under it (a floor beside a cube of σ_t 50: −3.5%; helper
-    /// 108). A thin fog's collisions are not: at every distance, near ones dominated the harmonic
-    /// mean R (a Cornell box of thin fog made its 20,000 records in 23 s, against 2547 in 2.9 s).
-    /// Sets the point W and its normal nW (−ray.d for a collision); false if the ray meets
-    /// nothing. rng draws the tracking's numbers.
+    /// ones, in a deep fog, ruled R's harmonic mean): a dense fog is as much an occluder to a
+    /// record as a wall, and taken for a miss it let records reach across and under it (a floor
+    /// beside a cube of σ_t 50: −3.5%; helper 108). A thin fog's collisions are not: at every
+    /// distance, near ones dominated the harmonic mean R (a Cornell box of thin fog made its 20,000
+    /// records in 23 s, against 2547 in 2.9 s). Sets the point W and its normal nW (−ray.d for a
+    /// collision); false if the ray meets nothing. rng draws the tracking's numbers.
     bool firstMet(const Ray& ray, Rng& rng, Vec3* W, Vec3* nW) const;
     /// Walks the ray past `null` surfaces to the first other one (*end; true), or out of the
     /// scene (false), calling stretch(ray, tMax, inside) → bool for each stretch through active
