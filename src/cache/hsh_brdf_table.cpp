@@ -77,10 +77,8 @@ double sampledAlbedo(const Bsdf& shape, const Vec3& wo) {
 
 /// The relative error of the albedo the coefficients c give, under uniform radiance 1
 /// (λ = ∫ H, of which only λ_0 = 2π H_0 is not 0), against the lobe's own (sampledAlbedo).
-double tableAlbedoError(const Bsdf& shape, const Vec3& wo, int n, const double* c) {
-    std::vector<double> h(n * n);
-    sh::hshEval(n, Vec3(0, 0, 1), h.data());  // (H_0 is constant)
-    const double table = TwoPi * h[0] * c[0], sampled = sampledAlbedo(shape, wo);
+double tableAlbedoError(const Bsdf& shape, const Vec3& wo, double H0, const double* c) {
+    const double table = TwoPi * H0 * c[0], sampled = sampledAlbedo(shape, wo);
     return sampled > 0 ? std::abs(table - sampled) / sampled : table > 0 ? 1.0 : 0.0;
 }
 
@@ -121,7 +119,8 @@ HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
         err[k] = e.energy;
         if (wo.z() >= kAlbedoCheckCos) {
             peakErr[k] = e.peak;
-            albedoErr[k] = tableAlbedoError(shape, wo, n_, &specular_[size_t(k) * n_ * n_]);
+            albedoErr[k] = tableAlbedoError(shape, wo, nodes.H(0, 0),  // (H_0 is constant)
+                                            &specular_[size_t(k) * n_ * n_]);
         }
     });
     for (double e : err) projectionError_ += e / err.size();

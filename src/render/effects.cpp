@@ -36,7 +36,7 @@ Effects Effects::of(const Scene& scene) {
     e.nextEvent = bounces && !env.black() && scene.settings.nee.value_or(!env.uniform());
     e.environmentImage = !env.isConstant();
     e.environmentBlack = env.black();
-    if (e.nextEvent || e.areaLights) e.mis = scene.settings.mis;
+    if (e.anyNextEvent()) e.mis = scene.settings.mis;
     if (e.nextEvent) {
         e.lightSampling = scene.settings.lightSampling;
     }
@@ -44,8 +44,7 @@ Effects Effects::of(const Scene& scene) {
     // (killing a path there loses all it would have found); on the throughput itself where
     // next-event estimation gathers light at every vertex and bounces are dearer (README,
     // "Russian roulette": on the sunlit cloud θ = 1 was 1.28× as efficient as 0.25).
-    e.rouletteThreshold =
-        scene.settings.rrThreshold.value_or(e.nextEvent || e.areaLights ? 1.0 : 0.25);
+    e.rouletteThreshold = scene.settings.rrThreshold.value_or(e.anyNextEvent() ? 1.0 : 0.25);
     e.bounces = bounces;
     e.recordsSeeSmallSources =
         e.radianceCache &&
@@ -79,7 +78,7 @@ std::vector<std::string> Effects::names() const {
                 break;
         }
     }
-    if (nextEvent || areaLights) n.push_back(std::string("mis-") + misHeuristicName(mis));
+    if (anyNextEvent()) n.push_back(std::string("mis-") + misHeuristicName(mis));
     if (bounces && rouletteThreshold < 1) n.push_back("roulette-survival-weight");
     return n;
 }

@@ -338,7 +338,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
 
     const RenderSettings& s = scene_.settings;
     const bool product = product_ != nullptr;
-    const bool nee = effects_.nextEvent || effects_.areaLights;
+    const bool nee = effects_.anyNextEvent();
     Inside inside = effects_.boundedMedia ? insideAt(ray.o) : 0;
     Spectrum L = Spectrum::Zero(), beta = Spectrum::Ones();
     // The vertex that started this ray: the density with which it sampled the ray's direction
@@ -594,6 +594,11 @@ bool VolumePathIntegrator::cachedRadiance(const SurfaceHit& hit, const Vec3& wo,
     return found;
 }
 
+namespace {
+/// A stretch of walkToSolid that asks nothing of the media it crosses.
+constexpr auto throughMedia = [](const Ray&, double, auto) { return true; };
+}  // namespace
+
 template <typename Stretch>
 bool VolumePathIntegrator::walkToSolid(Ray ray, Stretch&& stretch, SurfaceHit* end) const {
     const SurfaceScene& surf = *scene_.surfaces;
@@ -647,8 +652,7 @@ bool VolumePathIntegrator::firstMet(const Ray& ray, Rng& rng, Vec3* W, Vec3* nW)
             T *= transmittance(r, tMax, inside, rng, c, TransmittanceEstimator::Ratio);
             return T > 0;
         };
-        const auto through = [](const Ray&, double, Inside) { return true; };
-        solid = depth >= 1 ? walkToSolid(ray, dim, &end) : walkToSolid(ray, through, &end);
+        solid = depth >= 1 ? walkToSolid(ray, dim, &end) : walkToSolid(ray, throughMedia, &end);
         if (depth >= 1 && T < kOpaqueTransmittance) {
             *W = collision, *nW = -ray.d;
             return true;
@@ -661,8 +665,7 @@ bool VolumePathIntegrator::firstMet(const Ray& ray, Rng& rng, Vec3* W, Vec3* nW)
 }
 
 double VolumePathIntegrator::directIrradiance(const SurfaceHit& hit, const Vec3& n, Rng rng) {
-    const bool nee = effects_.nextEvent || effects_.areaLights;
-    if (!nee) return 0;
+    if (!effects_.anyNextEvent()) return 0;
     constexpr int kSamples = 16;
     PathCounters c;
     double E = 0;
@@ -710,7 +713,6 @@ void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop)
     std::vector<IncomingSample> samples(N);
     std::vector<PathCounters> counters(N);
     // Pixel centres coarse to fine: every 16th pixel, then the new ones of every 8th, ….
-    const auto passThrough = [](const Ray&, double, Inside) { return true; };  // (no media asked)
     const auto fill = [&] {
         for (int stride = 16; stride >= 1 && int(cache_->size()) < rc.maxRecords; stride /= 2)
             for (int y = 0; y < scene_.camera.height; y += stride)
@@ -722,7 +724,7 @@ void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop)
                     // through media: a record is made wherever a camera path can reach).
                     const Ray ray = camera.generateRay(x + 0.5, y + 0.5);
                     SurfaceHit hit;
-                    if (!walkToSolid(ray, passThrough, &hit) || !tables_[hit.surface]) continue;
+                    if (!walkToSolid(ray, throughMedia, &hit) || !tables_[hit.surface]) continue;
                     const double cosOg = -ray.d.dot(hit.ng);
                     const auto [n, ng] = cacheNormals(hit, -ray.d);
                     if (cosOg == 0 || cache_->covers(hit.p, n, ng)) continue;

@@ -18,7 +18,9 @@ struct Effects {
     bool environmentImage = false;    ///< the environment is an image (importance-sampled)
     bool environmentBlack = false;    ///< the environment gives no light (none, or all zeros)
     bool surfaces = false;            ///< the scene has surfaces (Embree closest hits)
-    bool areaLights = false;     ///< some surface emits and render.nee is not false: NEE to it, MIS
+    bool areaLights = false;  ///< some surface emits and render.nee is not false: NEE to it, MIS
+    /// Next-event estimation to any light (the sky or emitting surfaces): then MIS weights apply.
+    bool anyNextEvent() const { return nextEvent || areaLights; }
     bool boundedMedia = false;   ///< some medium exists only inside a closed surface
     bool radianceCache = false;  ///< render.radiance_cache on and some surface can be cached
     /// The radiance cache's records take light straight from sources that may be small, which
