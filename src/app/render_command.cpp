@@ -287,6 +287,14 @@ std::string neeReason(const Scene& scene, const Effects& effects) {
            ", where phase sampling does better";
 }
 
+/// The end of a warning that next-event estimation is off: why, and how to turn it on where a
+/// setting can, with the closing parenthesis.
+std::string neeOffWhy(const std::string& reason, const Scene& scene, const Effects& effects) {
+    return reason + (!scene.settings.nee && effects.bounces && !scene.environment.black()
+                         ? "; set render.nee to true to use it)"
+                         : ")");
+}
+
 /// A light sampler other than the default asked for (render.light_sampling) where next-event
 /// estimation, which draws its samples, is off: it would go unused without a word (the stats'
 /// effects alone showed it). "" when it is used, or not asked for.
@@ -295,11 +303,25 @@ std::string unusedLightSamplingWarning(const Scene& scene, const Effects& effect
     if (s.lightSampling == LightSampling::Environment || effects.nextEvent) return "";
     return std::string("render.light_sampling: \"") + lightSamplingName(s.lightSampling) +
            "\" is not used: next-event estimation, which draws its samples, is off (" +
-           neeReason(scene, effects) +
-           (!s.nee && effects.bounces && !scene.environment.black()
-                ? "; set render.nee to true to use it"
-                : "") +
-           ")";
+           neeOffWhy(neeReason(scene, effects), scene, effects);
+}
+
+/// A weighting other than the default asked for (render.mis) where no light sample is drawn at
+/// all, towards the sky or an emitting surface: "none" rendered as "balance" would, without a
+/// word (helper 111). "" when it is used, or not asked for.
+std::string unusedMisWarning(const Scene& scene, const Effects& effects) {
+    const RenderSettings& s = scene.settings;
+    if (s.mis == MisHeuristic::Balance || effects.anyNextEvent()) return "";
+    // (Not neeReason, which is about the sky alone: a Cornell box under render.nee false was
+    // said to lack light samples because its environment is black.)
+    const std::string why = !effects.bounces ? neeReason(scene, effects)
+                            : s.nee == false ? "render.nee is false"
+                            : scene.environment.black()
+                                ? "the environment is black and no surface emits"
+                                : neeReason(scene, effects);
+    return std::string("render.mis: \"") + misHeuristicName(s.mis) +
+           "\" is not used: no light sample is drawn, as next-event estimation is off (" +
+           neeOffWhy(why, scene, effects);
 }
 
 /// render.mis "none" where light samples alone cannot converge at the render's samples per
@@ -891,6 +913,8 @@ int runRender(const RenderArgs& a) {
                     "render.radiance_cache: enabled, but no surface has a BSDF the cache holds "
                     "(lambert, phong, ward), or max_depth is 0: the render runs without it");
             if (const std::string w = unusedLightSamplingWarning(scene, effects); !w.empty())
+                warnings.push_back(w);
+            if (const std::string w = unusedMisWarning(scene, effects); !w.empty())
                 warnings.push_back(w);
             if (const std::string w = fewRaysPerRecordWarning(scene, effects); !w.empty())
                 warnings.push_back(w);

@@ -1348,6 +1348,38 @@ TEST_F(Cli, RenderWarnsOfAnUnusedLightSampler) {
     EXPECT_EQ(run(sunlit + " --set environment.wavelet_coefficients=128").err, "");
 }
 
+// A weighting asked for where no light sample is drawn goes unused: "none" rendered as "balance"
+// would, without a word (helper 111). Where light samples are drawn, of the sky or of an emitting
+// surface, nothing is said.
+TEST_F(Cli, RenderWarnsOfAnUnusedMisHeuristic) {
+    write("s.json", scene(Homogeneous));
+    const std::string base = "render " + path("s.json") + " -o " + path("a.exr") + " --quiet";
+    const std::string unused = "shvol: warning: " + path("s.json") + ": render.mis: \"";
+    const std::string off =
+        "\" is not used: no light sample is drawn, as next-event estimation is "
+        "off (";
+    EXPECT_EQ(run(base + " --set render.mis='\"none\"'").err,
+              unused + "none" + off +
+                  "render.nee \"auto\" leaves it off under a constant sky, where phase sampling "
+                  "does better; set render.nee to true to use it)\n");
+    EXPECT_EQ(run(base + " --set render.mis='\"power\"' --set render.nee=false").err,
+              unused + "power" + off + "render.nee is false)\n");
+    EXPECT_EQ(run(base + " --set render.mis='\"power\"' --set render.nee=true").err, "");
+    EXPECT_EQ(run(base).err, "");
+    // The Cornell box's light is sampled under "auto": its weighting is used.
+    const std::string cornell = "render " + std::string(SHVOL_SOURCE_DIR) +
+                                "/media/cornell.json -o " + path("c.exr") +
+                                " --quiet --spp 1 --set camera.resolution=[8,8]"
+                                " --set render.mis='\"power\"'";
+    EXPECT_EQ(run(cornell).err, "");
+    EXPECT_EQ(run(cornell + " --set render.nee=false").err,
+              "shvol: warning: " + std::string(SHVOL_SOURCE_DIR) +
+                  "/media/cornell.json: render.mis: \"power" + off + "render.nee is false)\n");
+    // Black sky, no emitter: nothing to sample, whatever render.nee says.
+    EXPECT_EQ(run(base + " --set render.mis='\"none\"' --set environment.radiance=0").err,
+              unused + "none" + off + "the environment is black and no surface emits)\n");
+}
+
 // The image's relative standard error, and the max_depth warning drawn from it, are the same for
 // any thread count and pass layout (helper 93: with --checkpoint-interval 0 the warning went away;
 // here the plume at max_depth 24 cuts 28 paths, which the noise decides).
