@@ -92,22 +92,9 @@ std::vector<std::string> phaseWarnings(const Scene& scene) {
         if (!sh) continue;
         char msg[600];
         const int order = int(sh->fit().p.size());
-        // Structure finer than the nodes of the fit and of the checks below: they cannot speak
-        // for it (a tabulated spike 2·10⁻⁶° wide rendered a furnace at 0.76, m₂ reading 0).
-        if (std::abs(sh->quadratureMass() - 1) > SHSampledPhase::kBlindQuadrature) {
-            // Exact: the weight p/pdf is 0 where the fit has none of the lobe, and its light is
-            // lost (the furnace); sh: the function rendered is the fit, not the table.
-            std::snprintf(msg, sizeof msg,
-                          "media[%zu].phase: the function has structure finer than the "
-                          "quadrature of its SH fit sees (it finds %.4g of its integral, 1): the "
-                          "fit, and the checks of its error and weight, are blind to it, and %s; "
-                          "use \"sampling\": \"analytic\"",
-                          i, sh->quadratureMass(),
-                          sh->evaluate() == SHSampledPhase::Evaluate::Exact
-                              ? "the render can lose its light"
-                              : "the function rendered, the fit, need not resemble it");
-            w.push_back(msg);
-        }
+        if (const std::string blind = blindSHFitText(*sh); !blind.empty())
+            w.push_back("media[" + std::to_string(i) + "].phase: " + blind +
+                        "; use \"sampling\": \"analytic\"");
         if (sh->evaluate() == SHSampledPhase::Evaluate::Exact &&
             sh->weightSecondMoment() > SHSampledPhase::kUnreliableSecondMoment) {
             const double m2 = sh->weightSecondMoment();
