@@ -30,8 +30,8 @@ SHSampledPhase::SHSampledPhase(const PhaseFunction& base, const ZonalFitRequest&
     : base_(std::make_shared<const PhaseFunction>(base)), evaluate_(evaluate) {
     if (std::holds_alternative<SHSampledPhase>(base.variant()))
         throw Error("an SH-sampled phase function cannot wrap another one");
-    fit_ = std::make_shared<const ZonalFit>(
-        fitZonal([&](const AngleCosine& c) { return base_->evalAngle(c); }, request));
+    fit_ = std::make_shared<const ZonalFit>(fitZonal(
+        [&](const AngleCosine& c) { return base_->evalAngle(c); }, request, base_->corners()));
     sampler_ = std::make_shared<const ZonalSHSampler>(fit_->p, depth);
     // (a table's spike narrower than the fit's quadrature nodes, 10⁻⁵° at 90°, is invisible to
     // it: the message said only that there was no mass, not why or what to do; helper 103)
@@ -52,7 +52,7 @@ double SHSampledPhase::baseCos(double mu) const {
 template <typename Node>
 void SHSampledPhase::forEachNode(Node&& node) const {
     const int bins = 1 << sampler_->depth();
-    std::vector<double> edges = gradedThetaEdges();
+    std::vector<double> edges = gradedThetaEdges(base_->corners());
     edges.reserve(edges.size() + bins);
     for (int i = 1; i < bins; ++i) edges.push_back(std::acos(1 - 2.0 * i / bins));
     std::sort(edges.begin(), edges.end());

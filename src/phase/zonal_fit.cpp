@@ -38,9 +38,9 @@ struct Node {
 /// Gauss–Legendre panels on gradedThetaEdges(), no wider than 8/(order+1) rad: the integrand
 /// y_l^0(cos θ) p(cos θ) sin θ oscillates about l/(2π) times per radian, and 16 points per panel
 /// resolve ~1.3 oscillations exactly enough (wider panels aliased: ⟨y_l, y_l⟩ came out 0.905 at
-/// l = 96 before this cap).
-std::vector<Node> thetaNodes(int order) {
-    const std::vector<double> edges = gradedThetaEdges();
+/// l = 96 before this cap). Panels end at p's corners too (a table's nodes).
+std::vector<Node> thetaNodes(int order, const std::vector<double>& corners) {
+    const std::vector<double> edges = gradedThetaEdges(corners);
     const double maxWidth = 8.0 / (order + 1);
     std::vector<Node> out;
     std::vector<double> x, w;
@@ -71,19 +71,24 @@ double windowWeight(SHWindow w, int l, int n) {
 
 }  // namespace
 
-std::vector<double> gradedThetaEdges() {
+std::vector<double> gradedThetaEdges(const std::vector<double>& corners) {
     std::vector<double> edges{0.0};
     for (double t = 1e-7; t < 0.5 * Pi / 1.25; t *= 1.25) edges.push_back(t);
     const size_t half = edges.size();
     edges.push_back(0.5 * Pi);
     for (size_t i = half; i-- > 1;) edges.push_back(Pi - edges[i]);
     edges.push_back(Pi);
+    for (double c : corners)
+        if (c > 0 && c < Pi) edges.push_back(c);
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
     return edges;
 }
 
-ZonalFit fitZonal(const std::function<double(const AngleCosine&)>& p, int order, SHWindow window) {
+ZonalFit fitZonal(const std::function<double(const AngleCosine&)>& p, int order, SHWindow window,
+                  const std::vector<double>& corners) {
     if (order < 1 || order > 1024) throw Error("SH order must be in [1, 1024]");
-    const std::vector<Node> nodes = thetaNodes(order);
+    const std::vector<Node> nodes = thetaNodes(order, corners);
     std::vector<double> value(nodes.size()), y(order);
     ZonalFit fit;
     fit.window = window;
@@ -160,24 +165,25 @@ int lowestOrder(const std::vector<double>& pFull, double energy, double tol, SHW
 }  // namespace
 
 ZonalFit fitZonal(const std::function<double(const AngleCosine&)>& p,
-                  const ZonalFitRequest& request) {
+                  const ZonalFitRequest& request, const std::vector<double>& corners) {
+    const auto fit = [&](int n, SHWindow w) { return fitZonal(p, n, w, corners); };
     int order = request.order;
     if (order == 0) {
         const int maxOrder = ZonalFitRequest::kMaxAutoOrder;
-        const ZonalFit full = fitZonal(p, maxOrder, SHWindow::None);
+        const ZonalFit full = fit(maxOrder, SHWindow::None);
         const SHWindow first = request.window.value_or(SHWindow::None);
         order = lowestOrder(full.p, full.energy, request.tolerance, first);
-        if (order == 0) return fitZonal(p, maxOrder, first);  // the best it can do
-        const ZonalFit f = fitZonal(p, order, first);
+        if (order == 0) return fit(maxOrder, first);  // the best it can do
+        const ZonalFit f = fit(order, first);
         if (request.window || !rings(f)) return f;
         // Unwindowed it rings: Hann if some order meets the tolerance with it, else keep f (the
         // samplers clamp what rings).
         const int hannOrder = lowestOrder(full.p, full.energy, request.tolerance, SHWindow::Hann);
-        return hannOrder > 0 ? fitZonal(p, hannOrder, SHWindow::Hann) : f;
+        return hannOrder > 0 ? fit(hannOrder, SHWindow::Hann) : f;
     }
-    if (request.window) return fitZonal(p, order, *request.window);
-    const ZonalFit f = fitZonal(p, order, SHWindow::None);
-    return rings(f) ? fitZonal(p, order, SHWindow::Hann) : f;
+    if (request.window) return fit(order, *request.window);
+    const ZonalFit f = fit(order, SHWindow::None);
+    return rings(f) ? fit(order, SHWindow::Hann) : f;
 }
 
 ZonalFit fitZonal(const std::function<double(double mu)>& p, const ZonalFitRequest& request) {

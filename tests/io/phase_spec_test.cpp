@@ -81,18 +81,16 @@ TEST(PhaseSpec, TableFileIsRelativeToTheJsonFile) {
               "phase spec \"tabulated:file=nope.csv\": file: no such file: /tmp/dir/nope.csv");
 }
 
-// A table whose only light is a spike narrower than the SH fit's quadrature nodes (10⁻⁵° wide at
-// 90°) gives a fit of no mass: the error says why and what to use (it said only "the SH fit has
-// no positive mass"; helper 103).
-TEST(PhaseSpec, SHFitThatSeesNothingSaysWhy) {
+// A table whose only light is a spike 10⁻⁵° wide at 90° gave a fit of no mass, as the fit's
+// quadrature missed it (helper 103); its panels now end at the table's nodes (helper 110), and the
+// spec gives an SH-sampled phase function whose fit says how far off it is
+// (SHSampledPhase.QuadratureMassShowsWhatTheFitCannotSee). (The error a fit of no mass gets stays,
+// for a guard no table reaches now.)
+TEST(PhaseSpec, SHFitOfANarrowSpikeHasMass) {
     const std::string table = testing::TempDir() + "/shvol_phase_spec_spike.csv";
     std::ofstream(table) << "0,0\n89.99999,0\n90,1\n90.00001,0\n180,0\n";
     EXPECT_EQ(messageOf([&] { parsePhaseSpec("tabulated:file=" + table + ",sampling=sh", ""); }),
-              "phase spec \"tabulated:file=" + table +
-                  ",sampling=sh\": order: the SH fit has no positive mass: the phase function is "
-                  "0 wherever the fit's quadrature looks (structure narrower than its nodes, such "
-                  "as a spike of a table); sample it with \"sampling\": \"analytic\"");
-    EXPECT_EQ(messageOf([&] { parsePhaseSpec("tabulated:file=" + table, ""); }), "(no error)");
+              "(no error)");
 }
 
 // "sampling": "sh" wraps any phase function in an SHSampledPhase with the given settings; the

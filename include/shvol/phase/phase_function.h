@@ -9,9 +9,11 @@
 ///   PhaseSample sample(const Vec3& wo, const Vec2& u) const;
 /// with wo the propagation direction before scattering and wi the one after (DESIGN.md).
 /// Adding a phase function = one class with those members + one entry in Variant below.
+#include <cmath>
 #include <string>
 #include <type_traits>
 #include <variant>
+#include <vector>
 
 #include "shvol/phase/cornette_shanks_phase.h"
 #include "shvol/phase/henyey_greenstein_phase.h"
@@ -59,6 +61,14 @@ class PhaseFunction {
     }
     PhaseSample sample(const Vec3& wo, const Vec2& u) const {
         return std::visit([&](const auto& p) { return p.sample(wo, u); }, p_);
+    }
+    /// Angles θ (radians) where p is not smooth, for quadrature panels to end at (fitZonal): a
+    /// table's nodes, where its piecewise-linear interpolant has corners; none for the others.
+    std::vector<double> corners() const {
+        std::vector<double> theta;
+        if (const auto* t = std::get_if<TabulatedPhase>(&p_))
+            for (double mu : t->table().nodes()) theta.push_back(std::acos(mu));
+        return theta;
     }
     /// kName of the alternative: "isotropic", "hg", "two_term_hg", "rayleigh", "schlick",
     /// "cornette_shanks", "tabulated".
