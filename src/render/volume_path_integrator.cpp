@@ -119,7 +119,7 @@ void VolumePathIntegrator::buildLightSamplers() {
             // The lobe only shapes the pdf: a Hann-windowed fit rings least (zonal_fit.h).
             const PhaseFunction& phase = m->phase();
             const ZonalFit fit = fitZonal([&](const AngleCosine& c) { return phase.evalAngle(c); },
-                                          s.productOrder, SHWindow::Hann);
+                                          s.productOrder, SHWindow::Hann, phase.corners());
             // Without MIS the product sampler alone must reach every lit direction: the
             // defensive share then guards against cells whose lobe mass rounds to ≤ 0 even for
             // a fit that is non-negative at its quadrature nodes.
