@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Reproduces validation/slab/results/table.md in one command (about 35 s on 2 cores):
 #   validation/slab/run.sh          (BUILD_DIR defaults to build/; SPP to 2048)
-# Builds shvol with one job if needed, installs Debian's python3-numpy and python3-scipy with
-# apt-get if /usr/bin/python3 cannot import them, and exits 1 if a slab disagrees.
+# Builds shvol with one job if needed, installs Debian's python3-numpy with apt-get if
+# /usr/bin/python3 cannot import it, and exits 1 if a slab disagrees.
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 BUILD_DIR="${BUILD_DIR:-build}"
@@ -10,10 +10,10 @@ PY=/usr/bin/python3
 cd "$ROOT"
 source validation/configure.sh shvol
 ninja -C "$BUILD_DIR" -j1 shvol
-if ! "$PY" -c 'import numpy, scipy' 2>/dev/null; then
+if ! "$PY" -c 'import numpy' 2>/dev/null; then
     SUDO=""
     [ "$(id -u)" -ne 0 ] && SUDO=sudo
     $SUDO apt-get update
-    $SUDO apt-get install -y --no-install-recommends python3-numpy python3-scipy
+    $SUDO apt-get install -y --no-install-recommends python3-numpy
 fi
 SHVOL="$ROOT/$BUILD_DIR/shvol" "$PY" validation/slab/run.py
