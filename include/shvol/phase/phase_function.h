@@ -62,9 +62,12 @@ class PhaseFunction {
     PhaseSample sample(const Vec3& wo, const Vec2& u) const {
         return std::visit([&](const auto& p) { return p.sample(wo, u); }, p_);
     }
-    /// Angles θ (radians) where p is not smooth, for quadrature panels to end at (fitZonal): a
-    /// table's nodes, where its piecewise-linear interpolant has corners; none for the others.
+    /// Angles θ (radians) where p is not smooth, for quadrature panels to end at (fitZonal) and
+    /// the search of its peak (peakOverIsotropic): a table's nodes, where its piecewise-linear
+    /// interpolant has corners, also under an SH sampler (which may evaluate it exactly, and
+    /// whose product lobe is fitted to it); none for the others.
     std::vector<double> corners() const {
+        if (const auto* sh = std::get_if<SHSampledPhase>(&p_)) return sh->base().corners();
         std::vector<double> theta;
         if (const auto* t = std::get_if<TabulatedPhase>(&p_))
             for (double mu : t->table().nodes()) theta.push_back(std::acos(mu));
