@@ -300,12 +300,16 @@ std::string unusedMisWarning(const Scene& scene, const Effects& effects) {
     const RenderSettings& s = scene.settings;
     if (s.mis == MisHeuristic::Balance || effects.anyNextEvent()) return "";
     // (Not neeReason, which is about the sky alone: a Cornell box under render.nee false was
-    // said to lack light samples because its environment is black.)
+    // said to lack light samples because its environment is black. A black sky with no emitter
+    // comes first: render.nee true would not draw any either; helper 115.)
+    bool emitters = false;
+    if (scene.surfaces)
+        for (const Surface& sf : scene.surfaces->surfaces()) emitters |= sf.emits();
     const std::string why = !effects.bounces ? neeReason(scene, effects)
-                            : s.nee == false ? "render.nee is false"
-                            : scene.environment.black()
+                            : scene.environment.black() && !emitters
                                 ? "the environment is black and no surface emits"
-                                : neeReason(scene, effects);
+                            : s.nee == false ? "render.nee is false"
+                                             : neeReason(scene, effects);
     return std::string("render.mis: \"") + misHeuristicName(s.mis) +
            "\" is not used: no light sample is drawn, as next-event estimation is off (" +
            neeOffWhy(why, scene, effects);

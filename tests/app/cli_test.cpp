@@ -1380,8 +1380,10 @@ TEST_F(Cli, RenderWarnsOfAnUnusedMisHeuristic) {
               "shvol: warning: " + std::string(SHVOL_SOURCE_DIR) +
                   "/media/cornell.json: render.mis: \"power" + off + "render.nee is false)\n");
     // Black sky, no emitter: nothing to sample, whatever render.nee says.
-    EXPECT_EQ(run(base + " --set render.mis='\"none\"' --set environment.radiance=0").err,
-              unused + "none" + off + "the environment is black and no surface emits)\n");
+    for (const std::string& nee : {"", " --set render.nee=false", " --set render.nee=true"})
+        EXPECT_EQ(run(base + " --set render.mis='\"none\"' --set environment.radiance=0" + nee).err,
+                  unused + "none" + off + "the environment is black and no surface emits)\n")
+            << nee;
 }
 
 // The image's relative standard error, and the max_depth warning drawn from it, are the same for
