@@ -303,7 +303,7 @@ int runSample(const PhaseArgs& a) {
     // it is the fit on the zonal sampler's 2^sh_depth bins, positive in fine bins within coarse
     // cells whose mass the warp's coarser table clamps to 0 (HG 0.999 at order 128: mean weight
     // 0.9895 ± 0.0019 without it; helper 110).
-    const double generalAlpha = general ? SHSampledPhase::kDefensiveFraction : 0.0;
+    constexpr double generalAlpha = SHSampledPhase::kDefensiveFraction;
     writeSamples(a, spec, [&](Rng& rng, const auto& row) {
         if (!general) {
             for (long long i = 0; i < a.count; ++i) {
@@ -316,11 +316,6 @@ int runSample(const PhaseArgs& a) {
         for (int l = 0; l < order; ++l) c[size_t(l) * (l + 1)] = sh.fit().p[l];
         const SHSampler s(order, c.data(), SHSampler::Mode::Tables, generalDepth);
         for (long long i = 0; i < a.count; ++i) {
-            if (!(generalAlpha > 0)) {
-                const WarpSample x = s.warp(rng.uniform2());
-                row(x.direction(), phase.eval(z, x.direction()), x.pdf);
-                continue;
-            }
             // A uniform share α keeps E[p/pdf] = 1 (evaluated exactly it was 0.98 for HG 0.9 at
             // order 4; helper 55), pdf = (1 − α) pdf_warp + α/(4π).
             const Vec2 u = rng.uniform2();
@@ -337,7 +332,7 @@ int runSample(const PhaseArgs& a) {
                      "%.4g",
                      sh.weightSecondMoment(), 100 * sh.sampler().clampedFraction(),
                      sh.defensiveFraction());
-    else if (generalAlpha > 0)
+    else
         std::fprintf(stderr, "; defensive share %.4g", generalAlpha);
     std::fprintf(stderr, "\n");
     return 0;
