@@ -33,8 +33,9 @@ SHSampledPhase::SHSampledPhase(const PhaseFunction& base, const ZonalFitRequest&
     fit_ = std::make_shared<const ZonalFit>(fitZonal(
         [&](const AngleCosine& c) { return base_->evalAngle(c); }, request, base_->corners()));
     sampler_ = std::make_shared<const ZonalSHSampler>(fit_->p, depth);
-    // (a table's spike narrower than the fit's quadrature nodes, 10⁻⁵° at 90°, is invisible to
-    // it: the message said only that there was no mass, not why or what to do; helper 103)
+    // (A function the fit's quadrature finds nothing of: a table's spike 10⁻⁵° wide at 90° was
+    // one until the nodes ended at a table's corners, and its message said only that there was
+    // no mass, not why or what to do; helper 103. No table is one now: a guard.)
     if (!(sampler_->positiveMass() > 0))
         throw Error(
             "the SH fit has no positive mass: the phase function is 0 wherever the fit's "

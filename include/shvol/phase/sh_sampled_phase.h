@@ -84,9 +84,10 @@ class SHSampledPhase {
     double renderedRelativeL2Error() const { return renderedError_; }
     /// ∫ p dω of the wrapped function by the quadrature of weightSecondMoment() (which the fit's
     /// own nodes resemble): 1 to within 10⁻⁶ wherever that quadrature sees the whole function.
-    /// Far from 1, the function has structure finer than its nodes (a tabulated spike rising from 0
-    /// at 0° to its peak at 10⁻⁶° and back to 0 at 2·10⁻⁶°: 0; helper 94), and the fit, m₂ and the
-    /// rendered error are blind to it.
+    /// Far from 1, the function has structure finer than its nodes, and the fit, m₂ and the
+    /// rendered error are blind to it. The nodes end at a table's corners, so a table hides only
+    /// where μ's rounding makes it a staircase in θ (a spike rising from 0 at 0° to its peak at
+    /// 10⁻⁶° and back to 0 at 2·10⁻⁶°: 0.951; 0 before the corners, helper 94).
     double quadratureMass() const { return quadratureMass_; }
     /// A render is flagged when |quadratureMass() − 1| exceeds this.
     static constexpr double kBlindQuadrature = 1e-3;
