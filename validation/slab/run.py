@@ -62,7 +62,7 @@ def render(s, name):
 def main():
     os.makedirs(WORK, exist_ok=True)
     cases = [(tau, albedo, g, mu, above)
-             for g in (0.0, 0.5, 0.9) for tau in (0.1, 1.0, 10.0) for albedo in (0.5, 0.9, 0.99)
+             for g in (0.0, 0.5, 0.9, -0.5) for tau in (0.1, 1.0, 10.0) for albedo in (0.5, 0.9, 0.99)
              for mu in (1.0, 0.5) for above in (True, False)]
     bound = NormalDist().inv_cdf(1 - (1 - (1 - 0.01) ** (1 / len(cases))) / 2)
     rows, zs = [], []

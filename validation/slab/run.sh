@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Reproduces validation/slab/results/table.md in one command (about 35 s on 2 cores):
+# Reproduces validation/slab/results/table.md in one command (about 90 s on 2 cores):
 #   validation/slab/run.sh          (BUILD_DIR defaults to build/; SPP to 2048)
 # Builds shvol with one job if needed, installs Debian's python3-numpy with apt-get if
 # /usr/bin/python3 cannot import it, and exits 1 if a slab disagrees.
