@@ -302,11 +302,8 @@ std::string unusedMisWarning(const Scene& scene, const Effects& effects) {
     // (Not neeReason, which is about the sky alone: a Cornell box under render.nee false was
     // said to lack light samples because its environment is black. A black sky with no emitter
     // comes first: render.nee true would not draw any either; helper 115.)
-    bool emitters = false;
-    if (scene.surfaces)
-        for (const Surface& sf : scene.surfaces->surfaces()) emitters |= sf.emits();
     const std::string why = !effects.bounces ? neeReason(scene, effects)
-                            : scene.environment.black() && !emitters
+                            : scene.environment.black() && !effects.emitters
                                 ? "the environment is black and no surface emits"
                             : s.nee == false ? "render.nee is false"
                                              : neeReason(scene, effects);

@@ -46,6 +46,16 @@ struct Node {
 /// of 180,001 rows took 13 s with 16; helper 115).
 constexpr int kPoints = 16;
 
+/// The corners inside (0, π), ascending, without repeats (the poles are edges already).
+std::vector<double> cornersInside(const std::vector<double>& corners) {
+    std::vector<double> inside;
+    for (double c : corners)
+        if (c > 0 && c < Pi) inside.push_back(c);
+    std::sort(inside.begin(), inside.end());
+    inside.erase(std::unique(inside.begin(), inside.end()), inside.end());
+    return inside;
+}
+
 /// The Gauss–Legendre points, 2 … kPoints, for a piece of phase φ (see thetaNodes).
 int pointsForPhase(double phi) {
     double term = (phi / 4) * (phi / 4), bound = term * term / 24;  // n = 2: (φ/4)⁴/4!
@@ -57,10 +67,7 @@ int pointsForPhase(double phi) {
 std::vector<Node> thetaNodes(int order, const std::vector<double>& corners) {
     const std::vector<double> edges = gradedThetaEdges();
     const double maxWidth = 8.0 / (order + 1);
-    std::vector<double> cut;  // corners inside (0, π), ascending
-    for (double c : corners)
-        if (c > 0 && c < Pi) cut.push_back(c);
-    std::sort(cut.begin(), cut.end());
+    const std::vector<double> cut = cornersInside(corners);
     std::vector<double> unitX[kPoints + 1], unitW[kPoints + 1];  // rules on [0, 1] by size
     std::vector<Node> out;
     const auto piece = [&](double a, double b, int n) {
@@ -114,8 +121,7 @@ std::vector<double> gradedThetaEdges(const std::vector<double>& corners) {
     edges.push_back(0.5 * Pi);
     for (size_t i = half; i-- > 1;) edges.push_back(Pi - edges[i]);
     edges.push_back(Pi);
-    for (double c : corners)
-        if (c > 0 && c < Pi) edges.push_back(c);
+    for (double c : cornersInside(corners)) edges.push_back(c);
     std::sort(edges.begin(), edges.end());
     edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
     return edges;

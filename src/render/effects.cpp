@@ -8,7 +8,7 @@ namespace shvol {
 Effects Effects::of(const Scene& scene) {
     Effects e;
     e.volumes = !scene.media.empty();
-    bool scatters = false, emitters = false;
+    bool scatters = false;
     for (const auto& m : scene.media) scatters |= m->scatters();
     e.surfaces = scene.surfaces != nullptr;
     if (e.surfaces)
@@ -18,7 +18,7 @@ Effects Effects::of(const Scene& scene) {
             e.areaLights |=
                 s.emits() && scene.settings.maxDepth >= 1 && scene.settings.nee.value_or(true);
             e.boundedMedia |= s.interiorMedium >= 0;
-            emitters |= s.emits();
+            e.emitters |= s.emits();
             e.radianceCache |= scene.settings.radianceCache.enabled &&
                                scene.settings.maxDepth >= 1 && HshBrdfTable::supports(s.bsdf);
         }
@@ -48,7 +48,7 @@ Effects Effects::of(const Scene& scene) {
     e.bounces = bounces;
     e.recordsSeeSmallSources =
         e.radianceCache &&
-        ((emitters && !e.areaLights) || (!e.nextEvent && !env.uniform() && !env.black()));
+        ((e.emitters && !e.areaLights) || (!e.nextEvent && !env.uniform() && !env.black()));
     return e;
 }
 

@@ -18,6 +18,7 @@ struct Effects {
     bool environmentImage = false;    ///< the environment is an image (importance-sampled)
     bool environmentBlack = false;    ///< the environment gives no light (none, or all zeros)
     bool surfaces = false;            ///< the scene has surfaces (Embree closest hits)
+    bool emitters = false;            ///< some surface emits
     bool areaLights = false;  ///< some surface emits and render.nee is not false: NEE to it, MIS
     /// Next-event estimation to any light (the sky or emitting surfaces): then MIS weights apply.
     bool anyNextEvent() const { return nextEvent || areaLights; }
