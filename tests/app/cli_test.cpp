@@ -138,12 +138,16 @@ std::vector<double> benchCounts(const std::string& out, const std::string& name)
 /// have left the shell's image first: a background job is a fork of the shell until it execs, and
 /// the shell catches SIGINT itself, so on a loaded machine the signal went to the fork, which then
 /// exec'd a render that never saw it (Cli.SignalsStopTheRadianceCacheFill completed, 1 run in a
-/// few under load).
+/// few under load). The image is read before and after the mask, and must be the same both times:
+/// read once after it, the mask could be the shell fork's and the image the program it exec'd
+/// meanwhile (`env`, which then took the signal's default action: the same test failed in 6 ms
+/// with no output, 2 runs in about 45 beside the slab test).
 std::string killOnceCaught(const std::string& sig, int number, const std::string& settle = "0") {
     const std::string bit = std::to_string(1ull << (number - 1));
     return " & p=$!; s=$(readlink /proc/$$/exe); for i in $(seq 1000); do "
-           "m=$(sed -n 's/^SigCgt:\\t//p' /proc/$p/status); "
-           "[ \"$(readlink /proc/$p/exe)\" != \"$s\" ] && [ $(( 0x$m & " +
+           "e=$(readlink /proc/$p/exe); m=$(sed -n 's/^SigCgt:\\t//p' /proc/$p/status); "
+           "[ \"$e\" != \"$s\" ] && [ \"$(readlink /proc/$p/exe)\" = \"$e\" ] && "
+           "[ $(( 0x$m & " +
            bit + " )) -ne 0 ] && break; sleep 0.01; done; sleep " + settle + "; kill -" + sig +
            " $p; wait $p";
 }
