@@ -645,8 +645,12 @@ int runBatch(BatchArgs a) {
     // The runs go into a directory, made with its parents if missing: fail now (--dry-run too),
     // not after the reference's render, if that cannot be. (Checked by every rank, reported once.)
     collectively([&] {
-        if (const std::string problem = outputDirectoryProblem(s.output); !problem.empty())
-            fail(s.output, "", problem + " (batch writes a directory of runs there)");
+        // Named where it was given: --output in the option's form, else the sweep's key.
+        if (std::string problem = outputDirectoryProblem(s.output); !problem.empty()) {
+            problem = s.output + ": " + problem + " (batch writes a directory of runs there)";
+            if (!a.output.empty()) failOption("--output", problem);
+            fail(a.sweep, "output", problem);
+        }
         // The files it writes there whatever its runs' ids: the ledger, the reference it
         // renders, and with --report the report (runs' own outputs: checkRunOutputs).
         if (fs::is_directory(s.output)) {

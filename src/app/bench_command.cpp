@@ -296,7 +296,6 @@ int runBench(BenchArgs& a) {
     refuseSetsTheBenchMakes(a);
     const Json doc = sceneDocument(a.scene, a.sets);
     checkScene(doc, a.scene);  // a bad value fails now, not after the table is printed
-    if (a.cache.empty()) a.cache = ".";
     if (a.accuracy) {  // (before the first line is printed: an error is one line)
         std::error_code ec;
         std::filesystem::create_directories(a.cache, ec);
@@ -453,6 +452,7 @@ void addBenchCommand(CLI::App& app, std::function<int()>& run) {
         ->check(numberIn(0, 1e30, true))
         ->needs(accuracy);
     c->add_option("--cache", a->cache, "Directory of cached references (made if missing)")
+        ->check(nonEmptyName())
         ->needs(accuracy);
     c->callback([&run, a, c] {
         run = [a, c] {

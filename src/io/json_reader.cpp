@@ -49,6 +49,11 @@ std::string brief(const Json& j) {
     briefInto(j, s, 40);
     return briefText(s);
 }
+/// What a value of the wrong type is, for "expected …, got " + typeAndValue(j): its type and
+/// its text, `string "x"`, `array [1]`; a null is only `null` (it printed "null null").
+std::string typeAndValue(const Json& j) {
+    return j.is_null() ? "null" : typeName(j) + " " + brief(j);
+}
 
 /// The offset of the first JSON number in `text` spelled `token`: outside strings, and not part
 /// of a longer number; npos if there is none.
@@ -540,7 +545,7 @@ double JsonReader::number(const std::string& key, std::optional<double> def) {
         return *def;
     }
     const Json& v = get(key, "number");
-    if (!v.is_number()) error(key, "expected a number, got " + typeName(v) + " " + brief(v));
+    if (!v.is_number()) error(key, "expected a number, got " + typeAndValue(v));
     const double x = v.get<double>();
     if (!std::isfinite(x)) error(key, "expected a finite number");
     note(key, v);  // as written (an integer stays one)
@@ -577,7 +582,7 @@ int JsonReader::integer(const std::string& key, int def, int lo, int hi) {
     // numbers have no kind, and a sweep's values compare as numbers (canonicalJson).
     const double d = v.is_number_float() ? v.get<double>() : 0;
     if (!v.is_number_integer() && !(v.is_number_float() && std::isfinite(d) && d == std::floor(d)))
-        error(key, "expected an integer, got " + typeName(v) + " " + brief(v));
+        error(key, "expected an integer, got " + typeAndValue(v));
     // (Out of range before the conversion to an integer: 1e300 or 2^64 would not fit.)
     if ((v.is_number_float() && !(d >= lo && d <= hi)) ||
         (v.is_number_unsigned() && v.get<unsigned long long>() > (unsigned long long)hi))
@@ -618,7 +623,7 @@ bool JsonReader::boolean(const std::string& key, bool def) {
     if (j_.contains(key)) {
         const Json& v = j_.at(key);
         if (!v.is_boolean())
-            error(key, "expected true or false, got " + typeName(v) + " " + brief(v));
+            error(key, "expected true or false, got " + typeAndValue(v));
         b = v.get<bool>();
     }
     note(key, b);
@@ -632,7 +637,7 @@ std::string JsonReader::string(const std::string& key, std::optional<std::string
         return *def;
     }
     const Json& v = get(key, "string");
-    if (!v.is_string()) error(key, "expected a string, got " + typeName(v) + " " + brief(v));
+    if (!v.is_string()) error(key, "expected a string, got " + typeAndValue(v));
     note(key, v);
     return v.get<std::string>();
 }
@@ -657,7 +662,7 @@ Vec3 JsonReader::vec3(const std::string& key, std::optional<Vec3> def) {
     }
     const Json& v = get(key, "array of 3 numbers");
     if (!v.is_array() || v.size() != 3)
-        error(key, "expected an array of 3 numbers, got " + typeName(v) + " " + brief(v));
+        error(key, "expected an array of 3 numbers, got " + typeAndValue(v));
     Vec3 r;
     for (int i = 0; i < 3; ++i) {
         if (!v[i].is_number())

@@ -118,6 +118,8 @@ Json phaseSpecToJson(const std::string& spec) {
         try {
             const Json parsed = Json::parse(text);
             if (parsed.is_number()) value = parsed;
+        } catch (const Json::out_of_range&) {  // a number beyond a double (1e999)
+            fail(where, key, "number beyond the range of a double (±1.8e308)");
         } catch (const Json::exception&) {  // not a number: keep the string
         }
         j[key] = value;

@@ -509,6 +509,11 @@ TEST_F(Cli, BenchAccuracyCachesItsReference) {
     // (One line: the bench's heading came first.)
     EXPECT_EQ(r.err, "shvol: error: --cache: " + path("s.json/sub") +
                          ": cannot make the directory (Not a directory) (see --help)\n");
+    // An empty name is refused, as every other option's is (it was the current directory,
+    // where the reference was then written; helper 116).
+    r = run(small + " --cache ''");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "shvol: error: --cache: an empty name (see --help)\n");
     // A scene the reference matches exactly (no medium under a constant sky) has no time to
     // compare: said, not printed as NaN.
     write("empty.json", R"({"camera": {"resolution": [4, 4]}, "render": {"spp": 1},
@@ -3256,10 +3261,18 @@ TEST_F(Cli, BatchOutputMustBeADirectory) {
                  {path("afile"), path("afile") + ": it is not a directory"},
                  {path("afile/x/y"),
                   path("afile/x/y") + ": " + path("afile") + " is not a directory"}}) {
-            const Result r = run("batch " + path("sweep.json") + " --quiet --output " + out + dry);
+            // Named where it was given: the option in its form (helper 116), the sweep's key.
+            Result r = run("batch " + path("sweep.json") + " --quiet --output " + out + dry);
             EXPECT_EQ(r.code, 1) << out << dry;
-            EXPECT_EQ(r.err,
-                      "shvol: error: " + message + " (batch writes a directory of runs there)\n")
+            EXPECT_EQ(r.err, "shvol: error: --output: " + message +
+                                 " (batch writes a directory of runs there) (see --help)\n")
+                << dry;
+            write("keyed.json", R"({"scene": "s.json", "axes": {"render.spp": [1]}, "output": ")" +
+                                    out + "\"}");
+            r = run("batch " + path("keyed.json") + " --quiet" + dry);
+            EXPECT_EQ(r.code, 1) << out << dry;
+            EXPECT_EQ(r.err, "shvol: error: " + path("keyed.json") + ": output: " + message +
+                                 " (batch writes a directory of runs there)\n")
                 << dry;
         }
     EXPECT_EQ(test::fileBytes(path("afile")), "");

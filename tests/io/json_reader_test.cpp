@@ -60,6 +60,15 @@ TEST(JsonReader, ErrorsNameFileAndPath) {
               "scene.json: media[0].v[1]: expected a number, got string");
     EXPECT_EQ(messageOf([&] { r.number("absent"); }),
               "scene.json: media[0].absent: missing required number");
+    // A null is named once, as "null" (it read "got null null"; helper 116).
+    const Json nulls = Json::parse(R"({"fov": null, "on": null, "name": null})");
+    JsonReader rn(nulls, "scene.json", "camera");
+    EXPECT_EQ(messageOf([&] { rn.number("fov", 30.0); }),
+              "scene.json: camera.fov: expected a number, got null");
+    EXPECT_EQ(messageOf([&] { rn.boolean("on", false); }),
+              "scene.json: camera.on: expected true or false, got null");
+    EXPECT_EQ(messageOf([&] { rn.string("name", "x"); }),
+              "scene.json: camera.name: expected a string, got null");
     EXPECT_EQ(messageOf([&] {
                   JsonReader p = r.object("phase");
                   p.number("g", 0.0, -1, 1);

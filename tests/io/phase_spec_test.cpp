@@ -219,6 +219,9 @@ TEST(PhaseSpec, ShortFormErrorsNameTheSpec) {
     EXPECT_EQ(err("hg:g=2"),
               "phase spec \"hg:g=2\": g: value 2 out of range [-0.999999, 0.999999]");
     EXPECT_EQ(err("hg:g=abc"), "phase spec \"hg:g=abc\": g: expected a number, got string \"abc\"");
+    // (1e999 read "got string"; it is a number, too large: helper 116)
+    EXPECT_EQ(err("hg:g=1e999"),
+              "phase spec \"hg:g=1e999\": g: number beyond the range of a double (±1.8e308)");
     EXPECT_EQ(err("hg:gg=0.5"), "phase spec \"hg:gg=0.5\": gg: unknown key");
     EXPECT_EQ(err("schlick"), "phase spec \"schlick\": k: missing required number");
     EXPECT_EQ(err("mie:g=1"),
