@@ -328,25 +328,44 @@ void warnOfOtherThreadCounts(const Sweep& s, const Ledger& ledger, int threads) 
                  counts.c_str(), threads, left, left == 1 ? "" : "s");
 }
 
-/// Warns of finished runs whose image is gone from the output directory (deleted, moved): their
-/// rows stand and they are not rendered again, which went unsaid (helper 67).
+/// Warns of finished runs whose image is gone from the output directory (deleted, moved), or is
+/// there but cannot be read as the run wrote it (truncated, overwritten): their rows stand and
+/// they are not rendered again, which went unsaid (helper 67; a damaged image, helper 116).
 void warnOfMissingImages(const Sweep& s, const Ledger& ledger) {
-    std::vector<std::string> missing;
+    std::vector<std::string> missing, unreadable;
+    std::string why;  // why the first unreadable image is, without its name
     std::error_code ec;  // (a file that cannot be looked at counts as missing)
     for (const SweepRun& run : s.runs)
-        if (const Json* row = ledger.find(run.id))
-            if (const std::string image = (fs::path(s.output) / row->value("image", "")).string();
-                row->value("image", "").empty() || !fs::exists(image, ec))
+        if (const Json* row = ledger.find(run.id)) {
+            const std::string image = (fs::path(s.output) / row->value("image", "")).string();
+            if (row->value("image", "").empty() || !fs::exists(image, ec)) {
                 missing.push_back(image);
-    if (missing.empty()) return;
-    std::fprintf(
-        stderr,
-        "shvol: warning: %s: finished runs' images are missing: %s%s; their rows stand "
-        "and the runs are not rendered again (to render one again, delete its line from "
-        "%s)\n",
-        s.output.c_str(), missing[0].c_str(),
-        missing.size() > 1 ? (" and " + std::to_string(missing.size() - 1) + " more").c_str() : "",
-        ledger.jsonlPath().c_str());
+                continue;
+            }
+            try {
+                readExr(image, ExrValues::Preview);  // (+inf: a mean beyond the float range)
+            } catch (const Error& e) {
+                if (unreadable.empty())
+                    why = std::string(e.what()).substr(
+                        std::string(e.what()).rfind(image + ": ", 0) == 0 ? image.size() + 2 : 0);
+                unreadable.push_back(image);
+            }
+        }
+    const auto warn = [&](const std::vector<std::string>& files, const std::string& what,
+                          const std::string& first) {
+        if (files.empty()) return;
+        std::fprintf(stderr,
+                     "shvol: warning: %s: finished runs' images %s: %s%s%s; their rows stand "
+                     "and the runs are not rendered again (to render one again, delete its line "
+                     "from %s)\n",
+                     s.output.c_str(), what.c_str(), files[0].c_str(), first.c_str(),
+                     files.size() > 1
+                         ? (" and " + std::to_string(files.size() - 1) + " more").c_str()
+                         : "",
+                     ledger.jsonlPath().c_str());
+    };
+    warn(missing, "are missing", "");
+    warn(unreadable, "cannot be read", " (" + why + ")");
 }
 
 /// Refuses, before anything renders, a run's output that cannot be written (a directory or a

@@ -2999,6 +2999,18 @@ TEST_F(Cli, BatchSaysWhenAFinishedRunsImageIsMissing) {
     r = run("batch " + path("sweep.json") + " --dry-run");
     EXPECT_EQ(r.code, 0);
     EXPECT_EQ(r.err, warning);
+    // An image there but damaged (cut short) is said too: it passed as finished (helper 116).
+    const std::string whole = test::fileBytes(path("out/r0000.exr"));
+    write("out/r0000.exr", whole.substr(0, 100));
+    r = run("batch " + path("sweep.json") + " --dry-run");
+    EXPECT_EQ(r.code, 0);
+    EXPECT_EQ(r.err.rfind(warning, 0), 0u) << r.err;
+    const std::string damaged = "shvol: warning: " + path("out") +
+                                ": finished runs' images cannot be read: " +
+                                path("out/r0000.exr") + " (not a readable OpenEXR file (";
+    EXPECT_EQ(r.err.find(damaged), warning.size()) << r.err;
+    EXPECT_NE(r.err.find(")); their rows stand"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 2) << r.err;
 }
 
 // A signal while the batch checks its sweep's scenes (here an SH fit of order 256, seconds long)
