@@ -70,6 +70,8 @@ class FaultyMedium final : public Medium {
 struct Paths {
     PathCounters c;
     int zeros = 0, ones = 0;  ///< paths that returned exactly 0 and exactly 1
+    Spectrum mean = Spectrum::Zero();  ///< the paths' mean
+    double lowest = INFINITY;          ///< the least channel value of any path
 };
 
 /// n paths into the sphere along +y, each required to be finite.
@@ -83,6 +85,7 @@ Paths trace(const Scene& scene, int n = 2000) {
         const Spectrum L = integrator.Li(ray, rng, r.c);
         EXPECT_TRUE(L.allFinite()) << L.transpose();
         r.zeros += L[0] == 0, r.ones += L[0] == 1;
+        r.mean += L / n, r.lowest = std::min(r.lowest, L.minCoeff());
     }
     return r;
 }
@@ -124,6 +127,11 @@ TEST(InvalidDraws, LightDrawsOfNegativeRadianceAreCountedAndDropped) {
     EXPECT_GT(r.c.lightSamples, 1000u);
     EXPECT_EQ(r.c.invalid.light, r.c.lightSamples);
     EXPECT_EQ(r.c.invalid.total(), r.c.invalid.light);
+    // Dropped, they add nothing: the furnace keeps only its phase-sampled share, 0.55 here
+    // (2000 paths). Counted, they made it the furnace's 1 (0.9985 with `ls.pdf = 0` removed;
+    // helper 118 found the test blind to that).
+    EXPECT_LT(r.mean[0], 0.75);
+    EXPECT_EQ(r.mean[1], -r.mean[0]);
 }
 
 TEST(InvalidDraws, FlightsOfNaNOrNegativeLengthAreCountedAndEndTheirPaths) {
@@ -149,6 +157,8 @@ TEST(InvalidDraws, TransmittancesOfNaNOrNegativeValueAreCountedAndDropped) {
         EXPECT_GT(r.c.transmittanceRays, 1000u);
         EXPECT_EQ(r.c.invalid.transmittance, r.c.transmittanceRays);
         EXPECT_EQ(r.c.invalid.total(), r.c.invalid.transmittance);
+        // Dropped: no light sample's contribution turns negative (or NaN, which trace refuses).
+        EXPECT_GE(r.lowest, 0);
     }
 }
 
