@@ -54,6 +54,30 @@ TEST(ImageMetrics, ZTest) {
     EXPECT_FALSE(t.passed);
 }
 
+// The reference's standard error counts as the image's does: a difference of 0.5 is 4 standard
+// errors of an image of σ 0.125 against an exact reference (p = 6·10⁻⁵, failing at α = 0.01),
+// and 0.97 of √(0.125² + 0.5²) against a reference of σ 0.5 (p = 0.33). Every other z-test here
+// has an exact reference, so dropping its term passed (helper 118).
+TEST(ImageMetrics, ZTestCountsTheReferencesStandardError) {
+    Image x(1, 1), r(1, 1), sx(1, 1), sr(1, 1), zero(1, 1);
+    // (all exact in float32; both values' float step is 2⁻²³)
+    x.set(0, 0, Spectrum::Constant(1.5));
+    r.set(0, 0, Spectrum::Constant(1.0));
+    sx.set(0, 0, Spectrum::Constant(0.125));
+    sr.set(0, 0, Spectrum::Constant(0.5));
+    const double ulp = std::ldexp(1.0, -23), rounding = 2 * ulp * ulp / 12;
+    const auto p = [&](double variance) {
+        return std::erfc(0.5 / std::sqrt(variance + rounding) / std::sqrt(2.0));
+    };
+    ZTest t = zTest(x, sx, r, sr);
+    EXPECT_TRUE(t.passed);
+    EXPECT_EQ(t.tested, 3);
+    EXPECT_NEAR(t.minP, p(0.125 * 0.125 + 0.5 * 0.5), 1e-12);
+    t = zTest(x, sx, r, zero);
+    EXPECT_FALSE(t.passed);
+    EXPECT_NEAR(t.minP, p(0.125 * 0.125), 1e-15);
+}
+
 // Values with (almost) no noise, such as pixels of constant sky, differ by the float32 rounding
 // of their storage: one float step passes (with σ = 2.6·10⁻⁹, the audit's case, p underflowed
 // to 0), a hundred steps do not.
