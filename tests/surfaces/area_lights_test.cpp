@@ -11,16 +11,25 @@ namespace shvol {
 namespace {
 
 /// χ² over the sphere of the directions AreaLights::sample draws from x, against AreaLights::pdf
-/// at the point each direction first meets an emitter.
+/// at the point each direction first meets an emitter; and every sample's own pdf, direction and
+/// distance against pdf() at its point y and against y − x (the χ² alone saw only where samples
+/// go, not the pdf the integrator divides by: helper 118).
 Chi2Result lightChi2(const SurfaceScene& scene, const Vec3& x, int numTests) {
     const AreaLights lights(scene);
     Chi2Options opt;
     opt.numTests = numTests;
     opt.sampleCount = 400000;
-    return chi2TestSphere(
+    long samples = 0, pdfMismatches = 0, pointMismatches = 0;
+    const Chi2Result r = chi2TestSphere(
         [&](Rng& rng) -> std::optional<Vec3> {
             const AreaLightSample s = lights.sample(x, rng.uniform(), rng.uniform2());
             if (!(s.pdf > 0)) return std::nullopt;
+            ++samples;
+            const double pdf = lights.pdf(x, s.surface, s.y, s.ny);
+            pdfMismatches += !(std::abs(pdf - s.pdf) <= 1e-9 * s.pdf);
+            const Vec3 toY = s.y - x;
+            pointMismatches += !(std::abs(toY.norm() - s.dist) <= 1e-12 * s.dist &&
+                                 (toY.normalized() - s.wi).norm() <= 1e-12);
             return s.wi;
         },
         [&](const Vec3& w) {
@@ -29,6 +38,10 @@ Chi2Result lightChi2(const SurfaceScene& scene, const Vec3& x, int numTests) {
             return lights.pdf(x, hit.surface, hit.p, hit.ng);
         },
         opt);
+    EXPECT_GT(samples, 0);
+    EXPECT_EQ(pdfMismatches, 0) << "of " << samples;
+    EXPECT_EQ(pointMismatches, 0) << "of " << samples;
+    return r;
 }
 
 Surface emitting(Surface s, double Le) {
