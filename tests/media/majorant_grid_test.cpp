@@ -75,12 +75,20 @@ TEST(MajorantGrid, TraversalMatchesBruteForce) {
             covered += t1 - t0;
             for (double f : {0.1, 0.5, 0.9})
                 EXPECT_EQ(m, cellAt(o + (t0 + f * (t1 - t0)) * d)) << "ray " << i;
+            // ... and up to 10⁻⁷ from either end: a walk whose boundaries were all shifted by
+            // a little (under 10% of a segment) passed the points above (helper 118).
+            if (t1 - t0 > 3e-7)
+                for (double t : {t0 + 1e-7, t1 - 1e-7})
+                    EXPECT_EQ(m, cellAt(o + t * d)) << "ray " << i << " at " << t;
             return true;
         });
-        if (box.empty())
+        if (box.empty()) {
             EXPECT_EQ(covered, 0) << "ray " << i;
-        else
+        } else {
+            EXPECT_NEAR(first, box.t0, 1e-9) << "ray " << i;
+            EXPECT_NEAR(prev, box.t1, 1e-9) << "ray " << i;
             EXPECT_NEAR(covered, box.t1 - box.t0, 1e-9) << "ray " << i;
+        }
     }
 }
 
