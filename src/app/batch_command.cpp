@@ -333,7 +333,7 @@ void warnOfOtherThreadCounts(const Sweep& s, const Ledger& ledger, int threads) 
 /// they are not rendered again, which went unsaid (helper 67; a damaged image, helper 116).
 void warnOfMissingImages(const Sweep& s, const Ledger& ledger) {
     std::vector<std::string> missing, unreadable;
-    std::string why;  // why the first unreadable image is, without its name
+    std::string why;     // why the first unreadable image is, without its name
     std::error_code ec;  // (a file that cannot be looked at counts as missing)
     for (const SweepRun& run : s.runs)
         if (const Json* row = ledger.find(run.id)) {
@@ -354,15 +354,14 @@ void warnOfMissingImages(const Sweep& s, const Ledger& ledger) {
     const auto warn = [&](const std::vector<std::string>& files, const std::string& what,
                           const std::string& first) {
         if (files.empty()) return;
-        std::fprintf(stderr,
-                     "shvol: warning: %s: finished runs' images %s: %s%s%s; their rows stand "
-                     "and the runs are not rendered again (to render one again, delete its line "
-                     "from %s)\n",
-                     s.output.c_str(), what.c_str(), files[0].c_str(), first.c_str(),
-                     files.size() > 1
-                         ? (" and " + std::to_string(files.size() - 1) + " more").c_str()
-                         : "",
-                     ledger.jsonlPath().c_str());
+        std::fprintf(
+            stderr,
+            "shvol: warning: %s: finished runs' images %s: %s%s%s; their rows stand "
+            "and the runs are not rendered again (to render one again, delete its line "
+            "from %s)\n",
+            s.output.c_str(), what.c_str(), files[0].c_str(), first.c_str(),
+            files.size() > 1 ? (" and " + std::to_string(files.size() - 1) + " more").c_str() : "",
+            ledger.jsonlPath().c_str());
     };
     warn(missing, "are missing", "");
     warn(unreadable, "cannot be read", " (" + why + ")");

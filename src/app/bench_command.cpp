@@ -296,7 +296,7 @@ int runBench(BenchArgs& a) {
     refuseSetsTheBenchMakes(a);
     const Json doc = sceneDocument(a.scene, a.sets);
     checkScene(doc, a.scene);  // a bad value fails now, not after the table is printed
-    if (a.accuracy) {  // (before the first line is printed: an error is one line)
+    if (a.accuracy) {          // (before the first line is printed: an error is one line)
         std::error_code ec;
         std::filesystem::create_directories(a.cache, ec);
         if (ec || !std::filesystem::is_directory(a.cache))

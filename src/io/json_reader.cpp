@@ -622,8 +622,7 @@ bool JsonReader::boolean(const std::string& key, bool def) {
     bool b = def;
     if (j_.contains(key)) {
         const Json& v = j_.at(key);
-        if (!v.is_boolean())
-            error(key, "expected true or false, got " + typeAndValue(v));
+        if (!v.is_boolean()) error(key, "expected true or false, got " + typeAndValue(v));
         b = v.get<bool>();
     }
     note(key, b);

@@ -3006,8 +3006,8 @@ TEST_F(Cli, BatchSaysWhenAFinishedRunsImageIsMissing) {
     EXPECT_EQ(r.code, 0);
     EXPECT_EQ(r.err.rfind(warning, 0), 0u) << r.err;
     const std::string damaged = "shvol: warning: " + path("out") +
-                                ": finished runs' images cannot be read: " +
-                                path("out/r0000.exr") + " (not a readable OpenEXR file (";
+                                ": finished runs' images cannot be read: " + path("out/r0000.exr") +
+                                " (not a readable OpenEXR file (";
     EXPECT_EQ(r.err.find(damaged), warning.size()) << r.err;
     EXPECT_NE(r.err.find(")); their rows stand"), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 2) << r.err;
@@ -3279,8 +3279,8 @@ TEST_F(Cli, BatchOutputMustBeADirectory) {
             EXPECT_EQ(r.err, "shvol: error: --output: " + message +
                                  " (batch writes a directory of runs there) (see --help)\n")
                 << dry;
-            write("keyed.json", R"({"scene": "s.json", "axes": {"render.spp": [1]}, "output": ")" +
-                                    out + "\"}");
+            write("keyed.json",
+                  R"({"scene": "s.json", "axes": {"render.spp": [1]}, "output": ")" + out + "\"}");
             r = run("batch " + path("keyed.json") + " --quiet" + dry);
             EXPECT_EQ(r.code, 1) << out << dry;
             EXPECT_EQ(r.err, "shvol: error: " + path("keyed.json") + ": output: " + message +

@@ -69,7 +69,7 @@ class FaultyMedium final : public Medium {
 
 struct Paths {
     PathCounters c;
-    int zeros = 0, ones = 0;  ///< paths that returned exactly 0 and exactly 1
+    int zeros = 0, ones = 0;           ///< paths that returned exactly 0 and exactly 1
     Spectrum mean = Spectrum::Zero();  ///< the paths' mean
     double lowest = INFINITY;          ///< the least channel value of any path
 };
