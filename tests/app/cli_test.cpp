@@ -1508,10 +1508,20 @@ TEST_F(Cli, RenderWarnsOfSHSamplingBlindToItsPhaseFunction) {
 TEST_F(Cli, PhaseCommandsWarnOfStructureFinerThanTheirQuadrature) {
     write("spike.csv", "0,0\n1e-6,1\n2e-6,0\n180,0\n");
     write("smooth.csv", "0,2\n90,1\n180,0.5\n");
-    const std::string warning =
-        ": the function has structure finer than the quadrature of its SH "
-        "fit sees (it finds 0.9514 of its integral, 1)";
     const std::string spike = "tabulated:file=" + path("spike.csv") + " --order 32";
+    // What the quadrature finds of the spike (0.9514 with today's panels) is the program's, not
+    // pinned here (helper 118): it must be short of 1 by more than the warning's 10⁻³, and the
+    // warnings must give the --json value.
+    const auto fit = nlohmann::json::parse(run("phase fit " + spike + " --json").out);
+    const double mass = fit["quadrature_mass"].get<double>();
+    EXPECT_GT(mass, 0);
+    EXPECT_LT(mass, 1 - 1e-3);
+    char found[32];
+    std::snprintf(found, sizeof found, "%.4g", mass);
+    const std::string warning = std::string(
+                                    ": the function has structure finer than the quadrature of "
+                                    "its SH fit sees (it finds ") +
+                                found + " of its integral, 1)";
     for (const std::string& cmd :
          {"phase fit " + spike, "phase sample " + spike + " --count 100 -o " + path("s.csv"),
           "phase sample " + spike + " --sampler general --count 100 -o " + path("s.csv")}) {
@@ -1521,8 +1531,6 @@ TEST_F(Cli, PhaseCommandsWarnOfStructureFinerThanTheirQuadrature) {
                   std::string::npos)
             << cmd << ": " << r.err;
     }
-    const auto fit = nlohmann::json::parse(run("phase fit " + spike + " --json").out);
-    EXPECT_NEAR(fit["quadrature_mass"].get<double>(), 0.9514, 1e-4);
     const std::string smooth = "tabulated:file=" + path("smooth.csv");
     const Result r = run("phase fit " + smooth + " --json");
     EXPECT_EQ(r.err, "");
