@@ -143,11 +143,15 @@ TEST(Environment, LookupOrientation) {
     EXPECT_DOUBLE_EQ(rot.Le(sphericalDirection(std::cos(3 * Pi / 8), Pi / 2 + Pi / 8))[1], 3.0);
     EXPECT_DOUBLE_EQ(rot.Le(Vec3(-0.001, 1, 0.3))[1], 3.0);  // just past +y: φ_img ≈ 0⁺
     EXPECT_EQ(rot.Le(sphericalDirection(std::cos(3 * Pi / 8), Pi / 8))[1], 0.0);
-    // The bright pixel is sampled in the right place.
+    // The sampler goes only where the image is bright, and carries the radiance Le gives there
+    // (one sample's pdf > 0 was all this checked: helper 118).
     Rng rng(2, 2);
-    const LightSample s = env.sample(rng.uniform2());
-    EXPECT_GT(s.pdf, 0.0);
-    EXPECT_TRUE((s.Le > 0).any());
+    for (int i = 0; i < 1000; ++i) {
+        const LightSample s = env.sample(rng.uniform2());
+        ASSERT_GT(s.pdf, 0.0);
+        EXPECT_TRUE((s.Le > 0).any()) << s.wi.transpose();
+        EXPECT_TRUE((env.Le(s.wi) == s.Le).all()) << s.wi.transpose();
+    }
 }
 
 // Each sample's pdf and radiance are the environment's own at its direction, in both

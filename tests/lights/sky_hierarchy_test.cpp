@@ -284,6 +284,9 @@ TEST(SkyHierarchy, AnyScaleSamplesTheSame) {
             ASSERT_GT(a.pdf, 0);
             EXPECT_TRUE(std::isfinite(a.pdf));
             EXPECT_NEAR(a.pdf, b.pdf, 1e-9 * b.pdf);
+            // ... and the same directions (only the pdfs were compared: helper 118)
+            EXPECT_NEAR(a.z, b.z, 1e-9);
+            EXPECT_NEAR(a.phi, b.phi, 1e-9);
         }
     }
 }
