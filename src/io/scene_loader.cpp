@@ -1,6 +1,9 @@
 #include "shvol/io/scene_loader.h"
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 
 #include "shvol/core/error.h"
@@ -167,7 +170,19 @@ Environment readEnvironment(JsonReader r, RenderSettings& settings, Contents con
     refuseKeysOfType(r, "constant", {"radiance"});
     r.finish();
     if (contents == Contents::Check) return Environment::constant(Spectrum::Zero(), lowerBlack);
-    return Environment::image(readExr(file), scale, rotation, lowerBlack, mapping);
+    const Image sky = readExr(file);
+    // A sky whose own radiance no image can hold: every pixel that sees its brightest texel
+    // would be written as inf (after the whole render, with a warning; helper 116).
+    const float peak = sky.rgb.empty() ? 0.f : *std::max_element(sky.rgb.begin(), sky.rgb.end());
+    if (double(peak) * scale > double(std::numeric_limits<float>::max())) {
+        char text[160];
+        std::snprintf(text, sizeof text,
+                      "%g times the image's largest value %g is %g, beyond the float32 range "
+                      "(3.4e38) of the images a render writes",
+                      scale, double(peak), double(peak) * scale);
+        r.error("scale", text);
+    }
+    return Environment::image(sky, scale, rotation, lowerBlack, mapping);
 }
 
 Eigen::Affine3d readTransform(JsonReader r) {

@@ -1757,6 +1757,34 @@ TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
                          "lookups_answered); raise max_records to cache more\n");
 }
 
+// An image sky whose scaled radiance no float32 image can hold is refused at load, one line and
+// no output: it rendered, then wrote its pixels as inf with a warning (helper 116). Up to the
+// float range it renders, finite.
+TEST_F(Cli, RenderRefusesASkyBeyondTheFloatRange) {
+    Image sky(4, 2);
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 4; ++x) sky.set(x, y, Spectrum::Constant(3e38f));
+    writeExr(path("sky.exr"), sky);
+    const auto scene = [&](const std::string& scale) {
+        write("s.json", R"({"camera": {"resolution": [4, 3]}, "render": {"spp": 2},
+            "environment": {"type": "image", "file": "sky.exr", "scale": )" +
+                            scale + "}}");
+        return run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet");
+    };
+    Result r = scene("10");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "shvol: error: " + path("s.json") +
+                         ": environment.scale: 10 times the image's largest value 3e+38 is "
+                         "3e+39, beyond the float32 range (3.4e38) of the images a render "
+                         "writes\n");
+    EXPECT_FALSE(fs::exists(path("out.exr")));
+    r = scene("1.1");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    const Image out = readExr(path("out.exr"));
+    for (float v : out.rgb) EXPECT_NEAR(v, 3.3e38f, 1e-6 * 3.3e38) << v;
+}
+
 // No output may replace a file the scene reads: a sky written over by its own render, also as an
 // intermediate image of --spp or a checkpoint.
 TEST_F(Cli, RenderRefusesToOverwriteItsInputs) {
