@@ -118,9 +118,23 @@ std::string directoryProblem(const std::filesystem::path& dir, const std::string
     std::error_code ec;
     if (!std::filesystem::is_directory(dir, ec))
         return (name.empty() ? "it" : name) + " is not a directory";
-    if (::access(dir.c_str(), W_OK | X_OK) != 0)
+    // access() answers from the permission bits, which root passes where no file can be made
+    // (sysfs, /proc): a file made and removed there says so before the work, not after it
+    // (helper 116: a render to /sys/o.exr failed only once it had finished).
+    int error = ::access(dir.c_str(), W_OK | X_OK) != 0 ? errno : 0;
+    if (error == 0) {
+        std::string probe = (dir / ".shvol-probe-XXXXXX").string();
+        const int fd = ::mkstemp(probe.data());
+        if (fd < 0) {
+            error = errno;
+        } else {
+            ::close(fd);
+            ::unlink(probe.c_str());
+        }
+    }
+    if (error != 0)
         return (name.empty() ? "it" : "directory " + name) + " is not writable (" +
-               std::generic_category().message(errno) + ")";
+               std::generic_category().message(error) + ")";
     return "";
 }
 

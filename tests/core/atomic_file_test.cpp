@@ -98,6 +98,23 @@ TEST(AtomicFile, UnwritableDirectoriesAreNamed) {
                         denied + "|it" + denied);
 }
 
+// Where the permission bits let root write but no file can be made (sysfs), the directory is
+// named as not writable before the work: access() said yes, and a render to /sys/o.exr failed
+// only once it had finished (helper 116). The file made to find out is removed.
+TEST(AtomicFile, DirectoriesWherePermissionBitsMisleadAreNamed) {
+    const ScratchDir d;
+    EXPECT_EQ(outputFileProblem((d.path / "x.exr").string()), "");
+    EXPECT_EQ(outputDirectoryProblem((d.path / "runs").string()), "");
+    EXPECT_TRUE(fs::is_empty(d.path));
+    std::error_code ec;
+    if (!fs::is_directory("/sys", ec) || ::access("/sys", W_OK | X_OK) != 0 ||
+        std::ofstream("/sys/shvol-test-probe"))
+        GTEST_SKIP() << "/sys is not a directory whose bits alone allow writing here";
+    EXPECT_EQ(outputFileProblem("/sys/o.exr").rfind("directory /sys is not writable (", 0), 0u)
+        << outputFileProblem("/sys/o.exr");
+    EXPECT_EQ(outputDirectoryProblem("/sys/runs").rfind("directory /sys is not writable (", 0), 0u);
+}
+
 TEST(AtomicFile, RefusesToReplaceWhatIsNotARegularFile) {
     const ScratchDir dir;
     const fs::path fifo = dir.path / "fifo";

@@ -50,7 +50,8 @@ std::filesystem::path linkTarget(const std::string& path);
 
 /// Why a file cannot be written at path, as far as can be told before writing it: "directory D
 /// does not exist", "A is not a directory" (D, or an ancestor A of it, is a file), "directory D
-/// is not writable (reason)", "is a directory", "is not a regular file (…)" (a device, FIFO or
+/// is not writable (reason)" (by its permissions, or because a file made there to find out
+/// could not be), "is a directory", "is not a regular file (…)" (a device, FIFO or
 /// socket, which the rename of writeAtomically would replace) or "cannot be resolved (…)" (a
 /// loop of links); empty otherwise. Symbolic links
 /// are followed: what counts is the file their target names. A command checks its outputs
