@@ -599,7 +599,8 @@ TEST_F(Cli, NumberOverflowIsAnInputError) {
     EXPECT_EQ(q.out.find("inf"), std::string::npos) << q.out;
     const Result p = run("phase fit hg:g=1e999 --order 4");
     EXPECT_EQ(p.code, 1);
-    EXPECT_NE(p.err.find("phase spec \"hg:g=1e999\": g: expected a number"), std::string::npos)
+    EXPECT_NE(p.err.find("phase spec \"hg:g=1e999\": g: number beyond the range of a double"),
+              std::string::npos)
         << p.err;
 }
 
@@ -1758,8 +1759,10 @@ TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
 }
 
 // An image sky whose scaled radiance no float32 image can hold is refused at load, one line and
-// no output: it rendered, then wrote its pixels as inf with a warning (helper 116). Up to the
-// float range it renders, finite.
+// no output: it rendered, then wrote its pixels as inf with a warning (helper 116), and the
+// standard errors of a checkerboard of 3·10⁶⁸ and 0 as inf too. Up to the float range it
+// renders, finite. (Those warnings stay, for sums beyond the range; no test scene reaches one
+// now, as a sky of at most 3.4·10³⁸ and emitters of at most 10³⁰ keep a pixel's mean in range.)
 TEST_F(Cli, RenderRefusesASkyBeyondTheFloatRange) {
     Image sky(4, 2);
     for (int y = 0; y < 2; ++y)
@@ -1778,11 +1781,22 @@ TEST_F(Cli, RenderRefusesASkyBeyondTheFloatRange) {
                          "3e+39, beyond the float32 range (3.4e38) of the images a render "
                          "writes\n");
     EXPECT_FALSE(fs::exists(path("out.exr")));
+    for (int x = 0; x < 4; ++x) sky.set(x, 0, Spectrum::Zero());
+    writeExr(path("sky.exr"), sky);
+    r = run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet --variance --set " +
+            "environment.scale=1e30");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find(": environment.scale: 1e+30 times the image's largest value 3e+38 is "
+                         "3e+68, beyond"),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(path("out.exr")));
+    EXPECT_FALSE(fs::exists(path("out.stderr.exr")));
     r = scene("1.1");
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(r.err, "");
     const Image out = readExr(path("out.exr"));
-    for (float v : out.rgb) EXPECT_NEAR(v, 3.3e38f, 1e-6 * 3.3e38) << v;
+    for (float v : out.rgb) EXPECT_TRUE(std::isfinite(v)) << v;
 }
 
 // No output may replace a file the scene reads: a sky written over by its own render, also as an
@@ -2000,52 +2014,6 @@ TEST_F(Cli, RenderWarnsOfAGlassSheet) {
         r = run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet");
         EXPECT_EQ(r.err, "") << type;
     }
-}
-
-// A pixel whose mean exceeds the float32 range is written as inf, and said so (on stderr and in
-// the stats' warnings), not passed silently.
-TEST_F(Cli, RenderSaysWhenAPixelOverflowsFloat) {
-    Image sky(4, 2);
-    for (int y = 0; y < 2; ++y)
-        for (int x = 0; x < 4; ++x) sky.set(x, y, Spectrum::Constant(3e38));
-    writeExr(path("huge.exr"), sky);
-    write("s.json", R"({"camera": {"resolution": [4, 3]}, "render": {"spp": 2},
-                        "environment": {"type": "image", "file": "huge.exr", "scale": 10}})");
-    Result r = run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet");
-    EXPECT_EQ(r.code, 0) << r.err;
-    EXPECT_NE(r.err.find("shvol: warning: " + path("out.exr") +
-                         ": 36 pixel values exceed the float32 range of OpenEXR"),
-              std::string::npos)
-        << r.err;
-    const auto stats = nlohmann::json::parse(std::ifstream(path("out.stats.json")));
-    ASSERT_EQ(stats["warnings"].size(), 1u) << stats["warnings"];
-    EXPECT_NE(stats["warnings"][0].get<std::string>().find("are written as inf"),
-              std::string::npos);
-    EXPECT_EQ(stats["image"]["non_finite"], 36);
-    EXPECT_TRUE(stats["image"]["mean"][0].is_null()) << stats["image"];  // (it read 0)
-    // A checkerboard of 3·10⁶⁸ (scaled by 10³⁰) and 0: standard errors beyond float32 are said
-    // too, on the file they are written to.
-    Image board(64, 32);
-    for (int y = 0; y < 32; ++y)
-        for (int x = 0; x < 64; ++x) board.set(x, y, Spectrum::Constant((x + y) % 2 ? 3e38 : 0));
-    writeExr(path("board.exr"), board);
-    write("s.json", R"({"camera": {"resolution": [4, 3]}, "render": {"spp": 16},
-                        "environment": {"type": "image", "file": "board.exr", "scale": 1e30}})");
-    r = run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet --variance");
-    EXPECT_EQ(r.code, 0) << r.err;
-    const Image se = readExr(path("out.stderr.exr"), ExrValues::Preview);
-    const auto infinite = std::count(se.rgb.begin(), se.rgb.end(), INFINITY);
-    EXPECT_GT(infinite, 0);
-    EXPECT_NE(r.err.find("shvol: warning: " + path("out.stderr.exr") + ": " +
-                         std::to_string(infinite) + " standard errors exceed the float32 range"),
-              std::string::npos)
-        << r.err;
-    // In range: no warning (another name: out.stderr.exr above would be removed, and said).
-    write("s.json", R"({"camera": {"resolution": [4, 3]}, "render": {"spp": 2},
-                        "environment": {"type": "image", "file": "huge.exr", "scale": 1}})");
-    r = run("render " + path("s.json") + " -o " + path("in_range.exr") + " --quiet");
-    EXPECT_EQ(r.code, 0) << r.err;
-    EXPECT_EQ(r.err, "");
 }
 
 TEST_F(Cli, MakeMediumAndSkyRoundTrip) {
