@@ -2177,17 +2177,24 @@ TEST_F(Cli, TimeLimitCheckpointAndResume) {
                    path("ck.bin") + " --threads 1");
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("time limit reached"), std::string::npos) << r.err;
-    {
+    const auto readStats = [&] {
         std::ifstream f(path("part.stats.json"));
-        const auto stats = nlohmann::json::parse(f);
-        EXPECT_EQ(stats["stopped_by"], "time-limit");
-        EXPECT_EQ(stats["interrupted"], false);
-        EXPECT_LT(stats["samples_per_pixel_min"].get<int>(), 20000);
-    }
+        return nlohmann::json::parse(f);
+    };
+    const auto part = readStats();
+    EXPECT_EQ(part["stopped_by"], "time-limit");
+    EXPECT_EQ(part["interrupted"], false);
+    EXPECT_LT(part["samples_per_pixel_min"].get<int>(), 20000);
     r = run(s + "-o " + path("part.exr") + " --checkpoint " + path("ck.bin") + " --resume");
     ASSERT_EQ(r.code, 0) << r.err;
     const Image a = readExr(path("part.exr")), b = readExr(path("full.exr"));
     EXPECT_EQ(a.rgb, b.rgb);
+    // ... by tracing only the paths the checkpoint lacked: the same image came from a resume
+    // that threw the checkpoint away and rendered everything (helper 119).
+    const auto resumed = readStats();
+    EXPECT_EQ(resumed["resumed_from_samples"], part["samples_per_pixel_min"]);
+    EXPECT_EQ(resumed["paths"].get<uint64_t>() + part["paths"].get<uint64_t>(),
+              uint64_t(a.width) * a.height * 20000);
     // A checkpoint belongs to one render: another seed is refused.
     r = run(s + "-o " + path("x.exr") + " --seed 9 --checkpoint " + path("ck.bin") + " --resume");
     EXPECT_EQ(r.code, 1);
