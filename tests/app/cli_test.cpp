@@ -1071,17 +1071,24 @@ TEST_F(Cli, ProductLightSamplingStats) {
     EXPECT_FALSE(fs::exists(path("q.exr")));
 }
 
+// (At 40 × 24 pixels: six of the renderer's 16 × 16 tiles. The fixture's 8 × 6 is one tile,
+// which any number of threads renders alike; helper 119.)
 TEST_F(Cli, SameSeedSameImageAnyThreads) {
     write("s.json", scene(Homogeneous));
+    const std::string tiles = " --set camera.resolution=[40,24]";
     ASSERT_EQ(
-        run("render " + path("s.json") + " -o " + path("a.exr") + " --threads 1 --quiet").code, 0);
+        run("render " + path("s.json") + " -o " + path("a.exr") + " --threads 1 --quiet" + tiles)
+            .code,
+        0);
     ASSERT_EQ(
-        run("render " + path("s.json") + " -o " + path("b.exr") + " --threads 2 --quiet").code, 0);
+        run("render " + path("s.json") + " -o " + path("b.exr") + " --threads 2 --quiet" + tiles)
+            .code,
+        0);
     EXPECT_EQ(readExr(path("a.exr")).rgb, readExr(path("b.exr")).rgb);
     // More threads than cores run as asked, without TBB's warning that it ignores the request (on
     // a host of fewer than 48 cores).
     const Result r =
-        run("render " + path("s.json") + " -o " + path("c.exr") + " --threads 48 --quiet");
+        run("render " + path("s.json") + " -o " + path("c.exr") + " --threads 48 --quiet" + tiles);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(r.err, "");
     EXPECT_EQ(readExr(path("a.exr")).rgb, readExr(path("c.exr")).rgb);
@@ -1208,10 +1215,16 @@ TEST_F(Cli, SurfaceSceneSameImageAnyThreadsAndStats) {
                   "transform": {"translate": [0, 0, 2.5], "rotate": {"axis": [1, 0, 0], "degrees": 180}}},
                  {"type": "rectangle", "bsdf": {"type": "phong", "specular": 0.5, "exponent": 22},
                   "transform": {"translate": [0, 0, -1.5], "scale": 4}}])"));
+    // (six 16 × 16 tiles, as in SameSeedSameImageAnyThreads)
+    const std::string tiles = " --set camera.resolution=[40,24]";
     ASSERT_EQ(
-        run("render " + path("s.json") + " -o " + path("a.exr") + " --threads 1 --quiet").code, 0);
+        run("render " + path("s.json") + " -o " + path("a.exr") + " --threads 1 --quiet" + tiles)
+            .code,
+        0);
     ASSERT_EQ(
-        run("render " + path("s.json") + " -o " + path("b.exr") + " --threads 2 --quiet").code, 0);
+        run("render " + path("s.json") + " -o " + path("b.exr") + " --threads 2 --quiet" + tiles)
+            .code,
+        0);
     EXPECT_EQ(readExr(path("a.exr")).rgb, readExr(path("b.exr")).rgb);
     std::ifstream f(path("a.stats.json"));
     const nlohmann::json st = nlohmann::json::parse(f);
