@@ -2040,6 +2040,10 @@ TEST_F(Cli, MakeMediumAndSkyRoundTrip) {
     EXPECT_EQ(sky.width, 64);
     EXPECT_EQ(sky.height, 32);
     EXPECT_EQ(r.err.find("note:"), std::string::npos) << r.err;
+    // Lit, and brightest above the horizon, where the default sun is (a black sky passed).
+    const auto brightest = std::max_element(sky.rgb.begin(), sky.rgb.end());
+    EXPECT_GT(*brightest, 0);
+    EXPECT_LT(size_t(brightest - sky.rgb.begin()) / 3 / size_t(sky.width), size_t(sky.height / 2));
     // A sun below the horizon: hidden by the Preetham ground, not by the simple model's, and
     // either is said (the simple one drew it there without a word; helper 84).
     for (const char* model : {"preetham", "simple"}) {
@@ -2056,7 +2060,18 @@ TEST_F(Cli, MakeMediumAndSkyRoundTrip) {
     d.file = path("sphere.vdb");
     EXPECT_NEAR(loadVdbMedium(d)->sigmaT(Vec3::Zero()), 1.0, 1e-6);
     d.file = path("cloud.vdb");
-    EXPECT_GE(loadVdbMedium(d)->sigmaT(Vec3::Zero()), 0.0);
+    // Density inside its bounds, none outside (σ_t ≥ 0 at the origin was all an empty cloud
+    // had to pass; helper 119).
+    const std::unique_ptr<Medium> cloud = loadVdbMedium(d);
+    const Bounds3 b = cloud->bounds();
+    ASSERT_TRUE(b.lo.allFinite() && b.hi.allFinite());
+    double inside = 0;
+    for (int i = 0; i < 512; ++i) {
+        const Vec3 f((i % 8 + 0.5) / 8, (i / 8 % 8 + 0.5) / 8, (i / 64 + 0.5) / 8);
+        inside += cloud->sigmaT(b.lo + f.cwiseProduct(b.hi - b.lo));
+    }
+    EXPECT_GT(inside, 0);
+    EXPECT_EQ(cloud->sigmaT(b.hi + (b.hi - b.lo)), 0);
     r = run("make-medium torus -o " + path("x.vdb"));
     EXPECT_NE(r.code, 0);
     // Another kind's options are said to have no effect (they were silently ignored), and an
