@@ -58,6 +58,40 @@ TEST(Exr, LuminanceOnlyFileIsGrey) {
     EXPECT_EQ(img.rgb, std::vector<float>({0.5f, 0.5f, 0.5f, 2.f, 2.f, 2.f}));
 }
 
+// A file written by OpenEXR itself, channels R, G, B (stored in name order, B first) of HALF
+// values, over 3 × 2 pixels of distinct values, reads back channel for channel and pixel for
+// pixel: every RGB test read shvol's own writer, which shares the reader's idea of the order
+// (helper 119).
+TEST(Exr, RgbFileOfAnotherWriterReadsChannelForChannel) {
+    const std::string path = tmp("rgb.exr");
+    float v[3][6];  // v[c][y·3 + x] = 100c + 10y + x, exact in half
+    for (int c = 0; c < 3; ++c)
+        for (int i = 0; i < 6; ++i) v[c][i] = float(100 * c + 10 * (i / 3) + i % 3);
+    {
+        Imf::Header header(3, 2);
+        Imf::FrameBuffer fb;
+        std::vector<half> h[3];
+        for (int c = 0; c < 3; ++c) {
+            const char* name = c == 0 ? "R" : c == 1 ? "G" : "B";
+            header.channels().insert(name, Imf::Channel(Imf::HALF));
+            h[c].assign(v[c], v[c] + 6);
+            fb.insert(name, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(h[c].data()),
+                                       sizeof(half), 3 * sizeof(half)));
+        }
+        Imf::OutputFile file(path.c_str(), header);
+        file.setFrameBuffer(fb);
+        file.writePixels(2);
+    }
+    const Image img = readExr(path);
+    ASSERT_EQ(img.width, 3);
+    ASSERT_EQ(img.height, 2);
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 3; ++x)
+            for (int c = 0; c < 3; ++c)
+                EXPECT_EQ(img.rgb[size_t(3 * (y * 3 + x) + c)], v[c][y * 3 + x])
+                    << x << ", " << y << ", channel " << c;
+}
+
 // A pixel in an error is named in the file's coordinates, from its data window's corner (it was
 // counted from the image's own first pixel).
 TEST(Exr, BadPixelIsNamedInTheFilesCoordinates) {
