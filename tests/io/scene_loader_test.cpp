@@ -328,6 +328,8 @@ TEST(SceneLoader, AxesAndNormalsOfAnyScale) {
            "0 0 0 0 0 1e300\n1 0 0 0 0 1e-300\n0 1 0 0 0 1\n3 0 1 2\n";
     const Scene s = f.load(R"({"surfaces": [{"type": "mesh", "file": "normals.ply",
                                              "transform": {"scale": 1e12}}]})");
+    // (three of them: with none loaded the loop below passed; helper 119)
+    ASSERT_EQ(s.surfaces->surfaces()[0].mesh.n.size(), 3u);
     for (const Vec3& n : s.surfaces->surfaces()[0].mesh.n)
         EXPECT_NEAR((n - Vec3(0, 0, 1)).norm(), 0, 1e-12) << n.transpose();
 }
