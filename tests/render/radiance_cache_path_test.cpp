@@ -82,21 +82,37 @@ TEST(RadianceCachePath, FurnaceRecordsHoldTheIndirectIrradiance) {
     for (double e : E) EXPECT_NEAR(e, expected, 0.3 * expected);
 }
 
+// Over 8 seeds, in mean and in spread: every image within 2% of L_e/(1 − ρ) and their mean within
+// 4 standard errors of it. The direct light at a cached vertex was light samples alone, whose
+// weight grows without bound by the box's edges, where the emitting wall's solid-angle density
+// falls as r²: the image mean spread by 4.0% from seed to seed (one light sample; +13.7% at worst
+// of 16 seeds), so the 3% this test allowed its one seed let a bias of several per cent pass
+// (helper 119). With a BSDF sample MIS-weighted against them, 0.38% (+1.1% at worst): the
+// records' own noise.
 TEST(RadianceCachePath, FurnaceRenderIsLeOverOneMinusRho) {
-    const double rho = 0.6, Le = 0.5;
-    for (const int lightSamples : {1, 4}) {  // several direct-light samples share weight 1
-        Scene scene = furnaceBox(rho, Le);
-        scene.settings.radianceCache.lightSamples = lightSamples;
-        const RenderResult r = render(scene, RenderOptions{});
-        const Image img = r.film.image();
-        double sum = 0;
-        for (float v : img.rgb) {
-            ASSERT_TRUE(std::isfinite(v));
-            sum += v;
+    const double rho = 0.6, Le = 0.5, expected = Le / (1 - rho);
+    for (const int lightSamples : {1, 4}) {  // several direct-light samples share the weight
+        std::vector<double> means;
+        for (uint64_t seed = 1; seed <= 8; ++seed) {
+            Scene scene = furnaceBox(rho, Le);
+            scene.settings.radianceCache.lightSamples = lightSamples;
+            scene.settings.seed = seed;
+            const RenderResult r = render(scene, RenderOptions{});
+            const Image img = r.film.image();
+            double sum = 0;
+            for (float v : img.rgb) {
+                ASSERT_TRUE(std::isfinite(v));
+                sum += v;
+            }
+            means.push_back(sum / img.rgb.size());
+            EXPECT_NEAR(means.back(), expected, 0.02 * expected) << lightSamples << ", " << seed;
+            EXPECT_GT(r.stats.counters.cacheHits, r.stats.counters.cacheLookups * 9 / 10);
+            EXPECT_TRUE(r.stats.radianceCache.used);
         }
-        EXPECT_NEAR(sum / img.rgb.size(), Le / (1 - rho), 0.03 * Le / (1 - rho)) << lightSamples;
-        EXPECT_GT(r.stats.counters.cacheHits, r.stats.counters.cacheLookups * 9 / 10);
-        EXPECT_TRUE(r.stats.radianceCache.used);
+        double mean = 0, var = 0;
+        for (double m : means) mean += m / means.size();
+        for (double m : means) var += (m - mean) * (m - mean) / (means.size() - 1);
+        EXPECT_NEAR(mean, expected, 4 * std::sqrt(var / means.size())) << lightSamples;
     }
 }
 
