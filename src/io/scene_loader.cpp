@@ -1,6 +1,5 @@
 #include "shvol/io/scene_loader.h"
 
-#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
@@ -170,19 +169,20 @@ Environment readEnvironment(JsonReader r, RenderSettings& settings, Contents con
     refuseKeysOfType(r, "constant", {"radiance"});
     r.finish();
     if (contents == Contents::Check) return Environment::constant(Spectrum::Zero(), lowerBlack);
-    const Image sky = readExr(file);
+    Environment sky = Environment::image(readExr(file), scale, rotation, lowerBlack, mapping);
     // A sky whose own radiance no image can hold: every pixel that sees its brightest texel
-    // would be written as inf (after the whole render, with a warning; helper 116).
-    const float peak = sky.rgb.empty() ? 0.f : *std::max_element(sky.rgb.begin(), sky.rgb.end());
-    if (double(peak) * scale > double(std::numeric_limits<float>::max())) {
-        char text[160];
+    // would be written as inf (after the whole render, with a warning; helper 116). Only the
+    // texels seen count (not those below a black lower hemisphere; helper 120).
+    if (const double peak = sky.brightestSeen();
+        peak * scale > double(std::numeric_limits<float>::max())) {
+        char text[200];
         std::snprintf(text, sizeof text,
-                      "%g times the image's largest value %g is %g, beyond the float32 range "
-                      "(3.4e38) of the images a render writes",
-                      scale, double(peak), double(peak) * scale);
+                      "%.9g times the largest value the image shows, %.9g, is %.9g, beyond the "
+                      "float32 range (3.4028235e38) of the images a render writes",
+                      scale, peak, peak * scale);
         r.error("scale", text);
     }
-    return Environment::image(sky, scale, rotation, lowerBlack, mapping);
+    return sky;
 }
 
 Eigen::Affine3d readTransform(JsonReader r) {

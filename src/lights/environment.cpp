@@ -46,6 +46,7 @@ Environment Environment::image(Image img, double scale, double rotationDegrees,
     for (auto v = seen + 3; v < seenEnd && e.uniform_; ++v)
         e.uniform_ = *v == seen[(v - seen) % 3];  // (every pixel the first)
     e.black_ = !(scale > 0) || std::all_of(seen, seenEnd, [](float v) { return v <= 0; });
+    e.brightest_ = seen == seenEnd ? 0.0 : double(*std::max_element(seen, seenEnd));
     e.image_ = std::make_shared<const Image>(std::move(img));
     return e;
 }

@@ -1792,7 +1792,7 @@ TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
 // renders, finite. (Those warnings stay, for sums beyond the range; no test scene reaches one
 // now, as a sky of at most 3.4·10³⁸ and emitters of at most 10³⁰ keep a pixel's mean in range.)
 TEST_F(Cli, RenderRefusesASkyBeyondTheFloatRange) {
-    Image sky(4, 2);
+    Image sky(4, 2);  // (3e38 in float32 is 3.00000001e38)
     for (int y = 0; y < 2; ++y)
         for (int x = 0; x < 4; ++x) sky.set(x, y, Spectrum::Constant(3e38f));
     writeExr(path("sky.exr"), sky);
@@ -1805,21 +1805,25 @@ TEST_F(Cli, RenderRefusesASkyBeyondTheFloatRange) {
     Result r = scene("10");
     EXPECT_EQ(r.code, 1);
     EXPECT_EQ(r.err, "shvol: error: " + path("s.json") +
-                         ": environment.scale: 10 times the image's largest value 3e+38 is "
-                         "3e+39, beyond the float32 range (3.4e38) of the images a render "
-                         "writes\n");
+                         ": environment.scale: 10 times the largest value the image shows, "
+                         "3.00000001e+38, is 3.00000001e+39, beyond the float32 range "
+                         "(3.4028235e38) of the images a render writes\n");
     EXPECT_FALSE(fs::exists(path("out.exr")));
     for (int x = 0; x < 4; ++x) sky.set(x, 0, Spectrum::Zero());
     writeExr(path("sky.exr"), sky);
     r = run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet --variance --set " +
             "environment.scale=1e30");
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find(": environment.scale: 1e+30 times the image's largest value 3e+38 is "
-                         "3e+68, beyond"),
+    EXPECT_NE(r.err.find(": environment.scale: 1e+30 times the largest value the image shows, "
+                         "3.00000001e+38, is 3.00000001e+68, beyond"),
               std::string::npos)
         << r.err;
     EXPECT_FALSE(fs::exists(path("out.exr")));
     EXPECT_FALSE(fs::exists(path("out.stderr.exr")));
+    // Texels below a black lower hemisphere are never seen: they do not count (helper 120).
+    r = run("render " + path("s.json") + " -o " + path("out.exr") + " --quiet --set " +
+            "environment.lower_hemisphere_black=true");
+    EXPECT_EQ(r.code, 0) << r.err;
     r = scene("1.1");
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(r.err, "");

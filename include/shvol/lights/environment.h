@@ -66,6 +66,9 @@ class Environment {
     bool uniform() const { return uniform_; }
     /// No light at all: a constant of 0, an image of zeros, or a scale of 0.
     bool black() const { return black_; }
+    /// The largest channel value of the texels seen, before the scale (below the horizon left
+    /// out with lowerHemisphereBlack); of a constant, its largest channel.
+    double brightestSeen() const { return brightest_; }
     bool lowerHemisphereBlack() const { return lowerBlack_; }
     /// Rotation about +z in radians.
     double rotation() const { return rotation_; }
@@ -84,7 +87,7 @@ class Environment {
 
     Spectrum L_ = Spectrum::Zero();
     bool lowerBlack_ = false, uniform_ = true, black_ = true;
-    double scale_ = 1, rotation_ = 0;
+    double scale_ = 1, rotation_ = 0, brightest_ = 0;
     LatLongMapping mapping_ = LatLongMapping::Blender;
     std::shared_ptr<const Image> image_;          // null for a constant environment
     std::shared_ptr<const TexelSampler> texels_;  // null for a constant environment
