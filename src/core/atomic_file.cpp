@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <set>
@@ -112,26 +113,36 @@ std::filesystem::path nearestExisting(const std::string& path) {
     return fs::exists(p, ec) ? p : fs::path();
 }
 
+/// 0 if a file can be made in the directory `dir` and removed again, else the errno of the step
+/// that failed. access() answers from the permission bits, which root passes where no file can
+/// be made (sysfs, /proc) or removed (an append-only directory): the probe says so before the
+/// work, not after it (helper 116: a render to /sys/o.exr failed only once it had finished).
+/// Once per directory and process: a batch checks many outputs in one (helper 120).
+int probeWritable(const std::filesystem::path& dir) {
+    static std::mutex mutex;
+    static std::map<std::string, int> known;
+    std::error_code ec;
+    const std::string key = std::filesystem::absolute(dir, ec).lexically_normal().string();
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (const auto it = known.find(key); it != known.end()) return it->second;
+    std::string probe = (dir / ".shvol-probe-XXXXXX").string();
+    int error = 0;
+    if (const int fd = ::mkostemp(probe.data(), O_CLOEXEC); fd < 0) {
+        error = errno;
+    } else {
+        ::close(fd);
+        if (::unlink(probe.c_str()) != 0) error = errno;
+    }
+    return known[key] = error;
+}
+
 /// Why files cannot be made in the existing `dir`: not a directory, or not writable. `name` is
 /// how the message names it, empty for "it" (the path the user gave).
 std::string directoryProblem(const std::filesystem::path& dir, const std::string& name) {
     std::error_code ec;
     if (!std::filesystem::is_directory(dir, ec))
         return (name.empty() ? "it" : name) + " is not a directory";
-    // access() answers from the permission bits, which root passes where no file can be made
-    // (sysfs, /proc): a file made and removed there says so before the work, not after it
-    // (helper 116: a render to /sys/o.exr failed only once it had finished).
-    int error = ::access(dir.c_str(), W_OK | X_OK) != 0 ? errno : 0;
-    if (error == 0) {
-        std::string probe = (dir / ".shvol-probe-XXXXXX").string();
-        const int fd = ::mkstemp(probe.data());
-        if (fd < 0) {
-            error = errno;
-        } else {
-            ::close(fd);
-            ::unlink(probe.c_str());
-        }
-    }
+    const int error = ::access(dir.c_str(), W_OK | X_OK) != 0 ? errno : probeWritable(dir);
     if (error != 0)
         return (name.empty() ? "it" : "directory " + name) + " is not writable (" +
                std::generic_category().message(error) + ")";
