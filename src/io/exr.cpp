@@ -121,13 +121,31 @@ Image inDisplayWindow(Image img, const Imath::Box2i& data, const Imath::Box2i& d
 
 }  // namespace
 
-Image readExr(const std::string& path, ExrValues values) {
-    const uintmax_t bytes = regularFileSize(path);
+namespace {
+/// OpenEXR's limits on what a header may claim, set once before any file is opened.
+void limitExrHeaders() {
     static std::once_flag limits;
     std::call_once(limits, [] {
         Imf::Header::setMaxImageSize(kMaxExrSide, kMaxExrSide);
         Imf::Header::setMaxTileSize(kMaxExrSide, kMaxExrSide);
     });
+}
+}  // namespace
+
+std::string exrDamage(const std::string& path) {
+    try {
+        checkExrAttributeSizes(path, regularFileSize(path));
+        limitExrHeaders();
+        if (!Imf::InputFile(path.c_str()).isComplete()) return "its pixel data is cut short";
+        return "";
+    } catch (const std::exception& e) {  // (shvol's errors name the file; OpenEXR's too)
+        return std::string("not a readable OpenEXR file (") + e.what() + ")";
+    }
+}
+
+Image readExr(const std::string& path, ExrValues values) {
+    const uintmax_t bytes = regularFileSize(path);
+    limitExrHeaders();
     // A multi-part file (an image and its passes, say) was read as its first part, whichever
     // that was (helper 68).
     if (const int parts = checkExrAttributeSizes(path, bytes); parts > 1)

@@ -3060,9 +3060,10 @@ TEST_F(Cli, BatchSaysWhenAFinishedRunsImageIsMissing) {
     r = run("batch " + path("sweep.json") + " --dry-run");
     EXPECT_EQ(r.code, 0);
     EXPECT_EQ(r.err, warning);
-    // An image there but damaged (cut short) is said too: it passed as finished (helper 116).
+    // An image there but damaged is said too: it passed as finished (helper 116). Here bytes of
+    // its size that are no OpenEXR file, found by the header.
     const std::string whole = test::fileBytes(path("out/r0000.exr"));
-    write("out/r0000.exr", whole.substr(0, 100));
+    write("out/r0000.exr", std::string(whole.size(), 'x'));
     r = run("batch " + path("sweep.json") + " --dry-run");
     EXPECT_EQ(r.code, 0);
     EXPECT_EQ(r.err.rfind(warning, 0), 0u) << r.err;
@@ -3072,6 +3073,16 @@ TEST_F(Cli, BatchSaysWhenAFinishedRunsImageIsMissing) {
     EXPECT_EQ(r.err.find(damaged), warning.size()) << r.err;
     EXPECT_NE(r.err.find(")); their rows stand"), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 2) << r.err;
+    // Cut short after its header, by the resume itself (not only its dry run), read from the
+    // chunk table alone: no pixel is decoded (helper 120).
+    write("out/r0000.exr", whole.substr(0, whole.size() - 40));
+    r = run("batch " + path("sweep.json") + " --quiet");
+    EXPECT_EQ(r.code, 0);
+    EXPECT_NE(r.err.find(": finished runs' images cannot be read: " + path("out/r0000.exr") + " (" +
+                         std::to_string(whole.size() - 40) + " bytes, where its run wrote " +
+                         std::to_string(whole.size()) + "); their rows stand"),
+              std::string::npos)
+        << r.err;
 }
 
 // A signal while the batch checks its sweep's scenes (here an SH fit of order 256, seconds long)

@@ -22,6 +22,11 @@ enum class ExrValues {
 /// that `values` does not accept) name the file and the pixel.
 Image readExr(const std::string& path, ExrValues values = ExrValues::Radiance);
 
+/// Why the file at path is not a whole OpenEXR image, read from its header and chunk table alone
+/// (cheap: no pixel is decoded): "not a readable OpenEXR file (…)", "its pixel data is cut
+/// short"; empty when it is whole. Its values are not checked (readExr does that).
+std::string exrDamage(const std::string& path);
+
 /// Writes float32 R, G, B atomically (temporary file, then rename).
 void writeExr(const std::string& path, const Image& image);
 /// Writes float32 R, G, B into `tmp` itself, a temporary of writeAtomically for `path`, which
