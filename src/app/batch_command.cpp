@@ -675,11 +675,13 @@ int runBatch(BatchArgs a) {
     // The runs go into a directory, made with its parents if missing: fail now (--dry-run too),
     // not after the reference's render, if that cannot be. (Checked by every rank, reported once.)
     collectively([&] {
-        // Named where it was given: --output in the option's form, else the sweep's key.
+        // Named where it was given: --output in the option's form, the sweep's key, or the
+        // sweep's default.
         if (std::string problem = outputDirectoryProblem(s.output); !problem.empty()) {
             problem = s.output + ": " + problem + " (batch writes a directory of runs there)";
             if (!a.output.empty()) failOption("--output", problem);
-            fail(a.sweep, "output", problem);
+            if (s.outputGiven) fail(a.sweep, "output", problem);
+            fail(a.sweep, "", "the default output directory " + problem);
         }
         // The files it writes there whatever its runs' ids: the ledger, the reference it
         // renders, and with --report the report (runs' own outputs: checkRunOutputs).

@@ -116,6 +116,7 @@ Sweep readSweep(const std::string& path, double maxRuns) {
     const std::vector<std::string> base = stringList(r, "set", path);
     std::vector<std::string> basePlaces;
     for (size_t i = 0; i < base.size(); ++i) basePlaces.push_back("set[" + std::to_string(i) + "]");
+    s.outputGiven = r.has("output");
     s.output = relativeTo(
         path, r.pathName("output", "directory", fs::path(path).stem().string() + "_results"));
     const bool zip = r.choice("combine", "grid", {"grid", "zip"}) == "zip";

@@ -1699,12 +1699,13 @@ TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
     EXPECT_EQ(r.code, 0) << r.err;
     stats = nlohmann::json::parse(std::ifstream(path("a.stats.json")));
     // The errors are the table's (0.0821 and 0.219 today), read from the stats rather than
-    // pinned here (helper 119); the 8% and 22% above are what makes the warning due.
+    // pinned here (helper 119); the peak error beyond 0.1, with a small source, is what makes
+    // the warning due (render_command's kLooseFit).
     const double projection =
                      stats["radiance_cache"]["brdf_table_projection_errors"]["floor"].get<double>(),
                  peak = stats["radiance_cache"]["brdf_table_peak_errors"]["floor"].get<double>();
-    EXPECT_GT(projection, 0.05);
-    EXPECT_GT(peak, 0.15);
+    EXPECT_GT(projection, 0);
+    EXPECT_GT(peak, 0.1);
     char said[400];
     std::snprintf(said, sizeof said,
                   ": floor: its BRDF table holds the BRDF with relative projection error %.3g and "
@@ -3360,6 +3361,15 @@ TEST_F(Cli, BatchOutputMustBeADirectory) {
                 << dry;
         }
     EXPECT_EQ(test::fileBytes(path("afile")), "");
+    // The default, <sweep name>_results, is said to be the default: the sweep has no key
+    // `output` to name (helper 120).
+    write("d_results", "");
+    write("d.json", R"({"scene": "s.json", "axes": {"render.spp": [1]}})");
+    Result d = run("batch " + path("d.json") + " --quiet --dry-run");
+    EXPECT_EQ(d.code, 1);
+    EXPECT_EQ(d.err, "shvol: error: " + path("d.json") + ": the default output directory " +
+                         path("d_results") +
+                         ": it is not a directory (batch writes a directory of runs there)\n");
     // An empty name is refused where it is given (it named no file; --output "" was ignored).
     Result r = run("batch " + path("sweep.json") + " --quiet --dry-run --output ''");
     EXPECT_EQ(r.code, 1);

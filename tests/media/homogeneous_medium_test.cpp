@@ -136,8 +136,8 @@ TEST(HomogeneousMedium, BoundsHoldTheShape) {
         const Bounds3 b = m.bounds();
         EXPECT_EQ(b.isEverywhere(), s.type == MediumShape::Type::Everywhere);
         // Points in the bounds widened by half on every axis (a 24-cube for the unbounded):
-        // a sixth to a third of them in the shape (a 24-cube held 0.76 of 20,000 points in the
-        // sphere, so the assertion often ran never: helper 118).
+        // 0.155 (the sphere) to 0.30 of them in the shape (a 24-cube held 0.76 of 20,000 points in
+        // the sphere, so the assertion often ran never: helper 118).
         const bool finite = b.lo.allFinite() && b.hi.allFinite();
         const Vec3 mid = finite ? Vec3(0.5 * (b.lo + b.hi)) : Vec3(1, 2, 2),
                    size = finite ? Vec3(1.5 * (b.hi - b.lo)) : Vec3::Constant(24);

@@ -182,8 +182,9 @@ TEST(Hsh, RotationThroughShKeepsFunctionsAboveTheHorizon) {
 // integrals s): E h is the SH projection (2n bands) of f̃ = Σ h_i H_i held below the horizon at
 // its value there; D E h the projection of (Σ (E h)_k Y_k)∘R⁻¹; C the HSH projection over the
 // upper hemisphere. Upper-hemisphere integrals take z = u², Gauss–Legendre in u: an HSH function
-// of odd m carries √z, which the substitution makes a polynomial (in z, the quadrature converged
-// as a power). Arbitrary coefficients and the cache test's field, at tilts about a skew axis.
+// of odd m carries √z, which the substitution makes u, so that the products the integrals take
+// (of equal m, the others vanish in φ) are smooth in u (in z, the quadrature converged as a
+// power). Arbitrary coefficients and the cache test's field, at tilts about a skew axis.
 TEST(Hsh, RotationForTheCacheMatchesItsDefinitionByQuadrature) {
     const int n = 6, nSh = 2 * n, nH = n * n, nY = nSh * nSh;
     struct Node {

@@ -46,6 +46,7 @@ struct SweepReference {
 
 struct Sweep {
     std::string path, scene, output;
+    bool outputGiven = false;  ///< `output` is the sweep's key, not its default
     Json sceneDoc;                  ///< the scene's document, read once (sceneDocument)
     std::vector<std::string> axes;  ///< axis keys in order (the ledger's columns)
     std::vector<SweepRun> runs;
