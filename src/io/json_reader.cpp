@@ -666,7 +666,7 @@ Vec3 JsonReader::vec3(const std::string& key, std::optional<Vec3> def) {
     for (int i = 0; i < 3; ++i) {
         if (!v[i].is_number())
             fail(file_, keyPath(key) + "[" + std::to_string(i) + "]",
-                 "expected a number, got " + typeName(v[i]));
+                 "expected a number, got " + typeAndValue(v[i]));
         r[i] = v[i].get<double>();
     }
     note(key, v);

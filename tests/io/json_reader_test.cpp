@@ -57,7 +57,7 @@ TEST(JsonReader, ErrorsNameFileAndPath) {
     EXPECT_EQ(messageOf([&] { rk.integer("e", 0, 0, 10); }),
               "scene.json: render.e: value 11.0 out of range [0, 10]");
     EXPECT_EQ(messageOf([&] { r.vec3("v"); }),
-              "scene.json: media[0].v[1]: expected a number, got string");
+              "scene.json: media[0].v[1]: expected a number, got string \"a\"");
     EXPECT_EQ(messageOf([&] { r.number("absent"); }),
               "scene.json: media[0].absent: missing required number");
     // A null is named once, as "null" (it read "got null null"; helper 116).
