@@ -37,7 +37,8 @@
 /// Radiance cache (render.radiance_cache, cache/radiance_cache.h). When a camera path's first
 /// scattering vertex is a Lambert, Phong or Ward surface, the path ends there with
 ///   L = L_e + (direct light: n next-event samples and one BSDF sample, MIS-weighted as n·p_light
-///        against p_bsdf; with mis "none" the light samples alone) + Σ_i λ_i c_i(ω_o),
+///        against p_bsdf, the BSDF ray weighted by the media's transmittance to the light it
+///        meets; with mis "none" the light samples alone) + Σ_i λ_i c_i(ω_o),
 /// λ the cache's HSH coefficients of the incoming indirect radiance, c the BRDF table of the
 /// surface (cache/hsh_brdf_table.h); where no record is valid the path goes on as without cache.
 /// The records are made by the constructor, before any pixel: camera rays through pixel centres,
