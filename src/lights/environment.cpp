@@ -14,6 +14,7 @@ Environment Environment::constant(const Spectrum& L, bool lowerHemisphereBlack) 
     e.L_ = L;
     e.lowerBlack_ = lowerHemisphereBlack;
     e.black_ = !(L.maxCoeff() > 0);
+    e.brightest_ = std::max(0.0, L.maxCoeff());
     return e;
 }
 

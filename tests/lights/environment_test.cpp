@@ -105,6 +105,21 @@ TEST(Environment, Chi2DetectsAMissingJacobianFactor) {
     EXPECT_FALSE(r.passed) << r.report;
 }
 
+// The brightest value a sky shows, before its scale (what the loader holds against the float
+// range): a constant's largest channel; an image's largest over the rows seen, the rows wholly
+// below a black lower hemisphere left out, the straddling middle row of an odd height kept.
+TEST(Environment, BrightestSeen) {
+    EXPECT_EQ(Environment::constant(Spectrum(1, 2, 3), true).brightestSeen(), 3);
+    Image img(2, 3);  // rows: above, straddling the horizon, below
+    img.set(0, 0, Spectrum(1, 0, 0));
+    img.set(1, 1, Spectrum(0, 5, 0));
+    img.set(0, 2, Spectrum(0, 0, 9));
+    EXPECT_EQ(Environment::image(img, 2, 0, false, LatLongMapping::Shvol).brightestSeen(), 9);
+    EXPECT_EQ(Environment::image(img, 2, 0, true, LatLongMapping::Shvol).brightestSeen(), 5);
+    img.set(1, 1, Spectrum::Zero());
+    EXPECT_EQ(Environment::image(img, 2, 0, true, LatLongMapping::Shvol).brightestSeen(), 1);
+}
+
 TEST(Environment, ConstantLookupAndSampling) {
     const Environment all = Environment::constant(Spectrum(1, 2, 3), false);
     EXPECT_TRUE(all.isConstant());
