@@ -345,15 +345,12 @@ void warnOfMissingImages(const Sweep& s, const Ledger& ledger) {
             // Its size as its run wrote it (rows before 7 Dec have none), then its header and
             // chunk table: a whole image's pixels are not read (146 ms a 1024² image, minutes
             // for a large batch; helper 120).
-            std::string damage;
-            if (const Json* bytes =
-                    row->contains("image_bytes") ? &row->at("image_bytes") : nullptr;
-                bytes && bytes->is_number_unsigned() &&
-                bytes->get<uint64_t>() != uint64_t(fs::file_size(image, ec)))
-                damage = std::to_string(fs::file_size(image, ec)) + " bytes, where its run wrote " +
-                         std::to_string(bytes->get<uint64_t>());
-            else
-                damage = exrDamage(image);
+            const Json written = row->value("image_bytes", Json());
+            const uintmax_t bytes = fs::file_size(image, ec);
+            std::string damage =
+                written.is_number_unsigned() && written.get<uintmax_t>() != bytes
+                    ? std::to_string(bytes) + " bytes, where its run wrote " + written.dump()
+                    : exrDamage(image);
             if (!damage.empty()) {
                 if (unreadable.empty()) why = std::move(damage);
                 unreadable.push_back(image);

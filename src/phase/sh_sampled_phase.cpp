@@ -30,8 +30,9 @@ SHSampledPhase::SHSampledPhase(const PhaseFunction& base, const ZonalFitRequest&
     : base_(std::make_shared<const PhaseFunction>(base)), evaluate_(evaluate) {
     if (std::holds_alternative<SHSampledPhase>(base.variant()))
         throw Error("an SH-sampled phase function cannot wrap another one");
-    fit_ = std::make_shared<const ZonalFit>(fitZonal(
-        [&](const AngleCosine& c) { return base_->evalAngle(c); }, request, base_->corners()));
+    const std::vector<double> corners = base_->corners();  // (a table's: one acos a row)
+    fit_ = std::make_shared<const ZonalFit>(
+        fitZonal([&](const AngleCosine& c) { return base_->evalAngle(c); }, request, corners));
     sampler_ = std::make_shared<const ZonalSHSampler>(fit_->p, depth);
     // (A function the fit's quadrature finds nothing of: a table's spike 10⁻⁵° wide at 90° was
     // one until the nodes ended at a table's corners, and its message said only that there was
@@ -43,7 +44,7 @@ SHSampledPhase::SHSampledPhase(const PhaseFunction& base, const ZonalFitRequest&
             "sample it with \"sampling\": \"analytic\"");
     if (evaluate_ == Evaluate::Exact && sampler_->clampedFraction() > 0)
         alpha_ = kDefensiveFraction;
-    checkByQuadrature();
+    checkByQuadrature(corners);
 }
 
 double SHSampledPhase::baseCos(double mu) const {
@@ -51,9 +52,9 @@ double SHSampledPhase::baseCos(double mu) const {
 }
 
 template <typename Node>
-void SHSampledPhase::forEachNode(Node&& node) const {
+void SHSampledPhase::forEachNode(const std::vector<double>& corners, Node&& node) const {
     const int bins = 1 << sampler_->depth();
-    std::vector<double> edges = gradedThetaEdges(base_->corners());
+    std::vector<double> edges = gradedThetaEdges(corners);
     edges.reserve(edges.size() + bins);
     for (int i = 1; i < bins; ++i) edges.push_back(std::acos(1 - 2.0 * i / bins));
     std::sort(edges.begin(), edges.end());
@@ -70,11 +71,11 @@ void SHSampledPhase::forEachNode(Node&& node) const {
     }
 }
 
-void SHSampledPhase::checkByQuadrature() {
+void SHSampledPhase::checkByQuadrature(const std::vector<double>& corners) {
     // One pass over the nodes: ∫p (quadratureMass), and m₂ (Exact) or the rendered error.
     double m2 = 0, error = 0, energy = 0;
     bool unsampled = false;  // p > 0 where pdf = 0
-    forEachNode([&](double p, double pdf, double w) {
+    forEachNode(corners, [&](double p, double pdf, double w) {
         quadratureMass_ += w * p;
         if (evaluate_ == Evaluate::Exact) {
             if (p > 0 && !(pdf > 0)) unsampled = true;

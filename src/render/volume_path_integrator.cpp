@@ -371,17 +371,21 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
         if (hitSurface && surf->hasNullSurfaces()) surf->resolveCrossing(ray, NoHit, &hit, &nulls);
         int mi = -1;
         double t = NoCollision;
-        if (effects_.volumes && anyActive(inside) && directOnly) {
-            // Only the light at the ray's end counts: the media's transmittance as a shadow ray
-            // estimates it, not a free flight's all-or-nothing (in absorbing fog about a lamp the
-            // image spread 3× as much between seeds as with light samples alone; helper 121).
-            const double T = transmittance(ray, hitSurface ? hit.t : NoHit, inside, rng, c);
-            if (!(T > 0)) break;
-            beta *= T;
-        } else if (effects_.volumes && anyActive(inside)) {
-            const DeferredPair uFlight = deferred2D(sampler);
-            t = sampleCollision(ray, hitSurface ? hit.t : NoHit, inside, rng, uFlight, c, &mi);
-            if (std::isnan(t)) break;  // (counted)
+        if (effects_.volumes && anyActive(inside)) {
+            const double tHit = hitSurface ? hit.t : NoHit;
+            if (directOnly) {
+                // Only the light at the ray's end counts: the media's transmittance as a shadow
+                // ray estimates it, not a free flight's all-or-nothing (in absorbing fog about a
+                // lamp the image spread 3× as much between seeds as with light samples alone;
+                // helper 121).
+                const double T = transmittance(ray, tHit, inside, rng, c);
+                if (!(T > 0)) break;
+                beta *= T;
+            } else {
+                const DeferredPair uFlight = deferred2D(sampler);
+                t = sampleCollision(ray, tHit, inside, rng, uFlight, c, &mi);
+                if (std::isnan(t)) break;  // (counted)
+            }
         }
         if (t == NoCollision && !hitSurface) {
             double w = 1;

@@ -145,15 +145,9 @@ TEST(RadianceCachePath, SurfacesWhoseLobeTheTableMissesArePathTraced) {
 TEST(RadianceCachePath, DirectLightThroughAbsorbingFogIsNoNoisierThanLightSamplesAlone) {
     double error[2];
     for (const MisHeuristic mis : {MisHeuristic::Balance, MisHeuristic::None}) {
-        Scene scene;
-        scene.camera.position = Vec3(0, -2.2, 1.6);
-        scene.camera.target = Vec3(0, -0.4, 0);
-        scene.camera.fovDegrees = 45;
-        scene.camera.width = scene.camera.height = 32;
-        scene.settings.spp = 32;
+        Scene scene = cachedScene(Vec3(0, -2.2, 1.6), Vec3(0, -0.4, 0), 45, 32, 32, 32, 0);
         scene.settings.maxDepth = 8;
         scene.settings.mis = mis;
-        scene.settings.radianceCache.enabled = true;
         std::vector<Surface> v;
         v.push_back(Surface::rectangle(Eigen::Affine3d(Eigen::Scaling(2.0))));
         v.back().bsdf = Bsdf::lambert(Spectrum::Constant(0.7));

@@ -99,11 +99,12 @@ class SHSampledPhase {
     /// Calls node(p, pdf, w) at the nodes of a quadrature over the sphere, ∫ g dω ≈ Σ w·g(p, pdf):
     /// Gauss–Legendre (4 points) in θ on each interval between the union of the sampler's z-bin
     /// edges (where pdf is constant, and given at the interval's midpoint) and
-    /// gradedThetaEdges() (where p is peaked).
+    /// gradedThetaEdges(corners) (where p is peaked, and the base's corners).
     template <typename Node>
-    void forEachNode(Node&& node) const;
-    /// Sets quadratureMass_ and m2_ (Exact) or renderedError_ (Reconstruction), by forEachNode.
-    void checkByQuadrature();
+    void forEachNode(const std::vector<double>& corners, Node&& node) const;
+    /// Sets quadratureMass_ and m2_ (Exact) or renderedError_ (Reconstruction), by forEachNode
+    /// with the base's corners.
+    void checkByQuadrature(const std::vector<double>& corners);
     std::shared_ptr<const PhaseFunction> base_;
     std::shared_ptr<const ZonalFit> fit_;
     std::shared_ptr<const ZonalSHSampler> sampler_;
