@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "shvol/io/checkpoint.h"
 #include "shvol/io/exr.h"
 #include "shvol/io/phase_spec.h"
 #include "shvol/io/scene_loader.h"
@@ -1790,8 +1791,9 @@ TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
 // An image sky whose scaled radiance no float32 image can hold is refused at load, one line and
 // no output: it rendered, then wrote its pixels as inf with a warning (helper 116), and the
 // standard errors of a checkerboard of 3·10⁶⁸ and 0 as inf too. Up to the float range it
-// renders, finite. (Those warnings stay, for sums beyond the range; no test scene reaches one
-// now, as a sky of at most 3.4·10³⁸ and emitters of at most 10³⁰ keep a pixel's mean in range.)
+// renders, finite. (Those warnings stay, for sums beyond the range: a sky of at most 3.4·10³⁸
+// and emitters of at most 10³⁰ keep a pixel's mean in range, so a checkpoint's sums reach them,
+// RenderWarnsOfPixelsBeyondTheFloatRange.)
 TEST_F(Cli, RenderRefusesASkyBeyondTheFloatRange) {
     Image sky(4, 2);  // (3e38 in float32 is 3.00000001e38)
     for (int y = 0; y < 2; ++y)
@@ -1830,6 +1832,55 @@ TEST_F(Cli, RenderRefusesASkyBeyondTheFloatRange) {
     EXPECT_EQ(r.err, "");
     const Image out = readExr(path("out.exr"));
     for (float v : out.rgb) EXPECT_TRUE(std::isfinite(v)) << v;
+}
+
+// A pixel whose mean, or standard error, is beyond the float range is written as inf with a
+// warning naming the image, and counted in the statistics' warnings. No scene reaches one now
+// (above), so a checkpoint's sums carry the values: a resume adds its samples to them.
+TEST_F(Cli, RenderWarnsOfPixelsBeyondTheFloatRange) {
+    write("s.json", scene(Homogeneous));
+    const std::string s = "render " + path("s.json") + " --quiet --variance --checkpoint " +
+                          path("ck.bin") + " -o " + path("o.exr");
+    ASSERT_EQ(run(s + " --spp 2").code, 0);
+    // The identity is the file's own (after "SHVOLCK2" and its length).
+    std::ifstream in(path("ck.bin"), std::ios::binary);
+    char head[12];
+    in.read(head, 12);
+    uint32_t n;
+    std::memcpy(&n, head + 8, 4);
+    std::string identity(n, '\0');
+    in.read(identity.data(), n);
+    const Json id = Json::parse(identity);
+    Film film = readCheckpoint(path("ck.bin"), id);
+    // Pixel 0's red and green: means of 5e39 and spreads to match (Σx² ≥ (Σx)²/n); pixel 1's
+    // green: a spread of about 7e149.
+    for (int c : {0, 1}) film.sum[c] = 1e40, film.sumSq[c] = 1e80;
+    film.sumSq[4] = 1e300;
+    writeCheckpoint(path("ck.bin"), film, id);
+    const Result r = run(s + " --spp 3 --resume");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("shvol: warning: " + path("o.exr") +
+                         ": 2 pixel values exceed the float32 range of OpenEXR (3.4e38) and are "
+                         "written as inf"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("shvol: warning: " + path("o.stderr.exr") + ": 3 standard errors exceed"),
+              std::string::npos)
+        << r.err;
+    const Image image = readExr(path("o.exr"), ExrValues::Preview),
+                se = readExr(path("o.stderr.exr"), ExrValues::Preview);
+    for (int i : {0, 1}) EXPECT_TRUE(std::isinf(image.rgb[i]) && std::isinf(se.rgb[i])) << i;
+    EXPECT_TRUE(std::isfinite(image.rgb[2]) && std::isfinite(se.rgb[2]));
+    EXPECT_TRUE(std::isfinite(image.rgb[4]) && std::isinf(se.rgb[4]));
+    std::ifstream f(path("o.stats.json"));
+    const auto stats = nlohmann::json::parse(f);
+    EXPECT_EQ(std::count_if(stats["warnings"].begin(), stats["warnings"].end(),
+                            [](const auto& w) {
+                                return w.template get<std::string>().find(
+                                           "exceed the float32 range") != std::string::npos;
+                            }),
+              2)
+        << stats["warnings"];
 }
 
 // No output may replace a file the scene reads: a sky written over by its own render, also as an
