@@ -72,6 +72,9 @@ except ImportError:
              "python3-matplotlib (./setup.sh installs it)")
 
 ERRORS = ["rmse", "relmse", "mae"]
+# Samples per pixel below which the z-test's standard errors are unreliable: shvol's
+# kZTestReliableSpp (core/image_metrics.h).
+ZTEST_RELIABLE_SPP = 64
 
 
 def fail(message):
@@ -248,6 +251,7 @@ def main():
     # read twice HG's efficiency at 64 spp).
     biased_col = all("bias" in r and "bias_ci95" in r for r in rows)
     flagged = []
+    unreliable = []
     summary = []  # (config, spp, n, err mean, err sd, time mean, efficiency, z-test, bias)
     for (c, spp), rs in sorted(groups.items(), key=lambda kv: (configs.index(kv[0][0]), kv[0][1])):
         t, _ = mean_sd([r[time_key] for r in rs])
@@ -260,6 +264,12 @@ def main():
         eff = 1 / (mse * t) if error == "rmse" and mse > 0 and t > 0 else math.nan
         z = (f"{sum(r['ztest_passed'] for r in rs)}/{len(rs)} "
              f"(min p {min(r['ztest_min_p'] for r in rs):.2g})" if ztest else "")
+        # Below ZTEST_RELIABLE_SPP the standard errors are too poor for the z-test: unbiased runs
+        # fail it (helper 122: every repeat of the default scene at 2 and 4 spp, p down to 1e-277),
+        # and the column read as a biased renderer.
+        if ztest and is_number(spp) and spp < ZTEST_RELIABLE_SPP:
+            z += " §"
+            unreliable.append(f"{c} at {spp} spp")
         b = ""
         if biased_col:
             b = f"{mean_sd([r['bias'] for r in rs])[0]:.3g}"
@@ -358,6 +368,10 @@ def main():
                     f"interval, on one side, over two repeats or more): {'; '.join(flagged)}. A biased configuration's error levels off at "
                     f"its bias as samples grow: 1/(MSE·time) ranks fairly between unbiased "
                     f"configurations only.")
+    if unreliable:
+        summary += (f" § Fewer than {ZTEST_RELIABLE_SPP} samples per pixel: the standard errors "
+                    f"the z-test divides by come from too few samples, and unbiased runs fail it "
+                    f"there; read it from {ZTEST_RELIABLE_SPP} spp on: {'; '.join(unreliable)}.")
     md = [f"# Batch report: {directory}", "", summary, ""]
     for f, caption in figures:
         md += [f"![{caption}]({f})", "", f"*{caption}*", ""]

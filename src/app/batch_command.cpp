@@ -300,6 +300,30 @@ void warnOfNoisyReference(const Sweep& s) {
                  s.path.c_str(), reference, most, 100 * most / reference);
 }
 
+/// Warns of z-tests of runs with fewer than kZTestReliableSpp samples per pixel: their standard
+/// errors come from too few samples, and an unbiased run fails (the default scene at 2 and 4
+/// spp: every repeat, p down to 10⁻²⁷⁷; helper 122). README's metrics row said so, the batch
+/// did not, and the report's table read as a biased renderer (it now marks those cells).
+void warnOfUnreliableZTest(const Sweep& s, bool ztest) {
+    if (!ztest) return;
+    size_t few = 0;
+    double fewest = INFINITY;
+    std::string which;
+    for (const SweepRun& run : s.runs)
+        if (const double spp = sppOf(runDocument(s.sceneDoc, s.scene, run.sets));
+            spp < kZTestReliableSpp) {
+            ++few;
+            if (spp < fewest) fewest = spp, which = run.id;
+        }
+    if (few == 0) return;
+    std::fprintf(stderr,
+                 "shvol: warning: %s: metrics: ztest of %zu run%s with fewer than %d samples per "
+                 "pixel (the fewest: %g, run %s): standard errors from so few samples are "
+                 "unreliable, and unbiased runs fail the z-test there; read it from %d spp on\n",
+                 s.path.c_str(), few, few == 1 ? "" : "s", kZTestReliableSpp, fewest, which.c_str(),
+                 kZTestReliableSpp);
+}
+
 /// Warns when runs are left to render on another thread count per render than the finished runs
 /// had (their stats say): their times, and the report's efficiencies, would not compare (helper
 /// 86: a batch resumed with --threads 1 after --threads 2 flipped two configurations' order).
@@ -724,7 +748,8 @@ int runBatch(BatchArgs a) {
                          "; keep it outside the output directory " + s.output);
     });
     const bool ztest = std::find(s.metrics.begin(), s.metrics.end(), "ztest") != s.metrics.end();
-    if (world.root()) warnOfExactReference(s, ztest), warnOfNoisyReference(s);
+    if (world.root())
+        warnOfExactReference(s, ztest), warnOfNoisyReference(s), warnOfUnreliableZTest(s, ztest);
     if (a.dryRun) {
         if (!world.root()) return 0;
         // Runs an earlier start finished, as its ledger has them (read, not repaired: a dry run

@@ -37,6 +37,18 @@ struct Result {
     std::string out, err;
 };
 
+/// The batch's warning of z-tests of runs below 64 spp (warnOfUnreliableZTest), for `runs` runs
+/// of which `run` has the fewest samples, `fewest`.
+std::string unreliableZTestWarning(const std::string& sweep, int runs, int fewest,
+                                   const std::string& run) {
+    return "shvol: warning: " + sweep + ": metrics: ztest of " + std::to_string(runs) + " run" +
+           (runs == 1 ? "" : "s") +
+           " with fewer than 64 samples per pixel (the fewest: " + std::to_string(fewest) +
+           ", run " + run +
+           "): standard errors from so few samples are unreliable, and unbiased runs fail the "
+           "z-test there; read it from 64 spp on\n";
+}
+
 class Cli : public testing::Test {
   protected:
     void SetUp() override {
@@ -845,6 +857,10 @@ TEST_F(Cli, RenderWritesExrAndStats) {
         one.err.rfind("wrote " + path("img.exr") + " and " + path("img.stats.json") + " (", 0), 0u)
         << one.err;
     EXPECT_NE(one.err.find(" paths/s, 1 thread)\n"), std::string::npos) << one.err;
+    // Both times: the passes', and the whole cost, loading and set-up included (the passes'
+    // alone, unnamed, read "0.00 s" for a render spent in an SH fit; helper 122).
+    EXPECT_NE(one.err.find(" s of rendering, "), std::string::npos) << one.err;
+    EXPECT_NE(one.err.find(" s in all, "), std::string::npos) << one.err;
     // With --variance it names the standard errors' file too.
     const Result se = run("render " + path("s.json") + " -o " + path("img.exr") +
                           " --spp 2 --threads 1 --variance");
@@ -1881,6 +1897,55 @@ TEST_F(Cli, RenderWarnsOfPixelsBeyondTheFloatRange) {
                             }),
               2)
         << stats["warnings"];
+}
+
+// Keys given that change nothing in the render are said, each once, and kept in the stats'
+// warnings: a sweep over product_order without product sampling rendered one image under two
+// names without a word (helper 122). Where the key is used, nothing is said.
+TEST_F(Cli, RenderWarnsOfKeysThatChangeNothing) {
+    VdbGridSpec g;
+    g.resolution = 8;
+    g.density = [](const Vec3& p) { return p.norm() < 0.4 ? 1.f : 0.f; };
+    writeVdb(path("m.vdb"), {g});
+    write("s.json", R"({"camera": {"resolution": [8, 6], "position": [0, -3, 0]},
+        "render": {"spp": 2, "product_order": 8, "transmittance": "delta",
+                   "radiance_cache": {"hsh_order": 4, "accuracy": 0.5}},
+        "environment": {"type": "constant", "radiance": 1},
+        "media": [{"type": "vdb", "file": "m.vdb", "majorant_grid": false,
+                   "majorant_cell": 2}]})");
+    Result r = run("render " + path("s.json") + " -o " + path("o.exr") + " --quiet");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string w = "shvol: warning: " + path("s.json") + ": ";
+    const std::vector<std::string> said = {
+        "render.product_order: 8 is not used: it shapes light_sampling \"product\", and this "
+        "render's is \"environment\"",
+        "render.radiance_cache: accuracy, hsh_order are not used: the cache is off (set "
+        "render.radiance_cache.enabled to true to use it)",
+        "render.transmittance: \"delta\" is not used: no transmittance is estimated, as "
+        "next-event estimation is off (render.nee \"auto\" leaves it off under a constant sky, "
+        "where phase sampling does better) and free flights carry the paths",
+        "media[0].majorant_cell: 2 is not used: majorant_grid is false (one global majorant)"};
+    std::string all;
+    for (const std::string& text : said) all += w + text + "\n";
+    EXPECT_EQ(r.err, all);
+    const auto stats = nlohmann::json::parse(std::ifstream(path("o.stats.json")));
+    EXPECT_EQ(stats["warnings"], nlohmann::json(said));
+    // Used: product sampling with next-event estimation, shadow rays, the grid; and the cache's
+    // keys with the cache on (its own warning says it has no surface to serve).
+    r = run("render " + path("s.json") + " -o " + path("o.exr") + " --quiet --set " +
+            "render.nee=true --set render.light_sampling=product --set " +
+            "media.0.majorant_grid=true --set render.radiance_cache.enabled=true");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, w + "render.radiance_cache: enabled, but no surface has a BSDF the cache "
+                         "holds (lambert, phong, ward), or max_depth is 0: the render runs "
+                         "without it\n");
+    // Without a medium no transmittance is estimated at all.
+    write("empty.json", R"({"camera": {"resolution": [4, 3]}, "render": {"spp": 1,
+                           "transmittance": "ratio"}, "environment": {"type": "constant"}})");
+    r = run("render " + path("empty.json") + " -o " + path("e.exr") + " --quiet");
+    EXPECT_EQ(r.err, "shvol: warning: " + path("empty.json") +
+                         ": render.transmittance: \"ratio\" is not used: no transmittance is "
+                         "estimated, as the scene has no medium\n");
 }
 
 // No output may replace a file the scene reads: a sky written over by its own render, also as an
@@ -3197,13 +3262,35 @@ TEST_F(Cli, BatchRefusesRowsOfOtherAxesOrMetrics) {
         for (const char* dry : {"", " --dry-run"}) {
             r = run(batch + dry);
             EXPECT_EQ(r.code, 1) << axes << metrics << dry;
-            EXPECT_EQ(r.err, "shvol: error: " + path("out/results.jsonl") +
+            // (The z-test's runs of 2 spp are warned of first.)
+            const std::string z = metrics.find("ztest") != std::string::npos
+                                      ? unreliableZTestWarning(path("sweep.json"), 2, 2, "r0000")
+                                      : "";
+            EXPECT_EQ(r.err, z + "shvol: error: " + path("out/results.jsonl") +
                                  ": run r0000: " + message + "; use another output directory\n")
                 << axes << metrics << dry;
             EXPECT_EQ(r.out, "") << dry;
         }
     }
     EXPECT_EQ(test::fileBytes(path("out/results.jsonl")), rows);
+}
+
+// A z-test of runs below 64 spp is warned of before the batch renders (and by --dry-run): their
+// standard errors are too poor, and unbiased runs of the default scene failed every repeat at 2
+// and 4 spp, p down to 1e-277, said nowhere (helper 122). From 64 spp on, nothing is said.
+TEST_F(Cli, BatchWarnsOfZTestsAtFewSamples) {
+    write("s.json", scene(Homogeneous));
+    const auto dryRun = [&](const std::string& spps) {
+        write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [)" + spps +
+                                R"(]}, "reference": {"spp": 4096}, "metrics": ["ztest"]})");
+        return run("batch " + path("sweep.json") + " --dry-run");
+    };
+    Result r = dryRun("128, 8, 64, 4");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, unreliableZTestWarning(path("sweep.json"), 2, 4, "r0003"));
+    r = dryRun("64, 128");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
 }
 
 // A batch belongs to one build: rows finished by another shvol build are refused (a changed
@@ -3458,9 +3545,14 @@ TEST_F(Cli, BatchChecksTheFilesItWritesBeforeItRenders) {
         for (const std::string dry : {"", " --dry-run"}) {
             const Result r = run("batch " + path("sweep.json") + " --quiet --report" + dry);
             EXPECT_EQ(r.code, 1) << name << dry;
+            // (After the warning of z-tests at 2 and 4 spp, once the ledger is open.)
+            std::string err = r.err;
+            if (const std::string z = unreliableZTestWarning(path("sweep.json"), 2, 2, "r0000");
+                err.rfind(z, 0) == 0)
+                err = err.substr(z.size());
             EXPECT_EQ(
-                r.err.rfind(
-                    "shvol: error: " + path("out/") + name + ": cannot write: is a directory", 0),
+                err.rfind("shvol: error: " + path("out/") + name + ": cannot write: is a directory",
+                          0),
                 0u)
                 << name << dry << ": " << r.err;
             // Nothing rendered, nothing written but the directory that was there.
@@ -4044,12 +4136,22 @@ TEST_F(Cli, BatchReport) {
         << R"({"run": "r0000", "spp": 8, "g": 1, "wall_time_s": 1, "rmse": 1, "ztest_passed": true, "ztest_min_p": 0.5})"
         << "\n"
         << R"({"run": "r0001", "spp": 8, "g": 1, "wall_time_s": 1, "rmse": 1, "ztest_passed": false, "ztest_min_p": 1e-9})"
+        << "\n"
+        << R"({"run": "r0002", "spp": 64, "g": 1, "wall_time_s": 1, "rmse": 1, "ztest_passed": true, "ztest_min_p": 0.25})"
         << "\n";
     c = run("report " + path("o"));
     ASSERT_EQ(c.code, 0) << c.err;
     const std::string z = test::fileBytes(path("o/report.md"));
     EXPECT_NE(z.find("| 1/(MSE·time) | z-test passed |"), std::string::npos) << z;
-    EXPECT_NE(z.find("| g=1 | 8 | 2 | 1 ± 0 | 1 | 1 | 1/2 (min p 1e-09) |"), std::string::npos)
+    // Below 64 spp the cell is marked and the summary says why: an unbiased renderer failed
+    // every repeat there, and the column read as a biased one (helper 122).
+    EXPECT_NE(z.find("| g=1 | 8 | 2 | 1 ± 0 | 1 | 1 | 1/2 (min p 1e-09) § |"), std::string::npos)
+        << z;
+    EXPECT_NE(z.find("| g=1 | 64 | 1 | 1 | 1 | 1 | 1/1 (min p 0.25) |"), std::string::npos) << z;
+    EXPECT_NE(z.find(" § Fewer than 64 samples per pixel: the standard errors the z-test divides "
+                     "by come from too few samples, and unbiased runs fail it there; read it "
+                     "from 64 spp on: g=1 at 8 spp."),
+              std::string::npos)
         << z;
     std::ofstream(ledger)
         << R"({"run": "r0000", "spp": 8, "wall_time_s": 1, "rmse": 1, "ztest_passed": 1})"
