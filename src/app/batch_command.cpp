@@ -393,7 +393,7 @@ void warnOfMissingImages(const Sweep& s, const Ledger& ledger) {
             ledger.jsonlPath().c_str());
     };
     warn(missing, "are missing", "");
-    warn(unreadable, "cannot be read", " (" + why + ")");
+    warn(unreadable, "are not as their runs wrote them", " (" + why + ")");
 }
 
 /// Refuses, before anything renders, a run's output that cannot be written (a directory or a

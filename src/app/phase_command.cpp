@@ -338,7 +338,9 @@ int runSample(const PhaseArgs& a) {
     return 0;
 }
 
-void commonOptions(CLI::App* c, PhaseArgs& a) {
+/// The options of both subcommands; `general`: the command has --sampler general, whose depths
+/// --depth's help names too (phase fit's named a sampler it does not have; helper 122).
+void commonOptions(CLI::App* c, PhaseArgs& a, bool general) {
     c->add_option("spec", a.spec,
                   "Phase function: JSON as in a scene (its SH keys are used), or short form such "
                   "as hg:g=0.9, rayleigh, tabulated:file=mie.csv")
@@ -362,9 +364,12 @@ void commonOptions(CLI::App* c, PhaseArgs& a) {
         ->check(CLI::IsMember({"sh", "exact"}))
         ->default_str("the spec's evaluate, else sh");
     c->add_option("--depth", a.depth,
-                  "Warp depth: 2^depth z-bins (zonal sampler, 4..22; general sampler, <= 10)")
+                  general ? "Warp depth: 2^depth z-bins (zonal sampler, 4..22; general sampler, "
+                            "<= 10)"
+                          : "Warp depth of the zonal sampler: 2^depth z-bins, 4..22")
         ->check(integerIn(4, 22))
-        ->default_str("the spec's sh_depth, else 16 (general: 10)");
+        ->default_str(general ? "the spec's sh_depth, else 16 (general: 10)"
+                              : "the spec's sh_depth, else 16");
 }
 
 }  // namespace
@@ -376,13 +381,13 @@ void addPhaseCommand(CLI::App& app, std::function<int()>& run) {
     phase->require_subcommand(1);
     CLI::App* fit = phase->add_subcommand(
         "fit", "Print the zonal SH fit, its error and the sampler's weight moments");
-    commonOptions(fit, *a);
+    commonOptions(fit, *a, false);
     fit->add_flag("--json", a->json, "JSON output");
     fit->callback([&run, a] { run = [a] { return runFit(*a); }; });
 
     CLI::App* sample = phase->add_subcommand(
         "sample", "Sample directions around +z as a render would (CSV) and report the weights");
-    commonOptions(sample, *a);
+    commonOptions(sample, *a, true);
     sample->add_option("--count", a->count, "Number of samples")->check(integerIn(1, 1LL << 32));
     sample->add_option("--seed", a->seed, "Random seed")->check(integerIn(0, kMaxSeed));
     // (named --output in errors, as every other command's output: helper 96)

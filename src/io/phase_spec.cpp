@@ -103,6 +103,14 @@ Json phaseSpecToJson(const std::string& spec) {
     const auto colon = spec.find(':');
     const std::string name = spec.substr(0, colon);
     if (name.empty()) fail(where, "", "missing phase function name before ':'");
+    // A file's name, a scene's say, was read as a type name (helper 122). (With a '.' or '/',
+    // which no type name has: a file named like a type in the working directory is no error.)
+    std::error_code ec;
+    if (colon == std::string::npos && spec.find_first_of("./") != std::string::npos &&
+        fs::is_regular_file(spec, ec))
+        fail(where, "",
+             "a file, where a phase function is JSON or a short form such as hg:g=0.9 (a table "
+             "file is named by tabulated:file=NAME.csv)");
     Json j = Json::object();
     j["type"] = name;
     if (colon == std::string::npos) return j;

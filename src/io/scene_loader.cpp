@@ -65,7 +65,9 @@ Camera readCamera(JsonReader r) {
     const Vec3 view = c.target - c.position;
     if (!view.allFinite())
         r.error("target", "is too far from the camera position (their distance overflows)");
-    if (view.isZero(0)) r.error("target", "equals the camera position");
+    // (Either key may be the one given wrong: a position moved onto the target blamed the
+    // target alone; helper 122.)
+    if (view.isZero(0)) r.error("target", "equals camera.position: the camera looks nowhere");
     if (c.up.isZero(0)) r.error("up", "is the zero vector");
     if (view.stableNormalized().cross(c.up.stableNormalized()).norm() < 1e-9)
         r.error("up", "is parallel to the viewing direction");
@@ -415,6 +417,13 @@ void readArray(JsonReader& r, const std::string& key, Json* resolved, Read read)
 Scene readScene(const Json& doc, const std::string& path, Json* resolved, Contents contents) {
     Scene scene;
     scene.path = path;
+    // A sweep given for a scene was told "axes: unknown key" (helper 122).
+    if (doc.is_object() && (doc.contains("axes") || doc.contains("scene")) &&
+        !doc.contains("camera"))
+        fail(path, "",
+             "a sweep of shvol batch (it has \"" +
+                 std::string(doc.contains("axes") ? "axes" : "scene") +
+                 "\"), not a scene: run it with shvol batch");
     JsonReader r(doc, path, "");
     if (resolved) r.recordInto(&(*resolved = Json::object()));
     scene.camera = readCamera(r.objectOrEmpty("camera"));

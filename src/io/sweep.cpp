@@ -109,6 +109,14 @@ Json runDocument(Json doc, const std::string& scene, const std::vector<std::stri
 
 Sweep readSweep(const std::string& path, double maxRuns) {
     const Json doc = parseJsonFile(path);
+    // A scene given for a sweep was told "scene: missing required string" (helper 122).
+    if (doc.is_object() && !doc.contains("scene"))
+        for (const char* key : {"camera", "media", "surfaces", "environment"})
+            if (doc.contains(key))
+                fail(path, "",
+                     std::string("a scene (it has \"") + key +
+                         "\"), not a sweep: render it with shvol render, or name it in a "
+                         "sweep's \"scene\"");
     JsonReader r(doc, path, "");
     Sweep s;
     s.path = path;

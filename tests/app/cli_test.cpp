@@ -578,6 +578,12 @@ TEST_F(Cli, HelpShowsDefaults) {
     const Result r = run("render --help");
     EXPECT_NE(r.out.find("--threads INT:integer in [0, 4096]=0"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("=the scene's render.spp"), std::string::npos) << r.out;
+    // --depth names the general sampler's depths only where --sampler offers it (helper 122).
+    const Result fit = run("phase fit --help"), sample = run("phase sample --help");
+    EXPECT_NE(fit.out.find("=the spec's sh_depth, else 16\n"), std::string::npos) << fit.out;
+    EXPECT_EQ(fit.out.find("general"), std::string::npos) << fit.out;
+    EXPECT_NE(sample.out.find("=the spec's sh_depth, else 16 (general: 10)"), std::string::npos)
+        << sample.out;
 }
 
 // Numbers beyond double range are malformed input, not internal errors.
@@ -3184,9 +3190,10 @@ TEST_F(Cli, BatchSaysWhenAFinishedRunsImageIsMissing) {
     r = run("batch " + path("sweep.json") + " --dry-run");
     EXPECT_EQ(r.code, 0);
     EXPECT_EQ(r.err.rfind(warning, 0), 0u) << r.err;
-    const std::string damaged = "shvol: warning: " + path("out") +
-                                ": finished runs' images cannot be read: " + path("out/r0000.exr") +
-                                " (not a readable OpenEXR file (";
+    const std::string damaged =
+        "shvol: warning: " + path("out") +
+        ": finished runs' images are not as their runs wrote them: " + path("out/r0000.exr") +
+        " (not a readable OpenEXR file (";
     EXPECT_EQ(r.err.find(damaged), warning.size()) << r.err;
     EXPECT_NE(r.err.find(")); their rows stand"), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 2) << r.err;
@@ -3195,9 +3202,10 @@ TEST_F(Cli, BatchSaysWhenAFinishedRunsImageIsMissing) {
     write("out/r0000.exr", whole.substr(0, whole.size() - 40));
     r = run("batch " + path("sweep.json") + " --quiet");
     EXPECT_EQ(r.code, 0);
-    EXPECT_NE(r.err.find(": finished runs' images cannot be read: " + path("out/r0000.exr") + " (" +
-                         std::to_string(whole.size() - 40) + " bytes, where its run wrote " +
-                         std::to_string(whole.size()) + "); their rows stand"),
+    EXPECT_NE(r.err.find(": finished runs' images are not as their runs wrote them: " +
+                         path("out/r0000.exr") + " (" + std::to_string(whole.size() - 40) +
+                         " bytes, where its run wrote " + std::to_string(whole.size()) +
+                         "); their rows stand"),
               std::string::npos)
         << r.err;
 }
@@ -3291,6 +3299,47 @@ TEST_F(Cli, BatchWarnsOfZTestsAtFewSamples) {
     r = dryRun("64, 128");
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(r.err, "");
+}
+
+// A file of the wrong kind is named as such, in one line, before anything is written: a scene
+// given to batch was told "scene: missing required string", a sweep given to render "axes:
+// unknown key", a grid "malformed JSON: a NUL byte", a scene given to phase fit was read as a
+// type name (helper 122).
+TEST_F(Cli, InputsOfAnotherKindAreNamedAsSuch) {
+    write("s.json", scene(Homogeneous));
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [1, 2]}})");
+    const std::string media = std::string(SHVOL_SOURCE_DIR) + "/media/";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"batch " + path("s.json") + " --dry-run",
+         path("s.json") + ": a scene (it has \"camera\"), not a sweep: render it with shvol "
+                          "render, or name it in a sweep's \"scene\""},
+        {"render " + path("sweep.json"),
+         path("sweep.json") + ": a sweep of shvol batch (it has \"axes\"), not a scene: run it "
+                              "with shvol batch"},
+        {"render " + media + "cloud.vdb",
+         media + "cloud.vdb: the file is an OpenVDB grid, not JSON: a scene or a sweep names "
+                 "such files by their keys"},
+        {"batch " + media + "sky.exr",
+         media + "sky.exr: the file is an OpenEXR image, not JSON: a scene or a sweep names such "
+                 "files by their keys"},
+        {"render " + media + "blob.ply",
+         media + "blob.ply: the file is a PLY mesh, not JSON: a scene or a sweep names such "
+                 "files by their keys"},
+        {"phase fit " + path("s.json"),
+         "phase spec \"" + path("s.json") +
+             "\": a file, where a phase function is JSON or a short form such as hg:g=0.9 (a "
+             "table file is named by tabulated:file=NAME.csv)"}};
+    for (const auto& [args, message] : cases) {
+        const Result r = run(args + (args.rfind("render", 0) == 0 ? " -o " + path("o.exr") : ""));
+        EXPECT_EQ(r.code, 1) << args;
+        EXPECT_EQ(r.err, "shvol: error: " + message + "\n") << args;
+    }
+    EXPECT_FALSE(fs::exists(path("o.exr")));
+    // A file named like a type is no file of the wrong kind: the spec is the type.
+    EXPECT_EQ(runCommand("cd " + path("") + " && touch rayleigh && " + SHVOL_BINARY +
+                         " phase fit rayleigh")
+                  .code,
+              0);
 }
 
 // A batch belongs to one build: rows finished by another shvol build are refused (a changed

@@ -670,6 +670,9 @@ TEST(SceneLoader, ErrorsNameBoundsAndTheTypeAKeyBelongsTo) {
     expectMessage(R"({"environment": {"type": "constant", "radiance": [1, 2e30, 1]}})",
                   "environment.radiance[1]: value 2e30 out of range (expected at most 1e30)");
     expectMessage(R"({"camera": {"up": [0, 0, 0]}})", "camera.up: is the zero vector");
+    // Either key may be the wrong one: the message names both (helper 122).
+    expectMessage(R"({"camera": {"position": [0, 0, 0], "target": [0, 0, 0]}})",
+                  "camera.target: equals camera.position: the camera looks nowhere");
     // Far cameras are refused by their range (they were refused when the view direction
     // overflowed, and accepted below that, where a medium vanished); a long up vector is taken
     // without overflowing its norm.
