@@ -371,7 +371,8 @@ def main():
     if unreliable:
         summary += (f" § Fewer than {ZTEST_RELIABLE_SPP} samples per pixel: the standard errors "
                     f"the z-test divides by come from too few samples, and unbiased runs fail it "
-                    f"there; read it from {ZTEST_RELIABLE_SPP} spp on: {'; '.join(unreliable)}.")
+                    f"there; it needs {ZTEST_RELIABLE_SPP} spp or more, and a few hundred where "
+                    f"samples have heavy tails: {'; '.join(unreliable)}.")
     md = [f"# Batch report: {directory}", "", summary, ""]
     for f, caption in figures:
         md += [f"![{caption}]({f})", "", f"*{caption}*", ""]

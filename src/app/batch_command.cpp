@@ -319,7 +319,8 @@ void warnOfUnreliableZTest(const Sweep& s, bool ztest) {
     std::fprintf(stderr,
                  "shvol: warning: %s: metrics: ztest of %zu run%s with fewer than %d samples per "
                  "pixel (the fewest: %g, run %s): standard errors from so few samples are "
-                 "unreliable, and unbiased runs fail the z-test there; read it from %d spp on\n",
+                 "unreliable, and unbiased runs fail the z-test there; it needs %d spp or more, "
+                 "and a few hundred where samples have heavy tails (README, metrics)\n",
                  s.path.c_str(), few, few == 1 ? "" : "s", kZTestReliableSpp, fewest, which.c_str(),
                  kZTestReliableSpp);
 }

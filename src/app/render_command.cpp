@@ -365,23 +365,27 @@ std::string unusedWaveletWarning(const Scene& scene, const Effects& effects) {
 
 /// Keys the scene gives that change nothing in this render: a sweep over one rendered the same
 /// image under two names, without a word (helper 122). The product lobe's without product
-/// sampling (its light sampler's own warning covers product sampling with next-event estimation
-/// off), the radiance cache's with the cache off, the transmittance estimator where no
-/// transmittance is estimated (no medium; or scattering media, next-event estimation off and no
-/// radiance cache: then only free flights are drawn), a VDB medium's majorant cell without a
-/// majorant grid. Read from the scene as given (doc), so that a value given as its default is
-/// said too.
+/// sampling or without a scattering medium (its light sampler's own warning covers product
+/// sampling with next-event estimation off), the radiance cache's with the cache off, the
+/// transmittance estimator where no transmittance is estimated, a VDB medium's majorant cell
+/// without a majorant grid. Read from the scene as given (doc), so that a value given as its
+/// default is said too.
 std::vector<std::string> unusedKeyWarnings(const Json& doc, const Scene& scene,
                                            const Effects& effects) {
     std::vector<std::string> w;
     const Json render = doc.value("render", Json::object());
     const RenderSettings& s = scene.settings;
+    // (The product's lobe is a phase function's: surfaces draw no product sample; helper 124.)
+    const bool product = s.lightSampling == LightSampling::Product;
     for (const char* key : {"product_order", "product_depth"})
-        if (render.contains(key) && s.lightSampling != LightSampling::Product)
+        if (render.contains(key) && (!product || !effects.scattering))
             w.push_back(std::string("render.") + key + ": " + render[key].dump() +
-                        " is not used: it shapes light_sampling \"product\", and this render's "
-                        "is \"" +
-                        lightSamplingName(s.lightSampling) + "\"");
+                        " is not used: " +
+                        (product ? std::string("it shapes the phase lobes of light_sampling "
+                                               "\"product\", and no medium scatters")
+                                 : std::string("it shapes light_sampling \"product\", and this "
+                                               "render's is \"") +
+                                       lightSamplingName(s.lightSampling) + "\""));
     if (const Json cache = render.value("radiance_cache", Json::object());
         !s.radianceCache.enabled) {
         std::string keys;
@@ -393,9 +397,11 @@ std::vector<std::string> unusedKeyWarnings(const Json& doc, const Scene& scene,
                         " not used: the cache is off (set render.radiance_cache.enabled to true "
                         "to use it)");
     }
+    // Without next-event estimation the only transmittance estimated is that of a camera ray
+    // through media that do not scatter, in a scene without surfaces (the radiance cache's
+    // light step and records' direct light need next-event estimation too; helper 124).
     if (render.contains("transmittance") &&
-        (!effects.volumes ||
-         (effects.scattering && !effects.anyNextEvent() && !effects.radianceCache)))
+        (!effects.volumes || (!effects.anyNextEvent() && (effects.scattering || effects.surfaces))))
         w.push_back("render.transmittance: " + render["transmittance"].dump() +
                     " is not used: no transmittance is estimated, " +
                     (!effects.volumes

@@ -155,7 +155,8 @@ Json parseJsonText(const std::string& text, const std::string& path, const std::
     for (const auto& [magic, kind] :
          {std::pair<std::string, const char*>{" BDV", "an OpenVDB grid"},
           {"\x76\x2f\x31\x01", "an OpenEXR image"},
-          {"ply\n", "a PLY mesh"}})
+          {"ply\n", "a PLY mesh"},
+          {"ply\r\n", "a PLY mesh"}})
         if (text.compare(0, magic.size(), magic) == 0)
             fail(path, "",
                  std::string("the file is ") + kind +

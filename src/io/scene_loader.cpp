@@ -418,8 +418,9 @@ Scene readScene(const Json& doc, const std::string& path, Json* resolved, Conten
     Scene scene;
     scene.path = path;
     // A sweep given for a scene was told "axes: unknown key" (helper 122).
-    if (doc.is_object() && (doc.contains("axes") || doc.contains("scene")) &&
-        !doc.contains("camera"))
+    // ("axes" alone decides: --set camera.fov=30 gives a sweep a camera; helper 124.)
+    if (doc.is_object() &&
+        (doc.contains("axes") || (doc.contains("scene") && !doc.contains("camera"))))
         fail(path, "",
              "a sweep of shvol batch (it has \"" +
                  std::string(doc.contains("axes") ? "axes" : "scene") +

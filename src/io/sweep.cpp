@@ -111,7 +111,7 @@ Sweep readSweep(const std::string& path, double maxRuns) {
     const Json doc = parseJsonFile(path);
     // A scene given for a sweep was told "scene: missing required string" (helper 122).
     if (doc.is_object() && !doc.contains("scene"))
-        for (const char* key : {"camera", "media", "surfaces", "environment"})
+        for (const char* key : {"camera", "media", "surfaces", "environment", "render"})
             if (doc.contains(key))
                 fail(path, "",
                      std::string("a scene (it has \"") + key +
