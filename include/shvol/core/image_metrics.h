@@ -33,8 +33,8 @@ ZTest zTest(const Image& x, const Image& xStdErr, const Image& reference, const 
             double alpha = 0.01);
 /// Samples per pixel below which a render's standard errors are too poor an estimate for the
 /// z-test: unbiased runs of the default scene failed it in every repeat at 2 and 4 spp (p down to
-/// 10⁻²⁷⁷; helper 122), and it holds from about 64 (README, `metrics`). The batch warns of such
-/// runs, and tools/report.py marks their cells.
+/// 10⁻²⁷⁷; helper 122); it needs about 64, and a few hundred where samples are heavy-tailed
+/// (README, `metrics`). The batch warns of runs below it, and tools/report.py marks their cells.
 inline constexpr int kZTestReliableSpp = 64;
 
 }  // namespace shvol
