@@ -220,14 +220,6 @@ Json savedStats(const Sweep& s, const Json& row) {
     return saved.is_object() ? saved : Json::object();
 }
 
-/// The samples per pixel a run's document renders (the loader's default, 16, where it says none).
-double sppOf(const Json& doc) {
-    const Json render = doc.value("render", Json::object());
-    return render.is_object() && render.value("spp", Json()).is_number()
-               ? render["spp"].get<double>()
-               : 16;
-}
-
 /// The scene values in which a finished run (its stats' scene_resolved) and the render the sweep
 /// now gives it differ, as a resumed render names them (`scene values camera.fov differ`); ""
 /// when that cannot be told. (A checkpoint's identity leaves render.spp out: a render may be
@@ -288,10 +280,9 @@ void warnOfExactReference(const Sweep& s, bool ztest) {
 /// reference of 1024 had half their MSE from the reference, their efficiency halved).
 void warnOfNoisyReference(const Sweep& s) {
     if (!s.reference || !s.reference->render || s.runs.empty()) return;
-    const double reference = sppOf(runDocument(s.sceneDoc, s.scene, s.reference->sets));
+    const double reference = s.reference->spp;
     double most = 0;
-    for (const SweepRun& run : s.runs)
-        most = std::max(most, sppOf(runDocument(s.sceneDoc, s.scene, run.sets)));
+    for (const SweepRun& run : s.runs) most = std::max(most, run.spp);
     if (10 * most <= reference) return;
     std::fprintf(stderr,
                  "shvol: warning: %s: reference.spp: %g samples per pixel, fewer than 10 times the "
@@ -310,10 +301,9 @@ void warnOfUnreliableZTest(const Sweep& s, bool ztest) {
     double fewest = INFINITY;
     std::string which;
     for (const SweepRun& run : s.runs)
-        if (const double spp = sppOf(runDocument(s.sceneDoc, s.scene, run.sets));
-            spp < kZTestReliableSpp) {
+        if (run.spp < kZTestReliableSpp) {
             ++few;
-            if (spp < fewest) fewest = spp, which = run.id;
+            if (run.spp < fewest) fewest = run.spp, which = run.id;
         }
     if (few == 0) return;
     std::fprintf(stderr,

@@ -73,15 +73,6 @@ std::vector<std::string> stringList(JsonReader& r, const std::string& key,
     return out;
 }
 
-/// The samples per pixel a run's scene document asks for (render.spp, or its default).
-double sppOf(const Json& doc) {
-    const Json* spp =
-        doc.contains("render") && doc["render"].is_object() && doc["render"].contains("spp")
-            ? &doc["render"]["spp"]
-            : nullptr;
-    return spp && spp->is_number() ? spp->get<double>() : RenderSettings().spp;
-}
-
 std::string hashText(const std::string& text) {
     return hexHash(fnv1a(text.data(), text.size()));
 }
@@ -101,6 +92,14 @@ Json sweepDocument(const Sweep& s, const std::vector<std::string>& sets,
 }
 
 }  // namespace
+
+double sppOf(const Json& doc) {
+    const Json* spp =
+        doc.contains("render") && doc["render"].is_object() && doc["render"].contains("spp")
+            ? &doc["render"]["spp"]
+            : nullptr;
+    return spp && spp->is_number() ? spp->get<double>() : RenderSettings().spp;
+}
 
 Json runDocument(Json doc, const std::string& scene, const std::vector<std::string>& sets) {
     for (const std::string& s : sets) applyOverride(doc, s, scene);
@@ -226,7 +225,6 @@ Sweep readSweep(const std::string& path, double maxRuns) {
             if (a < 0) break;
         }
     }
-    std::vector<double> runSpp;  // each run's samples per pixel, for the z-test's check below
     std::map<double, std::string> runOfSeed;        // a run of each seed, for the reference's check
     std::map<std::string, std::string> runOfScene;  // a run of each fingerprint
     // Repeats are the slowest loop: the runs of one repeat come together (a resumed batch finds
@@ -261,14 +259,13 @@ Sweep readSweep(const std::string& path, double maxRuns) {
                 fail(path, "axes",
                      "runs " + same->second + " and " + run.id + " would be the same render (" +
                          dumpJson(run.values) + "); give each value once");
-            runSpp.push_back(sppOf(doc));
+            run.spp = sppOf(doc);
             if (const Json* seed = doc.contains("render") ? &doc["render"] : nullptr;
                 seed && seed->contains("seed") && (*seed)["seed"].is_number())
                 runOfSeed.emplace((*seed)["seed"].get<double>(), run.id);
             s.runs.push_back(run);
         }
 
-    double referenceSpp = 0;  // a rendered reference's samples per pixel
     if (r.has("reference")) {
         JsonReader ref = r.object("reference");
         SweepReference sr;
@@ -305,7 +302,7 @@ Sweep readSweep(const std::string& path, double maxRuns) {
             }
             sr.sets.push_back("render.seed=" + std::to_string((long long)seed));
             places.push_back("reference.seed");
-            referenceSpp = sppOf(sweepDocument(s, sr.sets, places, "the reference"));
+            sr.spp = sppOf(sweepDocument(s, sr.sets, places, "the reference"));
             sr.file = (fs::path(s.output) / "reference.exr").string();
         }
         ref.finish();
@@ -336,8 +333,8 @@ Sweep readSweep(const std::string& path, double maxRuns) {
     if (std::find(s.metrics.begin(), s.metrics.end(), "ztest") != s.metrics.end()) {
         std::vector<std::pair<std::string, double>> renders;
         for (size_t i = 0; i < s.runs.size(); ++i)
-            renders.push_back({"run " + s.runs[i].id, runSpp[i]});
-        if (s.reference->render) renders.push_back({"the reference", referenceSpp});
+            renders.push_back({"run " + s.runs[i].id, s.runs[i].spp});
+        if (s.reference->render) renders.push_back({"the reference", s.reference->spp});
         for (const auto& [what, spp] : renders)
             if (spp < 2)
                 r.error("metrics",

@@ -36,17 +36,19 @@ struct SweepRun {
     /// settingsFingerprint, and after fingerprintInputs also the contents of the files the scene
     /// names (grids, skies, tables).
     std::string fingerprint;
+    double spp = 0;  ///< the samples per pixel the run renders (sppOf its document)
 };
 
 struct SweepReference {
     std::string file;               ///< an EXR, or where the rendered reference is cached
     std::vector<std::string> sets;  ///< non-empty: render it (base sets + these + spp/seed)
     bool render = false;
+    double spp = 0;  ///< a rendered reference's samples per pixel (sppOf its document)
 };
 
 struct Sweep {
     std::string path, scene, output;
-    bool outputGiven = false;  ///< `output` is the sweep's key, not its default
+    bool outputGiven = false;       ///< `output` is the sweep's key, not its default
     Json sceneDoc;                  ///< the scene's document, read once (sceneDocument)
     std::vector<std::string> axes;  ///< axis keys in order (the ledger's columns)
     std::vector<SweepRun> runs;
@@ -75,6 +77,9 @@ size_t adoptFinishedIds(Sweep& s, const std::vector<Json>& rows);
 /// says it after "run r0003: ": an axis the row lacks, a value its axis no longer has, a repeat
 /// beyond the repeats, a combination zipped axes no longer give, or a point another row holds.
 std::string unheldRowReason(const Sweep& s, const Json& row);
+
+/// The samples per pixel a scene document asks for (render.spp, or its default).
+double sppOf(const Json& doc);
 
 /// The scene document `doc` (Sweep::sceneDoc) after a run's or the reference's assignments, as
 /// --set applies them; `scene` names the scene file in errors.
