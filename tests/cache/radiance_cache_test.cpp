@@ -4,6 +4,7 @@
 #include <tuple>
 
 #include "shvol/core/rng.h"
+#include "shvol/sampling/chi2.h"
 #include "shvol/sh/hsh.h"
 
 namespace shvol {
@@ -283,6 +284,108 @@ TEST(RadianceCache, DirectionsAreUniformForAnyCount) {
         EXPECT_NEAR(zSum / total, 0.5, 4 * std::sqrt(1.0 / 12 / total)) << count;
         for (int q : quadrant)
             EXPECT_NEAR(double(q) / total, 0.25, 4 * std::sqrt(0.25 * 0.75 / total)) << count;
+    }
+}
+
+// The same, as a chi² test over the sphere: each call's directions taken in turn as samples
+// (stratified among themselves, which only lowers χ²), against the uniform density 1/(2π) of the
+// upper hemisphere that Gautron's weight 2π/N assumes.
+TEST(RadianceCache, DirectionsPassChi2) {
+    for (int count : {5, 1000}) {
+        std::vector<Vec3> batch;
+        size_t next = 0;
+        const auto sample = [&](Rng& rng) -> std::optional<Vec3> {
+            if (next == batch.size()) {
+                std::vector<Vec2> j(count);
+                for (Vec2& u : j) u = rng.uniform2();
+                batch = RadianceCache::directions(count, j), next = 0;
+            }
+            return batch[next++];
+        };
+        Chi2Options opt;
+        opt.numTests = 2;
+        opt.sampleCount = 200000;
+        const Chi2Result r = chi2TestSphere(
+            sample, [](const Vec3& w) { return w.z() > 0 ? Inv2Pi : 0.0; }, opt);
+        EXPECT_TRUE(r.passed) << count << ": " << r.report;
+    }
+}
+
+namespace {
+/// Samples at p (normal (0, 0, 1)) whose rays all meet a surface facing p's normal at distance
+/// `dist`: the record's R is dist (within its clamp), and nothing stands beside it.
+std::vector<IncomingSample> samplesAtDistance(const Vec3& p, double dist, int count,
+                                              uint64_t seed) {
+    std::vector<IncomingSample> s;
+    for (const Vec3& w : RadianceCache::directions(count, jitter(count, seed)))
+        s.push_back({w, Spectrum::Constant(w.z()), true, p + dist * w, Vec3(0, 0, 1)});
+    return s;
+}
+}  // namespace
+
+// The multi-level grid finds exactly the records a search of all of them finds (weight > 1/a,
+// geometric normals within 30°), for records of every reach from 1% to 25% of the diagonal
+// (so on many levels), and lookup() is their weighted mean moved by the gradients: the same
+// numbers as the brute-force sum over every record.
+TEST(RadianceCache, GridFindsWhatASearchOfEveryRecordFinds) {
+    for (double a : {0.3, 1.0}) {
+        RadianceCache cache(2, a, kLo, kHi);
+        Rng rng(41, 0);
+        const Vec3 z(0, 0, 1);
+        for (int i = 0; i < int(90 / a); ++i) {  // (a larger a: fewer, or all space is served)
+            const Vec3 p =
+                kLo + (kHi - kLo).cwiseProduct(Vec3(rng.uniform(), rng.uniform(), rng.uniform()));
+            const double dist = std::exp(std::log(0.02) + rng.uniform() * std::log(50.0));
+            cache.add(p, z, z, samplesAtDistance(p, dist, 16, i));
+        }
+        double smallest = INFINITY, largest = 0;
+        for (size_t i = 0; i < cache.size(); ++i)
+            smallest = std::min(smallest, cache.record(i).R),
+            largest = std::max(largest, cache.record(i).R);
+        EXPECT_LT(smallest, 0.05);
+        EXPECT_GT(largest, 0.8);
+        const int nn = cache.order() * cache.order();
+        std::vector<double> lambda(cache.coefficientCount()), expected(cache.coefficientCount());
+        int served = 0, unserved = 0;
+        for (int q = 0; q < 4000; ++q) {
+            // Near a record (where some serve) or anywhere; the normal up or tilted.
+            const RadianceCache::Record& near = cache.record(size_t(rng.uniform() * cache.size()));
+            const Vec3 offset =
+                Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * 2 * a *
+                near.R;
+            const Vec3 anywhere =
+                kLo + (kHi - kLo).cwiseProduct(Vec3(rng.uniform(), rng.uniform(), rng.uniform()));
+            const Vec3 p = q % 2 ? Vec3(near.p + offset) : anywhere;
+            const bool up = q % 3 != 0;
+            const Vec3 n = up ? z : Vec3(0.3 * rng.uniform(), 0, 1).normalized();
+            // The brute force: every record's distance d = |p − P|/R + √(1 − n·N), served
+            // where d < a (weight 1/d > 1/a).
+            bool any = false, ambiguous = false;
+            double wSum = 0;
+            std::fill(expected.begin(), expected.end(), 0.0);
+            for (size_t i = 0; i < cache.size(); ++i) {
+                const RadianceCache::Record& r = cache.record(i);
+                const double d = (p - r.p).norm() / r.R + std::sqrt(std::max(0.0, 1 - n.dot(z)));
+                ambiguous = ambiguous || std::abs(d - a) < 1e-9;
+                if (!(d < a)) continue;
+                any = true;
+                const double w = std::min(1 / d, 1e12);
+                const double dx = (p - r.p).dot(r.frame.s), dy = (p - r.p).dot(r.frame.t);
+                wSum += w;
+                for (int k = 0; k < 3 * nn; ++k)
+                    expected[k] += w * (r.lambda[k] + dx * r.dx[k] + dy * r.dy[k]);
+            }
+            if (ambiguous) continue;
+            ASSERT_EQ(cache.covers(p, n, n), any) << "a " << a << ", query " << q;
+            ++(any ? served : unserved);
+            if (!any || !up) continue;  // (a tilted query's records are rotated: tested apart)
+            ASSERT_TRUE(cache.lookup(p, n, n, lambda.data()));
+            for (int k = 0; k < 3 * nn; ++k)
+                ASSERT_NEAR(lambda[k], expected[k] / wSum, 1e-12 * (1 + std::abs(lambda[k])))
+                    << "a " << a << ", query " << q << ", coefficient " << k;
+        }
+        EXPECT_GT(served, 1000) << a;
+        EXPECT_GT(unserved, 200) << a;
     }
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "path_estimate.h"
+#include "shvol/lights/product_sampler.h"
 #include "shvol/media/homogeneous_medium.h"
 #include "shvol/render/renderer.h"
 #include "shvol/render/volume_path_integrator.h"
@@ -81,6 +82,29 @@ TEST(LightSampling, WhiteFurnaceEveryStrategy) {
                     << name(c) << (image ? " image" : " constant");
             EXPECT_EQ(e.counters.productSamples > 0, c.strategy == LightSampling::Product);
         }
+}
+
+// Product sampling end to end at the lowest and the highest product order the scene format
+// accepts (render.product_order 1 … ProductSampler::kMaxOrder), for a broad and a peaked lobe,
+// alone and with MIS: the furnace still renders 1, and product samples were drawn.
+TEST(LightSampling, ProductWhiteFurnaceAtEveryOrder) {
+    Image white(32, 16);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 32; ++x) white.set(x, y, Spectrum::Ones());
+    for (int order : {1, ProductSampler::kMaxOrder})
+        for (MisHeuristic mis : {MisHeuristic::Balance, MisHeuristic::None})
+            for (double g : {0.3, 0.95}) {
+                Scene s = sphereScene(2.0, Spectrum::Ones(), g);
+                s.environment = Environment::image(white, 1.0, 20.0, false);
+                configure(s, {LightSampling::Product, mis}, order);
+                const Estimate e = estimate(s, 8000, 31);
+                const std::string what = "order " + std::to_string(order) + " g " +
+                                         std::to_string(g) +
+                                         (mis == MisHeuristic::None ? " mis none" : " balance");
+                for (int ch = 0; ch < 3; ++ch)
+                    EXPECT_NEAR(e.mean[ch], 1.0, 5 * e.stdErr[ch] + 1e-9) << what;
+                EXPECT_GT(e.counters.productSamples, uint64_t(8000)) << what;
+            }
 }
 
 // The hard regime: optically thick (τ = 20 across), strongly forward or backward scattering, many

@@ -29,6 +29,31 @@ Scene smallScene(int spp) {
     return s;
 }
 
+/// The medium of smallScene, except that a shadow ray leaving it upwards (d.z > 0) has
+/// transmittance +∞: a stand-in for an estimate gone wrong that no earlier check catches (they
+/// refuse NaN and negative transmittances, not large ones), on a share of the paths only.
+class InfiniteUpwardShadowMedium final : public Medium {
+  public:
+    explicit InfiniteUpwardShadowMedium(std::unique_ptr<Medium> m)
+        : Medium(m->albedo(), m->phase()), m_(std::move(m)) {}
+    double sampleCollision(const Ray& ray, double tMax, Rng& rng, TrackingCounters& c,
+                           const Vec2* first) const override {
+        return m_->sampleCollision(ray, tMax, rng, c, first);
+    }
+    double transmittance(const Ray& ray, double tMax, TransmittanceEstimator est, Rng& rng,
+                         TrackingCounters& c) const override {
+        return ray.d.z() > 0 ? std::numeric_limits<double>::infinity()
+                             : m_->transmittance(ray, tMax, est, rng, c);
+    }
+    double sigmaT(const Vec3& p) const override { return m_->sigmaT(p); }
+    double sigmaMajorant(const Vec3& p) const override { return m_->sigmaMajorant(p); }
+    Bounds3 bounds() const override { return m_->bounds(); }
+    std::string describe() const override { return "infinite above"; }
+
+  private:
+    std::unique_ptr<Medium> m_;
+};
+
 void expectSameImage(const Image& a, const Image& b) {
     ASSERT_EQ(a.rgb.size(), b.rgb.size());
     for (size_t i = 0; i < a.rgb.size(); ++i) ASSERT_EQ(a.rgb[i], b.rgb[i]) << "value " << i;
@@ -355,6 +380,27 @@ TEST(Renderer, RefusesAFilmThatDoesNotFit) {
     EXPECT_THROW(render(smallScene(3), RenderOptions{}, r.film), Error);  // more samples than spp
     Film wrong(5, 5);
     EXPECT_THROW(render(smallScene(4), RenderOptions{}, wrong), Error);
+}
+
+// A sample that is NaN or infinite never reaches a pixel: it is dropped (taken as 0) and counted,
+// the count the render's warning reports; the other samples of its pixel stay.
+TEST(Renderer, DropsAndCountsNonFiniteSamples) {
+    Scene s = smallScene(8);
+    s.settings.nee = true;  // shadow rays through the medium, a share of them upwards
+    s.media[0] = std::make_unique<InfiniteUpwardShadowMedium>(std::move(s.media[0]));
+    RenderOptions o;
+    o.threads = 2;
+    const RenderResult r = render(s, o);
+    const uint64_t paths = r.stats.counters.paths, dropped = r.stats.counters.nonFiniteSamples;
+    EXPECT_EQ(paths, uint64_t(12 * 9 * 8));
+    EXPECT_GT(dropped, paths / 20);
+    EXPECT_LT(dropped, paths);
+    double mean = 0;
+    for (float v : r.image.rgb) {
+        ASSERT_TRUE(std::isfinite(v));
+        mean += v / double(r.image.rgb.size());
+    }
+    EXPECT_GT(mean, 0.1);  // the sky around the medium and the paths without a NaN
 }
 
 }  // namespace shvol
