@@ -95,7 +95,84 @@ Json integralAsInteger(const Json& j) {
     return out;
 }
 
+/// A JSON text as nlohmann's SAX parser reads it, building nothing: the place (JSON path) of each
+/// open object or array and the keys each object has had, to find nesting deeper than
+/// kMaxJsonDepth (tooDeep(place) must throw; the place names the first levels) and the first key
+/// given twice in one object (repeated, at repeatedAt). Linear in the text: the DOM parser's
+/// callback, used for this until 7 Dec, scans the enclosing array or object after every object
+/// it keeps, quadratic in an array of objects (32,000 spheres: 2.8 s to read a 2 MB scene;
+/// helper 127). A malformed text stops the walk (sax_parse returns false): the DOM parser then
+/// names the place.
+class JsonWalk final : public nlohmann::json_sax<Json> {
+  public:
+    JsonWalk(std::string root, std::function<void(const std::string&)> tooDeep)
+        : root_(std::move(root)), tooDeep_(std::move(tooDeep)) {}
+    std::string repeatedAt, repeated;
+
+    bool null() override { return element(); }
+    bool boolean(bool) override { return element(); }
+    bool number_integer(number_integer_t) override { return element(); }
+    bool number_unsigned(number_unsigned_t) override { return element(); }
+    bool number_float(number_float_t, const string_t&) override { return element(); }
+    bool string(string_t&) override { return element(); }
+    bool binary(binary_t&) override { return element(); }
+    bool start_object(std::size_t) override { return open(false); }
+    bool start_array(std::size_t) override { return open(true); }
+    bool end_object() override { return close(); }
+    bool end_array() override { return close(); }
+    bool key(string_t& k) override {
+        Frame& f = frames_.back();
+        f.key = k;
+        if (!f.keys.insert(k).second && repeated.empty())
+            repeatedAt = where(frames_.size() - 1), repeated = k;
+        return true;
+    }
+    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
+        return false;
+    }
+
+  private:
+    struct Frame {
+        bool array;
+        long index = -1;  ///< of the array's element being read
+        std::string key;  ///< of the object's member being read
+        std::set<std::string> keys;
+    };
+    bool element() {
+        if (!frames_.empty() && frames_.back().array) ++frames_.back().index;
+        return true;
+    }
+    bool open(bool array) {
+        element();
+        frames_.push_back(Frame{array, -1, {}, {}});
+        if (frames_.size() > kMaxJsonDepth)  // (named by its first levels)
+            tooDeep_(where(std::min<size_t>(frames_.size() - 1, 4)) + "…");
+        return true;
+    }
+    bool close() {
+        frames_.pop_back();
+        return true;
+    }
+    /// The JSON path of the value being read at `depth` levels down.
+    std::string where(size_t depth) const {
+        std::string at = root_;
+        for (size_t k = 0; k < depth; ++k)
+            at += frames_[k].array ? "[" + std::to_string(frames_[k].index) + "]"
+                                   : (at.empty() ? "" : ".") + frames_[k].key;
+        return at.empty() ? std::string("(top level)") : at;
+    }
+    std::string root_;
+    std::function<void(const std::string&)> tooDeep_;
+    std::vector<Frame> frames_;
+};
+
 }  // namespace
+
+Json parseWithinDepth(const std::string& text, const std::function<void()>& tooDeep) {
+    JsonWalk walk("", [&](const std::string&) { tooDeep(); });
+    Json::sax_parse(text, &walk);
+    return Json::parse(text);
+}
 
 std::string canonicalJson(const Json& j) {
     return dumpJson(integralAsInteger(j));
@@ -109,19 +186,13 @@ std::string briefText(const std::string& text, size_t limit) {
     return text.size() > limit ? text.substr(0, limit - 3) + "..." : text;
 }
 
-Json::parser_callback_t depthLimit(std::function<void()> tooDeep) {
-    // (The callback's depth is the top level's value's at 0.)
-    return [tooDeep = std::move(tooDeep)](int depth, Json::parse_event_t, Json&) {
-        if (depth >= int(kMaxJsonDepth)) tooDeep();
-        return true;
-    };
-}
-
 Json parseOwnJsonFile(const std::string& path) {
     std::ifstream f(path);
+    std::stringstream text;
+    text << f.rdbuf();
     struct TooDeep {};
     try {
-        return Json::parse(f, depthLimit([] { throw TooDeep{}; }));
+        return parseWithinDepth(text.str(), [] { throw TooDeep{}; });
     } catch (const TooDeep&) {
     } catch (const Json::exception&) {
     }
@@ -165,49 +236,16 @@ Json parseJsonText(const std::string& text, const std::string& path, const std::
     if (const size_t nul = text.find('\0'); nul != std::string::npos)
         fail(path, lineColumn(nul), "malformed JSON: a NUL byte");
     // A key given twice in one object: the parser keeps the last silently, so a scene's first
-    // value would be ignored without a word. The place is the object's JSON path (the parser's
-    // callback gives no position). Said once the whole text has parsed: the callback sees a key
-    // before the parser checks the ':' after it, and a syntax error there ("fov" 40) is the
-    // mistake to name.
-    struct Frame {
-        bool array;
-        long index = -1;  ///< of the array's element being read
-        std::string key;  ///< of the object's member being read
-        std::set<std::string> keys;
-    };
-    std::vector<Frame> frames;
-    std::string repeatedAt, repeated;  // the first key given twice, and its place
-    const auto where = [&](size_t depth) {
-        std::string at = root;
-        for (size_t k = 0; k < depth; ++k)
-            at += frames[k].array ? "[" + std::to_string(frames[k].index) + "]"
-                                  : (at.empty() ? "" : ".") + frames[k].key;
-        return at.empty() ? std::string("(top level)") : at;
-    };
-    const auto checkKeys = [&](int, Json::parse_event_t event, Json& parsed) {
-        using E = Json::parse_event_t;
-        const bool element =
-            event == E::value || event == E::object_start || event == E::array_start;
-        if (element && !frames.empty() && frames.back().array) ++frames.back().index;
-        if (event == E::object_start || event == E::array_start) {
-            frames.push_back(Frame{event == E::array_start, -1, {}, {}});
-            if (frames.size() > kMaxJsonDepth)  // (named by its first levels)
-                fail(path, where(std::min<size_t>(frames.size() - 1, 4)) + "…", tooDeepMessage());
-        } else if (event == E::object_end || event == E::array_end)
-            frames.pop_back();
-        else if (event == E::key) {
-            Frame& f = frames.back();
-            f.key = parsed.get<std::string>();
-            if (!f.keys.insert(f.key).second && repeated.empty())
-                repeatedAt = where(frames.size() - 1), repeated = f.key;
-        }
-        return true;
-    };
+    // value would be ignored without a word. The place is the object's JSON path. Said once the
+    // whole text has parsed: the walk sees a key before the parser checks the ':' after it, and a
+    // syntax error there ("fov" 40) is the mistake to name.
+    JsonWalk walk(root, [&](const std::string& place) { fail(path, place, tooDeepMessage()); });
+    const bool wellFormed = Json::sax_parse(text, &walk);
     try {
-        Json parsed = Json::parse(text, checkKeys);
-        if (!repeated.empty())
-            fail(path, repeatedAt,
-                 "key \"" + repeated + "\" appears twice (the last would replace the first)");
+        Json parsed = Json::parse(text);  // (malformed: throws, naming the place)
+        if (wellFormed && !walk.repeated.empty())
+            fail(path, walk.repeatedAt,
+                 "key \"" + walk.repeated + "\" appears twice (the last would replace the first)");
         return parsed;
     } catch (const Json::out_of_range& e) {  // e.g. a number such as 1e999
         // e.what() is "[json.exception…] number overflow parsing '1e999'", without a position:

@@ -129,7 +129,7 @@ void Ledger::read(Open open) {
             fail(jsonlPath(), "line " + std::to_string(line), tooDeepMessage());
         };
         try {
-            rows_.push_back(Json::parse(row, depthLimit(tooDeep)));
+            rows_.push_back(parseWithinDepth(row, tooDeep));
         } catch (const Json::exception&) {
             fail(jsonlPath(), "line " + std::to_string(line), "malformed JSON row");
         }

@@ -31,10 +31,11 @@ std::string canonicalJson(const Json& j);
 /// deep overflow the stack (helper 96: 100 000 nested arrays under "media", a 200 kB file, crashed
 /// `render`).
 inline constexpr size_t kMaxJsonDepth = 256;
-/// A parser callback for nlohmann's Json::parse that calls tooDeep(), which must throw, where the
-/// nesting passes kMaxJsonDepth, counted as parseJsonText counts (kMaxJsonDepth objects and
-/// arrays inside each other pass): for texts read without parseJsonText's messages.
-Json::parser_callback_t depthLimit(std::function<void()> tooDeep);
+/// Json::parse(text), after a walk of the text that calls tooDeep(), which must throw, where the
+/// nesting passes kMaxJsonDepth, counted as parseJsonText counts (kMaxJsonDepth objects and arrays
+/// inside each other pass), before anything is built: for texts read without parseJsonText's
+/// messages. Throws Json::exception where the text is malformed.
+Json parseWithinDepth(const std::string& text, const std::function<void()>& tooDeep);
 /// The refusal's words: "objects and arrays nested more than 256 levels deep".
 std::string tooDeepMessage();
 
