@@ -232,16 +232,44 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
         const double d = (a.center - b.center).norm();
         return std::max({0.0, d - a.radius - b.radius, std::abs(a.radius - b.radius) - d});
     };
-    for (size_t i = 0; i < all.size(); ++i)
-        for (size_t j = i + 1; j < all.size(); ++j) {
+    // Sweep and prune: a pair less than 10 ε apart (boxes, or spheres, whose surfaces lie inside
+    // their boxes) is less than 10 ε apart along every axis, so along one axis only boxes that
+    // reach within 10 ε of one another's span are compared: along the axis where the fewest do
+    // (every pair was compared until 7 Dec: 64,000 spheres took 29 s to set up an 8×8 image, and
+    // spheres in a plane across the longest axis as long; helper 127). The closest pair, ties to
+    // the lowest indices, is the one every pair's loop named.
+    const double reach = 10 * eps;
+    int axis = 0;
+    double fewest = INFINITY;
+    std::vector<size_t> order(all.size());
+    for (int a = 0; a < 3; ++a) {
+        std::vector<double> starts(all.size());
+        for (size_t k = 0; k < all.size(); ++k) starts[k] = boxes[k].lo[a];
+        std::sort(starts.begin(), starts.end());
+        double candidates = 0;  // Σ over boxes of the boxes starting in [lo, hi + reach)
+        for (size_t k = 0; k < all.size(); ++k)
+            candidates +=
+                double(std::lower_bound(starts.begin(), starts.end(), boxes[k].hi[a] + reach) -
+                       std::lower_bound(starts.begin(), starts.end(), boxes[k].lo[a]));
+        if (candidates < fewest) fewest = candidates, axis = a;
+    }
+    for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::sort(order.begin(), order.end(), [&](size_t p, size_t q) {
+        return std::tie(boxes[p].lo[axis], p) < std::tie(boxes[q].lo[axis], q);
+    });
+    for (size_t p = 0; p < order.size(); ++p)
+        for (size_t q = p + 1; q < order.size(); ++q) {
+            const size_t i = std::min(order[p], order[q]), j = std::max(order[p], order[q]);
+            if (!(boxes[order[q]].lo[axis] - boxes[order[p]].hi[axis] < reach)) break;
             const Bounds3 &a = boxes[i], &b = boxes[j];
             const double gap =
                 all[i].kind == Surface::Kind::Sphere && all[j].kind == Surface::Kind::Sphere
                     ? sphereGap(all[i], all[j])
                     : (a.lo - b.hi).cwiseMax(b.lo - a.hi).cwiseMax(Vec3::Zero()).norm();
-            if (!(gap > 0 && gap < 10 * eps)) continue;
+            if (!(gap > 0 && gap < reach)) continue;
             ++pairs;
-            if (gap < closest) closest = gap, closestA = i, closestB = j;
+            if (std::tie(gap, i, j) < std::tie(closest, closestA, closestB))
+                closest = gap, closestA = i, closestB = j;
         }
     if (pairs > 0) {
         char msg[500];

@@ -2142,6 +2142,47 @@ TEST_F(Cli, RenderWarnsOfSurfacesSmallForTheRayOffset) {
     }
 }
 
+// The gap warning among many surfaces: 200 spheres of radius 100 in a grid 1000 apart in the
+// plane z = 0, across the longest axis (two beads at z = ±10⁵ make it z: ε = 10⁵·2⁻¹⁶ = 1.53,
+// a gap below 15.3 is warned of), with partners 0.5, 3, 7, 12 and 20 beside five of them, a
+// sphere nested 2 inside a sixth and one crossing a seventh: five pairs, the closest named. The
+// pairs are found by sweep and prune (since 7 Dec; every pair was compared before: 64,000 spheres
+// took 29 s; helper 127), which must find what comparing every pair found.
+TEST_F(Cli, RenderWarnsOfTheClosestOfManySurfaces) {
+    std::string surfaces;
+    const auto sphere = [&](const std::string& name, double x, double y, double z, double r) {
+        char buf[200];
+        std::snprintf(buf, sizeof buf,
+                      R"(%s{"type": "sphere", "name": "%s", "center": [%.17g, %.17g, %.17g],
+                      "radius": %.17g})",
+                      surfaces.empty() ? "" : ", ", name.c_str(), x, y, z, r);
+        surfaces += buf;
+    };
+    for (int i = 0; i < 20; ++i)
+        for (int j = 0; j < 10; ++j)
+            sphere("g" + std::to_string(i) + "_" + std::to_string(j), 1000 * i, 1000 * j, 0, 100);
+    const double gaps[] = {12, 3, 20, 0.5, 7};
+    for (int k = 0; k < 5; ++k)  // (beside along x or along y)
+        sphere("partner" + std::to_string(k), 1000 * (3 * k + 1) + (k % 2 ? 0 : 200 + gaps[k]),
+               1000 * k + (k % 2 ? 200 + gaps[k] : 0), 0, 100);
+    sphere("nested", 1000 * 17, 1000 * 8, 0, 98);
+    sphere("crossing", 1000 * 5 + 150, 1000 * 9, 0, 100);
+    sphere("top", 0, 0, 1e5, 200);
+    sphere("bottom", 0, 0, -1e5, 200);
+    write("many.json", R"({"camera": {"resolution": [4, 4], "position": [0, -3000, 0],
+                   "target": [0, 0, 0]}, "render": {"spp": 1},
+                   "surfaces": [)" +
+                           surfaces + "]}");
+    const Result r = run("render " + path("many.json") + " -o " + path("out.exr") + " --quiet");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "shvol: warning: " + path("many.json") +
+                         ": g10_3 and partner3 are 0.5 apart (the closest of 5 such pairs), and "
+                         "the ray offset is 1.53 (2^-16 of the surfaces' extent): rays leaving one "
+                         "skip more than a tenth of the gap (all of it: they see past each other), "
+                         "and light between them is unreliable; make the surfaces' extent "
+                         "smaller, which sets the offset, or the gap wider\n");
+}
+
 // Glass that is not a solid's surface is named in a warning, with its defect's place in its
 // file (it rendered without a word; helper 66).
 TEST_F(Cli, RenderWarnsOfGlassThatIsNotClosed) {
