@@ -317,6 +317,10 @@ Sweep readSweep(const std::string& path, double maxRuns) {
                 std::find(known.begin(), known.end(), v.get<std::string>()) == known.end())
                 r.error("metrics", "unknown metric " + dumpJson(v) +
                                        "; expected rmse, relmse, mae, bias or ztest");
+            // (as every other value given twice in a sweep: accepted silently until helper 127)
+            if (std::find(s.metrics.begin(), s.metrics.end(), v.get<std::string>()) !=
+                s.metrics.end())
+                r.error("metrics", dumpJson(v) + " is given twice; give each metric once");
             s.metrics.push_back(v.get<std::string>());
         }
     } else if (s.reference) {

@@ -305,6 +305,9 @@ TEST(Sweep, ErrorsNameFileAndKey) {
               ": axes.seed: expected integers in [0, 2^53]");
     EXPECT_EQ(err("e4", R"({"scene": "scene.json", "metrics": ["rmse"]})"),
               ": metrics: metrics need a \"reference\"");
+    EXPECT_EQ(err("e4d", R"({"scene": "scene.json", "metrics": ["rmse", "bias", "rmse"],
+                             "reference": {"spp": 8}})"),
+              ": metrics: \"rmse\" is given twice; give each metric once");
     EXPECT_EQ(err("e4r", R"({"scene": "scene.json", "metrics": [], "reference": {"spp": 8}})"),
               ": metrics: none, but the sweep has a \"reference\", which only metrics use; name "
               "a metric or drop the reference");
