@@ -19,6 +19,7 @@ import html
 import json
 import math
 import os
+import re
 import signal
 import sys
 
@@ -152,6 +153,10 @@ def load(directory):
                      "one batch")
             # (A run in two rows would be counted twice; shvol batch refuses such a ledger too.)
             run = row.get("run")
+            # (as shvol batch names its runs; "zzz" was reported as a run: helper 127)
+            if not (isinstance(run, str) and re.fullmatch(r"r[0-9]{4,}", run)):
+                fail(f"{path}: line {n}: run: expected a run id of shvol batch (r0000, r0001, "
+                     f"…), got {json.dumps(run)}")
             if isinstance(run, str):
                 if run in first_line:
                     fail(f"{path}: line {n}: run {run} again (first at line "

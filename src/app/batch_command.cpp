@@ -416,6 +416,27 @@ void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string& 
     for (const SweepRun& r : s.runs) runs.emplace(r.id, &r);
     for (const Json& row : ledger.rows()) {
         const std::string id = row["run"].get<std::string>();
+        // The row as the batch wrote it: its id one of the batch's, its numbers numbers (a row
+        // with "run": "zzz" gave its run that id, and one with "rmse": "abc" was taken as
+        // finished, for the report to refuse or not; helper 127). As tools/report.py reads them.
+        if (id.size() < 5 || id[0] != 'r' || id.find_first_not_of("0123456789", 1) != id.npos)
+            fail(ledger.jsonlPath(), "run " + id,
+                 "not a run id of shvol batch (r0000, r0001, …); delete its line to render that "
+                 "run again");
+        for (const char* key :
+             {"spp", "wall_time_s", "total_s", "rmse", "relmse", "mae", "bias", "ztest_min_p"})
+            if (const bool signedValue = std::string(key) == "bias";
+                row.contains(key) &&
+                !(row[key].is_number() && std::isfinite(row[key].get<double>()) &&
+                  (signedValue || row[key].get<double>() >= 0)))
+                fail(ledger.jsonlPath(), "run " + id,
+                     std::string(key) + ": expected a finite number" +
+                         (signedValue ? "" : " >= 0") + ", got " + dumpJson(row[key]) +
+                         "; delete its line to render that run again");
+        if (row.contains("ztest_passed") && !row["ztest_passed"].is_boolean())
+            fail(ledger.jsonlPath(), "run " + id,
+                 "ztest_passed: expected true or false, got " + dumpJson(row["ztest_passed"]) +
+                     "; delete its line to render that run again");
         const auto it = runs.find(id);
         if (it == runs.end())
             fail(ledger.jsonlPath(), "run " + id,

@@ -3366,6 +3366,59 @@ TEST_F(Cli, BatchRefusesRowsOfOtherAxesOrMetrics) {
     EXPECT_EQ(test::fileBytes(path("out/results.jsonl")), rows);
 }
 
+// A finished row must be as the batch wrote it: a run id of its own and numbers where it wrote
+// numbers. A row with "run": "zzz" gave its run that id (its image "zzz.exr"), and one with
+// "rmse": "abc" was taken as finished, for shvol report to refuse later, or never (helper 127).
+TEST_F(Cli, BatchRefusesRowsItDidNotWrite) {
+    write("s.json", scene(Homogeneous));
+    write("sweep.json", R"({"scene": "s.json", "set": ["render.spp=2"],
+                            "axes": {"media[0].albedo": [0.5, 0.9]},
+                            "reference": {"spp": 32, "seed": 99}, "metrics": ["rmse", "bias"],
+                            "output": "out"})");
+    const std::string batch = "batch " + path("sweep.json") + " --quiet";
+    Result r = run(batch);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string rows = test::fileBytes(path("out/results.jsonl"));
+    const auto replaced = [&](const std::string& from, const std::string& to) {
+        std::string text = rows;
+        const size_t at = text.find(from);
+        EXPECT_NE(at, std::string::npos) << from;
+        return text.replace(at, from.size(), to);
+    };
+    const size_t rmse = rows.find("\"rmse\":");
+    ASSERT_NE(rmse, std::string::npos);
+    const std::string rmseValue = rows.substr(rmse, rows.find_first_of(",}", rmse) - rmse);
+    const std::vector<std::array<std::string, 3>> cases = {
+        {R"("run":"r0000")", R"("run":"zzz")",
+         "run zzz: not a run id of shvol batch (r0000, r0001, …); delete its line to render "
+         "that run again"},
+        {rmseValue, R"("rmse":"abc")",
+         "run r0000: rmse: expected a finite number >= 0, got \"abc\"; delete its line to "
+         "render that run again"},
+        {rmseValue, R"("rmse":-1)",
+         "run r0000: rmse: expected a finite number >= 0, got -1; delete its line to render "
+         "that run again"},
+        {R"("spp":2)", R"("spp":null)",
+         "run r0000: spp: expected a finite number >= 0, got null; delete its line to render "
+         "that run again"},
+    };
+    for (const auto& [from, to, message] : cases) {
+        const std::string damaged = replaced(from, to);
+        std::ofstream(path("out/results.jsonl"), std::ios::binary) << damaged;
+        for (const char* dry : {"", " --dry-run"}) {
+            r = run(batch + dry);
+            EXPECT_EQ(r.code, 1) << to << dry;
+            EXPECT_EQ(r.err, "shvol: error: " + path("out/results.jsonl") + ": " + message + "\n")
+                << to << dry;
+        }
+        EXPECT_EQ(test::fileBytes(path("out/results.jsonl")), damaged);
+    }
+    // The rows as the batch wrote them pass (a negative bias among them or not).
+    std::ofstream(path("out/results.jsonl"), std::ios::binary) << rows;
+    r = run(batch);
+    EXPECT_EQ(r.code, 0) << r.err;
+}
+
 // A z-test of runs below 64 spp is warned of before the batch renders (and by --dry-run): their
 // standard errors are too poor, and unbiased runs of the default scene failed every repeat at 2
 // and 4 spp, p down to 1e-277, said nowhere (helper 122). From 64 spp on, nothing is said.
@@ -4219,6 +4272,12 @@ TEST_F(Cli, BatchReport) {
                           << "\n";
     c = run("report " + path("o"));
     EXPECT_EQ(c.err, "shvol: error: " + ledger + ": line 1: \"git_revision\" is not a string\n");
+    std::ofstream(ledger) << R"({"run": "zzz", "spp": 8, "wall_time_s": 1})"
+                          << "\n";
+    c = run("report " + path("o"));  // (reported as a run before helper 127)
+    EXPECT_EQ(c.err, "shvol: error: " + ledger +
+                         ": line 1: run: expected a run id of shvol batch (r0000, r0001, …), got "
+                         "\"zzz\"\n");
     std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "wall_time_s": 1})"
                           << "\n"
                           << R"({"run": "r0001", "spp": 8, "wall_time_s": 1})"
