@@ -10,18 +10,23 @@ namespace shvol {
 
 namespace {
 
-constexpr int kSignals[] = {SIGINT, SIGTERM};
+/// SIGHUP too: a render whose terminal closes saves what it has, as at SIGTERM (it ended with 129
+/// and no checkpoint; helper 127).
+constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
+constexpr int kSignalCount = int(sizeof kSignals / sizeof kSignals[0]);
 
 std::atomic<bool> gInterrupted{false};
 
 /// The actions the guards replaced, one per entry of kSignals, and whether a guard's handler is
 /// installed for it. Written only under gMutex while none of this file's handlers is installed
 /// (before installing, after restoring), so the handler reads them without a race.
-struct sigaction gPrevious[2];
-bool gCaught[2] = {false, false};
+struct sigaction gPrevious[kSignalCount];
+bool gCaught[kSignalCount] = {};
 
 int indexOf(int sig) {
-    return sig == SIGINT ? 0 : 1;
+    int i = 0;
+    while (i + 1 < kSignalCount && kSignals[i] != sig) ++i;
+    return i;
 }
 
 /// Sets the flag and puts the previous action back for the next signal of this kind.
@@ -42,7 +47,7 @@ InterruptGuard::InterruptGuard() {
     if (gDepth++ > 0 || gInterrupted.load()) return;
     // The temporaries' handlers go in before this guard's, so that they are what the first signal
     // hands back to (installed later, they would find this guard's handler and stay away from
-    // SIGINT and SIGTERM for good).
+    // SIGINT, SIGTERM and SIGHUP for good).
     removeTemporariesOnSignals();
     for (const int sig : kSignals) {
         const int i = indexOf(sig);

@@ -2391,9 +2391,10 @@ TEST_F(Cli, SignalsStopTheRadianceCacheFill) {
     EXPECT_LT(stats["radiance_cache"]["records"].get<int>(), 20);
 }
 
+// SIGHUP (the terminal closed) too: it ended the render with 129 and no checkpoint (helper 127).
 TEST_F(Cli, InterruptedRenderWritesWhatItHas) {
     write("s.json", scene(Homogeneous));
-    for (const char* sig : {"INT", "TERM"}) {
+    for (const char* sig : {"INT", "TERM", "HUP"}) {
         const std::string out = path(std::string("i") + sig + ".exr");
         // The shell's redirections apply to `wait`; the render's stderr goes to bg.txt. A job
         // started with `&` by a script ignores SIGINT (and shvol leaves it ignored): env gives it
@@ -2401,7 +2402,11 @@ TEST_F(Cli, InterruptedRenderWritesWhatItHas) {
         const Result r =
             runCommand("env --default-signal=INT " + std::string(SHVOL_BINARY) + " render " +
                        path("s.json") + " -o " + out + " --spp 10000000 2>" + path("bg.txt") +
-                       killOnceCaught(sig, std::string(sig) == "INT" ? SIGINT : SIGTERM, "0.5"));
+                       killOnceCaught(sig,
+                                      std::string(sig) == "INT"    ? SIGINT
+                                      : std::string(sig) == "TERM" ? SIGTERM
+                                                                   : SIGHUP,
+                                      "0.5"));
         std::ifstream bg(path("bg.txt"));
         const std::string err((std::istreambuf_iterator<char>(bg)), {});
         EXPECT_EQ(r.code, 130) << sig << ": " << err;
