@@ -1,6 +1,7 @@
 #include "shvol/core/input_file.h"
 
 #include <filesystem>
+#include <utility>
 
 #include "shvol/core/error.h"
 
@@ -14,6 +15,17 @@ std::string inputFileProblem(const std::string& path) {
     if (ec) return "cannot read file (" + ec.message() + ")";
     if (!fs::is_regular_file(st)) return "not a regular file";
     return "";
+}
+
+const char* fileKindByMagic(const std::string& start) {
+    static const std::pair<std::string, const char*> kinds[] = {
+        {" BDV", "an OpenVDB grid"},
+        {"\x76\x2f\x31\x01", "an OpenEXR image"},
+        {"ply\n", "a PLY mesh"},
+        {"ply\r\n", "a PLY mesh"}};
+    for (const auto& [magic, kind] : kinds)
+        if (start.compare(0, magic.size(), magic) == 0) return kind;
+    return nullptr;
 }
 
 uintmax_t regularFileSize(const std::string& path) {

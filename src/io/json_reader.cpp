@@ -223,15 +223,10 @@ Json parseJsonText(const std::string& text, const std::string& path, const std::
     };
     // A file of another kind given where JSON is read (a grid or an image for a scene): named by
     // its kind, where the parser's "a NUL byte" said nothing of it (helper 122).
-    for (const auto& [magic, kind] :
-         {std::pair<std::string, const char*>{" BDV", "an OpenVDB grid"},
-          {"\x76\x2f\x31\x01", "an OpenEXR image"},
-          {"ply\n", "a PLY mesh"},
-          {"ply\r\n", "a PLY mesh"}})
-        if (text.compare(0, magic.size(), magic) == 0)
-            fail(path, "",
-                 std::string("the file is ") + kind +
-                     ", not JSON: a scene or a sweep names such files by their keys");
+    if (const char* kind = fileKindByMagic(text))
+        fail(path, "",
+             std::string("the file is ") + kind +
+                 ", not JSON: a scene or a sweep names such files by their keys");
     // The parser reads a NUL byte as the end of the text, and would ignore what follows.
     if (const size_t nul = text.find('\0'); nul != std::string::npos)
         fail(path, lineColumn(nul), "malformed JSON: a NUL byte");

@@ -50,6 +50,18 @@ TabulatedPhase readPhaseTableCsv(const std::string& path) {
         fail(path, "",
              "read error (" + std::to_string(all.size()) + " of " + std::to_string(size) +
                  " bytes read)");
+    // A file of another kind: named as such, not as a table whose "header" was its first line
+    // and whose second had 1 column (helper 127).
+    if (const char* kind = fileKindByMagic(all))
+        fail(path, "",
+             std::string("the file is ") + kind +
+                 ", not a phase table: a tabulated phase function reads CSV text of (angle in "
+                 "degrees, value) rows");
+    if (const size_t nul = all.find('\0'); nul != std::string::npos)
+        fail(path, "",
+             "binary data (a NUL byte at byte " + std::to_string(nul) +
+                 "), not a phase table: a tabulated phase function reads CSV text of (angle in "
+                 "degrees, value) rows");
     std::vector<double> angles, values;
     std::string text;
     int lineNo = 0;

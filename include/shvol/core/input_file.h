@@ -14,4 +14,11 @@ std::string inputFileProblem(const std::string& path);
 /// inputFileProblem if there is one.
 uintmax_t regularFileSize(const std::string& path);
 
+/// What a file whose text begins with `start` is, by its magic number, among the binary files
+/// shvol reads: "an OpenVDB grid", "an OpenEXR image" or "a PLY mesh" (ASCII PLY too: its
+/// header is no table or JSON); nullptr for anything else. For a file of one of these kinds given
+/// where text is read (a scene, a phase table), which the text's reader named by a NUL byte or a
+/// row of 1 column (helpers 122, 127).
+const char* fileKindByMagic(const std::string& start);
+
 }  // namespace shvol
