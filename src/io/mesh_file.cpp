@@ -476,6 +476,14 @@ class AsciiBody {
             fail(file_, place(),
                  quote(tok) + " in " + recordName(*e_, k_) +
                      " is not a number (or is out of range)");
+        // A float property holds what a float can (a binary file could not hold more): 1e39 was
+        // kept as a double, and refused later by the scene's coordinate check, without the
+        // file's place (helper 127).
+        if (t == Type::F32 && std::abs(x) > double(std::numeric_limits<float>::max()) &&
+            std::isfinite(x))
+            fail(file_, place(),
+                 quote(tok) + " in " + recordName(*e_, k_) +
+                     " is beyond the range of a float (±3.4e38), the property's type");
         return x;
     }
 

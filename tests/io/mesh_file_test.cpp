@@ -398,6 +398,10 @@ TEST(MeshFile, PlyBodyErrors) {
     EXPECT_CONTAINS(
         errorOf("overflow.ply", kAsciiHead + "1e999 0 0\n1 0 0\n0 1 0\n0 0 1\n" + kFaces),
         "line 10: \"1e999\" in vertex 0 is not a number");
+    // Beyond a float, within a double: the property is a float (helper 127: named by the scene).
+    EXPECT_CONTAINS(errorOf("beyond.ply", kAsciiHead + "0 -1e39 0\n1 0 0\n0 1 0\n0 0 1\n" + kFaces),
+                    "line 10: \"-1e39\" in vertex 0 is beyond the range of a float (±3.4e38), the "
+                    "property's type");
 }
 
 TEST(MeshFile, PlyValidationErrors) {
