@@ -612,6 +612,13 @@ double JsonReader::number(const std::string& key, double def, double lo, double 
 double JsonReader::wholeNumber(const std::string& key, double def, double lo, double hi) {
     const double x = number(key, def, lo, hi);
     if (x != std::floor(x)) error(key, "expected a non-negative integer");
+    // From 2^53 on doubles are 2 apart: 9007199254740993.0 was read as 2^53 and rendered as that
+    // seed (helper 127), where the same digits without ".0" are refused as out of range.
+    if (std::abs(x) >= 9007199254740992.0 && j_.contains(key) && j_.at(key).is_number_float())
+        error(key, "written with a fraction or an exponent, it reads as the double " +
+                       dumpJson(j_.at(key)) +
+                       ", and from 2^53 on a double cannot tell neighbouring integers apart: "
+                       "write it as an integer");
     return x;
 }
 
