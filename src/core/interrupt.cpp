@@ -25,14 +25,17 @@ bool gCaught[kSignalCount] = {};
 
 int indexOf(int sig) {
     int i = 0;
-    while (i + 1 < kSignalCount && kSignals[i] != sig) ++i;
+    while (kSignals[i] != sig) ++i;  // (only kSignals' handlers are ours)
     return i;
 }
 
-/// Sets the flag and puts the previous action back for the next signal of this kind.
+/// Sets the flag and puts the previous action back for the next SIGINT or SIGTERM, which ends the
+/// process as it would have. SIGHUP stays caught: a closing terminal sends it twice, from the
+/// shell and from the kernel as the session ends, and the second ended the render before it had
+/// written anything (helper 129).
 extern "C" void onInterrupt(int sig) {
     gInterrupted.store(true);
-    ::sigaction(sig, &gPrevious[indexOf(sig)], nullptr);
+    if (sig != SIGHUP) ::sigaction(sig, &gPrevious[indexOf(sig)], nullptr);
 }
 
 std::mutex gMutex;

@@ -2371,6 +2371,32 @@ TEST_F(Cli, SignalWhileWritingStillWritesEverything) {
         EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
 }
 
+// A closing terminal sends SIGHUP twice, from the shell and then from the kernel as the session
+// ends: the second, which came while the first's outputs were written, ended the render with 129
+// and nothing written (helper 129). The second is sent once the stats' temporary appears, which
+// is before the EXRs are written.
+TEST_F(Cli, SecondHangupWhileWritingStillWritesEverything) {
+    write("s.json", scene(Homogeneous));
+    const std::string out = path("w.exr");
+    std::string kills = killOnceCaught("HUP", SIGHUP, "0.3");
+    kills.replace(kills.rfind("wait $p"), 7,
+                  "i=0; while ! ls " + path("w.stats.json.tmp") +
+                      "* >/dev/null 2>&1 && [ $i -lt 60000 ]; do sleep 0.001; i=$((i+1)); done; "
+                      "kill -HUP $p; wait $p");
+    const Result r = runCommand(std::string(SHVOL_BINARY) + " render " + path("s.json") + " -o " +
+                                out + " --spp 10000000 --variance --quiet --set " +
+                                "camera.resolution=[2048,2048] 2>" + path("bg.txt") + kills);
+    const std::string err = test::fileBytes(path("bg.txt"));
+    EXPECT_EQ(r.code, 130) << err;
+    EXPECT_NE(err.find("shvol: interrupted: wrote the samples finished so far to " + out),
+              std::string::npos)
+        << err;
+    for (const char* f : {"w.exr", "w.stderr.exr", "w.stats.json"})
+        EXPECT_TRUE(fs::exists(path(f))) << f;
+    for (const auto& e : fs::directory_iterator(dir_))
+        EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+}
+
 // A signal stops the radiance cache's fill: it waited for the whole fill (with 2^20 paths per
 // record this scene's 58 records take about 12 s here), and no sample sees the part-filled cache.
 // (The time limit counts the passes only: a resumed render fills the cache again.)
@@ -2399,14 +2425,14 @@ TEST_F(Cli, InterruptedRenderWritesWhatItHas) {
         // The shell's redirections apply to `wait`; the render's stderr goes to bg.txt. A job
         // started with `&` by a script ignores SIGINT (and shvol leaves it ignored): env gives it
         // the default action back, as a user stopping such a job with SIGINT must.
-        const Result r =
-            runCommand("env --default-signal=INT " + std::string(SHVOL_BINARY) + " render " +
-                       path("s.json") + " -o " + out + " --spp 10000000 2>" + path("bg.txt") +
-                       killOnceCaught(sig,
-                                      std::string(sig) == "INT"    ? SIGINT
-                                      : std::string(sig) == "TERM" ? SIGTERM
-                                                                   : SIGHUP,
-                                      "0.5"));
+        std::string kill = killOnceCaught(sig,
+                                          std::string(sig) == "INT"    ? SIGINT
+                                          : std::string(sig) == "TERM" ? SIGTERM
+                                                                       : SIGHUP,
+                                          "0.5");
+        const Result r = runCommand("env --default-signal=INT " + std::string(SHVOL_BINARY) +
+                                    " render " + path("s.json") + " -o " + out +
+                                    " --spp 10000000 2>" + path("bg.txt") + kill);
         std::ifstream bg(path("bg.txt"));
         const std::string err((std::istreambuf_iterator<char>(bg)), {});
         EXPECT_EQ(r.code, 130) << sig << ": " << err;
