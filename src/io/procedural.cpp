@@ -279,9 +279,11 @@ SkySummary describeSky(const SkyParams& s) {
         const Spectrum phys = physicalSunRadiance(s.turbidity, elevation);
         if (s.sunRadiance)
             out.sunRadiance = phys * (*s.sunRadiance / rec709Luminance(phys));
-        else  // keep the sun's illuminance when the disc is not the true size
-            out.sunRadiance =
-                phys * (capSolidAngle(TrueSunAngularRadius) / capSolidAngle(out.sunAngularRadius));
+        else  // keep the sun's illuminance when the disc is not the true size: L π sin² r (the
+              // radiance times the solid angle, kept until 7 Dec, lost (1 − cos r)/2 of it, 6.1%
+              // at r = 0.5; helper 130)
+            out.sunRadiance = phys * (capProjectedSolidAngle(TrueSunAngularRadius) /
+                                      capProjectedSolidAngle(out.sunAngularRadius));
         const PreethamSky sky(s.turbidity, out.sunDirection);
         out.zenithLuminance = sky.xyY(Vec3(0, 0, 1))[2];
         // The disc's part above the horizon, as the image shows it (a point sun at the disc's

@@ -494,13 +494,22 @@ TEST(ProceduralSky, DefaultsAndValidation) {
     EXPECT_NEAR(s.sunLuminance, physicalSunLuminance(3, 35 * Deg), 1e-6 * s.sunLuminance);
     p.sunRadiance = 123;
     EXPECT_NEAR(describeSky(p).sunLuminance, 123, 1e-9);
-    // A larger disc without a given radiance keeps the sun's illuminance.
+    // A larger disc without a given radiance keeps the sun's illuminance: with the whole disc
+    // above the horizon, the ground it lights is as bright as under the true disc (radiance
+    // times solid angle, kept until 7 Dec, made it 6.1% darker at a radius of 0.5; helper 130).
     p.sunRadiance.reset();
-    p.sunAngularRadius = 0.02;
-    s = describeSky(p);
-    EXPECT_NEAR(s.sunLuminance * TwoPi * (1 - std::cos(0.02)),
-                physicalSunLuminance(3, 35 * Deg) * TwoPi * (1 - std::cos(0.004625)),
-                1e-9 * s.sunLuminance);
+    p.sunElevationDegrees = 80;
+    const double trueGround = describeSky(p).groundRadiance.mean();
+    for (const double radius : {0.02, 0.5}) {
+        p.sunAngularRadius = radius;
+        s = describeSky(p);
+        EXPECT_NEAR(s.groundRadiance.mean(), trueGround, 1e-9 * trueGround) << radius;
+        EXPECT_NEAR(s.sunLuminance * Pi * std::pow(std::sin(radius), 2),
+                    physicalSunLuminance(3, 80 * Deg) * Pi * std::pow(std::sin(0.004625), 2),
+                    1e-9 * s.sunLuminance)
+            << radius;
+    }
+    p.sunElevationDegrees = 35;
     SkyParams q;
     EXPECT_DOUBLE_EQ(describeSky(q).sunAngularRadius, 0.02);
     EXPECT_NEAR(describeSky(q).sunRadiance[0], 2000, 1e-9);

@@ -61,6 +61,12 @@ inline double capSolidAngle(double r) {
     const double s = std::sin(0.5 * r);
     return FourPi * s * s;
 }
+/// Projected solid angle of a disc (spherical cap) of angular radius r about the normal,
+/// ∫ cos θ dω = π sin² r: the illuminance of a surface facing a disc of unit radiance.
+inline double capProjectedSolidAngle(double r) {
+    const double s = std::sin(r);
+    return Pi * s * s;
+}
 /// Projected solid angle above the horizon, ∫ max(0, ω_z) dω, of a disc (spherical cap) of
 /// angular radius r ∈ (0, π/2) whose centre has elevation e: the horizontal irradiance under the
 /// disc at unit radiance, its part below the horizon hidden. With θ = π/2 − e, the centre's
