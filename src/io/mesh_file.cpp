@@ -478,9 +478,11 @@ class AsciiBody {
                      " is not a number (or is out of range)");
         // A float property holds what a float can (a binary file could not hold more): 1e39 was
         // kept as a double, and refused later by the scene's coordinate check, without the
-        // file's place (helper 127).
-        if (t == Type::F32 && std::abs(x) > double(std::numeric_limits<float>::max()) &&
-            std::isfinite(x))
+        // file's place (helper 127). Refused where it would round to an infinite float, from
+        // (2 − 2⁻²⁴)·2¹²⁷ on: the largest float as printed, 3.4028235e+38, a little above the
+        // largest float, rounds down to it (helper 129).
+        if (t == Type::F32 && std::isfinite(x) &&
+            std::abs(x) >= std::ldexp(2.0 - std::ldexp(1.0, -24), 127))
             fail(file_, place(),
                  quote(tok) + " in " + recordName(*e_, k_) +
                      " is beyond the range of a float (±3.4e38), the property's type");

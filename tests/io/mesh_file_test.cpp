@@ -399,9 +399,16 @@ TEST(MeshFile, PlyBodyErrors) {
         errorOf("overflow.ply", kAsciiHead + "1e999 0 0\n1 0 0\n0 1 0\n0 0 1\n" + kFaces),
         "line 10: \"1e999\" in vertex 0 is not a number");
     // Beyond a float, within a double: the property is a float (helper 127: named by the scene).
-    EXPECT_CONTAINS(errorOf("beyond.ply", kAsciiHead + "0 -1e39 0\n1 0 0\n0 1 0\n0 0 1\n" + kFaces),
-                    "line 10: \"-1e39\" in vertex 0 is beyond the range of a float (±3.4e38), the "
-                    "property's type");
+    // What rounds to an infinite float: 3.4028236e38 does, the largest float as printed,
+    // 3.4028235e+38, does not (helper 129).
+    for (const std::string beyond : {"-1e39", "3.4028236e38"})
+        EXPECT_CONTAINS(errorOf("beyond.ply",
+                                kAsciiHead + "0 " + beyond + " 0\n1 0 0\n0 1 0\n0 0 1\n" + kFaces),
+                        "line 10: \"" + beyond +
+                            "\" in vertex 0 is beyond the range of a float (±3.4e38), the "
+                            "property's type");
+    EXPECT_NO_THROW(
+        parsePly(kAsciiHead + "0 0 3.4028235e+38\n1 0 0\n0 1 0\n0 0 1\n" + kFaces, "largest.ply"));
 }
 
 TEST(MeshFile, PlyValidationErrors) {
