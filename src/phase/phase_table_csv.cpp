@@ -52,16 +52,15 @@ TabulatedPhase readPhaseTableCsv(const std::string& path) {
                  " bytes read)");
     // A file of another kind: named as such, not as a table whose "header" was its first line
     // and whose second had 1 column (helper 127).
+    const std::string notATable =
+        ", not a phase table: a tabulated phase function reads CSV text (UTF-8) of (angle in "
+        "degrees, value) rows";
     if (const char* kind = fileKindByMagic(all))
-        fail(path, "",
-             std::string("the file is ") + kind +
-                 ", not a phase table: a tabulated phase function reads CSV text of (angle in "
-                 "degrees, value) rows");
+        fail(path, "", std::string("the file is ") + kind + notATable);
     if (const size_t nul = all.find('\0'); nul != std::string::npos)
         fail(path, "",
-             "binary data (a NUL byte at byte " + std::to_string(nul) +
-                 "), not a phase table: a tabulated phase function reads CSV text of (angle in "
-                 "degrees, value) rows");
+             "a NUL byte at byte " + std::to_string(nul) + " (binary data, or UTF-16 text)" +
+                 notATable);
     std::vector<double> angles, values;
     std::string text;
     int lineNo = 0;

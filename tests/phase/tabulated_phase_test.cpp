@@ -174,15 +174,15 @@ TEST(TabulatedCsv, OneLineErrors) {
     EXPECT_EQ(err("huge.csv", "0,1\n90,1e999\n180,1\n"), "line 2: value is not finite");
     // Files of another kind (they read as a header line, then a row of 1 column; helper 127).
     const std::string rows =
-        ", not a phase table: a tabulated phase function reads CSV text of "
-        "(angle in degrees, value) rows";
+        ", not a phase table: a tabulated phase function reads CSV text (UTF-8) of (angle in "
+        "degrees, value) rows";
     EXPECT_EQ(err("sky.exr", std::string("\x76\x2f\x31\x01\x02\0\0\0channels\0", 16)),
               "the file is an OpenEXR image" + rows);
     EXPECT_EQ(err("cloud.vdb", std::string(" BDV\0\0\0\0\xda\0", 10)),
               "the file is an OpenVDB grid" + rows);
     EXPECT_EQ(err("mesh.ply", "ply\r\nformat ascii 1.0\r\n"), "the file is a PLY mesh" + rows);
     EXPECT_EQ(err("image.png", std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16)),
-              "binary data (a NUL byte at byte 8)" + rows);
+              "a NUL byte at byte 8 (binary data, or UTF-16 text)" + rows);
     // A short table in degrees that ends before π is still fine.
     EXPECT_EQ(messageOf([&] { readPhaseTableCsv(writeCsv("peak.csv", "0,5\n1,2\n2.5,1\n")); }),
               "(no error)");

@@ -14,11 +14,10 @@ std::string inputFileProblem(const std::string& path);
 /// inputFileProblem if there is one.
 uintmax_t regularFileSize(const std::string& path);
 
-/// What a file whose text begins with `start` is, by its magic number, among the binary files
-/// shvol reads: "an OpenVDB grid", "an OpenEXR image" or "a PLY mesh" (ASCII PLY too: its
-/// header is no table or JSON); nullptr for anything else. For a file of one of these kinds given
-/// where text is read (a scene, a phase table), which the text's reader named by a NUL byte or a
-/// row of 1 column (helpers 122, 127).
+/// The kind of a file that starts with `start`, told by its magic number: "an OpenVDB grid", "an
+/// OpenEXR image" or "a PLY mesh" (ASCII PLY too), the files shvol reads that are not JSON or CSV;
+/// nullptr for any other start. Readers of JSON and CSV name such a file by its kind, where their
+/// own errors ("a NUL byte", "expected 2 columns") said nothing of it (helpers 122, 127).
 const char* fileKindByMagic(const std::string& start);
 
 }  // namespace shvol
