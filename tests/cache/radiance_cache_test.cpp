@@ -346,7 +346,7 @@ TEST(RadianceCache, GridFindsWhatASearchOfEveryRecordFinds) {
         EXPECT_GT(largest, 0.8);
         const int nn = cache.order() * cache.order();
         std::vector<double> lambda(cache.coefficientCount()), expected(cache.coefficientCount());
-        int served = 0, unserved = 0;
+        int served = 0, unserved = 0, ambiguousNormals = 0, turnedAway = 0;
         for (int q = 0; q < 4000; ++q) {
             // Near a record (where some serve) or anywhere; the normal up or tilted.
             const RadianceCache::Record& near = cache.record(size_t(rng.uniform() * cache.size()));
@@ -357,9 +357,12 @@ TEST(RadianceCache, GridFindsWhatASearchOfEveryRecordFinds) {
                 kLo + (kHi - kLo).cwiseProduct(Vec3(rng.uniform(), rng.uniform(), rng.uniform()));
             const Vec3 p = q % 2 ? Vec3(near.p + offset) : anywhere;
             const bool up = q % 3 != 0;
-            const Vec3 n = up ? z : Vec3(0.3 * rng.uniform(), 0, 1).normalized();
+            // (tilted up to 45°: past the 30° between geometric normals beyond which none serves)
+            const Vec3 n = up ? z : Vec3(rng.uniform(), 0, 1).normalized();
             // The brute force: every record's distance d = |p − P|/R + √(1 − n·N), served
-            // where d < a (weight 1/d > 1/a).
+            // where d < a (weight 1/d > 1/a) and the geometric normals are within 30°.
+            const bool facing = n.dot(z) >= RadianceCache::kMinGeometricCos;
+            ambiguousNormals += std::abs(n.dot(z) - RadianceCache::kMinGeometricCos) < 1e-12;
             bool any = false, ambiguous = false;
             double wSum = 0;
             std::fill(expected.begin(), expected.end(), 0.0);
@@ -367,7 +370,7 @@ TEST(RadianceCache, GridFindsWhatASearchOfEveryRecordFinds) {
                 const RadianceCache::Record& r = cache.record(i);
                 const double d = (p - r.p).norm() / r.R + std::sqrt(std::max(0.0, 1 - n.dot(z)));
                 ambiguous = ambiguous || std::abs(d - a) < 1e-9;
-                if (!(d < a)) continue;
+                if (!(d < a) || !facing) continue;
                 any = true;
                 const double w = std::min(1 / d, 1e12);
                 const double dx = (p - r.p).dot(r.frame.s), dy = (p - r.p).dot(r.frame.t);
@@ -377,6 +380,7 @@ TEST(RadianceCache, GridFindsWhatASearchOfEveryRecordFinds) {
             }
             if (ambiguous) continue;
             ASSERT_EQ(cache.covers(p, n, n), any) << "a " << a << ", query " << q;
+            turnedAway += !facing;
             ++(any ? served : unserved);
             if (!any || !up) continue;  // (a tilted query's records are rotated: tested apart)
             ASSERT_TRUE(cache.lookup(p, n, n, lambda.data()));
@@ -384,6 +388,8 @@ TEST(RadianceCache, GridFindsWhatASearchOfEveryRecordFinds) {
                 ASSERT_NEAR(lambda[k], expected[k] / wSum, 1e-12 * (1 + std::abs(lambda[k])))
                     << "a " << a << ", query " << q << ", coefficient " << k;
         }
+        EXPECT_EQ(ambiguousNormals, 0);
+        EXPECT_GT(turnedAway, 200) << a;
         EXPECT_GT(served, 1000) << a;
         EXPECT_GT(unserved, 200) << a;
     }

@@ -472,6 +472,43 @@ TEST(Vdb, BadInputGivesOneClearLine) {
     EXPECT_EQ(nan.rfind(d.file + ": grid 'density': NaN or infinite density", 0), 0u) << nan;
 }
 
+namespace {
+/// The furnace's cloud: 32³ voxels of cloudDensity, written once.
+std::string furnaceCloud() {
+    static const std::string file = [] {
+        VdbGridSpec s;
+        s.resolution = 32;
+        CloudParams p;
+        s.density = [p](const Vec3& x) { return float(cloudDensity(x, p)); };
+        writeVdb(tmp("furnace_cloud.vdb"), {s});
+        return tmp("furnace_cloud.vdb");
+    }();
+    return file;
+}
+/// The cloud at density scale 40 with albedo 1 and HG g under a constant environment of 1, no
+/// path cut, with one fast path off by `config`: none (0), the bricks (1), the majorant grid (2),
+/// decomposition (3) or regular tracking (4).
+Scene furnaceScene(int config, double g) {
+    Scene scene;
+    scene.environment = Environment::constant(Spectrum::Ones(), false);
+    scene.settings.maxDepth = 1 << 20;
+    VdbMediumDesc d;
+    d.file = furnaceCloud();
+    d.densityScale = 40;
+    d.phase = PhaseFunction(HenyeyGreensteinPhase(g));
+    d.bricks = config != 1;
+    d.majorantGrid = config != 2;
+    d.decomposition = config != 3;
+    d.regularTracking = config != 4;
+    scene.media.push_back(loadVdbMedium(d));
+    return scene;
+}
+/// A furnace camera ray: along +y into the cloud, from a random point of a 0.6 square.
+Ray furnaceRay(Rng& rng) {
+    return {Vec3(0.6 * (rng.uniform() - 0.5), -2, 0.6 * (rng.uniform() - 0.5)), {0, 1, 0}};
+}
+}  // namespace
+
 // White furnace through a real VDB medium (albedo 1, constant environment 1): without
 // next-event estimation and with no path cut, every path returns exactly 1, whichever fast path
 // is off (bricks, the majorant grid, decomposition, regular tracking): one that lost or made
@@ -481,37 +518,17 @@ TEST(Vdb, BadInputGivesOneClearLine) {
 // Vdb.RegularTrackingWhereTheMajorantIsHigh, and the bricks against OpenVDB in
 // density_bricks_test.
 TEST(Vdb, WhiteFurnace) {
-    writeVdb(tmp("cloud.vdb"), {[] {
-                 VdbGridSpec s;
-                 s.resolution = 32;
-                 CloudParams p;
-                 s.density = [p](const Vec3& x) { return float(cloudDensity(x, p)); };
-                 return s;
-             }()});
     for (int config = 0; config < 5; ++config)
         for (double g : {0.0, 0.85}) {
-            Scene scene;
-            scene.environment = Environment::constant(Spectrum::Ones(), false);
-            scene.settings.maxDepth = 1 << 20;
+            Scene scene = furnaceScene(config, g);
             scene.settings.nee = false;
-            VdbMediumDesc d;
-            d.file = tmp("cloud.vdb");
-            d.densityScale = 40;
-            d.phase = PhaseFunction(HenyeyGreensteinPhase(g));
-            d.bricks = config != 1;
-            d.majorantGrid = config != 2;
-            d.decomposition = config != 3;
-            d.regularTracking = config != 4;
-            scene.media.push_back(loadVdbMedium(d));
             const VolumePathIntegrator integrator(scene);
             PathCounters c;
             const int n = 4000;
             int notOne = 0;
             for (int i = 0; i < n; ++i) {
                 Rng rng = Rng::forSample(1, i, 0);
-                const Ray r{Vec3(0.6 * (rng.uniform() - 0.5), -2, 0.6 * (rng.uniform() - 0.5)),
-                            {0, 1, 0}};
-                notOne += (integrator.Li(r, rng, c) != 1.0).any();
+                notOne += (integrator.Li(furnaceRay(rng), rng, c) != 1.0).any();
             }
             EXPECT_EQ(notOne, 0) << "config " << config << ", g " << g;
             EXPECT_GT(c.scatteringEvents, uint64_t(n) / 4) << "the cloud must actually scatter";
@@ -524,39 +541,19 @@ TEST(Vdb, WhiteFurnace) {
 // errors, whichever fast path is off and whichever estimator, and no path may be NaN (a
 // transmittance 10% low made every case but one 5–7 standard errors low).
 TEST(Vdb, WhiteFurnaceWithNextEvent) {
-    writeVdb(tmp("cloud_nee.vdb"), {[] {
-                 VdbGridSpec s;
-                 s.resolution = 32;
-                 CloudParams p;
-                 s.density = [p](const Vec3& x) { return float(cloudDensity(x, p)); };
-                 return s;
-             }()});
     for (int config = 0; config < 5; ++config)
         for (TransmittanceEstimator est :
              {TransmittanceEstimator::Ratio, TransmittanceEstimator::Delta}) {
-            Scene scene;
-            scene.environment = Environment::constant(Spectrum::Ones(), false);
-            scene.settings.maxDepth = 1 << 20;
+            Scene scene = furnaceScene(config, 0.85);
             scene.settings.nee = true;
             scene.settings.transmittance = est;
-            VdbMediumDesc d;
-            d.file = tmp("cloud_nee.vdb");
-            d.densityScale = 40;
-            d.phase = PhaseFunction(HenyeyGreensteinPhase(0.85));
-            d.bricks = config != 1;
-            d.majorantGrid = config != 2;
-            d.decomposition = config != 3;
-            d.regularTracking = config != 4;
-            scene.media.push_back(loadVdbMedium(d));
             const VolumePathIntegrator integrator(scene);
             PathCounters c;
             const int n = 16000;
             double sum = 0, sumSq = 0;
             for (int i = 0; i < n; ++i) {
                 Rng rng = Rng::forSample(1, i, 0);
-                const Ray r{Vec3(0.6 * (rng.uniform() - 0.5), -2, 0.6 * (rng.uniform() - 0.5)),
-                            {0, 1, 0}};
-                const double L = integrator.Li(r, rng, c).mean();
+                const double L = integrator.Li(furnaceRay(rng), rng, c).mean();
                 ASSERT_TRUE(std::isfinite(L)) << "config " << config << ", path " << i;
                 sum += L, sumSq += L * L;
             }

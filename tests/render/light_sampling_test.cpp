@@ -87,7 +87,7 @@ TEST(LightSampling, WhiteFurnaceEveryStrategy) {
 // Product sampling end to end at the lowest and the highest product order the scene format
 // accepts (render.product_order 1 … ProductSampler::kMaxOrder), for a broad and a peaked lobe,
 // alone and with MIS: the furnace still renders 1, and product samples were drawn.
-TEST(LightSampling, ProductWhiteFurnaceAtEveryOrder) {
+TEST(LightSampling, ProductWhiteFurnaceAtTheLowestAndHighestOrders) {
     Image white(32, 16);
     for (int y = 0; y < 16; ++y)
         for (int x = 0; x < 32; ++x) white.set(x, y, Spectrum::Ones());
