@@ -154,14 +154,14 @@ def load(directory):
             # (A run in two rows would be counted twice; shvol batch refuses such a ledger too.)
             run = row.get("run")
             # (as shvol batch names its runs; "zzz" was reported as a run: helper 127)
-            if not (isinstance(run, str) and re.fullmatch(r"r[0-9]{4,}", run)):
+            if not (isinstance(run, str) and re.fullmatch(r"r[0-9]{4,9}", run) and
+                    run == "r%04d" % int(run[1:])):
                 fail(f"{path}: line {n}: run: expected a run id of shvol batch (r0000, r0001, "
                      f"…), got {json.dumps(run)}")
-            if isinstance(run, str):
-                if run in first_line:
-                    fail(f"{path}: line {n}: run {run} again (first at line "
-                         f"{first_line[run]}): two batches wrote into this directory")
-                first_line[run] = n
+            if run in first_line:
+                fail(f"{path}: line {n}: run {run} again (first at line "
+                     f"{first_line[run]}): two batches wrote into this directory")
+            first_line[run] = n
             rows.append(row)
     if not rows:
         fail(f"{path}: no finished runs to report")

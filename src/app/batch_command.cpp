@@ -160,6 +160,19 @@ std::string errorText(const std::exception& e, const Sweep& s, const SweepRun* r
     return run ? text + " (in run " + describe(*run, s.axes) + ")" : text;
 }
 
+/// An unknown key that one of a run's (or the reference's) `sets` brought in, refused at the
+/// sweep's key that gave it (`places`): a `set` (in every run), or an axis or the reference's own
+/// `set` (in `what`). It was blamed on the scene file, which lacks the key, "in the reference"
+/// for a `set` that every run has (helper 127). Returns where the scene itself is to blame.
+void blameSweepKey(const Error& e, const Sweep& s, const std::vector<std::string>& sets,
+                   const std::vector<std::string>& places, const std::string& what) {
+    std::string reason;
+    const int i = overrideOfUnknownKey(e.what(), s.scene, s.sceneDoc, sets, &reason);
+    if (i < 0 || size_t(i) >= places.size()) return;
+    const std::string& place = places[size_t(i)];
+    fail(s.path, place, reason + (place.rfind("set[", 0) == 0 ? "" : " (in " + what + ")"));
+}
+
 /// Checks the scenes of every run and of a rendered reference as loading them would (checkScene:
 /// keys, types, ranges, files present) before anything renders: a bad value set by an axis stops
 /// the batch, or its --dry-run, at once instead of when the batch reaches that run. The error
@@ -177,6 +190,7 @@ void checkRunScenes(const Sweep& s) {
                 checkScene(runDocument(s.sceneDoc, s.scene, s.reference->sets), s.scene);
             refSize = {c.width, c.height}, refName = "the rendered reference";
         } catch (const Error& e) {
+            blameSweepKey(e, s, s.reference->sets, s.reference->places, "the reference");
             throw Error(std::string(e.what()) + " (in the reference)");
         }
     } else if (s.reference) {
@@ -206,6 +220,7 @@ void checkRunScenes(const Sweep& s) {
                          std::to_string(refSize->second) + ", the run's image " +
                          std::to_string(c.width) + "x" + std::to_string(c.height));
         } catch (const Error& e) {
+            blameSweepKey(e, s, run.sets, run.places, "run " + describe(run, s.axes));
             throw Error(errorText(e, s, &run));
         }
     }
@@ -418,13 +433,15 @@ void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string& 
         const std::string id = row["run"].get<std::string>();
         // The row as the batch wrote it: its id one of the batch's, its numbers numbers (a row
         // with "run": "zzz" gave its run that id, and one with "rmse": "abc" was taken as
-        // finished, for the report to refuse or not; helper 127). As tools/report.py reads them.
-        if (id.size() < 5 || id[0] != 'r' || id.find_first_not_of("0123456789", 1) != id.npos)
+        // finished, for the report to refuse or not; helper 127), as tools/report.py checks them.
+        if (id.size() < 5 || id.size() > 10 || id[0] != 'r' ||
+            id.find_first_not_of("0123456789", 1) != id.npos ||
+            id != sweepRunId(int(std::stol(id.substr(1)))))  // (r00001 is not run 1's id)
             fail(ledger.jsonlPath(), "run " + id,
                  "not a run id of shvol batch (r0000, r0001, …); delete its line to render that "
                  "run again");
         for (const char* key :
-             {"spp", "wall_time_s", "total_s", "rmse", "relmse", "mae", "bias", "ztest_min_p"})
+             {"wall_time_s", "total_s", "rmse", "relmse", "mae", "bias", "ztest_min_p"})
             if (const bool signedValue = std::string(key) == "bias";
                 row.contains(key) &&
                 !(row[key].is_number() && std::isfinite(row[key].get<double>()) &&
@@ -433,6 +450,11 @@ void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string& 
                      std::string(key) + ": expected a finite number" +
                          (signedValue ? "" : " >= 0") + ", got " + dumpJson(row[key]) +
                          "; delete its line to render that run again");
+        if (!(row.contains("spp") && row["spp"].is_number_integer() &&
+              row["spp"].get<long long>() >= 1))
+            fail(ledger.jsonlPath(), "run " + id,
+                 "spp: expected an integer >= 1, got " + dumpJson(row.value("spp", Json())) +
+                     "; delete its line to render that run again");
         if (row.contains("ztest_passed") && !row["ztest_passed"].is_boolean())
             fail(ledger.jsonlPath(), "run " + id,
                  "ztest_passed: expected true or false, got " + dumpJson(row["ztest_passed"]) +
@@ -576,7 +598,7 @@ class WorkQueue {
         const double elapsed =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
         const size_t done = ++finished_;
-        // (A non-finite RMSE, e.g. against a reference with an infinite pixel, is null in JSON.)
+        // (A non-finite RMSE, of an image with an infinite pixel, is null in JSON.)
         char rmse[32] = "";
         if (const auto it = row.find("rmse"); it != row.end() && it->is_number())
             std::snprintf(rmse, sizeof rmse, " rmse %.4g", it->get<double>());

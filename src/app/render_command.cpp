@@ -239,6 +239,11 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
     // spheres in a plane across the longest axis as long; helper 127). The closest pair, ties to
     // the lowest indices, is the one every pair's loop named.
     const double reach = 10 * eps;
+    // Compared where their spans come within twice that: a sphere's gap, from its centre and
+    // radius, rounds otherwise than its box's bounds, and a pair 10 ε apart to the last digits was
+    // warned of along one axis and not along another (helper 129); ε is at least 32 steps of a
+    // double at the surfaces' coordinates, so 10 ε more is slack of hundreds of steps.
+    const double prune = 2 * reach;
     int axis = 0;
     double fewest = INFINITY;
     std::vector<size_t> order(all.size());
@@ -246,10 +251,10 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
         std::vector<double> starts(all.size());
         for (size_t k = 0; k < all.size(); ++k) starts[k] = boxes[k].lo[a];
         std::sort(starts.begin(), starts.end());
-        double candidates = 0;  // Σ over boxes of the boxes starting in [lo, hi + reach)
+        double candidates = 0;  // Σ over boxes of the boxes starting in [lo, hi + prune)
         for (size_t k = 0; k < all.size(); ++k)
             candidates +=
-                double(std::lower_bound(starts.begin(), starts.end(), boxes[k].hi[a] + reach) -
+                double(std::lower_bound(starts.begin(), starts.end(), boxes[k].hi[a] + prune) -
                        std::lower_bound(starts.begin(), starts.end(), boxes[k].lo[a]));
         if (candidates < fewest) fewest = candidates, axis = a;
     }
@@ -260,7 +265,7 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
     for (size_t p = 0; p < order.size(); ++p)
         for (size_t q = p + 1; q < order.size(); ++q) {
             const size_t i = std::min(order[p], order[q]), j = std::max(order[p], order[q]);
-            if (!(boxes[order[q]].lo[axis] - boxes[order[p]].hi[axis] < reach)) break;
+            if (!(boxes[order[q]].lo[axis] - boxes[order[p]].hi[axis] < prune)) break;
             const Bounds3 &a = boxes[i], &b = boxes[j];
             const double gap =
                 all[i].kind == Surface::Kind::Sphere && all[j].kind == Surface::Kind::Sphere
@@ -958,7 +963,18 @@ int runRender(const RenderArgs& a) {
                 if (!sppList.empty()) doc["render"]["spp"] = sppList.back();
                 if (a.seed >= 0) doc["render"]["seed"] = a.seed;
             }
-            scene = sceneFromJson(doc, a.scene, &resolved);
+            try {
+                scene = sceneFromJson(doc, a.scene, &resolved);
+            } catch (const Error& e) {
+                // A --set that misspells a key is named, not the scene, which lacks the key
+                // (helper 127).
+                std::string reason;
+                if (const int i = overrideOfUnknownKey(e.what(), a.scene, parseJsonFile(a.scene),
+                                                       a.sets, &reason);
+                    i >= 0)
+                    fail(a.scene, overridePlace(a.sets[size_t(i)]), reason);
+                throw;
+            }
             out = a.output;
             if (out.empty()) out = std::filesystem::path(a.scene).stem().string() + ".exr";
             // (-o is checked as it is parsed; the default, <scene name>.exr, here.)

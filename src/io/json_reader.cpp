@@ -12,8 +12,11 @@
 #include <functional>
 #include <set>
 #include <sstream>
+#include <string>
+#include <utility>
 #include <vector>
 
+#include "json_walk.h"
 #include "shvol/core/error.h"
 #include "shvol/core/input_file.h"
 #include "shvol/core/spelling.h"
@@ -94,77 +97,6 @@ Json integralAsInteger(const Json& j) {
     for (auto& v : out) v = integralAsInteger(v);
     return out;
 }
-
-/// A JSON text as nlohmann's SAX parser reads it, building nothing: the place (JSON path) of each
-/// open object or array and the keys each object has had, to find nesting deeper than
-/// kMaxJsonDepth (tooDeep(place) must throw; the place names the first levels) and the first key
-/// given twice in one object (repeated, at repeatedAt). Linear in the text: the DOM parser's
-/// callback, used for this until 7 Dec, scans the enclosing array or object after every object
-/// it keeps, quadratic in an array of objects (32,000 spheres: 2.8 s to read a 2 MB scene;
-/// helper 127). A malformed text stops the walk (sax_parse returns false): the DOM parser then
-/// names the place.
-class JsonWalk final : public nlohmann::json_sax<Json> {
-  public:
-    JsonWalk(std::string root, std::function<void(const std::string&)> tooDeep)
-        : root_(std::move(root)), tooDeep_(std::move(tooDeep)) {}
-    std::string repeatedAt, repeated;
-
-    bool null() override { return element(); }
-    bool boolean(bool) override { return element(); }
-    bool number_integer(number_integer_t) override { return element(); }
-    bool number_unsigned(number_unsigned_t) override { return element(); }
-    bool number_float(number_float_t, const string_t&) override { return element(); }
-    bool string(string_t&) override { return element(); }
-    bool binary(binary_t&) override { return element(); }
-    bool start_object(std::size_t) override { return open(false); }
-    bool start_array(std::size_t) override { return open(true); }
-    bool end_object() override { return close(); }
-    bool end_array() override { return close(); }
-    bool key(string_t& k) override {
-        Frame& f = frames_.back();
-        f.key = k;
-        if (!f.keys.insert(k).second && repeated.empty())
-            repeatedAt = where(frames_.size() - 1), repeated = k;
-        return true;
-    }
-    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
-        return false;
-    }
-
-  private:
-    struct Frame {
-        bool array;
-        long index = -1;  ///< of the array's element being read
-        std::string key;  ///< of the object's member being read
-        std::set<std::string> keys;
-    };
-    bool element() {
-        if (!frames_.empty() && frames_.back().array) ++frames_.back().index;
-        return true;
-    }
-    bool open(bool array) {
-        element();
-        frames_.push_back(Frame{array, -1, {}, {}});
-        if (frames_.size() > kMaxJsonDepth)  // (named by its first levels)
-            tooDeep_(where(std::min<size_t>(frames_.size() - 1, 4)) + "…");
-        return true;
-    }
-    bool close() {
-        frames_.pop_back();
-        return true;
-    }
-    /// The JSON path of the value being read at `depth` levels down.
-    std::string where(size_t depth) const {
-        std::string at = root_;
-        for (size_t k = 0; k < depth; ++k)
-            at += frames_[k].array ? "[" + std::to_string(frames_[k].index) + "]"
-                                   : (at.empty() ? "" : ".") + frames_[k].key;
-        return at.empty() ? std::string("(top level)") : at;
-    }
-    std::string root_;
-    std::function<void(const std::string&)> tooDeep_;
-    std::vector<Frame> frames_;
-};
 
 }  // namespace
 
@@ -396,15 +328,55 @@ std::string unknownKey(const std::string& nearest) {
 }
 }  // namespace
 
+std::string overridePlace(const std::string& assignment) {
+    const auto eq = assignment.find('=');
+    return "--set " + (eq == std::string::npos ? briefText(assignment, 80)
+                                               : assignment.substr(0, eq + 1) +
+                                                     briefText(assignment.substr(eq + 1), 80));
+}
+
+int overrideOfUnknownKey(const std::string& message, const std::string& file, const Json& before,
+                         const std::vector<std::string>& overrides, std::string* placeAndReason) {
+    const std::string prefix = file + ": ";
+    if (message.rfind(prefix, 0) != 0) return -1;
+    const std::string rest = message.substr(prefix.size());
+    const size_t colon = rest.find(": ");
+    if (colon == std::string::npos || rest.compare(colon + 2, 11, "unknown key") != 0) return -1;
+    const std::string place = rest.substr(0, colon);
+    std::vector<std::string> parts;
+    if (!keyPathProblem(place, &parts).empty()) return -1;
+    // The scene's own key: the scene is to blame, whatever an override set beside it.
+    const Json* node = &before;
+    bool present = true;
+    for (const std::string& part : parts) {
+        const bool index = part.find_first_not_of("0123456789") == std::string::npos;
+        if (node->is_object() && node->contains(part))
+            node = &(*node)[part];
+        else if (node->is_array() && index && part.size() < 10 && std::stoul(part) < node->size())
+            node = &(*node)[std::stoul(part)];
+        else {
+            present = false;
+            break;
+        }
+    }
+    if (present) return -1;
+    const std::string at = canonicalKeyPath(place);
+    for (int i = int(overrides.size()) - 1; i >= 0; --i) {  // (a later one replaces an earlier)
+        const std::string key =
+            canonicalKeyPath(overrides[size_t(i)].substr(0, overrides[size_t(i)].find('=')));
+        if (at == key || at.rfind(key + ".", 0) == 0) {
+            if (placeAndReason) *placeAndReason = rest;
+            return i;
+        }
+    }
+    return -1;
+}
+
 bool applyOverride(Json& doc, const std::string& assignment, const std::string& file,
                    const std::string& source) {
     const std::string by = source.empty() ? "" : source + ": ";
     const auto eq = assignment.find('=');
-    // The assignment as errors quote it: a long value by its beginning (briefText).
-    const std::string given =
-        "--set " + (eq == std::string::npos
-                        ? briefText(assignment, 80)
-                        : assignment.substr(0, eq + 1) + briefText(assignment.substr(eq + 1), 80));
+    const std::string given = overridePlace(assignment);
     if (eq == std::string::npos || eq == 0) fail(file, given, "expected key.path=value");
     std::vector<std::string> parts;
     if (const std::string problem = keyPathProblem(assignment.substr(0, eq), &parts);
@@ -612,13 +584,13 @@ double JsonReader::number(const std::string& key, double def, double lo, double 
 double JsonReader::wholeNumber(const std::string& key, double def, double lo, double hi) {
     const double x = number(key, def, lo, hi);
     if (x != std::floor(x)) error(key, "expected a non-negative integer");
-    // From 2^53 on doubles are 2 apart: 9007199254740993.0 was read as 2^53 and rendered as that
-    // seed (helper 127), where the same digits without ".0" are refused as out of range.
-    if (std::abs(x) >= 9007199254740992.0 && j_.contains(key) && j_.at(key).is_number_float())
-        error(key, "written with a fraction or an exponent, it reads as the double " +
-                       dumpJson(j_.at(key)) +
-                       ", and from 2^53 on a double cannot tell neighbouring integers apart: "
-                       "write it as an integer");
+    // From 2^52 on a double holds no fraction, and from 2^53 on doubles are 2 apart:
+    // 9007199254740993.0 was read as 2^53 and rendered as that seed (helper 127), where the same
+    // digits without ".0" are refused as out of range, and 4503599627370496.5 as ...496 (helper
+    // 129).
+    if (std::abs(x) >= kDoubleHoldsFractionsBelow && j_.contains(key) &&
+        j_.at(key).is_number_float())
+        error(key, std::string(kWrittenAsADouble) + " (it reads as " + dumpJson(j_.at(key)) + ")");
     return x;
 }
 

@@ -178,8 +178,10 @@ Sweep readSweep(const std::string& path, double maxRuns) {
             // An integral number however written (2.0, 2e0), as every integer key takes it:
             // kept as the integer, so that runs and rows hold one spelling of it.
             if (const double d = v.is_number_float() ? v.get<double>() : 0.5;
-                d == std::floor(d) && std::abs(d) <= 9007199254740992.0)
+                d == std::floor(d) && std::abs(d) < kDoubleHoldsFractionsBelow)
                 v = (long long)d;
+            else if (v.is_number_float() && std::abs(d) >= kDoubleHoldsFractionsBelow)
+                fail(path, "axes." + k, kWrittenAsADouble);
             const bool spp = k == "spp";
             if (!(v.is_number_integer() && v.get<long long>() >= (spp ? 1 : 0) &&
                   (spp || v.get<long long>() <= 9007199254740992LL)))
@@ -252,6 +254,7 @@ Sweep readSweep(const std::string& path, double maxRuns) {
                 places.push_back("render.seed (set by the sweep)");
             }
             const Json doc = sweepDocument(s, run.sets, places, "run " + run.id);
+            run.places = places;
             run.fingerprint = run.settingsFingerprint = hashText(canonicalJson(doc));
             // The same point twice (an axis value given twice, or a seed): the same render,
             // which the report would count as a repeat of no spread.
@@ -303,6 +306,7 @@ Sweep readSweep(const std::string& path, double maxRuns) {
             sr.sets.push_back("render.seed=" + std::to_string((long long)seed));
             places.push_back("reference.seed");
             sr.spp = sppOf(sweepDocument(s, sr.sets, places, "the reference"));
+            sr.places = places;
             sr.file = (fs::path(s.output) / "reference.exr").string();
         }
         ref.finish();

@@ -3430,7 +3430,13 @@ TEST_F(Cli, BatchRefusesRowsItDidNotWrite) {
          "run r0000: rmse: expected a finite number >= 0, got -1; delete its line to render "
          "that run again"},
         {R"("spp":2)", R"("spp":null)",
-         "run r0000: spp: expected a finite number >= 0, got null; delete its line to render "
+         "run r0000: spp: expected an integer >= 1, got null; delete its line to render that "
+         "run again"},
+        {R"("spp":2)", R"("spp":2.5)",  // (as report refuses it; helper 129)
+         "run r0000: spp: expected an integer >= 1, got 2.5; delete its line to render that run "
+         "again"},
+        {R"("run":"r0001")", R"("run":"r00001")",  // (not the id of run 1, r0001)
+         "run r00001: not a run id of shvol batch (r0000, r0001, …); delete its line to render "
          "that run again"},
     };
     for (const auto& [from, to, message] : cases) {
@@ -3466,6 +3472,44 @@ TEST_F(Cli, BatchWarnsOfZTestsAtFewSamples) {
     r = dryRun("64, 128");
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(r.err, "");
+}
+
+// A key misspelt by a --set, or by a sweep's `set`, axis or reference `set`, is named at the
+// assignment that brought it in: it was blamed on the scene file, which lacks it, and a sweep's
+// `set`, which every run has, "in the reference" (helper 127). A key the scene itself misspells
+// is still the scene's, whatever a --set sets beside it.
+TEST_F(Cli, UnknownKeysAreNamedWhereTheyWereGiven) {
+    write("s.json", scene(Homogeneous));
+    const std::string render = "render " + path("s.json") + " -o " + path("out.exr") + " --quiet ";
+    const std::string fvo = ": camera.fvo: unknown key (did you mean \"fov\"?)\n";
+    Result r = run(render + "--set camera.fvo=30");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "shvol: error: " + path("s.json") + ": --set camera.fvo=30" + fvo);
+    r = run(render + "--set camera.fov=30 --set 'camera={\"fvo\": 30}'");
+    EXPECT_EQ(r.err, "shvol: error: " + path("s.json") + ": --set camera={\"fvo\": 30}" + fvo);
+    std::string typo = scene(Homogeneous);
+    typo.replace(typo.find("\"position\""), 0, "\"fvo\": 30, ");
+    write("typo.json", typo);
+    r = run("render " + path("typo.json") + " -o " + path("out.exr") +
+            " --quiet --set camera.fvo=40");
+    EXPECT_EQ(r.err, "shvol: error: " + path("typo.json") + fvo);
+    write("sweep.json", R"({"scene": "s.json", "set": ["render.spp=2", "camera.fvo=30"],
+                            "axes": {"spp": [2, 4]}})");
+    const std::string batch = "batch " + path("sweep.json") + " --dry-run";
+    r = run(batch);
+    EXPECT_EQ(r.err, "shvol: error: " + path("sweep.json") + ": set[1]" + fvo);
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [2, 4], "camera.fvo": [30]}})");
+    r = run(batch);
+    EXPECT_EQ(r.err, "shvol: error: " + path("sweep.json") +
+                         ": axes.camera.fvo: camera.fvo: unknown key (did you mean \"fov\"?) (in "
+                         "run r0000 spp=2 camera.fvo=30 repeat=0)\n");
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [2, 4]}, "metrics": ["rmse"],
+                            "reference": {"spp": 32, "set": ["camera.fvo=30"]}})");
+    r = run(batch);
+    EXPECT_EQ(r.err, "shvol: error: " + path("sweep.json") +
+                         ": reference.set[0]: camera.fvo: unknown key (did you mean \"fov\"?) (in "
+                         "the reference)\n");
+    EXPECT_FALSE(fs::exists(path("out.exr")));
 }
 
 // A file of the wrong kind is named as such, in one line, before anything is written: a scene
@@ -3676,10 +3720,11 @@ TEST_F(Cli, BatchErrorsNameTheRun) {
     write("sweep.json", R"({"scene": "s.json", "axes": {"media[0].nosuch": [1]}})");
     const Result r = run("batch " + path("sweep.json") + " --quiet --output " + path("out"));
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(
-        r.err.find(path("s.json") +
-                   ": media[0].nosuch: unknown key (in run r0000 media[0].nosuch=1 repeat=0)"),
-        std::string::npos)
+    // (at the axis that brought the key in, since 7 Dec: the scene file was named)
+    EXPECT_NE(r.err.find(path("sweep.json") +
+                         ": axes.media[0].nosuch: media[0].nosuch: unknown key (in run r0000 "
+                         "media[0].nosuch=1 repeat=0)"),
+              std::string::npos)
         << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }

@@ -652,16 +652,18 @@ TEST(SceneLoader, ErrorsNameBoundsAndTheTypeAKeyBelongsTo) {
     expectMessage(R"({"render": {"seed": 9007199254740993}})",
                   "render.seed: value 9007199254740993 out of range [0, 9007199254740992]");
     // Written with a fraction or an exponent, the same digits read as the double 2^53, in range:
-    // refused too (they rendered as seed 2^53; helper 127), as is 2^53 itself written so. Below
-    // 2^53 such a seed is exact.
-    for (const char* seed : {"9007199254740993.0", "9007199254740993e0", "9007199254740992.0"})
-        expectMessage(std::string(R"({"render": {"seed": )") + seed + "}}",
-                      "render.seed: written with a fraction or an exponent, it reads as the "
-                      "double 9.007199254740992e+15, and from 2^53 on a double cannot tell "
-                      "neighbouring integers apart: write it as an integer");
+    // refused too (they rendered as seed 2^53; helper 127), as is 2^53 itself written so, and
+    // from 2^52 on, where a fraction is lost (helper 129). Below 2^52 such a seed is exact.
+    for (const auto& [seed, read] : {std::pair{"9007199254740993.0", "9.007199254740992e+15"},
+                                     std::pair{"9007199254740993e0", "9.007199254740992e+15"},
+                                     std::pair{"9007199254740992.0", "9.007199254740992e+15"},
+                                     std::pair{"4503599627370496.5", "4.503599627370496e+15"}})
+        expectMessage(
+            std::string(R"({"render": {"seed": )") + seed + "}}",
+            std::string("render.seed: ") + kWrittenAsADouble + " (it reads as " + read + ")");
     Scene below =
-        sceneFromJson(Json::parse(R"({"render": {"seed": 9007199254740991.0}})"), "s.json");
-    EXPECT_EQ(below.settings.seed, 9007199254740991ull);
+        sceneFromJson(Json::parse(R"({"render": {"seed": 4503599627370495.0}})"), "s.json");
+    EXPECT_EQ(below.settings.seed, 4503599627370495ull);
     expectMessage(R"({"render": {"max_depth": 100000000000000001}})",
                   "render.max_depth: value 100000000000000001 out of range [0, 1048576]");
     expectMessage(R"({"environment": {"type": "constant", "radiance": [1, -0.5, 1]}})",

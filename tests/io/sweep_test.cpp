@@ -301,8 +301,19 @@ TEST(Sweep, ErrorsNameFileAndKey) {
         "first)");
     EXPECT_EQ(err("e3s", R"({"scene": "scene.json", "axes": {"seed": [-1]}})"),
               ": axes.seed: expected integers in [0, 2^53]");
-    EXPECT_EQ(err("e3t", R"({"scene": "scene.json", "axes": {"seed": [1e16]}})"),
-              ": axes.seed: expected integers in [0, 2^53]");
+    // Written with a fraction or an exponent from 2^52 on, where a double holds no fraction:
+    // 9007199254740993.0 ran as seed 2^53 (helper 129), as a scene's seed did (helper 127).
+    for (const char* seed : {"1e16", "9007199254740993.0", "4503599627370496.5"})
+        EXPECT_EQ(
+            err("e3t", std::string(R"({"scene": "scene.json", "axes": {"seed": [)") + seed + "]}}"),
+            std::string(": axes.seed: ") + kWrittenAsADouble)
+            << seed;
+    EXPECT_EQ(
+        readSweep(
+            writeSweep("e3u", R"({"scene": "scene.json", "axes": {"seed": [4503599627370495.0]}})"))
+            .runs[0]
+            .values["seed"],
+        Json(4503599627370495LL));
     EXPECT_EQ(err("e4", R"({"scene": "scene.json", "metrics": ["rmse"]})"),
               ": metrics: metrics need a \"reference\"");
     EXPECT_EQ(err("e4d", R"({"scene": "scene.json", "metrics": ["rmse", "bias", "rmse"],

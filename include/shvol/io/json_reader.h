@@ -67,6 +67,25 @@ Json parseJsonText(const std::string& text, const std::string& file, const std::
 /// nothing: `key=null` where the document has no such key (a typo, or a key already absent).
 bool applyOverride(Json& doc, const std::string& assignment, const std::string& file,
                    const std::string& source = "--set");
+/// 2^52: from it on a double holds no fraction (and from 2^53 on, not every integer), so that a
+/// whole number written with a fraction or an exponent (4503599627370496.5, 9007199254740993.0)
+/// may not be the number read. Whole-number keys (seeds) refuse such a number: kWrittenAsADouble.
+inline constexpr double kDoubleHoldsFractionsBelow = 4503599627370496.0;
+inline constexpr const char* kWrittenAsADouble =
+    "written with a fraction or an exponent, and from 2^52 on a double cannot hold the fraction "
+    "(nor, from 2^53 on, tell neighbouring integers apart): write it as an integer";
+/// An assignment as errors name it: "--set key=value", a long value by its beginning (briefText).
+std::string overridePlace(const std::string& assignment);
+/// The index in `overrides` (key=value assignments as applyOverride takes them) of the one that
+/// brought in the key an error of the document read after them names as unknown, or −1: the
+/// error `message` must be "file: place: unknown key …", `place` absent from the document
+/// `before` the overrides (else it is the file's own key) and inside the key an override sets
+/// (the last such). placeAndReason gets "place: unknown key …". So that a misspelt --set, or a
+/// sweep's `set` or axis, is named as the culprit rather than the scene file, which lacks the key
+/// (helper 127).
+int overrideOfUnknownKey(const std::string& message, const std::string& file, const Json& before,
+                         const std::vector<std::string>& overrides,
+                         std::string* placeAndReason = nullptr);
 /// A key path as applyOverride walks it: media[0].albedo (the notation of error messages) is
 /// media.0.albedo.
 std::string canonicalKeyPath(const std::string& key);

@@ -31,7 +31,8 @@ struct SweepRun {
     int index = 0;   ///< the place in Sweep::runs
     std::string id;  ///< "r0007": sweepRunId(index), or a ledger's (adoptFinishedIds)
     Json values;     ///< {axis key: value, …, "repeat": k}
-    std::vector<std::string> sets;  ///< --set assignments: base, axes, render.seed, render.spp
+    std::vector<std::string> sets;    ///< --set assignments: base, axes, render.seed, render.spp
+    std::vector<std::string> places;  ///< the sweep's key that gave each of sets (set[0], axes.spp)
     /// FNV-1a of the scene document after `sets` (spp included; canonicalJson): what the run
     /// renders, but for the contents of the files it names. A finished run whose settings
     /// changed would be a different render; --dry-run, which reads no grid, can tell.
@@ -43,8 +44,9 @@ struct SweepRun {
 };
 
 struct SweepReference {
-    std::string file;               ///< an EXR, or where the rendered reference is cached
-    std::vector<std::string> sets;  ///< non-empty: render it (base sets + these + spp/seed)
+    std::string file;                 ///< an EXR, or where the rendered reference is cached
+    std::vector<std::string> sets;    ///< non-empty: render it (base sets + these + spp/seed)
+    std::vector<std::string> places;  ///< the sweep's key that gave each of sets
     bool render = false;
     double spp = 0;  ///< a rendered reference's samples per pixel (sppOf its document)
 };
