@@ -176,6 +176,30 @@ TEST(ZonalFit, AutomaticWindow) {
         0);
 }
 
+// With order and window auto, a looser tolerance never asks for a higher order: where the lowest
+// unwindowed order that meets it rings, a higher unwindowed one that does not is taken when it is
+// lower than Hann's (HG 0.9 took Hann at order 105 for 0.05 and no window at 49 for 0.02, which
+// meets 0.05 without ringing; helper 130). Each fit meets its tolerance and does not ring, or
+// is windowed.
+TEST(ZonalFit, LooserTolerancesNeverRaiseTheAutomaticOrder) {
+    for (const double g : {0.6, 0.9, 0.97}) {
+        const auto hg = [g](double mu) { return henyeyGreenstein(mu, g); };
+        int previous = ZonalFitRequest::kMaxAutoOrder + 1;
+        for (const double tolerance : {0.005, 0.01, 0.02, 0.05, 0.1, 0.2}) {
+            ZonalFitRequest r;
+            r.tolerance = tolerance;
+            const ZonalFit f = fitZonal(hg, r);
+            const int order = int(f.p.size());
+            EXPECT_LE(order, previous) << "g " << g << ", tolerance " << tolerance;
+            EXPECT_LE(f.relativeL2Error, tolerance) << "g " << g << ", tolerance " << tolerance;
+            if (f.window == SHWindow::None)
+                EXPECT_GE(f.minValue, -1e-3 * f.peakValue)
+                    << "g " << g << ", tolerance " << tolerance;
+            previous = order;
+        }
+    }
+}
+
 // A table is linear in μ between its nodes, and its fit is exact when the quadrature's panels end
 // at them (PhaseFunction::corners): against Gauss–Legendre in μ on each of the table's segments
 // (exact for the polynomial f·y_l), p_0 = 1/√(4π) and every p_l to 10⁻¹², and the error to 10⁻⁹
