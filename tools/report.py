@@ -128,11 +128,15 @@ def load(directory):
             for key in ("wall_time_s", "spp"):
                 if key not in row:
                     fail(f"{path}: line {n}: no \"{key}\" (not a row of shvol batch)")
+            # (At most 1e100: no image of floats gives more, and the report's squares and
+            # products of such numbers stay finite; 1e308 ended it in a traceback, helper 130.)
             for key in ["wall_time_s", "spp"] + [k for k in ["total_s"] + ERRORS + ["bias"]
                                                  if k in row]:
-                if not is_number(row[key]) or row[key] < 0 and key != "bias":
+                if (not is_number(row[key]) or row[key] < 0 and key != "bias"
+                        or abs(row[key]) > 1e100):
                     fail(f"{path}: line {n}: {key}: expected a finite number"
-                         f"{'' if key == 'bias' else ' >= 0'}, got {json.dumps(row[key])}")
+                         f"{'' if key == 'bias' else ' >= 0'} of at most 1e100, got "
+                         f"{json.dumps(row[key])}")
             if "ztest_passed" in row and not (isinstance(row["ztest_passed"], bool) and
                                               is_number(row.get("ztest_min_p"))):
                 fail(f"{path}: line {n}: ztest_passed: expected true or false with a finite "

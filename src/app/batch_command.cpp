@@ -444,12 +444,12 @@ void checkFinishedRows(const Ledger& ledger, const Sweep& s, const std::string& 
              {"wall_time_s", "total_s", "rmse", "relmse", "mae", "bias", "ztest_min_p"})
             if (const bool signedValue = std::string(key) == "bias";
                 row.contains(key) &&
-                !(row[key].is_number() && std::isfinite(row[key].get<double>()) &&
+                !(row[key].is_number() && std::abs(row[key].get<double>()) <= 1e100 &&
                   (signedValue || row[key].get<double>() >= 0)))
                 fail(ledger.jsonlPath(), "run " + id,
                      std::string(key) + ": expected a finite number" +
-                         (signedValue ? "" : " >= 0") + ", got " + dumpJson(row[key]) +
-                         "; delete its line to render that run again");
+                         (signedValue ? "" : " >= 0") + " of at most 1e100, got " +
+                         dumpJson(row[key]) + "; delete its line to render that run again");
         if (!(row.contains("spp") && row["spp"].is_number_integer() &&
               row["spp"].get<long long>() >= 1))
             fail(ledger.jsonlPath(), "run " + id,

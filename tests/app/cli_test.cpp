@@ -3424,11 +3424,14 @@ TEST_F(Cli, BatchRefusesRowsItDidNotWrite) {
          "run zzz: not a run id of shvol batch (r0000, r0001, …); delete its line to render "
          "that run again"},
         {rmseValue, R"("rmse":"abc")",
-         "run r0000: rmse: expected a finite number >= 0, got \"abc\"; delete its line to "
-         "render that run again"},
+         "run r0000: rmse: expected a finite number >= 0 of at most 1e100, got \"abc\"; delete "
+         "its line to render that run again"},
         {rmseValue, R"("rmse":-1)",
-         "run r0000: rmse: expected a finite number >= 0, got -1; delete its line to render "
-         "that run again"},
+         "run r0000: rmse: expected a finite number >= 0 of at most 1e100, got -1; delete its "
+         "line to render that run again"},
+        {rmseValue, R"("rmse":1e308)",  // (report's arithmetic overflowed; helper 130)
+         "run r0000: rmse: expected a finite number >= 0 of at most 1e100, got 1e+308; delete "
+         "its line to render that run again"},
         {R"("spp":2)", R"("spp":null)",
          "run r0000: spp: expected an integer >= 1, got null; delete its line to render that "
          "run again"},
@@ -4329,7 +4332,14 @@ TEST_F(Cli, BatchReport) {
                           << "\n[1, 2]\n";
     c = run("report " + path("o"));
     EXPECT_EQ(c.err, "shvol: error: " + ledger +
-                         ": line 1: rmse: expected a finite number >= 0, got \"abc\"\n");
+                         ": line 1: rmse: expected a finite number >= 0 of at most 1e100, got "
+                         "\"abc\"\n");
+    std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "wall_time_s": 1, "rmse": 1e308})"
+                          << "\n";
+    c = run("report " + path("o"));  // (a traceback of OverflowError; helper 130)
+    EXPECT_EQ(c.err, "shvol: error: " + ledger +
+                         ": line 1: rmse: expected a finite number >= 0 of at most 1e100, got "
+                         "1e+308\n");
     std::ofstream(ledger) << R"({"run": "r0000", "spp": 8, "wall_time_s": 1})"
                           << "\n[1, 2]\n";
     c = run("report " + path("o"));
