@@ -24,8 +24,17 @@ CLI::Validator numberIn(double lo, double hi, bool loOpen, const std::string& un
     return CLI::Validator(
         [=](std::string& text) -> std::string {
             double v = 0;
-            if (startsBlank(text) || !CLI::detail::lexical_cast(text, v) || !std::isfinite(v))
-                return "expected a number, got \"" + text + "\"";
+            // (Decimal only, as whole-number options and phase specifications take them: 0x10
+            // was read as 16; helper 130.)
+            if (startsBlank(text) || text.find_first_of("xX") != std::string::npos ||
+                !CLI::detail::lexical_cast(text, v) || !std::isfinite(v))
+                return "expected a decimal number, got \"" + text + "\"";
+            // A number below the smallest double reads as 0, which it is not (1e-400 made
+            // --max-rmse 0; helper 130).
+            if (v == 0 && text.substr(0, text.find_first_of("eE")).find_first_of("123456789") !=
+                              std::string::npos)
+                return "\"" + text +
+                       "\" is below the smallest double (4.9e-324) and would read as 0";
             if (v < lo || v > hi || (loOpen && v <= lo))
                 return "must be in " + range + ", got " + text;
             return {};

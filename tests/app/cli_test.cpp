@@ -218,7 +218,13 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
         {"render " + path("s.json") + " --spp '4, 16'",
          "--spp: expected an integer in [1, 16777216], got \" 16\""},
         {"render " + path("s.json") + " --time-limit ' 5'",
-         "--time-limit: expected a number, got \" 5\""},
+         "--time-limit: expected a decimal number, got \" 5\""},
+        // Decimal numbers only, as whole numbers and phase specifications have them ("0x10"
+        // was 16), and none that reads as 0 when it is not (1e-400; helper 130).
+        {"make-sky -o " + path("k.exr") + " --sun-elevation 0x10",
+         "--sun-elevation: expected a decimal number, got \"0x10\""},
+        {"render " + path("s.json") + " --time-limit 1e-400",
+         "--time-limit: \"1e-400\" is below the smallest double (4.9e-324) and would read as 0"},
         // --spp and --seed are applied after every --set: one that sets the same key too would
         // have had no effect, yet be listed among the stats' overrides.
         {"render " + path("s.json") + " --spp 2 --set render.spp=3",
