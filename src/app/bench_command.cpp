@@ -303,6 +303,14 @@ int runBench(BenchArgs& a) {
             failOption("--cache", a.cache + ": cannot make the directory" +
                                       (ec ? " (" + ec.message() + ")" : std::string()));
     }
+    // As a batch warns of its rendered reference: the figures measured mostly the reference's
+    // noise, without a word (helper 130).
+    if (a.accuracy && a.referenceSpp < 10 * double(a.spp))
+        std::fprintf(stderr,
+                     "shvol: warning: --reference-spp %d: fewer than 10 times --spp (%d): the "
+                     "reference's own noise adds about %.0f%% to each renderer's MSE, counted as "
+                     "its error; give the reference more samples\n",
+                     a.referenceSpp, a.spp, 100.0 * a.spp / a.referenceSpp);
     std::fprintf(stderr, "shvol bench %s (%d spp)\n", a.scene.c_str(), a.spp);
     // With --accuracy: read or rendered now, not after minutes of timings.
     const Image ref = a.accuracy ? reference(a, a.sets) : Image();

@@ -488,6 +488,7 @@ TEST_F(Cli, BenchAccuracyCachesItsReference) {
     Result r = run(args);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.err.find("reference: rendering 64 spp"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("warning: --reference-spp"), std::string::npos) << r.err;
     EXPECT_NE(r.out.find("| now (defaults), 2 threads |"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("time to equal RMSE, before / now: "), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("ns per density lookup"), std::string::npos) << r.out;
@@ -523,6 +524,12 @@ TEST_F(Cli, BenchAccuracyCachesItsReference) {
     const std::string small = "bench " + path("s.json") + " --accuracy --spp 1 --reference-spp 4";
     r = run(small + " --cache " + path("new/deeper"));
     ASSERT_EQ(r.code, 0) << r.err;
+    // A reference of fewer than 10 times the samples is warned of, as a batch's is (helper 130);
+    // 64 against 2 spp was not.
+    EXPECT_NE(r.err.find("shvol: warning: --reference-spp 4: fewer than 10 times --spp (1): the "
+                         "reference's own noise adds about 25% to each renderer's MSE"),
+              std::string::npos)
+        << r.err;
     EXPECT_TRUE(fs::is_directory(path("new/deeper")));
     r = run(small + " --cache " + path("s.json/sub"));
     EXPECT_EQ(r.code, 1);
