@@ -197,6 +197,29 @@ bool rings(const ZonalFit& f) {
     return f.minValue < -kRingingThreshold * f.peakValue;
 }
 
+/// The lowest order n in (from, to] whose unwindowed truncation of `full` (the unwindowed fit at
+/// the highest order: the coefficients of every lower order are its first ones) does not ring on
+/// the nodes of `full`'s order, or 0. One pass over the nodes, adding a band at a time: refitting
+/// every order took a 1801-row table from 0.25 to 2.9 s (helper 131).
+int lowestOrderNotRinging(const ZonalFit& full, const std::vector<double>& corners, int from,
+                          int to) {
+    if (to <= from) return 0;
+    const int top = int(full.p.size());
+    std::vector<double> least(size_t(top) + 1, INFINITY);
+    std::vector<double> y(static_cast<size_t>(top));
+    for (const Node& node : thetaNodes(top, corners)) {
+        sh::shEvalZonal(top, node.angle.mu, y.data());
+        double r = 0;
+        for (int l = 0; l < to; ++l) {
+            r += full.p[size_t(l)] * y[size_t(l)];
+            least[size_t(l) + 1] = std::min(least[size_t(l) + 1], r);
+        }
+    }
+    for (int n = from + 1; n <= to; ++n)
+        if (!(least[size_t(n)] < -kRingingThreshold * full.peakValue)) return n;
+    return 0;
+}
+
 /// The lowest order meeting the tolerance with window w, or 0 if none up to pFull.size() does.
 int lowestOrder(const std::vector<double>& pFull, double energy, double tol, SHWindow w) {
     for (int n = 1; n <= int(pFull.size()); ++n)
@@ -224,8 +247,9 @@ ZonalFit fitZonal(const std::function<double(const AngleCosine&)>& p,
         // tolerance of 0.05 and order 49 unwindowed at 0.02, which meets 0.05 too without
         // ringing (helper 130).
         const int hannOrder = lowestOrder(full.p, full.energy, request.tolerance, SHWindow::Hann);
-        const int highest = hannOrder > 0 ? hannOrder - 1 : maxOrder;
-        for (int n = order + 1; n <= highest; ++n)
+        // (Candidates by the nodes of the highest order, each confirmed on its own.)
+        for (int n = order, last = hannOrder > 0 ? hannOrder - 1 : maxOrder;
+             (n = lowestOrderNotRinging(full, corners, n, last)) > 0;)
             if (ZonalFit g = fit(n, SHWindow::None); !rings(g)) return g;
         return hannOrder > 0 ? fit(hannOrder, SHWindow::Hann) : f;
     }

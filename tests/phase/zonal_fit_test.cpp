@@ -176,12 +176,12 @@ TEST(ZonalFit, AutomaticWindow) {
         0);
 }
 
-// With order and window auto, a looser tolerance never asks for a higher order: where the lowest
+// With order and window auto, a looser tolerance never asks HG for a higher order: where the lowest
 // unwindowed order that meets it rings, a higher unwindowed one that does not is taken when it is
 // lower than Hann's (HG 0.9 took Hann at order 105 for 0.05 and no window at 49 for 0.02, which
 // meets 0.05 without ringing; helper 130). Each fit meets its tolerance and does not ring, or
 // is windowed.
-TEST(ZonalFit, LooserTolerancesNeverRaiseTheAutomaticOrder) {
+TEST(ZonalFit, AutomaticOrderOfHenyeyGreensteinFallsAsTheToleranceLoosens) {
     for (const double g : {0.6, 0.9, 0.97}) {
         const auto hg = [g](double mu) { return henyeyGreenstein(mu, g); };
         int previous = ZonalFitRequest::kMaxAutoOrder + 1;
