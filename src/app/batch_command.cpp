@@ -163,11 +163,13 @@ std::string errorText(const std::exception& e, const Sweep& s, const SweepRun* r
 /// An unknown key that one of a run's (or the reference's) `sets` brought in, refused at the
 /// sweep's key that gave it (`places`): a `set` (in every run), or an axis or the reference's own
 /// `set` (in `what`). It was blamed on the scene file, which lacks the key, "in the reference"
-/// for a `set` that every run has (helper 127). Returns where the scene itself is to blame.
+/// for a `set` that every run has (helper 127). Where the scene itself is to blame, it returns and
+/// the caller names the scene.
 void blameSweepKey(const Error& e, const Sweep& s, const std::vector<std::string>& sets,
                    const std::vector<std::string>& places, const std::string& what) {
     std::string reason;
-    const int i = overrideOfUnknownKey(e.what(), s.scene, s.sceneDoc, sets, &reason);
+    const int i = overrideOfUnknownKey(e.what(), s.scene, s.sceneDoc,
+                                       runDocument(s.sceneDoc, s.scene, sets), sets, &reason);
     if (i < 0 || size_t(i) >= places.size()) return;
     const std::string& place = places[size_t(i)];
     fail(s.path, place, reason + (place.rfind("set[", 0) == 0 ? "" : " (in " + what + ")"));

@@ -955,7 +955,8 @@ int runRender(const RenderArgs& a) {
                     failOption(option, "--set " + *set + " sets the same value; give it once");
             nlohmann::json resolved;
             std::vector<std::string> unchanged;  // (key=null of a key the scene does not have)
-            doc = sceneDocument(a.scene, a.sets, &unchanged);  // read once: scene, identity, inputs
+            Json original;  // (the file's own document, for the errors of a --set)
+            doc = sceneDocument(a.scene, a.sets, &unchanged, &original);  // read once
             // --spp and --seed after the overrides, into a "render" object only: a scene or a
             // --set whose "render" is something else is refused by the reader as such, not
             // blamed on these options.
@@ -969,8 +970,8 @@ int runRender(const RenderArgs& a) {
                 // A --set that misspells a key is named, not the scene, which lacks the key
                 // (helper 127).
                 std::string reason;
-                if (const int i = overrideOfUnknownKey(e.what(), a.scene, parseJsonFile(a.scene),
-                                                       a.sets, &reason);
+                if (const int i =
+                        overrideOfUnknownKey(e.what(), a.scene, original, doc, a.sets, &reason);
                     i >= 0)
                     fail(a.scene, overridePlace(a.sets[size_t(i)]), reason);
                 throw;

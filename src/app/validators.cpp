@@ -27,8 +27,11 @@ CLI::Validator numberIn(double lo, double hi, bool loOpen, const std::string& un
             // (Decimal only, as whole-number options and phase specifications take them: 0x10
             // was read as 16; helper 130.)
             if (startsBlank(text) || text.find_first_of("xX") != std::string::npos ||
-                !CLI::detail::lexical_cast(text, v) || !std::isfinite(v))
+                !CLI::detail::lexical_cast(text, v) ||
+                (!std::isfinite(v) && text.find_first_of("0123456789") == std::string::npos))
                 return "expected a decimal number, got \"" + text + "\"";
+            if (!std::isfinite(v))  // (1e400, which is decimal; helper 131)
+                return "\"" + text + "\" is beyond the range of a double (±1.8e308)";
             // A number below the smallest double reads as 0, which it is not (1e-400 made
             // --max-rmse 0; helper 130).
             if (v == 0 && text.substr(0, text.find_first_of("eE")).find_first_of("123456789") !=

@@ -336,7 +336,8 @@ std::string overridePlace(const std::string& assignment) {
 }
 
 int overrideOfUnknownKey(const std::string& message, const std::string& file, const Json& before,
-                         const std::vector<std::string>& overrides, std::string* placeAndReason) {
+                         const Json& after, const std::vector<std::string>& overrides,
+                         std::string* placeAndReason) {
     const std::string prefix = file + ": ";
     if (message.rfind(prefix, 0) != 0) return -1;
     const std::string rest = message.substr(prefix.size());
@@ -345,21 +346,25 @@ int overrideOfUnknownKey(const std::string& message, const std::string& file, co
     const std::string place = rest.substr(0, colon);
     std::vector<std::string> parts;
     if (!keyPathProblem(place, &parts).empty()) return -1;
-    // The scene's own key: the scene is to blame, whatever an override set beside it.
-    const Json* node = &before;
-    bool present = true;
-    for (const std::string& part : parts) {
-        const bool index = part.find_first_not_of("0123456789") == std::string::npos;
-        if (node->is_object() && node->contains(part))
-            node = &(*node)[part];
-        else if (node->is_array() && index && part.size() < 10 && std::stoul(part) < node->size())
-            node = &(*node)[std::stoul(part)];
-        else {
-            present = false;
-            break;
+    // The key must be one the overrides brought in: absent from the document before them (else
+    // it is the file's own, whatever an override set beside it), present after them (a key
+    // whose name holds a dot, "fov.x", reads as the path camera.fov.x, which the file's
+    // camera.fov=30 does not hold; helper 131).
+    const auto holds = [&](const Json& doc) {
+        const Json* node = &doc;
+        for (const std::string& part : parts) {
+            const bool index = part.find_first_not_of("0123456789") == std::string::npos;
+            if (node->is_object() && node->contains(part))
+                node = &(*node)[part];
+            else if (node->is_array() && index && part.size() < 10 &&
+                     std::stoul(part) < node->size())
+                node = &(*node)[std::stoul(part)];
+            else
+                return false;
         }
-    }
-    if (present) return -1;
+        return true;
+    };
+    if (holds(before) || !holds(after)) return -1;
     const std::string at = canonicalKeyPath(place);
     for (int i = int(overrides.size()) - 1; i >= 0; --i) {  // (a later one replaces an earlier)
         const std::string key =

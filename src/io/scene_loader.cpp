@@ -473,8 +473,9 @@ Scene loadScene(const std::string& path, const std::vector<std::string>& overrid
 }
 
 Json sceneDocument(const std::string& path, const std::vector<std::string>& overrides,
-                   std::vector<std::string>* unchanged) {
+                   std::vector<std::string>* unchanged, Json* original) {
     Json doc = parseJsonFile(path);
+    if (original) *original = doc;
     for (const std::string& o : overrides)
         if (!applyOverride(doc, o, path) && unchanged) unchanged->push_back(o);
     return doc;

@@ -223,6 +223,10 @@ TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
         // was 16), and none that reads as 0 when it is not (1e-400; helper 130).
         {"make-sky -o " + path("k.exr") + " --sun-elevation 0x10",
          "--sun-elevation: expected a decimal number, got \"0x10\""},
+        {"render " + path("s.json") + " --time-limit 1e400",
+         "--time-limit: \"1e400\" is beyond the range of a double (±1.8e308)"},
+        {"render " + path("s.json") + " --time-limit inf",
+         "--time-limit: expected a decimal number, got \"inf\""},
         {"render " + path("s.json") + " --time-limit 1e-400",
          "--time-limit: \"1e-400\" is below the smallest double (4.9e-324) and would read as 0"},
         // --spp and --seed are applied after every --set: one that sets the same key too would
@@ -2331,7 +2335,8 @@ TEST_F(Cli, MakeMediumAndSkyRoundTrip) {
 // with "interrupted": true) and the exit code is 130. The render is far too long to finish.
 // A signal that comes once the render has finished, while its outputs are written, lets them be
 // written whole and exits 130 (it ended the process with none of them: the guard was gone). The
-// signal is sent once the stats file's temporary appears, which is before the EXRs are written.
+// signal is sent once the stats file's temporary appears, after the EXRs' temporaries are written
+// and before the outputs are renamed together.
 // A full disk, as a file-size limit (ulimit -f, in KiB) makes one: an output that does not fit
 // is one line naming it with the reason, exit 1, and nothing left behind, with SIGXFSZ at its
 // default or ignored by the caller (a truncated image or VDB was renamed into place and reported
@@ -2386,14 +2391,14 @@ TEST_F(Cli, SignalWhileWritingStillWritesEverything) {
 
 // A closing terminal sends SIGHUP twice, from the shell and then from the kernel as the session
 // ends: the second, which came while the first's outputs were written, ended the render with 129
-// and nothing written (helper 129). The second is sent once the stats' temporary appears, which
-// is before the EXRs are written.
+// and nothing written (helper 129). The second is sent once the image's temporary appears: the
+// first of the outputs' temporaries, which all stay until they are renamed together.
 TEST_F(Cli, SecondHangupWhileWritingStillWritesEverything) {
     write("s.json", scene(Homogeneous));
     const std::string out = path("w.exr");
     std::string kills = killOnceCaught("HUP", SIGHUP, "0.3");
     kills.replace(kills.rfind("wait $p"), 7,
-                  "i=0; while ! ls " + path("w.stats.json.tmp") +
+                  "i=0; while ! ls " + path("w.exr.tmp") +
                       "* >/dev/null 2>&1 && [ $i -lt 60000 ]; do sleep 0.001; i=$((i+1)); done; "
                       "kill -HUP $p; wait $p");
     const Result r = runCommand(std::string(SHVOL_BINARY) + " render " + path("s.json") + " -o " +
@@ -3509,6 +3514,16 @@ TEST_F(Cli, UnknownKeysAreNamedWhereTheyWereGiven) {
     r = run("render " + path("typo.json") + " -o " + path("out.exr") +
             " --quiet --set camera.fvo=40");
     EXPECT_EQ(r.err, "shvol: error: " + path("typo.json") + fvo);
+    // A key of the scene whose name holds a dot reads as a path inside what a --set sets: still
+    // the scene's (it was blamed on --set camera.fov=30; helper 131).
+    std::string dotted = scene(Homogeneous);
+    dotted.replace(dotted.find("\"position\""), 0, "\"fov.x\": 1, ");
+    write("dotted.json", dotted);
+    r = run("render " + path("dotted.json") + " -o " + path("out.exr") +
+            " --quiet --set camera.fov=30");
+    EXPECT_EQ(
+        r.err.rfind("shvol: error: " + path("dotted.json") + ": camera.fov.x: unknown key", 0), 0u)
+        << r.err;
     write("sweep.json", R"({"scene": "s.json", "set": ["render.spp=2", "camera.fvo=30"],
                             "axes": {"spp": [2, 4]}})");
     const std::string batch = "batch " + path("sweep.json") + " --dry-run";

@@ -653,7 +653,8 @@ TEST(SceneLoader, ErrorsNameBoundsAndTheTypeAKeyBelongsTo) {
                   "render.seed: value 9007199254740993 out of range [0, 9007199254740992]");
     // Written with a fraction or an exponent, the same digits read as the double 2^53, in range:
     // refused too (they rendered as seed 2^53; helper 127), as is 2^53 itself written so, and
-    // from 2^52 on, where a fraction is lost (helper 129). Below 2^52 such a seed is exact.
+    // from 2^52 on, where a fraction is lost (helper 129). Below 2^52 a seed written so is read as
+    // the double nearest to it (exact for the whole numbers there).
     for (const auto& [seed, read] : {std::pair{"9007199254740993.0", "9.007199254740992e+15"},
                                      std::pair{"9007199254740993e0", "9.007199254740992e+15"},
                                      std::pair{"9007199254740992.0", "9.007199254740992e+15"},

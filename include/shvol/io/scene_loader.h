@@ -11,9 +11,10 @@ namespace shvol {
 
 /// The scene file's document after the overrides ("key.path=value", as --set), unvalidated: what
 /// loadScene reads, and what checkpoints, sweeps and the stats file identify a render by.
-/// `unchanged` (optional) gets the overrides that changed nothing (applyOverride).
+/// `unchanged` (optional) gets the overrides that changed nothing (applyOverride), and `original`
+/// (optional) the file's document before them.
 Json sceneDocument(const std::string& path, const std::vector<std::string>& overrides = {},
-                   std::vector<std::string>* unchanged = nullptr);
+                   std::vector<std::string>* unchanged = nullptr, Json* original = nullptr);
 
 /// Loads and validates a scene. `overrides` are "key.path=value" assignments applied to the JSON
 /// before it is read (the --set option). Relative file names are resolved against the scene's
