@@ -122,6 +122,16 @@ Image inDisplayWindow(Image img, const Imath::Box2i& data, const Imath::Box2i& d
 }  // namespace
 
 namespace {
+/// OpenEXR's message of `e` with the file's name, which the error line names first, as "the
+/// file": 'Error reading pixel data from image file "out.exr". Early end of file' named it twice.
+std::string openExrReason(const std::exception& e, const std::string& path) {
+    std::string why = e.what();
+    for (const std::string& named : {"image file \"" + path + "\"", "\"" + path + "\""})
+        for (size_t at; (at = why.find(named)) != std::string::npos;)
+            why.replace(at, named.size(), "the file");
+    return why;
+}
+
 /// OpenEXR's limits on what a header may claim, set once before any file is opened.
 void limitExrHeaders() {
     static std::once_flag limits;
@@ -139,7 +149,7 @@ std::string exrDamage(const std::string& path) {
         if (!Imf::InputFile(path.c_str()).isComplete()) return "its pixel data is cut short";
         return "";
     } catch (const std::exception& e) {  // (shvol's errors name the file; OpenEXR's too)
-        return std::string("not a readable OpenEXR file (") + e.what() + ")";
+        return "not a readable OpenEXR file (" + openExrReason(e, path) + ")";
     }
 }
 
@@ -213,7 +223,7 @@ Image readExr(const std::string& path, ExrValues values) {
             // OpenEXR's message names no row: the first one that cannot be read is found again,
             // row by row in a fresh reader (OpenEXR keeps the chunk it decoded last, so this
             // costs about one more read of the rows before it).
-            const std::string why = e.what();
+            const std::string why = openExrReason(e, path);
             int row = dw.min.y;
             bool opened = false, failed = false;
             try {
@@ -233,7 +243,7 @@ Image readExr(const std::string& path, ExrValues values) {
     } catch (const Error&) {
         throw;
     } catch (const std::exception& e) {
-        fail(path, "", std::string("not a readable OpenEXR file (") + e.what() + ")");
+        fail(path, "", "not a readable OpenEXR file (" + openExrReason(e, path) + ")");
     }
     for (int y = 0; y < img.height; ++y)
         for (int x = 0; x < img.width; ++x) {
