@@ -307,6 +307,13 @@ std::string neeReason(const Scene& scene, const Effects& effects) {
            ", where phase sampling does better";
 }
 
+/// Why no next-event estimation is done at all, towards the environment or area lights (render.nee
+/// false names itself: neeReason, about the environment, said "the environment is black" of a
+/// Cornell box whose lamp render.nee false left unsampled).
+std::string noNextEventReason(const Scene& scene, const Effects& effects) {
+    return scene.settings.nee == false ? "render.nee is false" : neeReason(scene, effects);
+}
+
 /// The end of a warning that next-event estimation is off: why, and how to turn it on where a
 /// setting can, with the closing parenthesis.
 std::string neeOffWhy(const std::string& reason, const Scene& scene, const Effects& effects) {
@@ -419,8 +426,16 @@ std::vector<std::string> unusedKeyWarnings(const Json& doc, const Scene& scene,
                                  : std::string("it shapes light_sampling \"product\", and this "
                                                "render's is \"") +
                                        lightSamplingName(s.lightSampling) + "\""));
-    if (const Json cache = render.value("radiance_cache", Json::object());
-        !s.radianceCache.enabled) {
+    const Json cache = render.value("radiance_cache", Json::object());
+    // A cached vertex's direct light is light_samples next-event samples: with next-event
+    // estimation off none is drawn (1 and 8 rendered bit-identical images; helper 132).
+    if (cache.is_object() && cache.contains("light_samples") && effects.radianceCache &&
+        !effects.anyNextEvent())
+        w.push_back("render.radiance_cache.light_samples: " + cache["light_samples"].dump() +
+                    " is not used: next-event estimation is off (" +
+                    noNextEventReason(scene, effects) +
+                    "), and the BSDF sample carries a cached vertex's direct light");
+    if (!s.radianceCache.enabled) {
         std::string keys;
         int n = 0;
         for (auto it = cache.begin(); it != cache.end(); ++it)
@@ -439,7 +454,7 @@ std::vector<std::string> unusedKeyWarnings(const Json& doc, const Scene& scene,
                     " is not used: no transmittance is estimated, " +
                     (!effects.volumes
                          ? std::string("as the scene has no medium")
-                         : "as next-event estimation is off (" + neeReason(scene, effects) +
+                         : "as next-event estimation is off (" + noNextEventReason(scene, effects) +
                                ") and free flights carry the paths"));
     const Json media = doc.value("media", Json::array());
     for (size_t i = 0; media.is_array() && i < media.size(); ++i)

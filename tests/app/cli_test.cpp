@@ -1991,6 +1991,33 @@ TEST_F(Cli, RenderWarnsOfKeysThatChangeNothing) {
     EXPECT_NE(err.find(": " + unusedDelta + "\n"), std::string::npos) << err;
     err = floor(" --set render.nee=true");
     EXPECT_EQ(err.find("render.transmittance"), std::string::npos) << err;
+    // The cache's light_samples are next-event samples: unused without next-event estimation
+    // (1 and 8 rendered bit-identical images without a word; helper 132), used with it. A
+    // render.nee false names itself as the reason.
+    const std::string lightSamples = "render.radiance_cache.light_samples: 4 is not used: ";
+    const std::string cacheOn =
+        " --set render.radiance_cache.enabled=true --set "
+        "render.radiance_cache.light_samples=4";
+    err = floor(cacheOn);
+    EXPECT_NE(err.find(lightSamples + "next-event estimation is off (render.nee \"auto\" leaves "
+                                      "it off under a constant sky, where phase sampling does "
+                                      "better), and the BSDF sample carries a cached vertex's "
+                                      "direct light\n"),
+              std::string::npos)
+        << err;
+    // (under a black sky beside a lamp, whose light render.nee false leaves unsampled: the reason
+    // named the sky)
+    err = floor(cacheOn +
+                " --set render.nee=false --set environment.radiance=0 --set 'surfaces=[{\"type\": "
+                "\"rectangle\", \"bsdf\": {\"type\": \"lambert\"}, \"transform\": {\"translate\": "
+                "[0, 0, -1], \"scale\": 4}}, {\"type\": \"rectangle\", \"emission\": 1, "
+                "\"transform\": {\"translate\": [0, 0, 1], \"rotate\": {\"axis\": [1, 0, 0], "
+                "\"degrees\": 180}}}]'");
+    EXPECT_NE(err.find(lightSamples + "next-event estimation is off (render.nee is false)"),
+              std::string::npos)
+        << err;
+    err = floor(cacheOn + " --set render.nee=true");
+    EXPECT_EQ(err.find("light_samples"), std::string::npos) << err;
     // Product sampling's lobes are those of scattering media.
     err = floor(" --set render.nee=true --set render.light_sampling=product");
     EXPECT_NE(
