@@ -160,16 +160,17 @@ std::string errorText(const std::exception& e, const Sweep& s, const SweepRun* r
     return run ? text + " (in run " + describe(*run, s.axes) + ")" : text;
 }
 
-/// An unknown key that one of a run's (or the reference's) `sets` brought in, refused at the
+/// An unknown key that one of a run's (or the reference's) `sets` brought in (`doc`, the scene
+/// document after them, as checked), refused at the
 /// sweep's key that gave it (`places`): a `set` (in every run), or an axis or the reference's own
 /// `set` (in `what`). It was blamed on the scene file, which lacks the key, "in the reference"
 /// for a `set` that every run has (helper 127). Where the scene itself is to blame, it returns and
 /// the caller names the scene.
-void blameSweepKey(const Error& e, const Sweep& s, const std::vector<std::string>& sets,
-                   const std::vector<std::string>& places, const std::string& what) {
+void blameSweepKey(const Error& e, const Sweep& s, const Json& doc,
+                   const std::vector<std::string>& sets, const std::vector<std::string>& places,
+                   const std::string& what) {
     std::string reason;
-    const int i = overrideOfUnknownKey(e.what(), s.scene, s.sceneDoc,
-                                       runDocument(s.sceneDoc, s.scene, sets), sets, &reason);
+    const int i = overrideOfUnknownKey(e.what(), s.scene, s.sceneDoc, doc, sets, &reason);
     if (i < 0 || size_t(i) >= places.size()) return;
     const std::string& place = places[size_t(i)];
     fail(s.path, place, reason + (place.rfind("set[", 0) == 0 ? "" : " (in " + what + ")"));
@@ -187,12 +188,12 @@ void checkRunScenes(const Sweep& s) {
     std::optional<std::pair<int, int>> refSize;
     std::string refName;
     if (s.reference && s.reference->render) {
+        const Json doc = runDocument(s.sceneDoc, s.scene, s.reference->sets);
         try {
-            const Camera c =
-                checkScene(runDocument(s.sceneDoc, s.scene, s.reference->sets), s.scene);
+            const Camera c = checkScene(doc, s.scene);
             refSize = {c.width, c.height}, refName = "the rendered reference";
         } catch (const Error& e) {
-            blameSweepKey(e, s, s.reference->sets, s.reference->places, "the reference");
+            blameSweepKey(e, s, doc, s.reference->sets, s.reference->places, "the reference");
             throw Error(std::string(e.what()) + " (in the reference)");
         }
     } else if (s.reference) {
@@ -222,7 +223,7 @@ void checkRunScenes(const Sweep& s) {
                          std::to_string(refSize->second) + ", the run's image " +
                          std::to_string(c.width) + "x" + std::to_string(c.height));
         } catch (const Error& e) {
-            blameSweepKey(e, s, run.sets, run.places, "run " + describe(run, s.axes));
+            blameSweepKey(e, s, doc, run.sets, run.places, "run " + describe(run, s.axes));
             throw Error(errorText(e, s, &run));
         }
     }

@@ -168,6 +168,17 @@ std::string killOnceCaught(const std::string& sig, int number, const std::string
 
 }  // namespace
 
+namespace {
+/// The warning of two surfaces closer than a tenth of the ray offset ε allows, gap ≤ ε, with ε
+/// from the surfaces' extent: `pair` is "a and b are G apart[ (the closest of N such pairs)]".
+std::string gapWarning(const std::string& file, const std::string& pair, const std::string& eps) {
+    return "shvol: warning: " + file + ": " + pair + ", and the ray offset is " + eps +
+           " (2^-16 of the surfaces' extent): rays leaving one skip more than a tenth of the gap "
+           "(all of it: they see past each other), and light between them is unreliable; make "
+           "the surfaces' extent smaller, which sets the offset, or the gap wider\n";
+}
+}  // namespace
+
 TEST_F(Cli, HelpAndVersion) {
     Result r = run("--help");
     EXPECT_EQ(r.code, 0);
@@ -2152,12 +2163,7 @@ TEST_F(Cli, RenderWarnsOfSurfacesSmallForTheRayOffset) {
     write("gap.json", gapScene(1e5));
     r = run("render " + path("gap.json") + " -o " + path("out.exr") + " --quiet");
     EXPECT_EQ(r.code, 0) << r.err;
-    EXPECT_EQ(r.err, "shvol: warning: " + path("gap.json") +
-                         ": floor and ceiling are 1 apart, and the ray offset is 1.53 (2^-16 of "
-                         "the surfaces' extent): rays leaving one skip more than a tenth of the "
-                         "gap (all of it: they see past each other), and light between them is "
-                         "unreliable; make the surfaces' extent smaller, which sets the offset, "
-                         "or the gap wider\n");
+    EXPECT_EQ(r.err, gapWarning(path("gap.json"), "floor and ceiling are 1 apart", "1.53"));
     write("gap.json", gapScene(1e3));  // (ε = 0.0153: no warning)
     r = run("render " + path("gap.json") + " -o " + path("out.exr") + " --quiet");
     EXPECT_EQ(r.err, "");
@@ -2173,12 +2179,8 @@ TEST_F(Cli, RenderWarnsOfSurfacesSmallForTheRayOffset) {
     };
     write("nested.json", spheres(0.99999, 0));
     r = run("render " + path("nested.json") + " -o " + path("out.exr") + " --quiet");
-    EXPECT_EQ(r.err, "shvol: warning: " + path("nested.json") +
-                         ": outer and inner are 1e-05 apart, and the ray offset is 1.53e-05 (2^-16 "
-                         "of the surfaces' extent): rays leaving one skip more than a tenth of the "
-                         "gap (all of it: they see past each other), and light between them is "
-                         "unreliable; make the surfaces' extent smaller, which sets the offset, or "
-                         "the gap wider\n");
+    EXPECT_EQ(r.err,
+              gapWarning(path("nested.json"), "outer and inner are 1e-05 apart", "1.53e-05"));
     for (const auto& [inner, x] : {std::pair{0.999, 0.0}, std::pair{0.5, 0.6}}) {
         write("nested.json", spheres(inner, x));  // 10⁻³ apart; crossing
         r = run("render " + path("nested.json") + " -o " + path("out.exr") + " --quiet");
@@ -2219,12 +2221,9 @@ TEST_F(Cli, RenderWarnsOfTheClosestOfManySurfaces) {
                            surfaces + "]}");
     const Result r = run("render " + path("many.json") + " -o " + path("out.exr") + " --quiet");
     EXPECT_EQ(r.code, 0) << r.err;
-    EXPECT_EQ(r.err, "shvol: warning: " + path("many.json") +
-                         ": g10_3 and partner3 are 0.5 apart (the closest of 5 such pairs), and "
-                         "the ray offset is 1.53 (2^-16 of the surfaces' extent): rays leaving one "
-                         "skip more than a tenth of the gap (all of it: they see past each other), "
-                         "and light between them is unreliable; make the surfaces' extent "
-                         "smaller, which sets the offset, or the gap wider\n");
+    EXPECT_EQ(r.err,
+              gapWarning(path("many.json"),
+                         "g10_3 and partner3 are 0.5 apart (the closest of 5 such pairs)", "1.53"));
 }
 
 // Glass that is not a solid's surface is named in a warning, with its defect's place in its
