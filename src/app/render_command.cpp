@@ -565,9 +565,10 @@ std::vector<std::string> renderWarnings(const Scene& scene, const RenderStats& s
                       100 * error);
         w.push_back(surface + msg);
     }
-    // (not of max_records 0, which asks for no records: it advised raising it; helper 105)
+    // (A cache is used only with max_records > 0: 0 asks for no records, and this advised raising
+    // it; helper 105.)
     if (const int cap = scene.settings.radianceCache.maxRecords;
-        st.radianceCache.used && cap > 0 && st.radianceCache.records >= size_t(cap))
+        st.radianceCache.used && st.radianceCache.records >= size_t(cap))
         w.push_back("render.radiance_cache: the fill stopped at max_records (" +
                     std::to_string(cap) +
                     "): lookups beyond the records' reach are traced instead (the stats' "
@@ -1011,7 +1012,8 @@ int runRender(const RenderArgs& a) {
                                        "] is empty: no voxel of its grid is above 0 (" +
                                        scene.media[i]->describe() + ")");
             const Effects effects = Effects::of(scene);
-            if (scene.settings.radianceCache.enabled && !effects.radianceCache)
+            if (scene.settings.radianceCache.enabled &&
+                scene.settings.radianceCache.maxRecords > 0 && !effects.radianceCache)
                 warnings.push_back(
                     "render.radiance_cache: enabled, but no surface has a BSDF the cache holds "
                     "(lambert, phong, ward), or max_depth is 0: the render runs without it");
@@ -1030,9 +1032,9 @@ int runRender(const RenderArgs& a) {
             // Every sample of a pixel reads the same records, so the spread of its samples does
             // not hold their error (helper 80: z-scores up to 32.6 against a path-traced
             // reference on milk_glass at the default 1024 rays per record).
-            // (A cache of max_records 0 holds no record: the errors are those of a render
-            // without it; helper 83.)
-            if (a.variance && effects.radianceCache && scene.settings.radianceCache.maxRecords > 0)
+            // (A cache of max_records 0 is off: the errors are those of a render without it;
+            // helper 83.)
+            if (a.variance && effects.radianceCache)
                 warnings.push_back(
                     "--variance: the standard errors leave out the radiance cache's own error, "
                     "which every sample of a pixel shares: they can be far too small (a z-test "

@@ -91,7 +91,10 @@ HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
                     " BSDF is not cached (lambert, phong and ward are)");
     rhoD_ = bsdf.reflectance;
     anisotropic_ = bsdf.anisotropic();
-    rhoS_ = bsdf.type == BsdfType::Lambert ? Spectrum::Zero() : bsdf.specular;
+    // A specular lobe of weight 0 reflects nothing: it is neither tabulated nor judged (a sharp
+    // one would fail the albedo check and leave a Lambertian surface path traced).
+    const bool diffuseOnly = bsdf.type == BsdfType::Lambert || !(bsdf.specular.maxCoeff() > 0);
+    rhoS_ = diffuseOnly ? Spectrum::Zero() : bsdf.specular;
     // At least 64 × 128 nodes: tests/cache checks Phong 22 and Ward α = 0.2/0.4 against a rule
     // of 400 × 800 to 2e-4 (HshBrdfTable.ReflectsBandLimitedRadianceExactlyAtANode).
     const BasisAtNodes nodes(n_,
@@ -99,7 +102,7 @@ HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
     const Vec3 up(0, 0, 1);
     const ProjectionErrors errD =
         project(Bsdf::lambert(Spectrum::Ones()), up, nodes, diffuse_.data());
-    if (bsdf.type == BsdfType::Lambert) {
+    if (diffuseOnly) {
         projectionError_ = errD.energy;
         peakError_ = errD.peak;
         return;

@@ -19,7 +19,9 @@ Effects Effects::of(const Scene& scene) {
                 s.emits() && scene.settings.maxDepth >= 1 && scene.settings.nee.value_or(true);
             e.boundedMedia |= s.interiorMedium >= 0;
             e.emitters |= s.emits();
+            // (max_records 0 asks for no records: no BRDF table is built, nor warned of)
             e.radianceCache |= scene.settings.radianceCache.enabled &&
+                               scene.settings.radianceCache.maxRecords > 0 &&
                                scene.settings.maxDepth >= 1 && HshBrdfTable::supports(s.bsdf);
         }
     e.scattering = e.volumes && scatters && scene.settings.maxDepth >= 1;

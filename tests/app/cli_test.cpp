@@ -1789,6 +1789,16 @@ TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
     stats = nlohmann::json::parse(std::ifstream(path("a.stats.json")));
     EXPECT_GT(stats["radiance_cache"]["uncached_surfaces"]["floor"].get<double>(), 0.5);
     EXPECT_FALSE(stats["radiance_cache"]["brdf_table_projection_errors"].contains("floor"));
+    // ... but with specular 0 the floor is Lambertian, and cached (it was judged by the lobe it
+    // does not use; helper 132).
+    r = run("render " + path("sharp.json") + " -o " + path("a.exr") +
+            " --quiet --set surfaces.1.bsdf.exponent=1e6 --set surfaces.1.bsdf.specular=0" +
+            " --set surfaces.1.bsdf.diffuse=0.5");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    stats = nlohmann::json::parse(std::ifstream(path("a.stats.json")));
+    EXPECT_TRUE(stats["radiance_cache"]["uncached_surfaces"].empty()) << stats["radiance_cache"];
+    EXPECT_TRUE(stats["radiance_cache"]["brdf_table_projection_errors"].contains("floor"));
     write("lambert.json", sceneWith(R"({"type": "lambert"})"));
     r = run("render " + path("lambert.json") + " -o " + path("b.exr") + " --quiet");
     EXPECT_EQ(r.code, 0) << r.err;
@@ -1805,6 +1815,17 @@ TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
     // "stop at max_records (0)", advising to raise it: 0 asks for no records (helper 105).
     r = run("render " + path("lambert.json") + " -o " + path("b.exr") +
             " --quiet --variance --set render.radiance_cache.max_records=0");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    // A cache of max_records 0 is off: it built BRDF tables, and reported their errors and the
+    // noise of records it did not make (helper 132). Nor is a sharp lobe it would not cache
+    // warned of.
+    stats = nlohmann::json::parse(std::ifstream(path("b.stats.json")));
+    EXPECT_FALSE(stats.contains("radiance_cache")) << stats["radiance_cache"];
+    for (const auto& effect : stats["effects"]) EXPECT_NE(effect, "radiance-cache");
+    r = run(
+        "render " + path("sharp.json") + " -o " + path("e.exr") +
+        " --quiet --set surfaces.1.bsdf.exponent=1e6 --set render.radiance_cache.max_records=0");
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(r.err, "");
     // Fewer than 4 rays per HSH coefficient: every record is a noisy fit (helper 63: 1 and 4 rays

@@ -127,6 +127,29 @@ TEST(HshBrdfTable, AlbedoErrorFindsLobesTheQuadratureMisses) {
     EXPECT_EQ(HshBrdfTable(Bsdf::lambert(Spectrum::Ones()), 8).albedoError(), 0);
 }
 
+// A Phong or Ward surface with ρ_s = 0 is Lambertian: its table is Lambert's, whatever the unused
+// lobe's shape. Judged by that lobe, a sharp one failed the albedo check (the surface was path
+// traced) and a milder one was warned of as biased (helper 132).
+TEST(HshBrdfTable, ALobeOfWeightZeroIsNotJudged) {
+    const Spectrum rho(0.2, 0.5, 0.7);
+    const HshBrdfTable lambert(Bsdf::lambert(rho), 6);
+    for (const Bsdf& b :
+         {Bsdf::phong(rho, Spectrum::Zero(), 1e4), Bsdf::phong(rho, Spectrum::Zero(), 30),
+          Bsdf::ward(rho, Spectrum::Zero(), 1e-3, 1e-3),
+          Bsdf::ward(rho, Spectrum::Zero(), 0.05, 0.3)}) {
+        const HshBrdfTable t(b, 6);
+        EXPECT_EQ(t.albedoError(), lambert.albedoError()) << b.name();
+        EXPECT_EQ(t.projectionError(), lambert.projectionError()) << b.name();
+        EXPECT_EQ(t.peakError(), lambert.peakError()) << b.name();
+        EXPECT_EQ(t.memoryBytes(), lambert.memoryBytes()) << b.name();
+        std::vector<double> c(3 * 36), cl(c.size());
+        const Vec3 wo = Vec3(0.6, -0.2, 0.3).normalized();
+        t.coefficients(wo, c.data());
+        lambert.coefficients(wo, cl.data());
+        EXPECT_EQ(c, cl) << b.name();
+    }
+}
+
 // A point light's reflection: a record's λ of light from a small source in direction ω_i reflects
 // P_n g(ω_i) (the table's coefficients at ω_i's HSH values), not g(ω_i). For Phong 30 at order 8
 // the peak, the light's mirror direction, comes out more than 10% dark, which the energy fraction

@@ -44,7 +44,7 @@ class HshBrdfTable {
     void coefficients(const Frame& base, const Frame& own, const Vec3& wo, double* out) const;
     /// The fraction of ∫ g² the order-n projection misses (1 − Gautron eq. 15), averaged over the
     /// grid's outgoing directions, for the specular part (the diffuse part's, if it has no
-    /// specular part).
+    /// specular part or its ρ_s is 0).
     double projectionError() const { return projectionError_; }
     /// How far a point light's reflection can be from the lobe's: the largest, over the grid's
     /// outgoing directions within acos(0.2) = 78.5° of the normal (as albedoError), of

@@ -22,8 +22,9 @@ struct Effects {
     bool areaLights = false;  ///< some surface emits and render.nee is not false: NEE to it, MIS
     /// Next-event estimation to any light (the sky or emitting surfaces): then MIS weights apply.
     bool anyNextEvent() const { return nextEvent || areaLights; }
-    bool boundedMedia = false;   ///< some medium exists only inside a closed surface
-    bool radianceCache = false;  ///< render.radiance_cache on and some surface can be cached
+    bool boundedMedia = false;  ///< some medium exists only inside a closed surface
+    /// render.radiance_cache on, max_records > 0 and some surface can be cached
+    bool radianceCache = false;
     /// The radiance cache's records take light straight from sources that may be small, which
     /// next-event estimation does not take for them (VolumePathIntegrator::Li leaves out what it
     /// takes): emitting surfaces without area-light sampling, or a sky that varies (not uniform,
