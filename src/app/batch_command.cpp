@@ -170,7 +170,7 @@ void blameSweepKey(const Error& e, const Sweep& s, const Json& doc,
                    const std::vector<std::string>& sets, const std::vector<std::string>& places,
                    const std::string& what) {
     std::string reason;
-    const int i = overrideOfUnknownKey(e.what(), s.scene, s.sceneDoc, doc, sets, &reason);
+    const int i = overrideOfError(e.what(), s.scene, s.sceneDoc, doc, sets, &reason);
     if (i < 0 || size_t(i) >= places.size()) return;
     const std::string& place = places[size_t(i)];
     fail(s.path, place, reason + (place.rfind("set[", 0) == 0 ? "" : " (in " + what + ")"));

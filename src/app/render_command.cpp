@@ -987,7 +987,7 @@ int runRender(const RenderArgs& a) {
                 // (helper 127).
                 std::string reason;
                 if (const int i =
-                        overrideOfUnknownKey(e.what(), a.scene, original, doc, a.sets, &reason);
+                        overrideOfError(e.what(), a.scene, original, doc, a.sets, &reason);
                     i >= 0)
                     fail(a.scene, overridePlace(a.sets[size_t(i)]), reason);
                 throw;

@@ -335,22 +335,18 @@ std::string overridePlace(const std::string& assignment) {
                                                      briefText(assignment.substr(eq + 1), 80));
 }
 
-int overrideOfUnknownKey(const std::string& message, const std::string& file, const Json& before,
-                         const Json& after, const std::vector<std::string>& overrides,
-                         std::string* placeAndReason) {
+int overrideOfError(const std::string& message, const std::string& file, const Json& before,
+                    const Json& after, const std::vector<std::string>& overrides,
+                    std::string* placeAndReason) {
     const std::string prefix = file + ": ";
     if (message.rfind(prefix, 0) != 0) return -1;
     const std::string rest = message.substr(prefix.size());
     const size_t colon = rest.find(": ");
-    if (colon == std::string::npos || rest.compare(colon + 2, 11, "unknown key") != 0) return -1;
+    if (colon == std::string::npos) return -1;
     const std::string place = rest.substr(0, colon);
     std::vector<std::string> parts;
     if (!keyPathProblem(place, &parts).empty()) return -1;
-    // The key must be one the overrides brought in: absent from the document before them (else
-    // it is the file's own, whatever an override set beside it), present after them (a key
-    // whose name holds a dot, "fov.x", reads as the path camera.fov.x, which the file's
-    // camera.fov=30 does not hold; helper 131).
-    const auto holds = [&](const Json& doc) {
+    const auto valueAt = [&](const Json& doc) -> const Json* {
         const Json* node = &doc;
         for (const std::string& part : parts) {
             const bool index = part.find_first_not_of("0123456789") == std::string::npos;
@@ -360,11 +356,18 @@ int overrideOfUnknownKey(const std::string& message, const std::string& file, co
                      std::stoul(part) < node->size())
                 node = &(*node)[std::stoul(part)];
             else
-                return false;
+                return nullptr;
         }
-        return true;
+        return node;
     };
-    if (holds(before) || !holds(after)) return -1;
+    // The value must be one the overrides brought in or changed (an unknown key one they brought
+    // in): the file's own, where an override set something beside it, is the file's to answer
+    // for. And it must be in the document after them (a key whose name holds a dot, "fov.x",
+    // reads as the path camera.fov.x, which the file's camera.fov=30 does not hold; helper 131).
+    const Json* now = valueAt(after);
+    if (!now) return -1;
+    const bool unknownKey = rest.compare(colon + 2, 11, "unknown key") == 0;
+    if (const Json* was = valueAt(before); was && (unknownKey || *was == *now)) return -1;
     const std::string at = canonicalKeyPath(place);
     for (int i = int(overrides.size()) - 1; i >= 0; --i) {  // (a later one replaces an earlier)
         const std::string key =

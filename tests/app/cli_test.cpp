@@ -1340,15 +1340,15 @@ TEST_F(Cli, BadOverridesAndOutputs) {
     r = run("render " + path("s.json") + " -o " + path(".exr") + " --quiet");
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find(".exr: the output needs a name before .exr"), std::string::npos) << r.err;
-    // A "render" that a --set made something else than an object is refused as such, also with
-    // --spp and --seed, which set keys inside it (they were blamed as a --set that could not
-    // descend into it).
+    // A "render" that a --set made something else than an object is refused as such, at that
+    // --set, also with --spp and --seed, which set keys inside it (they were blamed as a --set
+    // that could not descend into it).
     for (const char* options : {"", " --spp 1", " --seed 3"}) {
         r = run("render " + path("s.json") + " -o " + path("out.exr") + " --set render=[]" +
                 options + " --quiet");
         EXPECT_EQ(r.code, 1);
-        EXPECT_EQ(r.err,
-                  "shvol: error: " + path("s.json") + ": render: expected an object, got array\n")
+        EXPECT_EQ(r.err, "shvol: error: " + path("s.json") +
+                             ": --set render=[]: render: expected an object, got array\n")
             << options;
     }
     EXPECT_FALSE(fs::exists(path("out.exr")));
@@ -3546,7 +3546,7 @@ TEST_F(Cli, BatchWarnsOfZTestsAtFewSamples) {
 // assignment that brought it in: it was blamed on the scene file, which lacks it, and a sweep's
 // `set`, which every run has, "in the reference" (helper 127). A key the scene itself misspells
 // is still the scene's, whatever a --set sets beside it.
-TEST_F(Cli, UnknownKeysAreNamedWhereTheyWereGiven) {
+TEST_F(Cli, ErrorsOfOverridesAreNamedWhereTheyWereGiven) {
     write("s.json", scene(Homogeneous));
     const std::string render = "render " + path("s.json") + " -o " + path("out.exr") + " --quiet ";
     const std::string fvo = ": camera.fvo: unknown key (did you mean \"fov\"?)\n";
@@ -3571,6 +3571,30 @@ TEST_F(Cli, UnknownKeysAreNamedWhereTheyWereGiven) {
     EXPECT_EQ(
         r.err.rfind("shvol: error: " + path("dotted.json") + ": camera.fov.x: unknown key", 0), 0u)
         << r.err;
+    // So is a value out of range (helper 133: --set camera.fov=500 was blamed on the scene, whose
+    // fov is 30), but not the file's own, where a --set leaves it as it is.
+    const std::string fov = ": camera.fov: value 500 out of range [0.001, 179]\n";
+    r = run(render + "--set camera.fov=500");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "shvol: error: " + path("s.json") + ": --set camera.fov=500" + fov);
+    r = run(render + "--set media.0.phase.g=1");
+    EXPECT_EQ(
+        r.err.rfind(
+            "shvol: error: " + path("s.json") + ": --set media.0.phase.g=1: media[0].phase.g: ", 0),
+        0u)
+        << r.err;
+    std::string wide = scene(Homogeneous);
+    wide.replace(wide.find("\"position\""), 0, "\"fov\": 500, ");
+    write("wide.json", wide);
+    for (const std::string set : {"camera.fov=500", "render.seed=3"}) {
+        r = run("render " + path("wide.json") + " -o " + path("out.exr") + " --quiet --set " + set);
+        EXPECT_EQ(r.err, "shvol: error: " + path("wide.json") + fov) << set;
+    }
+    write("sweep.json", R"({"scene": "s.json", "axes": {"camera.fov": [30, 500]}})");
+    r = run("batch " + path("sweep.json") + " --dry-run");
+    EXPECT_EQ(r.err, "shvol: error: " + path("sweep.json") + ": axes.camera.fov" +
+                         fov.substr(0, fov.size() - 1) +
+                         " (in run r0001 camera.fov=500 repeat=0)\n");
     write("sweep.json", R"({"scene": "s.json", "set": ["render.spp=2", "camera.fvo=30"],
                             "axes": {"spp": [2, 4]}})");
     const std::string batch = "batch " + path("sweep.json") + " --dry-run";
@@ -3961,9 +3985,9 @@ TEST_F(Cli, BatchChecksEveryRunsSceneFirst) {
     write("s.json", scene(Homogeneous));
     write("sweep.json", R"({"scene": "s.json", "axes": {"media[0].albedo": [0.5, 2]}})");
     const std::string expected =
-        path("s.json") +
-        ": media[0].albedo: value 2 out of range [0, 1] (in run r0001 media[0].albedo=2 "
-        "repeat=0)";
+        path("sweep.json") +
+        ": axes.media[0].albedo: media[0].albedo: value 2 out of range [0, 1] (in run r0001 "
+        "media[0].albedo=2 repeat=0)";
     for (const std::string flags : {" --dry-run", ""}) {
         const Result r =
             run("batch " + path("sweep.json") + flags + " --quiet --output " + path("out"));
@@ -4229,7 +4253,8 @@ TEST_F(Cli, MpiBatchEqualsOneProcess) {
     write("bad.json", R"({"scene": "s.json", "axes": {"media[0].albedo": [0.5, 0.6, 3, 0.7]}})");
     r = runCommand(mpi + "batch " + path("bad.json") + " --quiet --output " + path("bad"));
     EXPECT_EQ(r.code, 1);
-    const std::string line = "shvol: error: " + path("s.json") + ": media[0].albedo: value 3";
+    const std::string line =
+        "shvol: error: " + path("bad.json") + ": axes.media[0].albedo: media[0].albedo: value 3";
     EXPECT_NE(r.err.find(line), std::string::npos) << r.err;
     EXPECT_EQ(r.err.find(line), r.err.rfind(line)) << r.err;
 }

@@ -77,16 +77,18 @@ inline constexpr const char* kWrittenAsADouble =
 /// An assignment as errors name it: "--set key=value", a long value by its beginning (briefText).
 std::string overridePlace(const std::string& assignment);
 /// The index in `overrides` (key=value assignments as applyOverride takes them) of the one that
-/// brought in the key an error of the document read after them names as unknown, or −1: the
-/// error `message` must be "file: place: unknown key …", `place` absent from the document
-/// `before` the overrides (else it is the file's own key), present in the document `after` them,
-/// and inside the key an override sets (the last such). placeAndReason gets "place: unknown key
-/// …". So that a misspelt --set, or a sweep's `set` or axis, is named as the culprit rather than
-/// the scene file, which lacks the key (helper 127). A file name with control characters, which
-/// errors escape, is not matched: the error is left as it is.
-int overrideOfUnknownKey(const std::string& message, const std::string& file, const Json& before,
-                         const Json& after, const std::vector<std::string>& overrides,
-                         std::string* placeAndReason = nullptr);
+/// set the value an error of the document read after them is about, or −1: the error `message`
+/// must be "file: place: reason", `place` present in the document `after` the overrides and
+/// absent from the document `before` them or (unless the error is an unknown key) different
+/// there (else it is the file's own),
+/// and inside the key an override sets (the last such). placeAndReason gets "place: reason". So
+/// that a misspelt or out-of-range --set, or a sweep's `set` or axis, is named as the culprit
+/// rather than the scene file, which lacks the key or says something else (helpers 127, 133). A
+/// file name with control characters, which errors escape, is not matched: the error is left as
+/// it is.
+int overrideOfError(const std::string& message, const std::string& file, const Json& before,
+                    const Json& after, const std::vector<std::string>& overrides,
+                    std::string* placeAndReason = nullptr);
 /// A key path as applyOverride walks it: media[0].albedo (the notation of error messages) is
 /// media.0.albedo.
 std::string canonicalKeyPath(const std::string& key);
