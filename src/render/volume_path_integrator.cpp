@@ -358,10 +358,17 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
     // sample meets (directOnly), MIS-weighted against the lightCount light samples drawn there.
     bool directOnly = false;
     double lightCount = 1;
-    // Record paths of the radiance cache leave out, before their first scattering event, what
-    // the shading point's next-event estimation adds.
     bool scattered = false;
     const bool record = kind == PathKind::CacheRecord;
+    // A record path of the radiance cache leaves out the light that the cached vertex it serves
+    // takes itself: what its next-event estimation adds and, where its BSDF sample goes on
+    // through delta surfaces to the light it meets (with MIS, outside sealed media), the light
+    // reached through glass and mirrors alone. Records held that light, a caustic, for all the
+    // points they serve, which no record spacing resolves (a table under a glass blob 4% dark,
+    // whatever the accuracy; helper 133). So until its first scattering event, or its first
+    // delta one where the cached vertex does not follow them.
+    const bool cacheFollowsDelta = nee && effects_.mis != MisHeuristic::None && !sealed(inside);
+    bool recordDirect = record;
     // A record path continues a camera path from its first vertex: it starts one bounce deep,
     // so that cached pixels see at most max_depth bounces too.
     for (int depth = record ? 1 : 0;;) {
@@ -396,8 +403,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
                                     lightCount * environmentPdf(prevVertex, lobe, ray.d, c));
             // (a sky not light-sampled is the cache's, which its records met)
             if (directOnly && !effects_.nextEvent) w = 0;
-            if (w > 0 && !(record && !scattered && effects_.nextEvent))
-                L += beta * w * env.Le(ray.d);
+            if (w > 0 && !(recordDirect && effects_.nextEvent)) L += beta * w * env.Le(ray.d);
             break;
         }
         if (t == NoCollision) {  // the surface
@@ -407,7 +413,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             // light on a fog box's face: the one Embree did not report was jumped, dark).
             const auto addEmitted = [&](const SurfaceHit& h) {
                 const Surface& e = surf->surfaces()[h.surface];
-                if (!e.emits() || (record && !scattered && effects_.areaLights)) return;
+                if (!e.emits() || (recordDirect && effects_.areaLights)) return;
                 if (directOnly && !effects_.areaLights) return;  // (the cache's, as the sky's)
                 const Spectrum Le = e.Le(h.ng, -ray.d);
                 double w = 1;
@@ -428,7 +434,8 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
                 ray = surf->spawn(hit, ray.d);
                 continue;
             }
-            if (directOnly) break;
+            // (through delta surfaces the direct light goes on: no light sample reaches it there)
+            if (directOnly && !bsdf.isDelta()) break;
             if (++depth > s.maxDepth) {
                 ++c.truncatedPaths;
                 break;
@@ -484,6 +491,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
                 lightCount = lightSamples;
             }
             scattered = true;
+            if (!bsdf.isDelta() || !cacheFollowsDelta) recordDirect = false;
             const std::optional<BsdfSample> bs = bsdf.sample(wo, sampler.next2D());
             if (!bs) break;
             if (!(bs->pdf > 0) || !finiteDirection(bs->wi) || !(bs->f >= 0).all()) {
@@ -527,6 +535,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             beta *= medium.albedo();
             if (!(beta.maxCoeff() > 0)) break;
             scattered = true;
+            recordDirect = false;
             // (Within ε of the surface ahead: ε off it, as after a surface event.)
             const Vec3 p = hitSurface ? surf->offSurfaceAhead(ray(t), hit, ray.d) : ray(t);
             const PhaseFunction& phase = medium.phase();
