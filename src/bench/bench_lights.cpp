@@ -129,7 +129,7 @@ void WaveletSample(benchmark::State& state) {
     const SkyHierarchy& h = sky(int(state.range(0)), size_t(state.range(1)));
     Rng rng(1, 1);
     double sink = 0;
-    for (auto _ : state) sink += h.sample(rng.uniform2()).pdf;
+    for (auto _ : state) sink += h.warp(rng.uniform2()).pdf;
     benchmark::DoNotOptimize(sink);
     state.SetItemsProcessed(state.iterations());
 }
@@ -153,7 +153,7 @@ void pointSets(benchmark::State& state, const Warp& warp) {
 
 void WaveletPointSet(benchmark::State& state) {
     const SkyHierarchy& h = sky(int(state.range(0)));
-    pointSets(state, [&](const auto& u, auto& out) { h.sample(u, out); });
+    pointSets(state, [&](const auto& u, auto& out) { h.warp(u, out); });
 }
 BENCHMARK(WaveletPointSet)->Arg(11);
 
@@ -162,7 +162,7 @@ void ProductSample(benchmark::State& state) {
     const ProductSampler::ZonalLobe c = lobe(ps);
     Rng rng(1, 1);
     double sink = 0;
-    for (auto _ : state) sink += ps.sample(c, rng.uniform2()).pdf;
+    for (auto _ : state) sink += ps.warp(c, rng.uniform2()).pdf;
     benchmark::DoNotOptimize(sink);
     state.SetItemsProcessed(state.iterations());
 }
@@ -178,7 +178,7 @@ void ProductEvent(benchmark::State& state) {
     for (auto _ : state) {
         ps.rotateZonal(p.data(), sphericalDirection(2 * rng.uniform() - 1, TwoPi * rng.uniform()),
                        c);
-        sink += ps.sample(c, rng.uniform2()).pdf;
+        sink += ps.warp(c, rng.uniform2()).pdf;
     }
     benchmark::DoNotOptimize(sink);
     state.SetItemsProcessed(state.iterations());
@@ -188,7 +188,7 @@ BENCHMARK(ProductEvent)->ArgsProduct({{4, 8, 16, 32}, {11}});
 void ProductPointSet(benchmark::State& state) {
     const ProductSampler ps(sky(int(state.range(1))), int(state.range(0)));
     const ProductSampler::ZonalLobe c = lobe(ps);
-    pointSets(state, [&](const auto& u, auto& out) { ps.sample(c, u, out); });
+    pointSets(state, [&](const auto& u, auto& out) { ps.warp(c, u, out); });
 }
 BENCHMARK(ProductPointSet)->ArgsProduct({{4, 8, 16, 32}, {9, 11}});
 

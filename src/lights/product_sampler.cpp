@@ -237,7 +237,7 @@ double ProductSampler::descend(const Lobe& lobe, Choose&& choose, uint32_t* izOu
 }
 
 template <class Lobe>
-WarpSample ProductSampler::sample(const Lobe& lobe, Vec2 u) const {
+WarpSample ProductSampler::warp(const Lobe& lobe, Vec2 u) const {
     uint32_t iz, ip;
     const double prob = descend(
         lobe,
@@ -269,8 +269,8 @@ double ProductSampler::pdf(const Lobe& lobe, const Vec3& wdir) const {
 }
 
 template <class Lobe>
-void ProductSampler::sample(const Lobe& lobe, const std::vector<Vec2>& u,
-                            std::vector<WarpSample>& out) const {
+void ProductSampler::warp(const Lobe& lobe, const std::vector<Vec2>& u,
+                          std::vector<WarpSample>& out) const {
     out.resize(u.size());
     hierarchicalWarpPoints(
         [this, &lobe](const WarpNode& nd, double w[4]) {
@@ -282,18 +282,18 @@ void ProductSampler::sample(const Lobe& lobe, const std::vector<Vec2>& u,
 }
 
 template <class Lobe>
-WarpSample ProductSampler::sample(const Lobe& lobe, double beta, Vec2 u) const {
-    if (beta <= 0) return sample(lobe, u);
+WarpSample ProductSampler::warp(const Lobe& lobe, double beta, Vec2 u) const {
+    if (beta <= 0) return warp(lobe, u);
     // The branch that drew the sample knows its own density; only the other one is evaluated.
     // A failed branch yields no sample (its lost mass is what its pdf leaves out); a NaN density
     // goes on, for the path tracer to count (InvalidDraws).
     WarpSample s;
     if (u.x() < beta) {
-        s = sky_.sample(Vec2(u.x() / beta, u.y()));
+        s = sky_.warp(Vec2(u.x() / beta, u.y()));
         if (s.pdf <= 0) return {};
         s.pdf = (1 - beta) * pdf(lobe, s.direction()) + beta * s.pdf;
     } else {
-        s = sample(lobe, Vec2((u.x() - beta) / (1 - beta), u.y()));
+        s = warp(lobe, Vec2((u.x() - beta) / (1 - beta), u.y()));
         if (s.pdf <= 0) return {};
         s.pdf = (1 - beta) * s.pdf + beta * sky_.pdf(s.direction());
     }
@@ -306,18 +306,48 @@ double ProductSampler::pdf(const Lobe& lobe, double beta, const Vec3& w) const {
     return (1 - beta) * pdf(lobe, w) + beta * sky_.pdf(w);
 }
 
+double ProductSampler::lobeValue(const SHLobe& lobe, const Vec3& w) const {
+    return sh::shReconstruct(n_, lobe.c, w);
+}
+
+double ProductSampler::lobeValue(const ZonalLobe& lobe, const Vec3& w) const {
+    double P[sh::triSize(kMaxOrder)];
+    const double s = std::hypot(w.x(), w.y());
+    sh::legendreNormalized(lobe.n, std::clamp(w.z(), -1.0, 1.0), s, P);
+    // cos m(φ − φ₀) = cos mφ cos mφ₀ + sin mφ sin mφ₀, cos mφ and sin mφ by the recurrence.
+    const double c1 = s > 0 ? w.x() / s : 1.0, s1 = s > 0 ? w.y() / s : 0.0;
+    double cosm = 1, sinm = 0, sum = 0;
+    for (int m = 0; m < lobe.n; ++m) {
+        double band = 0;
+        for (int l = m; l < lobe.n; ++l) band += lobe.q[sh::triIndex(l, m)] * P[sh::triIndex(l, m)];
+        sum += (m == 0 ? 1.0 : 2 * (cosm * lobe.cosm[m] + sinm * lobe.sinm[m])) * band;
+        const double c = cosm * c1 - sinm * s1;
+        sinm = sinm * c1 + cosm * s1, cosm = c;
+    }
+    return sum;
+}
+
+template <class Lobe>
+SphereSample ProductSampler::sample(const Lobe& lobe, double beta, Vec2 u) const {
+    const WarpSample s = warp(lobe, beta, u);
+    if (!(s.pdf > 0)) return {Vec3(0, 0, 1), 0, s.pdf};
+    const Vec3 w = s.direction();
+    return {w, lobeValue(lobe, w) * sky_.value(w), s.pdf};
+}
+
 double ProductSampler::defensiveShare(double lobeMinimum) const {
     return lobeMinimum < 0 || sky_.compressed() ? kDefensiveFraction : 0.0;
 }
 
 // Both lobe forms.
-#define SHVOL_PRODUCT_LOBE(L)                                                 \
-    template WarpSample ProductSampler::sample(const L&, Vec2) const;         \
-    template double ProductSampler::pdf(const L&, const Vec3&) const;         \
-    template void ProductSampler::sample(const L&, const std::vector<Vec2>&,  \
-                                         std::vector<WarpSample>&) const;     \
-    template WarpSample ProductSampler::sample(const L&, double, Vec2) const; \
-    template double ProductSampler::pdf(const L&, double, const Vec3&) const; \
+#define SHVOL_PRODUCT_LOBE(L)                                                   \
+    template WarpSample ProductSampler::warp(const L&, Vec2) const;             \
+    template double ProductSampler::pdf(const L&, const Vec3&) const;           \
+    template void ProductSampler::warp(const L&, const std::vector<Vec2>&,      \
+                                       std::vector<WarpSample>&) const;         \
+    template WarpSample ProductSampler::warp(const L&, double, Vec2) const;     \
+    template SphereSample ProductSampler::sample(const L&, double, Vec2) const; \
+    template double ProductSampler::pdf(const L&, double, const Vec3&) const;   \
     template void ProductSampler::childWeights(const L&, const WarpNode&, double, double[4]) const;
 SHVOL_PRODUCT_LOBE(ProductSampler::SHLobe)
 SHVOL_PRODUCT_LOBE(ProductSampler::ZonalLobe)

@@ -224,7 +224,7 @@ double SkyHierarchy::samplingAverage(int level, uint32_t iz, uint32_t iphi) cons
     return avg;
 }
 
-WarpSample SkyHierarchy::warp(Vec2 u) const {
+WarpSample SkyHierarchy::warpWithoutShare(Vec2 u) const {
     double avg = mip_[0][0], c[4], prob = 1;
     if (!(avg > 0)) return {};
     uint64_t node = 0;
@@ -245,7 +245,7 @@ WarpSample SkyHierarchy::warp(Vec2 u) const {
     return {-1 + (iz + u.x()) * hz, (ip + u.y()) * hp, prob / (hz * hp)};
 }
 
-double SkyHierarchy::warpPdf(const Vec3& w) const {
+double SkyHierarchy::pdfWithoutShare(const Vec3& w) const {
     double avg = mip_[0][0], c[4], prob = 1;
     if (!(avg > 0)) return 0;
     uint32_t iz, ip;
@@ -266,17 +266,18 @@ double SkyHierarchy::warpPdf(const Vec3& w) const {
     return prob / ((2 / n) * (TwoPi / n));
 }
 
-WarpSample SkyHierarchy::sample(Vec2 u) const {
+WarpSample SkyHierarchy::warp(Vec2 u) const {
     const double alpha = defensiveFraction();
-    if (alpha == 0) return warp(u);
+    if (alpha == 0) return warpWithoutShare(u);
     WarpSample s;
     if (u.x() < alpha) {
         const Vec3 w = sampleUniformSphere(Vec2(u.x() / alpha, u.y()));
         s.z = w.z(), s.phi = sphericalPhi(w);
     } else {
         // A descent into a node whose children all reconstruct ≤ 0 fails (pdf 0): that lost
-        // mass is exactly what warpPdf() leaves out, so returning no sample keeps it unbiased.
-        s = warp(Vec2((u.x() - alpha) / (1 - alpha), u.y()));
+        // mass is exactly what pdfWithoutShare() leaves out, so returning no sample keeps it
+        // unbiased.
+        s = warpWithoutShare(Vec2((u.x() - alpha) / (1 - alpha), u.y()));
         if (s.pdf <= 0) return {};  // (a NaN goes on, for the path tracer to count)
     }
     s.pdf = pdf(s.direction());
@@ -285,14 +286,14 @@ WarpSample SkyHierarchy::sample(Vec2 u) const {
 
 double SkyHierarchy::pdf(const Vec3& w) const {
     const double alpha = defensiveFraction();
-    if (alpha == 0) return warpPdf(w);
-    return (1 - alpha) * warpPdf(w) + alpha * Inv4Pi;
+    if (alpha == 0) return pdfWithoutShare(w);
+    return (1 - alpha) * pdfWithoutShare(w) + alpha * Inv4Pi;
 }
 
-void SkyHierarchy::sample(const std::vector<Vec2>& u, std::vector<WarpSample>& out) const {
+void SkyHierarchy::warp(const std::vector<Vec2>& u, std::vector<WarpSample>& out) const {
     out.resize(u.size());
     if (compressed_) {  // the defensive share is decided per point
-        for (size_t i = 0; i < u.size(); ++i) out[i] = sample(u[i]);
+        for (size_t i = 0; i < u.size(); ++i) out[i] = warp(u[i]);
         return;
     }
     hierarchicalWarpPoints(
@@ -300,6 +301,19 @@ void SkyHierarchy::sample(const std::vector<Vec2>& u, std::vector<WarpSample>& o
             childAverages(nd.level, mortonIndex(nd.iz, nd.iphi), 0.0, c);
         },
         levels_, u.data(), int(u.size()), out.data());
+}
+
+double SkyHierarchy::value(const Vec3& w) const {
+    uint32_t iz, ip;
+    skyCell(w, levels_, &iz, &ip);
+    return average(levels_, iz, ip);
+}
+
+SphereSample SkyHierarchy::sample(Vec2 u) const {
+    const WarpSample s = warp(u);
+    if (!(s.pdf > 0)) return {Vec3(0, 0, 1), 0, s.pdf};
+    const Vec3 w = s.direction();
+    return {w, value(w), s.pdf};
 }
 
 size_t SkyHierarchy::mipMapBytes() const {

@@ -114,7 +114,7 @@ PhaseSample SHSampledPhase::sample(const Vec3& wo, const Vec2& u) const {
         wi = sampleUniformSphere(Vec2(u.x() / alpha_, u.y()));
     } else {
         double pdfSH;
-        wi = sampler_->sample(wo, Vec2((u.x() - alpha_) / (1 - alpha_), u.y()), &pdfSH);
+        wi = sampler_->warp(wo, Vec2((u.x() - alpha_) / (1 - alpha_), u.y()), &pdfSH);
     }
     const double p = pdf(wo, wi);
     return {wi, p > 0 ? eval(wo, wi) : 0.0, p};

@@ -261,11 +261,11 @@ VolumePathIntegrator::LightDraw VolumePathIntegrator::sampleEnvironment(Vertex v
             return {ls.wi, ls.Le, ls.pdf};
         }
         case LightSampling::Wavelet:
-            s = sky_->sample(u);
+            s = sky_->warp(u);
             break;
         case LightSampling::Product:
             ++c.productSamples;
-            s = product_->sample(lobe.lobe, lobe.beta, u);
+            s = product_->warp(lobe.lobe, lobe.beta, u);
             break;
     }
     // (A NaN pdf is passed on, to be counted: InvalidDraws. A negative one stays a failed draw,

@@ -50,7 +50,7 @@ ZonalSHSampler::ZonalSHSampler(std::vector<double> p, int depth)
     }
 }
 
-ZonalSHSampler::LocalSample ZonalSHSampler::sampleLocal(const Vec2& u) const {
+ZonalSHSampler::LocalSample ZonalSHSampler::warpLocal(const Vec2& u) const {
     if (!(total_ > 0)) return {};
     const double x = u.x();
     int i = guide_[std::min(bins_ - 1, int(x * bins_))];
@@ -63,10 +63,16 @@ ZonalSHSampler::LocalSample ZonalSHSampler::sampleLocal(const Vec2& u) const {
     return {z, TwoPi * u.y(), density_[i]};
 }
 
-Vec3 ZonalSHSampler::sample(const Vec3& axis, const Vec2& u, double* pdf) const {
-    const LocalSample s = sampleLocal(u);
+Vec3 ZonalSHSampler::warp(const Vec3& axis, const Vec2& u, double* pdf) const {
+    const LocalSample s = warpLocal(u);
     *pdf = s.pdf;
     return Frame(axis).toWorld(sphericalDirection(s.cosTheta, s.phi));
+}
+
+SphereSample ZonalSHSampler::sample(const Vec3& axis, const Vec2& u) const {
+    const LocalSample s = warpLocal(u);
+    if (!(s.pdf > 0)) return {axis, 0, s.pdf};
+    return {Frame(axis).toWorld(sphericalDirection(s.cosTheta, s.phi)), eval(s.cosTheta), s.pdf};
 }
 
 int ZonalSHSampler::bin(double z) const {

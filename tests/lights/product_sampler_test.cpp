@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "shvol/core/rng.h"
+#include "shvol/sampling/warp.h"
 #include "shvol/sh/sh_basis.h"
 #include "sky_test_util.h"
 
@@ -57,7 +58,7 @@ Chi2Result productChi2(const ProductSampler& ps, const Lobe& c, double beta, uin
     opt.allowFailedSamples = true;
     const Chi2Result r = chi2TestSphereCells(
         [&](Rng& rng) -> std::optional<Vec3> {
-            const WarpSample s = ps.sample(c, beta, rng.uniform2());
+            const WarpSample s = ps.warp(c, beta, rng.uniform2());
             if (!(s.pdf > 0)) return std::nullopt;
             const double p = ps.pdf(c, beta, s.direction());
             EXPECT_NEAR(s.pdf, p, 1e-6 * p);
@@ -267,10 +268,10 @@ TEST(ProductSampler, PointSetEqualsSingleSamples) {
         for (int i = 0; i < 100; ++i) u.push_back(rng.uniform2());
         const auto compare = [&](const auto& lobe, const char* name) {
             std::vector<WarpSample> out;
-            ps.sample(lobe, u, out);
+            ps.warp(lobe, u, out);
             ASSERT_EQ(out.size(), u.size()) << name;
             for (size_t i = 0; i < u.size(); ++i) {
-                const WarpSample s = ps.sample(lobe, u[i]);
+                const WarpSample s = ps.warp(lobe, u[i]);
                 EXPECT_GT(s.pdf, 0) << name << " K " << K;
                 EXPECT_NEAR(out[i].z, s.z, 1e-12) << name << " K " << K;
                 EXPECT_NEAR(out[i].phi, s.phi, 1e-12) << name << " K " << K;
@@ -290,7 +291,7 @@ TEST(ProductSampler, BlackAndSingleLeafSkies) {
     std::vector<double> c(64);
     const std::vector<double> p = hgLobe(0.9, 8);
     pb.rotateZonal(p.data(), Vec3(0, 0, 1), c.data());
-    EXPECT_EQ(pb.sample(SH{c.data()}, 0.1, Vec2(0.5, 0.5)).pdf, 0.0);
+    EXPECT_EQ(pb.warp(SH{c.data()}, 0.1, Vec2(0.5, 0.5)).pdf, 0.0);
     EXPECT_EQ(pb.pdf(SH{c.data()}, 0.1, Vec3(1, 0, 0)), 0.0);
 
     std::vector<double> leaves(1024, 0.0);
@@ -302,7 +303,7 @@ TEST(ProductSampler, BlackAndSingleLeafSkies) {
         Rng rng(1, 2);
         int drawn = 0;
         for (int i = 0; i < 200; ++i) {
-            const WarpSample s = ps.sample(SH{c.data()}, 0.1, rng.uniform2());
+            const WarpSample s = ps.warp(SH{c.data()}, 0.1, rng.uniform2());
             if (!(s.pdf > 0)) continue;  // the lobe may be ≤ 0 over the lit leaf
             ++drawn;
             EXPECT_TRUE(std::isfinite(s.pdf));
@@ -319,6 +320,48 @@ TEST(ProductSampler, BlackAndSingleLeafSkies) {
 }  // namespace shvol
 
 namespace shvol {
+
+// sample() returns with each direction the product it follows, lobeValue × the sky's value: the
+// factored zonal lobe's value agrees with the reconstruction of its rotated SH coefficients (fast
+// path vs slow reference), and value/pdf estimates ∫ p̃ L̃ dω, by a midpoint rule over 512 × 1024
+// cells, within 5 standard errors over 200,000 samples (the mixture reaches every direction).
+TEST(ProductSampler, SampleValueIsTheProductItFollows) {
+    const SkyHierarchy sky = sunSky(6, 0.1, 50);
+    for (int n : {4, 12}) {
+        const ProductSampler ps(sky, n);
+        const std::vector<double> p = hgLobe(0.7, n);
+        const Vec3 axis = sphericalDirection(0.4, 1.2);
+        std::vector<double> c(n * n);
+        ProductSampler::ZonalLobe z;
+        ps.rotateZonal(p.data(), axis, c.data());
+        ps.rotateZonal(p.data(), axis, z);
+        Rng rng(n, 9);
+        for (int i = 0; i < 200; ++i) {
+            const Vec3 w = sampleUniformSphere(rng.uniform2());
+            EXPECT_NEAR(ps.lobeValue(z, w), sh::shReconstruct(n, c.data(), w), 1e-12) << n;
+            EXPECT_NEAR(ps.lobeValue(SH{c.data()}, w), sh::shReconstruct(n, c.data(), w), 1e-15);
+        }
+        double integral = 0;
+        const int nz = 512, nphi = 1024;
+        for (int i = 0; i < nz; ++i)
+            for (int j = 0; j < nphi; ++j) {
+                const Vec3 w =
+                    sphericalDirection(-1 + (i + 0.5) * 2 / nz, (j + 0.5) * TwoPi / nphi);
+                integral += ps.lobeValue(z, w) * sky.value(w) * (2.0 / nz) * (TwoPi / nphi);
+            }
+        double sum = 0, sum2 = 0;
+        const int N = 200000;
+        for (int i = 0; i < N; ++i) {
+            const SphereSample x = ps.sample(z, 0.1, rng.uniform2());
+            ASSERT_GT(x.pdf, 0);
+            ASSERT_NEAR(x.value, ps.lobeValue(z, x.w) * sky.value(x.w), 1e-12 * std::abs(x.value));
+            const double r = x.value / x.pdf;
+            sum += r, sum2 += r * r;
+        }
+        const double mean = sum / N, se = std::sqrt((sum2 / N - mean * mean) / (N - 1));
+        EXPECT_NEAR(mean, integral, 5 * se) << n << ": " << mean << " against " << integral;
+    }
+}
 
 // Fast path vs slow reference: the factored zonal lobe gives the same child masses, samples and
 // pdfs as its full set of rotated SH coefficients, at every product level, any order, at the
@@ -344,7 +387,7 @@ TEST(ProductSampler, ZonalFastPathEqualsSHLobe) {
                 ps.lobeMasses(z, level, iz, ip, b);
                 for (int k = 0; k < 4; ++k) EXPECT_NEAR(a[k], b[k], 1e-12) << n << " " << level;
                 const Vec2 u = rng.uniform2();
-                const WarpSample sa = ps.sample(SH{c.data()}, u), sb = ps.sample(z, u);
+                const WarpSample sa = ps.warp(SH{c.data()}, u), sb = ps.warp(z, u);
                 EXPECT_NEAR(sa.z, sb.z, 1e-9);
                 EXPECT_NEAR(sa.phi, sb.phi, 1e-9);
                 EXPECT_NEAR(sa.pdf, sb.pdf, 1e-9 * sa.pdf);
@@ -374,7 +417,7 @@ TEST(ProductSampler, SignificantBands) {
     Rng rng(8, 8);
     for (int i = 0; i < 100; ++i) {
         const Vec2 u = rng.uniform2();
-        const WarpSample a = ps.sample(full, u), b = ps.sample(one, u);
+        const WarpSample a = ps.warp(full, u), b = ps.warp(one, u);
         EXPECT_NEAR(a.z, b.z, 1e-12);
         EXPECT_NEAR(a.pdf, b.pdf, 1e-9 * a.pdf);
     }

@@ -128,7 +128,7 @@ TEST(SobolFedSamplers, SkyHierarchyChi2) {
     SobolPoints u;
     const Chi2Result r = chi2TestSphereCells(
         [&](Rng&) -> std::optional<Vec3> {
-            const WarpSample s = sky.sample(u.next());
+            const WarpSample s = sky.warp(u.next());
             if (!(s.pdf > 0)) return std::nullopt;
             return s.direction();
         },
@@ -153,7 +153,7 @@ TEST(SobolFedSamplers, ProductSamplerChi2) {
     SobolPoints u;
     const Chi2Result r = chi2TestSphereCells(
         [&](Rng&) -> std::optional<Vec3> {
-            const WarpSample s = ps.sample(lobe, beta, u.next());
+            const WarpSample s = ps.warp(lobe, beta, u.next());
             if (!(s.pdf > 0)) return std::nullopt;
             return s.direction();
         },

@@ -168,7 +168,7 @@ double nsPerLocalSample(const ZonalSHSampler& sampler, const std::vector<Vec2>& 
     double acc = 0;
     const auto t0 = Clock::now();
     for (const Vec2& u : us) {
-        const ZonalSHSampler::LocalSample s = sampler.sampleLocal(u);
+        const ZonalSHSampler::LocalSample s = sampler.warpLocal(u);
         acc += s.cosTheta + s.pdf;
     }
     const double ns = secondsSince(t0) * 1e9 / double(us.size());

@@ -116,11 +116,11 @@ int main(int argc, char** argv) {
                     return Draw{s.wi, s.pdf};
                 };
                 const LightFn skyLight = [&](const Vec2& u) {
-                    const WarpSample s = sky.sample(u);
+                    const WarpSample s = sky.warp(u);
                     return Draw{s.direction(), s.pdf};
                 };
                 const LightFn productLight = [&](const Vec2& u) {
-                    const WarpSample s = ps.sample(lobe, beta, u);
+                    const WarpSample s = ps.warp(lobe, beta, u);
                     return Draw{s.direction(), s.pdf};
                 };
                 const PdfFn envPdf = [&](const Vec3& w) { return env.pdf(w); };

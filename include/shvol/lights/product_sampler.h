@@ -78,23 +78,32 @@ class ProductSampler {
     /// less than 1e-9 of its mean, and the cost of a level by the square of the ratio.
     static int significantBands(const std::vector<double>& p);
 
-    /// Product warp of u ∈ [0, 1)² (pdf 0 if the product has no mass). Lobe: SHLobe or
-    /// ZonalLobe.
+    /// Product warp of u ∈ [0, 1)², direction and pdf only (pdf 0 if the product has no mass).
+    /// Lobe: SHLobe or ZonalLobe.
     template <class Lobe>
-    WarpSample sample(const Lobe& lobe, Vec2 u) const;
-    /// Density of sample(lobe, ·) at a unit direction.
+    WarpSample warp(const Lobe& lobe, Vec2 u) const;
+    /// Density of warp(lobe, ·) at a unit direction.
     template <class Lobe>
     double pdf(const Lobe& lobe, const Vec3& w) const;
     /// Warps a point set through the product (stratification preserved). Its masses come from
     /// lobeMasses directly, so its pdfs agree with pdf() to rounding, not bit for bit.
     template <class Lobe>
-    void sample(const Lobe& lobe, const std::vector<Vec2>& u, std::vector<WarpSample>& out) const;
+    void warp(const Lobe& lobe, const std::vector<Vec2>& u, std::vector<WarpSample>& out) const;
 
-    /// Mixture with the sky-only sampler: share beta of sky.sample().
+    /// Mixture with the sky-only sampler: share beta of sky.warp().
     template <class Lobe>
-    WarpSample sample(const Lobe& lobe, double beta, Vec2 u) const;
+    WarpSample warp(const Lobe& lobe, double beta, Vec2 u) const;
     template <class Lobe>
     double pdf(const Lobe& lobe, double beta, const Vec3& w) const;
+    /// The lobe's reconstruction p̃ at a unit direction: Σ c_l^m y_l^m(w) (O(n²); for a ZonalLobe
+    /// from its factored form, q_l^0 N̄_l^0(z) + 2 Σ_{m≥1} q_l^m N̄_l^m(z) cos(m(φ − φ₀))).
+    double lobeValue(const SHLobe& lobe, const Vec3& w) const;
+    double lobeValue(const ZonalLobe& lobe, const Vec3& w) const;
+    /// warp(lobe, beta, u) with the product the sampler follows at its direction as the value:
+    /// lobeValue × the sky's SkyHierarchy::value (the integrand of a lobe-weighted sky integral,
+    /// as the sampler sees it; 0 with a failed draw's pdf).
+    template <class Lobe>
+    SphereSample sample(const Lobe& lobe, double beta, Vec2 u) const;
     /// β for a lobe: kDefensiveFraction when the lobe's reconstruction has a negative value
     /// (`lobeMinimum` < 0) or the sky is compressed, else 0.
     double defensiveShare(double lobeMinimum) const;

@@ -127,12 +127,18 @@ class SkyHierarchy {
         if (!compressed_ && level + 2 <= levels_) __builtin_prefetch(&mip_[level + 2][16 * morton]);
     }
 
-    /// Hierarchical warp of u ∈ [0, 1)² (with the defensive share when compressed).
-    WarpSample sample(Vec2 u) const;
-    /// Density of sample() at a unit direction.
+    /// Hierarchical warp of u ∈ [0, 1)² (with the defensive share when compressed): direction
+    /// and pdf only.
+    WarpSample warp(Vec2 u) const;
+    /// Density of warp() and sample() at a unit direction.
     double pdf(const Vec3& w) const;
     /// Warps a point set (stratification preserved except for the defensive share).
-    void sample(const std::vector<Vec2>& u, std::vector<WarpSample>& out) const;
+    void warp(const std::vector<Vec2>& u, std::vector<WarpSample>& out) const;
+    /// The luminance the sampler follows at w: its leaf's average (the compressed wavelet's
+    /// reconstruction, which can be ≤ 0). Uncompressed, pdf(w) = value(w) / (4π rootAverage()).
+    double value(const Vec3& w) const;
+    /// warp(u) with value() at its direction (0 with a failed draw's pdf).
+    SphereSample sample(Vec2 u) const;
 
     bool compressed() const { return compressed_; }
     double defensiveFraction() const { return compressed_ ? kDefensiveFraction : 0.0; }
@@ -161,8 +167,8 @@ class SkyHierarchy {
     void compress(size_t K);
     void compressedChildren(int level, uint64_t morton, double avg, double c[4]) const;
     /// Sampler without the defensive share.
-    WarpSample warp(Vec2 u) const;
-    double warpPdf(const Vec3& w) const;
+    WarpSample warpWithoutShare(Vec2 u) const;
+    double pdfWithoutShare(const Vec3& w) const;
 
     int levels_ = 0;
     double unit_ = 1;                      ///< luminance of one sampler unit

@@ -51,6 +51,14 @@ struct WarpSample {
     Vec3 direction() const { return sphericalDirection(z, phi); }
 };
 
+/// A direction with the value of the sampled function there and the pdf of having drawn it (the
+/// samplers' sample(); their warp() gives a WarpSample, without the value).
+struct SphereSample {
+    Vec3 w{0, 0, 1};
+    double value = 0;  ///< the sampled function at w (each sampler says which function)
+    double pdf = 0;    ///< solid-angle density of the sampler at w; 0 marks a failed sample
+};
+
 namespace detail {
 /// Clamped masses of one node and its split probabilities.
 struct Split {

@@ -26,13 +26,6 @@
 
 namespace shvol {
 
-/// A direction with the value of the sampled function there and the pdf of having drawn it.
-struct SphereSample {
-    Vec3 w{0, 0, 1};
-    double value = 0;  ///< f̃(w)
-    double pdf = 0;    ///< solid-angle density of the sampler at w; 0 marks a failed sample
-};
-
 class SHSampler {
   public:
     enum class Mode { OnTheFly, Tables };

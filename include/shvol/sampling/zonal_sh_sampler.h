@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "shvol/core/math.h"
+#include "shvol/sampling/hierarchical_warp.h"
 
 namespace shvol {
 
@@ -26,10 +27,13 @@ class ZonalSHSampler {
     struct LocalSample {
         double cosTheta = 1, phi = 0, pdf = 0;  ///< pdf 0: the function has no positive mass
     };
-    /// Sample around +z.
-    LocalSample sampleLocal(const Vec2& u) const;
-    /// Sample around the unit axis `axis` (cos θ = axis·w).
-    Vec3 sample(const Vec3& axis, const Vec2& u, double* pdf) const;
+    /// Warp around +z: direction and pdf only.
+    LocalSample warpLocal(const Vec2& u) const;
+    /// Warp around the unit axis `axis` (cos θ = axis·w): the direction, its density in *pdf.
+    Vec3 warp(const Vec3& axis, const Vec2& u, double* pdf) const;
+    /// warp(axis, u) with the reconstruction p̃(cos θ) (eval, O(n)) at its direction as the
+    /// value (0 with a failed draw's pdf).
+    SphereSample sample(const Vec3& axis, const Vec2& u) const;
     /// Density at cos θ (solid-angle measure).
     double pdf(double cosTheta) const;
     /// P(cos θ ≤ z) for a sample around +z (piecewise linear in z).
