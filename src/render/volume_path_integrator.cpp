@@ -316,6 +316,12 @@ VolumePathIntegrator::LightDraw VolumePathIntegrator::sampleLights(const Vec3& x
     return usableLightDraw({as.wi, as.Le, as.pdf * (1 - pEnv), as.dist, as.y, as.ny}, c);
 }
 
+LightSample VolumePathIntegrator::sampleLightsAtSurface(const Vec3& x, Rng& rng) const {
+    PathCounters c;
+    const LightDraw d = sampleLights(x, Vertex::Surface, EventLobe{}, rng, c);
+    return {d.wi, d.Le, d.pdf};
+}
+
 VolumePathIntegrator::LightDraw VolumePathIntegrator::usableLightDraw(LightDraw ls,
                                                                       PathCounters& c) {
     if (unusableDraw(ls.pdf, ls.wi) || (ls.pdf > 0 && !(ls.Le >= 0).all())) {

@@ -9,6 +9,8 @@
 #include "shvol/media/homogeneous_medium.h"
 #include "shvol/render/renderer.h"
 #include "shvol/render/volume_path_integrator.h"
+#include "shvol/sampling/chi2.h"
+#include "shvol/surfaces/area_lights.h"
 
 namespace shvol {
 namespace {
@@ -63,6 +65,59 @@ void configure(Scene& s, const Config& c, int order = 8) {
 }
 
 }  // namespace
+
+// Next-event estimation's composition at a surface point, the sky by its strategy or a disk
+// lamp, each by its share, against its density: share × the sky's pdf + (1 − share) × the
+// lamp's solid-angle pdf where the direction meets the lamp. χ² over the sphere, a family of two.
+// Each sample's own pdf is its light's (each light's light is estimated on its own, as pbrt
+// chooses a light): share × the sky's, or (1 − share) × the lamp's.
+TEST(LightSampling, CompositionOfSkyAndLampPassesChi2) {
+    for (const LightSampling strategy : {LightSampling::Environment, LightSampling::Wavelet}) {
+        Scene scene;
+        scene.environment = Environment::image(sunnySky(40), 1, 0, false);
+        scene.settings.nee = true;
+        scene.settings.lightSampling = strategy;
+        Eigen::Affine3d lamp = Eigen::Affine3d::Identity();  // a disk facing down
+        lamp.translate(Vec3(0.3, -0.3, 0.8)).rotate(Eigen::AngleAxisd(Pi, Vec3(1, 0, 0)));
+        lamp.scale(0.3);
+        std::vector<Surface> v;
+        v.push_back(Surface::disk(lamp));
+        v.back().emission = Spectrum::Constant(5);
+        scene.surfaces = std::make_unique<const SurfaceScene>(std::move(v));
+        const VolumePathIntegrator integrator(scene);
+        ASSERT_TRUE(integrator.effects().areaLights && integrator.effects().nextEvent);
+        const double share = integrator.environmentShare();
+        ASSERT_EQ(share, 0.5);
+        const AreaLights lights(*scene.surfaces);
+        const Vec3 x(0, 0, 0), c(0.3, -0.3, 0.8), n(0, 0, -1);
+        const auto skyPdf = [&](const Vec3& w) {
+            return share * (strategy == LightSampling::Environment ? scene.environment.pdf(w)
+                                                                   : integrator.sky()->pdf(w));
+        };
+        const auto lampPdf = [&](const Vec3& w) {
+            if (const double t = (c - x).dot(n) / w.dot(n); t > 0)
+                if (const Vec3 y = x + t * w; (y - c).norm() < 0.3)
+                    return (1 - share) * lights.pdf(x, 0, y, n);
+            return 0.0;
+        };
+        const auto pdf = [&](const Vec3& w) { return skyPdf(w) + lampPdf(w); };
+        Chi2Options opt;
+        opt.numTests = 2;
+        opt.seed = uint64_t(strategy) + 1;
+        const Chi2Result r = chi2TestSphere(
+            [&](Rng& rng) -> std::optional<Vec3> {
+                const LightSample s = integrator.sampleLightsAtSurface(x, rng);
+                if (!(s.pdf > 0)) return std::nullopt;
+                const bool sky = std::abs(s.pdf - skyPdf(s.wi)) <= 1e-6 * s.pdf,
+                           lamp = std::abs(s.pdf - lampPdf(s.wi)) <= 1e-6 * s.pdf;
+                EXPECT_TRUE(sky || lamp) << s.pdf << " " << skyPdf(s.wi) << " " << lampPdf(s.wi);
+                EXPECT_TRUE((s.Le >= 0).all() && s.Le.allFinite());
+                return s.wi;
+            },
+            pdf, opt);
+        EXPECT_TRUE(r.passed) << lightSamplingName(strategy) << "\n" << r.report;
+    }
+}
 
 // White furnace: albedo 1 under radiance 1 renders 1 with every strategy and heuristic, for a
 // constant environment and for a constant image (whose sky goes through the hierarchy).

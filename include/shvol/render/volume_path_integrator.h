@@ -155,6 +155,15 @@ class VolumePathIntegrator {
     const SkyHierarchy* sky() const { return sky_.get(); }
     /// The product sampler (product strategy only; else null).
     const ProductSampler* product() const { return product_.get(); }
+    /// Next-event estimation's light sample at a point x on a surface: the sky (by the scene's
+    /// strategy; product sampling, which needs a phase lobe, as wavelet there) with probability
+    /// environmentShare(), else the area lights. Direction, the radiance along it and the
+    /// solid-angle density, the choice included (pdf 0: no sample). For the χ² test of this
+    /// composition (its parts have their own).
+    LightSample sampleLightsAtSurface(const Vec3& x, Rng& rng) const;
+    /// Probability that next-event estimation picks the environment (0 without NEE towards it,
+    /// ½ beside area lights).
+    double environmentShare() const;
     /// Seconds spent building the light-sampling structures.
     double setupSeconds() const { return setupSeconds_; }
     /// The radiance cache (null when not used), and what building it cost.
@@ -206,8 +215,6 @@ class VolumePathIntegrator {
                                 PathCounters& c) const;
     /// Density of sampleLights for the environment direction w (choice included).
     double environmentPdf(Vertex v, const EventLobe& lobe, const Vec3& w, PathCounters& c) const;
-    /// Probability that next-event estimation picks the environment.
-    double environmentShare() const;
     /// The MIS weight of a strategy with density pa against one with density pb.
     double misWeight(double pa, double pb) const;
 
