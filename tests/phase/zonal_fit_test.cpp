@@ -56,8 +56,9 @@ TEST(ZonalFit, HenyeyGreensteinCoefficientsNearTheLimit) {
     struct Case {
         double g, bound;
     };
-    for (const Case& k : {Case{0.99, 1e-13}, Case{0.999, 1e-13}, Case{0.9999, 3e-12},
-                          Case{0.99999, 3e-12}, Case{0.999999, 1e-10}, Case{-0.999999, 1e-10}}) {
+    for (const Case& k : {Case{0.99, 1e-13}, Case{0.999, 1e-13}, Case{-0.99, 1e-13},
+                          Case{-0.999, 1e-13}, Case{0.9999, 3e-12}, Case{0.99999, 3e-12},
+                          Case{0.999999, 1e-10}, Case{-0.999999, 1e-10}}) {
         const double g = k.g;
         const PhaseFunction phase = HenyeyGreensteinPhase(g);
         const ZonalFit fits[] = {

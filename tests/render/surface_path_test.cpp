@@ -318,7 +318,7 @@ TEST(SurfacePath, SmoothShadedGlassScalesRadianceByTheCrossingsMade) {
 /// the path reached the sky without leaving the glass (samples of 1/η² = 0.444: 38 paths of
 /// 4000; in a glass sphere, helper 61's audit found one path in 10⁶ at σ_t 30). The collision is
 /// now moved ε off the surface ahead (spheres:
-/// SurfaceScene.RaysFromJustInsideASphereOrBehindADisk).
+/// SurfaceScene.RaysFromJustInsideASphereOrBehindADiskMeetIt).
 TEST(SurfacePath, GlassFurnaceOfThickFogStaysExact) {
     TriangleMesh shell = testing::sphereMesh(Vec3::Zero(), 1, 24, 32);
     TriangleMesh inner = testing::sphereMesh(Vec3::Zero(), 0.9999, 24, 32);
