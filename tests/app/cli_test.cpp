@@ -3244,7 +3244,7 @@ TEST_F(Cli, BatchShowsTheAxesInTheSweepsOrder) {
 }
 
 // A file the scene names (here a phase table) changed since a run finished: the start refuses
-// the run, naming the files; --dry-run, which reads no input file, cannot tell and lists it.
+// the run, naming the files, and so does --dry-run.
 TEST_F(Cli, BatchRefusesRunsWhoseInputFilesChanged) {
     writeTabulatedScene();
     write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [2]}, "output": "out"})");
@@ -4338,13 +4338,14 @@ TEST_F(Cli, ReportIsReplacedWhole) {
 // at a SIGTERM shvol ended at once while the script went on and wrote the report a second
 // later; helper 100).
 TEST_F(Cli, ReportStopsAtASignal) {
-    for (const int sig : {SIGTERM, SIGINT}) {
+    for (const int sig : {SIGTERM, SIGINT, SIGHUP}) {
         const std::string dir = path("o" + std::to_string(sig));
         writeLedger(dir, 1);
         const pid_t pid = fork();
         ASSERT_GE(pid, 0);
         if (pid == 0) {
-            std::signal(SIGINT, SIG_DFL), std::signal(SIGTERM, SIG_DFL);
+            std::signal(SIGINT, SIG_DFL), std::signal(SIGTERM, SIG_DFL),
+                std::signal(SIGHUP, SIG_DFL);
             const int null = ::open("/dev/null", O_WRONLY);
             ::dup2(null, 1), ::dup2(null, 2);
             ::execl(SHVOL_BINARY, SHVOL_BINARY, "report", dir.c_str(), static_cast<char*>(nullptr));
