@@ -82,6 +82,9 @@ VolumePathIntegrator::VolumePathIntegrator(const Scene& scene, std::function<boo
       mediumBit_(scene.media.size(), -1),
       cameraPosition_(scene.camera.position) {
     if (effects_.areaLights) areaLights_ = std::make_unique<const AreaLights>(*scene.surfaces);
+    if (scene.surfaces)
+        for (const Surface& sf : scene.surfaces->surfaces())
+            deltaSurfaces_ |= sf.bsdf.isDelta() && sf.bsdf.type != BsdfType::Null;
     for (const auto& m : scene.media) mediumBounds_.push_back(m->bounds());
     if (effects_.boundedMedia) {
         const auto& surfaces = scene.surfaces->surfaces();
@@ -361,19 +364,19 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
     double etaScale = 1;
     int nullCrossings = 0;
     // After a cached vertex the path goes one ray further only for the direct light its BSDF
-    // sample meets (directOnly), MIS-weighted against the lightCount light samples drawn there.
-    bool directOnly = false;
+    // sample meets (directOnly): at the end of that ray (chainDirect: with next-event estimation
+    // and MIS, outside sealed media), MIS-weighted against the lightCount light samples drawn
+    // there, and wherever it arrives through mirrors and glass alone (afterDelta), which no light
+    // sample reaches, with weight 1.
+    bool directOnly = false, chainDirect = false, afterDelta = false;
     double lightCount = 1;
     bool scattered = false;
     const bool record = kind == PathKind::CacheRecord;
     // A record path of the radiance cache leaves out the light that the cached vertex it serves
-    // takes itself: what its next-event estimation adds and, where its BSDF sample goes on
-    // through delta surfaces to the light it meets (with MIS, outside sealed media), the light
-    // reached through glass and mirrors alone. Records held that light, a caustic, for all the
-    // points they serve, which no record spacing resolves (a table under a glass blob 4% dark,
-    // whatever the accuracy; helper 133). So until its first scattering event, or its first
-    // delta one where the cached vertex does not follow them.
-    const bool cacheFollowsDelta = nee && effects_.mis != MisHeuristic::None && !sealed(inside);
+    // takes itself: what its next-event estimation adds, and the light it reaches through
+    // mirrors and glass alone. Records held that light, a caustic, for every point each serves,
+    // and a mirror's lamp light came out 1.2% dark on a floor beside it (helper 134). So until
+    // its first scattering event that is not a delta one.
     bool recordDirect = record;
     // A record path continues a camera path from its first vertex: it starts one bounce deep,
     // so that cached pixels see at most max_depth bounces too.
@@ -407,9 +410,11 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
                         ? 0.0
                         : misWeight(prevPdf,
                                     lightCount * environmentPdf(prevVertex, lobe, ray.d, c));
-            // (a sky not light-sampled is the cache's, which its records met)
-            if (directOnly && !effects_.nextEvent) w = 0;
-            if (w > 0 && !(recordDirect && effects_.nextEvent)) L += beta * w * env.Le(ray.d);
+            // (a sky not light-sampled is the cache's, which its records met, but through mirrors
+            // and glass alone)
+            if (directOnly && !afterDelta && !(chainDirect && effects_.nextEvent)) w = 0;
+            if (w > 0 && !(recordDirect && (afterDelta || effects_.nextEvent)))
+                L += beta * w * env.Le(ray.d);
             break;
         }
         if (t == NoCollision) {  // the surface
@@ -419,8 +424,9 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             // light on a fog box's face: the one Embree did not report was jumped, dark).
             const auto addEmitted = [&](const SurfaceHit& h) {
                 const Surface& e = surf->surfaces()[h.surface];
-                if (!e.emits() || (recordDirect && effects_.areaLights)) return;
-                if (directOnly && !effects_.areaLights) return;  // (the cache's, as the sky's)
+                if (!e.emits() || (recordDirect && (afterDelta || effects_.areaLights))) return;
+                // (the cache's, as the sky's)
+                if (directOnly && !afterDelta && !(chainDirect && effects_.areaLights)) return;
                 const Spectrum Le = e.Le(h.ng, -ray.d);
                 double w = 1;
                 if (prevPdf > 0 && effects_.areaLights)
@@ -492,12 +498,16 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
                 // Light samples alone had an unbounded weight by a corner, where the light's
                 // solid-angle density falls as r² (a furnace box's mean was 4% from seed to
                 // seed, +13.7% at worst of 16; helper 119).
-                if (!cacheMis || !nee || sealed(inside)) break;
+                chainDirect = cacheMis && nee && !sealed(inside);
+                if (!chainDirect && !deltaSurfaces_) break;
                 directOnly = true;
                 lightCount = lightSamples;
             }
             scattered = true;
-            if (!bsdf.isDelta() || !cacheFollowsDelta) recordDirect = false;
+            if (bsdf.isDelta())
+                afterDelta = true;
+            else
+                recordDirect = false;
             const std::optional<BsdfSample> bs = bsdf.sample(wo, sampler.next2D());
             if (!bs) break;
             if (!(bs->pdf > 0) || !finiteDirection(bs->wi) || !(bs->f >= 0).all()) {

@@ -38,14 +38,17 @@
 /// scattering vertex is a Lambert, Phong or Ward surface, the path ends there with
 ///   L = L_e + (direct light: n next-event samples and one BSDF sample, MIS-weighted as n·p_light
 ///        against p_bsdf, the BSDF ray weighted by the media's transmittance to the light it
-///        meets; with mis "none" the light samples alone) + Σ_i λ_i c_i(ω_o),
+///        meets; with mis "none" the light samples alone; the BSDF ray follows mirrors and
+///        glass to the light it meets, weight 1) + Σ_i λ_i c_i(ω_o),
 /// λ the cache's HSH coefficients of the incoming indirect radiance, c the BRDF table of the
 /// surface (cache/hsh_brdf_table.h); where no record is valid the path goes on as without cache.
 /// The records are made by the constructor, before any pixel: camera rays through pixel centres,
 /// coarse to fine (every 16th pixel, then 8th, …, 1st), each visible cacheable point not yet
 /// covered by a record gets one, from N stratified hemisphere rays traced by Li as record paths:
 /// paths that leave out what the shading point's next-event estimation adds (the emission of
-/// area lights, and the environment when it is light-sampled, met before any scattering). The
+/// area lights, and the environment when it is light-sampled, met before any scattering) and
+/// what its BSDF ray takes through mirrors and glass (any light met after delta surfaces alone).
+/// The
 /// order is fixed and each ray has its own numbers, so the cache, and the image, do not depend
 /// on the thread count.
 #include <functional>
@@ -305,6 +308,9 @@ class VolumePathIntegrator {
     Vec3 cameraPosition_;
     Inside cameraInside_ = 0;  ///< the bounded media containing the camera position
     Inside sealed_ = 0;        ///< bounded media whose boundary hides every light (sealed)
+    /// Some surface is a mirror or glass: a cached vertex follows its BSDF sample through such
+    /// surfaces to the light it meets, and records leave that light out (Li).
+    bool deltaSurfaces_ = false;
     double setupSeconds_ = 0;
 };
 
