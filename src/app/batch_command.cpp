@@ -160,12 +160,12 @@ std::string errorText(const std::exception& e, const Sweep& s, const SweepRun* r
     return run ? text + " (in run " + describe(*run, s.axes) + ")" : text;
 }
 
-/// An unknown key that one of a run's (or the reference's) `sets` brought in (`doc`, the scene
-/// document after them, as checked), refused at the
+/// An error of a value (or an unknown key) that one of a run's (or the reference's) `sets` gave
+/// or changed (`doc`, the scene document after them, as checked; overrideOfError), refused at the
 /// sweep's key that gave it (`places`): a `set` (in every run), or an axis or the reference's own
-/// `set` (in `what`). It was blamed on the scene file, which lacks the key, "in the reference"
-/// for a `set` that every run has (helper 127). Where the scene itself is to blame, it returns and
-/// the caller names the scene.
+/// `set` (in `what`). It was blamed on the scene file, "in the reference" for a `set` that every
+/// run has (helpers 127, 133). Where the scene itself is to blame, it returns and the caller names
+/// the scene.
 void blameSweepKey(const Error& e, const Sweep& s, const Json& doc,
                    const std::vector<std::string>& sets, const std::vector<std::string>& places,
                    const std::string& what) {

@@ -983,8 +983,8 @@ int runRender(const RenderArgs& a) {
             try {
                 scene = sceneFromJson(doc, a.scene, &resolved);
             } catch (const Error& e) {
-                // A --set that misspells a key is named, not the scene, which lacks the key
-                // (helper 127).
+                // A --set that misspells a key or gives a value the scene refuses is named, not
+                // the scene (helpers 127, 133).
                 std::string reason;
                 if (const int i =
                         overrideOfError(e.what(), a.scene, original, doc, a.sets, &reason);

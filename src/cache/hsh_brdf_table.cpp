@@ -90,11 +90,11 @@ HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
         throw Error(std::string("HSH BRDF table: a ") + bsdf.name() +
                     " BSDF is not cached (lambert, phong and ward are)");
     rhoD_ = bsdf.reflectance;
-    anisotropic_ = bsdf.anisotropic();
     // A specular lobe of weight 0 reflects nothing: it is neither tabulated nor judged (a sharp
     // one would fail the albedo check and leave a Lambertian surface path traced).
     const bool diffuseOnly = bsdf.type == BsdfType::Lambert || !(bsdf.specular.maxCoeff() > 0);
     rhoS_ = diffuseOnly ? Spectrum::Zero() : bsdf.specular;
+    anisotropic_ = !diffuseOnly && bsdf.anisotropic();  // (a diffuse table needs no turning)
     // At least 64 × 128 nodes: tests/cache checks Phong 22 and Ward α = 0.2/0.4 against a rule
     // of 400 × 800 to 2e-4 (HshBrdfTable.ReflectsBandLimitedRadianceExactlyAtANode).
     const BasisAtNodes nodes(n_,

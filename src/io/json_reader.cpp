@@ -346,9 +346,9 @@ int overrideOfError(const std::string& message, const std::string& file, const J
     const std::string place = rest.substr(0, colon);
     std::vector<std::string> parts;
     if (!keyPathProblem(place, &parts).empty()) return -1;
-    const auto valueAt = [&](const Json& doc) -> const Json* {
+    const auto valueAt = [](const Json& doc, const std::vector<std::string>& path) -> const Json* {
         const Json* node = &doc;
-        for (const std::string& part : parts) {
+        for (const std::string& part : path) {
             const bool index = part.find_first_not_of("0123456789") == std::string::npos;
             if (node->is_object() && node->contains(part))
                 node = &(*node)[part];
@@ -364,15 +364,28 @@ int overrideOfError(const std::string& message, const std::string& file, const J
     // in): the file's own, where an override set something beside it, is the file's to answer
     // for. And it must be in the document after them (a key whose name holds a dot, "fov.x",
     // reads as the path camera.fov.x, which the file's camera.fov=30 does not hold; helper 131).
-    const Json* now = valueAt(after);
-    if (!now) return -1;
-    const bool unknownKey = rest.compare(colon + 2, 11, "unknown key") == 0;
-    if (const Json* was = valueAt(before); was && (unknownKey || *was == *now)) return -1;
-    const std::string at = canonicalKeyPath(place);
+    std::string at = canonicalKeyPath(place);
+    bool missing = false;
+    if (const Json* now = valueAt(after, parts)) {
+        const bool unknownKey = rest.compare(colon + 2, 11, "unknown key") == 0;
+        if (const Json* was = valueAt(before, parts); was && (unknownKey || *was == *now))
+            return -1;
+    } else {
+        // A key missing after the overrides (one that a new type of its object asks for, or one
+        // of the file's that setting the type removed): the override that changed its object
+        // (helper 137: --set media.0.phase.type=tabulated, without a file, blamed the scene).
+        const std::vector<std::string> object(parts.begin(), parts.end() - 1);
+        const Json *objectNow = valueAt(after, object), *objectWas = valueAt(before, object);
+        if (object.empty() || !objectNow || !objectNow->is_object() ||
+            (objectWas && *objectWas == *objectNow))
+            return -1;
+        at = at.substr(0, at.rfind('.'));
+        missing = true;
+    }
     for (int i = int(overrides.size()) - 1; i >= 0; --i) {  // (a later one replaces an earlier)
         const std::string key =
             canonicalKeyPath(overrides[size_t(i)].substr(0, overrides[size_t(i)].find('=')));
-        if (at == key || at.rfind(key + ".", 0) == 0) {
+        if (at == key || at.rfind(key + ".", 0) == 0 || (missing && key.rfind(at + ".", 0) == 0)) {
             if (placeAndReason) *placeAndReason = rest;
             return i;
         }

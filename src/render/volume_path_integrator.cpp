@@ -364,11 +364,11 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
     double etaScale = 1;
     int nullCrossings = 0;
     // After a cached vertex the path goes one ray further only for the direct light its BSDF
-    // sample meets (directOnly): at the end of that ray (chainDirect: with next-event estimation
+    // sample meets (directOnly): at the end of that ray (chainMis: with next-event estimation
     // and MIS, outside sealed media), MIS-weighted against the lightCount light samples drawn
     // there, and wherever it arrives through mirrors and glass alone (afterDelta), which no light
     // sample reaches, with weight 1.
-    bool directOnly = false, chainDirect = false, afterDelta = false;
+    bool directOnly = false, chainMis = false, afterDelta = false;
     double lightCount = 1;
     bool scattered = false;
     const bool record = kind == PathKind::CacheRecord;
@@ -377,7 +377,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
     // mirrors and glass alone. Records held that light, a caustic, for every point each serves,
     // and a mirror's lamp light came out 1.2% dark on a floor beside it (helper 134). So until
     // its first scattering event that is not a delta one.
-    bool recordDirect = record;
+    bool recordLeavesOut = record;
     // A record path continues a camera path from its first vertex: it starts one bounce deep,
     // so that cached pixels see at most max_depth bounces too.
     for (int depth = record ? 1 : 0;;) {
@@ -390,6 +390,11 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
         if (effects_.volumes && anyActive(inside)) {
             const double tHit = hitSurface ? hit.t : NoHit;
             if (directOnly) {
+                // (Light that would not count, at the end of a ray that no mirror or glass takes
+                // further: no transmittance to estimate.)
+                if (!chainMis && !afterDelta &&
+                    !(hitSurface && surf->surfaces()[hit.surface].bsdf.isDelta()))
+                    break;
                 // Only the light at the ray's end counts: the media's transmittance as a shadow
                 // ray estimates it, not a free flight's all-or-nothing (in absorbing fog about a
                 // lamp the image spread 3× as much between seeds as with light samples alone;
@@ -412,8 +417,8 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
                                     lightCount * environmentPdf(prevVertex, lobe, ray.d, c));
             // (a sky not light-sampled is the cache's, which its records met, but through mirrors
             // and glass alone)
-            if (directOnly && !afterDelta && !(chainDirect && effects_.nextEvent)) w = 0;
-            if (w > 0 && !(recordDirect && (afterDelta || effects_.nextEvent)))
+            if (directOnly && !afterDelta && !(chainMis && effects_.nextEvent)) w = 0;
+            if (w > 0 && !(recordLeavesOut && (afterDelta || effects_.nextEvent)))
                 L += beta * w * env.Le(ray.d);
             break;
         }
@@ -424,9 +429,9 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             // light on a fog box's face: the one Embree did not report was jumped, dark).
             const auto addEmitted = [&](const SurfaceHit& h) {
                 const Surface& e = surf->surfaces()[h.surface];
-                if (!e.emits() || (recordDirect && (afterDelta || effects_.areaLights))) return;
+                if (!e.emits() || (recordLeavesOut && (afterDelta || effects_.areaLights))) return;
                 // (the cache's, as the sky's)
-                if (directOnly && !afterDelta && !(chainDirect && effects_.areaLights)) return;
+                if (directOnly && !afterDelta && !(chainMis && effects_.areaLights)) return;
                 const Spectrum Le = e.Le(h.ng, -ray.d);
                 double w = 1;
                 if (prevPdf > 0 && effects_.areaLights)
@@ -498,8 +503,8 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
                 // Light samples alone had an unbounded weight by a corner, where the light's
                 // solid-angle density falls as r² (a furnace box's mean was 4% from seed to
                 // seed, +13.7% at worst of 16; helper 119).
-                chainDirect = cacheMis && nee && !sealed(inside);
-                if (!chainDirect && !deltaSurfaces_) break;
+                chainMis = cacheMis && nee && !sealed(inside);
+                if (!chainMis && !deltaSurfaces_) break;
                 directOnly = true;
                 lightCount = lightSamples;
             }
@@ -507,7 +512,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             if (bsdf.isDelta())
                 afterDelta = true;
             else
-                recordDirect = false;
+                recordLeavesOut = false;
             const std::optional<BsdfSample> bs = bsdf.sample(wo, sampler.next2D());
             if (!bs) break;
             if (!(bs->pdf > 0) || !finiteDirection(bs->wi) || !(bs->f >= 0).all()) {
@@ -551,7 +556,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             beta *= medium.albedo();
             if (!(beta.maxCoeff() > 0)) break;
             scattered = true;
-            recordDirect = false;
+            recordLeavesOut = false;
             // (Within ε of the surface ahead: ε off it, as after a surface event.)
             const Vec3 p = hitSurface ? surf->offSurfaceAhead(ray(t), hit, ray.d) : ray(t);
             const PhaseFunction& phase = medium.phase();

@@ -71,7 +71,7 @@ Vec3 ZonalSHSampler::warp(const Vec3& axis, const Vec2& u, double* pdf) const {
 
 SphereSample ZonalSHSampler::sample(const Vec3& axis, const Vec2& u) const {
     const LocalSample s = warpLocal(u);
-    if (!(s.pdf > 0)) return {axis, 0, s.pdf};
+    if (!(s.pdf > 0)) return {Vec3(0, 0, 1), 0, s.pdf};
     return {Frame(axis).toWorld(sphericalDirection(s.cosTheta, s.phi)), eval(s.cosTheta), s.pdf};
 }
 

@@ -3542,10 +3542,10 @@ TEST_F(Cli, BatchWarnsOfZTestsAtFewSamples) {
     EXPECT_EQ(r.err, "");
 }
 
-// A key misspelt by a --set, or by a sweep's `set`, axis or reference `set`, is named at the
-// assignment that brought it in: it was blamed on the scene file, which lacks it, and a sweep's
-// `set`, which every run has, "in the reference" (helper 127). A key the scene itself misspells
-// is still the scene's, whatever a --set sets beside it.
+// A key misspelt, or a value refused, by a --set, or by a sweep's `set`, axis or reference
+// `set`, is named at the assignment that brought it in: it was blamed on the scene file and a
+// sweep's `set`, which every run has, "in the reference" (helpers 127, 133). A key or value of
+// the scene itself is still the scene's, whatever a --set sets beside it.
 TEST_F(Cli, ErrorsOfOverridesAreNamedWhereTheyWereGiven) {
     write("s.json", scene(Homogeneous));
     const std::string render = "render " + path("s.json") + " -o " + path("out.exr") + " --quiet ";
@@ -3582,6 +3582,13 @@ TEST_F(Cli, ErrorsOfOverridesAreNamedWhereTheyWereGiven) {
         r.err.rfind(
             "shvol: error: " + path("s.json") + ": --set media.0.phase.g=1: media[0].phase.g: ", 0),
         0u)
+        << r.err;
+    // A key that the type a --set gives asks for is named at that --set (helper 137).
+    r = run(render + "--set media.0.phase.type=tabulated");
+    EXPECT_EQ(r.err.rfind("shvol: error: " + path("s.json") +
+                              ": --set media.0.phase.type=tabulated: media[0].phase.file: ",
+                          0),
+              0u)
         << r.err;
     std::string wide = scene(Homogeneous);
     wide.replace(wide.find("\"position\""), 0, "\"fov\": 500, ");

@@ -147,6 +147,11 @@ TEST(HshBrdfTable, ALobeOfWeightZeroIsNotJudged) {
         t.coefficients(wo, c.data());
         lambert.coefficients(wo, cl.data());
         EXPECT_EQ(c, cl) << b.name();
+        // ... also in the frames of a record and of the surface, as the cache asks
+        const Frame base(Vec3(0, 0, 1)), own(Vec3(0, 0, 1), Vec3(0.6, 0.8, 0), Vec3(-0.8, 0.6, 0));
+        t.coefficients(base, own, wo, c.data());
+        lambert.coefficients(base, own, wo, cl.data());
+        for (size_t i = 0; i < c.size(); ++i) EXPECT_NEAR(c[i], cl[i], 1e-15) << b.name();
     }
 }
 

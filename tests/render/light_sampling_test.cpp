@@ -68,11 +68,14 @@ void configure(Scene& s, const Config& c, int order = 8) {
 
 // Next-event estimation's composition at a surface point, the sky by its strategy or a disk
 // lamp, each by its share, against its density: share × the sky's pdf + (1 − share) × the
-// lamp's solid-angle pdf where the direction meets the lamp. χ² over the sphere, a family of two.
+// lamp's solid-angle pdf where the direction meets the lamp. χ² over the sphere, a family of
+// three.
 // Each sample's own pdf is its light's (each light's light is estimated on its own, as pbrt
 // chooses a light): share × the sky's, or (1 − share) × the lamp's.
 TEST(LightSampling, CompositionOfSkyAndLampPassesChi2) {
-    for (const LightSampling strategy : {LightSampling::Environment, LightSampling::Wavelet}) {
+    // (product sampling, which needs a phase lobe, samples the sky as wavelet does at surfaces)
+    for (const LightSampling strategy :
+         {LightSampling::Environment, LightSampling::Wavelet, LightSampling::Product}) {
         Scene scene;
         scene.environment = Environment::image(sunnySky(40), 1, 0, false);
         scene.settings.nee = true;
@@ -102,7 +105,7 @@ TEST(LightSampling, CompositionOfSkyAndLampPassesChi2) {
         };
         const auto pdf = [&](const Vec3& w) { return skyPdf(w) + lampPdf(w); };
         Chi2Options opt;
-        opt.numTests = 2;
+        opt.numTests = 3;
         opt.seed = uint64_t(strategy) + 1;
         const Chi2Result r = chi2TestSphere(
             [&](Rng& rng) -> std::optional<Vec3> {

@@ -199,8 +199,8 @@ TEST(RadianceCachePath, FurnaceRenderIsLeOverOneMinusRho) {
 }
 
 // The same with the mirror, whose light the cached vertex now takes through its BSDF sample.
-// (`mis: "none"`, where the records keep it, has light samples alone at the cached vertex, whose
-// images spread 4% from seed to seed, above: the records are tested instead.)
+// (With `mis: "none"` the cached vertex's light samples alone take the walls' direct light, and
+// the images spread 4% from seed to seed, above: the records are tested instead.)
 TEST(RadianceCachePath, MirroredFurnaceRenderIsLeOverOneMinusRho) {
     expectFurnaceRenderIsLeOverOneMinusRho([] { return mirroredFurnaceBox(0.6, 0.5); }, 0.6, 0.5);
 }

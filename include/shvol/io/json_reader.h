@@ -81,7 +81,9 @@ std::string overridePlace(const std::string& assignment);
 /// must be "file: place: reason", `place` present in the document `after` the overrides and
 /// absent from the document `before` them or (unless the error is an unknown key) different
 /// there (else it is the file's own),
-/// and inside the key an override sets (the last such). placeAndReason gets "place: reason". So
+/// and inside the key an override sets (the last such); or `place` missing after them from an
+/// object that an override changed (its type: a key the new type asks for), the last override
+/// inside that object. placeAndReason gets "place: reason". So
 /// that a misspelt or out-of-range --set, or a sweep's `set` or axis, is named as the culprit
 /// rather than the scene file, which lacks the key or says something else (helpers 127, 133). A
 /// file name with control characters, which errors escape, is not matched: the error is left as
