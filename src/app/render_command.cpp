@@ -435,15 +435,20 @@ std::vector<std::string> unusedKeyWarnings(const Json& doc, const Scene& scene,
                     " is not used: next-event estimation is off (" +
                     noNextEventReason(scene, effects) +
                     "), and the BSDF sample carries a cached vertex's direct light");
-    if (!s.radianceCache.enabled) {
+    // (max_records 0 makes no records: the cache is off too; helper 137)
+    const bool noRecords = s.radianceCache.enabled && s.radianceCache.maxRecords == 0;
+    if (!s.radianceCache.enabled || noRecords) {
         std::string keys;
         int n = 0;
         for (auto it = cache.begin(); it != cache.end(); ++it)
-            if (it.key() != "enabled") keys += (n++ ? ", " : "") + it.key();
+            if (it.key() != "enabled" && (!noRecords || it.key() != "max_records"))
+                keys += (n++ ? ", " : "") + it.key();
         if (n > 0)
             w.push_back("render.radiance_cache: " + keys + (n == 1 ? " is" : " are") +
-                        " not used: the cache is off (set render.radiance_cache.enabled to true "
-                        "to use it)");
+                        " not used: the cache is off (" +
+                        (noRecords ? "max_records is 0: it makes no records"
+                                   : "set render.radiance_cache.enabled to true to use it") +
+                        ")");
     }
     // Without next-event estimation the only transmittance estimated is that of a camera ray
     // through media that do not scatter, in a scene without surfaces (the radiance cache's
