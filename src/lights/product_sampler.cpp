@@ -329,10 +329,8 @@ double ProductSampler::lobeValue(const ZonalLobe& lobe, const Vec3& w) const {
 
 template <class Lobe>
 SphereSample ProductSampler::sample(const Lobe& lobe, double beta, Vec2 u) const {
-    const WarpSample s = warp(lobe, beta, u);
-    if (!(s.pdf > 0)) return {Vec3(0, 0, 1), 0, s.pdf};
-    const Vec3 w = s.direction();
-    return {w, lobeValue(lobe, w) * sky_.value(w), s.pdf};
+    return withValue(warp(lobe, beta, u),
+                     [&](const Vec3& w) { return lobeValue(lobe, w) * sky_.value(w); });
 }
 
 double ProductSampler::defensiveShare(double lobeMinimum) const {

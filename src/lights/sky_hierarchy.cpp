@@ -310,10 +310,7 @@ double SkyHierarchy::value(const Vec3& w) const {
 }
 
 SphereSample SkyHierarchy::sample(Vec2 u) const {
-    const WarpSample s = warp(u);
-    if (!(s.pdf > 0)) return {Vec3(0, 0, 1), 0, s.pdf};
-    const Vec3 w = s.direction();
-    return {w, value(w), s.pdf};
+    return withValue(warp(u), [this](const Vec3& w) { return value(w); });
 }
 
 size_t SkyHierarchy::mipMapBytes() const {

@@ -1826,6 +1826,7 @@ TEST_F(Cli, RenderWarnsOfAnUnusedOrLooseRadianceCache) {
     // warned of.
     stats = nlohmann::json::parse(std::ifstream(path("b.stats.json")));
     EXPECT_FALSE(stats.contains("radiance_cache")) << stats["radiance_cache"];
+    ASSERT_TRUE(stats.contains("effects"));
     for (const auto& effect : stats["effects"]) EXPECT_NE(effect, "radiance-cache");
     r = run(
         "render " + path("sharp.json") + " -o " + path("e.exr") +

@@ -80,14 +80,13 @@ std::string overridePlace(const std::string& assignment);
 /// set the value an error of the document read after them is about, or −1: the error `message`
 /// must be "file: place: reason", `place` present in the document `after` the overrides and
 /// absent from the document `before` them or (unless the error is an unknown key) different
-/// there (else it is the file's own),
-/// and inside the key an override sets (the last such); or `place` missing after them from an
-/// object that an override changed (its type: a key the new type asks for), the last override
-/// inside that object. placeAndReason gets "place: reason". So
+/// there (else it is the file's own), and inside the key an override sets (the last such); or
+/// `place` missing after them from an object that an override changed (its type: a key the new
+/// type asks for), the last override inside that object. placeAndReason gets "place: reason". So
 /// that a misspelt or out-of-range --set, or a sweep's `set` or axis, is named as the culprit
-/// rather than the scene file, which lacks the key or says something else (helpers 127, 133). A
-/// file name with control characters, which errors escape, is not matched: the error is left as
-/// it is.
+/// rather than the scene file, which lacks the key or says something else (helpers 127, 133,
+/// 137). A file name with control characters, which errors escape, is not matched: the error is
+/// left as it is.
 int overrideOfError(const std::string& message, const std::string& file, const Json& before,
                     const Json& after, const std::vector<std::string>& overrides,
                     std::string* placeAndReason = nullptr);

@@ -48,9 +48,8 @@
 /// paths that leave out what the shading point's next-event estimation adds (the emission of
 /// area lights, and the environment when it is light-sampled, met before any scattering) and
 /// what its BSDF ray takes through mirrors and glass (any light met after delta surfaces alone).
-/// The
-/// order is fixed and each ray has its own numbers, so the cache, and the image, do not depend
-/// on the thread count.
+/// The order is fixed and each ray has its own numbers, so the cache, and the image, do not
+/// depend on the thread count.
 #include <functional>
 #include <memory>
 #include <optional>

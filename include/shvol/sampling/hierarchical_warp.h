@@ -59,6 +59,15 @@ struct SphereSample {
     double pdf = 0;    ///< solid-angle density of the sampler at w; 0 marks a failed sample
 };
 
+/// A warp's sample with value(direction) as its value; a failed draw (pdf not > 0) keeps its pdf,
+/// with value 0.
+template <class Value>
+SphereSample withValue(const WarpSample& s, Value&& value) {
+    if (!(s.pdf > 0)) return {Vec3(0, 0, 1), 0, s.pdf};
+    const Vec3 w = s.direction();
+    return {w, value(w), s.pdf};
+}
+
 namespace detail {
 /// Clamped masses of one node and its split probabilities.
 struct Split {
