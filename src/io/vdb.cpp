@@ -404,10 +404,24 @@ void forEachValue(const openvdb::FloatTree& tree, bool voxels, F&& f) {
     }
 }
 
+/// Whether the window of brick position c (voxels 8c … 8c + 8 on each axis: its leaf position
+/// and the +1 neighbours' first voxels) holds `value` in every voxel: none of the 8 leaf
+/// positions c + {0, 1}³ it touches is a leaf, and each lies in a tile (or the background) of
+/// that value. A leaf counts as not constant, whatever its voxels.
+bool windowIsConstant(Accessor& acc, const Eigen::Vector3i& c, float value) {
+    for (int k = 0; k < 8; ++k) {
+        const openvdb::Coord v(8 * (c.x() + (k & 1)), 8 * (c.y() + (k >> 1 & 1)),
+                               8 * (c.z() + (k >> 2)));
+        if (acc.probeConstLeaf(v) || acc.getValue(v) != value) return false;
+    }
+    return true;
+}
+
 /// The brick copy of a density grid (background 0). A brick is stored at every brick position
-/// whose voxels or apron hold a non-zero value, except inside a tile, where a position whose
-/// apron lies in the same tile is a constant (no voxel is read or stored for it). None
-/// (std::nullopt) when the table or the bricks would take too much memory.
+/// whose voxels or apron hold a non-zero value, except where they all lie in tiles of one value:
+/// inside a tile, and on its shell where the neighbouring tiles have its value, the position is a
+/// constant (no voxel is read or stored for it). None (std::nullopt) when the table or the bricks
+/// would take too much memory.
 std::optional<DensityBricks> makeBricks(const openvdb::FloatTree& tree) {
     // 64 MiB of table, 182 MiB of bricks and 48 M voxel reads at most: a small hostile file must
     // not cost seconds to load (a tile is cheap to write and its shell needs bricks).
@@ -459,25 +473,37 @@ std::optional<DensityBricks> makeBricks(const openvdb::FloatTree& tree) {
     // (its own and those one brick above it on each axis), so a sum over the boxes would count
     // a dense region's bricks about 8 times. Tiles' inner positions are not walked, and the
     // count stops at the cap, so a small hostile file is refused quickly.
-    std::vector<bool> needed(size_t(res.prod()), false);
-    size_t bricks = 0;
+    // A tile's shell position whose window lies in tiles of the tile's value is a constant
+    // (helper 138: a 512³ fill, 64 tiles of 128³ in an 8.8 KB file, took 58,625 bricks, 165 MiB,
+    // most of them on the faces between tiles). At most kMaxChecks positions are checked (8
+    // probes each), so that a small file of many tiles still loads quickly; beyond, a shell
+    // position takes a brick, as it did before.
+    constexpr size_t kMaxChecks = size_t(1) << 20;
+    enum : uint8_t { kUnseen, kBrick, kConstant };
+    std::vector<uint8_t> kind(size_t(res.prod()), kUnseen);
+    DensityBricks d(lo, res, 0.f);
+    Accessor acc(tree);
+    size_t bricks = 0, checks = 0;
     for (const Box& b : boxes)
         if (!forEachPosition(b, true, [&](const Eigen::Vector3i& c, float tile) {
                 const Eigen::Vector3i r = c - lo;
-                const size_t i = (size_t(r.x()) * res.y() + r.y()) * res.z() + r.z();
-                if (tile == 0 && !needed[i]) needed[i] = true, ++bricks;
+                uint8_t& k = kind[(size_t(r.x()) * res.y() + r.y()) * res.z() + r.z()];
+                if (tile > 0 || k != kUnseen) return true;
+                if (b.tile > 0 && ++checks <= kMaxChecks && windowIsConstant(acc, c, b.tile))
+                    k = kConstant, d.fill(c, b.tile);
+                else
+                    k = kBrick, ++bricks;
                 return double(bricks) <= kMaxBricks;
             }))
             return std::nullopt;
-    DensityBricks d(lo, res, 0.f);
     d.reserve(bricks);
-    Accessor acc(tree);
     auto voxel = [&](int i, int j, int l) { return acc.getValue(openvdb::Coord(i, j, l)); };
     for (const Box& b : boxes)
         forEachPosition(b, false, [&](const Eigen::Vector3i& c, float tile) {
+            const Eigen::Vector3i r = c - lo;
             if (tile > 0)
                 d.fill(c, tile);
-            else
+            else if (kind[(size_t(r.x()) * res.y() + r.y()) * res.z() + r.z()] == kBrick)
                 d.add(c, voxel);
             return true;
         });

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
+#include <set>
 
 #include "shvol/core/rng.h"
 #include "shvol/io/scene_loader.h"
@@ -126,6 +127,47 @@ TEST(DensityBricks, RendersTheSameImage) {
     EXPECT_EQ(ra.image.rgb, rb.image.rgb);
     EXPECT_EQ(ra.stats.counters.tracking.densityLookups, rb.stats.counters.tracking.densityLookups);
     EXPECT_GT(ra.stats.counters.tracking.densityLookups, 10000u);
+}
+
+// Where neighbouring tiles hold one value, the brick positions between them are constants: a
+// brick is stored only where a window (brick and apron) holds more than one value, counted here
+// by reading every window's 9³ voxels through OpenVDB. The grid: a 6 × 6 × 6 block of 8³ tiles
+// of 0.5 beside a 2 × 6 × 6 block of 0.25, and above them a leaf of varying voxels. The code
+// before helper 138's finding stored a brick at every tile's shell position (445 here, where
+// 295 are needed).
+TEST(DensityBricks, TilesOfOneValueShareNoBricks) {
+    openvdb::initialize();
+    auto grid = openvdb::FloatGrid::create(0.f);
+    for (int x = 0; x < 8; ++x)
+        for (int y = 0; y < 6; ++y)
+            for (int z = 0; z < 6; ++z)
+                grid->tree().addTile(1, openvdb::Coord(8 * x, 8 * y, 8 * z), x < 6 ? 0.5f : 0.25f,
+                                     true);
+    auto acc = grid->getAccessor();
+    for (int i = 0; i < 512; ++i)
+        acc.setValue(openvdb::Coord(16 + i / 64, 16 + i / 8 % 8, 48 + i % 8), 1.f + i % 7);
+    grid->setName("density");
+    VdbMediumDesc d;
+    d.file = testing::TempDir() + "/shvol_bricks_tiles.vdb";
+    openvdb::io::File file(d.file);
+    file.write({grid});
+    file.close();
+    size_t needed = 0;
+    for (int x = -1; x <= 8; ++x)
+        for (int y = -1; y <= 6; ++y)
+            for (int z = -1; z <= 6; ++z) {
+                std::set<float> values;
+                for (int i = 0; i < 729; ++i)
+                    values.insert(acc.getValue(
+                        openvdb::Coord(8 * x + i / 81, 8 * y + i / 9 % 9, 8 * z + i % 9)));
+                needed += values.size() > 1;
+            }
+    const auto bricks = loadVdbMedium(d);
+    d.bricks = false;
+    const auto openvdb = loadVdbMedium(d);
+    EXPECT_NE(bricks->describe().find("(" + std::to_string(needed) + " bricks"), std::string::npos)
+        << needed << " needed: " << bricks->describe();
+    expectSameDensity(*bricks, *openvdb, Vec3(-10, -10, -10), Vec3(74, 58, 66), 200000);
 }
 
 // A brick table with no bricks is the background everywhere; a brick added twice is kept once;
