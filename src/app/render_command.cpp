@@ -409,17 +409,21 @@ std::string unusedWaveletWarning(const Scene& scene, const Effects& effects) {
 /// sampling with next-event estimation off), the radiance cache's with the cache off, the
 /// transmittance estimator where no transmittance is estimated, a VDB medium's majorant cell
 /// without a majorant grid. Read from the scene as given (doc), so that a value given as its
-/// default is said too.
+/// default is said too. `keys` (optional) gets the JSON pointer of every such key.
 std::vector<std::string> unusedKeyWarnings(const Json& doc, const Scene& scene,
-                                           const Effects& effects) {
+                                           const Effects& effects,
+                                           std::vector<std::string>* keys = nullptr) {
     std::vector<std::string> w;
+    const auto unused = [&](const std::string& pointer) {
+        if (keys) keys->push_back(pointer);
+    };
     const Json render = doc.value("render", Json::object());
     const RenderSettings& s = scene.settings;
     // (The product's lobe is a phase function's: surfaces draw no product sample; helper 124.)
     const bool product = s.lightSampling == LightSampling::Product;
     for (const char* key : {"product_order", "product_depth"})
         if (render.contains(key) && (!product || !effects.scattering))
-            w.push_back(std::string("render.") + key + ": " + render[key].dump() +
+            unused(std::string("/render/") + key), w.push_back(std::string("render.") + key + ": " + render[key].dump() +
                         " is not used: " +
                         (product ? std::string("it shapes the phase lobes of light_sampling "
                                                "\"product\", and no medium scatters")
@@ -431,20 +435,21 @@ std::vector<std::string> unusedKeyWarnings(const Json& doc, const Scene& scene,
     // estimation off none is drawn (1 and 8 rendered bit-identical images; helper 132).
     if (cache.is_object() && cache.contains("light_samples") && effects.radianceCache &&
         !effects.anyNextEvent())
-        w.push_back("render.radiance_cache.light_samples: " + cache["light_samples"].dump() +
+        unused("/render/radiance_cache/light_samples"),
+            w.push_back("render.radiance_cache.light_samples: " + cache["light_samples"].dump() +
                     " is not used: next-event estimation is off (" +
                     noNextEventReason(scene, effects) +
                     "), and the BSDF sample carries a cached vertex's direct light");
     // (max_records 0 makes no records: the cache is off too; helper 137)
     const bool noRecords = s.radianceCache.enabled && s.radianceCache.maxRecords == 0;
     if (!s.radianceCache.enabled || noRecords) {
-        std::string keys;
+        std::string names;
         int n = 0;
         for (auto it = cache.begin(); it != cache.end(); ++it)
             if (it.key() != "enabled" && (!noRecords || it.key() != "max_records"))
-                keys += (n++ ? ", " : "") + it.key();
+                names += (n++ ? ", " : "") + it.key(), unused("/render/radiance_cache/" + it.key());
         if (n > 0)
-            w.push_back("render.radiance_cache: " + keys + (n == 1 ? " is" : " are") +
+            w.push_back("render.radiance_cache: " + names + (n == 1 ? " is" : " are") +
                         " not used: the cache is off (" +
                         (noRecords ? "max_records is 0: it makes no records"
                                    : "set render.radiance_cache.enabled to true to use it") +
@@ -455,7 +460,7 @@ std::vector<std::string> unusedKeyWarnings(const Json& doc, const Scene& scene,
     // light step and records' direct light need next-event estimation too; helper 124).
     if (render.contains("transmittance") &&
         (!effects.volumes || (!effects.anyNextEvent() && (effects.scattering || effects.surfaces))))
-        w.push_back("render.transmittance: " + render["transmittance"].dump() +
+        unused("/render/transmittance"), w.push_back("render.transmittance: " + render["transmittance"].dump() +
                     " is not used: no transmittance is estimated, " +
                     (!effects.volumes
                          ? std::string("as the scene has no medium")
@@ -465,7 +470,7 @@ std::vector<std::string> unusedKeyWarnings(const Json& doc, const Scene& scene,
     for (size_t i = 0; media.is_array() && i < media.size(); ++i)
         if (media[i].is_object() && media[i].contains("majorant_cell") &&
             media[i].value("majorant_grid", true) == false)
-            w.push_back("media[" + std::to_string(i) +
+            unused("/media/" + std::to_string(i) + "/majorant_cell"), w.push_back("media[" + std::to_string(i) +
                         "].majorant_cell: " + media[i]["majorant_cell"].dump() +
                         " is not used: majorant_grid is false (one global majorant)");
     return w;
@@ -1044,7 +1049,18 @@ int runRender(const RenderArgs& a) {
                     "--variance: the standard errors leave out the radiance cache's own error, "
                     "which every sample of a pixel shares: they can be far too small (a z-test "
                     "against a path-traced reference fails where the records are noisy)");
-            provenance = {{"scene_resolved", resolved},
+            // The resolved scene leaves out the keys this render does not use (the defaults of
+            // effects that are off), which a render of it would warn of (helper 139: every
+            // render of a stats file's scene_resolved warned of product_order, product_depth and
+            // five radiance-cache keys no one gave).
+            Json used = resolved;
+            std::vector<std::string> unusedKeys;
+            unusedKeyWarnings(resolved, scene, effects, &unusedKeys);
+            for (const std::string& key : unusedKeys) {
+                const Json::json_pointer pointer(key);
+                used.at(pointer.parent_pointer()).erase(pointer.back());
+            }
+            provenance = {{"scene_resolved", used},
                           {"inputs", inputFiles(doc, a.scene)},
                           {"overrides", a.sets},
                           {"command_line", commandLine()},

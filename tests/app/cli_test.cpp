@@ -1377,6 +1377,47 @@ TEST_F(Cli, RenderWarnsOfADeletionThatDeletesNothing) {
 // A light sampler asked for where next-event estimation is off goes unused: the render says so
 // and why, once (it said nothing; only the stats' effects showed it; helper 54). Where NEE is on,
 // or the default sampler is left, nothing is said.
+// A stats file's scene_resolved renders again as the same scene without a warning: it leaves out
+// the keys the render did not use (the defaults of effects that are off: the product lobe's
+// without product sampling, the radiance cache's with it off, the transmittance estimator where
+// none is estimated, a majorant cell without a majorant grid), which a render of it would warn
+// of. Before, every such render warned of keys no one gave (helper 139).
+TEST_F(Cli, ResolvedSceneRendersAgainWithoutWarnings) {
+    ASSERT_EQ(run("make-medium plume -o " + path("p.vdb") + " --resolution 16").code, 0);
+    write("s.json", R"({"camera": {"resolution": [6, 4], "position": [0, -3, 0]},
+        "render": {"spp": 2}, "environment": {"type": "constant", "radiance": 1},
+        "media": [{"type": "vdb", "file": "p.vdb", "majorant_grid": false},
+                  {"type": "homogeneous", "sigma_t": 1, "shape": {"type": "sphere",
+                   "radius": 0.2, "center": [0, 0, 0.6]}}],
+        "surfaces": [{"type": "rectangle", "bsdf": {"type": "lambert"},
+                      "transform": {"translate": [0, 0, -1]}}]})");
+    Result r = run("render " + path("s.json") + " -o " + path("a.exr") + " --quiet");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto first = nlohmann::json::parse(std::ifstream(path("a.stats.json")));
+    const nlohmann::json& resolved = first["scene_resolved"];
+    EXPECT_EQ(resolved["render"]["radiance_cache"], nlohmann::json::parse(R"({"enabled": false})"));
+    for (const char* key : {"product_order", "product_depth", "transmittance"})
+        EXPECT_FALSE(resolved["render"].contains(key)) << key;
+    EXPECT_FALSE(resolved["media"][0].contains("majorant_cell"));
+    EXPECT_EQ(resolved["media"][0]["majorant_grid"], false);
+    write("again.json", resolved.dump());
+    r = run("render " + path("again.json") + " -o " + path("b.exr"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+    const auto second = nlohmann::json::parse(std::ifstream(path("b.stats.json")));
+    EXPECT_EQ(second["scene_resolved"], resolved);
+    EXPECT_EQ(readExr(path("b.exr")).rgb, readExr(path("a.exr")).rgb);
+    // Where they are used, the keys stay.
+    r = run("render " + path("s.json") + " -o " + path("c.exr") +
+            " --quiet --set render.nee=true --set render.light_sampling=\"product\"" +
+            " --set media.0.majorant_grid=true");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto used = nlohmann::json::parse(std::ifstream(path("c.stats.json")))["scene_resolved"];
+    for (const char* key : {"product_order", "product_depth", "transmittance"})
+        EXPECT_TRUE(used["render"].contains(key)) << key;
+    EXPECT_TRUE(used["media"][0].contains("majorant_cell"));
+}
+
 TEST_F(Cli, RenderWarnsOfAnUnusedLightSampler) {
     write("s.json", scene(Homogeneous));
     const std::string warning = "shvol: warning: " + path("s.json") +
