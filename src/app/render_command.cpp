@@ -423,13 +423,14 @@ std::vector<std::string> unusedKeyWarnings(const Json& doc, const Scene& scene,
     const bool product = s.lightSampling == LightSampling::Product;
     for (const char* key : {"product_order", "product_depth"})
         if (render.contains(key) && (!product || !effects.scattering))
-            unused(std::string("/render/") + key), w.push_back(std::string("render.") + key + ": " + render[key].dump() +
-                        " is not used: " +
-                        (product ? std::string("it shapes the phase lobes of light_sampling "
-                                               "\"product\", and no medium scatters")
-                                 : std::string("it shapes light_sampling \"product\", and this "
-                                               "render's is \"") +
-                                       lightSamplingName(s.lightSampling) + "\""));
+            unused(std::string("/render/") + key),
+                w.push_back(std::string("render.") + key + ": " + render[key].dump() +
+                            " is not used: " +
+                            (product ? std::string("it shapes the phase lobes of light_sampling "
+                                                   "\"product\", and no medium scatters")
+                                     : std::string("it shapes light_sampling \"product\", and this "
+                                                   "render's is \"") +
+                                           lightSamplingName(s.lightSampling) + "\""));
     const Json cache = render.value("radiance_cache", Json::object());
     // A cached vertex's direct light is light_samples next-event samples: with next-event
     // estimation off none is drawn (1 and 8 rendered bit-identical images; helper 132).
@@ -437,9 +438,9 @@ std::vector<std::string> unusedKeyWarnings(const Json& doc, const Scene& scene,
         !effects.anyNextEvent())
         unused("/render/radiance_cache/light_samples"),
             w.push_back("render.radiance_cache.light_samples: " + cache["light_samples"].dump() +
-                    " is not used: next-event estimation is off (" +
-                    noNextEventReason(scene, effects) +
-                    "), and the BSDF sample carries a cached vertex's direct light");
+                        " is not used: next-event estimation is off (" +
+                        noNextEventReason(scene, effects) +
+                        "), and the BSDF sample carries a cached vertex's direct light");
     // (max_records 0 makes no records: the cache is off too; helper 137)
     const bool noRecords = s.radianceCache.enabled && s.radianceCache.maxRecords == 0;
     if (!s.radianceCache.enabled || noRecords) {
@@ -460,19 +461,21 @@ std::vector<std::string> unusedKeyWarnings(const Json& doc, const Scene& scene,
     // light step and records' direct light need next-event estimation too; helper 124).
     if (render.contains("transmittance") &&
         (!effects.volumes || (!effects.anyNextEvent() && (effects.scattering || effects.surfaces))))
-        unused("/render/transmittance"), w.push_back("render.transmittance: " + render["transmittance"].dump() +
-                    " is not used: no transmittance is estimated, " +
-                    (!effects.volumes
-                         ? std::string("as the scene has no medium")
-                         : "as next-event estimation is off (" + noNextEventReason(scene, effects) +
-                               ") and free flights carry the paths"));
+        unused("/render/transmittance"),
+            w.push_back("render.transmittance: " + render["transmittance"].dump() +
+                        " is not used: no transmittance is estimated, " +
+                        (!effects.volumes ? std::string("as the scene has no medium")
+                                          : "as next-event estimation is off (" +
+                                                noNextEventReason(scene, effects) +
+                                                ") and free flights carry the paths"));
     const Json media = doc.value("media", Json::array());
     for (size_t i = 0; media.is_array() && i < media.size(); ++i)
         if (media[i].is_object() && media[i].contains("majorant_cell") &&
             media[i].value("majorant_grid", true) == false)
-            unused("/media/" + std::to_string(i) + "/majorant_cell"), w.push_back("media[" + std::to_string(i) +
-                        "].majorant_cell: " + media[i]["majorant_cell"].dump() +
-                        " is not used: majorant_grid is false (one global majorant)");
+            unused("/media/" + std::to_string(i) + "/majorant_cell"),
+                w.push_back("media[" + std::to_string(i) +
+                            "].majorant_cell: " + media[i]["majorant_cell"].dump() +
+                            " is not used: majorant_grid is false (one global majorant)");
     return w;
 }
 
@@ -1013,6 +1016,17 @@ int runRender(const RenderArgs& a) {
             for (const std::string& set : unchanged)
                 warnings.push_back("--set " + set +
                                    ": the scene has no such key; nothing was deleted");
+            for (size_t i = 0; i < a.sets.size(); ++i)
+                if (const int j = overrideUndoneBy(doc, a.sets, i); j >= 0) {
+                    const std::string& later = a.sets[size_t(j)];
+                    const bool type = later.substr(0, later.find('=')).size() > 5 &&
+                                      later.compare(later.find('=') - 5, 5, ".type") == 0;
+                    warnings.push_back(overridePlace(a.sets[i]) + ": not used: the later " +
+                                       overridePlace(later) +
+                                       (type ? " starts its object afresh with a new type"
+                                             : " replaces or deletes its object") +
+                                       "; give it after that one");
+                }
             for (std::string& w : surfaceWarnings(scene)) warnings.push_back(std::move(w));
             // A grid with no density above 0 (all zeros, or a wrong grid): the medium is empty.
             for (size_t i = 0; i < scene.media.size(); ++i)

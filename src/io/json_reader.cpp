@@ -335,6 +335,43 @@ std::string overridePlace(const std::string& assignment) {
                                                      briefText(assignment.substr(eq + 1), 80));
 }
 
+namespace {
+/// The value at a key path (components, as keyPathProblem gives them) of `doc`, or nullptr.
+const Json* valueAt(const Json& doc, const std::vector<std::string>& path) {
+    const Json* node = &doc;
+    for (const std::string& part : path) {
+        const bool index = part.find_first_not_of("0123456789") == std::string::npos;
+        if (node->is_object() && node->contains(part))
+            node = &(*node)[part];
+        else if (node->is_array() && index && part.size() < 10 && std::stoul(part) < node->size())
+            node = &(*node)[std::stoul(part)];
+        else
+            return nullptr;
+    }
+    return node;
+}
+}  // namespace
+
+int overrideUndoneBy(const Json& after, const std::vector<std::string>& overrides, size_t i) {
+    const std::string& o = overrides[i];
+    const size_t eq = o.find('=');
+    std::vector<std::string> parts;
+    if (eq == std::string::npos || o.compare(eq + 1, std::string::npos, "null") == 0 ||
+        !keyPathProblem(o.substr(0, eq), &parts).empty() || valueAt(after, parts))
+        return -1;
+    const std::string key = canonicalKeyPath(o.substr(0, eq));
+    for (size_t j = overrides.size(); j-- > i + 1;) {
+        const std::string later = canonicalKeyPath(overrides[j].substr(0, overrides[j].find('=')));
+        // (a new type of an object that holds the key, or the object itself replaced or deleted)
+        const std::string object =
+            later.size() > 5 && later.compare(later.size() - 5, 5, ".type") == 0
+                ? later.substr(0, later.size() - 4)
+                : later + ".";
+        if (key.rfind(object, 0) == 0 && key != later) return int(j);
+    }
+    return -1;
+}
+
 int overrideOfError(const std::string& message, const std::string& file, const Json& before,
                     const Json& after, const std::vector<std::string>& overrides,
                     std::string* placeAndReason) {
@@ -346,20 +383,6 @@ int overrideOfError(const std::string& message, const std::string& file, const J
     const std::string place = rest.substr(0, colon);
     std::vector<std::string> parts;
     if (!keyPathProblem(place, &parts).empty()) return -1;
-    const auto valueAt = [](const Json& doc, const std::vector<std::string>& path) -> const Json* {
-        const Json* node = &doc;
-        for (const std::string& part : path) {
-            const bool index = part.find_first_not_of("0123456789") == std::string::npos;
-            if (node->is_object() && node->contains(part))
-                node = &(*node)[part];
-            else if (node->is_array() && index && part.size() < 10 &&
-                     std::stoul(part) < node->size())
-                node = &(*node)[std::stoul(part)];
-            else
-                return nullptr;
-        }
-        return node;
-    };
     // The value must be one the overrides brought in or changed (an unknown key one they brought
     // in): the file's own, where an override set something beside it, is the file's to answer
     // for. And it must be in the document after them (a key whose name holds a dot, "fov.x",
@@ -367,7 +390,16 @@ int overrideOfError(const std::string& message, const std::string& file, const J
     std::string at = canonicalKeyPath(place);
     bool missing = false;
     if (const Json* now = valueAt(after, parts)) {
-        const bool unknownKey = rest.compare(colon + 2, 11, "unknown key") == 0;
+        // A key the file has is unknown for the file's reasons, unless an override changed the
+        // type of its object (helper 139: `--set media.0.phase.type=rayleigh --set
+        // media.0.phase.g=0.5` blamed the file's HG phase for its g).
+        const std::vector<std::string> object(parts.begin(), parts.end() - 1);
+        const auto typeOf = [&](const Json& doc) {
+            const Json* o = valueAt(doc, object);
+            return o && o->is_object() && o->contains("type") ? (*o)["type"] : Json();
+        };
+        const bool unknownKey =
+            rest.compare(colon + 2, 11, "unknown key") == 0 && typeOf(before) == typeOf(after);
         if (const Json* was = valueAt(before, parts); was && (unknownKey || *was == *now))
             return -1;
     } else {

@@ -3636,6 +3636,17 @@ TEST_F(Cli, ErrorsOfOverridesAreNamedWhereTheyWereGiven) {
                           0),
               0u)
         << r.err;
+    // A key the file has, given again by a --set after another --set changed its object's type,
+    // or inside an object a --set gives, is the --set's (helper 139: both blamed the file's g).
+    write("hg.json", scene(R"({"type": "homogeneous", "sigma_t": 2, "shape": {"type": "sphere"},
+                              "phase": {"type": "hg", "g": 0.3}})"));
+    const std::string hg = "render " + path("hg.json") + " -o " + path("out.exr") + " --quiet ";
+    const std::string g = ": media[0].phase.g: unknown key\n";
+    r = run(hg + "--set media.0.phase.type=rayleigh --set media.0.phase.g=0.5");
+    EXPECT_EQ(r.err, "shvol: error: " + path("hg.json") + ": --set media.0.phase.g=0.5" + g);
+    r = run(hg + "--set 'media.0.phase={\"type\": \"rayleigh\", \"g\": 0.5}'");
+    EXPECT_EQ(r.err, "shvol: error: " + path("hg.json") +
+                         ": --set media.0.phase={\"type\": \"rayleigh\", \"g\": 0.5}" + g);
     std::string wide = scene(Homogeneous);
     wide.replace(wide.find("\"position\""), 0, "\"fov\": 500, ");
     write("wide.json", wide);
@@ -3665,6 +3676,43 @@ TEST_F(Cli, ErrorsOfOverridesAreNamedWhereTheyWereGiven) {
                          ": reference.set[0]: camera.fvo: unknown key (did you mean \"fov\"?) (in "
                          "the reference)\n");
     EXPECT_FALSE(fs::exists(path("out.exr")));
+}
+
+// A --set whose value a later --set removes (a new type of its object starts it afresh, or the
+// object is replaced or deleted) is said to be unused: it was dropped without a word (helper
+// 139). One that a later --set of the same type keeps, or that comes after, is not.
+TEST_F(Cli, AnOverrideALaterOneRemovesIsWarnedOf) {
+    write("hg.json", scene(R"({"type": "homogeneous", "sigma_t": 2, "shape": {"type": "sphere"},
+                              "phase": {"type": "hg", "g": 0.3}})"));
+    const std::string render = "render " + path("hg.json") + " -o " + path("out.exr") + " --quiet ";
+    const std::string g = "shvol: warning: " + path("hg.json") +
+                          ": --set media.0.phase.g=0.5: not used: the later --set ";
+    Result r = run(render + "--set media.0.phase.g=0.5 --set media.0.phase.type=rayleigh");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find(g + "media.0.phase.type=rayleigh starts its object afresh with a new "
+                             "type; give it after that one\n"),
+              std::string::npos)
+        << r.err;
+    auto stats = nlohmann::json::parse(std::ifstream(path("out.stats.json")));
+    EXPECT_EQ(stats["warnings"].size(), 1u) << stats["warnings"];
+    r = run(render + "--set media.0.phase.g=0.5 --set 'media[0].phase={\"type\": \"hg\"}'");
+    EXPECT_NE(r.err.find(g + "media[0].phase={\"type\": \"hg\"} replaces or deletes its object"),
+              std::string::npos)
+        << r.err;
+    r = run(render + "--set media.0.phase.g=0.5 --set media.0.phase=null");
+    EXPECT_NE(r.err.find(g + "media.0.phase=null replaces or deletes its object"),
+              std::string::npos)
+        << r.err;
+    for (const std::string sets :
+         {"--set media.0.phase.g=0.5 --set media.0.phase.type=hg",
+          "--set media.0.phase.type=rayleigh --set media.0.phase.type=hg --set media.0.phase.g=0.5",
+          "--set camera.fov=20 --set camera.fov=30"}) {
+        r = run(render + sets);
+        ASSERT_EQ(r.code, 0) << sets << r.err;
+        EXPECT_EQ(r.err.find("not used"), std::string::npos) << sets << r.err;
+    }
+    stats = nlohmann::json::parse(std::ifstream(path("out.stats.json")));
+    EXPECT_EQ(stats["scene_resolved"]["camera"]["fov"], 30);
 }
 
 // A file of the wrong kind is named as such, in one line, before anything is written: a scene
