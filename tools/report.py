@@ -221,9 +221,9 @@ def pareto(points):
 
 
 def main():
-    if len(sys.argv) != 3:
-        fail("usage: report.py DIR COLUMNS (run by shvol report, which passes the ledger's "
-             "columns that are no axes, comma-separated)")
+    if len(sys.argv) != 4 or sys.argv[3] not in ("", "--quiet"):
+        fail("usage: report.py DIR COLUMNS QUIET (run by shvol report, which passes the "
+             "ledger's columns that are no axes, comma-separated, and --quiet or \"\")")
     directory, meta = sys.argv[1], set(sys.argv[2].split(","))
     stop_if_signalled()
     rows = load(directory)
@@ -410,7 +410,12 @@ def main():
             fail(f"{path}: cannot write: {problem}")
     replace_together(pending)
     plt.close("all")
-    print(os.path.join(directory, "report.md"))
+    # On stderr, as every command names what it wrote (it went to stdout, also under batch
+    # --quiet; helper 139).
+    if sys.argv[3] != "--quiet":
+        plots = len(pending) - 2
+        print(f"report: wrote {os.path.join(directory, 'report.md')}, report.html and {plots} "
+              f"plot{'' if plots == 1 else 's'} beside them", file=sys.stderr)
     stop_if_signalled()  # (one that came during the renames: the report is whole)
 
 

@@ -929,7 +929,7 @@ int runBatch(BatchArgs a) {
     // The report, a child process, takes the signals as `shvol report` does (Ctrl-C ends both;
     // caught here, a SIGTERM to the batch waited for the report and was lost; review).
     guard.reset();
-    return runReport(s.output);
+    return runReport(s.output, a.quiet);
 }
 
 }  // namespace

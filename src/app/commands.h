@@ -80,8 +80,8 @@ Outputs outputsFor(const std::string& out, const std::string& tag = "");
 std::string sourceTreePath(const std::string& relative);
 
 /// Writes DIR/report.md and DIR/report.html with plots from DIR/results.jsonl (tools/report.py
-/// run by /usr/bin/python3); returns its exit code.
-int runReport(const std::string& dir);
+/// run by /usr/bin/python3), and names them on stderr unless `quiet`; returns its exit code.
+int runReport(const std::string& dir, bool quiet = false);
 /// The files tools/report.py writes into a batch's directory for a sweep of these axes and
 /// metrics: report.md, report.html and its plots (error vs time and spp with an error metric,
 /// time vs spp and each axis that is a ledger column of its own).

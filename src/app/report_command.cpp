@@ -112,7 +112,7 @@ std::vector<std::string> reportOutputs(const std::vector<std::string>& axes,
     return names;
 }
 
-int runReport(const std::string& dir) {
+int runReport(const std::string& dir, bool quiet) {
     namespace fs = std::filesystem;
     std::error_code ec;  // (what is there first: every case said "no results.jsonl here")
     if (!fs::exists(dir, ec)) fail(dir, "", "no such directory");
@@ -128,7 +128,7 @@ int runReport(const std::string& dir) {
     std::string columns;  // the ledger's columns that are no axes, for report.py
     for (const std::string& c : ledgerColumnsBesideAxes())
         columns += (columns.empty() ? "" : ",") + c;
-    const int status = runPython({script, dir, columns});
+    const int status = runPython({script, dir, columns, quiet ? "--quiet" : ""});
     if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);  // (as the shell reports it)
     if (!WIFEXITED(status))
         fail(script, "", "ended without an exit code (status " + std::to_string(status) + ")");
@@ -142,7 +142,9 @@ void addReportCommand(CLI::App& app, std::function<int()>& run) {
     c->add_option("dir", *dir, "Output directory of shvol batch (with results.jsonl)")
         ->required()
         ->check(nonEmptyName());
-    c->callback([&run, dir] { run = [dir] { return runReport(*dir); }; });
+    auto quiet = std::make_shared<bool>(false);
+    c->add_flag("--quiet", *quiet, "Do not name the files written");
+    c->callback([&run, dir, quiet] { run = [dir, quiet] { return runReport(*dir, *quiet); }; });
 }
 
 }  // namespace shvol::app

@@ -4383,8 +4383,19 @@ TEST_F(Cli, ReportGroupsValuesAsTheBatchDoesAndMarksBias) {
         << "\n"
         << R"({"run": "r0006", "spp": 8, "wall_time_s": 1, "rmse": 0.1, "bias": 0.5, "bias_ci95": 0.1, "x": 2})"
         << "\n";
-    const Result r = run("report " + path("o"));
+    Result r = run("report " + path("o"));
     ASSERT_EQ(r.code, 0) << r.err;
+    // What it wrote is named on stderr, as every command does (it printed report.md's path
+    // alone on stdout, also under batch --quiet; helper 139), and not with --quiet.
+    size_t plots = 0;
+    for (const auto& e : fs::directory_iterator(path("o"))) plots += e.path().extension() == ".png";
+    EXPECT_GT(plots, 1u);
+    EXPECT_EQ(r.out, "");
+    EXPECT_EQ(r.err, "report: wrote " + path("o/report.md") + ", report.html and " +
+                         std::to_string(plots) + " plots beside them\n");
+    r = run("report " + path("o") + " --quiet");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.out + r.err, "");
     const std::string report = test::fileBytes(path("o/report.md"));
     EXPECT_NE(report.find("\n7 runs, 4 configurations; "), std::string::npos) << report;
     EXPECT_NE(report.find("| x=1 | 8 | 2 | 0.1 ± 0 | 1 | 100 | 0 |"), std::string::npos) << report;
@@ -4479,6 +4490,7 @@ TEST_F(Cli, BatchReport) {
         "spp": [8, 32]}, "repeats": 2, "reference": {"spp": 512}})");
     const Result r = run("batch " + path("sweep.json") + " --quiet --report --output " + path("o"));
     ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.out + r.err, "");  // (report.md's path was on stdout; helper 139)
     for (const char* f : {"report.md", "report.html", "error_vs_time.png", "error_vs_spp.png",
                           "time_vs_media_0__albedo.png", "time_vs_spp.png"})
         EXPECT_TRUE(fs::exists(path(std::string("o/") + f))) << f;
@@ -4654,7 +4666,7 @@ TEST_F(Cli, BatchReport) {
                           << "\n"
                           << R"({"run": "r0001", "spp": 16, "g": 1, "wall_time_s": 2, "rmse": 1})"
                           << "\n";
-    c = run("report " + path("o"));
+    c = run("report " + path("o") + " --quiet");
     EXPECT_EQ(c.code, 0);
     EXPECT_EQ(c.err, "");
     EXPECT_NE(test::fileBytes(path("o/report.md"))
