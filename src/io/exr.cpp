@@ -132,6 +132,24 @@ std::string openExrReason(const std::exception& e, const std::string& path) {
     return why;
 }
 
+/// Why the file at path, which OpenEXR could not open (`e`), is no image: a file of another kind
+/// named as such, by its first bytes ("the file is JSON text, not an OpenEXR image": a stats
+/// file given to `diff` said "not a readable OpenEXR file (… File is not an image file.)";
+/// helper 139), else OpenEXR's reason.
+std::string notReadableExr(const std::exception& e, const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    std::string start(16, '\0');
+    f.read(&start[0], std::streamsize(start.size()));
+    start.resize(size_t(std::max<std::streamsize>(f.gcount(), 0)));
+    const char* kind = fileKindByMagic(start);
+    if (kind && std::string(kind) == "an OpenEXR image") kind = nullptr;
+    const size_t first = start.find_first_not_of(" \t\r\n");
+    if (!kind && first != std::string::npos && (start[first] == '{' || start[first] == '['))
+        kind = "JSON text";
+    if (kind) return std::string("the file is ") + kind + ", not an OpenEXR image";
+    return "not a readable OpenEXR file (" + openExrReason(e, path) + ")";
+}
+
 /// OpenEXR's limits on what a header may claim, set once before any file is opened.
 void limitExrHeaders() {
     static std::once_flag limits;
@@ -149,7 +167,7 @@ std::string exrDamage(const std::string& path) {
         if (!Imf::InputFile(path.c_str()).isComplete()) return "its pixel data is cut short";
         return "";
     } catch (const std::exception& e) {  // (shvol's errors name the file; OpenEXR's too)
-        return "not a readable OpenEXR file (" + openExrReason(e, path) + ")";
+        return notReadableExr(e, path);
     }
 }
 
@@ -243,7 +261,7 @@ Image readExr(const std::string& path, ExrValues values) {
     } catch (const Error&) {
         throw;
     } catch (const std::exception& e) {
-        fail(path, "", "not a readable OpenEXR file (" + openExrReason(e, path) + ")");
+        fail(path, "", notReadableExr(e, path));
     }
     for (int y = 0; y < img.height; ++y)
         for (int x = 0; x < img.width; ++x) {

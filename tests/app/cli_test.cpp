@@ -3747,6 +3747,10 @@ TEST_F(Cli, InputsOfAnotherKindAreNamedAsSuch) {
         {"render " + media + "blob.ply",
          media + "blob.ply: the file is a PLY mesh, not JSON: a scene or a sweep names such "
                  "files by their keys"},
+        {"diff " + media + "sky.exr " + media + "cloud.vdb",
+         media + "cloud.vdb: the file is an OpenVDB grid, not an OpenEXR image"},
+        {"tonemap " + path("s.json") + " -o " + path("t.png"),
+         path("s.json") + ": the file is JSON text, not an OpenEXR image"},
         {"phase fit " + path("s.json"),
          "phase spec \"" + path("s.json") +
              "\": a file, where a phase function is JSON or a short form such as hg:g=0.9 (a "

@@ -138,6 +138,13 @@ TEST(Exr, BadFilesGiveOneClearLine) {
                   readExr(tmp("corrupt.exr"));
               }).rfind(tmp("corrupt.exr") + ": not a readable OpenEXR file", 0),
               0u);
+    // A file of another kind is named as such (helper 139: a stats file given to diff said
+    // "not a readable OpenEXR file (… File is not an image file.)").
+    std::ofstream(tmp("stats.exr")) << "\n  {\"image\": {}}";
+    EXPECT_EQ(messageOf([] { readExr(tmp("stats.exr")); }),
+              tmp("stats.exr") + ": the file is JSON text, not an OpenEXR image");
+    std::ofstream(tmp("mesh.exr")) << "ply\nformat ascii 1.0\n";
+    EXPECT_EQ(exrDamage(tmp("mesh.exr")), "the file is a PLY mesh, not an OpenEXR image");
     Image img(3, 2);
     img.set(2, 1, Spectrum(NAN, 0, 0));
     writeExr(tmp("nan.exr"), img);
