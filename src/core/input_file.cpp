@@ -28,6 +28,13 @@ const char* fileKindByMagic(const std::string& start) {
     return nullptr;
 }
 
+const char* fileKindOfStart(const std::string& start) {
+    if (const char* kind = fileKindByMagic(start)) return kind;
+    const size_t first = start.find_first_not_of(" \t\r\n");
+    return first != std::string::npos && (start[first] == '{' || start[first] == '[') ? "JSON text"
+                                                                                      : nullptr;
+}
+
 uintmax_t regularFileSize(const std::string& path) {
     const std::string problem = inputFileProblem(path);
     if (!problem.empty()) fail(path, "", problem);

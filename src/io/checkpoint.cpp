@@ -183,8 +183,14 @@ Film readCheckpoint(const std::string& path, const Json& identity) {
         fail(path, "",
              "a checkpoint of an earlier shvol (checkpoint format 1), which this build "
              "cannot resume: start afresh");
-    if (size_t(f.gcount()) < sizeof kMagic || std::memcmp(magic, kMagic, sizeof kMagic) != 0)
-        fail(path, "", "not a shvol checkpoint");
+    if (size_t(f.gcount()) < sizeof kMagic || std::memcmp(magic, kMagic, sizeof kMagic) != 0) {
+        // (an image or a stats file given as the checkpoint, or an empty file, named as such)
+        const char* kind = fileKindOfStart(std::string(magic, size_t(f.gcount())));
+        fail(path, "",
+             size == 0 ? std::string("empty, not a shvol checkpoint")
+             : kind    ? std::string("the file is ") + kind + ", not a shvol checkpoint"
+                       : std::string("not a shvol checkpoint"));
+    }
     uint32_t n = 0;
     if (size < sizeof kMagic + 4) fail(path, "", "not a shvol checkpoint");
     read(&n, 4);

@@ -141,12 +141,9 @@ std::string notReadableExr(const std::exception& e, const std::string& path) {
     std::string start(16, '\0');
     f.read(&start[0], std::streamsize(start.size()));
     start.resize(size_t(std::max<std::streamsize>(f.gcount(), 0)));
-    const char* kind = fileKindByMagic(start);
-    if (kind && std::string(kind) == "an OpenEXR image") kind = nullptr;
-    const size_t first = start.find_first_not_of(" \t\r\n");
-    if (!kind && first != std::string::npos && (start[first] == '{' || start[first] == '['))
-        kind = "JSON text";
-    if (kind) return std::string("the file is ") + kind + ", not an OpenEXR image";
+    const char* kind = fileKindOfStart(start);
+    if (kind && std::string(kind) != "an OpenEXR image")
+        return std::string("the file is ") + kind + ", not an OpenEXR image";
     return "not a readable OpenEXR file (" + openExrReason(e, path) + ")";
 }
 

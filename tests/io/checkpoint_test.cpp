@@ -108,8 +108,17 @@ TEST(Checkpoint, DamagedOrForeignFilesAreRefused) {
     EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
               p + ": a checkpoint of an earlier shvol (checkpoint format 1), which this build "
                   "cannot resume: start afresh");
+    // A file of another kind, or an empty one, is named as such (helper 139: all were "not a
+    // shvol checkpoint").
     std::ofstream(p) << "{\"not\": \"a checkpoint\"}";
-    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }), p + ": not a shvol checkpoint");
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
+              p + ": the file is JSON text, not a shvol checkpoint");
+    std::ofstream(p) << "\x76\x2f\x31\x01" << std::string(40, 'x');
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
+              p + ": the file is an OpenEXR image, not a shvol checkpoint");
+    std::ofstream(p) << "";
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
+              p + ": empty, not a shvol checkpoint");
     std::ofstream(p) << "SHVOLCK";
     EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }), p + ": not a shvol checkpoint");
     EXPECT_EQ(test::messageOf([&] { readCheckpoint(tempPath("missing.bin"), id); }),

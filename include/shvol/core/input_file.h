@@ -19,5 +19,9 @@ uintmax_t regularFileSize(const std::string& path);
 /// nullptr for any other start. Readers of JSON and CSV name such a file by its kind, where their
 /// own errors ("a NUL byte", "expected 2 columns") said nothing of it (helpers 122, 127).
 const char* fileKindByMagic(const std::string& start);
+/// fileKindByMagic's kind, or "JSON text" for a start whose first character but blanks opens an
+/// object or an array: for readers of binary files (images, checkpoints), which name a file of
+/// another kind as such (helper 139: a stats file given to `diff`).
+const char* fileKindOfStart(const std::string& start);
 
 }  // namespace shvol
