@@ -238,24 +238,6 @@ Json savedStats(const Sweep& s, const Json& row) {
     return saved.is_object() ? saved : Json::object();
 }
 
-/// `now` without the object members that `was` lacks, at any depth: a run's stats leave out the
-/// keys its render did not use (the defaults of effects that are off), which the loader's full
-/// resolved scene has. Within one build a key is missing there only so, or where its object's
-/// type differs, which is named by itself.
-Json withoutKeysNotIn(const Json& now, const Json& was) {
-    if (!now.is_object() && !now.is_array()) return now;
-    if (now.type() != was.type()) return now;
-    Json out = now.is_object() ? Json::object() : Json::array();
-    if (now.is_array()) {
-        for (size_t i = 0; i < now.size(); ++i)
-            out.push_back(i < was.size() ? withoutKeysNotIn(now[i], was[i]) : now[i]);
-        return out;
-    }
-    for (auto it = now.begin(); it != now.end(); ++it)
-        if (was.contains(it.key())) out[it.key()] = withoutKeysNotIn(it.value(), was[it.key()]);
-    return out;
-}
-
 /// The scene values in which a finished run (its stats' scene_resolved) and the render the sweep
 /// now gives it differ, as a resumed render names them (`scene values camera.fov differ`); ""
 /// when that cannot be told. (A checkpoint's identity leaves render.spp out: a render may be
@@ -269,7 +251,15 @@ std::string changedSettings(const Sweep& s, const SweepRun& run, const Json& row
     } catch (const std::exception&) {
         return "";
     }
-    const Json& was = saved["scene_resolved"];
+    // A run's stats leave out the keys its render did not use; read again, its scene has their
+    // defaults, and a key given another value since is named (helper 140).
+    Json was = saved["scene_resolved"];
+    try {
+        Json full;
+        checkScene(was, s.scene, &full);
+        was = std::move(full);
+    } catch (const std::exception&) {  // (compared as the stats hold it)
+    }
     std::string difference;
     if (const double a = sppOf(was), b = sppOf(resolved); a != b) {
         char text[96];
@@ -278,8 +268,7 @@ std::string changedSettings(const Sweep& s, const SweepRun& run, const Json& row
     }
     const std::string rest =
         identityDifference(renderIdentity(was, Json::object(), ""),
-                           renderIdentity(withoutKeysNotIn(resolved, was), Json::object(), ""),
-                           "set, axes or scene file");
+                           renderIdentity(resolved, Json::object(), ""), "set, axes or scene file");
     return difference + (difference.empty() || rest.empty() ? "" : "; ") + rest;
 }
 

@@ -1016,8 +1016,12 @@ int runRender(const RenderArgs& a) {
             for (const std::string& set : unchanged)
                 warnings.push_back("--set " + set +
                                    ": the scene has no such key; nothing was deleted");
-            for (size_t i = 0; i < a.sets.size(); ++i)
-                if (const int j = overrideUndoneBy(doc, a.sets, i); j >= 0) {
+            // (not in a batch, whose overrides are its sweep's `set` and axes, in an order the
+            // sweep does not choose; helper 140)
+            const std::vector<int> removedBy =
+                a.run.empty() ? overridesRemovedBy(original, a.sets, a.scene) : std::vector<int>();
+            for (size_t i = 0; i < removedBy.size(); ++i)
+                if (const int j = removedBy[i]; j >= 0) {
                     const std::string& later = a.sets[size_t(j)];
                     const bool type = later.substr(0, later.find('=')).size() > 5 &&
                                       later.compare(later.find('=') - 5, 5, ".type") == 0;
@@ -1081,9 +1085,11 @@ int runRender(const RenderArgs& a) {
                           {"machine", machineDescription()},
                           {"mpi_ranks", spread ? world.size() : 1}};
             // The scene as the loader read it, defaults written out: a value given as its default
-            // (--seed 1, render.rr_depth=3) is the same render as one left out.
+            // (--seed 1, render.rr_depth=3) is the same render as one left out; and as the stats
+            // hold it, without the keys it does not use, so that the stats' scene resumes it
+            // (helper 140: an unused product_order of 6 refused it).
             if (!a.checkpoint.empty())
-                identity = renderIdentity(resolved, provenance.at("inputs"), gitRevision());
+                identity = renderIdentity(used, provenance.at("inputs"), gitRevision());
             // (a missing one named neither option: "nock.bin: no such file"; helper 77)
             if (a.resume)
                 if (const std::string problem = inputFileProblem(a.checkpoint); !problem.empty())

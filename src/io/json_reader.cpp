@@ -352,24 +352,23 @@ const Json* valueAt(const Json& doc, const std::vector<std::string>& path) {
 }
 }  // namespace
 
-int overrideUndoneBy(const Json& after, const std::vector<std::string>& overrides, size_t i) {
-    const std::string& o = overrides[i];
-    const size_t eq = o.find('=');
-    std::vector<std::string> parts;
-    if (eq == std::string::npos || o.compare(eq + 1, std::string::npos, "null") == 0 ||
-        !keyPathProblem(o.substr(0, eq), &parts).empty() || valueAt(after, parts))
-        return -1;
-    const std::string key = canonicalKeyPath(o.substr(0, eq));
-    for (size_t j = overrides.size(); j-- > i + 1;) {
-        const std::string later = canonicalKeyPath(overrides[j].substr(0, overrides[j].find('=')));
-        // (a new type of an object that holds the key, or the object itself replaced or deleted)
-        const std::string object =
-            later.size() > 5 && later.compare(later.size() - 5, 5, ".type") == 0
-                ? later.substr(0, later.size() - 4)
-                : later + ".";
-        if (key.rfind(object, 0) == 0 && key != later) return int(j);
+std::vector<int> overridesRemovedBy(Json doc, const std::vector<std::string>& overrides,
+                                    const std::string& file) {
+    std::vector<int> by(overrides.size(), -1);
+    std::vector<std::vector<std::string>> paths(overrides.size());
+    for (size_t j = 0; j < overrides.size(); ++j) {
+        applyOverride(doc, overrides[j], file);
+        for (size_t i = 0; i < j; ++i)  // (those of i still there before j)
+            if (!paths[i].empty() && by[i] < 0 && !valueAt(doc, paths[i])) by[i] = int(j);
+        const std::string& o = overrides[j];
+        const size_t eq = o.find('=');
+        if (eq == std::string::npos || o.compare(eq + 1, std::string::npos, "null") == 0 ||
+            !keyPathProblem(o.substr(0, eq), &paths[j]).empty() || !valueAt(doc, paths[j]))
+            paths[j].clear();  // (a deletion, or nothing set)
     }
-    return -1;
+    for (size_t i = 0; i < overrides.size(); ++i)  // (set again later: there after all)
+        if (by[i] >= 0 && valueAt(doc, paths[i])) by[i] = -1;
+    return by;
 }
 
 int overrideOfError(const std::string& message, const std::string& file, const Json& before,
@@ -388,19 +387,21 @@ int overrideOfError(const std::string& message, const std::string& file, const J
     // for. And it must be in the document after them (a key whose name holds a dot, "fov.x",
     // reads as the path camera.fov.x, which the file's camera.fov=30 does not hold; helper 131).
     std::string at = canonicalKeyPath(place);
-    bool missing = false;
+    bool missing = false, typeChanged = false;
     if (const Json* now = valueAt(after, parts)) {
         // A key the file has is unknown for the file's reasons, unless an override changed the
-        // type of its object (helper 139: `--set media.0.phase.type=rayleigh --set
-        // media.0.phase.g=0.5` blamed the file's HG phase for its g).
+        // type of its object, whatever the key's value (helpers 139, 140: `--set
+        // media.0.phase.type=rayleigh --set media.0.phase.g=0.5`, or `phase.type=null`, blamed
+        // the file's HG phase for its g).
         const std::vector<std::string> object(parts.begin(), parts.end() - 1);
         const auto typeOf = [&](const Json& doc) {
             const Json* o = valueAt(doc, object);
             return o && o->is_object() && o->contains("type") ? (*o)["type"] : Json();
         };
-        const bool unknownKey =
-            rest.compare(colon + 2, 11, "unknown key") == 0 && typeOf(before) == typeOf(after);
-        if (const Json* was = valueAt(before, parts); was && (unknownKey || *was == *now))
+        const bool unknownKey = rest.compare(colon + 2, 11, "unknown key") == 0;
+        typeChanged = unknownKey && typeOf(before) != typeOf(after);
+        if (const Json* was = valueAt(before, parts);
+            was && (unknownKey ? !typeChanged : *was == *now))
             return -1;
     } else {
         // A key missing after the overrides (one that a new type of its object asks for, or one
@@ -414,10 +415,13 @@ int overrideOfError(const std::string& message, const std::string& file, const J
         at = at.substr(0, at.rfind('.'));
         missing = true;
     }
+    // (the type's override, where nothing else set the key: `phase.type=null`)
+    const std::string type = at.substr(0, at.rfind('.') + 1) + "type";
     for (int i = int(overrides.size()) - 1; i >= 0; --i) {  // (a later one replaces an earlier)
         const std::string key =
             canonicalKeyPath(overrides[size_t(i)].substr(0, overrides[size_t(i)].find('=')));
-        if (at == key || at.rfind(key + ".", 0) == 0 || (missing && key.rfind(at + ".", 0) == 0)) {
+        if (at == key || at.rfind(key + ".", 0) == 0 || (missing && key.rfind(at + ".", 0) == 0) ||
+            (typeChanged && key == type)) {
             if (placeAndReason) *placeAndReason = rest;
             return i;
         }

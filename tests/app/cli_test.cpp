@@ -1407,6 +1407,20 @@ TEST_F(Cli, ResolvedSceneRendersAgainWithoutWarnings) {
     const auto second = nlohmann::json::parse(std::ifstream(path("b.stats.json")));
     EXPECT_EQ(second["scene_resolved"], resolved);
     EXPECT_EQ(readExr(path("b.exr")).rgb, readExr(path("a.exr")).rgb);
+    // A checkpoint's identity is that scene too: the stats' scene resumes a render that gave an
+    // unused key a value of its own (helper 140: product_order 6 without product sampling was a
+    // "scene value render.product_order" that differed), to the image of one uninterrupted run.
+    r = run("render " + path("s.json") + " -o " + path("d.exr") + " --quiet --checkpoint " +
+            path("ck.bin") + " --set render.product_order=6");
+    ASSERT_EQ(r.code, 0) << r.err;
+    write("resume.json",
+          nlohmann::json::parse(std::ifstream(path("d.stats.json")))["scene_resolved"].dump());
+    r = run("render " + path("resume.json") + " -o " + path("e.exr") + " --quiet --spp 4 " +
+            "--checkpoint " + path("ck.bin") + " --resume");
+    ASSERT_EQ(r.code, 0) << r.err;
+    ASSERT_EQ(run("render " + path("s.json") + " -o " + path("f.exr") + " --quiet --spp 4").code,
+              0);
+    EXPECT_EQ(readExr(path("e.exr")).rgb, readExr(path("f.exr")).rgb);
     // Where they are used, the keys stay.
     r = run("render " + path("s.json") + " -o " + path("c.exr") +
             " --quiet --set render.nee=true --set render.light_sampling=\"product\"" +
@@ -3099,6 +3113,20 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
                          "(set, axes or scene file); use another output directory"),
               std::string::npos)
         << r.err;
+    // So is a key the runs did not use, which their stats leave out (helper 140: nothing was
+    // named).
+    changed = sweep;
+    changed.replace(changed.find("\"axes\""), 0, R"("set": ["render.product_order=6"], )");
+    write("sweep.json", changed);
+    r = run("batch " + path("sweep.json") + " --quiet --output " + path("clean"));
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("finished with other settings or another scene than the sweep now gives: "
+                         "scene value render.product_order differs"),
+              std::string::npos)
+        << r.err;
+    changed = sweep;
+    changed.replace(changed.find("\"axes\""), 0, R"("set": ["render.max_depth=7"], )");
+    write("sweep.json", changed);
     // --dry-run, which reads no grid, refuses changed settings too (it listed the runs as
     // finished, which the start then refused).
     r = run("batch " + path("sweep.json") + " --dry-run --output " + path("clean"));
@@ -3647,6 +3675,15 @@ TEST_F(Cli, ErrorsOfOverridesAreNamedWhereTheyWereGiven) {
     r = run(hg + "--set 'media.0.phase={\"type\": \"rayleigh\", \"g\": 0.5}'");
     EXPECT_EQ(r.err, "shvol: error: " + path("hg.json") +
                          ": --set media.0.phase={\"type\": \"rayleigh\", \"g\": 0.5}" + g);
+    // Also where the value is the file's, and where the type alone was deleted, which leaves the
+    // file's g to the default type (helper 140).
+    r = run(hg + "--set media.0.phase.type=rayleigh --set media.0.phase.g=0.3");
+    EXPECT_EQ(r.err, "shvol: error: " + path("hg.json") + ": --set media.0.phase.g=0.3" + g);
+    r = run(hg + "--set 'media.0.phase={\"type\": \"rayleigh\", \"g\": 0.3}'");
+    EXPECT_EQ(r.err, "shvol: error: " + path("hg.json") +
+                         ": --set media.0.phase={\"type\": \"rayleigh\", \"g\": 0.3}" + g);
+    r = run(hg + "--set media.0.phase.type=null");
+    EXPECT_EQ(r.err, "shvol: error: " + path("hg.json") + ": --set media.0.phase.type=null" + g);
     std::string wide = scene(Homogeneous);
     wide.replace(wide.find("\"position\""), 0, "\"fov\": 500, ");
     write("wide.json", wide);
@@ -3703,6 +3740,12 @@ TEST_F(Cli, AnOverrideALaterOneRemovesIsWarnedOf) {
     EXPECT_NE(r.err.find(g + "media.0.phase=null replaces or deletes its object"),
               std::string::npos)
         << r.err;
+    // The one that removed it is named, not a later one of its object (helper 140).
+    r = run(render + "--set media.0.phase.g=0.5 --set media.0.phase.type=rayleigh " +
+            "--set media.0.phase.sampling=sh --set media[0].phase.type=rayleigh");
+    EXPECT_NE(r.err.find(g + "media.0.phase.type=rayleigh starts"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("media[0].phase.type=rayleigh starts"), std::string::npos) << r.err;
+    EXPECT_EQ(occurrences(r.err, "not used"), 1u) << r.err;
     for (const std::string sets :
          {"--set media.0.phase.g=0.5 --set media.0.phase.type=hg",
           "--set media.0.phase.type=rayleigh --set media.0.phase.type=hg --set media.0.phase.g=0.5",

@@ -90,11 +90,14 @@ std::string overridePlace(const std::string& assignment);
 int overrideOfError(const std::string& message, const std::string& file, const Json& before,
                     const Json& after, const std::vector<std::string>& overrides,
                     std::string* placeAndReason = nullptr);
-/// The index in `overrides` of a later override that removed the value override i sets from the
-/// document `after` them all, or −1: a new type of an object that holds it (which starts the
-/// object afresh), or that object replaced or deleted. So that `--set media.0.phase.g=0.5 --set
-/// media.0.phase.type=rayleigh` does not drop the user's g without a word (helper 139).
-int overrideUndoneBy(const Json& after, const std::vector<std::string>& overrides, size_t i);
+/// For each of `overrides` applied in turn to `doc` (the file's document), the index of the later
+/// override that removed the value it set, or −1 (kept, set again later, or a deletion): a new
+/// type of an object that holds it starts the object afresh, or the object is replaced or
+/// deleted. So that `--set media.0.phase.g=0.5 --set media.0.phase.type=rayleigh` does not drop
+/// the user's g without a word (helpers 139, 140: the override that removed it, not the last of
+/// its object's). The overrides must be ones applyOverride accepts on `doc`.
+std::vector<int> overridesRemovedBy(Json doc, const std::vector<std::string>& overrides,
+                                    const std::string& file);
 /// A key path as applyOverride walks it: media[0].albedo (the notation of error messages) is
 /// media.0.albedo.
 std::string canonicalKeyPath(const std::string& key);
