@@ -1,9 +1,9 @@
 #!/usr/bin/python3
 """shvol report: plots and tables of a batch's ledger (DIR/results.jsonl).
 
-Usage: report.py DIR COLUMNS   (shvol report DIR runs this with Debian's /usr/bin/python3;
+Usage: report.py DIR COLUMNS QUIET   (shvol report DIR runs this with Debian's /usr/bin/python3;
 COLUMNS are the ledger's columns that are no axes, comma-separated: shvol's list, kept in one
-place, io/ledger.h)
+place, io/ledger.h; QUIET is --quiet, or empty to name the files written on stderr)
 
 Writes DIR/report.md and DIR/report.html with:
   - error vs time per configuration, log-log, the Pareto front over all points marked;

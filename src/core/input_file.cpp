@@ -22,7 +22,8 @@ const char* fileKindByMagic(const std::string& start) {
         {" BDV", "an OpenVDB grid"},
         {"\x76\x2f\x31\x01", "an OpenEXR image"},
         {"ply\n", "a PLY mesh"},
-        {"ply\r\n", "a PLY mesh"}};
+        {"ply\r\n", "a PLY mesh"},
+        {"\x89PNG\r\n", "a PNG image"}};
     for (const auto& [magic, kind] : kinds)
         if (start.compare(0, magic.size(), magic) == 0) return kind;
     return nullptr;
@@ -30,7 +31,9 @@ const char* fileKindByMagic(const std::string& start) {
 
 const char* fileKindOfStart(const std::string& start) {
     if (const char* kind = fileKindByMagic(start)) return kind;
-    const size_t first = start.find_first_not_of(" \t\r\n");
+    // (after a UTF-8 byte order mark and blanks)
+    const size_t first =
+        start.find_first_not_of(" \t\r\n", start.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0);
     return first != std::string::npos && (start[first] == '{' || start[first] == '[') ? "JSON text"
                                                                                       : nullptr;
 }

@@ -138,7 +138,7 @@ std::string openExrReason(const std::exception& e, const std::string& path) {
 /// helper 139), else OpenEXR's reason.
 std::string notReadableExr(const std::exception& e, const std::string& path) {
     std::ifstream f(path, std::ios::binary);
-    std::string start(16, '\0');
+    std::string start(256, '\0');
     f.read(&start[0], std::streamsize(start.size()));
     start.resize(size_t(std::max<std::streamsize>(f.gcount(), 0)));
     const char* kind = fileKindOfStart(start);

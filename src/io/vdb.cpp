@@ -423,8 +423,9 @@ bool windowIsConstant(Accessor& acc, const Eigen::Vector3i& c, float value) {
 /// constant (no voxel is read or stored for it). None (std::nullopt) when the table or the bricks
 /// would take too much memory.
 std::optional<DensityBricks> makeBricks(const openvdb::FloatTree& tree) {
-    // 64 MiB of table, 182 MiB of bricks and 48 M voxel reads at most: a small hostile file must
-    // not cost seconds to load (a tile is cheap to write and its shell needs bricks).
+    // 64 MiB of table (and 16 MiB of `kind` below while it is built), 182 MiB of bricks and 48 M
+    // voxel reads at most: a small hostile file must not cost seconds to load (a tile is cheap to
+    // write and its shell needs bricks).
     constexpr double kMaxTableCells = 1 << 24, kMaxBricks = 1 << 16;
     struct Box {
         Eigen::Vector3i lo, hi;  // brick coordinates, inclusive

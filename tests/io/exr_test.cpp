@@ -145,6 +145,13 @@ TEST(Exr, BadFilesGiveOneClearLine) {
               tmp("stats.exr") + ": the file is JSON text, not an OpenEXR image");
     std::ofstream(tmp("mesh.exr")) << "ply\nformat ascii 1.0\n";
     EXPECT_EQ(exrDamage(tmp("mesh.exr")), "the file is a PLY mesh, not an OpenEXR image");
+    // (helper 140: a PNG, which tonemap writes, JSON after a byte order mark or many blanks)
+    std::ofstream(tmp("image.exr")) << "\x89PNG\r\n\x1a\n" << std::string(40, '\0');
+    EXPECT_EQ(exrDamage(tmp("image.exr")), "the file is a PNG image, not an OpenEXR image");
+    std::ofstream(tmp("bom.exr")) << "\xEF\xBB\xBF{}";
+    EXPECT_EQ(exrDamage(tmp("bom.exr")), "the file is JSON text, not an OpenEXR image");
+    std::ofstream(tmp("blanks.exr")) << std::string(100, ' ') << "[1]";
+    EXPECT_EQ(exrDamage(tmp("blanks.exr")), "the file is JSON text, not an OpenEXR image");
     Image img(3, 2);
     img.set(2, 1, Spectrum(NAN, 0, 0));
     writeExr(tmp("nan.exr"), img);

@@ -15,7 +15,8 @@ std::string inputFileProblem(const std::string& path);
 uintmax_t regularFileSize(const std::string& path);
 
 /// The kind of a file that starts with `start`, told by its magic number: "an OpenVDB grid", "an
-/// OpenEXR image" or "a PLY mesh" (ASCII PLY too), the files shvol reads that are not JSON or CSV;
+/// OpenEXR image", "a PLY mesh" (ASCII PLY too), the files shvol reads that are not JSON or CSV,
+/// or "a PNG image" (which `tonemap` writes);
 /// nullptr for any other start. Readers of JSON and CSV name such a file by its kind, where their
 /// own errors ("a NUL byte", "expected 2 columns") said nothing of it (helpers 122, 127).
 const char* fileKindByMagic(const std::string& start);
