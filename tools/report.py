@@ -87,6 +87,9 @@ def is_number(v):
     return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
 
 
+CUT_SHORT = []  # the ledger's last line, where a kill cut it short and load() left it out
+
+
 def load(directory):
     path = os.path.join(directory, "results.jsonl")
     rows = []
@@ -107,8 +110,10 @@ def load(directory):
             if n == len(lines) and not line.endswith("\n"):
                 try:
                     if not isinstance(json.loads(line), dict):
+                        CUT_SHORT.append(n)
                         continue
                 except (json.JSONDecodeError, RecursionError):
+                    CUT_SHORT.append(n)
                     continue
             try:
                 row = json.loads(line)
@@ -359,16 +364,24 @@ def main():
         figures.append((name, f"mean {time_label} for each value of {a} (all other axes "
                               "pooled)"))
 
-    head = ["configuration", "spp", "runs", f"{error or 'error'} (mean ± sd)", "time (s)",
-            "1/(MSE·time)"] + (["z-test passed"] if ztest else []) + (
-                ["bias (mean)"] if biased_col else [])
+    # The efficiency needs the RMSE: without it the column was there, empty, and nothing said why
+    # (helper 141).
+    efficient = error == "rmse"
+    head = ["configuration", "spp", "runs", f"{error or 'error'} (mean ± sd)", "time (s)"] + (
+        ["1/(MSE·time)"] if efficient else []) + (["z-test passed"] if ztest else []) + (
+            ["bias (mean)"] if biased_col else [])
     table = [head]
     for c, spp, n, e, sd, t, eff, z, b in summary:
         table.append([c, str(spp), str(n), (f"{e:.4g} ± {sd:.2g}" if n > 1 else f"{e:.4g}") if error else "",
-                      f"{t:.3g}", f"{eff:.4g}" if not math.isnan(eff) else ""] +
+                      f"{t:.3g}"] + ([f"{eff:.4g}" if not math.isnan(eff) else ""] if efficient else []) +
                      ([z] if ztest else []) + ([b] if biased_col else []))
     summary = (f"{counted(len(rows), 'run')}, {counted(len(configs), 'configuration')}; "
                f"error metric: {error or 'none'}; time: {time_key} ({time_label}).")
+    if not efficient:
+        summary += " No efficiency 1/(MSE·time) column: it needs the sweep's rmse metric."
+    if CUT_SHORT:  # (said nowhere before: the report was one run short; helper 141)
+        summary += (f" Line {CUT_SHORT[0]} of results.jsonl, cut short by a batch stopped while "
+                    f"writing it, is left out: the next start of the batch renders that run again.")
     if left_out:
         summary += (f" Left out of the error plots (log axes): {counted(left_out, 'row')} of "
                     f"the table with an error or a time of 0.")

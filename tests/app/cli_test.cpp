@@ -4456,6 +4456,28 @@ TEST_F(Cli, ReportGroupsValuesAsTheBatchDoesAndMarksBias) {
                           "interval, on one side, over two repeats or more): x=38 at 8 spp."),
               std::string::npos)
         << report;
+    EXPECT_EQ(report.find("No efficiency"), std::string::npos) << report;
+    EXPECT_EQ(report.find("cut short"), std::string::npos) << report;
+    // A last line a kill cut short is left out, and said; without rmse there is no efficiency
+    // column, and that is said too (helper 141: the row went without a word, the column was
+    // empty).
+    std::string rows = test::fileBytes(path("o/results.jsonl"));
+    for (size_t at; (at = rows.find("\"rmse\": ")) != std::string::npos;)
+        rows.replace(at, 8, "\"mae\": ");
+    std::ofstream(path("o/results.jsonl"), std::ios::binary)
+        << rows << R"({"run": "r0007", "spp": 8, "wall_t)";
+    r = run("report " + path("o") + " --quiet");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string cut = test::fileBytes(path("o/report.md"));
+    EXPECT_NE(cut.find("\n7 runs, 4 configurations; error metric: mae;"), std::string::npos) << cut;
+    EXPECT_NE(cut.find(" Line 8 of results.jsonl, cut short by a batch stopped while writing it, "
+                       "is left out: the next start of the batch renders that run again."),
+              std::string::npos)
+        << cut;
+    EXPECT_NE(cut.find(" No efficiency 1/(MSE·time) column: it needs the sweep's rmse metric."),
+              std::string::npos)
+        << cut;
+    EXPECT_NE(cut.find("| x=1 | 8 | 2 | 0.1 ± 0 | 1 | 0 |"), std::string::npos) << cut;
 }
 
 // A ledger of three runs of two configurations, for the report tests.
