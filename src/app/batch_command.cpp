@@ -266,9 +266,9 @@ std::string changedSettings(const Sweep& s, const SweepRun& run, const Json& row
         std::snprintf(text, sizeof text, "render.spp was %.17g, is %.17g", a, b);
         difference = text;
     }
-    const std::string rest =
-        identityDifference(renderIdentity(was, Json::object(), ""),
-                           renderIdentity(resolved, Json::object(), ""), "set, axes or scene file");
+    const std::string rest = identityDifference(renderIdentity(was, Json::object(), ""),
+                                                renderIdentity(resolved, Json::object(), ""),
+                                                "seed, set or axes, or scene file");
     return difference + (difference.empty() || rest.empty() ? "" : "; ") + rest;
 }
 

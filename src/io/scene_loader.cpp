@@ -414,17 +414,23 @@ void readArray(JsonReader& r, const std::string& key, Json* resolved, Read read)
     }
 }
 
-Scene readScene(const Json& doc, const std::string& path, Json* resolved, Contents contents) {
-    Scene scene;
-    scene.path = path;
-    // A sweep given for a scene was told "axes: unknown key" (helper 122).
-    // ("axes" alone decides: --set camera.fov=30 gives a sweep a camera; helper 124.)
+namespace {
+/// Refuses a sweep given for a scene: it was told "axes: unknown key" (helper 122). ("axes" alone
+/// decides: --set camera.fov=30 gives a sweep a camera; helper 124.)
+void refuseASweep(const Json& doc, const std::string& path) {
     if (doc.is_object() &&
         (doc.contains("axes") || (doc.contains("scene") && !doc.contains("camera"))))
         fail(path, "",
              "a sweep of shvol batch (it has \"" +
                  std::string(doc.contains("axes") ? "axes" : "scene") +
                  "\"), not a scene: run it with shvol batch");
+}
+}  // namespace
+
+Scene readScene(const Json& doc, const std::string& path, Json* resolved, Contents contents) {
+    Scene scene;
+    scene.path = path;
+    refuseASweep(doc, path);
     JsonReader r(doc, path, "");
     if (resolved) r.recordInto(&(*resolved = Json::object()));
     scene.camera = readCamera(r.objectOrEmpty("camera"));
@@ -475,6 +481,9 @@ Scene loadScene(const std::string& path, const std::vector<std::string>& overrid
 Json sceneDocument(const std::string& path, const std::vector<std::string>& overrides,
                    std::vector<std::string>* unchanged, Json* original) {
     Json doc = parseJsonFile(path);
+    // (before the overrides, which a sweep's axes are: `media[0].albedo` on a sweep given as a
+    // sweep's scene was "index 0 of an array the scene does not have"; helper 141)
+    refuseASweep(doc, path);
     if (original) *original = doc;
     for (const std::string& o : overrides)
         if (!applyOverride(doc, o, path) && unchanged) unchanged->push_back(o);

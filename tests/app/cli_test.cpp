@@ -3110,7 +3110,7 @@ TEST_F(Cli, BatchSurvivesKillAndRefusesAChangedSweep) {
     // (naming the value, as a resumed render does; helper 84)
     EXPECT_NE(r.err.find("results.jsonl: run r0000: finished with other settings or another "
                          "scene than the sweep now gives: scene value render.max_depth differs "
-                         "(set, axes or scene file); use another output directory"),
+                         "(seed, set or axes, or scene file); use another output directory"),
               std::string::npos)
         << r.err;
     // So is a key the runs did not use, which their stats leave out (helper 140: nothing was
@@ -3766,6 +3766,7 @@ TEST_F(Cli, InputsOfAnotherKindAreNamedAsSuch) {
     write("s.json", scene(Homogeneous));
     write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [1, 2]}})");
     write("r.json", R"({"render": {"spp": 1}})");
+    write("nested.json", R"({"scene": "sweep.json", "axes": {"media[0].albedo": [0.5]}})");
     const std::string media = std::string(SHVOL_SOURCE_DIR) + "/media/";
     const std::vector<std::pair<std::string, std::string>> cases = {
         {"batch " + path("s.json") + " --dry-run",
@@ -3776,6 +3777,10 @@ TEST_F(Cli, InputsOfAnotherKindAreNamedAsSuch) {
                               "with shvol batch"},
         // (--set gives the sweep a camera: "axes" still decides; helper 124)
         {"render " + path("sweep.json") + " --set camera.fov=30",
+         path("sweep.json") + ": a sweep of shvol batch (it has \"axes\"), not a scene: run it "
+                              "with shvol batch"},
+        // (also where an axis would index the sweep's arrays; helper 141)
+        {"batch " + path("nested.json") + " --dry-run",
          path("sweep.json") + ": a sweep of shvol batch (it has \"axes\"), not a scene: run it "
                               "with shvol batch"},
         {"batch " + path("r.json"),
