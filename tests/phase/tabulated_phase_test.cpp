@@ -182,6 +182,8 @@ TEST(TabulatedCsv, OneLineErrors) {
               "the file is an OpenVDB grid" + rows);
     EXPECT_EQ(err("mesh.ply", "ply\r\nformat ascii 1.0\r\n"), "the file is a PLY mesh" + rows);
     EXPECT_EQ(err("image.png", std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16)),
+              "the file is a PNG image" + rows);
+    EXPECT_EQ(err("data.bin", std::string("\x89PNX\r\n\x1a\n\0\0\0\rIHDR", 16)),
               "a NUL byte at byte 8 (binary data, or UTF-16 text)" + rows);
     // A short table in degrees that ends before π is still fine.
     EXPECT_EQ(messageOf([&] { readPhaseTableCsv(writeCsv("peak.csv", "0,5\n1,2\n2.5,1\n")); }),
