@@ -31,10 +31,13 @@ struct ZonalFit {
     double energyFraction = 0;  ///< Σ_{l<n} p_l² / ∫p² dω (Gautron 2004 eq. 15; unwindowed p_l)
     double l2Error = 0;         ///< (∫ (p − p̃)² dω)^{1/2}
     double relativeL2Error = 0;  ///< l2Error / (∫ p² dω)^{1/2}
-    double maxError = 0;         ///< max_μ |p − p̃| on the quadrature nodes
-    double minValue = 0;         ///< min_μ p̃ (negative: ringing)
-    double peakValue = 0;        ///< max_μ p, for scale
-    double energy = 0;           ///< ∫ p² dω
+    /// The next three over the quadrature nodes, the poles and the corners (a table's nodes):
+    /// narrow dips of p̃ between nodes are missed (in helper 142's search of 2·10⁶ angles, at
+    /// most 2.6·10⁻⁴ of the peak deeper: below the ringing threshold of 10⁻³ of it).
+    double maxError = 0;   ///< max_μ |p − p̃|
+    double minValue = 0;   ///< min_μ p̃ (negative: ringing)
+    double peakValue = 0;  ///< max_μ p, for scale
+    double energy = 0;     ///< ∫ p² dω
 };
 
 /// Fits p at the given order (number of bands, 1 … 1024). p is given the angle of each
