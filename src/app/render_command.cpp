@@ -414,8 +414,10 @@ std::vector<std::string> unusedKeyWarnings(const Json& doc, const Scene& scene,
                                            const Effects& effects,
                                            std::vector<std::string>* keys = nullptr) {
     std::vector<std::string> w;
-    const auto unused = [&](const std::string& pointer) {
+    // (a key's pointer, and the warning when there is one: the cache's keys share theirs)
+    const auto unused = [&](const std::string& pointer, std::string warning) {
         if (keys) keys->push_back(pointer);
+        if (!warning.empty()) w.push_back(std::move(warning));
     };
     const Json render = doc.value("render", Json::object());
     const RenderSettings& s = scene.settings;
@@ -423,32 +425,33 @@ std::vector<std::string> unusedKeyWarnings(const Json& doc, const Scene& scene,
     const bool product = s.lightSampling == LightSampling::Product;
     for (const char* key : {"product_order", "product_depth"})
         if (render.contains(key) && (!product || !effects.scattering))
-            unused(std::string("/render/") + key),
-                w.push_back(std::string("render.") + key + ": " + render[key].dump() +
-                            " is not used: " +
-                            (product ? std::string("it shapes the phase lobes of light_sampling "
-                                                   "\"product\", and no medium scatters")
-                                     : std::string("it shapes light_sampling \"product\", and this "
-                                                   "render's is \"") +
-                                           lightSamplingName(s.lightSampling) + "\""));
+            unused(std::string("/render/") + key,
+                   std::string("render.") + key + ": " + render[key].dump() + " is not used: " +
+                       (product ? std::string("it shapes the phase lobes of light_sampling "
+                                              "\"product\", and no medium scatters")
+                                : std::string("it shapes light_sampling \"product\", and this "
+                                              "render's is \"") +
+                                      lightSamplingName(s.lightSampling) + "\""));
     const Json cache = render.value("radiance_cache", Json::object());
     // A cached vertex's direct light is light_samples next-event samples: with next-event
     // estimation off none is drawn (1 and 8 rendered bit-identical images; helper 132).
     if (cache.is_object() && cache.contains("light_samples") && effects.radianceCache &&
         !effects.anyNextEvent())
-        unused("/render/radiance_cache/light_samples"),
-            w.push_back("render.radiance_cache.light_samples: " + cache["light_samples"].dump() +
-                        " is not used: next-event estimation is off (" +
-                        noNextEventReason(scene, effects) +
-                        "), and the BSDF sample carries a cached vertex's direct light");
+        unused("/render/radiance_cache/light_samples",
+               "render.radiance_cache.light_samples: " + cache["light_samples"].dump() +
+                   " is not used: next-event estimation is off (" +
+                   noNextEventReason(scene, effects) +
+                   "), and the BSDF sample carries a cached vertex's direct light");
     // (max_records 0 makes no records: the cache is off too; helper 137)
     const bool noRecords = s.radianceCache.enabled && s.radianceCache.maxRecords == 0;
     if (!s.radianceCache.enabled || noRecords) {
         std::string names;
         int n = 0;
         for (auto it = cache.begin(); it != cache.end(); ++it)
-            if (it.key() != "enabled" && (!noRecords || it.key() != "max_records"))
-                names += (n++ ? ", " : "") + it.key(), unused("/render/radiance_cache/" + it.key());
+            if (it.key() != "enabled" && (!noRecords || it.key() != "max_records")) {
+                names += (n++ ? ", " : "") + it.key();
+                unused("/render/radiance_cache/" + it.key(), "");
+            }
         if (n > 0)
             w.push_back("render.radiance_cache: " + names + (n == 1 ? " is" : " are") +
                         " not used: the cache is off (" +
@@ -461,21 +464,21 @@ std::vector<std::string> unusedKeyWarnings(const Json& doc, const Scene& scene,
     // light step and records' direct light need next-event estimation too; helper 124).
     if (render.contains("transmittance") &&
         (!effects.volumes || (!effects.anyNextEvent() && (effects.scattering || effects.surfaces))))
-        unused("/render/transmittance"),
-            w.push_back("render.transmittance: " + render["transmittance"].dump() +
-                        " is not used: no transmittance is estimated, " +
-                        (!effects.volumes ? std::string("as the scene has no medium")
-                                          : "as next-event estimation is off (" +
-                                                noNextEventReason(scene, effects) +
-                                                ") and free flights carry the paths"));
+        unused("/render/transmittance",
+               "render.transmittance: " + render["transmittance"].dump() +
+                   " is not used: no transmittance is estimated, " +
+                   (!effects.volumes
+                        ? std::string("as the scene has no medium")
+                        : "as next-event estimation is off (" + noNextEventReason(scene, effects) +
+                              ") and free flights carry the paths"));
     const Json media = doc.value("media", Json::array());
     for (size_t i = 0; media.is_array() && i < media.size(); ++i)
         if (media[i].is_object() && media[i].contains("majorant_cell") &&
             media[i].value("majorant_grid", true) == false)
-            unused("/media/" + std::to_string(i) + "/majorant_cell"),
-                w.push_back("media[" + std::to_string(i) +
-                            "].majorant_cell: " + media[i]["majorant_cell"].dump() +
-                            " is not used: majorant_grid is false (one global majorant)");
+            unused("/media/" + std::to_string(i) + "/majorant_cell",
+                   "media[" + std::to_string(i) +
+                       "].majorant_cell: " + media[i]["majorant_cell"].dump() +
+                       " is not used: majorant_grid is false (one global majorant)");
     return w;
 }
 
@@ -1023,8 +1026,9 @@ int runRender(const RenderArgs& a) {
             for (size_t i = 0; i < removedBy.size(); ++i)
                 if (const int j = removedBy[i]; j >= 0) {
                     const std::string& later = a.sets[size_t(j)];
-                    const bool type = later.substr(0, later.find('=')).size() > 5 &&
-                                      later.compare(later.find('=') - 5, 5, ".type") == 0;
+                    const std::string key = later.substr(0, later.find('='));
+                    const bool type =
+                        key.size() > 5 && key.compare(key.size() - 5, 5, ".type") == 0;
                     warnings.push_back(overridePlace(a.sets[i]) + ": not used: the later " +
                                        overridePlace(later) +
                                        (type ? " starts its object afresh with a new type"

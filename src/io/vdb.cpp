@@ -482,13 +482,16 @@ std::optional<DensityBricks> makeBricks(const openvdb::FloatTree& tree) {
     constexpr size_t kMaxChecks = size_t(1) << 20;
     enum : uint8_t { kUnseen, kBrick, kConstant };
     std::vector<uint8_t> kind(size_t(res.prod()), kUnseen);
+    const auto kindOf = [&](const Eigen::Vector3i& c) -> uint8_t& {
+        const Eigen::Vector3i r = c - lo;
+        return kind[(size_t(r.x()) * res.y() + r.y()) * res.z() + r.z()];
+    };
     DensityBricks d(lo, res, 0.f);
     Accessor acc(tree);
     size_t bricks = 0, checks = 0;
     for (const Box& b : boxes)
         if (!forEachPosition(b, true, [&](const Eigen::Vector3i& c, float tile) {
-                const Eigen::Vector3i r = c - lo;
-                uint8_t& k = kind[(size_t(r.x()) * res.y() + r.y()) * res.z() + r.z()];
+                uint8_t& k = kindOf(c);
                 if (tile > 0 || k != kUnseen) return true;
                 if (b.tile > 0 && ++checks <= kMaxChecks && windowIsConstant(acc, c, b.tile))
                     k = kConstant, d.fill(c, b.tile);
@@ -501,10 +504,9 @@ std::optional<DensityBricks> makeBricks(const openvdb::FloatTree& tree) {
     auto voxel = [&](int i, int j, int l) { return acc.getValue(openvdb::Coord(i, j, l)); };
     for (const Box& b : boxes)
         forEachPosition(b, false, [&](const Eigen::Vector3i& c, float tile) {
-            const Eigen::Vector3i r = c - lo;
             if (tile > 0)
                 d.fill(c, tile);
-            else if (kind[(size_t(r.x()) * res.y() + r.y()) * res.z() + r.z()] == kBrick)
+            else if (kindOf(c) == kBrick)
                 d.add(c, voxel);
             return true;
         });
