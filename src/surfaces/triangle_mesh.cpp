@@ -231,6 +231,59 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshP
             fail(file, place,
                  "area below 7.5e-155, too small for double precision: scale the mesh up");
     }
+    const auto normal = [&](size_t f) {
+        const uint32_t* t = &mesh.indices[3 * f];
+        return (mesh.p[t[1]] - mesh.p[t[0]]).cross(mesh.p[t[2]] - mesh.p[t[0]]).normalized();
+    };
+    // A polygon is split into the fan of triangles from its first corner, which folds over where
+    // the polygon is not star-shaped about that corner: a triangle of the fan faces the other
+    // way and covers what is outside the polygon (helper 143: an L-shaped face covered 0.607 or
+    // 0.521 of a view by the corner its file listed first).
+    const std::vector<uint32_t>& ofFace = places.faceOfTriangle;
+    for (size_t f = 1, first = 0; f < mesh.triangleCount(); ++f) {
+        if (ofFace.size() != mesh.triangleCount() || ofFace[f] != ofFace[f - 1]) {
+            first = f;
+            continue;
+        }
+        if (normal(f).dot(normal(first)) < 0)
+            fail(file, places.ofTriangle(f),
+                 "a polygon whose triangles from its first corner fold over (concave there): "
+                 "give it as triangles, or list first a corner from which all others are seen");
+    }
+    // Triangles with the same three corners, in either winding: a ray meets one of the two,
+    // either, and light samples count an emitting one twice (helper 143: a furnace box of
+    // duplicated emitting faces rendered 2.11 for 2, and a lamp of a face and its reverse shone
+    // to one side only, or flickered between them).
+    // So are two polygons of the same corners, split by other diagonals (a quad and its reverse).
+    const std::vector<uint32_t> weld = weldByPosition(mesh);
+    std::vector<std::pair<std::vector<uint32_t>, size_t>> corners;  // (sorted, first triangle)
+    for (size_t f = 0; f < mesh.triangleCount(); ++f) {
+        const uint32_t* t = &mesh.indices[3 * f];
+        std::vector<uint32_t> c = {weld[t[0]], weld[t[1]], weld[t[2]]};
+        std::sort(c.begin(), c.end());
+        corners.push_back({c, f});
+    }
+    for (size_t a = 0, b; ofFace.size() == mesh.triangleCount() && a < ofFace.size(); a = b) {
+        for (b = a + 1; b < ofFace.size() && ofFace[b] == ofFace[a];) ++b;
+        if (b - a < 2) continue;
+        std::vector<uint32_t> polygon;
+        for (size_t f = a; f < b; ++f)
+            polygon.insert(polygon.end(), corners[f].first.begin(), corners[f].first.end());
+        std::sort(polygon.begin(), polygon.end());
+        polygon.erase(std::unique(polygon.begin(), polygon.end()), polygon.end());
+        corners.push_back({polygon, a});
+    }
+    std::sort(corners.begin(), corners.end());
+    size_t later = mesh.triangleCount(), earlier = 0;
+    for (size_t i = 1; i < corners.size(); ++i)
+        if (corners[i].first == corners[i - 1].first && corners[i].second < later)
+            later = corners[i].second, earlier = corners[i - 1].second;
+    if (later < mesh.triangleCount())
+        fail(file, places.ofTriangle(later),
+             "the same corners as " + places.ofTriangle(earlier) +
+                 ": coincident faces, of which a ray meets either, and which light samples "
+                 "count twice; give one (a lamp lit on both sides is one face with "
+                 "emission_two_sided)");
 }
 
 namespace {

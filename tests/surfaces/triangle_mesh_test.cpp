@@ -283,6 +283,57 @@ TEST(TriangleMesh, ValidateNamesTheVertex) {
     EXPECT_EQ(messageOf([&] { validateMesh(m, "m.ply"); }), "m.ply: 5 normals for 4 vertices");
 }
 
+// Coincident faces are refused, in either winding and however their polygons were split: a ray
+// meets either, and light samples count an emitting one twice (helper 143: a furnace box of
+// duplicated emitting faces rendered 2.11 for 2; a quad and its reverse, split by other
+// diagonals, shone to one side). So is a polygon whose fan from its first corner folds over.
+TEST(TriangleMesh, ValidateRefusesCoincidentFacesAndFoldedPolygons) {
+    const std::string same =
+        ": coincident faces, of which a ray meets either, and which light "
+        "samples count twice; give one (a lamp lit on both sides is one "
+        "face with emission_two_sided)";
+    TriangleMesh m = tetrahedron();
+    m.indices.insert(m.indices.end(), {m.indices[3], m.indices[4], m.indices[5]});
+    EXPECT_EQ(messageOf([&] { validateMesh(m, "tet.obj"); }),
+              "tet.obj: face 4: the same corners as face 1" + same);
+    m.indices.resize(12);
+    m.indices.insert(m.indices.end(), {m.indices[5], m.indices[4], m.indices[3]});
+    EXPECT_EQ(messageOf([&] { validateMesh(m, "tet.obj"); }),
+              "tet.obj: face 4: the same corners as face 1" + same);
+    // Also where the corners are other vertices at the same positions (a flat-shaded file).
+    m.indices.resize(12);
+    m.p.push_back(m.p[m.indices[3]]);
+    m.indices.insert(m.indices.end(), {uint32_t(m.p.size() - 1), m.indices[5], m.indices[4]});
+    EXPECT_EQ(messageOf([&] { validateMesh(m, "tet.obj"); }),
+              "tet.obj: face 4: the same corners as face 1" + same);
+    // A quad (0 1 2 3) and its reverse (3 2 1 0) as a file's two faces: no triangle repeats.
+    TriangleMesh panel;
+    panel.p = {Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(-1, 1, 0)};
+    panel.indices = {0, 1, 2, 0, 2, 3, 3, 2, 1, 3, 1, 0};
+    MeshPlaces places;
+    places.faceOfTriangle = {0, 0, 1, 1};
+    EXPECT_EQ(messageOf([&] { validateMesh(panel, "panel.obj", places); }),
+              "panel.obj: face 1: the same corners as face 0" + same);
+    places.faceOfTriangle = {0, 0};
+    panel.indices.resize(6);
+    EXPECT_NO_THROW(validateMesh(panel, "panel.obj", places));
+    // An L of six corners, split from its reflex corner (from which all the others are seen) or
+    // from the end of one arm, (0, 2), whose fan folds over.
+    TriangleMesh ell;
+    ell.p = {Vec3(1, 1, 0), Vec3(1, 2, 0), Vec3(0, 2, 0),
+             Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0)};  // (1, 1) reflex
+    places.faceOfTriangle = {0, 0, 0, 0};
+    for (uint32_t i = 1; i + 1 < 6; ++i) ell.indices.insert(ell.indices.end(), {0, i, i + 1});
+    EXPECT_NO_THROW(validateMesh(ell, "ell.obj", places));
+    ell.indices.clear();
+    for (uint32_t i = 1; i + 1 < 6; ++i)
+        ell.indices.insert(ell.indices.end(), {2, uint32_t((2 + i) % 6), uint32_t((3 + i) % 6)});
+    EXPECT_EQ(messageOf([&] { validateMesh(ell, "ell.obj", places); }),
+              "ell.obj: face 0: a polygon whose triangles from its first corner fold over "
+              "(concave there): give it as triangles, or list first a corner from which all "
+              "others are seen");
+}
+
 TEST(TriangleMesh, ValidateNamesTheFace) {
     TriangleMesh m = cube();
     m.indices[7] = 8;
