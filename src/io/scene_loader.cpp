@@ -300,6 +300,12 @@ Surface readSurface(JsonReader r, size_t index, Contents contents) {
     s.emission = spectrum(r, "emission", 0, 0, JsonReader::kUnbounded);
     s.twoSidedEmission = r.boolean("emission_two_sided", false);
     s.name = r.string("name", "surfaces[" + std::to_string(index) + "]");
+    if (s.kind == Surface::Kind::Mesh && (s.emission.array() > 0).any()) {
+        MeshPlaces places = s.places;
+        places.note.clear();  // (the same faces before and after the transform)
+        if (const std::string faces = coincidentFaces(s.mesh, places); !faces.empty())
+            r.error("file", faces);
+    }
     // A closed glass mesh faces outwards whatever its winding or transform, shell by shell (a
     // hollow's inner wall inwards): a dielectric's outside is the side its normal points to.
     if (s.kind == Surface::Kind::Mesh && s.bsdf.type == BsdfType::Dielectric && !s.mesh.p.empty() &&

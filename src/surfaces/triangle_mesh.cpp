@@ -250,40 +250,6 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshP
                  "a polygon whose triangles from its first corner fold over (concave there): "
                  "give it as triangles, or list first a corner from which all others are seen");
     }
-    // Triangles with the same three corners, in either winding: a ray meets one of the two,
-    // either, and light samples count an emitting one twice (helper 143: a furnace box of
-    // duplicated emitting faces rendered 2.11 for 2, and a lamp of a face and its reverse shone
-    // to one side only, or flickered between them).
-    // So are two polygons of the same corners, split by other diagonals (a quad and its reverse).
-    const std::vector<uint32_t> weld = weldByPosition(mesh);
-    std::vector<std::pair<std::vector<uint32_t>, size_t>> corners;  // (sorted, first triangle)
-    for (size_t f = 0; f < mesh.triangleCount(); ++f) {
-        const uint32_t* t = &mesh.indices[3 * f];
-        std::vector<uint32_t> c = {weld[t[0]], weld[t[1]], weld[t[2]]};
-        std::sort(c.begin(), c.end());
-        corners.push_back({c, f});
-    }
-    for (size_t a = 0, b; ofFace.size() == mesh.triangleCount() && a < ofFace.size(); a = b) {
-        for (b = a + 1; b < ofFace.size() && ofFace[b] == ofFace[a];) ++b;
-        if (b - a < 2) continue;
-        std::vector<uint32_t> polygon;
-        for (size_t f = a; f < b; ++f)
-            polygon.insert(polygon.end(), corners[f].first.begin(), corners[f].first.end());
-        std::sort(polygon.begin(), polygon.end());
-        polygon.erase(std::unique(polygon.begin(), polygon.end()), polygon.end());
-        corners.push_back({polygon, a});
-    }
-    std::sort(corners.begin(), corners.end());
-    size_t later = mesh.triangleCount(), earlier = 0;
-    for (size_t i = 1; i < corners.size(); ++i)
-        if (corners[i].first == corners[i - 1].first && corners[i].second < later)
-            later = corners[i].second, earlier = corners[i - 1].second;
-    if (later < mesh.triangleCount())
-        fail(file, places.ofTriangle(later),
-             "the same corners as " + places.ofTriangle(earlier) +
-                 ": coincident faces, of which a ray meets either, and which light samples "
-                 "count twice; give one (a lamp lit on both sides is one face with "
-                 "emission_two_sided)");
 }
 
 namespace {
@@ -556,6 +522,41 @@ bool finitePositions(const TriangleMesh& mesh) {
     return true;
 }
 }  // namespace
+
+std::string coincidentFaces(const TriangleMesh& mesh, const MeshPlaces& places) {
+    // Each triangle's welded corners, and each polygon's, so that two polygons split by other
+    // diagonals (a quad and its reverse) are found too.
+    const std::vector<uint32_t>& ofFace = places.faceOfTriangle;
+    const std::vector<uint32_t> weld = weldByPosition(mesh);
+    std::vector<std::pair<std::vector<uint32_t>, size_t>> corners;  // (sorted, first triangle)
+    for (size_t f = 0; f < mesh.triangleCount(); ++f) {
+        const uint32_t* t = &mesh.indices[3 * f];
+        std::vector<uint32_t> c = {weld[t[0]], weld[t[1]], weld[t[2]]};
+        std::sort(c.begin(), c.end());
+        corners.push_back({c, f});
+    }
+    for (size_t a = 0, b; ofFace.size() == mesh.triangleCount() && a < ofFace.size(); a = b) {
+        for (b = a + 1; b < ofFace.size() && ofFace[b] == ofFace[a];) ++b;
+        if (b - a < 2) continue;
+        std::vector<uint32_t> polygon;
+        for (size_t f = a; f < b; ++f)
+            polygon.insert(polygon.end(), corners[f].first.begin(), corners[f].first.end());
+        std::sort(polygon.begin(), polygon.end());
+        polygon.erase(std::unique(polygon.begin(), polygon.end()), polygon.end());
+        corners.push_back({polygon, a});
+    }
+    std::sort(corners.begin(), corners.end());
+    size_t later = mesh.triangleCount(), earlier = 0;
+    for (size_t i = 1; i < corners.size(); ++i)
+        if (corners[i].first == corners[i - 1].first && corners[i].second < later)
+            later = corners[i].second, earlier = corners[i - 1].second;
+    if (later == mesh.triangleCount()) return "";
+    return (places.file.empty() ? "" : places.file + ": ") + places.ofTriangle(later) +
+           ": the same corners as " + places.ofTriangle(earlier) +
+           ": coincident faces of an emitting mesh, of which a ray meets either while light "
+           "samples count both; give one (a lamp lit on both sides is one face with "
+           "emission_two_sided)";
+}
 
 std::string closedMeshDefect(const TriangleMesh& mesh, const MeshPlaces& places) {
     return meshSolidity(mesh, places).defect;

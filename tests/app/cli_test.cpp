@@ -3749,6 +3749,31 @@ TEST_F(Cli, AnOverrideALaterOneRemovesIsWarnedOf) {
     EXPECT_EQ(stats["scene_resolved"]["camera"]["fov"], 30);
 }
 
+// An emitting mesh with coincident faces is refused, naming the scene, the surface and both
+// faces' lines: a lamp of a quad and its reverse shone one way (helper 143). Without emission
+// the same mesh renders (a ray meets either face, and they reflect alike).
+TEST_F(Cli, AnEmittingMeshOfCoincidentFacesIsRefused) {
+    write("panel.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\nf 4 3 2 1\n");
+    const auto sceneWith = [](const std::string& emission) {
+        return R"({"camera": {"resolution": [4, 4], "position": [0, 0, 3], "up": [0, 1, 0]},
+                   "render": {"spp": 1}, "environment": {"type": "constant", "radiance": 1},
+                   "surfaces": [{"type": "mesh", "file": "panel.obj")" +
+               emission + "}]}";
+    };
+    write("lamp.json", sceneWith(R"(, "emission": 3)"));
+    Result r = run("render " + path("lamp.json") + " -o " + path("a.exr"));
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "shvol: error: " + path("lamp.json") +
+                         ": surfaces[0].file: " + path("panel.obj") +
+                         ": line 6: the same corners as line 5: coincident faces of an emitting "
+                         "mesh, of which a ray meets either while light samples count both; give "
+                         "one (a lamp lit on both sides is one face with emission_two_sided)\n");
+    EXPECT_FALSE(fs::exists(path("a.exr")));
+    write("wall.json", sceneWith(""));
+    r = run("render " + path("wall.json") + " -o " + path("a.exr") + " --quiet");
+    EXPECT_EQ(r.code, 0) << r.err;
+}
+
 // A file of the wrong kind is named as such, in one line, before anything is written: a scene
 // given to batch was told "scene: missing required string", a sweep given to render "axes:
 // unknown key", a grid "malformed JSON: a NUL byte", a scene given to phase fit was read as a

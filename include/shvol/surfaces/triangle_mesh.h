@@ -76,6 +76,14 @@ void widestAngleFirst(TriangleMesh& mesh);
 /// ("face 12: …", or with places from the mesh's reader "cube.obj: line 40: …").
 std::string closedMeshDefect(const TriangleMesh& mesh, const MeshPlaces& places = {});
 
+/// "FILE: PLACE: …" naming two faces with the same corners (positions), in either winding and
+/// however a polygon was split (places.faceOfTriangle), or "". A ray meets either of such faces,
+/// and light samples count both: an emitting mesh with them is refused (helper 143: a furnace box
+/// of duplicated emitting faces rendered 2.11 for 2, a lamp of a quad and its reverse shone to
+/// one side or flickered); in a mesh that does not emit they render as one, as the shared face of
+/// two solids touching over it does (closedMeshDefect names that case where a solid is needed).
+std::string coincidentFaces(const TriangleMesh& mesh, const MeshPlaces& places = {});
+
 /// Signed enclosed volume (1/6) Σ p0 · (p1 × p2): positive when a closed mesh faces outwards.
 /// Summed per shell (faces joined across edges, vertices welded by position) about a corner of
 /// the shell: the same for closed shells, without the cancellation of terms about a far origin.
