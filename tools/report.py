@@ -264,6 +264,9 @@ def main():
     # it against unbiased ones unfairly (helper 86: an SH fit of order 4, biased in every repeat,
     # read twice HG's efficiency at 64 spp).
     biased_col = all("bias" in r and "bias_ci95" in r for r in rows)
+    # The efficiency needs the RMSE: without it the column was there, empty, and nothing said why
+    # (helper 141).
+    efficient = error == "rmse"
     flagged = []
     unreliable = []
     summary = []  # (config, spp, n, err mean, err sd, time mean, efficiency, z-test, bias)
@@ -274,8 +277,8 @@ def main():
         else:
             e, sd = math.nan, math.nan
         # 1/(MSE x time) with the MSE's mean over the repeats (not the mean RMSE squared).
-        mse = sum(r["rmse"] ** 2 for r in rs) / len(rs) if error == "rmse" else math.nan
-        eff = 1 / (mse * t) if error == "rmse" and mse > 0 and t > 0 else math.nan
+        mse = sum(r["rmse"] ** 2 for r in rs) / len(rs) if efficient else math.nan
+        eff = 1 / (mse * t) if efficient and mse > 0 and t > 0 else math.nan
         z = (f"{sum(r['ztest_passed'] for r in rs)}/{len(rs)} "
              f"(min p {min(r['ztest_min_p'] for r in rs):.2g})" if ztest else "")
         # Below ZTEST_RELIABLE_SPP the standard errors are too poor for the z-test: unbiased runs
@@ -364,9 +367,6 @@ def main():
         figures.append((name, f"mean {time_label} for each value of {a} (all other axes "
                               "pooled)"))
 
-    # The efficiency needs the RMSE: without it the column was there, empty, and nothing said why
-    # (helper 141).
-    efficient = error == "rmse"
     head = ["configuration", "spp", "runs", f"{error or 'error'} (mean ± sd)", "time (s)"] + (
         ["1/(MSE·time)"] if efficient else []) + (["z-test passed"] if ztest else []) + (
             ["bias (mean)"] if biased_col else [])

@@ -149,12 +149,16 @@ ZonalFit fitZonal(const std::function<double(const AngleCosine&)>& p, int order,
     fit.energyFraction = energy > 0 ? captured / energy : 1.0;
     for (int l = 0; l < order; ++l) fit.p[l] *= windowWeight(window, l, order);
 
+    const auto fitted = [&](double mu) {  // p̃(μ)
+        sh::shEvalZonal(order, mu, y.data());
+        double r = 0;
+        for (int l = order - 1; l >= 0; --l) r += fit.p[l] * y[l];
+        return r;
+    };
     double err2 = 0;
     fit.minValue = INFINITY;
     for (size_t i = 0; i < nodes.size(); ++i) {
-        sh::shEvalZonal(order, nodes[i].angle.mu, y.data());
-        double r = 0;
-        for (int l = order - 1; l >= 0; --l) r += fit.p[l] * y[l];
+        const double r = fitted(nodes[i].angle.mu);
         const double e = value[i] - r;
         err2 += TwoPi * nodes[i].weight * e * e;
         fit.maxError = std::max(fit.maxError, std::abs(e));
@@ -167,10 +171,7 @@ ZonalFit fitZonal(const std::function<double(const AngleCosine&)>& p, int order,
     extra.insert(extra.end(), {0.0, Pi});
     for (const double theta : extra) {
         const AngleCosine c = AngleCosine::ofAngle(theta);
-        const double v = p(c);
-        sh::shEvalZonal(order, c.mu, y.data());
-        double r = 0;
-        for (int l = order - 1; l >= 0; --l) r += fit.p[l] * y[l];
+        const double v = p(c), r = fitted(c.mu);
         fit.peakValue = std::max(fit.peakValue, v);
         fit.maxError = std::max(fit.maxError, std::abs(v - r));
         fit.minValue = std::min(fit.minValue, r);

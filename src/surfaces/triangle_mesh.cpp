@@ -1,6 +1,7 @@
 #include "shvol/surfaces/triangle_mesh.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -168,6 +169,26 @@ std::string MeshPlaces::ofVertex(size_t k) const {
     return (vertex ? vertex(k) : "vertex " + std::to_string(k)) + note;
 }
 
+namespace {
+/// (p1 − p0) × (p2 − p0) of triangle f: twice its vector area.
+Vec3 cross(const TriangleMesh& mesh, size_t f) {
+    const uint32_t* t = &mesh.indices[3 * f];
+    return (mesh.p[t[1]] - mesh.p[t[0]]).cross(mesh.p[t[2]] - mesh.p[t[0]]);
+}
+
+/// Calls polygon(a, b) for the triangles [a, b) of each file face of more than one triangle
+/// (places.faceOfTriangle; none when it does not cover the mesh).
+template <typename Polygon>
+void forEachPolygon(const TriangleMesh& mesh, const MeshPlaces& places, Polygon&& polygon) {
+    const std::vector<uint32_t>& ofFace = places.faceOfTriangle;
+    if (ofFace.size() != mesh.triangleCount()) return;
+    for (size_t a = 0, b; a < ofFace.size(); a = b) {
+        for (b = a + 1; b < ofFace.size() && ofFace[b] == ofFace[a];) ++b;
+        if (b - a > 1) polygon(a, b);
+    }
+}
+}  // namespace
+
 void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshPlaces& places) {
     const size_t nv = mesh.p.size();
     if (mesh.indices.size() % 3 != 0)
@@ -231,25 +252,23 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshP
             fail(file, place,
                  "area below 7.5e-155, too small for double precision: scale the mesh up");
     }
-    const auto normal = [&](size_t f) {
-        const uint32_t* t = &mesh.indices[3 * f];
-        return (mesh.p[t[1]] - mesh.p[t[0]]).cross(mesh.p[t[2]] - mesh.p[t[0]]).normalized();
-    };
     // A polygon is split into the fan of triangles from its first corner, which folds over where
-    // the polygon is not star-shaped about that corner: a triangle of the fan faces the other
-    // way and covers what is outside the polygon (helper 143: an L-shaped face covered 0.607 or
-    // 0.521 of a view by the corner its file listed first).
-    const std::vector<uint32_t>& ofFace = places.faceOfTriangle;
-    for (size_t f = 1, first = 0; f < mesh.triangleCount(); ++f) {
-        if (ofFace.size() != mesh.triangleCount() || ofFace[f] != ofFace[f - 1]) {
-            first = f;
-            continue;
-        }
-        if (normal(f).dot(normal(first)) < 0)
-            fail(file, places.ofTriangle(f),
-                 "a polygon whose triangles from its first corner fold over (concave there): "
-                 "give it as triangles, or list first a corner from which all others are seen");
-    }
+    // the polygon is not star-shaped about that corner: a triangle of the fan faces against the
+    // polygon's vector area (the sum of its triangles' cross products, which a fold does not
+    // change) and covers what is outside the polygon (helper 143: an L-shaped face covered 0.607
+    // or 0.521 of a view by the corner its file listed first). Judged against 10⁻⁶ of the
+    // polygon's area, so that the sliver of a corner on an edge, whose side rounding picks, and a
+    // twisted quad, whose triangles face apart but both along the polygon, pass (helper 144).
+    forEachPolygon(mesh, places, [&](size_t a, size_t b) {
+        Vec3 area = Vec3::Zero();
+        for (size_t f = a; f < b; ++f) area += cross(mesh, f);
+        for (size_t f = a; f < b; ++f)
+            if (cross(mesh, f).dot(area) < -1e-6 * area.squaredNorm())
+                fail(file, places.ofTriangle(f),
+                     "a polygon whose triangles from its first corner fold over (concave there): "
+                     "give it as triangles, or list first a corner from which all others are "
+                     "seen");
+    });
 }
 
 namespace {
@@ -524,32 +543,34 @@ bool finitePositions(const TriangleMesh& mesh) {
 }  // namespace
 
 std::string coincidentFaces(const TriangleMesh& mesh, const MeshPlaces& places) {
-    // Each triangle's welded corners, and each polygon's, so that two polygons split by other
-    // diagonals (a quad and its reverse) are found too.
-    const std::vector<uint32_t>& ofFace = places.faceOfTriangle;
+    // Each triangle's welded corners, sorted, and each polygon's, so that a polygon given twice
+    // and split by other diagonals (a quad and its reverse) is found too.
     const std::vector<uint32_t> weld = weldByPosition(mesh);
-    std::vector<std::pair<std::vector<uint32_t>, size_t>> corners;  // (sorted, first triangle)
-    for (size_t f = 0; f < mesh.triangleCount(); ++f) {
+    std::vector<std::pair<std::array<uint32_t, 3>, size_t>> triangles(mesh.triangleCount());
+    for (size_t f = 0; f < triangles.size(); ++f) {
         const uint32_t* t = &mesh.indices[3 * f];
-        std::vector<uint32_t> c = {weld[t[0]], weld[t[1]], weld[t[2]]};
-        std::sort(c.begin(), c.end());
-        corners.push_back({c, f});
+        triangles[f] = {{weld[t[0]], weld[t[1]], weld[t[2]]}, f};
+        std::sort(triangles[f].first.begin(), triangles[f].first.end());
     }
-    for (size_t a = 0, b; ofFace.size() == mesh.triangleCount() && a < ofFace.size(); a = b) {
-        for (b = a + 1; b < ofFace.size() && ofFace[b] == ofFace[a];) ++b;
-        if (b - a < 2) continue;
-        std::vector<uint32_t> polygon;
+    std::vector<std::pair<std::vector<uint32_t>, size_t>> polygons;
+    forEachPolygon(mesh, places, [&](size_t a, size_t b) {
+        std::vector<uint32_t> corners;
         for (size_t f = a; f < b; ++f)
-            polygon.insert(polygon.end(), corners[f].first.begin(), corners[f].first.end());
-        std::sort(polygon.begin(), polygon.end());
-        polygon.erase(std::unique(polygon.begin(), polygon.end()), polygon.end());
-        corners.push_back({polygon, a});
-    }
-    std::sort(corners.begin(), corners.end());
+            corners.insert(corners.end(), triangles[f].first.begin(), triangles[f].first.end());
+        std::sort(corners.begin(), corners.end());
+        corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+        polygons.push_back({std::move(corners), a});
+    });
+    // The first face in the file's order that repeats an earlier one, and that one.
     size_t later = mesh.triangleCount(), earlier = 0;
-    for (size_t i = 1; i < corners.size(); ++i)
-        if (corners[i].first == corners[i - 1].first && corners[i].second < later)
-            later = corners[i].second, earlier = corners[i - 1].second;
+    const auto firstRepeat = [&](auto& faces) {
+        std::sort(faces.begin(), faces.end());
+        for (size_t i = 1; i < faces.size(); ++i)
+            if (faces[i].first == faces[i - 1].first && faces[i].second < later)
+                later = faces[i].second, earlier = faces[i - 1].second;
+    };
+    firstRepeat(triangles);
+    firstRepeat(polygons);
     if (later == mesh.triangleCount()) return "";
     return (places.file.empty() ? "" : places.file + ": ") + places.ofTriangle(later) +
            ": the same corners as " + places.ofTriangle(earlier) +

@@ -1374,9 +1374,6 @@ TEST_F(Cli, RenderWarnsOfADeletionThatDeletesNothing) {
     EXPECT_NE(test::fileBytes(path("d.stats.json")).find("nothing was deleted"), std::string::npos);
 }
 
-// A light sampler asked for where next-event estimation is off goes unused: the render says so
-// and why, once (it said nothing; only the stats' effects showed it; helper 54). Where NEE is on,
-// or the default sampler is left, nothing is said.
 // A stats file's scene_resolved renders again as the same scene without a warning: it leaves out
 // the keys the render did not use (the defaults of effects that are off: the product lobe's
 // without product sampling, the radiance cache's with it off, the transmittance estimator where
@@ -1432,6 +1429,9 @@ TEST_F(Cli, ResolvedSceneRendersAgainWithoutWarnings) {
     EXPECT_TRUE(used["media"][0].contains("majorant_cell"));
 }
 
+// A light sampler asked for where next-event estimation is off goes unused: the render says so
+// and why, once (it said nothing; only the stats' effects showed it; helper 54). Where NEE is on,
+// or the default sampler is left, nothing is said.
 TEST_F(Cli, RenderWarnsOfAnUnusedLightSampler) {
     write("s.json", scene(Homogeneous));
     const std::string warning = "shvol: warning: " + path("s.json") +

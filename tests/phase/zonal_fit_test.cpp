@@ -253,10 +253,21 @@ TEST(ZonalFit, PeakAndErrorsIncludeCornersAndPoles) {
     for (int l = 0; l < 16; ++l) fitted += fit.p[l] * y[l];
     EXPECT_EQ(fit.peakValue, ring.evalAngle(at));
     EXPECT_GE(fit.maxError, std::abs(ring.evalAngle(at) - fitted));
+    EXPECT_LE(fit.minValue, fitted);
     EXPECT_GT(fit.peakValue, 20);  // (normalised: 500 × the floor)
     const PhaseFunction hg{HenyeyGreensteinPhase(0.999999)};
     const ZonalFit sharp = fitZonal([&](const AngleCosine& c) { return hg.evalAngle(c); }, 8);
     EXPECT_EQ(sharp.peakValue, hg.evalAngle(AngleCosine::ofAngle(0)));
+    // The least value is the fit's least: the order-4 fit of HG 0.9 is least at θ = π (there the
+    // nodes nearest the pole give the same value to the last digit, so this alone does not show
+    // that the poles are visited; the peaks above do).
+    const PhaseFunction hg9{HenyeyGreensteinPhase(0.9)};
+    const ZonalFit low = fitZonal([&](const AngleCosine& c) { return hg9.evalAngle(c); }, 4);
+    double atPi = 0;
+    sh::shEvalZonal(4, -1.0, y.data());
+    for (int l = 3; l >= 0; --l) atPi += low.p[l] * y[l];  // (in the fit's order of summing)
+    EXPECT_LT(atPi, 0);
+    EXPECT_EQ(low.minValue, atPi);
 }
 
 }  // namespace shvol
