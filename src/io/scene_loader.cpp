@@ -274,7 +274,13 @@ Surface readSurface(JsonReader r, size_t index, Contents contents) {
         const std::string file = r.inputFile("file", sceneDir(r));
         s.kind = Surface::Kind::Mesh;
         if (contents == Contents::Load) {
-            s.mesh = readMesh(file, &toWorld, &s.places);
+            // (named with the scene and the surface too: the mesh file's own place alone did
+            // not say which surface of which scene; helper 143)
+            try {
+                s.mesh = readMesh(file, &toWorld, &s.places);
+            } catch (const Error& e) {
+                r.error("file", e.what());
+            }
             widestAngleFirst(s.mesh);
         }
     } else if (type == "rectangle") {

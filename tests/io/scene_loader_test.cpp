@@ -604,6 +604,8 @@ TEST(SceneLoader, BadSurfacesGiveOneLineNamingThePlace) {
     expectIn(message(thin + "[1, 1, 1e-12]}}]}"),
              "/thin.obj: line 4, after the surface's transform: zero area (collinear vertices): "
              "degenerate triangle");
+    // With the scene and the surface (the mesh file's place alone said neither; helper 143).
+    expectIn(message(thin + "[1, 1, 1e-12]}}]}"), "scene.json: surfaces[0].file: ");
     expectIn(message(R"({"surfaces": [{"type": "rectangle", "transform": {"scale": 1e12,
                                        "translate": [0, -1e15, 0]}}]})"),
              "scene.json: surfaces[0]: coordinates reach 1.001e+15, beyond ±1e15");
