@@ -3772,6 +3772,14 @@ TEST_F(Cli, AnEmittingMeshOfCoincidentFacesIsRefused) {
     write("wall.json", sceneWith(""));
     r = run("render " + path("wall.json") + " -o " + path("a.exr") + " --quiet");
     EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    // Two-sided emission on a surface that does not emit is said to be unused (helper 143).
+    write("wall.json", sceneWith(R"(, "emission_two_sided": true)"));
+    r = run("render " + path("wall.json") + " -o " + path("a.exr") + " --quiet");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "shvol: warning: " + path("wall.json") +
+                         ": surfaces[0]: emission_two_sided is not used: the surface does not "
+                         "emit\n");
 }
 
 // A file of the wrong kind is named as such, in one line, before anything is written: a scene
