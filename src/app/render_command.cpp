@@ -170,7 +170,7 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
     for (size_t k = 0; k < all.size(); ++k) {
         const Surface& s = all[k];
         // (as the scene's other unused keys are said; helper 143)
-        if (s.twoSidedEmission && !(s.emission.array() > 0).any())
+        if (s.twoSidedEmission && !s.emits())
             w.push_back(s.name + ": emission_two_sided is not used: the surface does not emit");
         // Glass that is not a solid's surface (a medium's boundary must be one: refused): a ray
         // that enters it need not meet a face to leave by, and its faces are not turned to face

@@ -306,7 +306,7 @@ Surface readSurface(JsonReader r, size_t index, Contents contents) {
     s.emission = spectrum(r, "emission", 0, 0, JsonReader::kUnbounded);
     s.twoSidedEmission = r.boolean("emission_two_sided", false);
     s.name = r.string("name", "surfaces[" + std::to_string(index) + "]");
-    if (s.kind == Surface::Kind::Mesh && (s.emission.array() > 0).any()) {
+    if (s.kind == Surface::Kind::Mesh && s.emits()) {
         MeshPlaces places = s.places;
         places.note.clear();  // (the same faces before and after the transform)
         if (const std::string faces = coincidentFaces(s.mesh, places); !faces.empty())
@@ -430,6 +430,12 @@ namespace {
 /// Refuses a sweep given for a scene: it was told "axes: unknown key" (helper 122). ("axes" alone
 /// decides: --set camera.fov=30 gives a sweep a camera; helper 124.)
 void refuseASweep(const Json& doc, const std::string& path) {
+    // (a render's statistics have a "scene" too, and were called a sweep)
+    if (doc.is_object() && doc.contains("scene_resolved"))
+        fail(path, "",
+             "a render's statistics (it has \"scene_resolved\"), not a scene: the scene it "
+             "rendered is its scene_resolved, which loads from a file of its own in the scene's "
+             "folder");
     if (doc.is_object() &&
         (doc.contains("axes") || (doc.contains("scene") && !doc.contains("camera"))))
         fail(path, "",

@@ -254,20 +254,33 @@ void validateMesh(const TriangleMesh& mesh, const std::string& file, const MeshP
     }
     // A polygon is split into the fan of triangles from its first corner, which folds over where
     // the polygon is not star-shaped about that corner: a triangle of the fan faces against the
-    // polygon's vector area (the sum of its triangles' cross products, which a fold does not
+    // polygon's vector area A (the sum of its triangles' cross products, which a fold does not
     // change) and covers what is outside the polygon (helper 143: an L-shaped face covered 0.607
-    // or 0.521 of a view by the corner its file listed first). Judged against 10⁻⁶ of the
-    // polygon's area, so that the sliver of a corner on an edge, whose side rounding picks, and a
-    // twisted quad, whose triangles face apart but both along the polygon, pass (helper 144).
+    // or 0.521 of a view by the corner its file listed first). A triangle against A is a fold
+    // when its height along A off its longest edge exceeds 10⁻⁶ of the polygon's largest
+    // coordinate: the sliver of a corner on an edge, whose side the file's rounding picks (an
+    // OBJ's floats: 6·10⁻⁸ of a coordinate), and a twisted quad, whose triangles face apart but
+    // both along A, pass (helpers 144, 145); a polygon whose A is 0 (a bow-tie) folds wholly.
     forEachPolygon(mesh, places, [&](size_t a, size_t b) {
         Vec3 area = Vec3::Zero();
-        for (size_t f = a; f < b; ++f) area += cross(mesh, f);
-        for (size_t f = a; f < b; ++f)
-            if (cross(mesh, f).dot(area) < -1e-6 * area.squaredNorm())
+        double reach = 0;
+        for (size_t f = a; f < b; ++f) {
+            area += cross(mesh, f);
+            for (int j = 0; j < 3; ++j)
+                reach = std::max(reach, mesh.p[mesh.indices[3 * f + j]].cwiseAbs().maxCoeff());
+        }
+        const Vec3 normal = area.norm() > 0 ? Vec3(area.normalized()) : Vec3::Zero();
+        for (size_t f = a; f < b; ++f) {
+            const uint32_t* t = &mesh.indices[3 * f];
+            const double base = std::max({(mesh.p[t[1]] - mesh.p[t[0]]).norm(),
+                                          (mesh.p[t[2]] - mesh.p[t[1]]).norm(),
+                                          (mesh.p[t[0]] - mesh.p[t[2]]).norm()});
+            if (normal == Vec3::Zero() || -cross(mesh, f).dot(normal) > 1e-6 * reach * base)
                 fail(file, places.ofTriangle(f),
-                     "a polygon whose triangles from its first corner fold over (concave there): "
-                     "give it as triangles, or list first a corner from which all others are "
-                     "seen");
+                     "a polygon whose triangles from its first corner fold over (concave there, "
+                     "or the polygon crosses itself): give it as triangles, or list first a "
+                     "corner from which all others are seen");
+        }
     });
 }
 

@@ -3791,6 +3791,7 @@ TEST_F(Cli, InputsOfAnotherKindAreNamedAsSuch) {
     write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [1, 2]}})");
     write("r.json", R"({"render": {"spp": 1}})");
     write("nested.json", R"({"scene": "sweep.json", "axes": {"media[0].albedo": [0.5]}})");
+    write("r.stats.json", R"({"scene": "s.json", "scene_resolved": {}, "spp": 2})");
     const std::string media = std::string(SHVOL_SOURCE_DIR) + "/media/";
     const std::vector<std::pair<std::string, std::string>> cases = {
         {"batch " + path("s.json") + " --dry-run",
@@ -3803,6 +3804,12 @@ TEST_F(Cli, InputsOfAnotherKindAreNamedAsSuch) {
         {"render " + path("sweep.json") + " --set camera.fov=30",
          path("sweep.json") + ": a sweep of shvol batch (it has \"axes\"), not a scene: run it "
                               "with shvol batch"},
+        // (a stats file was called a sweep, for its "scene")
+        {"render " + path("r.stats.json"),
+         path("r.stats.json") +
+             ": a render's statistics (it has \"scene_resolved\"), not a scene: the scene it "
+             "rendered is its scene_resolved, which loads from a file of its own in the scene's "
+             "folder"},
         // (also where an axis would index the sweep's arrays; helper 141)
         {"batch " + path("nested.json") + " --dry-run",
          path("sweep.json") + ": a sweep of shvol batch (it has \"axes\"), not a scene: run it "
