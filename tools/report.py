@@ -87,12 +87,12 @@ def is_number(v):
     return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
 
 
-CUT_SHORT = []  # the ledger's last line, where a kill cut it short and load() left it out
-
-
 def load(directory):
+    """The ledger's rows, and the number of its last line where a kill cut it short and it is
+    left out (else None)."""
     path = os.path.join(directory, "results.jsonl")
     rows = []
+    cut_short = None
     first_line = {}  # run id -> the line that has it
     try:
         f = open(path, encoding="utf-8", errors="replace")
@@ -110,10 +110,10 @@ def load(directory):
             if n == len(lines) and not line.endswith("\n"):
                 try:
                     if not isinstance(json.loads(line), dict):
-                        CUT_SHORT.append(n)
+                        cut_short = n
                         continue
                 except (json.JSONDecodeError, RecursionError):
-                    CUT_SHORT.append(n)
+                    cut_short = n
                     continue
             try:
                 row = json.loads(line)
@@ -174,7 +174,7 @@ def load(directory):
             rows.append(row)
     if not rows:
         fail(f"{path}: no finished runs to report")
-    return rows
+    return rows, cut_short
 
 
 def canonical(v):
@@ -231,7 +231,7 @@ def main():
              "ledger's columns that are no axes, comma-separated, and --quiet or \"\")")
     directory, meta = sys.argv[1], set(sys.argv[2].split(","))
     stop_if_signalled()
-    rows = load(directory)
+    rows, cut_short = load(directory)
     stop_if_signalled()
     axes = [k for k in rows[0] if k not in meta]
     for r in rows[1:]:
@@ -379,8 +379,8 @@ def main():
                f"error metric: {error or 'none'}; time: {time_key} ({time_label}).")
     if not efficient:
         summary += " No efficiency 1/(MSE·time) column: it needs the sweep's rmse metric."
-    if CUT_SHORT:  # (said nowhere before: the report was one run short; helper 141)
-        summary += (f" Line {CUT_SHORT[0]} of results.jsonl, cut short by a batch stopped while "
+    if cut_short:  # (said nowhere before: the report was one run short; helper 141)
+        summary += (f" Line {cut_short} of results.jsonl, cut short by a batch stopped while "
                     f"writing it, is left out: the next start of the batch renders that run again.")
     if left_out:
         summary += (f" Left out of the error plots (log axes): {counted(left_out, 'row')} of "

@@ -990,8 +990,9 @@ int runRender(const RenderArgs& a) {
                     failOption(option, "--set " + *set + " sets the same value; give it once");
             nlohmann::json resolved;
             std::vector<std::string> unchanged;  // (key=null of a key the scene does not have)
-            Json original;  // (the file's own document, for the errors of a --set)
-            doc = sceneDocument(a.scene, a.sets, &unchanged, &original);  // read once
+            Json original;               // (the file's own document, for the errors of a --set)
+            std::vector<int> removedBy;  // (a --set's value that a later one removed)
+            doc = sceneDocument(a.scene, a.sets, &unchanged, &original, &removedBy);  // read once
             // --spp and --seed after the overrides, into a "render" object only: a scene or a
             // --set whose "render" is something else is refused by the reader as such, not
             // blamed on these options.
@@ -1024,9 +1025,7 @@ int runRender(const RenderArgs& a) {
                                    ": the scene has no such key; nothing was deleted");
             // (not in a batch, whose overrides are its sweep's `set` and axes, in an order the
             // sweep does not choose; helper 140)
-            const std::vector<int> removedBy =
-                a.run.empty() ? overridesRemovedBy(original, a.sets, a.scene) : std::vector<int>();
-            for (size_t i = 0; i < removedBy.size(); ++i)
+            for (size_t i = 0; a.run.empty() && i < removedBy.size(); ++i)
                 if (const int j = removedBy[i]; j >= 0) {
                     const std::string& later = a.sets[size_t(j)];
                     const std::string key = later.substr(0, later.find('='));

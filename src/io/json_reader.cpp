@@ -352,12 +352,13 @@ const Json* valueAt(const Json& doc, const std::vector<std::string>& path) {
 }
 }  // namespace
 
-std::vector<int> overridesRemovedBy(Json doc, const std::vector<std::string>& overrides,
-                                    const std::string& file) {
+std::vector<int> applyOverrides(Json& doc, const std::vector<std::string>& overrides,
+                                const std::string& file, std::vector<std::string>* unchanged) {
     std::vector<int> by(overrides.size(), -1);
     std::vector<std::vector<std::string>> paths(overrides.size());
     for (size_t j = 0; j < overrides.size(); ++j) {
-        applyOverride(doc, overrides[j], file);
+        if (!applyOverride(doc, overrides[j], file) && unchanged)
+            unchanged->push_back(overrides[j]);
         for (size_t i = 0; i < j; ++i)  // (those of i still there before j)
             if (!paths[i].empty() && by[i] < 0 && !valueAt(doc, paths[i])) by[i] = int(j);
         const std::string& o = overrides[j];

@@ -497,14 +497,15 @@ Scene loadScene(const std::string& path, const std::vector<std::string>& overrid
 }
 
 Json sceneDocument(const std::string& path, const std::vector<std::string>& overrides,
-                   std::vector<std::string>* unchanged, Json* original) {
+                   std::vector<std::string>* unchanged, Json* original,
+                   std::vector<int>* removedBy) {
     Json doc = parseJsonFile(path);
     // (before the overrides, which a sweep's axes are: `media[0].albedo` on a sweep given as a
     // sweep's scene was "index 0 of an array the scene does not have"; helper 141)
     refuseASweep(doc, path);
     if (original) *original = doc;
-    for (const std::string& o : overrides)
-        if (!applyOverride(doc, o, path) && unchanged) unchanged->push_back(o);
+    std::vector<int> by = applyOverrides(doc, overrides, path, unchanged);
+    if (removedBy) *removedBy = std::move(by);
     return doc;
 }
 

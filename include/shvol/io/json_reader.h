@@ -90,14 +90,15 @@ std::string overridePlace(const std::string& assignment);
 int overrideOfError(const std::string& message, const std::string& file, const Json& before,
                     const Json& after, const std::vector<std::string>& overrides,
                     std::string* placeAndReason = nullptr);
-/// For each of `overrides` applied in turn to `doc` (the file's document), the index of the later
-/// override that removed the value it set, or −1 (kept, set again later, or a deletion): a new
-/// type of an object that holds it starts the object afresh, or the object is replaced or
-/// deleted. So that `--set media.0.phase.g=0.5 --set media.0.phase.type=rayleigh` does not drop
-/// the user's g without a word (helpers 139, 140: the override that removed it, not the last of
-/// its object's). The overrides must be ones applyOverride accepts on `doc`.
-std::vector<int> overridesRemovedBy(Json doc, const std::vector<std::string>& overrides,
-                                    const std::string& file);
+/// Applies `overrides` to `doc` in turn (applyOverride; `unchanged`, optional, gets those that
+/// changed nothing) and returns, for each, the index of the later override that removed the value
+/// it set, or −1 (kept, set again later, or a deletion): a new type of an object that holds it
+/// starts the object afresh, or the object is replaced or deleted. So that `--set
+/// media.0.phase.g=0.5 --set media.0.phase.type=rayleigh` does not drop the user's g without a
+/// word (helpers 139, 140: the override that removed it, not the last of its object's).
+std::vector<int> applyOverrides(Json& doc, const std::vector<std::string>& overrides,
+                                const std::string& file,
+                                std::vector<std::string>* unchanged = nullptr);
 /// A key path as applyOverride walks it: media[0].albedo (the notation of error messages) is
 /// media.0.albedo.
 std::string canonicalKeyPath(const std::string& key);

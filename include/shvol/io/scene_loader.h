@@ -11,10 +11,12 @@ namespace shvol {
 
 /// The scene file's document after the overrides ("key.path=value", as --set), unvalidated: what
 /// loadScene reads, and what checkpoints, sweeps and the stats file identify a render by.
-/// `unchanged` (optional) gets the overrides that changed nothing (applyOverride), and `original`
-/// (optional) the file's document before them.
+/// `unchanged` (optional) gets the overrides that changed nothing (applyOverride), `original`
+/// (optional) the file's document before them, and `removedBy` (optional) the later override
+/// that removed each one's value, or −1 (applyOverrides).
 Json sceneDocument(const std::string& path, const std::vector<std::string>& overrides = {},
-                   std::vector<std::string>* unchanged = nullptr, Json* original = nullptr);
+                   std::vector<std::string>* unchanged = nullptr, Json* original = nullptr,
+                   std::vector<int>* removedBy = nullptr);
 
 /// Loads and validates a scene. `overrides` are "key.path=value" assignments applied to the JSON
 /// before it is read (the --set option). Relative file names are resolved against the scene's
