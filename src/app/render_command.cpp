@@ -1229,7 +1229,7 @@ int runRender(const RenderArgs& a) {
         }
     };
     // The guard lives until the outputs are written: a first signal while they are written is
-    // taken as one during the render (the outputs complete, exit code 130), not as the default
+    // taken as one during the render (the outputs complete, exit code 128 + the signal), not as the default
     // action that ended the process with none of them.
     std::optional<InterruptGuard> guard;
     if (!spread) guard.emplace();
@@ -1276,9 +1276,9 @@ int runRender(const RenderArgs& a) {
     if (!interrupted && guard && InterruptGuard::interrupted() && a.lateSignalStops) {
         std::fprintf(stderr,
                      "shvol: interrupted while the outputs were written; they are written whole\n");
-        return 130;
+        return InterruptGuard::stopExitCode();
     }
-    return interrupted ? 130 : 0;
+    return interrupted ? InterruptGuard::stopExitCode() : 0;
 }
 
 void addRenderCommand(CLI::App& app, std::function<int()>& run) {

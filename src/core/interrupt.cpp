@@ -16,6 +16,7 @@ constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
 constexpr int kSignalCount = int(sizeof kSignals / sizeof kSignals[0]);
 
 std::atomic<bool> gInterrupted{false};
+std::atomic<int> gFirstSignal{0};
 
 /// The actions the guards replaced, one per entry of kSignals, and whether a guard's handler is
 /// installed for it. Written only under gMutex while none of this file's handlers is installed
@@ -34,6 +35,8 @@ int indexOf(int sig) {
 /// shell and from the kernel as the session ends, and the second ended the render before it had
 /// written anything (helper 129).
 extern "C" void onInterrupt(int sig) {
+    int none = 0;
+    gFirstSignal.compare_exchange_strong(none, sig);
     gInterrupted.store(true);
     if (sig != SIGHUP) ::sigaction(sig, &gPrevious[indexOf(sig)], nullptr);
 }
@@ -79,6 +82,11 @@ InterruptGuard::~InterruptGuard() {
 
 const std::atomic<bool>& InterruptGuard::interrupted() {
     return gInterrupted;
+}
+
+int InterruptGuard::stopExitCode() {
+    const int sig = gFirstSignal.load();
+    return 128 + (sig != 0 ? sig : SIGINT);
 }
 
 }  // namespace shvol

@@ -2439,11 +2439,12 @@ TEST_F(Cli, MakeMediumAndSkyRoundTrip) {
 }
 
 // SIGINT and SIGTERM during a render: the samples finished so far are written (image and stats
-// with "interrupted": true) and the exit code is 130. The render is far too long to finish.
+// with "interrupted": true) and the exit code is 128 + the signal (130, 143, 129), as a shell
+// reports the signal. The render is far too long to finish.
 // A signal that comes once the render has finished, while its outputs are written, lets them be
-// written whole and exits 130 (it ended the process with none of them: the guard was gone). The
-// signal is sent once the stats file's temporary appears, after the EXRs' temporaries are written
-// and before the outputs are renamed together.
+// written whole and exits 130 for SIGINT (it ended the process with none of them: the guard was
+// gone). The signal is sent once the stats file's temporary appears, after the EXRs' temporaries
+// are written and before the outputs are renamed together.
 // A full disk, as a file-size limit (ulimit -f, in KiB) makes one: an output that does not fit
 // is one line naming it with the reason, exit 1, and nothing left behind, with SIGXFSZ at its
 // default or ignored by the caller (a truncated image or VDB was renamed into place and reported
@@ -2512,7 +2513,7 @@ TEST_F(Cli, SecondHangupWhileWritingStillWritesEverything) {
                                 out + " --spp 10000000 --variance --quiet --set " +
                                 "camera.resolution=[2048,2048] 2>" + path("bg.txt") + kills);
     const std::string err = test::fileBytes(path("bg.txt"));
-    EXPECT_EQ(r.code, 130) << err;
+    EXPECT_EQ(r.code, 128 + SIGHUP) << err;
     EXPECT_NE(err.find("shvol: interrupted: wrote the samples finished so far to " + out),
               std::string::npos)
         << err;
@@ -2550,17 +2551,16 @@ TEST_F(Cli, InterruptedRenderWritesWhatItHas) {
         // The shell's redirections apply to `wait`; the render's stderr goes to bg.txt. A job
         // started with `&` by a script ignores SIGINT (and shvol leaves it ignored): env gives it
         // the default action back, as a user stopping such a job with SIGINT must.
-        std::string kill = killOnceCaught(sig,
-                                          std::string(sig) == "INT"    ? SIGINT
-                                          : std::string(sig) == "TERM" ? SIGTERM
-                                                                       : SIGHUP,
-                                          "0.5");
+        const int number = std::string(sig) == "INT"    ? SIGINT
+                           : std::string(sig) == "TERM" ? SIGTERM
+                                                        : SIGHUP;
+        std::string kill = killOnceCaught(sig, number, "0.5");
         const Result r = runCommand("env --default-signal=INT " + std::string(SHVOL_BINARY) +
                                     " render " + path("s.json") + " -o " + out +
                                     " --spp 10000000 2>" + path("bg.txt") + kill);
         std::ifstream bg(path("bg.txt"));
         const std::string err((std::istreambuf_iterator<char>(bg)), {});
-        EXPECT_EQ(r.code, 130) << sig << ": " << err;
+        EXPECT_EQ(r.code, 128 + number) << sig << ": " << err;  // as the shell reports it
         EXPECT_NE(
             err.find("shvol: interrupted: wrote the samples finished so far to " + out + " ("),
             std::string::npos)
@@ -3455,7 +3455,7 @@ TEST_F(Cli, BatchSaysWhenAFinishedRunsImageIsMissing) {
 }
 
 // A signal while the batch checks its sweep's scenes (here an SH fit of order 256, seconds long)
-// stops it as one during a run does, with exit code 130 and a word: caught only during renders,
+// stops it as one during a run does, with exit code 143 and a word: caught only during renders,
 // SIGTERM ended it with 143 and nothing said (helper 67).
 TEST_F(Cli, BatchStopsAtASignalOutsideItsRenders) {
     write("s.json", R"({"camera": {"resolution": [8, 8], "position": [0, -3, 0]},
@@ -3468,7 +3468,7 @@ TEST_F(Cli, BatchStopsAtASignalOutsideItsRenders) {
     Result r = runCommand(std::string(SHVOL_BINARY) + " batch " + path("sweep.json") +
                           " --quiet --output " + path("out") + " 2>" + path("bg.txt") +
                           killOnceCaught("TERM", SIGTERM));
-    EXPECT_EQ(r.code, 130);
+    EXPECT_EQ(r.code, 128 + SIGTERM);
     EXPECT_EQ(test::fileBytes(path("bg.txt")),
               "batch: stopped before a run finished; run again to finish\n");
     EXPECT_FALSE(fs::exists(path("out/r0000.exr")));
@@ -3990,8 +3990,10 @@ TEST_F(Cli, BatchInterruptedReferenceIsRenderedAgain) {
     r = runCommand("timeout --foreground --preserve-status -s TERM 4 " + std::string(SHVOL_BINARY) +
                    " batch " + path("b.json") + " --threads 1");
     // (--foreground: else timeout signals its process group as well, and a second SIGTERM ends
-    // shvol at once, 143, as a second Ctrl-C does.)
-    ASSERT_EQ(r.code, 130) << r.err;  // stopped inside the reference's render
+    // shvol at once, as a second Ctrl-C does, without the word below.)
+    ASSERT_EQ(r.code, 128 + SIGTERM) << r.err;  // stopped inside the reference's render
+    ASSERT_NE(r.err.find("shvol: interrupted: wrote the samples finished so far"), std::string::npos)
+        << r.err;
     EXPECT_NE(r.err.find("rendering the reference"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(path("out/reference.exr.fingerprint")));
     r = run("batch " + path("a.json"));

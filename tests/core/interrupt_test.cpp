@@ -144,6 +144,22 @@ TEST(InterruptGuard, NestedGuardsCatchOneSignalThenLetTheNextThrough) {
     EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << describe(status);
 }
 
+// A job the first signal stopped exits as the shell reports that signal (128 + its number), the
+// first one's: a SIGINT after a SIGHUP does not change it (a render and a batch exited 130 for
+// every signal, where `report` and a signal's default gave 143 for SIGTERM).
+TEST(InterruptGuard, StopExitCodeIsTheFirstSignals) {
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+        const int status = inChild([&] {
+            const InterruptGuard guard;
+            std::raise(sig);
+            if (sig == SIGHUP) std::raise(SIGINT);  // a later one of another kind, caught too
+            ::_exit(InterruptGuard::stopExitCode() & 0xff);
+        });
+        EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 128 + sig)
+            << "signal " << sig << ": " << describe(status);
+    }
+}
+
 // A process started with SIGINT ignored (nohup, the background of a script) keeps ignoring it.
 TEST(InterruptGuard, IgnoredSignalStaysIgnored) {
     const int status = inChild([] {

@@ -24,6 +24,11 @@ class InterruptGuard {
 
     /// Set by the first SIGINT, SIGTERM or SIGHUP under a guard; never cleared.
     static const std::atomic<bool>& interrupted();
+
+    /// The exit code of a job the first signal stopped: 128 + its number (130 for SIGINT, 143 for
+    /// SIGTERM, 129 for SIGHUP), as a shell reports a process that signal ended; 130 when the stop
+    /// came from elsewhere (an MPI rank stopped by its root).
+    static int stopExitCode();
 };
 
 }  // namespace shvol
