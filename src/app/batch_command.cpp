@@ -121,7 +121,8 @@ CurrentReference currentReference(const Sweep& s, bool ztest, std::map<std::stri
 }
 
 /// Renders the reference (quietly; under mpirun every rank takes part) and stamps it with
-/// `stamp` (rank 0's). Returns the exit code of the render (InterruptGuard::stopExitCode(): interrupted).
+/// `stamp` (rank 0's). Returns the exit code of the render (InterruptGuard::stopExitCode():
+/// interrupted).
 int renderReference(const Sweep& s, const BatchArgs& a, bool variance, const std::string& stamp) {
     const SweepReference& ref = *s.reference;
     const MpiWorld& world = MpiWorld::get();
@@ -523,7 +524,8 @@ struct RunContext {
 };
 
 /// Renders one run and measures it against the reference. Returns the ledger row, or null with
-/// `code` set to the render's exit code when it did not finish (InterruptGuard::stopExitCode(): interrupted).
+/// `code` set to the render's exit code when it did not finish (InterruptGuard::stopExitCode():
+/// interrupted).
 Json runOne(const RunContext& c, const SweepRun& run, int& code) {
     const Sweep& s = c.sweep;
     RenderArgs r;
@@ -591,11 +593,12 @@ class WorkQueue {
 
     /// The next run, or null when all are handed out or the batch stopped. A signal that came
     /// while a run wrote its outputs (its render clears lateSignalStops: they are whole, and its
-    /// row goes in) stops the batch here (InterruptGuard::stopExitCode()), rather than start a run that the signal
-    /// would cancel at once into an image of no samples.
+    /// row goes in) stops the batch here (InterruptGuard::stopExitCode()), rather than start a run
+    /// that the signal would cancel at once into an image of no samples.
     const SweepRun* next() {
         const std::lock_guard<std::mutex> lock(mutex_);
-        if (InterruptGuard::interrupted() && !stopped_) stopped_ = true, code_ = InterruptGuard::stopExitCode();
+        if (InterruptGuard::interrupted() && !stopped_)
+            stopped_ = true, code_ = InterruptGuard::stopExitCode();
         return stopped_ || next_ == todo_.size() ? nullptr : todo_[next_++];
     }
     void finished(Json row) {
@@ -720,9 +723,9 @@ int runBatch(BatchArgs a) {
     // Signals are caught for the whole batch, not only during its renders: one that came while
     // the sweep's scenes were checked or the next run loaded ended the batch by the signal's
     // default action (SIGTERM: exit code 143, nothing said; helper 67). Caught, it stops the
-    // batch before its next run (exit code 128 + the signal), as one during a run does. (Under mpirun the
-    // renders catch them, as before.) A dry run writes nothing and keeps the signals' default
-    // action: caught, its first Ctrl-C was ignored (review).
+    // batch before its next run (exit code 128 + the signal), as one during a run does. (Under
+    // mpirun the renders catch them, as before.) A dry run writes nothing and keeps the signals'
+    // default action: caught, its first Ctrl-C was ignored (review).
     std::optional<InterruptGuard> guard;
     if (!world.parallel() && !a.dryRun) guard.emplace();
     Sweep s;

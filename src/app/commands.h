@@ -41,16 +41,16 @@ struct RenderArgs {
     /// of an MPI job share the render (README.md, "MPI").
     bool oneRank = false;
     /// A first signal that comes once the render has finished, while its outputs are written,
-    /// makes the exit code 130 (a command's own render). A batch's renders clear it: their
-    /// outputs are whole and their rows go in; the batch then stops before its next run.
+    /// makes the exit code 128 + the signal (a command's own render). A batch's renders clear it:
+    /// their outputs are whole and their rows go in; the batch then stops before its next run.
     bool lateSignalStops = true;
     /// The batch run this render is ("r0003 albedo=0.9 spp=16", "the reference"), which its
     /// warnings name; "" outside a batch.
     std::string run;
 };
-/// Renders as `shvol render` does (images, stats, checkpoints); returns the exit code (130 when
-/// interrupted). Errors are shvol::Error. Under mpirun (and without oneRank) every rank must
-/// call it: they render a share of the pixels each and rank 0 writes the outputs.
+/// Renders as `shvol render` does (images, stats, checkpoints); returns the exit code (128 + the
+/// signal when interrupted). Errors are shvol::Error. Under mpirun (and without oneRank) every rank
+/// must call it: they render a share of the pixels each and rank 0 writes the outputs.
 int runRender(const RenderArgs& a);
 
 /// What an SH-sampled phase function with structure finer than the quadrature of its fit sees
