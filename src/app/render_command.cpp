@@ -426,15 +426,21 @@ std::vector<std::string> unusedKeyWarnings(const Json& doc, const Scene& scene,
     const RenderSettings& s = scene.settings;
     // (The product's lobe is a phase function's: surfaces draw no product sample; helper 124.)
     const bool product = s.lightSampling == LightSampling::Product;
-    for (const char* key : {"product_order", "product_depth"})
-        if (render.contains(key) && (!product || !effects.scattering))
-            unused(std::string("/render/") + key,
-                   std::string("render.") + key + ": " + render[key].dump() + " is not used: " +
-                       (product ? std::string("it shapes the phase lobes of light_sampling "
-                                              "\"product\", and no medium scatters")
-                                : std::string("it shapes light_sampling \"product\", and this "
-                                              "render's is \"") +
-                                      lightSamplingName(s.lightSampling) + "\""));
+    // (product_depth 0 leaves the lobe out: the order shapes nothing; Effects::of)
+    const bool skyAlone = product && s.productDepth == 0;
+    for (const std::string key : {"product_order", "product_depth"})
+        if (render.contains(key) &&
+            (!product || !effects.scattering || (skyAlone && key == "product_order")))
+            unused("/render/" + key,
+                   "render." + key + ": " + render[key].dump() + " is not used: " +
+                       (!product ? std::string("it shapes light_sampling \"product\", and this "
+                                               "render's is \"") +
+                                       lightSamplingName(s.lightSampling) + "\""
+                        : !effects.scattering
+                            ? std::string("it shapes the phase lobes of light_sampling "
+                                          "\"product\", and no medium scatters")
+                            : std::string("product_depth 0 warps by the sky alone, which is "
+                                          "light_sampling \"wavelet\"")));
     const Json cache = render.value("radiance_cache", Json::object());
     // A cached vertex's direct light is light_samples next-event samples: with next-event
     // estimation off none is drawn (1 and 8 rendered bit-identical images; helper 132).
@@ -1229,8 +1235,8 @@ int runRender(const RenderArgs& a) {
         }
     };
     // The guard lives until the outputs are written: a first signal while they are written is
-    // taken as one during the render (the outputs complete, exit code 128 + the signal), not as the default
-    // action that ended the process with none of them.
+    // taken as one during the render (the outputs complete, exit code 128 + the signal), not as the
+    // default action that ended the process with none of them.
     std::optional<InterruptGuard> guard;
     if (!spread) guard.emplace();
     RenderResult r = render(scene, opt, std::move(film));
