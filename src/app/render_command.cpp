@@ -98,12 +98,15 @@ std::vector<std::string> phaseWarnings(const Scene& scene) {
         if (sh->evaluate() == SHSampledPhase::Evaluate::Exact &&
             sh->weightSecondMoment() > SHSampledPhase::kUnreliableSecondMoment) {
             const double m2 = sh->weightSecondMoment();
+            // (at the highest order a higher one is no advice; helper 146)
             std::snprintf(msg, sizeof msg,
                           "media[%zu].phase: the SH-sampled weight p/pdf has second moment %.4g "
                           "per bounce (%.3g after 100 bounces): multiply-scattered light will be "
-                          "noisy and underestimated in practice; use \"evaluate\": \"sh\" or a "
-                          "higher order",
-                          i, m2, std::pow(m2, 100));
+                          "noisy and underestimated in practice; use \"evaluate\": \"sh\" or %s",
+                          i, m2, std::pow(m2, 100),
+                          order < ZonalFitRequest::kMaxAutoOrder
+                              ? "a higher order"
+                              : "\"sampling\": \"analytic\" (this is the highest order)");
             w.push_back(msg);
         }
         if (sh->evaluate() == SHSampledPhase::Evaluate::Reconstruction &&

@@ -1038,6 +1038,15 @@ TEST_F(Cli, RenderWarnsOfUnreliablePhaseFits) {
             " --set media[0].phase.evaluate=\\\"exact\\\"");
     EXPECT_NE(r.err.find("the SH-sampled weight p/pdf has second moment"), std::string::npos)
         << r.err;
+    EXPECT_NE(r.err.find("use \"evaluate\": \"sh\" or a higher order"), std::string::npos) << r.err;
+    // At the highest order a higher one is no advice (helper 146).
+    r = run(render + " --set media[0].phase.g=0.999 --set media[0].phase.order=256" +
+            " --set media[0].phase.evaluate=\\\"exact\\\"");
+    EXPECT_NE(r.err.find("second moment"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("use \"evaluate\": \"sh\" or \"sampling\": \"analytic\" (this is the "
+                         "highest order)"),
+              std::string::npos)
+        << r.err;
     // A close fit drawn over coarse z-bins renders a blurred lobe (HG 0.9 at sh_depth 4: 0.880,
     // as helper 62 computed it independently).
     r = run(render + " --set media[0].phase.g=0.9 --set media[0].phase.sh_depth=4");
@@ -2065,9 +2074,9 @@ TEST_F(Cli, RenderWarnsOfKeysThatChangeNothing) {
               std::string::npos)
         << r.err;
     EXPECT_EQ(r.err.find("render.product_depth"), std::string::npos) << r.err;
-    EXPECT_EQ(nlohmann::json::parse(std::ifstream(path("o.stats.json")))["light_sampling"]
-                                                                       ["strategy"],
-              "wavelet");
+    EXPECT_EQ(
+        nlohmann::json::parse(std::ifstream(path("o.stats.json")))["light_sampling"]["strategy"],
+        "wavelet");
     // Among surfaces, without next-event estimation, no transmittance is estimated: also where
     // the media only absorb, and where the radiance cache is on, whose light step and records'
     // direct light need next-event estimation too (both were left unsaid; helper 124). Without
@@ -4005,7 +4014,8 @@ TEST_F(Cli, BatchInterruptedReferenceIsRenderedAgain) {
     // (--foreground: else timeout signals its process group as well, and a second SIGTERM ends
     // shvol at once, as a second Ctrl-C does, without the word below.)
     ASSERT_EQ(r.code, 128 + SIGTERM) << r.err;  // stopped inside the reference's render
-    ASSERT_NE(r.err.find("shvol: interrupted: wrote the samples finished so far"), std::string::npos)
+    ASSERT_NE(r.err.find("shvol: interrupted: wrote the samples finished so far"),
+              std::string::npos)
         << r.err;
     EXPECT_NE(r.err.find("rendering the reference"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(path("out/reference.exr.fingerprint")));
