@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "shvol/core/error.h"
 #include "test_util.h"
@@ -34,6 +35,28 @@ std::string contents(const fs::path& p) {
 }
 
 }  // namespace
+
+// A temporary that a process ended by SIGKILL left (kill -9, mpirun's kill a second after a
+// Ctrl-C; helper 147) is removed once its target is written again; one of a process that runs,
+// this one's parent, and names that only look alike stay.
+TEST(AtomicFile, TemporariesOfEndedProcessesAreRemoved) {
+    const ScratchDir dir;
+    const pid_t child = ::fork();
+    if (child == 0) ::_exit(0);
+    ASSERT_GT(child, 0);
+    int status = 0;
+    ::waitpid(child, &status, 0);  // reaped: its PID runs nothing now
+    const fs::path out = dir.path / "out.ck";
+    const std::vector<std::string> stay = {
+        "out.ck.tmp" + std::to_string(::getppid()), "out.ck.tmpx1", "out.ck.tmp",
+        "other.ck.tmp" + std::to_string(child), "out.ck.tmp-" + std::to_string(child)};
+    for (const std::string& name : stay) std::ofstream(dir.path / name) << "keep";
+    std::ofstream(dir.path / ("out.ck.tmp" + std::to_string(child))) << "left by kill -9";
+    writeTextAtomically(out.string(), "new");
+    EXPECT_EQ(contents(out), "new");
+    EXPECT_FALSE(fs::exists(dir.path / ("out.ck.tmp" + std::to_string(child))));
+    for (const std::string& name : stay) EXPECT_TRUE(fs::exists(dir.path / name)) << name;
+}
 
 // A symbolic link named as an output keeps pointing where it did, and its target gets the new
 // contents (the rename used to replace the link by a regular file), for a relative link into

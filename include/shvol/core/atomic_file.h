@@ -15,7 +15,9 @@ namespace shvol {
 /// there throws before write is called ("path: cannot write: is not a regular file (…)"). A
 /// SIGTERM, SIGHUP or SIGINT that ends the process meanwhile (one whose action was the default when
 /// the first write began) removes the temporary too before the process ends as the signal would
-/// have ended it.
+/// have ended it. Once path is written, the temporaries of it that processes no longer running
+/// left (`path.tmpPID`: SIGKILL and power cuts end a process before it can remove its own) are
+/// removed.
 void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write);
 
 /// One file of writeTogether: where it goes and what writes it (given its temporary's path).
