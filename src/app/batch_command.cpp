@@ -79,14 +79,24 @@ std::string referenceRecord(const std::string& stamp, const std::string& file, b
     return r;
 }
 
+/// Removes a file where there is one; one that cannot be removed is an error naming it.
+void removeOrFail(const std::string& path) {
+    if (std::error_code ec; (fs::remove(path, ec), ec))
+        fail(path, "", "cannot remove it (" + ec.message() + ")");
+}
+
+/// The whole text of a file ("" if it cannot be read).
+std::string fileText(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(f)), {});
+}
+
 /// Whether the rendered reference is on disk with `stamp`, the one the sweep gives now, and is
 /// the image rendered for it.
 bool referenceCached(const Sweep& s, const std::string& stamp, bool variance) {
     const std::string file = s.reference->file + ".fingerprint";
-    if (!fs::exists(s.reference->file) || !fs::exists(file)) return false;
-    std::ifstream f(file);
-    const std::string have((std::istreambuf_iterator<char>(f)), {});
-    return have == referenceRecord(stamp, s.reference->file, variance);
+    return fs::exists(s.reference->file) && fs::exists(file) &&
+           fileText(file) == referenceRecord(stamp, s.reference->file, variance);
 }
 
 /// "1 run", "2 runs".
@@ -144,6 +154,20 @@ int renderReference(const Sweep& s, const BatchArgs& a, bool variance, const std
             fail(ref.file + ".fingerprint", "",
                  "cannot remove the old stamp (" + ec.message() + ")");
     });
+    // One process checkpoints the reference, often the sweep's longest render, beside it
+    // (REFERENCE.checkpoint), and a batch started again resumes it where the checkpoint's own
+    // stamp (the reference's and the build's, which a checkpoint names) is this batch's; a
+    // Ctrl-C lost all of it (helper 147). Ranks share no checkpoint (README, "MPI").
+    const std::string checkpointStamp = stamp + "\nbuild " + gitRevision() + "\n";
+    const std::string checkpointStampFile = ref.file + ".checkpoint.stamp";
+    if (world.size() == 1) {
+        r.checkpoint = ref.file + ".checkpoint";
+        r.resume = fs::exists(r.checkpoint) && fileText(checkpointStampFile) == checkpointStamp;
+        if (!r.resume) {  // (another render's checkpoint must not meet this stamp)
+            removeOrFail(r.checkpoint);
+            writeTextAtomically(checkpointStampFile, checkpointStamp);
+        }
+    }
     const int code = runRender(r);
     // Rank 0 stamps it (a stamp that cannot be written is an error, on every rank: failing on
     // rank 0 alone left the others waiting for it for ever; review); the others read it after.
@@ -152,6 +176,10 @@ int renderReference(const Sweep& s, const BatchArgs& a, bool variance, const std
             writeTextAtomically(ref.file + ".fingerprint",
                                 referenceRecord(stamp, ref.file, variance));
     });
+    if (code == 0 && !r.checkpoint.empty()) {  // (finished: the checkpoint has served)
+        removeOrFail(r.checkpoint);
+        removeOrFail(checkpointStampFile);
+    }
     return code;
 }
 

@@ -1267,7 +1267,8 @@ int runRender(const RenderArgs& a) {
                      "%d)%s\n",
                      interrupted ? "interrupted" : "time limit reached", final.image.c_str(),
                      r.stats.minSamples, r.stats.maxSamples, scene.settings.spp,
-                     a.checkpoint.empty() ? "" : "; continue with --resume");
+                     // (a batch's reference resumes when the batch is run again)
+                     a.checkpoint.empty() || !a.run.empty() ? "" : "; continue with --resume");
     // (named by the scene, as every other warning of a render: helper 77)
     for (const std::string& w : notWritten) warnOnce(a.scene, a.run, w);
     for (const std::string& w : renderWarnings(scene, r.stats)) warnOnce(a.scene, a.run, w);

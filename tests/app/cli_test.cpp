@@ -4025,6 +4025,39 @@ TEST_F(Cli, BatchInterruptedReferenceIsRenderedAgain) {
     EXPECT_EQ(nlohmann::json::parse(std::ifstream(path("out/reference.stats.json")))["spp"], 16);
 }
 
+// A reference render stopped by a signal is saved in a checkpoint beside it, which the batch run
+// again resumes, to the image of a reference never stopped (a Ctrl-C lost all of it; helper
+// 147). Finished, the checkpoint and its stamp are removed.
+TEST_F(Cli, BatchResumesAnInterruptedReference) {
+    write("s.json", scene(Homogeneous));
+    write("a.json", R"({"scene": "s.json", "axes": {"spp": [2]}, "reference": {"spp": 250000},
+                        "metrics": ["rmse"]})");
+    Result r = runCommand(std::string(SHVOL_BINARY) + " batch " + path("a.json") +
+                          " --threads 1 --output " + path("out") + " 2>" + path("bg.txt") +
+                          killOnceCaught("TERM", SIGTERM, "0.5"));
+    std::string err = test::fileBytes(path("bg.txt"));
+    ASSERT_EQ(r.code, 128 + SIGTERM) << err;
+    ASSERT_NE(err.find("shvol: interrupted: wrote the samples finished so far to " +
+                       path("out/reference.exr") + " ("),
+              std::string::npos)
+        << err;
+    EXPECT_EQ(err.find("--resume"), std::string::npos) << err;  // (the batch resumes it)
+    ASSERT_TRUE(fs::exists(path("out/reference.exr.checkpoint")));
+    EXPECT_FALSE(fs::exists(path("out/reference.exr.fingerprint")));
+    r = run("batch " + path("a.json") + " --quiet --threads 2 --output " + path("out"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto stats = nlohmann::json::parse(std::ifstream(path("out/reference.stats.json")));
+    EXPECT_LT(stats["paths"].get<uint64_t>(), 250000ull * stats["resolution"][0].get<uint64_t>() *
+                                                  stats["resolution"][1].get<uint64_t>());
+    for (const char* gone : {"out/reference.exr.checkpoint", "out/reference.exr.checkpoint.stamp"})
+        EXPECT_FALSE(fs::exists(path(gone))) << gone;
+    r = run("batch " + path("a.json") + " --quiet --threads 2 --output " + path("whole"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(test::fileBytes(path("out/reference.exr")),
+              test::fileBytes(path("whole/reference.exr")));
+    EXPECT_EQ(ledgerRows(path("out"))["r0000"]["rmse"], ledgerRows(path("whole"))["r0000"]["rmse"]);
+}
+
 // An error in a run's scene names the scene and the key, and the run of the sweep that set it.
 TEST_F(Cli, BatchErrorsNameTheRun) {
     write("s.json", scene(Homogeneous));
