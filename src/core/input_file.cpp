@@ -1,6 +1,8 @@
 #include "shvol/core/input_file.h"
 
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <utility>
 
 #include "shvol/core/error.h"
@@ -36,6 +38,14 @@ const char* fileKindOfStart(const std::string& start) {
         start.find_first_not_of(" \t\r\n", start.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0);
     return first != std::string::npos && (start[first] == '{' || start[first] == '[') ? "JSON text"
                                                                                       : nullptr;
+}
+
+const char* fileKindOfFile(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    std::string start(256, '\0');
+    f.read(&start[0], std::streamsize(start.size()));
+    start.resize(size_t(std::max<std::streamsize>(f.gcount(), 0)));
+    return fileKindOfStart(start);
 }
 
 uintmax_t regularFileSize(const std::string& path) {

@@ -184,8 +184,9 @@ Film readCheckpoint(const std::string& path, const Json& identity) {
              "a checkpoint of an earlier shvol (checkpoint format 1), which this build "
              "cannot resume: start afresh");
     if (size_t(f.gcount()) < sizeof kMagic || std::memcmp(magic, kMagic, sizeof kMagic) != 0) {
-        // (an image or a stats file given as the checkpoint, or an empty file, named as such)
-        const char* kind = fileKindOfStart(std::string(magic, size_t(f.gcount())));
+        // (an image or a stats file given as the checkpoint, or an empty file, named as such; a
+        // JSON file's first brace may come after more than the magic's 8 bytes)
+        const char* kind = fileKindOfFile(path);
         fail(path, "",
              size == 0 ? std::string("empty, not a shvol checkpoint")
              : kind    ? std::string("the file is ") + kind + ", not a shvol checkpoint"

@@ -137,11 +137,7 @@ std::string openExrReason(const std::exception& e, const std::string& path) {
 /// file given to `diff` said "not a readable OpenEXR file (… File is not an image file.)";
 /// helper 139), else OpenEXR's reason.
 std::string notReadableExr(const std::exception& e, const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    std::string start(256, '\0');
-    f.read(&start[0], std::streamsize(start.size()));
-    start.resize(size_t(std::max<std::streamsize>(f.gcount(), 0)));
-    const char* kind = fileKindOfStart(start);
+    const char* kind = fileKindOfFile(path);
     if (kind && std::string(kind) != "an OpenEXR image")
         return std::string("the file is ") + kind + ", not an OpenEXR image";
     return "not a readable OpenEXR file (" + openExrReason(e, path) + ")";

@@ -113,6 +113,10 @@ TEST(Checkpoint, DamagedOrForeignFilesAreRefused) {
     std::ofstream(p) << "{\"not\": \"a checkpoint\"}";
     EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
               p + ": the file is JSON text, not a shvol checkpoint");
+    // (its brace past the 8 bytes of the magic: a byte order mark and blank lines before it)
+    std::ofstream(p) << "\xEF\xBB\xBF\n\n\n\n    \n{\"a\": 1}";
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
+              p + ": the file is JSON text, not a shvol checkpoint");
     std::ofstream(p) << "\x76\x2f\x31\x01" << std::string(40, 'x');
     EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
               p + ": the file is an OpenEXR image, not a shvol checkpoint");

@@ -24,5 +24,7 @@ const char* fileKindByMagic(const std::string& start);
 /// object or an array: for readers of binary files (images, checkpoints), which name a file of
 /// another kind as such (helper 139: a stats file given to `diff`).
 const char* fileKindOfStart(const std::string& start);
+/// fileKindOfStart of the file at path's first 256 bytes (nullptr if it cannot be read).
+const char* fileKindOfFile(const std::string& path);
 
 }  // namespace shvol
