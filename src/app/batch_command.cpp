@@ -80,9 +80,9 @@ std::string referenceRecord(const std::string& stamp, const std::string& file, b
 }
 
 /// Removes a file where there is one; one that cannot be removed is an error naming it.
-void removeOrFail(const std::string& path) {
+void removeOrFail(const std::string& path, const std::string& what = "it") {
     if (std::error_code ec; (fs::remove(path, ec), ec))
-        fail(path, "", "cannot remove it (" + ec.message() + ")");
+        fail(path, "", "cannot remove " + what + " (" + ec.message() + ")");
 }
 
 /// The whole text of a file ("" if it cannot be read).
@@ -146,13 +146,12 @@ int renderReference(const Sweep& s, const BatchArgs& a, bool variance, const std
     r.quiet = a.quiet;
     r.variance = variance;
     r.lateSignalStops = false;
+    r.checkpointOptional = true;
     r.run = "the reference";
     // The stamp of the reference being replaced goes first: a render interrupted after writing
     // its partial image must not leave that image passing for the old, finished one.
     collectively([&] {  // (rank 0 removes it; the others wait, and fail with it)
-        if (std::error_code ec; world.root() && (fs::remove(ref.file + ".fingerprint", ec), ec))
-            fail(ref.file + ".fingerprint", "",
-                 "cannot remove the old stamp (" + ec.message() + ")");
+        if (world.root()) removeOrFail(ref.file + ".fingerprint", "the old stamp");
     });
     // One process checkpoints the reference, often the sweep's longest render, beside it
     // (REFERENCE.checkpoint), and a batch started again resumes it where the checkpoint's own
@@ -877,6 +876,15 @@ int runBatch(BatchArgs a) {
         if (std::error_code ec; !fs::create_directories(s.output, ec) && ec)
             fail(s.output, "", "cannot make the directory (" + ec.message() + ")");
         ledger.emplace(s.output, Ledger::Open::Repair, s.axes);
+        // The temporaries of its outputs that a killed batch left (mpirun kills the ranks a
+        // second after it passed a Ctrl-C on; helper 147): the directory is this batch's while it
+        // holds the ledger's lock.
+        static const std::regex own(R"((r[0-9]{4,}|reference)\..+|results\.(jsonl|csv))");
+        const std::vector<std::string> report = reportOutputs(s.axes, s.metrics);
+        removeStaleTemporaries(s.output, [&](const std::string& name) {
+            return std::regex_match(name, own) ||
+                   std::find(report.begin(), report.end(), name) != report.end();
+        });
         adoptFinishedIds(s, ledger->rows());
         checkFinishedRows(*ledger, s, reference);
         checkRunOutputs(s, *ledger, ztest);
@@ -967,11 +975,11 @@ void addBatchCommand(CLI::App& app, std::function<int()>& run) {
         ->check(nonEmptyName());
     c->add_option("--threads", a->threads,
                   "Worker threads per render (0: the cores shared between the jobs and ranks)")
-        ->check(integerIn(0, 4096));
+        ->transform(integerIn(0, 4096));
     c->add_option("--jobs", a->jobs,
                   "Renders at once in this process, each on its share of the cores (under "
                   "mpirun each rank renders one: more than 1 is refused; start more ranks)")
-        ->check(integerIn(1, 256));
+        ->transform(integerIn(1, 256));
     c->add_flag("--dry-run", a->dryRun,
                 "Check every run's scene, print one line per run and render nothing");
     c->add_flag("--quiet", a->quiet, "No progress");

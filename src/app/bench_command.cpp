@@ -442,11 +442,11 @@ void addBenchCommand(CLI::App& app, std::function<int()>& run) {
         ->check(nonEmptyName())
         ->check(notAStrayOverride());
     c->add_option("--spp", a->spp, "Samples per pixel per measurement")
-        ->check(integerIn(1, 1 << 24));
+        ->transform(integerIn(1, 1 << 24));
     c->add_option("--repeats", a->repeats,
                   "Rounds of the measurements, each configuration once per round in turn; the "
                   "best of each is kept")
-        ->check(integerIn(1, 1000));
+        ->transform(integerIn(1, 1000));
     addSetOption(c, a->sets);
     CLI::Option* accuracy =
         c->add_flag("--accuracy", a->accuracy,
@@ -457,7 +457,7 @@ void addBenchCommand(CLI::App& app, std::function<int()>& run) {
         "shared part and costs per density lookup and per majorant segment");
     // (Options of --accuracy only: without it they would be silently ignored.)
     c->add_option("--reference-spp", a->referenceSpp, "Samples per pixel of the reference")
-        ->check(integerIn(1, 1 << 24))
+        ->transform(integerIn(1, 1 << 24))
         ->needs(accuracy);
     c->add_option("--epsilon", a->epsilon, "The RMSE whose time is reported")
         ->check(numberIn(0, 1e30, true))

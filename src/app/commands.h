@@ -47,6 +47,12 @@ struct RenderArgs {
     /// The batch run this render is ("r0003 albedo=0.9 spp=16", "the reference"), which its
     /// warnings name; "" outside a batch.
     std::string run;
+    /// The checkpoint only saves work (a batch's reference): one that cannot be resumed (damaged,
+    /// of another render) is warned of and the render starts afresh, one that cannot be written
+    /// is warned of once and no more are written, and none is written once the render completes.
+    /// (A checkpoint is 36 bytes a pixel, 60 with --variance: the reference of a batch failed at
+    /// every start where it did not fit, or where it was damaged; helper 151.)
+    bool checkpointOptional = false;
 };
 /// Renders as `shvol render` does (images, stats, checkpoints); returns the exit code (128 + the
 /// signal when interrupted). Errors are shvol::Error. Under mpirun (and without oneRank) every rank

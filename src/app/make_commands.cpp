@@ -31,7 +31,7 @@ void addMakeMediumCommand(CLI::App& app, std::function<int()>& run) {
         ->required()
         ->check(outputNamed(".vdb", "make-medium writes OpenVDB"));
     c->add_option("--resolution", a->resolution, "Voxels per axis over the unit cube")
-        ->check(integerIn(4, 1024));
+        ->transform(integerIn(4, 1024));
     c->add_option("--grid", a->grid, "Grid name")
         ->check(CLI::Validator(
             [](std::string& name) -> std::string {
@@ -46,9 +46,9 @@ void addMakeMediumCommand(CLI::App& app, std::function<int()>& run) {
     // Each kind's own options, and which kinds take them (a note says when one has no effect).
     const std::vector<std::pair<CLI::Option*, std::string>> kindOptions = {
         {c->add_option("--seed", a->seed, "Noise seed (cloud, plume)")
-             ->check(integerIn(0, kMaxSeed)),
+             ->transform(integerIn(0, kMaxSeed)),
          "cloud plume"},
-        {c->add_option("--octaves", a->octaves, "fBm octaves (cloud)")->check(integerIn(1, 12)),
+        {c->add_option("--octaves", a->octaves, "fBm octaves (cloud)")->transform(integerIn(1, 12)),
          "cloud"},
         {c->add_option("--frequency", a->frequency, "Base noise frequency (cloud)")
              ->check(numberIn(0, 1000, true)),
@@ -135,7 +135,7 @@ void addMakeSkyCommand(CLI::App& app, std::function<int()>& run) {
                   "Lat-long convention: blender (default) or shvol (mirrored)")
         ->check(CLI::IsMember({"blender", "shvol"}));
     c->add_option("--width", p.width, "Width in pixels (height = width/2)")
-        ->check(integerIn(8, 16384));
+        ->transform(integerIn(8, 16384));
     c->add_option("--sun-elevation", p.sunElevationDegrees, "Sun elevation in degrees")
         ->check(numberIn(-90, 90, false, " degrees"));
     c->add_option("--sun-azimuth", p.sunAzimuthDegrees,

@@ -367,7 +367,7 @@ void commonOptions(CLI::App* c, PhaseArgs& a, bool general) {
                   general ? "Warp depth: 2^depth z-bins (zonal sampler, 4..22; general sampler, "
                             "<= 10)"
                           : "Warp depth of the zonal sampler: 2^depth z-bins, 4..22")
-        ->check(integerIn(4, 22))
+        ->transform(integerIn(4, 22))
         ->default_str(general ? "the spec's sh_depth, else 16 (general: 10)"
                               : "the spec's sh_depth, else 16");
 }
@@ -388,8 +388,9 @@ void addPhaseCommand(CLI::App& app, std::function<int()>& run) {
     CLI::App* sample = phase->add_subcommand(
         "sample", "Sample directions around +z as a render would (CSV) and report the weights");
     commonOptions(sample, *a, true);
-    sample->add_option("--count", a->count, "Number of samples")->check(integerIn(1, 1LL << 32));
-    sample->add_option("--seed", a->seed, "Random seed")->check(integerIn(0, kMaxSeed));
+    sample->add_option("--count", a->count, "Number of samples")
+        ->transform(integerIn(1, 1LL << 32));
+    sample->add_option("--seed", a->seed, "Random seed")->transform(integerIn(0, kMaxSeed));
     // (named --output in errors, as every other command's output: helper 96)
     sample->add_option("-o,--output,--out", a->out, "Output CSV (x,y,z,pdf,weight)")
         ->required()

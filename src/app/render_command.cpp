@@ -92,21 +92,21 @@ std::vector<std::string> phaseWarnings(const Scene& scene) {
         if (!sh) continue;
         char msg[600];
         const int order = int(sh->fit().p.size());
+        // (at the highest order a higher one is no advice; helpers 146, 151)
+        const bool highest = order >= ZonalFitRequest::kMaxAutoOrder;
         if (const std::string blind = blindSHFitText(*sh); !blind.empty())
             w.push_back("media[" + std::to_string(i) + "].phase: " + blind +
                         "; use \"sampling\": \"analytic\"");
         if (sh->evaluate() == SHSampledPhase::Evaluate::Exact &&
             sh->weightSecondMoment() > SHSampledPhase::kUnreliableSecondMoment) {
             const double m2 = sh->weightSecondMoment();
-            // (at the highest order a higher one is no advice; helper 146)
             std::snprintf(msg, sizeof msg,
                           "media[%zu].phase: the SH-sampled weight p/pdf has second moment %.4g "
                           "per bounce (%.3g after 100 bounces): multiply-scattered light will be "
                           "noisy and underestimated in practice; use \"evaluate\": \"sh\" or %s",
                           i, m2, std::pow(m2, 100),
-                          order < ZonalFitRequest::kMaxAutoOrder
-                              ? "a higher order"
-                              : "\"sampling\": \"analytic\" (this is the highest order)");
+                          highest ? "\"sampling\": \"analytic\" (this is the highest order)"
+                                  : "a higher order");
             w.push_back(msg);
         }
         if (sh->evaluate() == SHSampledPhase::Evaluate::Reconstruction &&
@@ -122,13 +122,12 @@ std::vector<std::string> phaseWarnings(const Scene& scene) {
             if (clamped > 0)
                 std::snprintf(dips, sizeof dips,
                               "; or mend its dips below 0, clamped in %.3g%% of the bins: "
-                              "\"window\": \"hann\" or a higher order",
-                              100 * clamped);
+                              "\"window\": \"hann\"%s",
+                              100 * clamped, highest ? "" : " or a higher order");
             const std::string advice =
                 sh->fit().relativeL2Error > kLooseFit
-                    ? (order < ZonalFitRequest::kMaxAutoOrder
-                           ? "raise \"order\" or use \"order\": \"auto\""
-                           : "that is the highest order: use \"sampling\": \"analytic\"")
+                    ? (highest ? "that is the highest order: use \"sampling\": \"analytic\""
+                               : "raise \"order\" or use \"order\": \"auto\"")
                 : depth < SHSampledPhase::kMaxDepth
                     ? std::string(
                           "raise \"sh_depth\": the sampler draws the fit averaged over "
@@ -429,21 +428,19 @@ std::vector<std::string> unusedKeyWarnings(const Json& doc, const Scene& scene,
     const RenderSettings& s = scene.settings;
     // (The product's lobe is a phase function's: surfaces draw no product sample; helper 124.)
     const bool product = s.lightSampling == LightSampling::Product;
-    // (product_depth 0 leaves the lobe out: the order shapes nothing; Effects::of)
-    const bool skyAlone = product && s.productDepth == 0;
-    for (const std::string key : {"product_order", "product_depth"})
-        if (render.contains(key) &&
-            (!product || !effects.scattering || (skyAlone && key == "product_order")))
+    for (const std::string key : {"product_order", "product_depth"}) {
+        std::string why;  // why the key shapes nothing ("" where it is used)
+        if (!product)
+            why = std::string("it shapes light_sampling \"product\", and this render's is \"") +
+                  lightSamplingName(s.lightSampling) + "\"";
+        else if (!effects.scattering)
+            why = "it shapes the phase lobes of light_sampling \"product\", and no medium scatters";
+        else if (key == "product_order" && s.productDepth == 0)  // (Effects::of)
+            why = "product_depth 0 warps by the sky alone, which is light_sampling \"wavelet\"";
+        if (render.contains(key) && !why.empty())
             unused("/render/" + key,
-                   "render." + key + ": " + render[key].dump() + " is not used: " +
-                       (!product ? std::string("it shapes light_sampling \"product\", and this "
-                                               "render's is \"") +
-                                       lightSamplingName(s.lightSampling) + "\""
-                        : !effects.scattering
-                            ? std::string("it shapes the phase lobes of light_sampling "
-                                          "\"product\", and no medium scatters")
-                            : std::string("product_depth 0 warps by the sky alone, which is "
-                                          "light_sampling \"wavelet\"")));
+                   "render." + key + ": " + render[key].dump() + " is not used: " + why);
+    }
     const Json cache = render.value("radiance_cache", Json::object());
     // A cached vertex's direct light is light_samples next-event samples: with next-event
     // estimation off none is drawn (1 and 8 rendered bit-identical images; helper 132).
@@ -1110,7 +1107,21 @@ int runRender(const RenderArgs& a) {
                 if (const std::string problem = inputFileProblem(a.checkpoint); !problem.empty())
                     failOption("--checkpoint",
                                a.checkpoint + ": " + problem + ": --resume continues it");
-            if (a.resume) film = readCheckpoint(a.checkpoint, identity);
+            if (a.resume) try {
+                    film = readCheckpoint(a.checkpoint, identity);
+                } catch (const Error& e) {
+                    if (!a.checkpointOptional) throw;
+                    warnings.push_back(std::string(e.what()) +
+                                       ": the checkpoint is not resumed; the render starts afresh");
+                }
+            // The checkpoint's temporaries that a render killed while it wrote one left (a
+            // checkpoint's size each; helper 147).
+            if (!a.checkpoint.empty()) {
+                const std::filesystem::path target = linkTarget(a.checkpoint);
+                removeStaleTemporaries(
+                    target.parent_path().empty() ? "." : target.parent_path().string(),
+                    [&](const std::string& name) { return name == target.filename().string(); });
+            }
             if (a.variance && film.maxCount() > 0 && film.sumSq.empty())
                 fail(a.checkpoint, "",
                      "was saved without --variance, so the standard errors of its samples are "
@@ -1196,6 +1207,22 @@ int runRender(const RenderArgs& a) {
     opt.part = spread ? world.rank() : 0;
     opt.parts = spread ? world.size() : 1;
     auto lastCheckpoint = std::chrono::steady_clock::now();
+    // Saves the film in the checkpoint; an optional one that cannot be written is warned of once,
+    // and no more are written.
+    bool checkpointing = !a.checkpoint.empty();
+    const auto saveCheckpoint = [&](const Film& f) {
+        if (!checkpointing) return;
+        try {
+            writeCheckpoint(a.checkpoint, f, identity);
+        } catch (const Error& e) {
+            if (!a.checkpointOptional) throw;
+            checkpointing = false;
+            warnings.push_back(
+                std::string(e.what()) +
+                ": no more checkpoints are written; the render goes on without them");
+            warnOnce(a.scene, a.run, warnings.back());
+        }
+    };
     opt.afterPass = [&](const Film& f, const RenderStats& st) {
         const uint32_t n = st.passEnd;
         if (n < spp && std::find(opt.stops.begin(), opt.stops.end(), n) != opt.stops.end()) {
@@ -1230,10 +1257,10 @@ int runRender(const RenderArgs& a) {
                              a.variance ? (", " + o.stderrImage).c_str() : "", o.stats.c_str(), n);
         }
         const auto now = std::chrono::steady_clock::now();
-        if (!a.checkpoint.empty() &&
-            (n == spp ||
+        if ((n == spp && !a.checkpointOptional) ||
+            (n < spp &&
              std::chrono::duration<double>(now - lastCheckpoint).count() >= a.checkpointInterval)) {
-            writeCheckpoint(a.checkpoint, f, identity);
+            saveCheckpoint(f);
             lastCheckpoint = now;
         }
     };
@@ -1247,8 +1274,7 @@ int runRender(const RenderArgs& a) {
     if (!speaks) return 0;
     const bool interrupted = r.stats.stop == RenderStop::Cancelled;
     // A render that stopped early has no closing afterPass call: save where it stopped.
-    if (!a.checkpoint.empty() && r.stats.stop != RenderStop::Completed)
-        writeCheckpoint(a.checkpoint, r.film, identity);
+    if (r.stats.stop != RenderStop::Completed) saveCheckpoint(r.film);
     provenance["total_s"] = secondsSoFar();
     // The images of --spp N1,… that a stop came before (each is written at its pass's end), said
     // on stderr and in the stats (they were on stderr only; helper 71).
@@ -1316,10 +1342,10 @@ void addRenderCommand(CLI::App& app, std::function<int()>& run) {
     c->add_flag("--variance", args->variance,
                 "Also write the standard error of each pixel's mean to <output>.stderr.exr");
     c->add_option("--seed", args->seed, "Random seed (overrides render.seed)")
-        ->check(integerIn(0, kMaxSeed))
+        ->transform(integerIn(0, kMaxSeed))
         ->default_str("the scene's render.seed");
     c->add_option("--threads", args->threads, "Worker threads (0: all cores)")
-        ->check(integerIn(0, 4096));
+        ->transform(integerIn(0, 4096));
     addSetOption(c, args->sets);
     c->add_flag("--quiet", args->quiet, "No progress bar or summary");
     c->add_option("--time-limit", args->timeLimit,

@@ -132,6 +132,10 @@ CLI::Validator integerIn(long long lo, long long hi) {
             if (text.empty() || startsBlank(text) || *end != '\0' || errno == ERANGE)
                 return "expected an integer in " + range + ", got \"" + text + "\"";
             if (v < lo || v > hi) return "must be an integer in " + range + ", got " + text;
+            // The value checked is the one used: CLI11 converts with base 0, which took "010" for
+            // octal 8 (a seed sweep of zero-padded numbers rendered other seeds; helper 152), so
+            // the text becomes v's decimal digits (for options given with ->transform).
+            text = std::to_string(v);
             return {};
         },
         "integer in " + range);

@@ -227,31 +227,6 @@ int syncToDisk(const std::string& path) {
 }
 }  // namespace
 
-/// Removes the temporaries `target.tmpPID` of processes that no longer run: a process ended by
-/// SIGKILL (`kill -9`, mpirun's one second after it passed a Ctrl-C on as SIGTERM) or a power
-/// cut never renames or removes its own, and a checkpoint's is the checkpoint's size (helper
-/// 147). A PID that runs, or that only another user's process holds, is left alone.
-void removeStaleTemporaries(const std::string& target) {
-    namespace fs = std::filesystem;
-    const fs::path t(target);
-    const fs::path directory = t.parent_path().empty() ? fs::path(".") : t.parent_path();
-    const std::string prefix = t.filename().string() + ".tmp";
-    std::error_code ec;
-    for (fs::directory_iterator it(directory, ec), end; !ec && it != end; it.increment(ec)) {
-        const std::string name = it->path().filename().string();
-        const std::string digits = name.size() > prefix.size() && name.rfind(prefix, 0) == 0
-                                       ? name.substr(prefix.size())
-                                       : std::string();
-        if (digits.empty() || digits.size() > 9 ||
-            !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
-            continue;
-        const pid_t pid = pid_t(std::stol(digits));
-        if (pid <= 0 || pid == ::getpid() || ::kill(pid, 0) == 0 || errno != ESRCH) continue;
-        std::error_code ignored;  // (another process may remove it first)
-        fs::remove(it->path(), ignored);
-    }
-}
-
 void writeTogether(const std::vector<FileWrite>& files,
                    const std::function<void(size_t)>& afterRename) {
     // A symbolic link keeps pointing where it did and its target gets the new contents (the
@@ -312,7 +287,6 @@ void writeTogether(const std::vector<FileWrite>& files,
         directories.insert(parent.empty() ? std::string(".") : parent.string());
     }
     for (const std::string& directory : directories) syncToDisk(directory);
-    for (size_t i = 0; i < std::min(failed, files.size()); ++i) removeStaleTemporaries(targets[i]);
     if (failed < files.size()) {
         removeFrom(failed);
         // The files renamed before it stay: a rename cannot be undone (the old files are gone).
@@ -321,6 +295,26 @@ void writeTogether(const std::vector<FileWrite>& files,
         fail(files[failed].path, "",
              "cannot write file (" + std::generic_category().message(error) + ")" +
                  (replaced.empty() ? "" : "; " + replaced + " already replaced"));
+    }
+}
+
+void removeStaleTemporaries(const std::string& directory,
+                            const std::function<bool(const std::string&)>& ours) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    for (fs::directory_iterator it(directory, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        const size_t tmp = name.rfind(".tmp");
+        if (tmp == std::string::npos || tmp == 0 || !ours(name.substr(0, tmp))) continue;
+        const std::string digits = name.substr(tmp + 4);
+        if (digits.empty() || digits.size() > 9 ||
+            !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+            continue;
+        std::error_code ignored;  // (another process may remove it first)
+        if (!it->is_regular_file(ignored) || it->is_symlink(ignored)) continue;
+        const pid_t pid = pid_t(std::stol(digits));
+        if (pid <= 0 || pid == ::getpid() || ::kill(pid, 0) == 0 || errno != ESRCH) continue;
+        fs::remove(it->path(), ignored);
     }
 }
 

@@ -17,6 +17,8 @@ constexpr int kSignalCount = int(sizeof kSignals / sizeof kSignals[0]);
 
 std::atomic<bool> gInterrupted{false};
 std::atomic<int> gFirstSignal{0};
+static_assert(std::atomic<bool>::is_always_lock_free && std::atomic<int>::is_always_lock_free,
+              "the signal handler stores to these atomics");
 
 /// The actions the guards replaced, one per entry of kSignals, and whether a guard's handler is
 /// installed for it. Written only under gMutex while none of this file's handlers is installed

@@ -208,6 +208,20 @@ TEST_F(Cli, UsageErrorsAreOneLine) {
     }
 }
 
+// An integer option's value is the decimal one that was checked: CLI11 converted it with base 0,
+// so zero-padded numbers were octal (--seed 010 rendered seed 8; helper 152).
+TEST_F(Cli, ZeroPaddedIntegersAreDecimal) {
+    write("s.json", scene(Homogeneous));
+    const Result r = run("render " + path("s.json") + " -o " + path("z.exr") +
+                         " --spp 1 --seed 010 --threads 03 --quiet");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto stats = nlohmann::json::parse(std::ifstream(path("z.stats.json")));
+    EXPECT_EQ(stats["seed"], 10);
+    EXPECT_EQ(stats["threads"], 3);
+    EXPECT_EQ(run("render " + path("s.json") + " -o " + path("z.exr") + " --seed 08 --quiet").code,
+              0);
+}
+
 // Number options say their real range in one short line; a wrong subcommand is named as such,
 // also with --help.
 TEST_F(Cli, NumberOptionsAndSubcommandsSayWhatIsWrong) {
@@ -1039,7 +1053,10 @@ TEST_F(Cli, RenderWarnsOfUnreliablePhaseFits) {
     EXPECT_NE(r.err.find("the SH-sampled weight p/pdf has second moment"), std::string::npos)
         << r.err;
     EXPECT_NE(r.err.find("use \"evaluate\": \"sh\" or a higher order"), std::string::npos) << r.err;
-    // At the highest order a higher one is no advice (helper 146).
+    // At the highest order a higher one is no advice (helpers 146, 151).
+    r = run(render + " --set media[0].phase.g=0.98 --set media[0].phase.order=256" +
+            " --set media[0].phase.window=none --set media[0].phase.sh_depth=8");
+    EXPECT_NE(r.err.find("of the bins: \"window\": \"hann\"\n"), std::string::npos) << r.err;
     r = run(render + " --set media[0].phase.g=0.999 --set media[0].phase.order=256" +
             " --set media[0].phase.evaluate=\\\"exact\\\"");
     EXPECT_NE(r.err.find("second moment"), std::string::npos) << r.err;
@@ -4056,6 +4073,37 @@ TEST_F(Cli, BatchResumesAnInterruptedReference) {
     EXPECT_EQ(test::fileBytes(path("out/reference.exr")),
               test::fileBytes(path("whole/reference.exr")));
     EXPECT_EQ(ledgerRows(path("out"))["r0000"]["rmse"], ledgerRows(path("whole"))["r0000"]["rmse"]);
+    // A damaged checkpoint of this reference is warned of and the reference starts afresh (every
+    // start failed on it; helper 151), and the temporaries a killed batch left among its outputs
+    // go, others stay (helper 147).
+    fs::remove_all(path("out"));
+    r = runCommand(std::string(SHVOL_BINARY) + " batch " + path("a.json") +
+                   " --threads 1 --output " + path("out") + " 2>" + path("bg.txt") +
+                   killOnceCaught("TERM", SIGTERM, "0.5"));
+    ASSERT_EQ(r.code, 128 + SIGTERM) << test::fileBytes(path("bg.txt"));
+    {
+        std::fstream ck(path("out/reference.exr.checkpoint"),
+                        std::ios::in | std::ios::out | std::ios::binary);
+        ck.seekp(200);
+        ck.put('\x5a');
+    }
+    const pid_t child = ::fork();
+    if (child == 0) ::_exit(0);
+    ::waitpid(child, nullptr, 0);  // (its PID runs nothing now)
+    const std::string dead = ".tmp" + std::to_string(child);
+    for (const std::string name : {"r0000.exr", "reference.stats.json", "mine.exr"})
+        std::ofstream(path("out/" + name + dead)) << "left by kill -9";
+    r = run("batch " + path("a.json") + " --threads 2 --output " + path("out"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("reference.exr.checkpoint: checksum mismatch (corrupt file): the "
+                         "checkpoint is not resumed; the render starts afresh"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(test::fileBytes(path("out/reference.exr")),
+              test::fileBytes(path("whole/reference.exr")));
+    EXPECT_FALSE(fs::exists(path("out/r0000.exr" + dead)));
+    EXPECT_FALSE(fs::exists(path("out/reference.stats.json" + dead)));
+    EXPECT_TRUE(fs::exists(path("out/mine.exr" + dead)));
 }
 
 // An error in a run's scene names the scene and the key, and the run of the sweep that set it.

@@ -36,9 +36,9 @@ std::string contents(const fs::path& p) {
 
 }  // namespace
 
-// A temporary that a process ended by SIGKILL left (kill -9, mpirun's kill a second after a
-// Ctrl-C; helper 147) is removed once its target is written again; one of a process that runs,
-// this one's parent, and names that only look alike stay.
+// The temporaries of processes ended by SIGKILL (kill -9, mpirun's kill a second after a Ctrl-C;
+// helper 147) are removed, for the names the caller owns; one of a process that runs (this one's
+// parent), other names, names that only look alike and what is not a regular file stay.
 TEST(AtomicFile, TemporariesOfEndedProcessesAreRemoved) {
     const ScratchDir dir;
     const pid_t child = ::fork();
@@ -46,16 +46,25 @@ TEST(AtomicFile, TemporariesOfEndedProcessesAreRemoved) {
     ASSERT_GT(child, 0);
     int status = 0;
     ::waitpid(child, &status, 0);  // reaped: its PID runs nothing now
-    const fs::path out = dir.path / "out.ck";
-    const std::vector<std::string> stay = {
-        "out.ck.tmp" + std::to_string(::getppid()), "out.ck.tmpx1", "out.ck.tmp",
-        "other.ck.tmp" + std::to_string(child), "out.ck.tmp-" + std::to_string(child)};
+    const std::string dead = std::to_string(child);
+    const std::vector<std::string> stay = {"out.ck.tmp" + std::to_string(::getppid()),
+                                           "out.ck.tmpx1",
+                                           "out.ck.tmp",
+                                           "other.ck.tmp" + dead,
+                                           "out.ck.tmp-" + dead,
+                                           "out.ck.tmp" + dead + ".txt"};
     for (const std::string& name : stay) std::ofstream(dir.path / name) << "keep";
-    std::ofstream(dir.path / ("out.ck.tmp" + std::to_string(child))) << "left by kill -9";
-    writeTextAtomically(out.string(), "new");
-    EXPECT_EQ(contents(out), "new");
-    EXPECT_FALSE(fs::exists(dir.path / ("out.ck.tmp" + std::to_string(child))));
+    fs::create_directory(dir.path / ("out.ck.stats.tmp" + dead));  // (a directory: kept)
+    fs::create_symlink(dir.path / "other.ck.tmp" / "x", dir.path / ("out.exr.tmp" + dead));
+    for (const char* name : {"out.ck", "out.exr.stats.json"})
+        std::ofstream(dir.path / (name + (".tmp" + dead))) << "left by kill -9";
+    removeStaleTemporaries(dir.path.string(),
+                           [](const std::string& name) { return name.rfind("out.", 0) == 0; });
+    EXPECT_FALSE(fs::exists(dir.path / ("out.ck.tmp" + dead)));
+    EXPECT_FALSE(fs::exists(dir.path / ("out.exr.stats.json.tmp" + dead)));
     for (const std::string& name : stay) EXPECT_TRUE(fs::exists(dir.path / name)) << name;
+    EXPECT_TRUE(fs::is_directory(dir.path / ("out.ck.stats.tmp" + dead)));
+    EXPECT_TRUE(fs::is_symlink(dir.path / ("out.exr.tmp" + dead)));
 }
 
 // A symbolic link named as an output keeps pointing where it did, and its target gets the new

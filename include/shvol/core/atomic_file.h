@@ -15,10 +15,17 @@ namespace shvol {
 /// there throws before write is called ("path: cannot write: is not a regular file (…)"). A
 /// SIGTERM, SIGHUP or SIGINT that ends the process meanwhile (one whose action was the default when
 /// the first write began) removes the temporary too before the process ends as the signal would
-/// have ended it. Once path is written, the temporaries of it that processes no longer running
-/// left (`path.tmpPID`: SIGKILL and power cuts end a process before it can remove its own) are
-/// removed.
+/// have ended it.
 void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write);
+
+/// Removes from `directory` the temporaries that processes no longer running left, regular files
+/// `NAME.tmpPID` whose NAME is `ours` and whose PID runs nothing (ESRCH): SIGKILL (`kill -9`,
+/// mpirun's a second after it passed a Ctrl-C on) and power cuts end a process before it removes
+/// its own, and a checkpoint's is as large as the checkpoint (helper 147). For directories and
+/// names the caller owns (a batch's output directory, under its lock; a render's checkpoint): a
+/// PID of another PID namespace or host reads as not running, and any file so named goes.
+void removeStaleTemporaries(const std::string& directory,
+                            const std::function<bool(const std::string&)>& ours);
 
 /// One file of writeTogether: where it goes and what writes it (given its temporary's path).
 struct FileWrite {

@@ -26,8 +26,8 @@ class InterruptGuard {
     static const std::atomic<bool>& interrupted();
 
     /// The exit code of a job the first signal stopped: 128 + its number (130 for SIGINT, 143 for
-    /// SIGTERM, 129 for SIGHUP), as a shell reports a process that signal ended; 130 when the stop
-    /// came from elsewhere (an MPI rank stopped by its root).
+    /// SIGTERM, 129 for SIGHUP), as a shell reports a process that signal ended; 130 if no signal
+    /// has been caught.
     static int stopExitCode();
 };
 
