@@ -2,6 +2,7 @@
 
 #include <zlib.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <fstream>
@@ -21,16 +22,16 @@ namespace {
 void put32(std::vector<uint8_t>& out, uint32_t v) {
     for (int s = 24; s >= 0; s -= 8) out.push_back(uint8_t(v >> s));
 }
-void chunk(std::vector<uint8_t>& out, const char type[4], const std::vector<uint8_t>& data) {
-    put32(out, uint32_t(data.size()));
+void chunk(std::vector<uint8_t>& out, const char type[4], const uint8_t* data, size_t size) {
+    put32(out, uint32_t(size));
     const size_t start = out.size();
     out.insert(out.end(), type, type + 4);
-    out.insert(out.end(), data.begin(), data.end());
+    out.insert(out.end(), data, data + size);
     put32(out, uint32_t(crc32(0, out.data() + start, uInt(out.size() - start))));
 }
 }  // namespace
 
-std::vector<uint8_t> encodePng(const Image& img, double exposure) {
+std::vector<uint8_t> encodePng(const Image& img, double exposure, size_t maxIdat) {
     const double k = std::exp2(exposure);
     std::vector<uint8_t> raw;
     raw.reserve(size_t(img.height) * (1 + 3 * size_t(img.width)));
@@ -51,9 +52,13 @@ std::vector<uint8_t> encodePng(const Image& img, double exposure) {
     put32(ihdr, uint32_t(img.width));
     put32(ihdr, uint32_t(img.height));
     ihdr.insert(ihdr.end(), {8, 2, 0, 0, 0});  // 8 bits, RGB, deflate, filter 0, no interlace
-    chunk(out, "IHDR", ihdr);
-    chunk(out, "IDAT", z);
-    chunk(out, "IEND", {});
+    chunk(out, "IHDR", ihdr.data(), ihdr.size());
+    // A chunk's length is below 2^31 (and zlib's CRC takes 32-bit lengths): the compressed data
+    // of a large noisy image can be longer, and went into one IDAT (helper 152).
+    maxIdat = std::clamp<size_t>(maxIdat, 1, kMaxPngIdat);
+    for (size_t at = 0; at < z.size(); at += maxIdat)
+        chunk(out, "IDAT", z.data() + at, std::min(maxIdat, z.size() - at));
+    chunk(out, "IEND", nullptr, 0);
     return out;
 }
 

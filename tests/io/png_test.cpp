@@ -25,43 +25,55 @@ TEST(Png, SrgbCodes) {
     EXPECT_EQ(srgbByte(-INFINITY), 0);
 }
 
-// The file decodes as a PNG: signature, IHDR, CRCs, and the pixels after inflating IDAT.
+// The file decodes as a PNG: signature, IHDR, CRCs, and the pixels after inflating IDAT, also
+// with its data cut into IDAT chunks of a few bytes (a large image's exceeded one chunk's 2^31;
+// helper 152).
 TEST(Png, EncodesAReadableFile) {
     Image img(3, 2);
     img.set(0, 0, Spectrum(1, 0, 0));
     img.set(2, 1, Spectrum(0.25, 0.5, 2));
-    const std::vector<uint8_t> png = encodePng(img, 1.0);  // exposure +1: ×2
-    const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-    ASSERT_TRUE(std::equal(sig, sig + 8, png.begin()));
-    size_t at = 8;
-    std::vector<uint8_t> idat;
-    int chunks = 0;
-    while (at < png.size()) {
-        const uint32_t len = get32(png, at);
-        const std::string type(png.begin() + at + 4, png.begin() + at + 8);
-        const uint32_t crc = uint32_t(crc32(0, &png[at + 4], len + 4));
-        EXPECT_EQ(crc, get32(png, at + 8 + len)) << type;
-        if (type == "IHDR") {
-            EXPECT_EQ(get32(png, at + 8), 3u);
-            EXPECT_EQ(get32(png, at + 12), 2u);
-            EXPECT_EQ(png[at + 16], 8);  // bit depth
-            EXPECT_EQ(png[at + 17], 2);  // RGB
+    for (const size_t maxIdat : {kMaxPngIdat, size_t(5)}) {
+        const std::vector<uint8_t> png = encodePng(img, 1.0, maxIdat);  // exposure +1: ×2
+        const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+        ASSERT_TRUE(std::equal(sig, sig + 8, png.begin()));
+        size_t at = 8;
+        std::vector<uint8_t> idat;
+        std::vector<std::string> types;
+        while (at < png.size()) {
+            const uint32_t len = get32(png, at);
+            const std::string type(png.begin() + at + 4, png.begin() + at + 8);
+            const uint32_t crc = uint32_t(crc32(0, &png[at + 4], len + 4));
+            EXPECT_EQ(crc, get32(png, at + 8 + len)) << type;
+            if (type == "IHDR") {
+                EXPECT_EQ(get32(png, at + 8), 3u);
+                EXPECT_EQ(get32(png, at + 12), 2u);
+                EXPECT_EQ(png[at + 16], 8);  // bit depth
+                EXPECT_EQ(png[at + 17], 2);  // RGB
+            }
+            if (type == "IDAT") {
+                EXPECT_LE(len, maxIdat);
+                idat.insert(idat.end(), &png[at + 8], &png[at + 8 + len]);
+            }
+            at += 12 + len;
+            types.push_back(type);
         }
-        if (type == "IDAT") idat.insert(idat.end(), &png[at + 8], &png[at + 8 + len]);
-        at += 12 + len;
-        ++chunks;
+        ASSERT_GE(types.size(), 3u);
+        EXPECT_EQ(types.front(), "IHDR");
+        EXPECT_EQ(types.back(), "IEND");
+        const size_t idats = types.size() - 2;
+        EXPECT_EQ(idats, (idat.size() + maxIdat - 1) / maxIdat) << maxIdat;
+        if (maxIdat == 5) EXPECT_GT(idats, 1u);
+        std::vector<uint8_t> raw(2 * (1 + 9));
+        uLongf size = uLongf(raw.size());
+        ASSERT_EQ(uncompress(raw.data(), &size, idat.data(), uLong(idat.size())), Z_OK);
+        ASSERT_EQ(size, raw.size());
+        EXPECT_EQ(raw[0], 0);                                                // filter byte
+        const std::vector<uint8_t> first(raw.begin() + 1, raw.begin() + 4);  // (1, 0, 0)×2
+        EXPECT_EQ(first, (std::vector<uint8_t>{255, 0, 0}));
+        // (0.25, 0.5, 2)×2 = (0.5, 1, 4) → (188, 255, 255)
+        const std::vector<uint8_t> last(raw.begin() + 17, raw.begin() + 20);
+        EXPECT_EQ(last, (std::vector<uint8_t>{188, 255, 255}));
     }
-    EXPECT_EQ(chunks, 3);
-    std::vector<uint8_t> raw(2 * (1 + 9));
-    uLongf size = uLongf(raw.size());
-    ASSERT_EQ(uncompress(raw.data(), &size, idat.data(), uLong(idat.size())), Z_OK);
-    ASSERT_EQ(size, raw.size());
-    EXPECT_EQ(raw[0], 0);                                                // filter byte
-    const std::vector<uint8_t> first(raw.begin() + 1, raw.begin() + 4);  // (1, 0, 0)×2
-    EXPECT_EQ(first, (std::vector<uint8_t>{255, 0, 0}));
-    // (0.25, 0.5, 2)×2 = (0.5, 1, 4) → (188, 255, 255)
-    const std::vector<uint8_t> last(raw.begin() + 17, raw.begin() + 20);
-    EXPECT_EQ(last, (std::vector<uint8_t>{188, 255, 255}));
 }
 
 }  // namespace shvol
