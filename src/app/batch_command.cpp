@@ -130,6 +130,19 @@ CurrentReference currentReference(const Sweep& s, bool ztest, std::map<std::stri
     return r;
 }
 
+/// The checkpoint one process keeps beside a rendered reference, often the sweep's longest
+/// render (REFERENCE.checkpoint), which a batch started again resumes where its own stamp (the
+/// reference's and the build's, which a checkpoint names) is this batch's; a Ctrl-C lost all of
+/// it (helper 147). Ranks share no checkpoint (README, "MPI").
+struct ReferenceCheckpoint {
+    ReferenceCheckpoint(const SweepReference& ref, const std::string& referenceStamp)
+        : file(ref.file + ".checkpoint"),
+          stampFile(file + ".stamp"),
+          stamp(referenceStamp + "\nbuild " + gitRevision() + "\n") {}
+    bool resumable() const { return fs::exists(file) && fileText(stampFile) == stamp; }
+    std::string file, stampFile, stamp;
+};
+
 /// Renders the reference (quietly; under mpirun every rank takes part) and stamps it with
 /// `stamp` (rank 0's). Returns the exit code of the render (InterruptGuard::stopExitCode():
 /// interrupted).
@@ -153,18 +166,13 @@ int renderReference(const Sweep& s, const BatchArgs& a, bool variance, const std
     collectively([&] {  // (rank 0 removes it; the others wait, and fail with it)
         if (world.root()) removeOrFail(ref.file + ".fingerprint", "the old stamp");
     });
-    // One process checkpoints the reference, often the sweep's longest render, beside it
-    // (REFERENCE.checkpoint), and a batch started again resumes it where the checkpoint's own
-    // stamp (the reference's and the build's, which a checkpoint names) is this batch's; a
-    // Ctrl-C lost all of it (helper 147). Ranks share no checkpoint (README, "MPI").
-    const std::string checkpointStamp = stamp + "\nbuild " + gitRevision() + "\n";
-    const std::string checkpointStampFile = ref.file + ".checkpoint.stamp";
+    const ReferenceCheckpoint ck(ref, stamp);
     if (world.size() == 1) {
-        r.checkpoint = ref.file + ".checkpoint";
-        r.resume = fs::exists(r.checkpoint) && fileText(checkpointStampFile) == checkpointStamp;
+        r.checkpoint = ck.file;
+        r.resume = ck.resumable();
         if (!r.resume) {  // (another render's checkpoint must not meet this stamp)
-            removeOrFail(r.checkpoint);
-            writeTextAtomically(checkpointStampFile, checkpointStamp);
+            removeOrFail(ck.file);
+            writeTextAtomically(ck.stampFile, ck.stamp);
         }
     }
     const int code = runRender(r);
@@ -175,9 +183,10 @@ int renderReference(const Sweep& s, const BatchArgs& a, bool variance, const std
             writeTextAtomically(ref.file + ".fingerprint",
                                 referenceRecord(stamp, ref.file, variance));
     });
-    if (code == 0 && !r.checkpoint.empty()) {  // (finished: the checkpoint has served)
-        removeOrFail(r.checkpoint);
-        removeOrFail(checkpointStampFile);
+    if (code == 0 &&
+        world.root()) {  // (finished: a checkpoint, also an earlier start's, has served)
+        removeOrFail(ck.file);
+        removeOrFail(ck.stampFile);
     }
     return code;
 }
@@ -845,13 +854,19 @@ int runBatch(BatchArgs a) {
         // A rendered reference is said to be cached or to render first, or not to be needed
         // when every run is finished, as the start decides (helper 86: the same words whether
         // it was finished, half-rendered or missing; helper 90: or not needed).
-        if (s.reference)
-            std::printf("reference %s%s\n", s.reference->file.c_str(),
-                        !s.reference->render        ? ""
-                        : finished == s.runs.size() ? " (not needed: every run is finished)"
-                        : referenceCached(s, currentReference(s, ztest, inputs).stamp, ztest)
-                            ? " (rendered, cached)"
-                            : " (rendered first, then cached)");
+        if (s.reference && !s.reference->render)
+            std::printf("reference %s\n", s.reference->file.c_str());
+        else if (s.reference && finished == s.runs.size())
+            std::printf("reference %s (not needed: every run is finished)\n",
+                        s.reference->file.c_str());
+        else if (s.reference) {
+            const std::string stamp = currentReference(s, ztest, inputs).stamp;
+            std::printf("reference %s (%s)\n", s.reference->file.c_str(),
+                        referenceCached(s, stamp, ztest) ? "rendered, cached"
+                        : world.size() == 1 && ReferenceCheckpoint(*s.reference, stamp).resumable()
+                            ? "rendered first, resuming its checkpoint, then cached"
+                            : "rendered first, then cached");
+        }
         for (const SweepRun& run : s.runs)
             std::printf("%s%s\n", describe(run, s.axes).c_str(),
                         done.find(run.id) ? " (finished)" : "");

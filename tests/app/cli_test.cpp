@@ -4061,6 +4061,11 @@ TEST_F(Cli, BatchResumesAnInterruptedReference) {
     EXPECT_EQ(err.find("--resume"), std::string::npos) << err;  // (the batch resumes it)
     ASSERT_TRUE(fs::exists(path("out/reference.exr.checkpoint")));
     EXPECT_FALSE(fs::exists(path("out/reference.exr.fingerprint")));
+    r = run("batch " + path("a.json") + " --dry-run --output " + path("out"));
+    EXPECT_NE(r.out.find("reference " + path("out/reference.exr") +
+                         " (rendered first, resuming its checkpoint, then cached)\n"),
+              std::string::npos)
+        << r.out;
     r = run("batch " + path("a.json") + " --quiet --threads 2 --output " + path("out"));
     ASSERT_EQ(r.code, 0) << r.err;
     const auto stats = nlohmann::json::parse(std::ifstream(path("out/reference.stats.json")));
