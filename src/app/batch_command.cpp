@@ -183,8 +183,8 @@ int renderReference(const Sweep& s, const BatchArgs& a, bool variance, const std
             writeTextAtomically(ref.file + ".fingerprint",
                                 referenceRecord(stamp, ref.file, variance));
     });
-    if (code == 0 &&
-        world.root()) {  // (finished: a checkpoint, also an earlier start's, has served)
+    // Finished: a checkpoint, also one an earlier start left, has served.
+    if (code == 0 && world.root()) {
         removeOrFail(ck.file);
         removeOrFail(ck.stampFile);
     }
