@@ -4,5 +4,6 @@ if ! "$PY" -c 'import matplotlib, numpy' 2>/dev/null; then
     SUDO=""
     [ "$(id -u)" -ne 0 ] && SUDO=sudo
     $SUDO apt-get update
-    $SUDO apt-get install -y --no-install-recommends python3-matplotlib python3-numpy
+    $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
+        python3-matplotlib python3-numpy
 fi

@@ -7,9 +7,7 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 BUILD_DIR="${BUILD_DIR:-build}"
 cd "$ROOT"
-if [ ! -f "$BUILD_DIR/build.ninja" ]; then
-    cmake -G Ninja -B "$BUILD_DIR" -S . -DCMAKE_BUILD_TYPE=Release >/dev/null
-fi
+source validation/configure.sh validate_sh  # (clang++, as setup.sh configures build/)
 ninja -C "$BUILD_DIR" -j1 validate_sh
 mkdir -p validation/sh/results
 "$BUILD_DIR/validate_sh" validation/sh/results | tee validation/sh/results/summary.txt

@@ -14,6 +14,6 @@ if ! "$PY" -c 'import numpy' 2>/dev/null; then
     SUDO=""
     [ "$(id -u)" -ne 0 ] && SUDO=sudo
     $SUDO apt-get update
-    $SUDO apt-get install -y --no-install-recommends python3-numpy
+    $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends python3-numpy
 fi
-SHVOL="$ROOT/$BUILD_DIR/shvol" "$PY" validation/slab/run.py
+SHVOL="$(cd "$BUILD_DIR" && pwd)/shvol" "$PY" validation/slab/run.py
