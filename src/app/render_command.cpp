@@ -747,9 +747,13 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
         cj["record_paths"] = rc.recordPaths;
         cj["record_paths_truncated"] = rc.recordPathsTruncated;
         cj["record_non_finite_samples"] = rc.recordNonFinite;
-        cj["record_irradiance_relative_error"] = {{"median", rc.recordErrorMedian},
-                                                  {"p90", rc.recordErrorP90},
-                                                  {"max", rc.recordErrorMax}};
+        // (one ray gives no error estimate: unknown, where 0 read as perfect records; helper 155)
+        const auto known = [&](double e) {
+            return scene.settings.radianceCache.raysPerRecord >= 2 ? Json(e) : Json();
+        };
+        cj["record_irradiance_relative_error"] = {{"median", known(rc.recordErrorMedian)},
+                                                  {"p90", known(rc.recordErrorP90)},
+                                                  {"max", known(rc.recordErrorMax)}};
         cj["record_invalid_draws"] = invalidDrawsJson(rc.recordInvalid);
         cj["lookups"] = c.cacheLookups;
         cj["lookups_answered"] = c.cacheHits;
