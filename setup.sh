@@ -95,6 +95,11 @@ sanitizers() {
   t0=$SECONDS
   local work artifacts="$PWD/build-asan/fuzz-artifacts" supp="$PWD/tests/sanitizers/lsan.supp"
   work=$(mktemp -d)
+  # Ctrl-C (or CI's SIGTERM) ends the fuzzers under way and removes their work directory, which
+  # kept running and stayed behind (helper 154).
+  local running=()
+  trap 'kill "${running[@]}" 2>/dev/null; rm -rf "$work"; exit 130' INT
+  trap 'kill "${running[@]}" 2>/dev/null; rm -rf "$work"; exit 143' TERM
   mkdir -p "$artifacts"
   # Each fuzzer is one process on one core, so nproc of them run side by side, each for the full
   # time. An input taking 60 s is a hang; the slowest seen took 2.3 s in a fast hour (README).
@@ -110,16 +115,19 @@ sanitizers() {
         -artifact_prefix="$artifacts/${name}-" >"$work/$name.log" 2>&1 &
       pids+=($!)
     done
+    running=("${pids[@]}")
     for k in "${!batch[@]}"; do
       name=${batch[k]}
       if wait "${pids[k]}"; then
         echo "setup: ${name}_fuzzer: $(grep -Eo '#[0-9]+[[:space:]]+DONE.*' "$work/$name.log" | tail -n 1)" >&2
       else
+        echo "setup: ${name}_fuzzer failed; the last lines of its log:" >&2
         tail -n 60 "$work/$name.log" >&2
         failed+=("$name")
       fi
     done
   done
+  trap - INT TERM
   rm -rf "$work"
   if ((${#failed[@]})); then
     echo "setup: failed: ${failed[*]/%/_fuzzer}; the inputs are in $artifacts" >&2
