@@ -6,16 +6,18 @@
 # Nothing is downloaded except Debian packages through apt-get.
 set -euo pipefail
 cd "$(dirname "$0")"
-case "${1:-build}" in
-  render | test | build) ;;
-  *) echo "usage: $0 [render|test|build]" >&2; exit 2 ;;
-esac
-# The sanitizers' options (LSAN_OPTIONS) split at blanks, ':' and ',', and the tests build shell
-# commands from the checkout's path: such a path would fail them by the dozen (helper 154).
-case "$PWD" in
-  *[[:space:]:,]*)
-    echo "setup: the checkout's path '$PWD' has a blank, ':' or ','; the sanitizer options and" \
-         "the tests' commands cannot carry it: move the checkout to a path without them" >&2
+if [ $# -gt 1 ] || ! case "${1:-build}" in render | test | build) true ;; *) false ;; esac; then
+  echo "usage: $0 [render|test|build]" >&2
+  exit 2
+fi
+# The tests build shell commands from the checkout's path, and the sanitizers' options
+# (LSAN_OPTIONS) split at blanks, ':' and ',': a path of other characters than these would fail
+# them by the dozen (helpers 154, 156). The path the build sees, links resolved, is checked.
+case "$(pwd -P)" in
+  *[!A-Za-z0-9._/+@%=-]*)
+    echo "setup: the checkout's path '$(pwd -P)' has characters other than letters, digits and" \
+         "._/+@%=-, which the tests' commands and the sanitizer options cannot carry: move the" \
+         "checkout to such a path" >&2
     exit 1 ;;
 esac
 
@@ -30,8 +32,26 @@ missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# apt-get, retried while another apt holds its lock (at boot, apt-daily's update holds the lists'
+# lock, which DPkg::Lock::Timeout does not cover; helper 156), for up to 10 minutes.
+apt_get() {
+  local log tries=0 rc
+  log=$(mktemp)
+  while :; do
+    rc=0
+    $sudo env DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout=600 "$@" \
+      2> >(tee "$log" >&2) || rc=$?
+    wait  # (for tee)
+    if [ "$rc" -ne 0 ] && grep -q "Could not get lock" "$log" && ((++tries < 60)); then
+      echo "setup: another apt-get holds its lock; trying again in 10 s" >&2
+      sleep 10
+      continue
+    fi
+    rm -f "$log"
+    return "$rc"
+  done
+}
 if ((${#missing[@]})); then
-  echo "setup: installing ${missing[*]}" >&2
   sudo=""
   if [ "$(id -u)" -ne 0 ]; then
     if ! command -v sudo >/dev/null; then
@@ -41,15 +61,16 @@ if ((${#missing[@]})); then
     fi
     sudo="sudo"
   fi
-  # An update that cannot reach the archive fails here, not as "Unable to locate package" later;
-  # both wait for a dpkg lock held at boot (unattended-upgrades) rather than fail at once.
-  apt=(-o APT::Update::Error-Mode=any -o DPkg::Lock::Timeout=600)
-  if ! $sudo apt-get "${apt[@]}" update; then
-    echo "setup: apt-get update failed: is Debian's package archive reachable?" >&2
+  echo "setup: installing ${missing[*]}" >&2
+  if ! apt_get update; then
+    echo "setup: apt-get update failed (its errors are above)" >&2
     exit 1
   fi
-  $sudo env DEBIAN_FRONTEND=noninteractive apt-get "${apt[@]}" install -y --no-install-recommends \
-    "${missing[@]}"
+  if ! apt_get install -y --no-install-recommends "${missing[@]}"; then
+    echo "setup: apt-get install failed (its errors are above); a package it cannot locate" \
+         "means the update above did not reach Debian's package archive" >&2
+    exit 1
+  fi
 fi
 
 # clang++ compiles the OpenVDB translation unit about 2.5x faster than g++.
