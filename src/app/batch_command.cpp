@@ -864,7 +864,7 @@ int runBatch(BatchArgs a) {
             std::printf("reference %s (%s)\n", s.reference->file.c_str(),
                         referenceCached(s, stamp, ztest) ? "rendered, cached"
                         : world.size() == 1 && ReferenceCheckpoint(*s.reference, stamp).resumable()
-                            ? "rendered first, resuming its checkpoint, then cached"
+                            ? "rendered first, from its checkpoint where that reads, then cached"
                             : "rendered first, then cached");
         }
         for (const SweepRun& run : s.runs)
@@ -894,12 +894,11 @@ int runBatch(BatchArgs a) {
         // The temporaries of its outputs that a killed batch left (mpirun kills the ranks a
         // second after it passed a Ctrl-C on; helper 147): the directory is this batch's while it
         // holds the ledger's lock.
+        // (report.py's are named without a PID, and are not: a `shvol report` may be writing.)
         static const std::regex own(R"((r[0-9]{4,}|reference)\..+|results\.(jsonl|csv))");
-        const std::vector<std::string> report = reportOutputs(s.axes, s.metrics);
-        removeStaleTemporaries(s.output, [&](const std::string& name) {
-            return std::regex_match(name, own) ||
-                   std::find(report.begin(), report.end(), name) != report.end();
-        });
+        if (ledger->locked())
+            removeStaleTemporaries(
+                s.output, [&](const std::string& name) { return std::regex_match(name, own); });
         adoptFinishedIds(s, ledger->rows());
         checkFinishedRows(*ledger, s, reference);
         checkRunOutputs(s, *ledger, ztest);

@@ -747,9 +747,11 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
         cj["record_paths"] = rc.recordPaths;
         cj["record_paths_truncated"] = rc.recordPathsTruncated;
         cj["record_non_finite_samples"] = rc.recordNonFinite;
-        // (one ray gives no error estimate: unknown, where 0 read as perfect records; helper 155)
+        // (one ray, or no record, gives no error estimate: unknown, where 0 read as perfect
+        // records; helpers 155, 156)
         const auto known = [&](double e) {
-            return scene.settings.radianceCache.raysPerRecord >= 2 ? Json(e) : Json();
+            return scene.settings.radianceCache.raysPerRecord >= 2 && rc.records > 0 ? Json(e)
+                                                                                     : Json();
         };
         cj["record_irradiance_relative_error"] = {{"median", known(rc.recordErrorMedian)},
                                                   {"p90", known(rc.recordErrorP90)},
@@ -1236,18 +1238,21 @@ int runRender(const RenderArgs& a) {
     opt.parts = spread ? world.size() : 1;
     auto lastCheckpoint = std::chrono::steady_clock::now();
     // Saves the film in the checkpoint; an optional one that cannot be written is warned of once,
-    // and no more are written.
+    // and no more are written. `last`: the save at a stop, after which nothing goes on.
     bool checkpointing = !a.checkpoint.empty();
-    const auto saveCheckpoint = [&](const Film& f) {
+    const auto saveCheckpoint = [&](const Film& f, bool last) {
         if (!checkpointing) return;
         try {
             writeCheckpoint(a.checkpoint, f, identity);
         } catch (const Error& e) {
             if (!a.checkpointOptional) throw;
             checkpointing = false;
-            warnings.push_back(
-                std::string(e.what()) +
-                ": no more checkpoints are written; the render goes on without them");
+            // (at a stop it said the render went on; helper 156)
+            warnings.push_back(std::string(e.what()) +
+                               (last ? ": the samples so far are not kept; the next start begins "
+                                       "afresh"
+                                     : ": no more checkpoints are written; the render goes on "
+                                       "without them"));
             warnOnce(a.scene, a.run, warnings.back());
         }
     };
@@ -1288,7 +1293,7 @@ int runRender(const RenderArgs& a) {
         if ((n == spp && !a.checkpointOptional) ||
             (n < spp &&
              std::chrono::duration<double>(now - lastCheckpoint).count() >= a.checkpointInterval)) {
-            saveCheckpoint(f);
+            saveCheckpoint(f, false);
             lastCheckpoint = now;
         }
     };
@@ -1302,7 +1307,7 @@ int runRender(const RenderArgs& a) {
     if (!speaks) return 0;
     const bool interrupted = r.stats.stop == RenderStop::Cancelled;
     // A render that stopped early has no closing afterPass call: save where it stopped.
-    if (r.stats.stop != RenderStop::Completed) saveCheckpoint(r.film);
+    if (r.stats.stop != RenderStop::Completed) saveCheckpoint(r.film, true);
     provenance["total_s"] = secondsSoFar();
     // The images of --spp N1,… that a stop came before (each is written at its pass's end), said
     // on stderr and in the stats (they were on stderr only; helper 71).

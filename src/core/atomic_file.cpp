@@ -307,7 +307,7 @@ void removeStaleTemporaries(const std::string& directory,
         const size_t tmp = name.rfind(".tmp");
         if (tmp == std::string::npos || tmp == 0 || !ours(name.substr(0, tmp))) continue;
         const std::string digits = name.substr(tmp + 4);
-        if (digits.empty() || digits.size() > 9 ||
+        if (digits.empty() || digits.size() > 9 || digits[0] == '0' ||  // (as getpid() prints)
             !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
             continue;
         std::error_code ignored;  // (another process may remove it first)

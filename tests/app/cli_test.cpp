@@ -60,10 +60,10 @@ class Cli : public testing::Test {
         fs::create_directories(dir_);
         // matplotlib (shvol report) warns on stderr where it cannot write its cache under HOME,
         // which the tests of report's exact messages took for report's (helper 154): its own
-        // directory, unless the caller gave one.
+        // directory in the build tree (one in /tmp for every user of the machine was another's
+        // once made; helper 156), unless the caller gave one.
         if (const char* given = std::getenv("MPLCONFIGDIR"); !given || !*given)
-            ::setenv("MPLCONFIGDIR", (fs::path(testing::TempDir()) / "shvol_cli_mplconfig").c_str(),
-                     1);
+            ::setenv("MPLCONFIGDIR", SHVOL_TEST_MPLCONFIG, 1);
     }
     std::string path(const std::string& name) const { return (dir_ / name).string(); }
     void write(const std::string& name, const std::string& text) const {
@@ -4105,7 +4105,7 @@ TEST_F(Cli, BatchResumesAnInterruptedReference) {
     EXPECT_FALSE(fs::exists(path("out/reference.exr.fingerprint")));
     r = run("batch " + path("a.json") + " --dry-run --output " + path("out"));
     EXPECT_NE(r.out.find("reference " + path("out/reference.exr") +
-                         " (rendered first, resuming its checkpoint, then cached)\n"),
+                         " (rendered first, from its checkpoint where that reads, then cached)\n"),
               std::string::npos)
         << r.out;
     r = run("batch " + path("a.json") + " --quiet --threads 2 --output " + path("out"));
@@ -4151,6 +4151,27 @@ TEST_F(Cli, BatchResumesAnInterruptedReference) {
     EXPECT_FALSE(fs::exists(path("out/r0000.exr" + dead)));
     EXPECT_FALSE(fs::exists(path("out/reference.stats.json" + dead)));
     EXPECT_TRUE(fs::exists(path("out/mine.exr" + dead)));
+}
+
+// A batch's reference checkpoint that does not fit on the disk (here a file-size limit: a
+// checkpoint is 36 bytes a pixel, the image less) is warned of, and at a stop the warning says the
+// samples are not kept, not that the render goes on (helper 156); the partial image is written.
+TEST_F(Cli, BatchReferenceCheckpointThatDoesNotFitIsWarnedOf) {
+    write("s.json", scene(Homogeneous));
+    write("a.json", R"({"scene": "s.json", "axes": {"spp": [2]}, "reference": {"spp": 4000000},
+                        "set": ["camera.resolution=[64,48]"], "metrics": ["rmse"]})");
+    const Result r = runCommand("ulimit -f 80; " + std::string(SHVOL_BINARY) + " batch " +
+                                path("a.json") + " --threads 1 --output " + path("out") + " 2>" +
+                                path("bg.txt") + killOnceCaught("TERM", SIGTERM, "0.5"));
+    const std::string err = test::fileBytes(path("bg.txt"));
+    ASSERT_EQ(r.code, 128 + SIGTERM) << err;
+    EXPECT_NE(err.find("reference.exr.checkpoint: cannot write file (File too large): the samples "
+                       "so far are not kept; the next start begins afresh"),
+              std::string::npos)
+        << err;
+    EXPECT_EQ(err.find("the render goes on"), std::string::npos) << err;
+    EXPECT_TRUE(fs::exists(path("out/reference.exr")));
+    EXPECT_FALSE(fs::exists(path("out/reference.exr.checkpoint")));
 }
 
 // An error in a run's scene names the scene and the key, and the run of the sweep that set it.

@@ -52,10 +52,12 @@ TEST(AtomicFile, TemporariesOfEndedProcessesAreRemoved) {
                                            "out.ck.tmp",
                                            "other.ck.tmp" + dead,
                                            "out.ck.tmp-" + dead,
-                                           "out.ck.tmp" + dead + ".txt"};
+                                           "out.ck.tmp" + dead + ".txt",
+                                           "out.ck.tmp0" + dead};
     for (const std::string& name : stay) std::ofstream(dir.path / name) << "keep";
     fs::create_directory(dir.path / ("out.ck.stats.tmp" + dead));  // (a directory: kept)
-    fs::create_symlink(dir.path / "other.ck.tmp" / "x", dir.path / ("out.exr.tmp" + dead));
+    // (a link to a regular file: it and its target stay)
+    fs::create_symlink(dir.path / ("other.ck.tmp" + dead), dir.path / ("out.exr.tmp" + dead));
     for (const char* name : {"out.ck", "out.exr.stats.json"})
         std::ofstream(dir.path / (name + (".tmp" + dead))) << "left by kill -9";
     removeStaleTemporaries(dir.path.string(),
@@ -65,6 +67,7 @@ TEST(AtomicFile, TemporariesOfEndedProcessesAreRemoved) {
     for (const std::string& name : stay) EXPECT_TRUE(fs::exists(dir.path / name)) << name;
     EXPECT_TRUE(fs::is_directory(dir.path / ("out.ck.stats.tmp" + dead)));
     EXPECT_TRUE(fs::is_symlink(dir.path / ("out.exr.tmp" + dead)));
+    EXPECT_EQ(contents(dir.path / ("other.ck.tmp" + dead)), "keep");
 }
 
 // A symbolic link named as an output keeps pointing where it did, and its target gets the new

@@ -11,4 +11,6 @@ source validation/configure.sh validate_sh  # (clang++, as setup.sh configures b
 ninja -C "$BUILD_DIR" -j1 validate_sh
 mkdir -p validation/sh/results
 "$BUILD_DIR/validate_sh" validation/sh/results | tee validation/sh/results/summary.txt
-/usr/bin/python3 validation/sh/plot.py validation/sh/results
+PY=/usr/bin/python3
+source validation/plot_deps.sh
+"$PY" validation/sh/plot.py validation/sh/results

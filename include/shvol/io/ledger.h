@@ -24,18 +24,12 @@ namespace shvol {
 /// The columns of a batch's ledger row besides the run's axis values and "repeat": those of
 /// every run, and those each metric adds. tools/report.py takes the columns that are no axes
 /// from `shvol report` (ledgerColumnsBesideAxes), not from a list of its own.
-inline const std::set<std::string> kLedgerRunColumns = {"run",
-                                                        "seed",
-                                                        "spp",
-                                                        "wall_time_s",
-                                                        "total_s",
-                                                        "paths_per_second",
-                                                        "image",
-                                                        "image_bytes",
-                                                        "fingerprint",
-                                                        "settings_fingerprint",
-                                                        "git_revision",
-                                                        "reference_fingerprint"};
+inline const std::set<std::string> kLedgerRunColumns = {"run",          "seed",
+                                                        "spp",          "wall_time_s",
+                                                        "total_s",      "paths_per_second",
+                                                        "image",        "image_bytes",
+                                                        "fingerprint",  "settings_fingerprint",
+                                                        "git_revision", "reference_fingerprint"};
 inline const std::map<std::string, std::vector<std::string>> kLedgerMetricColumns = {
     {"rmse", {"rmse"}},
     {"relmse", {"relmse"}},
@@ -79,6 +73,9 @@ class Ledger {
     void append(const Json& row);
     std::string jsonlPath() const;
     std::string csvPath() const;
+    /// Whether this ledger holds its directory's lock: no other batch writes there (false where the
+    /// file system has no flock, and for Open::ReadOnly).
+    bool locked() const { return lock_ >= 0; }
 
   private:
     /// Reads (and with Open::Repair mends) the files: the constructor's work after the lock.
