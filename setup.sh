@@ -32,45 +32,9 @@ missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-# apt-get, retried while another apt holds its lock (at boot, apt-daily's update holds the lists'
-# lock, which DPkg::Lock::Timeout does not cover; helper 156), for up to 10 minutes.
-apt_get() {
-  local log tries=0 rc
-  log=$(mktemp)
-  while :; do
-    rc=0
-    $sudo env DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout=600 "$@" \
-      2> >(tee "$log" >&2) || rc=$?
-    wait  # (for tee)
-    if [ "$rc" -ne 0 ] && grep -q "Could not get lock" "$log" && ((++tries < 60)); then
-      echo "setup: another apt-get holds its lock; trying again in 10 s" >&2
-      sleep 10
-      continue
-    fi
-    rm -f "$log"
-    return "$rc"
-  done
-}
 if ((${#missing[@]})); then
-  sudo=""
-  if [ "$(id -u)" -ne 0 ]; then
-    if ! command -v sudo >/dev/null; then
-      echo "setup: these packages are missing and installing them needs root: ${missing[*]};" \
-           "run setup.sh as root, or install sudo" >&2
-      exit 1
-    fi
-    sudo="sudo"
-  fi
-  echo "setup: installing ${missing[*]}" >&2
-  if ! apt_get update; then
-    echo "setup: apt-get update failed (its errors are above)" >&2
-    exit 1
-  fi
-  if ! apt_get install -y --no-install-recommends "${missing[@]}"; then
-    echo "setup: apt-get install failed (its errors are above); a package it cannot locate" \
-         "means the update above did not reach Debian's package archive" >&2
-    exit 1
-  fi
+  source tools/apt_install.sh
+  apt_install setup "${missing[@]}" || exit 1
 fi
 
 # clang++ compiles the OpenVDB translation unit about 2.5x faster than g++.
