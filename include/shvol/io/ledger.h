@@ -24,12 +24,18 @@ namespace shvol {
 /// The columns of a batch's ledger row besides the run's axis values and "repeat": those of
 /// every run, and those each metric adds. tools/report.py takes the columns that are no axes
 /// from `shvol report` (ledgerColumnsBesideAxes), not from a list of its own.
-inline const std::set<std::string> kLedgerRunColumns = {"run",          "seed",
-                                                        "spp",          "wall_time_s",
-                                                        "total_s",      "paths_per_second",
-                                                        "image",        "image_bytes",
-                                                        "fingerprint",  "settings_fingerprint",
-                                                        "git_revision", "reference_fingerprint"};
+inline const std::set<std::string> kLedgerRunColumns = {"run",
+                                                        "seed",
+                                                        "spp",
+                                                        "wall_time_s",
+                                                        "total_s",
+                                                        "paths_per_second",
+                                                        "image",
+                                                        "image_bytes",
+                                                        "fingerprint",
+                                                        "settings_fingerprint",
+                                                        "git_revision",
+                                                        "reference_fingerprint"};
 inline const std::map<std::string, std::vector<std::string>> kLedgerMetricColumns = {
     {"rmse", {"rmse"}},
     {"relmse", {"relmse"}},
