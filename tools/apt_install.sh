@@ -5,16 +5,18 @@
 # every 10 s for up to 10 minutes. Returns 1 after one line on stderr, prefixed "WHO: ", where
 # installing needs root and there is no sudo, or where apt-get fails (its errors above it).
 
-# apt-get "$@" as $_apt_sudo, retried while another apt-get holds its lock.
+# apt-get "$@" as $_apt_sudo, retried while another apt-get holds its lock, until 10 minutes
+# have passed (apt-get's own wait for dpkg's lock counts). In English (LC_ALL=C), whose words
+# tell a held lock.
 _apt_get() {
-  local log tries=0 rc
+  local log rc start=$SECONDS
   log=$(mktemp)
   while :; do
     rc=0
-    $_apt_sudo env DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout=600 "$@" \
-      2> >(tee "$log" >&2) || rc=$?
-    wait  # (for tee)
-    if [ "$rc" -ne 0 ] && grep -q "Could not get lock" "$log" && ((++tries < 60)); then
+    $_apt_sudo env DEBIAN_FRONTEND=noninteractive LC_ALL=C apt-get -o DPkg::Lock::Timeout=600 \
+      "$@" 2> >(tee "$log" >&2) || rc=$?
+    wait  # (for tee: no job of the caller runs meanwhile)
+    if [ "$rc" -ne 0 ] && grep -q "Could not get lock" "$log" && ((SECONDS - start < 600)); then
       echo "$_apt_who: another apt-get holds its lock; trying again in 10 s" >&2
       sleep 10
       continue

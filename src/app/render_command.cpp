@@ -1247,12 +1247,15 @@ int runRender(const RenderArgs& a) {
         } catch (const Error& e) {
             if (!a.checkpointOptional) throw;
             checkpointing = false;
-            // (at a stop it said the render went on; helper 156)
-            warnings.push_back(std::string(e.what()) +
-                               (last ? ": the samples so far are not kept; the next start begins "
-                                       "afresh"
-                                     : ": no more checkpoints are written; the render goes on "
-                                       "without them"));
+            // (at a stop it said the render went on, helper 156; an earlier save stays in place,
+            // helper 158)
+            const bool earlier = std::filesystem::exists(a.checkpoint);
+            warnings.push_back(
+                std::string(e.what()) +
+                (!last     ? ": no more checkpoints are written; the render goes on without them"
+                 : earlier ? ": the samples since the checkpoint's last save are not kept; the "
+                             "next start resumes from that save"
+                           : ": the samples so far are not kept; the next start begins afresh"));
             warnOnce(a.scene, a.run, warnings.back());
         }
     };

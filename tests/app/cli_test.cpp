@@ -4153,9 +4153,10 @@ TEST_F(Cli, BatchResumesAnInterruptedReference) {
     EXPECT_TRUE(fs::exists(path("out/mine.exr" + dead)));
 }
 
-// A batch's reference checkpoint that does not fit on the disk (here a file-size limit: a
-// checkpoint is 36 bytes a pixel, the image less) is warned of, and at a stop the warning says the
-// samples are not kept, not that the render goes on (helper 156); the partial image is written.
+// A batch's reference checkpoint that does not fit on the disk (here a file-size limit, `ulimit -f
+// 80` in dash's 512-byte blocks, 40 KiB: the checkpoint is 112 kB, the image 4-9 kB) is warned of,
+// and at a stop the warning says the samples are not kept, not that the render goes on (helper
+// 156); the partial image is written.
 TEST_F(Cli, BatchReferenceCheckpointThatDoesNotFitIsWarnedOf) {
     write("s.json", scene(Homogeneous));
     write("a.json", R"({"scene": "s.json", "axes": {"spp": [2]}, "reference": {"spp": 4000000},
@@ -4172,6 +4173,20 @@ TEST_F(Cli, BatchReferenceCheckpointThatDoesNotFitIsWarnedOf) {
     EXPECT_EQ(err.find("the render goes on"), std::string::npos) << err;
     EXPECT_TRUE(fs::exists(path("out/reference.exr")));
     EXPECT_FALSE(fs::exists(path("out/reference.exr.checkpoint")));
+    // Where an earlier save is in place, the next start resumes from it, and the warning says so
+    // (helper 158).
+    const std::string batch = std::string(SHVOL_BINARY) + " batch " + path("a.json") +
+                              " --threads 1 --output " + path("out") + " 2>" + path("bg.txt");
+    ASSERT_EQ(runCommand(batch + killOnceCaught("TERM", SIGTERM, "0.5")).code, 128 + SIGTERM);
+    ASSERT_TRUE(fs::exists(path("out/reference.exr.checkpoint")));
+    ASSERT_EQ(runCommand("ulimit -f 80; " + batch + killOnceCaught("TERM", SIGTERM, "0.5")).code,
+              128 + SIGTERM);
+    const std::string again = test::fileBytes(path("bg.txt"));
+    EXPECT_NE(again.find("reference.exr.checkpoint: cannot write file (File too large): the "
+                         "samples since the checkpoint's last save are not kept; the next start "
+                         "resumes from that save"),
+              std::string::npos)
+        << again;
 }
 
 // An error in a run's scene names the scene and the key, and the run of the sweep that set it.

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Reproduces validation/slab/results/table.md in one command (about 90 s on 2 cores):
 #   validation/slab/run.sh          (BUILD_DIR defaults to build/; SPP to 2048)
-# Builds shvol with one job if needed, installs python3-numpy (validation/plot_deps.sh, with
-# matplotlib) if /usr/bin/python3 cannot import it, and exits 1 if a slab disagrees.
+# Builds shvol with one job if needed, installs python3-numpy and python3-matplotlib
+# (validation/plot_deps.sh) if /usr/bin/python3 cannot import them, and exits 1 if a slab disagrees.
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 BUILD_DIR="${BUILD_DIR:-build}"
