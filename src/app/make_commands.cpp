@@ -4,6 +4,7 @@
 
 #include "commands.h"
 #include "shvol/core/error.h"
+#include "shvol/core/thread_arena.h"
 #include "shvol/io/exr.h"
 #include "shvol/io/procedural.h"
 #include "shvol/io/vdb.h"
@@ -13,7 +14,7 @@ namespace shvol::app {
 namespace {
 struct MediumArgs {
     std::string kind, output, grid = "density";  // (kind: required, so no default)
-    int resolution = 96;
+    int resolution = 96, threads = 0;
     unsigned long long seed = 1;
     int octaves = 5;
     double frequency = 4, coverage = 0.1, radius = 0.45;
@@ -32,6 +33,8 @@ void addMakeMediumCommand(CLI::App& app, std::function<int()>& run) {
         ->check(outputNamed(".vdb", "make-medium writes OpenVDB"));
     c->add_option("--resolution", a->resolution, "Voxels per axis over the unit cube")
         ->transform(integerIn(4, 1024));
+    c->add_option("--threads", a->threads, "Worker threads (0: all cores)")
+        ->transform(integerIn(0, 4096));
     c->add_option("--grid", a->grid, "Grid name")
         ->check(CLI::Validator(
             [](std::string& name) -> std::string {
@@ -80,33 +83,26 @@ void addMakeMediumCommand(CLI::App& app, std::function<int()>& run) {
                 const double edge = 1.0 / a->resolution, r = a->radius;
                 s.density = [=](const Vec3& x) { return float(sphereDensity(x, r, edge)); };
             }
-            // A grid with no density renders as nothing: refuse it before writing a file. The
-            // same pass finds how much of its bounding box the density fills.
-            long long count = 0;
-            Eigen::Vector3i lo = Eigen::Vector3i::Constant(s.resolution), hi(-1, -1, -1);
-            const double h = 1.0 / s.resolution;
-            for (int k = 0; k < s.resolution; ++k)
-                for (int j = 0; j < s.resolution; ++j)
-                    for (int i = 0; i < s.resolution; ++i)
-                        if (s.density(Vec3((i + 0.5) * h - 0.5, (j + 0.5) * h - 0.5,
-                                           (k + 0.5) * h - 0.5)) > 0) {
-                            ++count;
-                            lo = lo.cwiseMin(Eigen::Vector3i(i, j, k));
-                            hi = hi.cwiseMax(Eigen::Vector3i(i, j, k));
-                        }
-            if (count == 0)
-                fail(a->output, "",
-                     std::string("the grid would be empty (no voxel has density > 0); raise ") +
-                         (a->kind == "cloud"    ? "--coverage"
-                          : a->kind == "sphere" ? "--radius"
-                                                : "--resolution"));
-            const size_t n = writeVdb(a->output, {s});
-            const double box = (hi - lo + Eigen::Vector3i::Ones()).cast<double>().prod();
+            // A grid with no density renders as nothing: refuse it before writing a file.
+            VdbGridSummary made;
+            const auto refuseEmpty = [&](const std::vector<VdbGridSummary>& grids) {
+                made = grids.front();
+                if (made.activeVoxels == 0)
+                    fail(a->output, "",
+                         std::string("the grid would be empty (no voxel has density > 0); raise ") +
+                             (a->kind == "cloud"    ? "--coverage"
+                              : a->kind == "sphere" ? "--radius"
+                                                    : "--resolution"));
+            };
+            ThreadArena arena(a->threads);
+            size_t n = 0;
+            arena.execute([&] { n = writeVdb(a->output, {s}, refuseEmpty, true); });
+            const double box = (made.hi - made.lo + Eigen::Vector3i::Ones()).cast<double>().prod();
             std::fprintf(stderr,
                          "wrote %s: %s grid '%s', %d^3, %zu active voxels, %.1f%% of their "
                          "bounding box\n",
                          a->output.c_str(), a->kind.c_str(), a->grid.c_str(), a->resolution, n,
-                         100.0 * double(count) / box);
+                         100.0 * double(n) / box);
             return 0;
         };
     });

@@ -21,12 +21,14 @@
 #include <sstream>
 #include <vector>
 
+#include <tbb/parallel_for.h>
 #include <Eigen/SVD>
 
 #include "shvol/core/atomic_file.h"
 #include "shvol/core/error.h"
 #include "shvol/core/hash.h"
 #include "shvol/core/input_file.h"
+#include "shvol/core/progress.h"
 #include "shvol/media/density_bricks.h"
 #include "shvol/media/majorant_grid.h"
 #include "shvol/media/trilinear_depth.h"
@@ -949,27 +951,50 @@ class VdbWriter : public openvdb::io::Archive {
 };
 }  // namespace
 
-size_t writeVdb(const std::string& path, const std::vector<VdbGridSpec>& specs) {
+size_t writeVdb(const std::string& path, const std::vector<VdbGridSpec>& specs,
+                const std::function<void(const std::vector<VdbGridSummary>&)>& beforeWrite,
+                bool progress) {
     initOpenVdb();
     openvdb::GridPtrVec grids;
+    std::vector<VdbGridSummary> summaries;
     size_t active = 0;
+    long long voxels = 0;
+    for (const VdbGridSpec& s : specs)
+        voxels += (long long)s.resolution * s.resolution * s.resolution;
+    Progress bar("voxels", voxels, progress && Progress::stderrIsTerminal());
     for (const VdbGridSpec& s : specs) {
         const double h = 1.0 / s.resolution;
         auto xform = openvdb::math::Transform::createLinearTransform(h);
         xform->postTranslate(openvdb::Vec3d(-0.5 + 0.5 * h));
-        auto at = [&](int i, int j, int k) {
-            return s.density(Vec3((i + 0.5) * h - 0.5, (j + 0.5) * h - 0.5, (k + 0.5) * h - 0.5));
-        };
         auto fill = [&](auto grid, auto make) {
-            auto acc = grid->getAccessor();
-            for (int k = 0; k < s.resolution; ++k)
-                for (int j = 0; j < s.resolution; ++j)
-                    for (int i = 0; i < s.resolution; ++i) {
-                        const float v = at(i, j, k);
-                        if (v != 0.f || std::isnan(v))
-                            acc.setValue(openvdb::Coord(i, j, k), make(v));
-                    }
-            active += grid->activeVoxelCount();
+            using Tree = typename decltype(grid)::element_type::TreeType;
+            // Slabs one leaf deep: their leaves are disjoint, and merging moves them whole.
+            const int slabs = (s.resolution + 7) / 8;
+            std::vector<std::unique_ptr<Tree>> trees(slabs);
+            tbb::parallel_for(0, slabs, [&](int b) {
+                auto tree = std::make_unique<Tree>(grid->background());
+                openvdb::tree::ValueAccessor<Tree> acc(*tree);
+                const int k1 = std::min(s.resolution, 8 * (b + 1));
+                for (int k = 8 * b; k < k1; ++k)
+                    for (int j = 0; j < s.resolution; ++j)
+                        for (int i = 0; i < s.resolution; ++i) {
+                            const float v = s.density(Vec3((i + 0.5) * h - 0.5, (j + 0.5) * h - 0.5,
+                                                           (k + 0.5) * h - 0.5));
+                            if (v != 0.f || std::isnan(v))
+                                acc.setValue(openvdb::Coord(i, j, k), make(v));
+                        }
+                trees[b] = std::move(tree);
+                bar.advance((long long)(k1 - 8 * b) * s.resolution * s.resolution);
+            });
+            for (const std::unique_ptr<Tree>& tree : trees) grid->tree().merge(*tree);
+            VdbGridSummary summary;
+            summary.activeVoxels = grid->activeVoxelCount();
+            const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
+            if (summary.activeVoxels > 0)
+                for (int a = 0; a < 3; ++a)
+                    summary.lo[a] = box.min()[a], summary.hi[a] = box.max()[a];
+            summaries.push_back(summary);
+            active += summary.activeVoxels;
             grid->setName(s.name);
             grid->setTransform(xform);
             grid->setGridClass(openvdb::GRID_FOG_VOLUME);
@@ -980,6 +1005,8 @@ size_t writeVdb(const std::string& path, const std::vector<VdbGridSpec>& specs) 
         else
             fill(openvdb::Vec3SGrid::create(), [](float v) { return openvdb::Vec3s(v); });
     }
+    bar.done();
+    if (beforeWrite) beforeWrite(summaries);
     writeAtomically(path, [&](const std::string& tmp) {
         writeStreamTo(tmp, path, "VDB", [&](std::ofstream& os) { VdbWriter()(os, grids); });
         makeUuidFromContents(tmp, path);

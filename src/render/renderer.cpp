@@ -2,19 +2,17 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <optional>
 
 #include "shvol/core/deadline.h"
 #include "shvol/core/error.h"
 #include "shvol/core/progress.h"
+#include "shvol/core/thread_arena.h"
 
 namespace shvol {
 
@@ -115,14 +113,8 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
     if (film.maxCount() > spp)
         throw Error("the film to continue has " + std::to_string(film.maxCount()) +
                     " samples per pixel, more than the " + std::to_string(spp) + " asked for");
-    const int threads =
-        options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
-    // More threads than cores, as asked: TBB keeps its workers to the cores unless its limit is
-    // raised (it would print a warning and run fewer threads).
-    std::optional<tbb::global_control> limit;
-    if (threads > tbb::this_task_arena::max_concurrency())
-        limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
-    tbb::task_arena arena(threads);
+    ThreadArena arena(options.threads);
+    const int threads = arena.threads();
     // Built inside the arena: the radiance cache's first pass runs parallel loops. A cancel
     // stops its fill (a fill of 2^20 paths per record can take minutes); the time limit does
     // not: it counts the passes, and a resumed render, which fills the cache again, would stop

@@ -2459,6 +2459,20 @@ TEST_F(Cli, RenderWarnsOfAGlassSheet) {
     }
 }
 
+// README: media/cloud.vdb and media/plume.vdb are what make-medium writes, byte for byte; the
+// voxels are evaluated on every thread asked for, and the file does not depend on how many.
+TEST_F(Cli, MakeMediumRemakesTheShippedMedia) {
+    const std::string media = std::string(SHVOL_SOURCE_DIR) + "/media/";
+    Result r = run("make-medium plume --resolution 128 --threads 2 -o " + path("plume.vdb"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err.rfind("wrote " + path("plume.vdb") + ": plume grid 'density', 128^3, ", 0), 0u)
+        << r.err;
+    EXPECT_EQ(test::fileBytes(path("plume.vdb")), test::fileBytes(media + "plume.vdb"));
+    r = run("make-medium cloud --resolution 128 --threads 3 -o " + path("cloud.vdb"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(test::fileBytes(path("cloud.vdb")), test::fileBytes(media + "cloud.vdb"));
+}
+
 TEST_F(Cli, MakeMediumAndSkyRoundTrip) {
     Result r = run("make-medium sphere --resolution 16 -o " + path("sphere.vdb"));
     ASSERT_EQ(r.code, 0) << r.err;

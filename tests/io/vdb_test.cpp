@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "shvol/core/error.h"
+#include "shvol/core/thread_arena.h"
 #include "shvol/io/procedural.h"
 #include "shvol/media/homogeneous_medium.h"
 #include "shvol/phase/henyey_greenstein_phase.h"
@@ -70,6 +71,45 @@ TEST(Vdb, WritesAreReproducible) {
     VdbMediumDesc d;
     d.file = tmp("same1.vdb");
     EXPECT_NEAR(loadVdbMedium(d)->sigmaT(Vec3(0, 0, 0)), 1, 1e-6);
+}
+
+// The voxels are evaluated in parallel, in slabs one leaf deep merged in order: the bytes do not
+// depend on the thread count (37 voxels: a last slab of 5), and what beforeWrite is shown equals
+// a count over every voxel centre. A refusal there leaves no file.
+TEST(Vdb, WritesDoNotDependOnTheThreadCount) {
+    VdbGridSpec s;
+    s.resolution = 37;
+    CloudParams p;
+    // (A cloud below, density everywhere in the top half, up to the last slab.)
+    s.density = [p](const Vec3& x) { return float(cloudDensity(x, p) + std::max(0.0, x.z())); };
+    std::vector<VdbGridSummary> seen;
+    for (const int threads : {1, 3})
+        ThreadArena(threads).execute([&] {
+            writeVdb(tmp("t" + std::to_string(threads) + ".vdb"), {s},
+                     [&](const std::vector<VdbGridSummary>& g) { seen = g; });
+        });
+    EXPECT_EQ(test::fileBytes(tmp("t1.vdb")), test::fileBytes(tmp("t3.vdb")));
+    size_t count = 0;
+    Eigen::Vector3i lo = Eigen::Vector3i::Constant(s.resolution), hi(-1, -1, -1);
+    const double h = 1.0 / s.resolution;
+    for (int k = 0; k < s.resolution; ++k)
+        for (int j = 0; j < s.resolution; ++j)
+            for (int i = 0; i < s.resolution; ++i)
+                if (s.density(Vec3((i + 0.5) * h - 0.5, (j + 0.5) * h - 0.5, (k + 0.5) * h - 0.5)) >
+                    0) {
+                    ++count;
+                    lo = lo.cwiseMin(Eigen::Vector3i(i, j, k));
+                    hi = hi.cwiseMax(Eigen::Vector3i(i, j, k));
+                }
+    ASSERT_EQ(seen.size(), 1u);
+    EXPECT_GT(count, 1000u);
+    EXPECT_EQ(seen[0].activeVoxels, count);
+    EXPECT_EQ(seen[0].lo, lo);
+    EXPECT_EQ(seen[0].hi, hi);
+    EXPECT_THROW(writeVdb(tmp("refused.vdb"), {s},
+                          [](const std::vector<VdbGridSummary>&) { throw Error("refused"); }),
+                 Error);
+    EXPECT_FALSE(std::ifstream(tmp("refused.vdb")).good());
 }
 
 // Ratio and delta tracking agree with e^{−∫σ_t} by quadrature, with and without the majorant grid.

@@ -46,7 +46,21 @@ struct VdbGridSpec {
     std::function<float(const Vec3& p)> density;  ///< p ∈ [−½, ½]³
 };
 
-/// Writes grids to a .vdb file (atomically). Returns the number of active voxels written.
-size_t writeVdb(const std::string& path, const std::vector<VdbGridSpec>& grids);
+/// What writeVdb made of a grid, before writing it.
+struct VdbGridSummary {
+    size_t activeVoxels = 0;
+    Eigen::Vector3i lo{0, 0, 0},
+        hi{-1, -1, -1};  ///< index box of the active voxels (lo > hi: none)
+};
+
+/// Writes grids to a .vdb file (atomically). Returns the number of active voxels written. The
+/// voxels are evaluated once each, in parallel (on the threads of the calling task arena), in
+/// slabs one leaf (8 voxels) deep along z, whose trees are merged in slab order: the file does not
+/// depend on the thread count, so `density` must be safe to call from several threads.
+/// `beforeWrite` (optional) sees every grid's summary once all are made and before the file is
+/// opened; it refuses by throwing. `progress`: a progress bar on stderr when it is a terminal.
+size_t writeVdb(const std::string& path, const std::vector<VdbGridSpec>& grids,
+                const std::function<void(const std::vector<VdbGridSummary>&)>& beforeWrite = {},
+                bool progress = false);
 
 }  // namespace shvol
