@@ -422,6 +422,12 @@ struct ShellLayout {
 /// spread over it) some lie inside the other and some outside it (a check that can miss
 /// crossings no sampled point shows: two bars crossed like a plus sign), and touch over a face
 /// if one of those centroids lies on the other (touching along an edge or at a point is fine).
+/// The faces layoutOf visits for the corners of one shell against one other shell (a winding
+/// number and an on-shell test each visit every face of the other shell): every corner of two
+/// shells of 5,000 faces each, of a shell of a million faces against a cube, and 16 corners of
+/// either of two shells of a million faces.
+constexpr uint64_t kWindingBudget = 1 << 24;
+
 ShellLayout layoutOf(const TriangleMesh& mesh, const Shells& s, const MeshPlaces& places) {
     const size_t nt = mesh.triangleCount();
     std::vector<uint32_t> roots, start(nt + 1, 0), faces(nt);
@@ -498,25 +504,42 @@ ShellLayout layoutOf(const TriangleMesh& mesh, const Shells& s, const MeshPlaces
         const Vec3 x = (mesh.p[t[0]] + mesh.p[t[1]] + mesh.p[t[2]]) / 3;
         const uint32_t count = start[roots[i] + 1] - start[roots[i]];
         int depth = 0;
+        // Shell i's distinct corners (vertex indices), asked of each overlapping shell.
+        std::vector<uint32_t> corners;
+        if (!overlapping[i].empty()) {
+            for (uint32_t k = start[roots[i]]; k < start[roots[i] + 1]; ++k)
+                for (int j = 0; j < 3; ++j) corners.push_back(mesh.indices[3 * faces[k] + j]);
+            std::sort(corners.begin(), corners.end());
+            corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+        }
         for (const size_t o : overlapping[i]) {
             bool inside = false, outside = false;
+            // Where x lies with respect to shell o: on it (true; neither inside nor outside),
+            // else inside or outside.
+            const auto classify = [&](const Vec3& x) {
+                if (!inBox(x, o)) return outside = true, false;
+                if (onShell(x, o)) return true;
+                const double w = winding(x, o);
+                inside |= w > 0.9, outside |= w < 0.1;
+                return false;
+            };
             uint32_t touching = nt;  // a sampled face whose centroid lies on shell o
             const uint32_t samples = std::min(count, 8u);  // (distinct faces: review)
             for (uint32_t k = 0; k < samples; ++k) {
                 const uint32_t face = faces[start[roots[i]] + uint64_t(k) * count / samples];
                 const uint32_t* c = &mesh.indices[3 * face];
-                const Vec3 centroid = (mesh.p[c[0]] + mesh.p[c[1]] + mesh.p[c[2]]) / 3;
-                const Vec3 points[2] = {mesh.p[c[0]], centroid};
-                for (int q = 0; q < 2; ++q) {
-                    const Vec3& v = points[q];
-                    if (inBox(v, o) && onShell(v, o)) {  // neither inside nor outside
-                        if (q == 1 && touching == nt) touching = face;
-                        continue;
-                    }
-                    const double w = inBox(v, o) ? winding(v, o) : 0;
-                    inside |= w > 0.9, outside |= w < 0.1;
-                }
+                if (classify((mesh.p[c[0]] + mesh.p[c[1]] + mesh.p[c[2]]) / 3) && touching == nt)
+                    touching = face;
             }
+            // Every corner, where the solid angles this takes stay within kWindingBudget, else
+            // corners spread evenly over the shell: a corner of one cube inside another was
+            // missed where the sampled faces' first corners (after widestAngleFirst) were all
+            // outside it (helper 161).
+            const uint64_t perPoint = start[roots[o] + 1] - start[roots[o]];
+            const size_t asked =
+                size_t(std::clamp<uint64_t>(kWindingBudget / perPoint, 8, corners.size()));
+            for (size_t k = 0; k < asked && !(inside && outside); ++k)
+                classify(mesh.p[corners[k * corners.size() / asked]]);
             // Parts that meet have no nesting: each is turned outwards on its own (a hollow's
             // inner wall that meets no part stays inwards; review: it was turned too).
             if (((inside && outside) || touching < nt) && !layout.partsMeet) {

@@ -554,6 +554,25 @@ TEST(TriangleMesh, PartsThatCrossAreRefused) {
     // centroid of the second one's third face. Faces k·4/8 (0, 0, 1, 1) missed both (review).
     const TriangleMesh t = tetrahedron();
     EXPECT_TRUE(meshSolidity(withShell(t, t, 1.2, Vec3(0.7, -0.3, -0.3), false)).partsMeet);
+    // Every corner is asked: [−1, 1]³ and [0, 2]³, split by diagonals that leave the corner of
+    // each inside the other at no triangle's widest angle, which widestAngleFirst puts first,
+    // where only the triangles' first corners were asked (and the face centroids, all outside
+    // the other cube): the crossing passed, and the overlap rendered empty (helper 161).
+    TriangleMesh two;
+    for (const double lo : {-1.0, 0.0})
+        for (int i = 0; i < 8; ++i)
+            two.p.emplace_back(i & 1 ? lo + 2 : lo, i & 2 ? lo + 2 : lo, i & 4 ? lo + 2 : lo);
+    for (const uint32_t base : {0u, 8u})
+        for (const uint32_t k : {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+                                 2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5})
+            two.indices.push_back(base + k);
+    widestAngleFirst(two);
+    for (size_t f = 0; f < two.triangleCount(); ++f)  // (the case: neither corner comes first)
+        EXPECT_TRUE(two.indices[3 * f] != 7 && two.indices[3 * f] != 8) << f;
+    const std::string d = meshSolidity(two).defect;
+    EXPECT_TRUE(d.rfind("face 0: " + crosses + "face 12: ", 0) == 0 ||
+                d.rfind("face 12: " + crosses + "face 0: ", 0) == 0)
+        << d;
 }
 
 // Parts that touch over a face are refused as touching, not crossing (a box standing on a
