@@ -734,15 +734,20 @@ std::string JsonReader::choice(const std::string& key, const std::string& def,
 }
 
 Vec3 JsonReader::vec3(const std::string& key, std::optional<Vec3> def) {
+    return threeNumbers(key, def, "an array of 3 numbers", "array of 3 numbers");
+}
+
+Vec3 JsonReader::threeNumbers(const std::string& key, std::optional<Vec3> def, const char* expected,
+                              const char* kind) {
     used_.insert(key);
     if (!j_.contains(key) && def) {
         note(key,
              {writtenDefault((*def)[0]), writtenDefault((*def)[1]), writtenDefault((*def)[2])});
         return *def;
     }
-    const Json& v = get(key, "array of 3 numbers");
+    const Json& v = get(key, kind);
     if (!v.is_array() || v.size() != 3)
-        error(key, "expected an array of 3 numbers, got " + typeAndValue(v));
+        error(key, std::string("expected ") + expected + ", got " + typeAndValue(v));
     Vec3 r;
     for (int i = 0; i < 3; ++i) {
         if (!v[i].is_number())
@@ -759,7 +764,9 @@ Vec3 JsonReader::vec3OrScalar(const std::string& key, std::optional<Vec3> def) {
         const double x = number(key);
         return Vec3(x, x, x);
     }
-    return vec3(key, def);
+    // (The error said "an array of 3 numbers" to a scale, which takes a number too; helper 161.)
+    return threeNumbers(key, def, "a number or an array of 3 numbers",
+                        "number or array of 3 numbers");
 }
 
 JsonReader JsonReader::object(const std::string& key) {

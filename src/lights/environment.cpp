@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <vector>
 
 #include "shvol/core/error.h"
@@ -101,6 +102,36 @@ double Environment::pdf(const Vec3& dir) const {
     const Vec2 uv = toUv(dir.normalized(), &sinTheta);
     if (!(sinTheta > 0)) return 0.0;
     return texels_->pdf(uv) / (2 * Pi * Pi * sinTheta);
+}
+
+Environment::Peak Environment::peak() const {
+    if (black_) return {};
+    const double seen = lowerBlack_ ? TwoPi : FourPi;
+    if (!image_) return {seen / 2, 0.5};
+    // Each texel's luminance and solid angle seen, (2π/W)·(cos θ0 − cos θ1) times the part of
+    // its row above the horizon (as the sampling weights take it).
+    const int W = image_->width, H = image_->height;
+    const int rows = lowerBlack_ ? (H + 1) / 2 : H;
+    std::vector<std::pair<double, double>> texels;  // (luminance, solid angle)
+    double power = 0, moment = 0;
+    for (int y = 0; y < rows; ++y) {
+        const double above = lowerBlack_ && 2 * y + 1 == H ? 0.5 : 1.0;
+        const double omega =
+            TwoPi / W * (std::cos(Pi * y / H) - std::cos(Pi * (y + 1) / H)) * above;
+        for (int x = 0; x < W; ++x)
+            if (const double Y = luminance(image_->at(x, y)); Y > 0)
+                texels.emplace_back(Y, omega), power += Y * omega, moment += Y * Y * omega;
+    }
+    if (!(power > 0)) return {};
+    std::sort(texels.begin(), texels.end(), std::greater<>());
+    Peak p;
+    double held = 0;
+    for (const auto& [Y, omega] : texels) {
+        p.solidAngle += omega, held += Y * omega;
+        if ((moment -= 2 * Y * Y * omega) <= 0) break;  // (half of it taken)
+    }
+    p.powerShare = std::min(1.0, held / power);
+    return p;
 }
 
 SkyHierarchy Environment::skyHierarchy(size_t waveletCoefficients) const {

@@ -60,6 +60,21 @@ TEST(JsonReader, ErrorsNameFileAndPath) {
               "scene.json: media[0].v[1]: expected a number, got string \"a\"");
     EXPECT_EQ(messageOf([&] { r.number("absent"); }),
               "scene.json: media[0].absent: missing required number");
+    // A key that takes a number too says so (a scale's said "an array of 3 numbers"; helper
+    // 161), also when missing.
+    const Json scales = Json::parse(R"({"scale": {}, "axis": {}})");
+    JsonReader rs(scales, "scene.json", "surfaces[0].transform");
+    EXPECT_EQ(messageOf([&] { rs.vec3OrScalar("scale"); }),
+              "scene.json: surfaces[0].transform.scale: expected a number or an array of 3 "
+              "numbers, got object {}");
+    EXPECT_EQ(messageOf([&] { rs.vec3("axis"); }),
+              "scene.json: surfaces[0].transform.axis: expected an array of 3 numbers, got "
+              "object {}");
+    EXPECT_EQ(messageOf([&] { rs.vec3OrScalar("absent"); }),
+              "scene.json: surfaces[0].transform.absent: missing required number or array of 3 "
+              "numbers");
+    EXPECT_EQ(messageOf([&] { rs.vec3("absent"); }),
+              "scene.json: surfaces[0].transform.absent: missing required array of 3 numbers");
     // A null is named once, as "null" (it read "got null null"; helper 116).
     const Json nulls = Json::parse(R"({"fov": null, "on": null, "name": null})");
     JsonReader rn(nulls, "scene.json", "camera");

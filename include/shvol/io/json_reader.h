@@ -194,6 +194,10 @@ class JsonReader {
 
   private:
     const Json& get(const std::string& key, const char* type) const;
+    /// vec3, whose errors say the value expected is `expected` ("an array of 3 numbers"), and a
+    /// missing one `kind` ("array of 3 numbers").
+    Vec3 threeNumbers(const std::string& key, std::optional<Vec3> def, const char* expected,
+                      const char* kind);
     const Json& j_;
     std::string file_, path_;
     std::set<std::string> used_;

@@ -69,6 +69,15 @@ class Environment {
     /// The largest channel value of the texels seen, before the scale (below the horizon left
     /// out with lowerHemisphereBlack); of a constant, its largest channel.
     double brightestSeen() const { return brightest_; }
+    /// The part of the sky that dominates the variance of directions drawn without regard to it
+    /// (by a phase function or a BSDF, next-event estimation off): its brightest texels that
+    /// together hold half of ∫ Y² dω over the directions seen (Y the luminance), as their solid
+    /// angle and their share of the power ∫ Y dω. A constant: half the solid angle seen, half
+    /// the power. Zero for a black sky.
+    struct Peak {
+        double solidAngle = 0, powerShare = 0;
+    };
+    Peak peak() const;
     bool lowerHemisphereBlack() const { return lowerBlack_; }
     /// Rotation about +z in radians.
     double rotation() const { return rotation_; }
