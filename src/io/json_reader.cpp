@@ -52,11 +52,13 @@ std::string brief(const Json& j) {
     briefInto(j, s, 40);
     return briefText(s);
 }
-/// What a value of the wrong type is, for "expected …, got " + typeAndValue(j): its type and
-/// its text, `string "x"`, `array [1]`; a null is only `null` (it printed "null null").
+}  // namespace
+
 std::string typeAndValue(const Json& j) {
     return j.is_null() ? "null" : typeName(j) + " " + brief(j);
 }
+
+namespace {
 
 /// The offset of the first JSON number in `text` spelled `token`: outside strings, and not part
 /// of a longer number; npos if there is none.

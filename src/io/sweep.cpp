@@ -172,21 +172,28 @@ Sweep readSweep(const std::string& path, double maxRuns) {
             fail(path, "axes.seed", "give either a seed axis or repeats, not both");
         if (k == "seed" && r.has("seed"))
             fail(path, "axes.seed", "give either a seed axis or a \"seed\", not both");
-        for (Json& v : values[a]) {
+        for (size_t i = 0; i < values[a].size(); ++i) {
+            Json& v = values[a][i];
             if (overrideSets(k, v, {"render", "seed"})) fail(path, "axes." + k, kSeedIsTheSweeps);
             if (k != "spp" && k != "seed") continue;
+            // (Each value named, by its place and as written: "expected integers ≥ 1" named
+            // neither, and took 1e30 for a fraction; helper 159.)
+            const bool spp = k == "spp";
+            const std::string place = "axes." + k + "[" + std::to_string(i) + "]";
+            const std::string wrong = std::string(spp ? "expected an integer in [1, 2^24]"
+                                                      : "expected an integer in [0, 2^53]") +
+                                      ", got " + typeAndValue(v);
             // An integral number however written (2.0, 2e0), as every integer key takes it:
             // kept as the integer, so that runs and rows hold one spelling of it.
             if (const double d = v.is_number_float() ? v.get<double>() : 0.5;
                 d == std::floor(d) && std::abs(d) < kDoubleHoldsFractionsBelow)
                 v = (long long)d;
-            else if (v.is_number_float() && std::abs(d) >= kDoubleHoldsFractionsBelow)
-                fail(path, "axes." + k, kWrittenAsADouble);
-            const bool spp = k == "spp";
+            else if (!spp && v.is_number_float() && std::abs(d) >= kDoubleHoldsFractionsBelow)
+                fail(path, place, kWrittenAsADouble);
+            const long long most = spp ? 1 << 24 : 9007199254740992LL;  // (render.spp's, seeds')
             if (!(v.is_number_integer() && v.get<long long>() >= (spp ? 1 : 0) &&
-                  (spp || v.get<long long>() <= 9007199254740992LL)))
-                fail(path, "axes." + k,
-                     spp ? "expected integers ≥ 1" : "expected integers in [0, 2^53]");
+                  v.get<long long>() <= most))
+                fail(path, place, wrong);
         }
         if (zip && values[a].size() != values[0].size())
             fail(path, "axes." + k,

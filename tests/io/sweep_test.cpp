@@ -275,7 +275,17 @@ TEST(Sweep, ErrorsNameFileAndKey) {
         EXPECT_TRUE(w.runs[1].values.at("spp").is_number_integer());
     }
     EXPECT_EQ(err("e3j", R"({"scene": "scene.json", "axes": {"spp": [2.5]}})"),
-              ": axes.spp: expected integers ≥ 1");
+              ": axes.spp[0]: expected an integer in [1, 2^24], got number 2.5");
+    // Each value named by its place, as written (helper 159: none was), 1e30 as out of range.
+    for (const auto& [values, said] : std::vector<std::pair<std::string, std::string>>{
+             {"[4, -2]", "[1]: expected an integer in [1, 2^24], got number -2"},
+             {"[4, \"16\"]", "[1]: expected an integer in [1, 2^24], got string \"16\""},
+             {"[true]", "[0]: expected an integer in [1, 2^24], got boolean true"},
+             {"[4, 1e30]", "[1]: expected an integer in [1, 2^24], got number 1e+30"},
+             {"[16777217]", "[0]: expected an integer in [1, 2^24], got number 16777217"}})
+        EXPECT_EQ(err("e3p", R"({"scene": "scene.json", "axes": {"spp": )" + values + "}}"),
+                  ": axes.spp" + said)
+            << values;
     EXPECT_EQ(err("e1b", R"({"scene": "scene.json", "axes": [1]})"),
               ": axes: expected an object {\"key.path\": [values], …}");
     EXPECT_EQ(
@@ -283,7 +293,7 @@ TEST(Sweep, ErrorsNameFileAndKey) {
             R"({"scene": "scene.json", "combine": "zip", "axes": {"spp": [1], "seed": [1, 2]}})"),
         ": axes.seed: zipped axes need equal lengths (2 vs 1)");
     EXPECT_EQ(err("e3", R"({"scene": "scene.json", "axes": {"spp": [0]}})"),
-              ": axes.spp: expected integers ≥ 1");
+              ": axes.spp[0]: expected an integer in [1, 2^24], got number 0");
     // A malformed key path is named in the sweep, not later as a --set of the scene.
     EXPECT_EQ(err("e3k", R"({"scene": "scene.json", "axes": {"camera[fov": [30, 40]}})"),
               ": axes.camera[fov: expected an index in brackets, as in media[0]");
@@ -300,13 +310,13 @@ TEST(Sweep, ErrorsNameFileAndKey) {
         ": reference.set[0]: camera: key \"fov\" appears twice (the last would replace the "
         "first)");
     EXPECT_EQ(err("e3s", R"({"scene": "scene.json", "axes": {"seed": [-1]}})"),
-              ": axes.seed: expected integers in [0, 2^53]");
+              ": axes.seed[0]: expected an integer in [0, 2^53], got number -1");
     // Written with a fraction or an exponent from 2^52 on, where a double holds no fraction:
     // 9007199254740993.0 ran as seed 2^53 (helper 129), as a scene's seed did (helper 127).
     for (const char* seed : {"1e16", "9007199254740993.0", "4503599627370496.5"})
         EXPECT_EQ(
             err("e3t", std::string(R"({"scene": "scene.json", "axes": {"seed": [)") + seed + "]}}"),
-            std::string(": axes.seed: ") + kWrittenAsADouble)
+            std::string(": axes.seed[0]: ") + kWrittenAsADouble)
             << seed;
     EXPECT_EQ(
         readSweep(

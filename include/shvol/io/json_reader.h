@@ -42,6 +42,9 @@ std::string tooDeepMessage();
 /// text as a message quotes it: whole up to `limit` characters, else its first limit − 3 and
 /// "..." (a --set value or a phase specification of 200 kB was quoted whole: helper 96).
 std::string briefText(const std::string& text, size_t limit = 40);
+/// What a value of the wrong type is, for "expected …, got " + typeAndValue(j): its type and
+/// its text, `string "x"`, `array [1]`; a null is only `null` (it printed "null null").
+std::string typeAndValue(const Json& j);
 
 /// A file shvol wrote itself (a render's stats), read where it is only consulted: its JSON, or a
 /// discarded value (is_discarded()) if it is malformed or nested deeper than kMaxJsonDepth.
