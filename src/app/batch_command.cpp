@@ -832,8 +832,10 @@ int runBatch(BatchArgs a) {
                          "; keep it outside the output directory " + s.output);
     });
     const bool ztest = std::find(s.metrics.begin(), s.metrics.end(), "ztest") != s.metrics.end();
-    if (world.root())
-        warnOfExactReference(s, ztest), warnOfNoisyReference(s), warnOfUnreliableZTest(s, ztest);
+    if (world.root()) warnOfExactReference(s, ztest), warnOfNoisyReference(s);
+    // (Runs are named once adoptFinishedIds has given them their ledger's ids: before, a sweep
+    // extended at the front named a finished run's id; helper 159.)
+    const int threads = a.threads > 0 ? a.threads : threadsPerRender(a.jobs);
     if (a.dryRun) {
         if (!world.root()) return 0;
         // Runs an earlier start finished, as its ledger has them (read, not repaired: a dry run
@@ -849,6 +851,9 @@ int runBatch(BatchArgs a) {
         }
         checkRunOutputs(s, done, ztest);
         warnOfMissingImages(s, done);
+        // (As the start warns, once its checks pass: of a thread count that differs too; helper
+        // 159.)
+        warnOfUnreliableZTest(s, ztest), warnOfOtherThreadCounts(s, done, threads);
         const size_t finished = size_t(std::count_if(
             s.runs.begin(), s.runs.end(), [&](const SweepRun& run) { return done.find(run.id); }));
         // A rendered reference is said to be cached or to render first, or not to be needed
@@ -906,8 +911,8 @@ int runBatch(BatchArgs a) {
     });
     RunContext c(s);
     c.ztest = ztest;
-    c.threads = a.threads > 0 ? a.threads : threadsPerRender(a.jobs);
-    if (world.root()) warnOfOtherThreadCounts(s, *ledger, c.threads);
+    c.threads = threads;
+    if (world.root()) warnOfUnreliableZTest(s, ztest), warnOfOtherThreadCounts(s, *ledger, threads);
     // With every run finished the reference is not needed: one deleted since is not rendered
     // again for nothing (its fingerprint was checked with the rows above).
     const bool allFinished = world.broadcast(

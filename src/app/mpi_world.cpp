@@ -133,6 +133,7 @@ void MpiWorld::reduceToRoot(Film& film, RenderStats& stats) const {
     std::memcpy(&stats.counters, c.data(), sizeof(PathCounters));
     // From the whole film, in pixel order: the one process's value, bit for bit.
     stats.imageMeanRelativeError = film.meanRelativeError();
+    stats.imageMeanRelativeErrorDof = film.meanRelativeErrorDof();
     stats.wallSeconds = wall[0];
     stats.minSamples = film.minCount();
     stats.maxSamples = film.maxCount();

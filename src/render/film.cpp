@@ -57,6 +57,27 @@ double Film::meanRelativeError() const {
     return std::sqrt(variance / n) / mean;
 }
 
+double Film::meanRelativeErrorDof() const {
+    if (!std::isfinite(meanRelativeError())) return INFINITY;
+    double n = 0, dof = 0, within = 0, spread = 0;  // spread: Σ W_p² / d_p
+    for (size_t i = 0; i < pixels(); ++i) {
+        const double k = count[i];
+        n += k;
+        if (k < 2) continue;
+        dof += k - 1;
+        const double s = luminance(Spectrum(sum[3 * i], sum[3 * i + 1], sum[3 * i + 2])),
+                     q = luminanceSumSq[i];
+        const double w = std::max(0.0, q - s * s / k);
+        // (Below the rounding of Σy² − (Σy)²/k, about k·ε·Σy²: equal samples not exactly
+        // representable, 0.1 each, left one pixel's rounding holding all of ν's variance.)
+        if (!(w > 1e-13 * k * q)) continue;
+        within += w;
+        spread += w * w / std::max(1.0, s * s / q);
+    }
+    if (dof < 0.25 * n || !(within > 0)) return INFINITY;  // (the spread of all samples: 1 spp)
+    return within * within / spread;
+}
+
 uint32_t Film::minCount() const {
     return count.empty() ? 0 : *std::min_element(count.begin(), count.end());
 }

@@ -177,6 +177,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options, Film film)
         st.passEnd = passEnd;
         for (const PathCounters& c : counters) st.counters.add(c);
         st.imageMeanRelativeError = film.meanRelativeError();
+        st.imageMeanRelativeErrorDof = film.meanRelativeErrorDof();
         describeIntegrator(integrator, st);
         return st;
     };

@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
+
+#include "shvol/core/math.h"
 
 namespace shvol {
 
@@ -71,6 +74,55 @@ TEST(Film, MeanRelativeErrorIsOfTheSpreadWithinPixels) {
     unknown.film.luminanceSumSq.clear();
     EXPECT_EQ(unknown.film.meanRelativeError(), INFINITY);
     EXPECT_EQ(Film(4, 4).meanRelativeError(), INFINITY);
+}
+
+namespace {
+/// The slow reference of meanRelativeErrorDof, from the samples: each pixel's sum of squared
+/// deviations about its own mean, and its Kish count (Σy)²/Σy².
+double dofOfSamples(const std::vector<std::vector<double>>& perPixel) {
+    double num = 0, den = 0;
+    for (const std::vector<double>& y : perPixel) {
+        double mean = 0, sum = 0, sq = 0, w = 0;
+        for (double v : y) mean += v / double(y.size()), sum += v, sq += v * v;
+        for (double v : y) w += (v - mean) * (v - mean);
+        if (y.size() < 2 || w == 0) continue;
+        num += w;
+        den += w * w / std::max(1.0, sum * sum / sq);
+    }
+    return num * num / den;
+}
+}  // namespace
+
+// The degrees of freedom of the stated error (helper 162): many where every pixel's samples
+// spread alike, about one where one pixel's single rare sample holds the variance (a heavy tail),
+// whatever the number of samples. Against the slow reference from the samples.
+TEST(Film, MeanRelativeErrorDofFallsUnderAHeavyTail) {
+    const int pixels = 100, samples = 16;
+    std::vector<std::vector<double>> even(pixels), tail(pixels, std::vector<double>(samples, 1.0));
+    for (int i = 0; i < pixels; ++i)
+        for (int k = 0; k < samples; ++k) even[size_t(i)].push_back(1 + 0.01 * ((k * 7 + i) % 5));
+    tail[17][3] = 1000;  // one sample in 1600
+    tail[60][9] = 2;     // and a little spread elsewhere
+    for (const auto* v : {&even, &tail})
+        EXPECT_NEAR(picture(*v).film.meanRelativeErrorDof(), dofOfSamples(*v),
+                    1e-9 * dofOfSamples(*v));
+    EXPECT_GT(picture(even).film.meanRelativeErrorDof(), 1000);
+    EXPECT_LT(picture(tail).film.meanRelativeErrorDof(), 1.1);
+    // At one sample per pixel the error is of all samples: no within-pixel figure (∞); so
+    // without squares, and where no pixel spreads (an error of 0 stated by nothing).
+    EXPECT_EQ(contrast(pixels, 1, 0.01).film.meanRelativeErrorDof(), INFINITY);
+    Picture unknown = picture(even);
+    unknown.film.luminanceSumSq.clear();
+    EXPECT_EQ(unknown.film.meanRelativeErrorDof(), INFINITY);
+    EXPECT_EQ(picture(std::vector<std::vector<double>>(pixels, std::vector<double>(samples, 1.0)))
+                  .film.meanRelativeErrorDof(),
+              INFINITY);
+    // Nor where the spread is the sums' rounding (0.3 is not a double: Σy² − (Σy)²/k is not 0).
+    const Picture tenths = picture(std::vector<std::vector<double>>(pixels, {0.3, 0.3, 0.3}));
+    const Film& f = tenths.film;
+    const double s = luminance(Spectrum(f.sum[0], f.sum[1], f.sum[2]));
+    EXPECT_GT(f.luminanceSumSq[0] - s * s / 3, 0.0);  // (the case)
+    EXPECT_EQ(f.meanRelativeErrorDof(), INFINITY);
 }
 
 }  // namespace shvol

@@ -91,6 +91,8 @@ struct RenderStats {
     /// The relative standard error of the image's mean luminance (Film::meanRelativeError): of
     /// the whole film, a resumed render's earlier samples too.
     double imageMeanRelativeError = INFINITY;
+    /// The degrees of freedom it rests on (Film::meanRelativeErrorDof).
+    double imageMeanRelativeErrorDof = INFINITY;
     std::vector<std::string> effects;
     double rouletteThreshold = 1;  ///< Russian roulette's threshold θ as decided (Effects)
     LightSamplingStats lightSampling;
