@@ -1381,6 +1381,14 @@ int runRender(const RenderArgs& a) {
     if (spread) world.reduceToRoot(r.film, r.stats);
     if (!speaks) return 0;
     const bool interrupted = r.stats.stop == RenderStop::Cancelled;
+    // A batch's run stopped before its first sample writes nothing: its image would be black and
+    // its stats of no samples, and it renders again at the next start (helper 159: a --jobs 2
+    // batch stopped left such files beside the finished runs').
+    if (interrupted && !a.run.empty() && r.stats.maxSamples == 0) {
+        std::fprintf(stderr, "shvol: interrupted before the first sample of %s: nothing written\n",
+                     final.image.c_str());
+        return InterruptGuard::stopExitCode();
+    }
     // A render that stopped early has no closing afterPass call: save where it stopped.
     if (r.stats.stop != RenderStop::Completed) saveCheckpoint(r.film, true);
     provenance["total_s"] = secondsSoFar();

@@ -3543,6 +3543,35 @@ TEST_F(Cli, BatchStopsBeforeItsNextRunAtASignalWhileARunWrites) {
     }
 }
 
+// A second job's run that a signal stops before its first sample writes nothing (helper 159: a
+// --jobs 2 batch left a black image and stats of no samples beside the finished runs'): the
+// signal comes as run 0, 8x8 at 1 spp, is written, while run 1 still fits its order-256 SH phase
+// function (2.6 s).
+TEST_F(Cli, BatchRunStoppedBeforeItsFirstSampleWritesNothing) {
+    write("s.json", R"({"camera": {"resolution": [8, 8], "position": [0, -3, 0]},
+        "render": {"spp": 1}, "environment": {"type": "constant", "radiance": 1},
+        "media": [{"type": "homogeneous", "sigma_t": 1, "shape": {"type": "sphere"}}]})");
+    write("sweep.json", R"({"scene": "s.json", "axes": {"media[0].phase": [{"type": "hg", "g": 0.5},
+        {"type": "hg", "g": 0.999999, "sampling": "sh", "order": 256, "sh_depth": 18}]}})");
+    const std::string out = path("out");
+    const Result r = runCommand(
+        "env --default-signal=INT " + std::string(SHVOL_BINARY) + " batch " + path("sweep.json") +
+        " --quiet --jobs 2 --threads 1 --output " + out + " 2>" + path("bg.txt") +
+        " & p=$!; i=0; while ! ls " + out +
+        "/r0000.stats.json >/dev/null 2>&1 && [ $i -lt 60000 ]; do sleep 0.001; i=$((i+1)); done; "
+        "kill -INT $p; wait $p");
+    const std::string err = test::fileBytes(path("bg.txt"));
+    EXPECT_EQ(r.code, 130) << err;
+    EXPECT_NE(err.find("shvol: interrupted before the first sample of " + out +
+                       "/r0001.exr: nothing written\n"),
+              std::string::npos)
+        << err;
+    EXPECT_EQ(ledgerRows(out).size(), 1u);
+    EXPECT_TRUE(fs::exists(out + "/r0000.exr"));
+    for (const char* name : {"/r0001.exr", "/r0001.stats.json"})
+        EXPECT_FALSE(fs::exists(out + name)) << name;
+}
+
 // A given reference is compared as `shvol diff` compares it: negative values (another
 // renderer's filter rings below 0) are taken, as README says (batch refused them; helper 67);
 // infinite ones are refused (every run's metrics were infinite, null in the ledger; review).
