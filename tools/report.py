@@ -367,18 +367,22 @@ def main():
         figures.append((name, f"mean {time_label} for each value of {a} (all other axes "
                               "pooled)"))
 
-    head = ["configuration", "spp", "runs", f"{error or 'error'} (mean ± sd)", "time (s)"] + (
+    # (No error column without an error metric: it was empty in every row; helper 159.)
+    head = ["configuration", "spp", "runs"] + ([f"{error} (mean ± sd)"] if error else []) + [
+        "time (s)"] + (
         ["1/(MSE·time)"] if efficient else []) + (["z-test passed"] if ztest else []) + (
             ["bias (mean)"] if biased_col else [])
     table = [head]
     for c, spp, n, e, sd, t, eff, z, b in summary:
-        table.append([c, str(spp), str(n), (f"{e:.4g} ± {sd:.2g}" if n > 1 else f"{e:.4g}") if error else "",
-                      f"{t:.3g}"] + ([f"{eff:.4g}" if not math.isnan(eff) else ""] if efficient else []) +
+        table.append([c, str(spp), str(n)] +
+                     ([f"{e:.4g} ± {sd:.2g}" if n > 1 else f"{e:.4g}"] if error else []) +
+                     [f"{t:.3g}"] + ([f"{eff:.4g}" if not math.isnan(eff) else ""] if efficient else []) +
                      ([z] if ztest else []) + ([b] if biased_col else []))
     summary = (f"{counted(len(rows), 'run')}, {counted(len(configs), 'configuration')}; "
                f"error metric: {error or 'none'}; time: {time_key} ({time_label}).")
     if not efficient:
-        summary += " No efficiency 1/(MSE·time) column: it needs the sweep's rmse metric."
+        summary += (" No efficiency 1/(MSE·time) column: it needs the sweep's rmse metric" +
+                    ("." if error else ", which needs a reference (no error metric here)."))
     if cut_short:  # (said nowhere before: the report was one run short; helper 141)
         summary += (f" Line {cut_short} of results.jsonl, cut short by a batch stopped while "
                     f"writing it, is left out: the next start of the batch renders that run again.")

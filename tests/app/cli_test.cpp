@@ -4837,6 +4837,27 @@ TEST_F(Cli, ReportGroupsValuesAsTheBatchDoesAndMarksBias) {
               std::string::npos)
         << cut;
     EXPECT_NE(cut.find("| x=1 | 8 | 2 | 0.1 ± 0 | 1 | 0 |"), std::string::npos) << cut;
+    // Without any error metric (no reference): no error column, which was empty in every row,
+    // and the note says what rmse needs (helper 159).
+    std::istringstream lines(rows);
+    std::string bare;
+    for (std::string line; std::getline(lines, line);) {
+        auto row = nlohmann::json::parse(line);
+        row.erase("mae");
+        bare += row.dump() + "\n";
+    }
+    std::ofstream(path("o/results.jsonl"), std::ios::binary) << bare;
+    r = run("report " + path("o") + " --quiet");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string none = test::fileBytes(path("o/report.md"));
+    EXPECT_NE(none.find("error metric: none;"), std::string::npos) << none;
+    EXPECT_NE(none.find(" No efficiency 1/(MSE·time) column: it needs the sweep's rmse metric, "
+                        "which needs a reference (no error metric here)."),
+              std::string::npos)
+        << none;
+    EXPECT_NE(none.find("\n| configuration | spp | runs | time (s) | bias (mean) |"),
+              std::string::npos)
+        << none;
 }
 
 // A ledger of three runs of two configurations, for the report tests.
