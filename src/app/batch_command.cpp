@@ -692,7 +692,11 @@ class WorkQueue {
             int from = 0;
             const std::string report = world.recv(kRequest, from);
             if (report.rfind("row ", 0) == 0) {
-                const Json row = Json::parse(report.substr(4));
+                // The run's row, and its warnings, said here once for the whole batch (each rank
+                // said them once of its own; helper 165).
+                const Json message = Json::parse(report.substr(4));
+                for (const Json& w : message["warnings"]) warnOnce(w[0], w[1], w[2]);
+                const Json& row = message["row"];
                 try {
                     finished(row);
                 } catch (const std::exception& e) {  // e.g. the ledger cannot be written
@@ -711,19 +715,34 @@ class WorkQueue {
     /// Another rank of an MPI batch: asks rank 0 for runs, reporting each one's row, until told
     /// to stop.
     static void ask(const MpiWorld& world, const RunContext& c) {
+        // A finished run's warnings go to rank 0 with its row; those of a run that stopped the
+        // batch are said here, as the batch ends.
+        Json said = Json::array();
+        setWarningSink(
+            [&](const std::string& scene, const std::string& run, const std::string& text) {
+                said.push_back({scene, run, text});
+            });
+        const auto sayHere = [&] {
+            setWarningSink({});
+            for (const Json& w : said) warnOnce(w[0], w[1], w[2]);
+        };
         for (std::string report = "ready";;) {
             world.send(0, kRequest, report);
             int from = 0;
             const std::string reply = world.recv(kReply, from);
-            if (reply == "stop") return;
+            if (reply == "stop") return sayHere();
             const size_t space = reply.find(' ');
             SweepRun run = c.sweep.runs.at(size_t(std::stoi(reply.substr(0, space))));
             run.id = reply.substr(space + 1);
             try {
                 int code = 0;
                 const Json row = runOne(c, run, code);
-                report = code ? "code " + std::to_string(code) : "row " + dumpJson(row);
+                if (code) sayHere();
+                report = code ? "code " + std::to_string(code)
+                              : "row " + dumpJson(Json{{"row", row}, {"warnings", said}});
+                said = Json::array();
             } catch (const std::exception& e) {
+                sayHere();
                 report = "error " + errorText(e, c.sweep, &run);
             }
         }
@@ -836,6 +855,8 @@ int runBatch(BatchArgs a) {
     // (Runs are named once adoptFinishedIds has given them their ledger's ids: before, a sweep
     // extended at the front named a finished run's id; helper 159.)
     const int threads = a.threads > 0 ? a.threads : threadsPerRender(a.jobs);
+    if (const std::string w = bindingWarning(); world.root() && a.threads == 0 && !w.empty())
+        std::fprintf(stderr, "shvol: warning: %s\n", w.c_str());
     if (a.dryRun) {
         if (!world.root()) return 0;
         // Runs an earlier start finished, as its ledger has them (read, not repaired: a dry run

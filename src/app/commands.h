@@ -59,6 +59,16 @@ struct RenderArgs {
 /// must call it: they render a share of the pixels each and rank 0 writes the outputs.
 int runRender(const RenderArgs& a);
 
+/// Prints "shvol: warning: SCENE: TEXT" ("SCENE (run RUN): TEXT" in a batch) once per process for
+/// each text, and once for texts that differ in their numbers only, naming the first run that
+/// gave it; or passes it to the warning sink when one is set.
+void warnOnce(const std::string& scene, const std::string& run, const std::string& text);
+/// Where warnOnce sends warnings instead of stderr (an MPI batch's ranks other than 0 send them to
+/// rank 0, which says each once for the whole batch); an empty sink restores stderr.
+using WarningSink =
+    std::function<void(const std::string& scene, const std::string& run, const std::string& text)>;
+void setWarningSink(WarningSink sink);
+
 /// What an SH-sampled phase function with structure finer than the quadrature of its fit sees
 /// does (SHSampledPhase::quadratureMass more than kBlindQuadrature from 1): "the function has
 /// structure finer than …", for a warning; "" when the quadrature sees it. A tabulated spike

@@ -1,5 +1,7 @@
 #include "mpi_world.h"
 
+#include <sched.h>
+#include <algorithm>
 #include <chrono>
 #include <cstddef>
 #include <cstdio>
@@ -83,6 +85,10 @@ void MpiWorld::init(int& argc, char**& argv) {
                      "shvol batch needs it with several ranks\n");
 }
 
+bool MpiWorld::launched() {
+    return gInitialised;
+}
+
 void MpiWorld::finalize() {
     if (gInitialised) MPI_Finalize();
     gInitialised = false;
@@ -164,6 +170,9 @@ std::string MpiWorld::recv(int tag, int& from) const {
 #else  // built without MPI: one rank
 
 void MpiWorld::init(int&, char**&) {}
+bool MpiWorld::launched() {
+    return false;
+}
 void MpiWorld::finalize() {}
 void MpiWorld::abort(int code) {
     std::exit(code);
@@ -198,9 +207,39 @@ void collectively(const std::function<void()>& setup, bool together) {
     throw ReportedOnRoot{};
 }
 
+namespace {
+/// The machine's cores, and those this process may run on (its CPU affinity: mpirun binds each
+/// rank to one core where it starts at most two, OpenMPI 4.1), at most the machine's.
+int machineCores() {
+    return int(std::max(1u, std::thread::hardware_concurrency()));
+}
+int allowedCores() {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(0, sizeof set, &set) != 0) return machineCores();
+    return std::clamp(CPU_COUNT(&set), 1, machineCores());
+}
+/// The cores a rank's renders share: its part of the machine's, or the cores it is bound to
+/// where those are fewer (threads beyond them would share them: a bound rank of a batch
+/// rendered on two threads on one core; helper 165).
+int rankCores() {
+    return std::min(allowedCores(), machineCores() / std::max(1, MpiWorld::get().localSize()));
+}
+}  // namespace
+
 int threadsPerRender(int jobs) {
-    const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
-    return std::max(1, cores / std::max(1, jobs * MpiWorld::get().localSize()));
+    return std::max(1, rankCores() / std::max(1, jobs));
+}
+
+std::string bindingWarning() {
+    const int cores = machineCores(), ranks = std::max(1, MpiWorld::get().localSize());
+    if (!MpiWorld::launched() || allowedCores() >= cores / ranks) return "";
+    return "mpirun bound this rank to " + std::to_string(allowedCores()) + " of the machine's " +
+           std::to_string(cores) + " cores (" + std::to_string(ranks) + " rank" +
+           (ranks == 1 ? "" : "s") + " on it): it renders on " + std::to_string(allowedCores()) +
+           (allowedCores() == 1 ? " thread" : " threads") +
+           " unless --threads says otherwise; `mpirun --bind-to none` gives each rank its share, " +
+           std::to_string(std::max(1, cores / ranks));
 }
 
 }  // namespace shvol::app

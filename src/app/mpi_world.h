@@ -20,6 +20,8 @@ class MpiWorld {
     /// Joins the MPI job when started by mpirun (call first thing in main); finalize() at exit.
     static void init(int& argc, char**& argv);
     static void finalize();
+    /// Whether this process joined an MPI job (started by mpirun, one rank or more).
+    static bool launched();
     /// Ends every rank (a rank failed where the others cannot know it).
     [[noreturn]] static void abort(int code);
     /// Whether this program was built with MPI.
@@ -61,8 +63,13 @@ class MpiWorld {
 void collectively(const std::function<void()>& setup, bool together = true);
 
 /// Worker threads for each of `jobs` renders side by side: the machine's cores shared between
-/// them and the MPI ranks on this machine (at least 1).
+/// them and the MPI ranks on this machine, or the cores this rank is bound to where those are
+/// fewer (at least 1).
 int threadsPerRender(int jobs);
+/// Under mpirun, where it bound this rank to fewer cores than its share of the machine: what that
+/// costs and how to avoid it (OpenMPI binds each rank to one core where it starts at most two;
+/// helper 165); else "".
+std::string bindingWarning();
 
 /// Thrown on the ranks other than 0 for an error rank 0 reports (main prints nothing for it).
 struct ReportedOnRoot {};

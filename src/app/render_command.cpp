@@ -1019,7 +1019,18 @@ std::string numbersAsHashes(const std::string& text) {
 /// gave it (it named none: a warning of one run among many could not be placed; helper 67). The
 /// max_depth warning's counts differ from run to run, and an 80-run sweep said it for nearly every
 /// run (helper 98); one run's warnings of media[0] and media[1] are two.
+WarningSink& warningSink() {
+    static WarningSink sink;
+    return sink;
+}
+}  // namespace
+
+void setWarningSink(WarningSink sink) {
+    warningSink() = std::move(sink);
+}
+
 void warnOnce(const std::string& scene, const std::string& run, const std::string& text) {
+    if (warningSink()) return warningSink()(scene, run, text);
     static std::mutex mutex;
     static std::set<std::string> said;                 // "SCENE: TEXT"
     static std::map<std::string, std::string> shapes;  // "SCENE: shape" → the run that said it
@@ -1030,6 +1041,8 @@ void warnOnce(const std::string& scene, const std::string& run, const std::strin
     std::fprintf(stderr, "shvol: warning: %s%s: %s\n", scene.c_str(),
                  run.empty() ? "" : (" (run " + run + ")").c_str(), text.c_str());
 }
+
+namespace {
 
 /// --spp: "N" or increasing "N1,N2,…,N" (each Ni an image of its own). Gives the list; when the
 /// text is not one, says why in `problem` (and the list is not to be used).
@@ -1298,6 +1311,8 @@ int runRender(const RenderArgs& a) {
     const uint32_t spp = uint32_t(scene.settings.spp);
     RenderOptions opt;
     opt.threads = a.threads > 0 ? a.threads : spread ? threadsPerRender(1) : 0;
+    if (const std::string w = bindingWarning(); speaks && a.threads == 0 && !w.empty())
+        std::fprintf(stderr, "shvol: warning: %s\n", w.c_str());
     opt.progress = !a.quiet && speaks && Progress::stderrIsTerminal();
     // Under mpirun a signal ends the ranks at once (nothing is half-written: outputs are atomic).
     opt.cancel = spread ? nullptr : &InterruptGuard::interrupted();

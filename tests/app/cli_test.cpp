@@ -16,6 +16,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <thread>
 
 #include "shvol/io/checkpoint.h"
 #include "shvol/io/exr.h"
@@ -4703,6 +4704,64 @@ TEST_F(Cli, MpiBatchEndsEveryRankWhenTheReferenceCannotBeWritten) {
               std::string::npos)
         << run.err;
     EXPECT_EQ(run.err.find("MPI_ABORT"), std::string::npos) << run.err;
+}
+
+// A rank that mpirun bound to fewer cores than its share renders on the cores it is bound to, and
+// says so (helper 165: a batch under mpirun -np 1, bound to one core by OpenMPI's default, ran
+// two threads on it; a render ran one without a word).
+TEST_F(Cli, MpiWarnsOfARankBoundToFewerCores) {
+    const unsigned cores = std::thread::hardware_concurrency();
+    if (cores < 2) GTEST_SKIP() << "one core: a rank bound to it has its share";
+    std::string mpi = SHVOL_MPIEXEC;
+    mpi.replace(mpi.rfind(" 2"), 2, " 1 --bind-to core");
+    write("s.json", scene(Homogeneous));
+    const std::string said = "shvol: warning: mpirun bound this rank to 1 of the machine's " +
+                             std::to_string(cores) +
+                             " cores (1 rank on it): it renders on 1 "
+                             "thread unless --threads says otherwise; `mpirun --bind-to none` "
+                             "gives each rank its share, " +
+                             std::to_string(cores) + "\n";
+    Result r = runCommand(mpi + " " + SHVOL_BINARY + " render " + path("s.json") + " --quiet -o " +
+                          path("a.exr"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, said);
+    EXPECT_EQ(nlohmann::json::parse(std::ifstream(path("a.stats.json")))["threads"], 1);
+    r = runCommand(mpi + " " + SHVOL_BINARY + " render " + path("s.json") +
+                   " --quiet --threads 2 -o " + path("b.exr"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    EXPECT_EQ(nlohmann::json::parse(std::ifstream(path("b.stats.json")))["threads"], 2);
+    write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [2]}})");
+    r = runCommand(mpi + " " + SHVOL_BINARY + " batch " + path("sweep.json") + " --quiet -o " +
+                   path("out"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, said);
+    EXPECT_EQ(nlohmann::json::parse(std::ifstream(path("out/r0000.stats.json")))["threads"], 1);
+}
+
+// A warning every run gives is said once by an MPI batch, as by one process: the other ranks send
+// their runs' warnings to rank 0 with the rows (each rank said it once; helper 165).
+TEST_F(Cli, MpiBatchSaysAWarningOnce) {
+    write("s.json", R"({"camera": {"resolution": [8, 6], "position": [0, -3, 0]},
+        "render": {"product_order": 8}, "environment": {"type": "constant", "radiance": 1},
+        "media": [)" + Homogeneous +
+                        "]}");
+    write("sweep.json", R"({"scene": "s.json", "axes": {"seed": [1, 2, 3, 4, 5, 6]},
+        "set": ["render.spp=64"]})");
+    const std::string said = "render.product_order: 8 is not used";
+    const auto count = [&](const std::string& err) {
+        size_t n = 0;
+        for (size_t at = err.find(said); at != std::string::npos; at = err.find(said, at + 1)) ++n;
+        return n;
+    };
+    Result r = run("batch " + path("sweep.json") + " --quiet --output " + path("one"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(count(r.err), 1u) << r.err;
+    r = runCommand(std::string(SHVOL_MPIEXEC) + " " + SHVOL_BINARY + " batch " +
+                   path("sweep.json") + " --quiet --output " + path("two"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(count(r.err), 1u) << r.err;
+    EXPECT_EQ(ledgerRows(path("two")).size(), 6u);
 }
 
 // mpirun -np 2 shvol batch: the runs are shared out dynamically, rank 0 keeps the ledger, the
