@@ -46,12 +46,6 @@ constexpr const char* kRenderWritesExr = "render writes OpenEXR (shvol tonemap m
 /// over the isotropic value (misNoneWarning).
 constexpr double kMisNoneSamplesPerPeak = 4;
 
-/// render.nee false under an image sky warns where a pixel's samples meet its peak fewer than
-/// kNeeOffPeakHitsPerPixel times, drawn evenly over the sky (neeOffPeakWarning), where the peak
-/// is a sun, under kNeeOffPeakSolidAngle of the sky seen, and holds at least kNeeOffPeakShare of
-/// its light. (Without the second, smooth skies warned at previews' samples per pixel: the
-/// circumsolar glow of make-sky's Preetham sky without a sun, 7.3% of the sky holding 26% of its
-/// light, below 55 spp.)
 /// The image's stated error warns below this many degrees of freedom (Film::meanRelativeErrorDof;
 /// helper 162: 7% of the renders of heavy-tailed scenes above it, 0.6% of the others below).
 constexpr double kFewErrorDof = 10;
@@ -60,6 +54,12 @@ constexpr double kFewErrorDof = 10;
 /// have 12 in all).
 constexpr double kErrorDofWarnsFrom = 1000;
 
+/// render.nee false under an image sky warns where a pixel's samples meet its peak fewer than
+/// kNeeOffPeakHitsPerPixel times, drawn evenly over the sky (neeOffPeakWarning), where the peak
+/// is a sun, under kNeeOffPeakSolidAngle of the sky seen, and holds at least kNeeOffPeakShare of
+/// its light. (Without the second, smooth skies warned at previews' samples per pixel: the
+/// circumsolar glow of make-sky's Preetham sky without a sun, 7.3% of the sky holding 26% of its
+/// light, below 55 spp.)
 constexpr double kNeeOffPeakHitsPerPixel = 4, kNeeOffPeakSolidAngle = 0.01, kNeeOffPeakShare = 0.05;
 /// A rendered SH fit looser than this (relative L2 error), or a BRDF table whose projection or
 /// peak error exceeds it, is worth a warning.
@@ -402,11 +402,17 @@ std::string neeOffPeakWarning(const Scene& scene, const Effects& effects) {
                   "sky seen) hold %.0f%% of its light: paths meet them only by phase or BSDF "
                   "sampling, about %.2g times in a pixel's %d samples, so most pixels come out "
                   "low and a few far too bright, with standard errors that do not show it; leave "
-                  "render.nee \"auto\" (on under an image sky), or render %.3g samples per pixel "
-                  "or more",
+                  "render.nee \"auto\" (on under an image sky)",
                   peak.solidAngle, 100 * peak.solidAngle / seen, 100 * peak.powerShare, hits,
-                  scene.settings.spp, std::ceil(kNeeOffPeakHitsPerPixel * seen / peak.solidAngle));
-    return msg;
+                  scene.settings.spp);
+    // (The samples that would meet it often enough, as an integer: "1.08e+03" read as fewer than
+    // the 1097 it was; helper 163.)
+    const double enough = std::ceil(kNeeOffPeakHitsPerPixel * seen / peak.solidAngle);
+    return msg +
+           (enough <= double(1 << 24)
+                ? ", or render " + std::to_string((long long)enough) + " samples per pixel or more"
+                : std::string(": the samples per pixel that would meet it often enough are "
+                              "beyond render.spp's 2^24"));
 }
 
 /// render.mis "none" where light samples alone cannot converge at the render's samples per

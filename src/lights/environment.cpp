@@ -19,6 +19,16 @@ Environment Environment::constant(const Spectrum& L, bool lowerHemisphereBlack) 
     return e;
 }
 
+namespace {
+/// The part of row y (of H) above the horizon, where lowerHemisphereBlack leaves only that seen:
+/// 0 for the rows below it, ½ for the middle row of an odd height, which straddles it (counted
+/// exactly: the float θ's put 10⁻¹⁶ of row H/2 of 142 even heights up to 4096 above it; review).
+double rowSeen(int y, int H, bool lowerHemisphereBlack) {
+    if (!lowerHemisphereBlack) return 1;
+    return 2 * y + 1 < H ? 1.0 : 2 * y + 1 == H ? 0.5 : 0.0;
+}
+}  // namespace
+
 Environment Environment::image(Image img, double scale, double rotationDegrees,
                                bool lowerHemisphereBlack, LatLongMapping mapping) {
     if (img.width <= 0 || img.height <= 0 || img.rgb.size() != size_t(3) * img.width * img.height)
@@ -30,14 +40,10 @@ Environment Environment::image(Image img, double scale, double rotationDegrees,
     e.mapping_ = mapping;
     const int W = img.width, H = img.height;
     std::vector<double> weights(size_t(W) * H);
-    // The rows seen: with lowerHemisphereBlack those reaching above the horizon θ = π/2, counted
-    // exactly (rows y < H/2, and the middle row of an odd H, which straddles it; the float θ's
-    // put 10⁻¹⁶ of row H/2 of 142 even heights up to 4096 above it; review).
-    const int rows = lowerHemisphereBlack ? (H + 1) / 2 : H;
+    const int rows = lowerHemisphereBlack ? (H + 1) / 2 : H;  // (those with a part seen)
     for (int y = 0; y < H; ++y) {
-        const double sinTheta = std::sin(Pi * (y + 0.5) / H);
-        // The fraction of the row above the horizon.
-        const double above = y >= rows ? 0.0 : lowerHemisphereBlack && 2 * y + 1 == H ? 0.5 : 1.0;
+        const double sinTheta = std::sin(Pi * (y + 0.5) / H),
+                     above = rowSeen(y, H, lowerHemisphereBlack);
         for (int x = 0; x < W; ++x)
             weights[size_t(y) * W + x] = luminance(img.at(x, y)) * sinTheta * above;
     }
@@ -108,27 +114,44 @@ Environment::Peak Environment::peak() const {
     if (black_) return {};
     const double seen = lowerBlack_ ? TwoPi : FourPi;
     if (!image_) return {seen / 2, 0.5};
-    // Each texel's luminance and solid angle seen, (2π/W)·(cos θ0 − cos θ1) times the part of
-    // its row above the horizon (as the sampling weights take it).
+    // Each texel's luminance Y and solid angle seen, (2π/W)·(cos θ0 − cos θ1) times the part of
+    // its row above the horizon (as the sampling weights take it), binned by Y, 64 bins an octave
+    // below the brightest (the last bin holds everything 64 octaves down): a sort of every texel
+    // would take 2 GB for a sky 16384 texels wide (helper 163).
     const int W = image_->width, H = image_->height;
-    const int rows = lowerBlack_ ? (H + 1) / 2 : H;
-    std::vector<std::pair<double, double>> texels;  // (luminance, solid angle)
+    const auto forEachTexel = [&](auto&& f) {
+        for (int y = 0; y < H; ++y) {
+            const double omega = TwoPi / W * (std::cos(Pi * y / H) - std::cos(Pi * (y + 1) / H)) *
+                                 rowSeen(y, H, lowerBlack_);
+            if (omega <= 0) continue;
+            for (int x = 0; x < W; ++x)
+                if (const double Y = luminance(image_->at(x, y)); Y > 0) f(Y, omega);
+        }
+    };
+    double brightest = 0;
+    forEachTexel([&](double Y, double) { brightest = std::max(brightest, Y); });
+    constexpr int kPerOctave = 64, kBins = 64 * kPerOctave;
+    struct Bin {
+        double omega = 0, power = 0, moment = 0;  // ∫ dω, ∫ Y dω, ∫ Y² dω
+    };
+    std::vector<Bin> bins(kBins);
     double power = 0, moment = 0;
-    for (int y = 0; y < rows; ++y) {
-        const double above = lowerBlack_ && 2 * y + 1 == H ? 0.5 : 1.0;
-        const double omega =
-            TwoPi / W * (std::cos(Pi * y / H) - std::cos(Pi * (y + 1) / H)) * above;
-        for (int x = 0; x < W; ++x)
-            if (const double Y = luminance(image_->at(x, y)); Y > 0)
-                texels.emplace_back(Y, omega), power += Y * omega, moment += Y * Y * omega;
-    }
+    forEachTexel([&](double Y, double omega) {
+        const double below = std::log2(brightest / Y) * kPerOctave;
+        Bin& b = bins[size_t(std::min(double(kBins - 1), std::floor(below)))];
+        b.omega += omega, b.power += Y * omega, b.moment += Y * Y * omega;
+        power += Y * omega, moment += Y * Y * omega;
+    });
     if (!(power > 0)) return {};
-    std::sort(texels.begin(), texels.end(), std::greater<>());
+    // The brightest first, down to half of ∫ Y² dω, the last bin in part (its texels of about
+    // equal Y hold its moment in proportion to their solid angle).
     Peak p;
-    double held = 0;
-    for (const auto& [Y, omega] : texels) {
-        p.solidAngle += omega, held += Y * omega;
-        if ((moment -= 2 * Y * Y * omega) <= 0) break;  // (half of it taken)
+    double held = 0, need = moment / 2;
+    for (const Bin& b : bins) {
+        if (!(b.moment > 0)) continue;
+        const double part = std::min(1.0, need / b.moment);
+        p.solidAngle += part * b.omega, held += part * b.power;
+        if ((need -= b.moment) <= 0) break;
     }
     p.powerShare = std::min(1.0, held / power);
     return p;

@@ -36,46 +36,57 @@ Image Film::standardError() const {
     return img;
 }
 
-double Film::meanRelativeError() const {
-    if (luminanceSumSq.empty()) return INFINITY;
-    double n = 0, ySum = 0, ySumSq = 0, within = 0, dof = 0;
-    for (size_t i = 0; i < pixels(); ++i) {
-        const double k = count[i];
+namespace {
+/// The sums meanRelativeError and meanRelativeErrorDof are made of, over the pixels in order.
+struct PooledSpread {
+    double n = 0, ySum = 0, ySumSq = 0;  ///< samples, Σ y, Σ y²
+    double within = 0, dof = 0;          ///< Σ_p W_p and Σ_p (k_p − 1) over pixels of k_p ≥ 2
+    double nuWithin = 0, nuSpread = 0;   ///< Σ W_p and Σ W_p²/d_p over pixels whose W_p counts
+    /// Where pixels of two samples or more hold a quarter of the degrees of freedom or more, the
+    /// spread within them is the error's (at 1 spp there are none within).
+    bool fromWithin() const { return dof >= 0.25 * n; }
+};
+PooledSpread pooledSpread(const Film& f) {
+    PooledSpread p;
+    for (size_t i = 0; i < f.pixels(); ++i) {
+        const double k = f.count[i];
         if (k == 0) continue;
-        const double s = luminance(Spectrum(sum[3 * i], sum[3 * i + 1], sum[3 * i + 2]));
-        n += k, ySum += s, ySumSq += luminanceSumSq[i];
+        const double s = luminance(Spectrum(f.sum[3 * i], f.sum[3 * i + 1], f.sum[3 * i + 2])),
+                     q = f.luminanceSumSq[i];
+        p.n += k, p.ySum += s, p.ySumSq += q;
         if (k < 2) continue;
         // Σ (y − ȳ)² = Σ y² − (Σ y)²/k, never below 0 once rounded
-        within += std::max(0.0, luminanceSumSq[i] - s * s / k);
-        dof += k - 1;
+        const double w = std::max(0.0, q - s * s / k);
+        p.within += w, p.dof += k - 1;
+        // (ν leaves out a W_p below the rounding of Σy² − (Σy)²/k, about k·ε·Σy²: equal samples
+        // not exactly representable, 0.1 each, left one pixel's rounding holding all of ν's
+        // variance. d_p is at most k − 1: Kish's count reaches k where every sample is equal,
+        // and the variance of k samples about their own mean has k − 1 degrees of freedom;
+        // helper 163.)
+        if (!(w > 1e-13 * k * q)) continue;
+        p.nuWithin += w;
+        p.nuSpread += w * w / std::min(k - 1, std::max(1.0, s * s / q));
     }
-    if (n < 2 || !(ySum > 0)) return INFINITY;
-    const double mean = ySum / n;
-    // (from a quarter of the samples' degrees of freedom on: at 1 spp there are none within)
-    const double variance =
-        dof >= 0.25 * n ? within / dof : std::max(0.0, ySumSq / n - mean * mean) * n / (n - 1);
-    return std::sqrt(variance / n) / mean;
+    return p;
+}
+}  // namespace
+
+double Film::meanRelativeError() const {
+    if (luminanceSumSq.empty()) return INFINITY;
+    const PooledSpread p = pooledSpread(*this);
+    if (p.n < 2 || !(p.ySum > 0)) return INFINITY;
+    const double mean = p.ySum / p.n;
+    const double variance = p.fromWithin()
+                                ? p.within / p.dof
+                                : std::max(0.0, p.ySumSq / p.n - mean * mean) * p.n / (p.n - 1);
+    return std::sqrt(variance / p.n) / mean;
 }
 
 double Film::meanRelativeErrorDof() const {
     if (!std::isfinite(meanRelativeError())) return INFINITY;
-    double n = 0, dof = 0, within = 0, spread = 0;  // spread: Σ W_p² / d_p
-    for (size_t i = 0; i < pixels(); ++i) {
-        const double k = count[i];
-        n += k;
-        if (k < 2) continue;
-        dof += k - 1;
-        const double s = luminance(Spectrum(sum[3 * i], sum[3 * i + 1], sum[3 * i + 2])),
-                     q = luminanceSumSq[i];
-        const double w = std::max(0.0, q - s * s / k);
-        // (Below the rounding of Σy² − (Σy)²/k, about k·ε·Σy²: equal samples not exactly
-        // representable, 0.1 each, left one pixel's rounding holding all of ν's variance.)
-        if (!(w > 1e-13 * k * q)) continue;
-        within += w;
-        spread += w * w / std::max(1.0, s * s / q);
-    }
-    if (dof < 0.25 * n || !(within > 0)) return INFINITY;  // (the spread of all samples: 1 spp)
-    return within * within / spread;
+    const PooledSpread p = pooledSpread(*this);
+    if (!p.fromWithin() || !(p.nuWithin > 0)) return INFINITY;
+    return p.nuWithin * p.nuWithin / p.nuSpread;
 }
 
 uint32_t Film::minCount() const {

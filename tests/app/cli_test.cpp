@@ -1622,8 +1622,10 @@ TEST_F(Cli, RenderWarnsOfAStatedErrorOnFewDegreesOfFreedom) {
 // render.nee false under an image sky with a sun that phase sampling meets fewer than 4 times in
 // a pixel's samples is said (helper 160: g 0.99 under media/sunsky.exr, every render about 10%
 // low where its stated error was 0.15%); not with samples enough, with next-event estimation
-// on, or under a smooth sky. The sun: row 1 of 32 at 100, 0.72% of the sphere; half of ∫ Y²
-// is in 33 of its 64 texels, 0.0467 sr, met 0.059 times at 16 spp and 7.4 times at 2000.
+// on, or under a smooth sky. The sun: row 1 of 32 at 100, 2π(cos π/32 − cos π/16) = 0.090475
+// sr; ∫ Y² = 904.75 + (4π − 0.090475) = 917.23, half of it in 0.045861 sr of the row, which
+// holds 4.5861 of the 21.524 of light, 21%, and is met 0.058 times at 16 spp and 7.3 times at
+// 2000; 4 times from ⌈4 · 4π/0.045861⌉ = 1097 spp.
 TEST_F(Cli, RenderWarnsOfNeeOffUnderASun) {
     Image sky(64, 32), smooth(64, 32);
     for (int y = 0; y < 32; ++y)
@@ -1641,12 +1643,12 @@ TEST_F(Cli, RenderWarnsOfNeeOffUnderASun) {
     Result r = run(base + " --spp 16");
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(r.err, "shvol: warning: " + path("s.json") +
-                         ": render.nee: false under an image sky whose brightest 0.0467 sr (0.37% "
-                         "of the sky seen) hold 22% of its light: paths meet them only by phase "
-                         "or BSDF sampling, about 0.059 times in a pixel's 16 samples, so most "
+                         ": render.nee: false under an image sky whose brightest 0.0459 sr (0.36% "
+                         "of the sky seen) hold 21% of its light: paths meet them only by phase "
+                         "or BSDF sampling, about 0.058 times in a pixel's 16 samples, so most "
                          "pixels come out low and a few far too bright, with standard errors that "
                          "do not show it; leave render.nee \"auto\" (on under an image sky), or "
-                         "render 1.08e+03 samples per pixel or more\n");
+                         "render 1097 samples per pixel or more\n");
     EXPECT_NE(test::fileBytes(path("a.stats.json")).find("render.nee: false under an image sky"),
               std::string::npos);
     for (const std::string& quiet :

@@ -120,45 +120,47 @@ TEST(Environment, BrightestSeen) {
     EXPECT_EQ(Environment::image(img, 2, 0, true, LatLongMapping::Shvol).brightestSeen(), 1);
 }
 
-// The peak: the brightest texels holding half of ∫ Y² dω, with their solid angle and share of
-// ∫ Y dω, worked by hand. One row of two texels covers the sphere, 2π sr each: luminances 3 and
-// 1 give ∫ Y² = 20π, of which the first holds 18π, and 3/4 of the light. Two rows of one texel
-// split it at the horizon, 2π sr each; with the lower hemisphere black only the upper row is
-// seen; of an odd height the middle row counts half (π sr of its 2π).
+// The peak: the brightest directions holding half of ∫ Y² dω, with their solid angle and share of
+// ∫ Y dω, worked by hand. One row of two texels covers the sphere, 2π sr each: of luminances 3
+// and 1, ∫ Y² = 20π, half of it 10π sr·Y² in 10π/9 sr of the first texel (9 a steradian), which
+// hold 3 · 10π/9 of the 8π of light, 5/12. Two rows of one texel split it at the horizon, 2π sr
+// each; with the lower hemisphere black only the upper row is seen; of an odd height the middle
+// row counts half (π sr of its 2π).
 TEST(Environment, PeakHoldsHalfTheSecondMoment) {
     const auto grey = [](double y) { return Spectrum::Constant(y); };  // (luminance y)
     Image row(2, 1);
     row.set(0, 0, grey(3));
     row.set(1, 0, grey(1));
     Environment::Peak p = Environment::image(row, 1, 0, false).peak();
-    EXPECT_NEAR(p.solidAngle, TwoPi, 1e-12);
-    EXPECT_NEAR(p.powerShare, 0.75, 1e-12);
-    // Equal second moments (luminances 1 and 1): the first texel alone holds half.
+    EXPECT_NEAR(p.solidAngle, 10 * Pi / 9, 1e-12);
+    EXPECT_NEAR(p.powerShare, 5.0 / 12, 1e-12);
+    // Equal luminances (1 and 1): half of them.
     row.set(0, 0, grey(1));
     p = Environment::image(row, 1, 0, false).peak();
     EXPECT_NEAR(p.solidAngle, TwoPi, 1e-12);
     EXPECT_NEAR(p.powerShare, 0.5, 1e-12);
-    // 1 and 2 above and below: the lower texel holds 4/5 of ∫ Y², 2/3 of the light; seen alone,
-    // the upper one is all of it.
+    // 1 above, 2 below: ∫ Y² = 2π + 8π, half of it in 5π/4 sr of the lower texel, holding
+    // 5π/2 of the 6π of light; seen alone, the upper one holds half in half its 2π sr.
     Image column(1, 2);
     column.set(0, 0, grey(1));
     column.set(0, 1, grey(2));
     p = Environment::image(column, 1, 0, false).peak();
-    EXPECT_NEAR(p.solidAngle, TwoPi, 1e-12);
-    EXPECT_NEAR(p.powerShare, 2.0 / 3, 1e-12);
+    EXPECT_NEAR(p.solidAngle, 5 * Pi / 4, 1e-12);
+    EXPECT_NEAR(p.powerShare, 5.0 / 12, 1e-12);
     p = Environment::image(column, 1, 0, true).peak();
-    EXPECT_NEAR(p.solidAngle, TwoPi, 1e-12);
-    EXPECT_NEAR(p.powerShare, 1, 1e-12);
+    EXPECT_NEAR(p.solidAngle, Pi, 1e-12);
+    EXPECT_NEAR(p.powerShare, 0.5, 1e-12);
     // Three rows of one texel, the lower hemisphere black: the top row, θ in [0, π/3], has
     // 2π(1 − cos π/3) = π sr, the middle row half of its 2π sr, π. Luminances 1 and 1.5:
-    // ∫ Y² = π + 2.25π, the middle row's over half; it holds 1.5/2.5 of the light.
+    // ∫ Y² = π + 2.25π, half of it in 1.625π/2.25 sr of the middle row, which hold 1.5 times
+    // that of the 2.5π of light.
     Image three(1, 3);
     three.set(0, 0, grey(1));
     three.set(0, 1, grey(1.5));
     three.set(0, 2, grey(100));  // (below the horizon: not seen)
     p = Environment::image(three, 1, 0, true).peak();
-    EXPECT_NEAR(p.solidAngle, Pi, 1e-12);
-    EXPECT_NEAR(p.powerShare, 0.6, 1e-12);
+    EXPECT_NEAR(p.solidAngle, 1.625 * Pi / 2.25, 1e-12);
+    EXPECT_NEAR(p.powerShare, 1.5 * 1.625 / 2.25 / 2.5, 1e-12);
     // A constant: half of what is seen, half the light; black: nothing.
     p = Environment::constant(Spectrum::Ones(), true).peak();
     EXPECT_NEAR(p.solidAngle, Pi, 1e-12);

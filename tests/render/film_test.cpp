@@ -87,7 +87,7 @@ double dofOfSamples(const std::vector<std::vector<double>>& perPixel) {
         for (double v : y) w += (v - mean) * (v - mean);
         if (y.size() < 2 || w == 0) continue;
         num += w;
-        den += w * w / std::max(1.0, sum * sum / sq);
+        den += w * w / std::min(double(y.size()) - 1, std::max(1.0, sum * sum / sq));
     }
     return num * num / den;
 }
@@ -107,6 +107,12 @@ TEST(Film, MeanRelativeErrorDofFallsUnderAHeavyTail) {
         EXPECT_NEAR(picture(*v).film.meanRelativeErrorDof(), dofOfSamples(*v),
                     1e-9 * dofOfSamples(*v));
     EXPECT_GT(picture(even).film.meanRelativeErrorDof(), 1000);
+    // Every pixel spread alike about a mean far above the spread: Satterthwaite's ν is the
+    // nominal pixels × (k − 1), 1500 (Kish's count, 15.9, is capped at k − 1).
+    std::vector<std::vector<double>> alike(pixels);
+    for (int i = 0; i < pixels; ++i)
+        for (int k = 0; k < samples; ++k) alike[size_t(i)].push_back(k % 2 ? 1.25 : 1.0);
+    EXPECT_NEAR(picture(alike).film.meanRelativeErrorDof(), pixels * (samples - 1), 1e-9);
     EXPECT_LT(picture(tail).film.meanRelativeErrorDof(), 1.1);
     // At one sample per pixel the error is of all samples: no within-pixel figure (∞); so
     // without squares, and where no pixel spreads (an error of 0 stated by nothing).

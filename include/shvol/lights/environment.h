@@ -70,10 +70,11 @@ class Environment {
     /// out with lowerHemisphereBlack); of a constant, its largest channel.
     double brightestSeen() const { return brightest_; }
     /// The part of the sky that dominates the variance of directions drawn without regard to it
-    /// (by a phase function or a BSDF, next-event estimation off): its brightest texels that
+    /// (by a phase function or a BSDF, next-event estimation off): its brightest directions that
     /// together hold half of ∫ Y² dω over the directions seen (Y the luminance), as their solid
-    /// angle and their share of the power ∫ Y dω. A constant: half the solid angle seen, half
-    /// the power. Zero for a black sky.
+    /// angle and their share of the power ∫ Y dω; texels are taken by luminance in bins of 1/64
+    /// of an octave, the last one in part. A constant: half the solid angle seen, half the
+    /// power. Zero for a black sky.
     struct Peak {
         double solidAngle = 0, powerShare = 0;
     };

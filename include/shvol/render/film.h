@@ -49,14 +49,19 @@ struct Film {
     double meanRelativeError() const;
     /// How many degrees of freedom meanRelativeError's pooled variance rests on: Satterthwaite's
     ///   ν = (Σ_p W_p)² / Σ_p (W_p² / d_p),  W_p = Σ (y − ȳ_p)² a pixel's sum of squares,
-    /// with d_p = max(1, (Σ y)² / Σ y²), the pixel's effective number of samples (Kish's), in
-    /// place of n_p − 1: a pixel whose sum one sample carries counts as one observation however
-    /// many it took. The stated error is uncertain by a factor of about 1 ± √(2/ν), and under a
-    /// heavy tail, where a few pixels' rare large samples hold the variance, ν is small (helper
-    /// 162: below 10 in 93% of the renders of heavy-tailed scenes, in 0.6% of the others, all at
-    /// 32×24 and 16 spp). Pixels whose W_p is within the rounding of its sums (k·10⁻¹³·Σy²) are
-    /// left out. ∞ where meanRelativeError is taken over all samples (1 spp) or is unknown, or
-    /// no pixel's samples spread. Summed in pixel order, as meanRelativeError.
+    /// with d_p = min(n_p − 1, max(1, (Σ y)² / Σ y²)), the pixel's effective number of samples
+    /// (Kish's) in place of n_p − 1: a pixel whose sum one sample carries counts as one
+    /// observation however many it took. Kish's count is of the sum, not of the deviations: a
+    /// rare large sample over a bright background (a dark speck of smoke against the sky) leaves
+    /// it near n_p, and ν misses that tail (one sample holding a pixel's whole variance gave ν =
+    /// 1.0, 1.3, 5.0 and 15 over backgrounds of 0, 10, 100 and 1000 times its deviation; helper
+    /// 163); only the pixels' third and fourth moments, which the film does not keep, would see it.
+    /// The stated error is uncertain by a factor of about 1 ± √(2/ν), and under a heavy tail, where
+    /// a few pixels' rare large samples hold the variance, ν is small (helper 162: below 10 in 93%
+    /// of the renders of heavy-tailed scenes, in 0.6% of the others, all at 32×24 and 16 spp).
+    /// Pixels whose W_p is within the rounding of its sums (k·10⁻¹³·Σy²) are left out. ∞ where
+    /// meanRelativeError is taken over all samples (1 spp) or is unknown, or no pixel's samples
+    /// spread. Summed in pixel order, as meanRelativeError.
     double meanRelativeErrorDof() const;
     uint32_t minCount() const;
     uint32_t maxCount() const;
