@@ -62,6 +62,7 @@ TabulatedPhase readPhaseTableCsv(const std::string& path) {
              "a NUL byte at byte " + std::to_string(nul) + " (binary data, or UTF-16 text)" +
                  notATable);
     std::vector<double> angles, values;
+    std::string previous;  // the previous row's angle, as written
     std::string text;
     int lineNo = 0;
     bool first = true;
@@ -106,18 +107,18 @@ TabulatedPhase readPhaseTableCsv(const std::string& path) {
         if (!angles.empty()) {
             if (!(angle > angles.back()))
                 fail(path, place,
-                     "angle " + cells[0] + " is not greater than the previous angle " +
-                         str(angles.back()) + " (angles must increase strictly)");
+                     "angle " + cells[0] + " is not greater than the previous angle " + previous +
+                         " (angles must increase strictly)");
             // Distinct angles whose cosines round to the same double cannot be interpolated in μ.
             if (std::cos(angle * (Pi / 180)) == std::cos(angles.back() * (Pi / 180)))
                 fail(path, place,
-                     "angle " + cells[0] + " is too close to the previous angle " +
-                         str(angles.back()) +
+                     "angle " + cells[0] + " is too close to the previous angle " + previous +
                          ": their cosines round to the same double, and the table is linear in "
                          "the cosine (near 0° and 180° angles must differ by about 10⁻⁶° or "
                          "more)");
         }
         angles.push_back(angle);
+        previous = cells[0];  // (as written: six digits made 179.9999999999 read 180; helper 164)
         values.push_back(value);
     }
     if (lineNo == 0) fail(path, "", "empty file: expected at least 2 (angle, value) rows");

@@ -740,6 +740,31 @@ TEST_F(Cli, PhaseFitAndSample) {
         << r.err;
 }
 
+// The weights' variance that phase sample prints is theirs, as the file's weights give it by two
+// passes: Cornette-Shanks at g = 0.999999 has weights within 5e-5 of 1, whose variance,
+// 2.2e-14, Σw²/n − mean² printed as 0 (helper 164).
+TEST_F(Cli, PhaseSampleStatesItsWeightsVariance) {
+    const Result r =
+        run("phase sample cornette_shanks:g=0.999999 --sampler analytic --count "
+            "100000 -o " +
+            path("cs.csv"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    const size_t at = r.err.find(", variance ");
+    ASSERT_NE(at, std::string::npos) << r.err;
+    const double said = std::stod(r.err.substr(at + 11));
+    std::ifstream f(path("cs.csv"));
+    std::string line;
+    std::getline(f, line);
+    std::vector<double> w;
+    while (std::getline(f, line)) w.push_back(std::stod(line.substr(line.rfind(',') + 1)));
+    ASSERT_EQ(w.size(), 100000u);
+    double mean = 0, var = 0;
+    for (const double x : w) mean += x / double(w.size());
+    for (const double x : w) var += (x - mean) * (x - mean) / double(w.size());
+    EXPECT_GT(var, 1e-15);
+    EXPECT_NEAR(said, var, 1e-5 * var);
+}
+
 // The analytic samplers (what "sampling": "analytic" renders) can be checked from outside: HG's
 // samples have E[μ] = g and Var[μ] = (1 − g²)/3 (its Legendre moments E[P_l(μ)] = g^l), and
 // weight 1 each. (phase sample drew from SH fits only: helper 62's F5.)

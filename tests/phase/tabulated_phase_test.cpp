@@ -149,6 +149,14 @@ TEST(TabulatedCsv, OneLineErrors) {
               "line 2: angle 1e-9 is too close to the previous angle 0: their cosines round to "
               "the same double, and the table is linear in the cosine (near 0° and 180° angles "
               "must differ by about 10⁻⁶° or more)");
+    // The previous angle as written (six digits made it read as the angle itself; helper 164).
+    EXPECT_EQ(err("close180.csv", "0,1\n179.9999999999,2\n180,1\n"),
+              "line 3: angle 180 is too close to the previous angle 179.9999999999: their cosines "
+              "round to the same double, and the table is linear in the cosine (near 0° and 180° "
+              "angles must differ by about 10⁻⁶° or more)");
+    EXPECT_EQ(err("order2.csv", "0,1\n90.0000001,1\n90,2\n180,1\n"),
+              "line 3: angle 90 is not greater than the previous angle 90.0000001 (angles must "
+              "increase strictly)");
     EXPECT_EQ(err("one.csv", "angle,value\n0,1\n"),
               "line 2: expected at least 2 (angle, value) rows, got 1");
     // (an empty file has no line to name: it was "line 0"; helper 84)
