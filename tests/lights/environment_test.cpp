@@ -127,44 +127,29 @@ TEST(Environment, BrightestSeen) {
 // each; with the lower hemisphere black only the upper row is seen; of an odd height the middle
 // row counts half (π sr of its 2π).
 TEST(Environment, PeakHoldsHalfTheSecondMoment) {
-    const auto grey = [](double y) { return Spectrum::Constant(y); };  // (luminance y)
-    Image row(2, 1);
-    row.set(0, 0, grey(3));
-    row.set(1, 0, grey(1));
-    Environment::Peak p = Environment::image(row, 1, 0, false).peak();
-    EXPECT_NEAR(p.solidAngle, 10 * Pi / 9, 1e-12);
-    EXPECT_NEAR(p.powerShare, 5.0 / 12, 1e-12);
-    // Equal luminances (1 and 1): half of them.
-    row.set(0, 0, grey(1));
-    p = Environment::image(row, 1, 0, false).peak();
-    EXPECT_NEAR(p.solidAngle, TwoPi, 1e-12);
-    EXPECT_NEAR(p.powerShare, 0.5, 1e-12);
+    // The peak of a sky of W × H grey texels of the given luminances, row by row.
+    const auto peak = [](int W, int H, const std::vector<double>& y, bool lowerBlack) {
+        Image img(W, H);
+        for (int i = 0; i < W * H; ++i) img.set(i % W, i / W, Spectrum::Constant(y[size_t(i)]));
+        return Environment::image(img, 1, 0, lowerBlack).peak();
+    };
+    const auto expectPeak = [](const Environment::Peak& p, double solidAngle, double share) {
+        EXPECT_NEAR(p.solidAngle, solidAngle, 1e-12);
+        EXPECT_NEAR(p.powerShare, share, 1e-12);
+    };
+    expectPeak(peak(2, 1, {3, 1}, false), 10 * Pi / 9, 5.0 / 12);
+    expectPeak(peak(2, 1, {1, 1}, false), TwoPi, 0.5);  // equal luminances: half of them
     // 1 above, 2 below: ∫ Y² = 2π + 8π, half of it in 5π/4 sr of the lower texel, holding
     // 5π/2 of the 6π of light; seen alone, the upper one holds half in half its 2π sr.
-    Image column(1, 2);
-    column.set(0, 0, grey(1));
-    column.set(0, 1, grey(2));
-    p = Environment::image(column, 1, 0, false).peak();
-    EXPECT_NEAR(p.solidAngle, 5 * Pi / 4, 1e-12);
-    EXPECT_NEAR(p.powerShare, 5.0 / 12, 1e-12);
-    p = Environment::image(column, 1, 0, true).peak();
-    EXPECT_NEAR(p.solidAngle, Pi, 1e-12);
-    EXPECT_NEAR(p.powerShare, 0.5, 1e-12);
+    expectPeak(peak(1, 2, {1, 2}, false), 5 * Pi / 4, 5.0 / 12);
+    expectPeak(peak(1, 2, {1, 2}, true), Pi, 0.5);
     // Three rows of one texel, the lower hemisphere black: the top row, θ in [0, π/3], has
-    // 2π(1 − cos π/3) = π sr, the middle row half of its 2π sr, π. Luminances 1 and 1.5:
-    // ∫ Y² = π + 2.25π, half of it in 1.625π/2.25 sr of the middle row, which hold 1.5 times
-    // that of the 2.5π of light.
-    Image three(1, 3);
-    three.set(0, 0, grey(1));
-    three.set(0, 1, grey(1.5));
-    three.set(0, 2, grey(100));  // (below the horizon: not seen)
-    p = Environment::image(three, 1, 0, true).peak();
-    EXPECT_NEAR(p.solidAngle, 1.625 * Pi / 2.25, 1e-12);
-    EXPECT_NEAR(p.powerShare, 1.5 * 1.625 / 2.25 / 2.5, 1e-12);
+    // 2π(1 − cos π/3) = π sr, the middle row half of its 2π sr, π. Luminances 1 and 1.5 (and
+    // 100 below the horizon, not seen): ∫ Y² = π + 2.25π, half of it in 1.625π/2.25 sr of the
+    // middle row, which hold 1.5 times that of the 2.5π of light.
+    expectPeak(peak(1, 3, {1, 1.5, 100}, true), 1.625 * Pi / 2.25, 1.5 * 1.625 / 2.25 / 2.5);
     // A constant: half of what is seen, half the light; black: nothing.
-    p = Environment::constant(Spectrum::Ones(), true).peak();
-    EXPECT_NEAR(p.solidAngle, Pi, 1e-12);
-    EXPECT_EQ(p.powerShare, 0.5);
+    expectPeak(Environment::constant(Spectrum::Ones(), true).peak(), Pi, 0.5);
     EXPECT_EQ(Environment::image(Image(4, 2), 1, 0, false).peak().solidAngle, 0);
 }
 
