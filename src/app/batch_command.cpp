@@ -690,13 +690,15 @@ class WorkQueue {
     void serve(const MpiWorld& world) {
         for (int active = world.size() - 1; active > 0;) {
             int from = 0;
-            const std::string report = world.recv(kRequest, from);
+            // The warnings of the run reported, said here once for the whole batch (each rank
+            // said them once of its own; helper 165), then the report.
+            const std::string received = world.recv(kRequest, from);
+            const size_t lineEnd = received.find('\n');
+            for (const Json& w : Json::parse(received.substr(0, lineEnd)))
+                warnOnce(w[0], w[1], w[2]);
+            const std::string report = received.substr(lineEnd + 1);
             if (report.rfind("row ", 0) == 0) {
-                // The run's row, and its warnings, said here once for the whole batch (each rank
-                // said them once of its own; helper 165).
-                const Json message = Json::parse(report.substr(4));
-                for (const Json& w : message["warnings"]) warnOnce(w[0], w[1], w[2]);
-                const Json& row = message["row"];
+                const Json row = Json::parse(report.substr(4));
                 try {
                     finished(row);
                 } catch (const std::exception& e) {  // e.g. the ledger cannot be written
@@ -715,34 +717,31 @@ class WorkQueue {
     /// Another rank of an MPI batch: asks rank 0 for runs, reporting each one's row, until told
     /// to stop.
     static void ask(const MpiWorld& world, const RunContext& c) {
-        // A finished run's warnings go to rank 0 with its row; those of a run that stopped the
-        // batch are said here, as the batch ends.
+        // Each report carries the warnings of the run it reports, on a first line, for rank 0 to
+        // say once for the whole batch: a row's, and an interrupted or failed run's too (this
+        // rank said those itself, a second time; review).
         Json said = Json::array();
         setWarningSink(
             [&](const std::string& scene, const std::string& run, const std::string& text) {
                 said.push_back({scene, run, text});
             });
-        const auto sayHere = [&] {
-            setWarningSink({});
-            for (const Json& w : said) warnOnce(w[0], w[1], w[2]);
-        };
+        struct Restore {  // (stderr again however ask() ends: the sink refers to `said`)
+            ~Restore() { setWarningSink({}); }
+        } restore;
         for (std::string report = "ready";;) {
-            world.send(0, kRequest, report);
+            world.send(0, kRequest, dumpJson(said) + "\n" + report);
+            said = Json::array();
             int from = 0;
             const std::string reply = world.recv(kReply, from);
-            if (reply == "stop") return sayHere();
+            if (reply == "stop") return;
             const size_t space = reply.find(' ');
             SweepRun run = c.sweep.runs.at(size_t(std::stoi(reply.substr(0, space))));
             run.id = reply.substr(space + 1);
             try {
                 int code = 0;
                 const Json row = runOne(c, run, code);
-                if (code) sayHere();
-                report = code ? "code " + std::to_string(code)
-                              : "row " + dumpJson(Json{{"row", row}, {"warnings", said}});
-                said = Json::array();
+                report = code ? "code " + std::to_string(code) : "row " + dumpJson(row);
             } catch (const std::exception& e) {
-                sayHere();
                 report = "error " + errorText(e, c.sweep, &run);
             }
         }
@@ -855,8 +854,6 @@ int runBatch(BatchArgs a) {
     // (Runs are named once adoptFinishedIds has given them their ledger's ids: before, a sweep
     // extended at the front named a finished run's id; helper 159.)
     const int threads = a.threads > 0 ? a.threads : threadsPerRender(a.jobs);
-    if (const std::string w = bindingWarning(); world.root() && a.threads == 0 && !w.empty())
-        std::fprintf(stderr, "shvol: warning: %s\n", w.c_str());
     if (a.dryRun) {
         if (!world.root()) return 0;
         // Runs an earlier start finished, as its ledger has them (read, not repaired: a dry run
@@ -933,6 +930,9 @@ int runBatch(BatchArgs a) {
     RunContext c(s);
     c.ztest = ztest;
     c.threads = threads;
+    // (Not by --dry-run, which renders nothing; review.)
+    if (const std::string w = bindingWarning(threads); world.root() && a.threads == 0 && !w.empty())
+        std::fprintf(stderr, "shvol: warning: %s\n", w.c_str());
     if (world.root()) warnOfUnreliableZTest(s, ztest), warnOfOtherThreadCounts(s, *ledger, threads);
     // With every run finished the reference is not needed: one deleted since is not rendered
     // again for nothing (its fingerprint was checked with the rows above).

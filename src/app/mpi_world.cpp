@@ -1,6 +1,7 @@
 #include "mpi_world.h"
 
 #include <sched.h>
+#include <unistd.h>
 #include <algorithm>
 #include <chrono>
 #include <cstddef>
@@ -214,10 +215,15 @@ int machineCores() {
     return int(std::max(1u, std::thread::hardware_concurrency()));
 }
 int allowedCores() {
-    cpu_set_t set;
-    CPU_ZERO(&set);
-    if (sched_getaffinity(0, sizeof set, &set) != 0) return machineCores();
-    return std::clamp(CPU_COUNT(&set), 1, machineCores());
+    // (A set sized for the CPUs configured: a fixed cpu_set_t holds 1024, and on machines of more
+    // sched_getaffinity fails; review.)
+    const int cpus = std::max<int>(CPU_SETSIZE, int(sysconf(_SC_NPROCESSORS_CONF)));
+    cpu_set_t* set = CPU_ALLOC(cpus);
+    const size_t size = CPU_ALLOC_SIZE(cpus);
+    CPU_ZERO_S(size, set);
+    const int allowed = sched_getaffinity(0, size, set) == 0 ? CPU_COUNT_S(size, set) : 0;
+    CPU_FREE(set);
+    return allowed > 0 ? std::min(allowed, machineCores()) : machineCores();
 }
 /// The cores a rank's renders share: its part of the machine's, or the cores it is bound to
 /// where those are fewer (threads beyond them would share them: a bound rank of a batch
@@ -231,15 +237,19 @@ int threadsPerRender(int jobs) {
     return std::max(1, rankCores() / std::max(1, jobs));
 }
 
-std::string bindingWarning() {
+std::string bindingWarning(int threads) {
     const int cores = machineCores(), ranks = std::max(1, MpiWorld::get().localSize());
     if (!MpiWorld::launched() || allowedCores() >= cores / ranks) return "";
-    return "mpirun bound this rank to " + std::to_string(allowedCores()) + " of the machine's " +
-           std::to_string(cores) + " cores (" + std::to_string(ranks) + " rank" +
-           (ranks == 1 ? "" : "s") + " on it): it renders on " + std::to_string(allowedCores()) +
-           (allowedCores() == 1 ? " thread" : " threads") +
-           " unless --threads says otherwise; `mpirun --bind-to none` gives each rank its share, " +
-           std::to_string(std::max(1, cores / ranks));
+    // (Its affinity, not mpirun's binding alone: taskset or a container's cpuset narrow it too,
+    // where --bind-to none changes nothing; review.)
+    return "this rank may run on " + std::to_string(allowedCores()) + " of the machine's " +
+           std::to_string(cores) + " cores (its CPU affinity; " + std::to_string(ranks) + " rank" +
+           (ranks == 1 ? "" : "s") + " on the machine): it renders on " + std::to_string(threads) +
+           (threads == 1 ? " thread" : " threads") +
+           " unless --threads says otherwise; where mpirun bound it (OpenMPI binds each rank to "
+           "one core where it starts at most two), `mpirun --bind-to none` gives each rank its "
+           "share, " +
+           std::to_string(std::max(1, cores / ranks)) + " cores";
 }
 
 }  // namespace shvol::app

@@ -66,10 +66,10 @@ void collectively(const std::function<void()>& setup, bool together = true);
 /// them and the MPI ranks on this machine, or the cores this rank is bound to where those are
 /// fewer (at least 1).
 int threadsPerRender(int jobs);
-/// Under mpirun, where it bound this rank to fewer cores than its share of the machine: what that
-/// costs and how to avoid it (OpenMPI binds each rank to one core where it starts at most two;
-/// helper 165); else "".
-std::string bindingWarning();
+/// Under mpirun, where this rank may run on fewer cores than its share of the machine (OpenMPI
+/// binds each rank to one core where it starts at most two; helper 165): that it renders on
+/// `threads` threads, and how to avoid it; else "".
+std::string bindingWarning(int threads);
 
 /// Thrown on the ranks other than 0 for an error rank 0 reports (main prints nothing for it).
 struct ReportedOnRoot {};

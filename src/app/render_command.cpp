@@ -1018,13 +1018,6 @@ std::string numbersAsHashes(const std::string& text) {
     return shape;
 }
 
-/// Prints "shvol: warning: SCENE: TEXT", or in a batch "shvol: warning: SCENE (run RUN): TEXT",
-/// unless this process said TEXT of SCENE before, or another run said a TEXT that differs from it
-/// in its numbers only: a batch's renders of one scene (repeats, other sample counts) give it the
-/// same warnings, which each run's stats keep, and stderr says once, naming the first run that
-/// gave it (it named none: a warning of one run among many could not be placed; helper 67). The
-/// max_depth warning's counts differ from run to run, and an 80-run sweep said it for nearly every
-/// run (helper 98); one run's warnings of media[0] and media[1] are two.
 WarningSink& warningSink() {
     static WarningSink sink;
     return sink;
@@ -1035,6 +1028,13 @@ void setWarningSink(WarningSink sink) {
     warningSink() = std::move(sink);
 }
 
+/// Prints "shvol: warning: SCENE: TEXT", or in a batch "shvol: warning: SCENE (run RUN): TEXT",
+/// unless this process said TEXT of SCENE before, or another run said a TEXT that differs from it
+/// in its numbers only: a batch's renders of one scene (repeats, other sample counts) give it the
+/// same warnings, which each run's stats keep, and stderr says once, naming the first run that
+/// gave it (it named none: a warning of one run among many could not be placed; helper 67). The
+/// max_depth warning's counts differ from run to run, and an 80-run sweep said it for nearly every
+/// run (helper 98); one run's warnings of media[0] and media[1] are two.
 void warnOnce(const std::string& scene, const std::string& run, const std::string& text) {
     if (warningSink()) return warningSink()(scene, run, text);
     static std::mutex mutex;
@@ -1317,7 +1317,8 @@ int runRender(const RenderArgs& a) {
     const uint32_t spp = uint32_t(scene.settings.spp);
     RenderOptions opt;
     opt.threads = a.threads > 0 ? a.threads : spread ? threadsPerRender(1) : 0;
-    if (const std::string w = bindingWarning(); speaks && a.threads == 0 && !w.empty())
+    if (const std::string w = bindingWarning(opt.threads > 0 ? opt.threads : threadsPerRender(1));
+        speaks && a.threads == 0 && !w.empty())
         std::fprintf(stderr, "shvol: warning: %s\n", w.c_str());
     opt.progress = !a.quiet && speaks && Progress::stderrIsTerminal();
     // Under mpirun a signal ends the ranks at once (nothing is half-written: outputs are atomic).

@@ -4742,12 +4742,13 @@ TEST_F(Cli, MpiWarnsOfARankBoundToFewerCores) {
     std::string mpi = SHVOL_MPIEXEC;
     mpi.replace(mpi.rfind(" 2"), 2, " 1 --bind-to core");
     write("s.json", scene(Homogeneous));
-    const std::string said = "shvol: warning: mpirun bound this rank to 1 of the machine's " +
+    const std::string said = "shvol: warning: this rank may run on 1 of the machine's " +
                              std::to_string(cores) +
-                             " cores (1 rank on it): it renders on 1 "
-                             "thread unless --threads says otherwise; `mpirun --bind-to none` "
-                             "gives each rank its share, " +
-                             std::to_string(cores) + "\n";
+                             " cores (its CPU affinity; 1 rank on the machine): it renders on 1 "
+                             "thread unless --threads says otherwise; where mpirun bound it "
+                             "(OpenMPI binds each rank to one core where it starts at most two), "
+                             "`mpirun --bind-to none` gives each rank its share, " +
+                             std::to_string(cores) + " cores\n";
     Result r = runCommand(mpi + " " + SHVOL_BINARY + " render " + path("s.json") + " --quiet -o " +
                           path("a.exr"));
     ASSERT_EQ(r.code, 0) << r.err;
@@ -4759,6 +4760,11 @@ TEST_F(Cli, MpiWarnsOfARankBoundToFewerCores) {
     EXPECT_EQ(r.err, "");
     EXPECT_EQ(nlohmann::json::parse(std::ifstream(path("b.stats.json")))["threads"], 2);
     write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [2]}})");
+    // (Not by a dry run, which renders nothing.)
+    r = runCommand(mpi + " " + SHVOL_BINARY + " batch " + path("sweep.json") + " --dry-run -o " +
+                   path("out"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
     r = runCommand(mpi + " " + SHVOL_BINARY + " batch " + path("sweep.json") + " --quiet -o " +
                    path("out"));
     ASSERT_EQ(r.code, 0) << r.err;

@@ -52,10 +52,10 @@ struct Film {
     /// with d_p = min(n_p − 1, max(1, (Σ y)² / Σ y²)), the pixel's effective number of samples
     /// (Kish's) in place of n_p − 1: a pixel whose sum one sample carries counts as one
     /// observation however many it took. Kish's count is of the sum, not of the deviations: a
-    /// rare large sample over a bright background (a dark speck of smoke against the sky) leaves
-    /// it near n_p, and ν misses that tail (one sample holding a pixel's whole variance gave ν =
-    /// 1.0, 1.3, 5.0 and 15 over backgrounds of 0, 10, 100 and 1000 times its deviation; helper
-    /// 163); only the pixels' third and fourth moments, which the film does not keep, would see it.
+    /// rare large sample over a background as bright as its deviation leaves it at n_p − 1, and ν
+    /// misses that tail (one sample holding a pixel's whole variance, 16 spp: ν = 1.0, 1.3, 5.0
+    /// and 15 over backgrounds of 0, 0.01, 0.1 and 1 times its deviation, 15 beyond; helpers 163,
+    /// 166); only the pixels' third and fourth moments, which the film does not keep, would see it.
     /// The stated error is uncertain by a factor of about 1 ± √(2/ν), and under a heavy tail, where
     /// a few pixels' rare large samples hold the variance, ν is small (helper 162: below 10 in 93%
     /// of the renders of heavy-tailed scenes, in 0.6% of the others, all at 32×24 and 16 spp).
