@@ -21,6 +21,7 @@
 #include "shvol/io/provenance.h"
 #include "shvol/io/scene_loader.h"
 #include "shvol/render/renderer.h"
+#include "shvol/render/scene.h"
 
 namespace shvol::app {
 
@@ -442,7 +443,7 @@ void addBenchCommand(CLI::App& app, std::function<int()>& run) {
         ->check(nonEmptyName())
         ->check(notAStrayOverride());
     c->add_option("--spp", a->spp, "Samples per pixel per measurement")
-        ->transform(integerIn(1, 1 << 24));
+        ->transform(integerIn(1, kMaxSpp));
     c->add_option("--repeats", a->repeats,
                   "Rounds of the measurements, each configuration once per round in turn; the "
                   "best of each is kept")
@@ -457,7 +458,7 @@ void addBenchCommand(CLI::App& app, std::function<int()>& run) {
         "shared part and costs per density lookup and per majorant segment");
     // (Options of --accuracy only: without it they would be silently ignored.)
     c->add_option("--reference-spp", a->referenceSpp, "Samples per pixel of the reference")
-        ->transform(integerIn(1, 1 << 24))
+        ->transform(integerIn(1, kMaxSpp))
         ->needs(accuracy);
     c->add_option("--epsilon", a->epsilon, "The RMSE whose time is reported")
         ->check(numberIn(0, 1e30, true))

@@ -239,10 +239,12 @@ int threadsPerRender(int jobs) {
 
 std::string bindingWarning(int threads) {
     const int cores = machineCores(), ranks = std::max(1, MpiWorld::get().localSize());
-    if (!MpiWorld::launched() || allowedCores() >= cores / ranks) return "";
+    if (!MpiWorld::launched()) return "";
+    const int allowed = allowedCores();
+    if (allowed >= cores / ranks) return "";
     // (Its affinity, not mpirun's binding alone: taskset or a container's cpuset narrow it too,
     // where --bind-to none changes nothing; review.)
-    return "this rank may run on " + std::to_string(allowedCores()) + " of the machine's " +
+    return "this rank may run on " + std::to_string(allowed) + " of the machine's " +
            std::to_string(cores) + " cores (its CPU affinity; " + std::to_string(ranks) + " rank" +
            (ranks == 1 ? "" : "s") + " on the machine): it renders on " + std::to_string(threads) +
            (threads == 1 ? " thread" : " threads") +

@@ -409,7 +409,7 @@ std::string neeOffPeakWarning(const Scene& scene, const Effects& effects) {
     // the 1097 it was; helper 163.)
     const double enough = std::ceil(kNeeOffPeakHitsPerPixel * seen / peak.solidAngle);
     return msg +
-           (enough <= double(1 << 24)
+           (enough <= double(kMaxSpp)
                 ? ", or render " + std::to_string((long long)enough) + " samples per pixel or more"
                 : std::string(": the samples per pixel that would meet it often enough are "
                               "beyond render.spp's 2^24"));
@@ -1062,7 +1062,7 @@ std::vector<uint32_t> parseSppList(const std::string& text, std::string& problem
     for (size_t from = 0, to = 0; to != std::string::npos; from = to + 1) {
         to = text.find(',', from);
         std::string item = text.substr(from, to == std::string::npos ? to : to - from);
-        if (problem = integerIn(1, 1 << 24)(item); !problem.empty()) return list;
+        if (problem = integerIn(1, kMaxSpp)(item); !problem.empty()) return list;
         const uint32_t n = uint32_t(std::stoul(item));
         if (!list.empty() && n <= list.back()) {
             problem = "sample counts must increase, got " + text;

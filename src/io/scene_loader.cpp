@@ -96,7 +96,7 @@ Camera readCamera(JsonReader r) {
 
 RenderSettings readSettings(JsonReader r) {
     RenderSettings s;
-    s.spp = r.integer("spp", s.spp, 1, 1 << 24);
+    s.spp = r.integer("spp", s.spp, 1, kMaxSpp);
     s.seed = uint64_t(r.wholeNumber("seed", 1, 0, 9007199254740992.0));
     s.maxDepth = r.integer("max_depth", s.maxDepth, 0, 1 << 20);
     s.rrDepth = r.integer("rr_depth", s.rrDepth, 0, 1 << 20);

@@ -190,7 +190,7 @@ Sweep readSweep(const std::string& path, double maxRuns) {
                 v = (long long)d;
             else if (!spp && v.is_number_float() && std::abs(d) >= kDoubleHoldsFractionsBelow)
                 fail(path, place, kWrittenAsADouble);
-            const long long most = spp ? 1 << 24 : 9007199254740992LL;  // (render.spp's, seeds')
+            const long long most = spp ? kMaxSpp : 9007199254740992LL;
             if (!(v.is_number_integer() && v.get<long long>() >= (spp ? 1 : 0) &&
                   v.get<long long>() <= most))
                 fail(path, place, wrong);
@@ -296,7 +296,7 @@ Sweep readSweep(const std::string& path, double maxRuns) {
                                  "]");
                 sr.sets.push_back(a);
             }
-            sr.sets.push_back("render.spp=" + std::to_string(ref.integer("spp", 4096, 1, 1 << 24)));
+            sr.sets.push_back("render.spp=" + std::to_string(ref.integer("spp", 4096, 1, kMaxSpp)));
             places.push_back("reference.spp");
             // A seed no run uses by default, so the reference's noise is independent: a run of
             // the same seed would repeat the reference's first samples, and its error would look

@@ -83,10 +83,12 @@ double Film::meanRelativeError() const {
 }
 
 double Film::meanRelativeErrorDof() const {
-    if (!std::isfinite(meanRelativeError())) return INFINITY;
+    if (luminanceSumSq.empty()) return INFINITY;
     const PooledSpread p = pooledSpread(*this);
-    if (!p.fromWithin() || !(p.nuWithin > 0)) return INFINITY;
-    return p.nuWithin * p.nuWithin / p.nuSpread;
+    // (where meanRelativeError is finite and of the spread within pixels)
+    if (p.n < 2 || !(p.ySum > 0) || !p.fromWithin() || !(p.nuWithin > 0)) return INFINITY;
+    const double nu = p.nuWithin * p.nuWithin / p.nuSpread;
+    return std::isfinite(nu) ? nu : INFINITY;  // (squares beyond the double range: unknown)
 }
 
 uint32_t Film::minCount() const {

@@ -40,6 +40,9 @@ struct RadianceCacheSettings {
     int lightSamples = 1;  ///< next-event samples of the direct light at a cached vertex
 };
 
+/// The most samples per pixel a render takes (render.spp, --spp, a sweep's spp axis).
+inline constexpr int kMaxSpp = 1 << 24;
+
 struct RenderSettings {
     int spp = 16;
     uint64_t seed = 1;
