@@ -148,7 +148,10 @@ class HeaderParser {
     HeaderParser(std::string_view bytes, const std::string& file) : bytes_(bytes), file_(file) {}
 
     Header parse() {
-        if (bytes_.substr(0, 3) != "ply" || !nextLine() || line_ != "ply")
+        // A UTF-8 byte-order mark (a text editor's) is skipped, as for OBJ; the body's offsets
+        // stay the file's (helper 161).
+        if (bytes_.substr(0, 3) == "\xEF\xBB\xBF") pos_ = 3;
+        if (bytes_.substr(pos_, 3) != "ply" || !nextLine() || line_ != "ply")
             fail(file_, "line 1", "not a PLY file (the first line must be \"ply\")");
         bool format = false;
         while (true) {

@@ -300,8 +300,16 @@ Surface readSurface(JsonReader r, size_t index, Contents contents) {
     }
     s.orient(toWorld);  // (meshes and spheres; rectangles and disks are made oriented)
     // (A mesh that Check mode did not read has no vertices: reach 0.)
-    if (!(s.reach() <= kMaxSurfaceCoordinate))
-        r.error(type == "mesh" ? "file" : "", surfaceReachMessage(s.reach()));
+    if (!(s.reach() <= kMaxSurfaceCoordinate)) {
+        if (type != "mesh") r.error("", surfaceReachMessage(s.reach()));
+        // The first vertex beyond the bound, at its place in the file (the key alone named
+        // neither; helper 161).
+        for (size_t k = 0; k < s.mesh.p.size(); ++k)
+            if (!(reachOf(s.mesh.p[k]) <= kMaxSurfaceCoordinate))
+                r.error("file", s.places.file + ": " + s.places.ofVertex(k) + ": " +
+                                    surfaceReachMessage(reachOf(s.mesh.p[k])));
+        r.error("file", surfaceReachMessage(s.reach()));
+    }
     s.bsdf = readBsdf(r.objectOrEmpty("bsdf"));
     s.emission = spectrum(r, "emission", 0, 0, JsonReader::kUnbounded);
     s.twoSidedEmission = r.boolean("emission_two_sided", false);

@@ -16,17 +16,21 @@ std::string surfaceReachMessage(double r) {
     return b;
 }
 
-double Surface::reach() const {
-    // (Not from bounds(): cwiseMin and cwiseMax would drop a NaN coordinate.)
+double reachOf(const Vec3& p) {
+    // (Not cwiseAbs().maxCoeff(): it would drop a NaN coordinate.)
     double r = 0;
-    const auto take = [&](const Vec3& p, double extra) {
-        for (int a = 0; a < 3; ++a)
-            r = std::isnan(p[a]) || std::isnan(r) ? NAN : std::max(r, std::abs(p[a]) + extra);
-    };
-    if (kind == Kind::Disk || kind == Kind::Sphere)
-        take(center, radius);
-    else
-        for (const Vec3& p : mesh.p) take(p, 0);
+    for (int a = 0; a < 3; ++a)
+        r = std::isnan(p[a]) || std::isnan(r) ? NAN : std::max(r, std::abs(p[a]));
+    return r;
+}
+
+double Surface::reach() const {
+    if (kind == Kind::Disk || kind == Kind::Sphere) return reachOf(center) + radius;
+    double r = 0;
+    for (const Vec3& p : mesh.p) {
+        const double q = reachOf(p);
+        r = std::isnan(q) || std::isnan(r) ? NAN : std::max(r, q);
+    }
     return r;
 }
 

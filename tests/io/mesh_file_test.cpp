@@ -106,6 +106,8 @@ TEST(MeshFile, AsciiPly) {
              std::to_string(f[2]) + " 0\r\n";
     t += "3 65 66 67\n\n";
     expectPyramid(readPly(write("ascii.ply", t)), true, true);
+    // A UTF-8 byte-order mark is skipped, as for OBJ (it was "not a PLY file"; helper 161).
+    expectPyramid(readPly(write("bom.ply", "\xEF\xBB\xBF" + t)), true, true);
 }
 
 /// The pyramid in binary: double positions, normals and texture coordinates (u, v) as floats,
@@ -363,6 +365,10 @@ TEST(MeshFile, PlyBodyErrors) {
     EXPECT_EQ(errorOf("truncated.ply", binary), tmp("truncated.ply") + ": byte " +
                                                     std::to_string(size - 14) +
                                                     ": end of file inside face 4" + counts);
+    // After a byte-order mark the bytes counted are still the file's.
+    EXPECT_EQ(errorOf("truncated.ply", "\xEF\xBB\xBF" + binary),
+              tmp("truncated.ply") + ": byte " + std::to_string(size - 11) +
+                  ": end of file inside face 4" + counts);
     binary.resize(size - 320 + 100);  // 100 bytes of the body: not even the vertices fit
     EXPECT_CONTAINS(errorOf("truncated.ply", binary),
                     "line 6: element \"vertex\" claims 5 records, but the rest of the file holds "

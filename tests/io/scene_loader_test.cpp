@@ -596,7 +596,13 @@ TEST(SceneLoader, BadSurfacesGiveOneLineNamingThePlace) {
     // Beyond the ray tracer's range (±1e15, after the transform).
     expectIn(message(R"({"surfaces": [{"file": "box.obj", "transform": {"scale": 1e12,
                                                                    "translate": [1e15, 0, 0]}}]})"),
-             "scene.json: surfaces[0].file: coordinates reach 1.001e+15, beyond ±1e15");
+             "scene.json: surfaces[0].file: ");
+    // ... at the mesh's first vertex beyond it (an OBJ vertex is named by the first f line that
+    // uses it; the key alone named neither file nor vertex: helper 161).
+    expectIn(message(R"({"surfaces": [{"file": "box.obj", "transform": {"scale": 1e12,
+                                                                   "translate": [1e15, 0, 0]}}]})"),
+             "box.obj: line 9, after the surface's transform: coordinates reach 1.001e+15, "
+             "beyond ±1e15");
     // A triangle the transform flattens is named at the file's place (it was "face 0").
     std::ofstream(f.dir + "/thin.obj") << "v 0 0 0\nv 2 0 0\nv 1 0 0.1\nf 1 2 3\n";
     const std::string thin = R"({"surfaces": [{"file": "thin.obj", "transform": {"scale": )";

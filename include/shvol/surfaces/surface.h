@@ -22,6 +22,8 @@ inline constexpr double kMaxSurfaceCoordinate = 1e15;
 
 /// Why a surface of reach r cannot be traced ("reaches 1e+24, beyond ±1e15 …").
 std::string surfaceReachMessage(double r);
+/// max_a |p_a|, NaN if a coordinate is NaN.
+double reachOf(const Vec3& p);
 
 struct Surface {
     enum class Kind { Mesh, Rectangle, Disk, Sphere };
