@@ -259,6 +259,7 @@ Image readExr(const std::string& path, ExrValues values) {
     for (int y = 0; y < img.height; ++y)
         for (int x = 0; x < img.width; ++x) {
             const Spectrum v = img.at(x, y);
+            if (v.allFinite() && (v >= 0).all()) continue;  // (most pixels: nothing to say)
             const std::string where = "pixel (" + std::to_string(int64_t(x0) + x) + ", " +
                                       std::to_string(int64_t(y0) + y) + ")";
             if (v.hasNaN()) fail(path, where, "NaN value");
