@@ -342,7 +342,12 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
     const SurfaceScene* surf = scene_.surfaces.get();
     if (!surf) {
         if (!effects_.volumes) return env.Le(ray.d);
-        if (!effects_.scattering) return transmittance(ray, NoHit, 0, rng, c) * env.Le(ray.d);
+        if (!effects_.scattering) {
+            // (No transmittance for a ray that meets no light: below a black lower hemisphere
+            // it was 65% of an absorbing cloud's render; helper 168.)
+            const Spectrum Le = env.Le(ray.d);
+            return (Le > 0).any() ? Spectrum(transmittance(ray, NoHit, 0, rng, c) * Le) : Le;
+        }
     }
 
     const RenderSettings& s = scene_.settings;

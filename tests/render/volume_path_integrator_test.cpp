@@ -324,6 +324,17 @@ TEST(VolumePathIntegrator, EffectsThatAreOffAreNotSimulated) {
         const Effects fx = Effects::of(s);
         EXPECT_FALSE(fx.scattering);
         EXPECT_FALSE(fx.nextEvent);
+        // Seen against a black lower hemisphere, no transmittance is estimated: it had nothing
+        // to multiply (helper 168). Looking up, it is.
+        s.environment = Environment::constant(Spectrum::Ones(), true);
+        const VolumePathIntegrator integrator(s);
+        for (const double dz : {-1.0, 1.0}) {
+            PathCounters c;
+            Rng rng = Rng::forSample(1, 0, 0);
+            const Spectrum L = integrator.Li(Ray{Vec3(0, 0, -3 * dz), Vec3(0, 0, dz)}, rng, c);
+            EXPECT_EQ(c.transmittanceRays, dz > 0 ? 1u : 0u) << dz;
+            EXPECT_NEAR(L[0], dz > 0 ? std::exp(-4.0) : 0.0, 1e-12) << dz;
+        }
     }
     {
         Scene s = furnaceScene(2.0, Spectrum::Ones(), PhaseFunction(IsotropicPhase()));
