@@ -717,7 +717,7 @@ class VdbMedium final : public Medium {
     }
 
   private:
-    openvdb::FloatGrid::ConstPtr grid_;
+    openvdb::FloatGrid::ConstPtr grid_;  ///< null where the bricks answer the lookups
     Eigen::Affine3d worldToIndex_;
     double scale_;
     double sigmaMax_;  ///< the largest majorant (as segments() inflates it)
@@ -895,8 +895,10 @@ std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc) {
     if (desc.decomposition && !majorants.empty()) majorants.setMinimum(minorants(tree, majorants));
     std::optional<DensityBricks> bricks;
     if (desc.bricks) bricks = makeBricks(tree);
-    return std::make_unique<VdbMedium>(desc, grid, worldToIndex, std::move(majorants), cellVoxels,
-                                       std::move(bricks));
+    // (The tree only where no bricks are made: lookups read one or the other. It is freed
+    // before the render, though the load's peak memory still holds both; helper 168.)
+    return std::make_unique<VdbMedium>(desc, bricks ? nullptr : grid, worldToIndex,
+                                       std::move(majorants), cellVoxels, std::move(bricks));
 }
 
 namespace {
