@@ -1,8 +1,10 @@
 #include "shvol/lights/environment.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <functional>
+#include <mutex>
 #include <vector>
 
 #include "shvol/core/error.h"
@@ -39,15 +41,8 @@ Environment Environment::image(Image img, double scale, double rotationDegrees,
     e.rotation_ = rotationDegrees * Pi / 180.0;
     e.mapping_ = mapping;
     const int W = img.width, H = img.height;
-    std::vector<double> weights(size_t(W) * H);
     const int rows = lowerHemisphereBlack ? (H + 1) / 2 : H;  // (those with a part seen)
-    for (int y = 0; y < H; ++y) {
-        const double sinTheta = std::sin(Pi * (y + 0.5) / H),
-                     above = rowSeen(y, H, lowerHemisphereBlack);
-        for (int x = 0; x < W; ++x)
-            weights[size_t(y) * W + x] = luminance(img.at(x, y)) * sinTheta * above;
-    }
-    e.texels_ = std::make_shared<const TexelSampler>(weights.data(), img.rgb.data(), W, H);
+    e.texels_ = std::make_shared<LazyTexels>();
     // Judged by the pixels seen (a sky lit only below the horizon is black, one uniform above it
     // uniform; review).
     const auto seen = img.rgb.begin(), seenEnd = img.rgb.begin() + size_t(3) * W * rows;
@@ -57,6 +52,32 @@ Environment Environment::image(Image img, double scale, double rotationDegrees,
     e.brightest_ = seen == seenEnd ? 0.0 : double(*std::max_element(seen, seenEnd));
     e.image_ = std::make_shared<const Image>(std::move(img));
     return e;
+}
+
+struct Environment::LazyTexels {
+    std::mutex building;
+    std::atomic<const TexelSampler*> built{nullptr};
+    std::unique_ptr<const TexelSampler> sampler;
+};
+
+const TexelSampler& Environment::texels() const {
+    if (const TexelSampler* t = texels_->built.load(std::memory_order_acquire)) return *t;
+    const std::lock_guard<std::mutex> lock(texels_->building);
+    if (!texels_->sampler) {
+        const Image& img = *image_;
+        const int W = img.width, H = img.height;
+        std::vector<double> weights(size_t(W) * H);
+        for (int y = 0; y < H; ++y) {
+            const double sinTheta = std::sin(Pi * (y + 0.5) / H),
+                         above = rowSeen(y, H, lowerBlack_);
+            for (int x = 0; x < W; ++x)
+                weights[size_t(y) * W + x] = luminance(img.at(x, y)) * sinTheta * above;
+        }
+        texels_->sampler =
+            std::make_unique<const TexelSampler>(weights.data(), img.rgb.data(), W, H);
+        texels_->built.store(texels_->sampler.get(), std::memory_order_release);
+    }
+    return *texels_->sampler;
 }
 
 Vec2 Environment::toUv(const Vec3& w, double* sinTheta) const {
@@ -85,8 +106,9 @@ LightSample Environment::sample(const Vec2& u) const {
         const Vec3 w = lowerBlack_ ? sampleUniformHemisphere(u) : sampleUniformSphere(u);
         return {w, L_, lowerBlack_ ? uniformHemispherePdf() : uniformSpherePdf()};
     }
-    if (!(texels_->integral() > 0)) return {Vec3(0, 0, 1), Spectrum::Zero(), 0.0};
-    const TexelSampler::Draw d = texels_->sample(u);
+    const TexelSampler& texels = this->texels();
+    if (!(texels.integral() > 0)) return {Vec3(0, 0, 1), Spectrum::Zero(), 0.0};
+    const TexelSampler::Draw d = texels.sample(u);
     const double theta = Pi * d.uv[1], phi = latLongPhi(mapping_, d.uv[0]) + rotation_;
     const Vec2 csTheta = cosSin(theta), csPhi = cosSin(phi);
     const double sinTheta = csTheta.y();
@@ -103,11 +125,12 @@ double Environment::pdf(const Vec3& dir) const {
         if (lowerBlack_) return dir.z() >= 0 ? uniformHemispherePdf() : 0.0;
         return uniformSpherePdf();
     }
-    if (!(texels_->integral() > 0)) return 0.0;
+    const TexelSampler& texels = this->texels();
+    if (!(texels.integral() > 0)) return 0.0;
     double sinTheta;
     const Vec2 uv = toUv(dir.normalized(), &sinTheta);
     if (!(sinTheta > 0)) return 0.0;
-    return texels_->pdf(uv) / (2 * Pi * Pi * sinTheta);
+    return texels.pdf(uv) / (2 * Pi * Pi * sinTheta);
 }
 
 Environment::Peak Environment::peak() const {

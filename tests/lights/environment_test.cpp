@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <thread>
+#include <vector>
 
 #include "shvol/core/error.h"
 #include "shvol/core/rng.h"
@@ -219,6 +221,28 @@ TEST(Environment, PdfMatchesSample) {
                 if (lower) ASSERT_GE(s.wi.z(), 0.0);  // H = 16: no row straddles the horizon
             }
         }
+}
+
+// The sampler is built by the first sample() or pdf() (none for a render that draws no light
+// sample from the sky; helper 168): threads that ask at once, through copies, all get the one
+// sampler a single thread would.
+TEST(Environment, SamplerBuiltOnFirstUseIsTheSameForEveryThread) {
+    const Environment alone = Environment::image(syntheticSky(), 1.0, 10.0, false);
+    std::vector<Vec2> us;
+    Rng rng(5, 1);
+    for (int i = 0; i < 2000; ++i) us.push_back(rng.uniform2());
+    for (int round = 0; round < 20; ++round) {
+        const Environment fresh = Environment::image(syntheticSky(), 1.0, 10.0, false);
+        std::vector<std::vector<double>> pdfs(4);
+        std::vector<std::thread> threads;
+        for (size_t t = 0; t < pdfs.size(); ++t)
+            threads.emplace_back([&, t, copy = fresh] {
+                for (const Vec2& u : us) pdfs[t].push_back(copy.sample(u).pdf);
+            });
+        for (std::thread& t : threads) t.join();
+        for (size_t i = 0; i < us.size(); ++i)
+            for (const std::vector<double>& p : pdfs) ASSERT_EQ(p[i], alone.sample(us[i]).pdf);
+    }
 }
 
 TEST(Environment, LowerHemisphereBlack) {

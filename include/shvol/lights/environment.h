@@ -45,8 +45,9 @@ class Environment {
   public:
     /// Constant radiance L in every direction (or only for z ≥ 0).
     static Environment constant(const Spectrum& L, bool lowerHemisphereBlack);
-    /// Lat-long map; builds the importance distribution once. Throws shvol::Error if the image
-    /// is empty. \param scale multiplies every pixel. \param rotationDegrees about +z.
+    /// Lat-long map; its importance distribution is built at the first sample() or pdf() (a
+    /// render that draws no light sample from the sky never builds it). Throws shvol::Error if
+    /// the image is empty. \param scale multiplies every pixel. \param rotationDegrees about +z.
     static Environment image(Image img, double scale, double rotationDegrees,
                              bool lowerHemisphereBlack,
                              LatLongMapping mapping = LatLongMapping::Blender);
@@ -94,13 +95,16 @@ class Environment {
     /// Le of a texel whose RGB is rgb, seen along w (0 below the horizon with
     /// lowerHemisphereBlack).
     Spectrum texelRadiance(const Spectrum& rgb, const Vec3& w) const;
+    /// The image's TexelSampler, built by the first caller (others wait for it).
+    const TexelSampler& texels() const;
 
     Spectrum L_ = Spectrum::Zero();
     bool lowerBlack_ = false, uniform_ = true, black_ = true;
     double scale_ = 1, rotation_ = 0, brightest_ = 0;
     LatLongMapping mapping_ = LatLongMapping::Blender;
-    std::shared_ptr<const Image> image_;          // null for a constant environment
-    std::shared_ptr<const TexelSampler> texels_;  // null for a constant environment
+    std::shared_ptr<const Image> image_;  // null for a constant environment
+    struct LazyTexels;
+    std::shared_ptr<LazyTexels> texels_;  // null for a constant environment
 };
 
 }  // namespace shvol
