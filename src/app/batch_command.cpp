@@ -42,13 +42,8 @@ struct BatchArgs {
 };
 
 std::string describe(const SweepRun& run, const std::vector<std::string>& axes) {
-    std::string s = run.id;
-    for (const std::string& axis : axes)  // the sweep's order (it was alphabetical; helper 77)
-        if (run.values.contains(axis)) s += " " + axis + "=" + dumpJson(run.values[axis]);
-    for (auto it = run.values.begin(); it != run.values.end(); ++it)
-        if (std::find(axes.begin(), axes.end(), it.key()) == axes.end())
-            s += " " + it.key() + "=" + dumpJson(it.value());
-    return s;
+    const std::string values = describeValues(run, axes);
+    return values.empty() ? run.id : run.id + " " + values;
 }
 
 /// The standard errors beside a reference file ref.exr (ref.stderr.exr, as render --variance
@@ -260,8 +255,11 @@ void checkRunScenes(const Sweep& s) {
                          std::to_string(refSize->second) + ", the run's image " +
                          std::to_string(c.width) + "x" + std::to_string(c.height));
         } catch (const Error& e) {
-            blameSweepKey(e, s, doc, run.sets, run.places, "run " + describe(run, s.axes));
-            throw Error(errorText(e, s, &run));
+            // (By its values: its id is not known before the ledger's finished runs have kept
+            // theirs, adoptFinishedIds; helper 159.)
+            const std::string which = "the run " + describeValues(run, s.axes);
+            blameSweepKey(e, s, doc, run.sets, run.places, which);
+            throw Error(errorMessage(e) + " (in " + which + ")");
         }
     }
 }

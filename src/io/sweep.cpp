@@ -260,7 +260,10 @@ Sweep readSweep(const std::string& path, double maxRuns) {
                 run.sets.push_back("render.seed=" + std::to_string((long long)seed0 + k));
                 places.push_back("render.seed (set by the sweep)");
             }
-            const Json doc = sweepDocument(s, run.sets, places, "run " + run.id);
+            // (By its values: its id is not known before a ledger's finished runs have kept
+            // theirs, adoptFinishedIds; helper 159.)
+            const Json doc =
+                sweepDocument(s, run.sets, places, "the run " + describeValues(run, s.axes));
             run.places = places;
             run.fingerprint = run.settingsFingerprint = hashText(canonicalJson(doc));
             // The same point twice (an axis value given twice, or a seed): the same render,
@@ -367,6 +370,16 @@ void fingerprintInputs(Sweep& s, std::map<std::string, Json>& memo) {
         run.fingerprint = hashText(run.settingsFingerprint + "\n" +
                                    namedFileContents(inputFiles(doc, s.scene, &memo)));
     }
+}
+
+std::string describeValues(const SweepRun& run, const std::vector<std::string>& axes) {
+    std::string s;
+    for (const std::string& axis : axes)  // the sweep's order (it was alphabetical; helper 77)
+        if (run.values.contains(axis)) s += " " + axis + "=" + dumpJson(run.values[axis]);
+    for (auto it = run.values.begin(); it != run.values.end(); ++it)
+        if (std::find(axes.begin(), axes.end(), it.key()) == axes.end())
+            s += " " + it.key() + "=" + dumpJson(it.value());
+    return s.empty() ? s : s.substr(1);
 }
 
 std::string sweepRunId(int index) {

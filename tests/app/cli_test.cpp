@@ -3928,8 +3928,7 @@ TEST_F(Cli, ErrorsOfOverridesAreNamedWhereTheyWereGiven) {
     write("sweep.json", R"({"scene": "s.json", "axes": {"camera.fov": [30, 500]}})");
     r = run("batch " + path("sweep.json") + " --dry-run");
     EXPECT_EQ(r.err, "shvol: error: " + path("sweep.json") + ": axes.camera.fov" +
-                         fov.substr(0, fov.size() - 1) +
-                         " (in run r0001 camera.fov=500 repeat=0)\n");
+                         fov.substr(0, fov.size() - 1) + " (in the run camera.fov=500 repeat=0)\n");
     write("sweep.json", R"({"scene": "s.json", "set": ["render.spp=2", "camera.fvo=30"],
                             "axes": {"spp": [2, 4]}})");
     const std::string batch = "batch " + path("sweep.json") + " --dry-run";
@@ -3939,7 +3938,7 @@ TEST_F(Cli, ErrorsOfOverridesAreNamedWhereTheyWereGiven) {
     r = run(batch);
     EXPECT_EQ(r.err, "shvol: error: " + path("sweep.json") +
                          ": axes.camera.fvo: camera.fvo: unknown key (did you mean \"fov\"?) (in "
-                         "run r0000 spp=2 camera.fvo=30 repeat=0)\n");
+                         "the run spp=2 camera.fvo=30 repeat=0)\n");
     write("sweep.json", R"({"scene": "s.json", "axes": {"spp": [2, 4]}, "metrics": ["rmse"],
                             "reference": {"spp": 32, "set": ["camera.fvo=30"]}})");
     r = run(batch);
@@ -4359,7 +4358,7 @@ TEST_F(Cli, BatchErrorsNameTheRun) {
     EXPECT_EQ(r.code, 1);
     // (at the axis that brought the key in, since 7 Dec: the scene file was named)
     EXPECT_NE(r.err.find(path("sweep.json") +
-                         ": axes.media[0].nosuch: media[0].nosuch: unknown key (in run r0000 "
+                         ": axes.media[0].nosuch: media[0].nosuch: unknown key (in the run "
                          "media[0].nosuch=1 repeat=0)"),
               std::string::npos)
         << r.err;
@@ -4521,7 +4520,7 @@ TEST_F(Cli, BatchChecksEveryRunsSceneFirst) {
     write("sweep.json", R"({"scene": "s.json", "axes": {"media[0].albedo": [0.5, 2]}})");
     const std::string expected =
         path("sweep.json") +
-        ": axes.media[0].albedo: media[0].albedo: value 2 out of range [0, 1] (in run r0001 "
+        ": axes.media[0].albedo: media[0].albedo: value 2 out of range [0, 1] (in the run "
         "media[0].albedo=2 repeat=0)";
     for (const std::string flags : {" --dry-run", ""}) {
         const Result r =
@@ -4536,7 +4535,7 @@ TEST_F(Cli, BatchChecksEveryRunsSceneFirst) {
           R"({"scene": "s.json", "axes": {"media[0].albedo": [0.5, 2]}, "repeats": 2})");
     Result r = run("batch " + path("sweep.json") + " --dry-run");
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find("(in run r0001 media[0].albedo=2 repeat=0)"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("(in the run media[0].albedo=2 repeat=0)"), std::string::npos) << r.err;
     // A grid or a sky named by a run must exist, though neither is read before its render.
     write("sweep.json", R"({"scene": "s.json", "set": ["media[0].type=\"vdb\""],
         "axes": {"media[0].file": ["nosuch.vdb"]}})");
@@ -4558,7 +4557,7 @@ TEST_F(Cli, BatchChecksEveryRunsSceneFirst) {
         r = run("batch " + path("sweep.json") + flags + " --quiet --output " + path("out"));
         EXPECT_EQ(r.code, 1) << flags;
         EXPECT_NE(r.err.find(path("sweep.json") + ": reference: " + path("ref.exr") +
-                             " is 16x16, the run's image 8x6 (in run r0000 spp=4 repeat=0)"),
+                             " is 16x16, the run's image 8x6 (in the run spp=4 repeat=0)"),
                   std::string::npos)
             << flags << ": " << r.err;
         EXPECT_FALSE(fs::exists(path("out/r0000.exr"))) << flags;
@@ -4593,7 +4592,8 @@ TEST_F(Cli, BatchChecksEveryRunsSceneFirst) {
         "reference": {"spp": 64}})");
     r = run("batch " + path("sweep.json") + " --dry-run");
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find("the rendered reference is 8x6, the run's image 4x4 (in run r0001"),
+    EXPECT_NE(r.err.find("the rendered reference is 8x6, the run's image 4x4 (in the run "
+                         "camera.resolution=[4,4] repeat=0)"),
               std::string::npos)
         << r.err;
 }

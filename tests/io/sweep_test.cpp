@@ -400,10 +400,11 @@ TEST(Sweep, ErrorsNameFileAndKey) {
         (fs::path(testing::TempDir()) / "shvol_sweep_e5y" / "scene.json").string();
     EXPECT_EQ(err("e5y", R"({"scene": "scene.json", "axes": {"render.spp.x": [1]}})"),
               ": axes.render.spp.x: " + scene +
-                  ": render.spp: cannot descend into a number (in run r0000)");
+                  ": render.spp: cannot descend into a number (in the run render.spp.x=1 "
+                  "repeat=0)");
     EXPECT_EQ(err("e5y", R"({"scene": "scene.json", "set": ["render=5"]})"),
               ": render.seed (set by the sweep): " + scene +
-                  ": render: cannot descend into a number (in run r0000)");
+                  ": render: cannot descend into a number (in the run repeat=0)");
     EXPECT_EQ(err("e5y", R"({"scene": "scene.json", "reference": {"set": ["render.spp.x=1"]}})"),
               ": reference.set[0]: " + scene +
                   ": render.spp: cannot descend into a number (in the reference)");

@@ -66,6 +66,10 @@ struct Sweep {
 /// than `maxRuns` runs is refused (the sweep fuzzer lowers it to bound the time per input).
 Sweep readSweep(const std::string& path, double maxRuns = kMaxSweepRuns);
 
+/// A run's values, its axes' in the sweep's order first, then the rest ("spp=16 repeat=0"): how
+/// messages name a run before its id is known (adoptFinishedIds).
+std::string describeValues(const SweepRun& run, const std::vector<std::string>& axes);
+
 /// The id of the run at `index` of a freshly read sweep: "r0007" (four digits at least).
 std::string sweepRunId(int index);
 
