@@ -96,11 +96,22 @@ VolumePathIntegrator::VolumePathIntegrator(const Scene& scene, std::function<boo
         }
         // (The loader refuses more: Inside is a 64-bit set.)
         if (boundaryOf_.size() > 64) throw Error(scene.path + ": more than 64 bounded media");
-        // Without area lights the only light is the sky, which no shadow ray from inside a closed
-        // surface that is not a null one reaches (glass around fog).
-        if (!effects_.areaLights)
-            for (size_t b = 0; b < boundaryOf_.size(); ++b)
-                if (surfaces[boundaryOf_[b]].bsdf.type != BsdfType::Null) sealed_ |= Inside(1) << b;
+        // No shadow ray from inside a closed surface that is not a null one (glass around fog)
+        // reaches a light outside it: the sky, or an emitting surface whose bounds do not meet
+        // its bounds. (Decided per boundary: one lamp anywhere in the scene unsealed them all,
+        // and milk_glass spent 42% of its render on shadow rays that glass stopped; helper 169.)
+        for (size_t b = 0; b < boundaryOf_.size(); ++b) {
+            const Surface& boundary = surfaces[boundaryOf_[b]];
+            if (boundary.bsdf.type == BsdfType::Null) continue;
+            const Bounds3 inside = boundary.bounds();
+            const bool lightWithin =
+                std::any_of(surfaces.begin(), surfaces.end(), [&](const Surface& e) {
+                    const Bounds3 eb = e.bounds();
+                    return e.emits() && (eb.lo.array() <= inside.hi.array()).all() &&
+                           (inside.lo.array() <= eb.hi.array()).all();
+                });
+            if (!lightWithin) sealed_ |= Inside(1) << b;
+        }
         cameraInside_ = insideOf(scene.camera.position);
     }
     buildLightSamplers();

@@ -332,9 +332,11 @@ TEST(SurfacePath, GlassFurnaceOfThickFogStaysExact) {
 
 // Fog sealed in a glass ball under a constant sky, NEE forced on: no shadow ray from inside can
 // reach the sky, so none is traced (helper 108: each was blocked by the glass, about twice the
-// time), and the furnace stays exactly 1. With an area light in the scene NEE stays on inside.
+// time), and the furnace stays exactly 1. Nor can one reach a lamp outside the ball (a lamp
+// anywhere turned them all on; helper 169); with a lamp inside it, NEE stays on there.
 TEST(SurfacePath, NoShadowRaysFromInsideGlass) {
-    for (const bool lamp : {false, true}) {
+    enum Lamp { None, Outside, Inside };
+    for (const Lamp lamp : {None, Outside, Inside}) {
         Scene scene;
         scene.settings.maxDepth = 100000;
         scene.settings.nee = true;
@@ -342,8 +344,11 @@ TEST(SurfacePath, NoShadowRaysFromInsideGlass) {
         std::vector<Surface> v;
         v.push_back(glassSphere(Vec3::Zero(), 1.5));
         v.back().interiorMedium = 0;
-        if (lamp) {
-            v.push_back(Surface::rectangle(Eigen::Affine3d(Eigen::Translation3d(0, 0, 5))));
+        if (lamp != None) {
+            v.push_back(Surface::rectangle(
+                // (small: a path that hit it would take light samples there, and lose the sky)
+                Eigen::Translation3d(0, 0, lamp == Outside ? 5 : 0.5) *
+                Eigen::Scaling(lamp == Outside ? 1e-3 : 0.1)));
             v.back().bsdf = Bsdf::lambert(Spectrum::Zero());
             v.back().emission = Spectrum::Constant(1e-9);
         }
@@ -362,12 +367,13 @@ TEST(SurfacePath, NoShadowRaysFromInsideGlass) {
             worst = std::max(worst, std::abs(integrator.Li(ray, rng, counters)[0] - 1));
         }
         EXPECT_GT(counters.scatteringEvents, 500u) << lamp;
-        if (!lamp) {
-            EXPECT_LT(worst, 1e-9);
-            EXPECT_EQ(counters.lightSamples, 0u);
-            EXPECT_EQ(counters.shadowRays, 0u);
-        } else {
+        if (lamp == Inside) {
             EXPECT_GT(counters.lightSamples, 0u);
+            EXPECT_GT(counters.shadowRays, 0u);
+        } else {
+            EXPECT_LT(worst, 1e-6) << lamp;
+            EXPECT_EQ(counters.lightSamples, 0u) << lamp;
+            EXPECT_EQ(counters.shadowRays, 0u) << lamp;
         }
     }
 }
