@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <set>
 
 #include "shvol/core/atomic_file.h"
 #include "shvol/core/error.h"
@@ -63,7 +64,10 @@ int checkExrAttributeSizes(const std::string& path, uintmax_t bytes) {
     std::string name, type;
     for (;;) {  // one header a turn
         int attributes = 0;
-        for (; readName(name) && !name.empty(); ++attributes) {
+        std::set<std::string> names;
+        bool ended = false;  // by its empty name
+        for (; (ended = readName(name)) && !name.empty(); ++attributes) {
+            names.insert(name);
             unsigned char size[4];
             if (!readName(type) || !in.read(reinterpret_cast<char*>(size), 4)) return headers;
             at += 4;
@@ -76,6 +80,17 @@ int checkExrAttributeSizes(const std::string& path, uintmax_t bytes) {
             in.seekg(n, std::ios::cur);
             at += uintmax_t(n);
         }
+        // Attributes every EXR header has (OpenEXR's file layout): OpenEXR puts its defaults
+        // in place of a missing one, so a damaged name ("dksplayWindow") read as a 64x64 sky,
+        // the picture cropped to it, silently (helper 170).
+        if (ended && attributes > 0)
+            for (const char* required :
+                 {"channels", "compression", "dataWindow", "displayWindow", "lineOrder",
+                  "pixelAspectRatio", "screenWindowCenter", "screenWindowWidth"})
+                if (!names.count(required))
+                    fail(path, "header" + (multipart ? " " + std::to_string(headers + 1) : ""),
+                         std::string("no '") + required +
+                             "' attribute, which every EXR header has (damaged file)");
         headers += attributes > 0;
         if (!in || !multipart || attributes == 0) return headers;
     }

@@ -393,6 +393,26 @@ TEST(Exr, AttributeSizeBeyondTheFileIsRefused) {
                   "0 left (damaged file)");
 }
 
+// A required attribute whose name is damaged is refused: OpenEXR put its default in its place,
+// and a sky missing 'displayWindow' was read as a 64x64 picture, cropped (helper 170).
+TEST(Exr, AHeaderWithoutARequiredAttributeIsRefused) {
+    Image img(100, 50);
+    writeExr(tmp("required.exr"), img);
+    const std::string bytes = fileBytes(tmp("required.exr"));
+    for (const std::string name : {"displayWindow", "dataWindow", "channels", "lineOrder"}) {
+        std::string b = bytes;
+        const size_t at = b.find(name + std::string(1, '\0'));
+        ASSERT_NE(at, std::string::npos) << name;
+        b[at + 1] = 'k';  // "dksplayWindow"
+        const std::string path = tmp("damaged_name.exr");
+        std::ofstream(path, std::ios::binary) << b;
+        EXPECT_EQ(messageOf([&] { readExr(path); }),
+                  path + ": header: no '" + name +
+                      "' attribute, which every EXR header has (damaged file)");
+    }
+    EXPECT_EQ(readExr(tmp("required.exr")).width, 100);
+}
+
 // In a multi-part file every header is walked: a size beyond the end in the second is refused.
 /// A multi-part file of `parts` 2 × 2 parts of Y = 0.25.
 void writeParts(const std::string& path, int parts) {
