@@ -247,10 +247,16 @@ Film readCheckpoint(const std::string& path, const Json& identity) {
              "written for a different render: " + difference +
                  " (only the sample count may change)");
     // A render's sums are finite (it drops NaN and infinite samples, and the light it reads,
-    // at most 10³⁰ times a float's range, is far within a double's), so a sum that is not is
-    // damage that would reach the image.
+    // at most 10³⁰ times a float's range, is far within a double's; of either sign: an SH
+    // phase function rendered exactly can be negative), and a pixel of no samples has none:
+    // anything else is damage that would reach the image (a checksum made again over a pixel of
+    // no samples with sums passed it; helper 170).
     for (size_t i = 0; i < 3 * pixels; ++i) {
+        const bool none = film.count[i / 3] == 0;
         const char* bad = !std::isfinite(film.sum[i]) ? "a sum that is not finite"
+                          : none && (film.sum[i] != 0 || (hasSumSq && film.sumSq[i] != 0) ||
+                                     (hasLuminanceSumSq && film.luminanceSumSq[i / 3] != 0))
+                              ? "sums in a pixel of no samples"
                           : hasSumSq && !(std::isfinite(film.sumSq[i]) && film.sumSq[i] >= 0)
                               ? "a sum of squares that is negative or not finite"
                           : hasLuminanceSumSq && !(std::isfinite(film.luminanceSumSq[i / 3]) &&

@@ -150,6 +150,11 @@ TEST(Checkpoint, DamageBehindAValidChecksumIsRefused) {
               p + ": pixel (0, 0): a sum that is not finite (corrupt file)");
     withValue(sums, -1e300);  // finite, whatever its sign: read back as it is
     EXPECT_EQ(readCheckpoint(p, id).sum[0], -1e300);
+    // Sums in a pixel of no samples (helper 170: the image had them).
+    writeCheckpoint(p, sampleFilm(), id);
+    rewriteWithChecksum(p, [&](std::string& b) { std::memset(&b[header + 3 * 4], 0, 4); });
+    EXPECT_EQ(test::messageOf([&] { readCheckpoint(p, id); }),
+              p + ": pixel (0, 1): sums in a pixel of no samples (corrupt file)");
 
     Film variance = sampleFilm();
     variance.sumSq = variance.sum;
