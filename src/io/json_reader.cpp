@@ -390,8 +390,12 @@ int overrideOfError(const std::string& message, const std::string& file, const J
     // for. And it must be in the document after them (a key whose name holds a dot, "fov.x",
     // reads as the path camera.fov.x, which the file's camera.fov=30 does not hold; helper 131).
     std::string at = canonicalKeyPath(place);
-    bool missing = false, typeChanged = false;
+    bool missing = false, typeChanged = false, broughtIn = false;
     if (const Json* now = valueAt(after, parts)) {
+        // (A key the overrides brought in is theirs also where the error names an object above
+        // the key they set: `--set calera.fov=40`, "calera: unknown key", blamed the scene file;
+        // helper 170.)
+        broughtIn = !valueAt(before, parts);
         // A key the file has is unknown for the file's reasons, unless an override changed the
         // type of its object, whatever the key's value (helpers 139, 140: `--set
         // media.0.phase.type=rayleigh --set media.0.phase.g=0.5`, or `phase.type=null`, blamed
@@ -423,7 +427,8 @@ int overrideOfError(const std::string& message, const std::string& file, const J
     for (int i = int(overrides.size()) - 1; i >= 0; --i) {  // (a later one replaces an earlier)
         const std::string key =
             canonicalKeyPath(overrides[size_t(i)].substr(0, overrides[size_t(i)].find('=')));
-        if (at == key || at.rfind(key + ".", 0) == 0 || (missing && key.rfind(at + ".", 0) == 0) ||
+        if (at == key || at.rfind(key + ".", 0) == 0 ||
+            ((missing || broughtIn) && key.rfind(at + ".", 0) == 0) ||
             (typeChanged && key == type)) {
             if (placeAndReason) *placeAndReason = rest;
             return i;

@@ -3863,6 +3863,10 @@ TEST_F(Cli, ErrorsOfOverridesAreNamedWhereTheyWereGiven) {
     EXPECT_EQ(r.err, "shvol: error: " + path("s.json") + ": --set camera.fvo=30" + fvo);
     r = run(render + "--set camera.fov=30 --set 'camera={\"fvo\": 30}'");
     EXPECT_EQ(r.err, "shvol: error: " + path("s.json") + ": --set camera={\"fvo\": 30}" + fvo);
+    // A misspelt key above the one set (helper 170: the scene was blamed).
+    r = run(render + "--set calera.fov=30");
+    EXPECT_EQ(r.err, "shvol: error: " + path("s.json") +
+                         ": --set calera.fov=30: calera: unknown key (did you mean \"camera\"?)\n");
     std::string typo = scene(Homogeneous);
     typo.replace(typo.find("\"position\""), 0, "\"fvo\": 30, ");
     write("typo.json", typo);
