@@ -95,7 +95,8 @@ def load(directory):
     cut_short = None
     first_line = {}  # run id -> the line that has it
     try:
-        f = open(path, encoding="utf-8", errors="replace")
+        # (utf-8-sig: a byte-order mark before the first row is skipped, as the batch skips it)
+        f = open(path, encoding="utf-8-sig", errors="replace")
     except OSError as e:
         fail(f"{path}: cannot open file ({e.strerror})")
     with f:

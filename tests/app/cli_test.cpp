@@ -5103,6 +5103,13 @@ TEST_F(Cli, BatchReport) {
                           << "\n[1, 2]\n";
     c = run("report " + path("o"));
     EXPECT_EQ(c.err, "shvol: error: " + ledger + ": line 2: a row must be a JSON object\n");
+    // A UTF-8 byte-order mark before the first row is skipped, as the batch skips it (it was a
+    // malformed row; helper 170).
+    std::ofstream(ledger) << "\xEF\xBB\xBF"
+                          << R"({"run": "r0000", "spp": 8, "wall_time_s": 1})"
+                          << "\n[1, 2]\n";
+    c = run("report " + path("o"));
+    EXPECT_EQ(c.err, "shvol: error: " + ledger + ": line 2: a row must be a JSON object\n");
     std::ofstream(ledger) << "{\"run\": \n";
     c = run("report " + path("o"));
     EXPECT_EQ(c.code, 1);
