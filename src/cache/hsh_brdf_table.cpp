@@ -48,17 +48,21 @@ struct ProjectionErrors {
     double energy = 0, peak = 0;
 };
 
-/// The coefficients c of g = f(ω_o, ·) cos θ_i (c = Σ_nodes weight·g·H) and what they miss.
-ProjectionErrors project(const Bsdf& shape, const Vec3& wo, const BasisAtNodes& b, double* c) {
+/// The coefficients c of g = f(ω_o, ·) cos θ_i (c = Σ_nodes weight·g·H) and what they miss (the
+/// peak only if asked: its residual at every node cost a fifth of a Cornell render with the
+/// cache, for the directions whose peak is not judged; helper 169).
+ProjectionErrors project(const Bsdf& shape, const Vec3& wo, const BasisAtNodes& b, double* c,
+                         bool peak = true) {
     Eigen::VectorXd g(b.w.size());
     for (size_t k = 0; k < b.w.size(); ++k) g[k] = shape.eval(wo, b.w[k])[0] * b.w[k].z();
     Eigen::Map<Eigen::VectorXd> coefficients(c, b.H.cols());
     coefficients.noalias() = b.H.transpose() * b.weight.cwiseProduct(g);
     const double g2 = b.weight.dot(g.cwiseAbs2()), gMax = g.maxCoeff();
     if (!(g2 > 0) || !(gMax > 0)) return {};
+    const double energy = std::max(0.0, 1 - coefficients.squaredNorm() / g2);
+    if (!peak) return {energy, 0};
     const Eigen::VectorXd residual = g - b.H * coefficients;
-    return {std::max(0.0, 1 - coefficients.squaredNorm() / g2),
-            residual.cwiseAbs().maxCoeff() / gMax};
+    return {energy, residual.cwiseAbs().maxCoeff() / gMax};
 }
 
 /// The directional albedo ∫ f(ω_o, ω_i) cos θ_i dω_i of the (single-channel) `shape`, by
@@ -118,9 +122,11 @@ HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
         Vec3 wo = directionFromParabolic(uv);
         wo.z() = std::max(wo.z(), 1e-4);  // the rim: just above the horizon
         wo.normalize();
-        const ProjectionErrors e = project(shape, wo, nodes, &specular_[size_t(k) * n_ * n_]);
+        const bool judged = wo.z() >= kAlbedoCheckCos;
+        const ProjectionErrors e =
+            project(shape, wo, nodes, &specular_[size_t(k) * n_ * n_], judged);
         err[k] = e.energy;
-        if (wo.z() >= kAlbedoCheckCos) {
+        if (judged) {
             peakErr[k] = e.peak;
             albedoErr[k] = tableAlbedoError(shape, wo, nodes.H(0, 0),  // (H_0 is constant)
                                             &specular_[size_t(k) * n_ * n_]);
