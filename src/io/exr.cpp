@@ -37,10 +37,11 @@ constexpr double kMinExrPixelLimit = 1 << 20;  // small files may still hold a 1
 // that much (about 1 s under ASan; 4 Dec). So the headers are walked first, as the file layout
 // gives them: magic and version (8 bytes), then per attribute name\0 type\0, an int32 size
 // (little-endian) and the value; an empty name ends a header, and in a multi-part file (version
-// bit 12) an empty header ends the list. An attribute reaching beyond the file's end is refused;
-// whatever else is wrong (a truncated header, say) is left to OpenEXR to report. Returns the
-// number of headers walked (parts; 0 for what is not EXR).
-int checkExrAttributeSizes(const std::string& path, uintmax_t bytes) {
+// bit 12) an empty header ends the list. An attribute reaching beyond the file's end is refused,
+// and so are a header cut short and one without an attribute every header has; whatever else is
+// wrong is left to OpenEXR to report. Returns the number of headers walked (parts; 0 for what is
+// not EXR).
+int checkExrHeaders(const std::string& path, uintmax_t bytes) {
     std::ifstream in(path, std::ios::binary);
     unsigned char start[8];
     if (!in.read(reinterpret_cast<char*>(start), 8) || start[0] != 0x76 || start[1] != 0x2f ||
@@ -66,10 +67,23 @@ int checkExrAttributeSizes(const std::string& path, uintmax_t bytes) {
         int attributes = 0;
         std::set<std::string> names;
         bool ended = false;  // by its empty name
+        // (A header cut short is named here: OpenEXR's message names no place, "Early end of
+        // file: read 0 out of 1 requested bytes"; helper 170.)
+        const auto cut = [&](const std::string& where) {
+            fail(path, where,
+                 in.eof() ? "the file ends at byte " + std::to_string(bytes) +
+                                ", inside the header (truncated file)"
+                          : "a name longer than 255 characters (damaged file)");
+        };
+        std::string last;  // the last attribute whose name was read whole
         for (; (ended = readName(name)) && !name.empty(); ++attributes) {
-            names.insert(name);
+            names.insert(last = name);
             unsigned char size[4];
-            if (!readName(type) || !in.read(reinterpret_cast<char*>(size), 4)) return headers;
+            if (!readName(type)) cut("header attribute '" + name + "'");
+            if (!in.read(reinterpret_cast<char*>(size), 4)) {
+                in.setstate(std::ios::eofbit);  // (a short read is the file's end)
+                cut("header attribute '" + name + "'");
+            }
             at += 4;
             const int32_t n = int32_t(uint32_t(size[0]) | uint32_t(size[1]) << 8 |
                                       uint32_t(size[2]) << 16 | uint32_t(size[3]) << 24);
@@ -80,6 +94,7 @@ int checkExrAttributeSizes(const std::string& path, uintmax_t bytes) {
             in.seekg(n, std::ios::cur);
             at += uintmax_t(n);
         }
+        if (!ended) cut(attributes > 0 ? "header, after attribute '" + last + "'" : "header");
         // Attributes every EXR header has (OpenEXR's file layout): OpenEXR puts its defaults
         // in place of a missing one, so a damaged name ("dksplayWindow") read as a 64x64 sky,
         // the picture cropped to it, silently (helper 170).
@@ -170,7 +185,7 @@ void limitExrHeaders() {
 
 std::string exrDamage(const std::string& path) {
     try {
-        checkExrAttributeSizes(path, regularFileSize(path));
+        checkExrHeaders(path, regularFileSize(path));
         limitExrHeaders();
         if (!Imf::InputFile(path.c_str()).isComplete()) return "its pixel data is cut short";
         return "";
@@ -184,7 +199,7 @@ Image readExr(const std::string& path, ExrValues values) {
     limitExrHeaders();
     // A multi-part file (an image and its passes, say) was read as its first part, whichever
     // that was (helper 68).
-    if (const int parts = checkExrAttributeSizes(path, bytes); parts > 1)
+    if (const int parts = checkExrHeaders(path, bytes); parts > 1)
         fail(path, "parts",
              std::to_string(parts) +
                  " (a multi-part file), and shvol reads single-part files only, whose part "

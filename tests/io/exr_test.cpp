@@ -413,6 +413,28 @@ TEST(Exr, AHeaderWithoutARequiredAttributeIsRefused) {
     EXPECT_EQ(readExr(tmp("required.exr")).width, 100);
 }
 
+// A header cut short is named as such, at the attribute it cuts (OpenEXR's message named no place:
+// "Early end of file: read 0 out of 1 requested bytes"; helper 170).
+TEST(Exr, AHeaderCutShortIsNamed) {
+    writeExr(tmp("whole.exr"), Image(3, 2));
+    const std::string bytes = fileBytes(tmp("whole.exr"));
+    const size_t channels = bytes.find("channels"), compression = bytes.find("compression");
+    ASSERT_LT(channels, compression);
+    const std::string path = tmp("cut.exr");
+    const auto cutAt = [&](size_t n) {
+        std::ofstream(path, std::ios::binary) << bytes.substr(0, n);
+        return messageOf([&] { readExr(path); });
+    };
+    const std::string ends = ", inside the header (truncated file)";
+    EXPECT_EQ(cutAt(12), path + ": header: the file ends at byte 12" + ends);
+    EXPECT_EQ(cutAt(channels + 12),  // inside its type name
+              path + ": header attribute 'channels': the file ends at byte " +
+                  std::to_string(channels + 12) + ends);
+    EXPECT_EQ(cutAt(compression + 3),  // inside the next name
+              path + ": header, after attribute 'channels': the file ends at byte " +
+                  std::to_string(compression + 3) + ends);
+}
+
 // In a multi-part file every header is walked: a size beyond the end in the second is refused.
 /// A multi-part file of `parts` 2 × 2 parts of Y = 0.25.
 void writeParts(const std::string& path, int parts) {
