@@ -223,10 +223,11 @@ TEST(Environment, PdfMatchesSample) {
         }
 }
 
-// The sampler is built by the first sample() or pdf() (none for a render that draws no light
-// sample from the sky; helper 168): threads that ask at once, through copies, all get the one
-// sampler a single thread would.
-TEST(Environment, SamplerBuiltOnFirstUseIsTheSameForEveryThread) {
+// The sampler is built by prepareSampling() or the first sample() or pdf() (a render that draws
+// no light sample from the sky builds none; helper 168): threads that ask at once, through
+// copies, all get the one sampler a single thread would. (Whether it is built at all is not
+// observable here; the render's setup decides that, VolumePathIntegrator::buildLightSamplers.)
+TEST(Environment, LazySamplerIsTheSameForEveryThread) {
     const Environment alone = Environment::image(syntheticSky(), 1.0, 10.0, false);
     std::vector<Vec2> us;
     Rng rng(5, 1);

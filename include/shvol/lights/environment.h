@@ -54,6 +54,12 @@ class Environment {
 
     /// Radiance seen along an escaping ray with direction w (w need not be normalised).
     Spectrum Le(const Vec3& w) const;
+    /// Builds an image's sampling tables now, which sample() and pdf() otherwise build at their
+    /// first call (a render builds them before its passes when it draws light samples from the
+    /// sky; VolumePathIntegrator).
+    void prepareSampling() const {
+        if (image_) texels();
+    }
     /// Importance-sampled direction; see the file comment. \param u uniform in [0, 1)².
     LightSample sample(const Vec2& u) const;
     /// Solid-angle density of sample() producing w.
