@@ -208,9 +208,7 @@ SurfaceScene::SurfaceScene(std::vector<Surface> surfaces)
         nullBox[i] = {b.lo - Vec3::Constant(margin), b.hi + Vec3::Constant(margin)};
         unsigned taken = 1;
         for (size_t k = 0; k < i; ++k)
-            if (bits_[k] != 1 && (nullBox[i].lo.array() <= nullBox[k].hi.array()).all() &&
-                (nullBox[k].lo.array() <= nullBox[i].hi.array()).all())
-                taken |= bits_[k];
+            if (bits_[k] != 1 && nullBox[i].meets(nullBox[k])) taken |= bits_[k];
         unsigned bit = 2;
         while (bit != 0 && (taken & bit)) bit <<= 1;
         bits_[i] = bit != 0 ? bit : 2u << (shared++ % 31);

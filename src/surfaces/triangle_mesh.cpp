@@ -496,7 +496,7 @@ ShellLayout layoutOf(const TriangleMesh& mesh, const Shells& s, const MeshPlaces
         for (size_t b = a + 1; b < order.size() && box[order[b]].lo.x() <= box[order[a]].hi.x();
              ++b) {
             const Bounds3 &p = box[order[a]], &q = box[order[b]];
-            if ((p.lo.array() <= q.hi.array()).all() && (q.lo.array() <= p.hi.array()).all()) {
+            if (p.meets(q)) {
                 overlapping[order[a]].push_back(order[b]);
                 overlapping[order[b]].push_back(order[a]);
             }

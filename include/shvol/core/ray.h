@@ -51,6 +51,11 @@ struct Bounds3 {
         return (lo.array() == -INFINITY).all() && (hi.array() == INFINITY).all();
     }
     bool empty() const { return (lo.array() > hi.array()).any(); }
+    /// Whether the (closed) boxes share a point; never for an empty one.
+    bool meets(const Bounds3& b) const {
+        return (lo.array() <= b.hi.array()).all() && (b.lo.array() <= hi.array()).all() &&
+               !empty() && !b.empty();
+    }
     /// Whether the ray meets the box within [0, tMax] (never, if the box is empty; always, with
     /// no slab test and whatever tMax, if it is all of space). A ray from a point of the (closed)
     /// box meets it iff tMax ≥ 0, which is what the slab test gives there too; checked first,
