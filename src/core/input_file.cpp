@@ -34,8 +34,7 @@ const char* fileKindByMagic(const std::string& start) {
 const char* fileKindOfStart(const std::string& start) {
     if (const char* kind = fileKindByMagic(start)) return kind;
     // (after a UTF-8 byte order mark and blanks)
-    const size_t first =
-        start.find_first_not_of(" \t\r\n", start.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0);
+    const size_t first = start.find_first_not_of(" \t\r\n", utf8BomLength(start));
     return first != std::string::npos && (start[first] == '{' || start[first] == '[') ? "JSON text"
                                                                                       : nullptr;
 }

@@ -150,7 +150,7 @@ class HeaderParser {
     Header parse() {
         // A UTF-8 byte-order mark (a text editor's) is skipped, as for OBJ; the body's offsets
         // stay the file's (helper 161).
-        if (bytes_.substr(0, 3) == "\xEF\xBB\xBF") pos_ = 3;
+        pos_ = utf8BomLength(bytes_);
         if (bytes_.substr(pos_, 3) != "ply" || !nextLine() || line_ != "ply")
             fail(file_, "line 1", "not a PLY file (the first line must be \"ply\")");
         bool format = false;
@@ -894,7 +894,7 @@ TriangleMesh readObj(const std::string& path, const Eigen::Affine3d* toWorld,
     std::string text = readWhole(path);
     // A UTF-8 byte-order mark (editors on Windows write one) is no part of the first statement:
     // tinyobjloader would not know that statement, and a first v line was lost (helper 75).
-    if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
+    text.erase(0, utf8BomLength(text));
     ObjLines lines = scanObj(text, path);
     tinyobj::ObjReaderConfig config;
     config.triangulate = false;   // our own fan keeps the winding

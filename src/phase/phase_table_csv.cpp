@@ -75,7 +75,7 @@ TabulatedPhase readPhaseTableCsv(const std::string& path) {
         pos = end + (all.compare(end, 2, "\r\n") == 0 ? 2 : 1);
         ++lineNo;
         // A UTF-8 byte-order mark (spreadsheets write one) is not part of the first cell.
-        if (lineNo == 1 && text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
+        if (lineNo == 1) text.erase(0, utf8BomLength(text));
         const std::string line = trim(text);
         if (line.empty() || line[0] == '#') continue;
         const std::string place = "line " + std::to_string(lineNo);

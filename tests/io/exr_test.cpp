@@ -393,26 +393,6 @@ TEST(Exr, AttributeSizeBeyondTheFileIsRefused) {
                   "0 left (damaged file)");
 }
 
-// A required attribute whose name is damaged is refused: OpenEXR put its default in its place,
-// and a sky missing 'displayWindow' was read as a 64x64 picture, cropped (helper 170).
-TEST(Exr, AHeaderWithoutARequiredAttributeIsRefused) {
-    Image img(100, 50);
-    writeExr(tmp("required.exr"), img);
-    const std::string bytes = fileBytes(tmp("required.exr"));
-    for (const std::string name : {"displayWindow", "dataWindow", "channels", "lineOrder"}) {
-        std::string b = bytes;
-        const size_t at = b.find(name + std::string(1, '\0'));
-        ASSERT_NE(at, std::string::npos) << name;
-        b[at + 1] = 'k';  // "dksplayWindow"
-        const std::string path = tmp("damaged_name.exr");
-        std::ofstream(path, std::ios::binary) << b;
-        EXPECT_EQ(messageOf([&] { readExr(path); }),
-                  path + ": header: no '" + name +
-                      "' attribute, which every EXR header has (damaged file)");
-    }
-    EXPECT_EQ(readExr(tmp("required.exr")).width, 100);
-}
-
 // A header cut short is named as such, at the attribute it cuts (OpenEXR's message named no place:
 // "Early end of file: read 0 out of 1 requested bytes"; helper 170).
 TEST(Exr, AHeaderCutShortIsNamed) {
@@ -482,6 +462,36 @@ TEST(Exr, AttributeSizeBeyondTheFileIsRefusedInAnyPart) {
             readExr(path);
         }).rfind(path + ": header attribute 'channels': its value claims 1073741824 bytes", 0),
         0u);
+}
+
+// A required attribute whose name is damaged is refused: OpenEXR put its default in its place,
+// and a sky missing 'displayWindow' was read as a 64x64 picture, cropped (helper 170).
+TEST(Exr, AHeaderWithoutARequiredAttributeIsRefused) {
+    Image img(100, 50);
+    writeExr(tmp("required.exr"), img);
+    const std::string bytes = fileBytes(tmp("required.exr"));
+    for (const std::string name : {"displayWindow", "dataWindow", "channels", "lineOrder"}) {
+        std::string b = bytes;
+        const size_t at = b.find(name + std::string(1, '\0'));
+        ASSERT_NE(at, std::string::npos) << name;
+        b[at + 1] = 'k';  // "dksplayWindow"
+        const std::string path = tmp("damaged_name.exr");
+        std::ofstream(path, std::ios::binary) << b;
+        EXPECT_EQ(messageOf([&] { readExr(path); }),
+                  path + ": header: no '" + name +
+                      "' attribute, which every EXR header has (damaged file)");
+    }
+    EXPECT_EQ(readExr(tmp("required.exr")).width, 100);
+    // In a multi-part file, each header (named by its number).
+    writeParts(tmp("parts_required.exr"), 2);
+    std::string b = fileBytes(tmp("parts_required.exr"));
+    const std::string tag = std::string("displayWindow") + '\0';
+    b[b.find(tag, b.find(tag) + 1) + 1] = 'k';  // the second part's
+    std::ofstream(tmp("parts_required.exr"), std::ios::binary) << b;
+    EXPECT_EQ(messageOf([&] { readExr(tmp("parts_required.exr")); }),
+              tmp("parts_required.exr") +
+                  ": header 2: no 'displayWindow' attribute, which every EXR header has (damaged "
+                  "file)");
 }
 
 // Only regular files are read (a device such as /dev/zero never ends), and a file name the

@@ -2,6 +2,7 @@
 /// \file Checks on an input file before a reader opens it.
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 namespace shvol {
 
@@ -13,6 +14,12 @@ std::string inputFileProblem(const std::string& path);
 /// Size in bytes of the regular file at path. shvol::Error naming the file and its
 /// inputFileProblem if there is one.
 uintmax_t regularFileSize(const std::string& path);
+
+/// The length of the UTF-8 byte-order mark that `text` starts with (a Windows editor's; no part of
+/// a text file's first line): 3, or 0 without one.
+inline size_t utf8BomLength(std::string_view text) {
+    return text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;
+}
 
 /// The kind of a file that starts with `start`, told by its magic number: "an OpenVDB grid", "an
 /// OpenEXR image", "a PLY mesh" (ASCII PLY too), the files shvol reads that are not JSON or CSV,
