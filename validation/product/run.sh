@@ -3,7 +3,7 @@
 #   validation/product/run.sh          (BUILD_DIR defaults to build/)
 # 1. builds shvol with one job if needed (configuring build/ with clang++ and Ninja first);
 # 2. runs experiment.py (sunlit cloud, 2 densities x 5 phase functions x 7 strategies, sweeps;
-#    about 9 minutes on 2 cores, 517 s in the run README.md reports: do not run anything else
+#    about 6 minutes on 2 cores, 378 s in the run README.md reports (7 Dec): do not run anything else
 #    meanwhile, the timings are the result);
 # 3. installs python3-matplotlib / python3-numpy with apt-get if missing and plots with Debian's
 #    /usr/bin/python3.
