@@ -330,6 +330,35 @@ TEST(SurfacePath, GlassFurnaceOfThickFogStaysExact) {
                       4000, 2e5);
 }
 
+/// HG 0.5 fog of σ_t sigma and albedo a filling a glass ball of radius 1 at the origin, under a
+/// constant sky, with black rectangles emitting Le (from the front, or from both sides) placed by
+/// `lamps`.
+Scene fogInGlass(double sigma, double a, double sky, const std::vector<Eigen::Affine3d>& lamps,
+                 double Le, bool twoSided) {
+    Scene scene;
+    scene.environment = Environment::constant(Spectrum::Constant(sky), false);
+    std::vector<Surface> v;
+    v.push_back(glassSphere(Vec3::Zero(), 1.5));
+    v.back().interiorMedium = 0;
+    for (const Eigen::Affine3d& lamp : lamps) {
+        v.push_back(Surface::rectangle(lamp));
+        v.back().bsdf = Bsdf::lambert(Spectrum::Zero());
+        v.back().emission = Spectrum::Constant(Le);
+        v.back().twoSidedEmission = twoSided;
+    }
+    scene.surfaces = surfaces(std::move(v));
+    MediumShape everywhere;
+    everywhere.type = MediumShape::Type::Everywhere;
+    scene.media.push_back(std::make_unique<HomogeneousMedium>(
+        everywhere, sigma, Spectrum::Constant(a), PhaseFunction(HenyeyGreensteinPhase(0.5))));
+    return scene;
+}
+
+/// A lamp rectangle of half-width `size` centred at (0, 0, z).
+Eigen::Affine3d lampAt(double z, double size) {
+    return Eigen::Translation3d(0, 0, z) * Eigen::Scaling(size);
+}
+
 // Fog sealed in a glass ball under a constant sky, NEE forced on: no shadow ray from inside can
 // reach the sky, so none is traced (helper 108: each was blocked by the glass, about twice the
 // time), and the furnace stays exactly 1. Nor can one reach a lamp outside the ball (a lamp
@@ -337,26 +366,12 @@ TEST(SurfacePath, GlassFurnaceOfThickFogStaysExact) {
 TEST(SurfacePath, NoShadowRaysFromInsideGlass) {
     enum Lamp { None, Outside, Inside };
     for (const Lamp lamp : {None, Outside, Inside}) {
-        Scene scene;
+        // (Small lamps: a path that hit one would take light samples there, and lose the sky.)
+        std::vector<Eigen::Affine3d> lamps;
+        if (lamp != None) lamps.push_back(lamp == Outside ? lampAt(5, 1e-3) : lampAt(0.5, 0.1));
+        Scene scene = fogInGlass(4, 1, 1, lamps, 1e-9, false);
         scene.settings.maxDepth = 100000;
         scene.settings.nee = true;
-        scene.environment = Environment::constant(Spectrum::Ones(), false);
-        std::vector<Surface> v;
-        v.push_back(glassSphere(Vec3::Zero(), 1.5));
-        v.back().interiorMedium = 0;
-        if (lamp != None) {
-            v.push_back(Surface::rectangle(
-                // (small: a path that hit it would take light samples there, and lose the sky)
-                Eigen::Translation3d(0, 0, lamp == Outside ? 5 : 0.5) *
-                Eigen::Scaling(lamp == Outside ? 1e-3 : 0.1)));
-            v.back().bsdf = Bsdf::lambert(Spectrum::Zero());
-            v.back().emission = Spectrum::Constant(1e-9);
-        }
-        scene.surfaces = surfaces(std::move(v));
-        MediumShape everywhere;
-        everywhere.type = MediumShape::Type::Everywhere;
-        scene.media.push_back(std::make_unique<HomogeneousMedium>(
-            everywhere, 4, Spectrum::Ones(), PhaseFunction(HenyeyGreensteinPhase(0.5))));
         const VolumePathIntegrator integrator(scene);
         PathCounters counters;
         double worst = 0;
@@ -383,39 +398,22 @@ TEST(SurfacePath, NoShadowRaysFromInsideGlass) {
 // a lamp may be there) as without it. A lamp inside wrongly taken for sealed off loses its MIS
 // share of the light that phase samples meet (reviews of helper 169's change).
 TEST(SurfacePath, SealedGlassKeepsEveryLampsLight) {
-    enum Lamps { Outside = 1, Inside = 2, Both = 3 };
-    for (const Lamps lamps : {Outside, Inside, Both}) {
+    const Eigen::Affine3d outside = lampAt(2.5, 1), inside = lampAt(0.3, 0.3);
+    for (const auto& lamps :
+         std::vector<std::vector<Eigen::Affine3d>>{{outside}, {inside}, {outside, inside}}) {
         Estimate e[2];
         for (const bool nee : {false, true}) {
-            Scene scene;
+            Scene scene = fogInGlass(2, 0.9, 0, lamps, 4, true);
             scene.settings.maxDepth = 100;
             scene.settings.nee = nee;
-            scene.environment = Environment::constant(Spectrum::Zero(), false);
-            std::vector<Surface> v;
-            v.push_back(glassSphere(Vec3::Zero(), 1.5));
-            v.back().interiorMedium = 0;
-            for (const Lamps lamp : {Outside, Inside})
-                if (lamps & lamp) {
-                    v.push_back(
-                        Surface::rectangle(Eigen::Translation3d(0, 0, lamp == Outside ? 2.5 : 0.3) *
-                                           Eigen::Scaling(lamp == Outside ? 1.0 : 0.3)));
-                    v.back().bsdf = Bsdf::lambert(Spectrum::Zero());
-                    v.back().emission = Spectrum::Constant(4);
-                    v.back().twoSidedEmission = true;
-                }
-            scene.surfaces = surfaces(std::move(v));
-            MediumShape everywhere;
-            everywhere.type = MediumShape::Type::Everywhere;
-            scene.media.push_back(std::make_unique<HomogeneousMedium>(
-                everywhere, 2, Spectrum::Constant(0.9), PhaseFunction(HenyeyGreensteinPhase(0.5))));
             e[nee] = estimate(scene, 40000, [](const Vec2& u) {
                 return Ray{Vec3(0, -3, 0),
                            Vec3(0.5 * (u.x() - 0.5), 3, 0.5 * (u.y() - 0.5)).normalized()};
             });
         }
-        ASSERT_GT(e[0].mean[0], 0.0) << lamps;
+        ASSERT_GT(e[0].mean[0], 0.0) << lamps.size();
         const double sd = std::hypot(e[0].stdErr[0], e[1].stdErr[0]);
-        EXPECT_NEAR(e[0].mean[0], e[1].mean[0], 4.5 * sd) << "lamps " << lamps;
+        EXPECT_NEAR(e[0].mean[0], e[1].mean[0], 4.5 * sd) << lamps.size();
     }
 }
 
