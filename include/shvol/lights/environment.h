@@ -45,9 +45,10 @@ class Environment {
   public:
     /// Constant radiance L in every direction (or only for z ≥ 0).
     static Environment constant(const Spectrum& L, bool lowerHemisphereBlack);
-    /// Lat-long map; its importance distribution is built at the first sample() or pdf() (a
-    /// render that draws no light sample from the sky never builds it). Throws shvol::Error if
-    /// the image is empty. \param scale multiplies every pixel. \param rotationDegrees about +z.
+    /// Lat-long map; its importance distribution is built by prepareSampling() or the first
+    /// sample() or pdf() (a render that draws no light sample from the sky never builds it).
+    /// Throws shvol::Error if the image is empty. \param scale multiplies every pixel. \param
+    /// rotationDegrees about +z.
     static Environment image(Image img, double scale, double rotationDegrees,
                              bool lowerHemisphereBlack,
                              LatLongMapping mapping = LatLongMapping::Blender);
