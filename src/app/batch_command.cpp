@@ -42,8 +42,7 @@ struct BatchArgs {
 };
 
 std::string describe(const SweepRun& run, const std::vector<std::string>& axes) {
-    const std::string values = describeValues(run, axes);
-    return values.empty() ? run.id : run.id + " " + values;
+    return run.id + " " + describeValues(run, axes);  // (values hold the repeat at least)
 }
 
 /// The standard errors beside a reference file ref.exr (ref.stderr.exr, as render --variance

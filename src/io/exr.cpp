@@ -80,10 +80,7 @@ int checkExrHeaders(const std::string& path, uintmax_t bytes) {
             names.insert(last = name);
             unsigned char size[4];
             if (!readName(type)) cut("header attribute '" + name + "'");
-            if (!in.read(reinterpret_cast<char*>(size), 4)) {
-                in.setstate(std::ios::eofbit);  // (a short read is the file's end)
-                cut("header attribute '" + name + "'");
-            }
+            if (!in.read(reinterpret_cast<char*>(size), 4)) cut("header attribute '" + name + "'");
             at += 4;
             const int32_t n = int32_t(uint32_t(size[0]) | uint32_t(size[1]) << 8 |
                                       uint32_t(size[2]) << 16 | uint32_t(size[3]) << 24);

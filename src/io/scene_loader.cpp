@@ -1,5 +1,6 @@
 #include "shvol/io/scene_loader.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
@@ -300,15 +301,14 @@ Surface readSurface(JsonReader r, size_t index, Contents contents) {
     }
     s.orient(toWorld);  // (meshes and spheres; rectangles and disks are made oriented)
     // (A mesh that Check mode did not read has no vertices: reach 0.)
-    if (!(s.reach() <= kMaxSurfaceCoordinate)) {
-        if (type != "mesh") r.error("", surfaceReachMessage(s.reach()));
-        // The first vertex beyond the bound, at its place in the file (the key alone named
-        // neither; helper 161).
-        for (size_t k = 0; k < s.mesh.p.size(); ++k)
-            if (!(reachOf(s.mesh.p[k]) <= kMaxSurfaceCoordinate))
-                r.error("file", s.places.file + ": " + s.places.ofVertex(k) + ": " +
-                                    surfaceReachMessage(reachOf(s.mesh.p[k])));
-        r.error("file", surfaceReachMessage(s.reach()));
+    if (const double reach = s.reach(); !(reach <= kMaxSurfaceCoordinate)) {
+        if (type != "mesh") r.error("", surfaceReachMessage(reach));
+        // A mesh's first vertex beyond the bound (there is one: its reach is its vertices'), at
+        // its place in the file (the key alone named neither; helper 161).
+        const auto beyond = [](const Vec3& p) { return !(reachOf(p) <= kMaxSurfaceCoordinate); };
+        const auto far = std::find_if(s.mesh.p.begin(), s.mesh.p.end(), beyond);
+        r.error("file", s.places.file + ": " + s.places.ofVertex(size_t(far - s.mesh.p.begin())) +
+                            ": " + surfaceReachMessage(reachOf(*far)));
     }
     s.bsdf = readBsdf(r.objectOrEmpty("bsdf"));
     s.emission = spectrum(r, "emission", 0, 0, JsonReader::kUnbounded);
