@@ -256,6 +256,7 @@ template <class Lobe>
 double ProductSampler::pdf(const Lobe& lobe, const Vec3& wdir) const {
     uint32_t izLeaf, ipLeaf, iz, ip;
     skyCell(wdir, depth_, &izLeaf, &ipLeaf);
+    sky_.prefetchPath(izLeaf >> (depth_ - sky_.levels()), ipLeaf >> (depth_ - sky_.levels()));
     const double prob = descend(
         lobe,
         [&](int d, const detail::Split& sp) {

@@ -250,11 +250,11 @@ double SkyHierarchy::pdfWithoutShare(const Vec3& w) const {
     if (!(avg > 0)) return 0;
     uint32_t iz, ip;
     skyCell(w, levels_, &iz, &ip);
+    prefetchPath(iz, ip);
     uint64_t node = 0;
     for (int d = 0; d < levels_; ++d) {
         const int shift = levels_ - 1 - d;
         const int r = (iz >> shift) & 1, k = (ip >> shift) & 1;
-        prefetchGrandchildren(d, node);
         childAverages(d, node, avg, c);
         const detail::Split s(c);
         if (!(s.c[2 * r + k] > 0)) return 0;
