@@ -347,6 +347,28 @@ LightSample VolumePathIntegrator::sampleLightsAtSurface(const Vec3& x, Rng& rng)
     return {d.wi, d.Le, d.pdf};
 }
 
+void VolumePathIntegrator::setEventLobe(size_t medium, const Vec3& d, EventLobe& lobe) const {
+    product_->rotateZonal(lobes_[medium].p.data(), d, lobe.lobe, lobes_[medium].bands);
+    lobe.beta = lobes_[medium].beta;
+}
+
+LightSample VolumePathIntegrator::sampleLightsInMedium(const Vec3& x, const Vec3& d, size_t medium,
+                                                       Rng& rng) const {
+    PathCounters c;
+    EventLobe lobe;
+    if (product_) setEventLobe(medium, d, lobe);
+    const LightDraw draw = sampleLights(x, Vertex::Medium, lobe, rng, c);
+    return {draw.wi, draw.Le, draw.pdf};
+}
+
+double VolumePathIntegrator::environmentPdfInMedium(const Vec3& d, size_t medium,
+                                                    const Vec3& w) const {
+    PathCounters c;
+    EventLobe lobe;
+    if (product_) setEventLobe(medium, d, lobe);
+    return environmentPdf(Vertex::Medium, lobe, w, c);
+}
+
 VolumePathIntegrator::LightDraw VolumePathIntegrator::usableLightDraw(LightDraw ls,
                                                                       PathCounters& c) {
     if (unusableDraw(ls.pdf, ls.wi) || (ls.pdf > 0 && !(ls.Le >= 0).all())) {
@@ -589,10 +611,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             const PhaseFunction& phase = medium.phase();
 
             if (nee && !sealed(inside)) {
-                if (product) {
-                    product_->rotateZonal(lobes_[mi].p.data(), ray.d, lobe.lobe, lobes_[mi].bands);
-                    lobe.beta = lobes_[mi].beta;
-                }
+                if (product) setEventLobe(mi, ray.d, lobe);
                 const LightDraw ls = sampleLights(p, Vertex::Medium, lobe, sampler, c);
                 if (ls.pdf > 0 && ls.Le.maxCoeff() > 0) {
                     const double f = phase.eval(ray.d, ls.wi);

@@ -163,6 +163,12 @@ class VolumePathIntegrator {
     /// solid-angle density, the choice included (pdf 0: no sample). For the χ² test of this
     /// composition (its parts have their own).
     LightSample sampleLightsAtSurface(const Vec3& x, Rng& rng) const;
+    /// The same at a scattering event in media[medium] at x on a path travelling along d (the
+    /// product strategy's lobe is that medium's phase function around d), and the density that
+    /// MIS gives an environment direction w there (choice included, as sampleLightsAtSurface's
+    /// pdf). For the χ² test of light sampling in media.
+    LightSample sampleLightsInMedium(const Vec3& x, const Vec3& d, size_t medium, Rng& rng) const;
+    double environmentPdfInMedium(const Vec3& d, size_t medium, const Vec3& w) const;
     /// Probability that next-event estimation picks the environment (0 without NEE towards it,
     /// ½ beside area lights).
     double environmentShare() const;
@@ -196,6 +202,8 @@ class VolumePathIntegrator {
         ProductSampler::ZonalLobe lobe;
         double beta = 0;
     };
+    /// lobe = media[medium]'s product lobe around the path's direction d (product strategy).
+    void setEventLobe(size_t medium, const Vec3& d, EventLobe& lobe) const;
     /// A light direction drawn at a scattering event: towards the environment (dist = ∞) or
     /// to the point y (normal ny) of an emitter at distance dist. pdf includes the choice of
     /// light.
