@@ -125,6 +125,63 @@ TEST(ProductSampler, ChildWeightsAreLobeIntegrals) {
     }
 }
 
+// The child weights under a sky that is not constant: the lobe's mass over each child times the
+// sky's average over it, each clamped at 0, and the sky's alone below productDepth. The averages
+// come from the leaves' own values (sky.value at each leaf's centre, in the sky's units), not
+// from the Morton-ordered mip-map the sampler reads, so a child's sky taken from the wrong
+// node, a swapped z or φ half, or a dropped sky factor fails; every other test of the weights
+// has a constant sky and the χ² tests compare the warp only with its own pdf() (helper 176).
+// Down the path to the sun and down a path across the φ seam, in both lobe forms.
+TEST(ProductSampler, ChildWeightsAreTheLobesMassTimesTheSkysAverage) {
+    const int levels = 7;
+    const double sunZ = 0.5, sunPhi = 1.0;
+    const SkyHierarchy sky = sunSky(levels, 0.2, 30, 0, sunZ, sunPhi);
+    const int n = 8;
+    const ProductSampler ps(sky, n);
+    ASSERT_EQ(ps.depth(), levels);
+    ASSERT_LT(ps.productDepth(), levels);
+    const std::vector<double> p = hgLobe(0.8, n);
+    const Vec3 axis = sphericalDirection(0.4, 1.3);
+    std::vector<double> c(n * n);
+    ps.rotateZonal(p.data(), axis, c.data());
+    ProductSampler::ZonalLobe zonal;
+    ps.rotateZonal(p.data(), axis, zonal);
+    const int leaves = 1 << levels;
+    const auto skyAverage = [&](const WarpNode& nd) {  // the mean of its leaves' values
+        const int span = leaves >> nd.level;
+        double sum = 0;
+        for (int iz = nd.iz * span; iz < (nd.iz + 1) * span; ++iz)
+            for (int ip = nd.iphi * span; ip < (nd.iphi + 1) * span; ++ip)
+                sum += sky.value(sphericalDirection(-1 + (iz + 0.5) * 2.0 / leaves,
+                                                    (ip + 0.5) * TwoPi / leaves));
+        return sum / (double(span) * span);
+    };
+    for (const double targetPhi : {sunPhi, TwoPi - 1e-3}) {
+        uint32_t izLeaf, ipLeaf;
+        skyCell(sphericalDirection(sunZ, targetPhi), levels, &izLeaf, &ipLeaf);
+        WarpNode node;
+        for (int level = 0; level < levels; ++level) {
+            const double avg = skyAverage(node) / sky.unit();
+            double wSH[4], wZonal[4], m[4];
+            ps.childWeights(SH{c.data()}, node, avg, wSH);
+            ps.childWeights(zonal, node, avg, wZonal);
+            if (level < ps.productDepth())
+                ps.lobeMasses(zonal, level, uint32_t(node.iz), uint32_t(node.iphi), m);
+            for (int r = 0; r < 2; ++r)
+                for (int k = 0; k < 2; ++k) {
+                    const int i = 2 * r + k;
+                    const double s = std::max(0.0, skyAverage(node.child(r, k)) / sky.unit());
+                    const double ref = level < ps.productDepth() ? std::max(0.0, m[i]) * s : s;
+                    EXPECT_NEAR(wZonal[i], ref, 1e-6 * ref + 1e-15) << level << " " << i;
+                    EXPECT_NEAR(wSH[i], ref, 1e-6 * ref + 1e-12 * std::abs(m[0]))
+                        << level << " " << i;
+                }
+            const int shift = levels - 1 - level;
+            node = node.child((izLeaf >> shift) & 1, (ipLeaf >> shift) & 1);
+        }
+    }
+}
+
 // The lobe masses of every level the product warps, in both lobe forms, against midpoint
 // quadrature of the reconstruction p̃(ω·ω₀) over each child: at orders 2, 17 and 32, down the
 // path of the heaviest child (the lobe's peak, where most samples go) and of the lightest (its
