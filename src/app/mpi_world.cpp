@@ -51,10 +51,12 @@ bool gInitialised = false;
 // (the spread of the image, a double, is recomputed from the reduced film: helper 87 found doubles
 // summed as integers; it was a counter then). A counter of another type needs its own reduction.
 constexpr int kCounterWords = int(sizeof(PathCounters) / sizeof(uint64_t));
-static_assert(kCounterWords == 16 + 5 + 3 &&
-                  std::is_same_v<decltype(PathCounters::paths), uint64_t>,
-              "PathCounters: its 16 uint64_t counters, InvalidDraws' 5 and TrackingCounters' 3; "
-              "a field added there must be reduced here (as an integer only if it is one)");
+static_assert(kCounterWords == 16 + 5 + 3 + PhaseWeightMoments::kBins &&
+                  std::is_same_v<decltype(PathCounters::paths), uint64_t> &&
+                  std::is_same_v<decltype(PhaseWeightMoments::paths)::value_type, uint64_t>,
+              "PathCounters: its 16 uint64_t counters, InvalidDraws' 5, TrackingCounters' 3 and "
+              "PhaseWeightMoments' bins; a field added there must be reduced here (as an "
+              "integer only if it is one)");
 
 template <typename T>
 void reduce(std::vector<T>& v, MPI_Datatype type, bool root, MPI_Op op = MPI_SUM) {

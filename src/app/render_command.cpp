@@ -105,6 +105,43 @@ nlohmann::json phaseJson(const PhaseFunction& p) {
     return j;
 }
 
+/// Whether an SH-sampled phase function's weight alone is warned of: exact evaluation with m₂
+/// above SHSampledPhase::kUnreliableSecondMoment.
+bool unreliablePerBounce(const SHSampledPhase& sh) {
+    return sh.evaluate() == SHSampledPhase::Evaluate::Exact &&
+           sh.weightSecondMoment() > SHSampledPhase::kUnreliableSecondMoment;
+}
+
+/// The compounded second moment E[m₂^k] of the SH-sampled phase weights along the camera paths
+/// above which a render warns (phase_weight_moments.h): e, what the per-bounce warning's 1.01
+/// reaches after 100 bounces.
+constexpr double kCompoundedPhaseMoment = 2.718281828459045;
+
+/// The warning of SH-sampled phase weights that compound along the render's paths although no
+/// medium's per-bounce m₂ is warned of (phaseWarnings); empty if none.
+std::string compoundedPhaseWarning(const Scene& scene, const PhaseWeightMoments& pw) {
+    std::string media;
+    double largest = 1;
+    for (size_t i = 0; i < scene.media.size(); ++i) {
+        const auto* sh = std::get_if<SHSampledPhase>(&scene.media[i]->phase().variant());
+        if (!sh || sh->evaluate() != SHSampledPhase::Evaluate::Exact) continue;
+        if (unreliablePerBounce(*sh)) return "";  // (said per bounce already)
+        media += (media.empty() ? "media[" : ", media[") + std::to_string(i) + "].phase";
+        largest = std::max(largest, sh->weightSecondMoment());
+    }
+    const double m = pw.meanLowerBound();
+    if (media.empty() || !(m > kCompoundedPhaseMoment)) return "";
+    char msg[700];
+    std::snprintf(msg, sizeof msg,
+                  ": the SH-sampled weights p/pdf (\"evaluate\": \"exact\") compound along the "
+                  "paths to a second moment of at least %.3g on average (%.3g%% of the paths "
+                  "beyond e), though a bounce's is at most %.6g: so many scattering events make "
+                  "multiply-scattered light noisy and underestimated in practice; use "
+                  "\"evaluate\": \"sh\"",
+                  m, 100 * pw.shareFrom(int(std::round(1 / PhaseWeightMoments::kBin))), largest);
+    return media + msg;
+}
+
 /// Warnings about SH-sampled phase functions that make a render unreliable (issue 10 §1).
 std::vector<std::string> phaseWarnings(const Scene& scene) {
     std::vector<std::string> w;
@@ -118,8 +155,7 @@ std::vector<std::string> phaseWarnings(const Scene& scene) {
         if (const std::string blind = blindSHFitText(*sh); !blind.empty())
             w.push_back("media[" + std::to_string(i) + "].phase: " + blind +
                         "; use \"sampling\": \"analytic\"");
-        if (sh->evaluate() == SHSampledPhase::Evaluate::Exact &&
-            sh->weightSecondMoment() > SHSampledPhase::kUnreliableSecondMoment) {
+        if (unreliablePerBounce(*sh)) {
             const double m2 = sh->weightSecondMoment();
             std::snprintf(msg, sizeof msg,
                           "media[%zu].phase: the SH-sampled weight p/pdf has second moment %.4g "
@@ -679,6 +715,9 @@ std::vector<std::string> renderWarnings(const Scene& scene, const RenderStats& s
     if (const std::string noisy = noisyRecordsWarning(scene, st.radianceCache); !noisy.empty())
         w.push_back(noisy);
     if (const std::string sky = compressedSkyWarning(st); !sky.empty()) w.push_back(sky);
+    if (const std::string phase = compoundedPhaseWarning(scene, st.counters.phaseWeights);
+        !phase.empty())
+        w.push_back(phase);
     if (st.counters.nonFiniteSamples > 0)
         w.push_back(std::to_string(st.counters.nonFiniteSamples) +
                     " samples were NaN or infinite and were dropped");
@@ -779,6 +818,9 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
     j["exact_cells"] = c.tracking.exactCells;
     j["non_finite_samples"] = c.nonFiniteSamples;
     j["paths_truncated"] = c.truncatedPaths;
+    // (only where a phase weight is not always 1: compoundedPhaseWarning)
+    if (c.phaseWeights.count() > 0)
+        j["phase_weight_second_moment_along_paths"] = c.phaseWeights.meanLowerBound();
     j["invalid_draws"] = invalidDrawsJson(c.invalid);
     // (null where unknown: no light, or a film resumed from a checkpoint without its squares)
     j["image_mean_relative_error"] = std::isfinite(st.imageMeanRelativeError)

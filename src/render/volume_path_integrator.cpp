@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "shvol/core/error.h"
+#include "shvol/phase/sh_sampled_phase.h"
 #include "shvol/phase/zonal_fit.h"
 #include "shvol/sampling/russian_roulette.h"
 
@@ -75,6 +76,7 @@ void PathCounters::add(const PathCounters& o) {
     tracking.densityLookups += o.tracking.densityLookups;
     tracking.segments += o.tracking.segments;
     tracking.exactCells += o.tracking.exactCells;
+    phaseWeights.add(o.phaseWeights);
 }
 
 VolumePathIntegrator::VolumePathIntegrator(const Scene& scene, std::function<bool()> stop)
@@ -86,7 +88,16 @@ VolumePathIntegrator::VolumePathIntegrator(const Scene& scene, std::function<boo
     if (scene.surfaces)
         for (const Surface& sf : scene.surfaces->surfaces())
             deltaSurfaces_ |= sf.bsdf.isDelta() && sf.bsdf.type != BsdfType::Null;
-    for (const auto& m : scene.media) mediumBounds_.push_back(m->bounds());
+    for (const auto& m : scene.media) {
+        mediumBounds_.push_back(m->bounds());
+        // The weights' compounding is counted where a weight is not always 1 (README, "SH
+        // sampling of phase functions"): the exact use of an SH-sampled phase function.
+        const auto* sh = std::get_if<SHSampledPhase>(&m->phase().variant());
+        const bool weighted =
+            sh && sh->evaluate() == SHSampledPhase::Evaluate::Exact && sh->weightSecondMoment() > 1;
+        phaseLnM2_.push_back(weighted ? std::log(sh->weightSecondMoment()) : 0.0);
+        phaseWeights_ |= weighted;
+    }
     if (effects_.boundedMedia) {
         const auto& surfaces = scene.surfaces->surfaces();
         for (size_t i = 0; i < surfaces.size(); ++i) {
@@ -404,7 +415,8 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
     double prevPdf = 0;
     Vec3 prevP = ray.o;
     Vertex prevVertex = Vertex::Medium;
-    EventLobe lobe;  // the last scattering event's lobe (product sampling)
+    EventLobe lobe;    // the last scattering event's lobe (product sampling)
+    double lnM2k = 0;  // Σ ln m₂ of the SH-sampled phase weights so far (phaseWeights_)
     // Π η² over the refractions so far: β·etaScale is the throughput the roulette judges, as β
     // alone falls by 1/η² on entering glass (radiance, not energy, is scaled) and rises again
     // on leaving it. Judged on β, the roulette killed paths inside glass for a loss that is not
@@ -601,6 +613,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             }
             nullCrossings = 0;
             ++c.scatteringEvents;
+            if (phaseWeights_) lnM2k += phaseLnM2_[mi];
             const Medium& medium = *scene_.media[mi];
             beta *= medium.albedo();
             if (!(beta.maxCoeff() > 0)) break;
@@ -654,6 +667,7 @@ Spectrum VolumePathIntegrator::Li(Ray ray, Sampler& sampler, PathCounters& c, Pa
             }
         }
     }
+    if (phaseWeights_ && kind == PathKind::Camera) c.phaseWeights.add(lnM2k);
     return L;
 }
 

@@ -61,6 +61,7 @@
 #include "shvol/cache/radiance_cache.h"
 #include "shvol/lights/product_sampler.h"
 #include "shvol/render/effects.h"
+#include "shvol/render/phase_weight_moments.h"
 #include "shvol/render/scene.h"
 #include "shvol/sampling/sobol_sampler.h"
 #include "shvol/surfaces/area_lights.h"
@@ -119,6 +120,9 @@ struct PathCounters {
     uint64_t truncatedPaths = 0;     ///< paths ended by max_depth (the light beyond it is lost)
     InvalidDraws invalid;            ///< unusable draws met (and dropped)
     TrackingCounters tracking;
+    /// Camera paths by their SH-sampled phase weights' compounded second moment (counted only
+    /// where a medium's phase is SH-sampled with "evaluate": "exact" and m₂ > 1).
+    PhaseWeightMoments phaseWeights;
     void add(const PathCounters& o);
 };
 
@@ -276,7 +280,11 @@ class VolumePathIntegrator {
     Effects effects_;
     std::unique_ptr<const SkyHierarchy> sky_;
     std::unique_ptr<const ProductSampler> product_;
-    std::vector<Lobe> lobes_;                       ///< per medium (product sampling)
+    std::vector<Lobe> lobes_;  ///< per medium (product sampling)
+    /// Per medium: ln m₂ of its SH-sampled phase weights where they are not 1, else 0; and
+    /// whether any is not (then camera paths are counted in PathCounters::phaseWeights).
+    std::vector<double> phaseLnM2_;
+    bool phaseWeights_ = false;
     std::vector<Bounds3> mediumBounds_;             ///< per medium (Medium::bounds)
     std::unique_ptr<const AreaLights> areaLights_;  ///< when some surface emits
     std::vector<int> mediumBit_;   ///< per medium: its bit in Inside, or −1 if unbounded
