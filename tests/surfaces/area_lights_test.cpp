@@ -55,7 +55,7 @@ Eigen::Affine3d placed(const Vec3& t, double angle, const Vec3& axis, const Vec3
     return m;
 }
 
-constexpr int kFamily = 6;
+constexpr int kFamily = 7;
 
 /// The χ² test of lightChi2 for an emitter seen from x, and ∫ pdf = 1.
 void expectChi2(Surface emitter, const Vec3& x) {
@@ -178,6 +178,60 @@ TEST(AreaLights, EmittersAreChosenByPower) {
     const Chi2Result r = lightChi2(scene, Vec3(0, 0, 0), kFamily);
     EXPECT_TRUE(r.passed) << r.report;
     EXPECT_NEAR(r.pdfIntegral, 1, 1e-5);
+}
+
+// A two-sided emitter shines from both faces (surfaces[i].two_sided): a sphere of them is drawn
+// by area even from outside, since its far side may shine through a null or glass surface, and
+// its power, its share of the choice, counts both faces (helper 179: no test set
+// twoSidedEmission). χ² of the points' normals against the uniform density 1/4π (a direction's
+// density diverges at the silhouette, where the cells' quadrature did not end); every sample's
+// pdf is its own point's 1/A turned into solid angle, t²/(A |cos θ_y|), written here from the
+// geometry, its radiance the emission whichever face it shows.
+TEST(AreaLights, TwoSidedSphereFromOutsideChi2) {
+    const Vec3 c(0.4, -0.3, 1.5), x(0, 0, 0);
+    const double r = 0.6, area = FourPi * r * r;
+    std::vector<Surface> s;
+    s.push_back(emitting(Surface::sphere(c, r), 2));
+    s.back().twoSidedEmission = true;
+    const SurfaceScene scene(std::move(s));
+    const AreaLights lights(scene);
+    Chi2Options opt;
+    opt.numTests = kFamily;
+    opt.sampleCount = 400000;
+    long mismatches = 0, farSide = 0;
+    const Chi2Result res = chi2TestSphere(
+        [&](Rng& rng) -> std::optional<Vec3> {
+            const AreaLightSample ls = lights.sample(x, rng.uniform(), rng.uniform2());
+            if (!(ls.pdf > 0)) return std::nullopt;
+            const double t = ls.dist, cosY = std::abs(ls.ny.dot(ls.wi));
+            mismatches += !(std::abs(ls.pdf - t * t / (area * cosY)) <= 1e-9 * ls.pdf &&
+                            (x + t * ls.wi - ls.y).norm() <= 1e-12 &&
+                            std::abs(ls.pdf - lights.pdf(x, 0, ls.y, ls.ny)) <= 1e-9 * ls.pdf &&
+                            ls.Le[0] == 2);
+            farSide += ls.ny.dot(ls.wi) > 0;
+            return ls.ny;
+        },
+        [](const Vec3&) { return 1 / FourPi; }, opt);
+    EXPECT_TRUE(res.passed) << res.report;
+    EXPECT_EQ(mismatches, 0);
+    EXPECT_GT(farSide, 0);  // (its far side is drawn and shines)
+
+    // Against a one-sided disk of the same area × radiance, the sphere is chosen 2/3 of the time.
+    std::vector<Surface> two;
+    two.push_back(emitting(Surface::sphere(c, r), 2));
+    two.back().twoSidedEmission = true;
+    two.push_back(
+        emitting(Surface::disk(placed(Vec3(-2, 0, 2), Pi, Vec3(1, 0, 0), Vec3::Constant(2 * r))),
+                 2));  // area π(2r)² = 4πr²
+    const SurfaceScene both(std::move(two));
+    const AreaLights choice(both);
+    Rng rng(4, 0);
+    int sphere = 0;
+    const int n = 200000;
+    for (int i = 0; i < n; ++i)
+        sphere += choice.sample(x, rng.uniform(), rng.uniform2()).surface == 0;
+    const double p = 2.0 / 3, sd = std::sqrt(p * (1 - p) / n);
+    EXPECT_NEAR(double(sphere) / n, p, 4 * sd);
 }
 
 TEST(AreaLights, OneSidedEmission) {
