@@ -90,8 +90,8 @@ VolumePathIntegrator::VolumePathIntegrator(const Scene& scene, std::function<boo
             deltaSurfaces_ |= sf.bsdf.isDelta() && sf.bsdf.type != BsdfType::Null;
     for (const auto& m : scene.media) {
         mediumBounds_.push_back(m->bounds());
-        // The weights' compounding is counted where a weight is not always 1 (README, "SH
-        // sampling of phase functions"): the exact use of an SH-sampled phase function.
+        // The weights' compounding is counted where a weight is not always 1 (README, "Phase
+        // functions", `evaluate`): the exact use of an SH-sampled phase function.
         const auto* sh = std::get_if<SHSampledPhase>(&m->phase().variant());
         const bool weighted =
             sh && sh->evaluate() == SHSampledPhase::Evaluate::Exact && sh->weightSecondMoment() > 1;
