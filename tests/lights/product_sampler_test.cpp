@@ -411,6 +411,11 @@ TEST(ProductSampler, SampleValueIsTheProductItFollows) {
         for (int i = 0; i < N; ++i) {
             const SphereSample x = ps.sample(z, 0.1, rng.uniform2());
             ASSERT_GT(x.pdf, 0);
+            if (i < 2000) {  // each sample's value and pdf are those of its direction (helper 179)
+                ASSERT_NEAR(x.value, ps.lobeValue(z, x.w) * sky.value(x.w),
+                            1e-12 * std::abs(x.value) + 1e-300);
+                ASSERT_NEAR(x.pdf, ps.pdf(z, 0.1, x.w), 1e-9 * x.pdf);
+            }
             const double r = x.value / x.pdf;
             sum += r, sum2 += r * r;
         }
