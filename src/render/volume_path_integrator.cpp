@@ -87,7 +87,7 @@ VolumePathIntegrator::VolumePathIntegrator(const Scene& scene, std::function<boo
     if (effects_.areaLights) areaLights_ = std::make_unique<const AreaLights>(*scene.surfaces);
     if (scene.surfaces)
         for (const Surface& sf : scene.surfaces->surfaces())
-            deltaSurfaces_ |= sf.bsdf.isDelta() && sf.bsdf.type != BsdfType::Null;
+            deltaSurfaces_ |= sf.bsdf.isDeltaScatterer();
     for (const auto& m : scene.media) {
         mediumBounds_.push_back(m->bounds());
         // The weights' compounding is counted where a weight is not always 1 (README, "Phase
@@ -120,7 +120,7 @@ VolumePathIntegrator::VolumePathIntegrator(const Scene& scene, std::function<boo
             if (e.emits()) lamps.push_back(e.bounds());
         for (size_t b = 0; b < boundaryOf_.size(); ++b) {
             const Surface& boundary = surfaces[boundaryOf_[b]];
-            if (boundary.bsdf.type == BsdfType::Null || !boundary.bsdf.isDelta()) continue;
+            if (!boundary.bsdf.isDeltaScatterer()) continue;
             const Bounds3 inside = boundary.bounds();
             if (std::none_of(lamps.begin(), lamps.end(),
                              [&](const Bounds3& lamp) { return lamp.meets(inside); }))
@@ -134,17 +134,19 @@ VolumePathIntegrator::VolumePathIntegrator(const Scene& scene, std::function<boo
 }
 
 void VolumePathIntegrator::buildLightSamplers() {
-    const Scene& scene = scene_;
     if (!effects_.nextEvent) return;
     const auto start = std::chrono::steady_clock::now();
-    if (effects_.lightSampling == LightSampling::Environment) {
-        // An image sky's texel tables, here and not at the first light sample: in the setup's
-        // time, not the passes' (nor under their time limit; review of helper 168's change).
-        scene.environment.prepareSampling();
-        setupSeconds_ =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        return;
-    }
+    // An image sky's texel tables, here and not at the first light sample: in the setup's time,
+    // not the passes' (nor under their time limit; review of helper 168's change).
+    if (effects_.lightSampling == LightSampling::Environment)
+        scene_.environment.prepareSampling();
+    else
+        buildSkySamplers();
+    setupSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void VolumePathIntegrator::buildSkySamplers() {
+    const Scene& scene = scene_;
     const RenderSettings& s = scene.settings;
     sky_ =
         std::make_unique<const SkyHierarchy>(scene.environment.skyHierarchy(s.waveletCoefficients));
@@ -165,7 +167,6 @@ void VolumePathIntegrator::buildLightSamplers() {
             lobes_.push_back({fit.p, ProductSampler::significantBands(fit.p), beta});
         }
     }
-    setupSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 VolumePathIntegrator::Inside VolumePathIntegrator::insideAt(const Vec3& p) const {

@@ -289,8 +289,11 @@ class VolumePathIntegrator {
     std::unique_ptr<const AreaLights> areaLights_;  ///< when some surface emits
     std::vector<int> mediumBit_;   ///< per medium: its bit in Inside, or −1 if unbounded
     std::vector<int> boundaryOf_;  ///< per bounded medium bit: its surface
-    /// The sky hierarchy, product sampler and phase lobes the light-sampling strategy needs.
+    /// What the light-sampling strategy needs, in setupSeconds(): an image sky's texel tables
+    /// (environment strategy), or buildSkySamplers().
     void buildLightSamplers();
+    /// The sky hierarchy, and for the product strategy its sampler and the media's phase lobes.
+    void buildSkySamplers();
     /// The cache's first pass (constructor): records at visible cacheable points.
     void buildRadianceCache(const std::function<bool()>& stop);
     /// What a record ray meets first: the first surface that is not a `null` one, or, where the

@@ -120,7 +120,9 @@ struct Bsdf {
     /// std::nullopt if the sample is lost (below the horizon, wo.z = 0, black BSDF). Uses u only:
     /// u.x is rescaled after a lobe choice so that it stays uniform.
     std::optional<BsdfSample> sample(const Vec3& wo, const Vec2& u) const;
-    bool isDelta() const;    ///< mirror, dielectric, null
+    bool isDelta() const;  ///< mirror, dielectric, null
+    /// A delta lobe that turns light (mirror, dielectric): one that is not `null`.
+    bool isDeltaScatterer() const { return isDelta() && type != BsdfType::Null; }
     bool transmits() const;  ///< dielectric, null
     /// Ward with α_x ≠ α_y: the lobe depends on the azimuth, measured from the surface's
     /// tangent (Surface::tangent); every other BSDF is the same in any frame about the normal.
