@@ -126,7 +126,7 @@ Chi2Result runChi2(const std::function<std::optional<Vec3>(Rng&)>& sample,
     const double N = double(opt.sampleCount);
 
     // 1. Histogram of the samples.
-    std::vector<long long> observed(nCells, 0);
+    std::vector<double> observed(nCells, 0);
     Rng rng(opt.seed, 0);
     for (long long k = 0; k < opt.sampleCount; ++k) {
         const std::optional<Vec3> w = sample(rng);
@@ -177,19 +177,43 @@ Chi2Result runChi2(const std::function<std::optional<Vec3>(Rng&)>& sample,
         return res;
     }
 
-    // 3. Cells with samples where the pdf is zero fail at once.
+    // 3. The χ² of the counts.
+    const Chi2Result counts = chi2TestCounts(observed, expected, opt, cellName);
+    res.passed = counts.passed;
+    res.pValue = counts.pValue;
+    res.statistic = counts.statistic;
+    res.dof = counts.dof;
+    res.report = rep.str() + counts.report;
+    return res;
+}
+
+}  // namespace
+
+Chi2Result chi2TestCounts(const std::vector<double>& observed, const std::vector<double>& expected,
+                          const Chi2Options& opt,
+                          const std::function<std::string(size_t)>& cellName) {
+    Chi2Result res;
+    std::ostringstream rep;
+    auto name = [&](size_t i) { return cellName ? cellName(i) : "cell " + std::to_string(i); };
+    const size_t nCells = observed.size();
+    if (expected.size() != nCells) {
+        rep << "FAIL: " << nCells << " observed counts against " << expected.size()
+            << " expected ones\n";
+        res.report = rep.str();
+        return res;
+    }
+    // Cells with samples where the pdf is zero fail at once, as does an expectation that is not
+    // a count.
     for (size_t i = 0; i < nCells; ++i) {
-        if (observed[i] > 0 && !(expected[i] > 0)) {
-            rep << "FAIL: " << cellName(i) << " has " << observed[i]
-                << " samples but expected count " << expected[i] << "\n";
-            res.passed = false;
-            res.pValue = 0;
+        if ((observed[i] > 0 && !(expected[i] > 0)) || !(expected[i] >= 0) ||
+            !std::isfinite(expected[i])) {
+            rep << "FAIL: " << name(i) << " has " << observed[i] << " samples but expected count "
+                << expected[i] << "\n";
             res.report = rep.str();
             return res;
         }
     }
-
-    // 4. Pool small cells (Mitsuba 3), accumulate χ².
+    // Pool small cells (Mitsuba 3), accumulate χ².
     std::vector<size_t> order(nCells);
     std::iota(order.begin(), order.end(), size_t(0));
     std::stable_sort(order.begin(), order.end(),
@@ -200,11 +224,11 @@ Chi2Result runChi2(const std::function<std::optional<Vec3>(Rng&)>& sample,
     for (size_t i : order) {
         if (expected[i] == 0 && observed[i] == 0) continue;
         if (expected[i] < opt.minExpected || (poolExp > 0 && poolExp < opt.minExpected)) {
-            poolObs += double(observed[i]);
+            poolObs += observed[i];
             poolExp += expected[i];
             ++pooledCells;
         } else {
-            const double d = double(observed[i]) - expected[i];
+            const double d = observed[i] - expected[i];
             const double c = d * d / expected[i];
             chi2 += c;
             ++tested;
@@ -239,15 +263,13 @@ Chi2Result runChi2(const std::function<std::optional<Vec3>(Rng&)>& sample,
     rep << "worst cells:\n";
     for (size_t k = 0; k < std::min<size_t>(5, contrib.size()); ++k) {
         const size_t i = contrib[k].second;
-        rep << "  " << cellName(i) << ": observed " << observed[i] << ", expected " << expected[i]
+        rep << "  " << name(i) << ": observed " << observed[i] << ", expected " << expected[i]
             << ", contribution " << contrib[k].first << "\n";
     }
     rep << (res.passed ? "PASSED" : "FAILED") << "\n";
     res.report = rep.str();
     return res;
 }
-
-}  // namespace
 
 Chi2Result chi2TestSphere(const std::function<std::optional<Vec3>(Rng&)>& sample,
                           const std::function<double(const Vec3&)>& pdf, const Chi2Options& opt) {

@@ -14,7 +14,7 @@ namespace shvol {
 namespace {
 
 // The chi² tests in this file form one family: Šidák correction over all of them.
-constexpr int kChi2Tests = 6;
+constexpr int kChi2Tests = 7;
 
 // 32×16 map: a colour gradient over the whole sphere plus a bright "sun" pixel and a black band.
 Image syntheticSky() {
@@ -85,6 +85,15 @@ TEST(Environment, ImageOddHeightStraddlingRowChi2) {
 TEST(Environment, ConstantLowerHemisphereBlackChi2) {
     const Environment env = Environment::constant(Spectrum(1, 2, 3), true);
     const auto r = runChi2(env, 5);
+    EXPECT_TRUE(r.passed) << r.report;
+    EXPECT_NEAR(r.pdfIntegral, 1.0, 1e-9) << r.report;
+}
+
+// The whole sphere of a constant sky: the case of every constant-sky scene (media/plume.json,
+// the furnaces), which light sampling draws with NEE on.
+TEST(Environment, ConstantChi2) {
+    const Environment env = Environment::constant(Spectrum(1, 2, 3), false);
+    const auto r = runChi2(env, 7);
     EXPECT_TRUE(r.passed) << r.report;
     EXPECT_NEAR(r.pdfIntegral, 1.0, 1e-9) << r.report;
 }

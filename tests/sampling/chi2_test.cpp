@@ -177,6 +177,37 @@ TEST(Chi2, SamplesWherePdfIsZeroFail) {
     EXPECT_EQ(r.pValue, 0.0);
 }
 
+// Counts binned by the caller: the statistic, its degrees of freedom and p against closed forms
+// (for 3 and 2 degrees of freedom Q(dof/2, x/2) is erfc(√(x/2)) + √(2x/π) e^{−x/2} and e^{−x/2}),
+// the pooling of cells that expect fewer than 5, and the failures that need no statistic.
+TEST(Chi2, CountsAgainstClosedForms) {
+    Chi2Result r = chi2TestCounts({10, 20, 30, 40}, {25, 25, 25, 25});
+    EXPECT_DOUBLE_EQ(r.statistic, 20.0);
+    EXPECT_EQ(r.dof, 3);
+    EXPECT_NEAR(r.pValue, std::erfc(std::sqrt(10.0)) + std::sqrt(40 / Pi) * std::exp(-10.0), 1e-15);
+    EXPECT_FALSE(r.passed) << r.report;  // p ≈ 1.7e-4
+    // The two cells expecting 3 are pooled (6 expected, 9 seen); the others are tested alone.
+    r = chi2TestCounts({4, 5, 90, 101}, {3, 3, 94, 100});
+    const double x = 9.0 / 6 + 16.0 / 94 + 1.0 / 100;
+    EXPECT_NEAR(r.statistic, x, 1e-14);
+    EXPECT_EQ(r.dof, 2);
+    EXPECT_NEAR(r.pValue, std::exp(-x / 2), 1e-15);
+    EXPECT_TRUE(r.passed) << r.report;
+    // A family of 10 lowers the threshold to 1 − 0.99^{1/10} ≈ 0.001005.
+    Chi2Options ten;
+    ten.numTests = 10;
+    // χ² 12.5, p = e^{−6.25} ≈ 0.0019: rejected alone, not as one of ten.
+    const std::vector<double> seen = {125, 75, 100}, expected = {100, 100, 100};
+    EXPECT_FALSE(chi2TestCounts(seen, expected).passed);
+    EXPECT_TRUE(chi2TestCounts(seen, expected, ten).passed);
+    // Samples where none are expected, an expectation that is no count, too few cells.
+    EXPECT_FALSE(chi2TestCounts({1, 99, 100}, {0, 100, 100}).passed);
+    EXPECT_FALSE(chi2TestCounts({100, 100}, {-1, 201}).passed);
+    EXPECT_FALSE(chi2TestCounts({100, 100}, {NAN, 100}).passed);
+    EXPECT_FALSE(chi2TestCounts({100}, {100}).passed);
+    EXPECT_FALSE(chi2TestCounts({100, 100}, {100, 100, 0}).passed);
+}
+
 TEST(Chi2, IntegrateOverSphereOfPeakedLobe) {
     // HG g = 0.99 around an off-axis direction integrates to 1.
     const Vec3 axis = Vec3(0.3, -0.5, 0.8).normalized();

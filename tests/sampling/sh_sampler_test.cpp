@@ -118,14 +118,14 @@ TEST(SHSampler, TablesMatchOnTheFly) {
 }
 
 // The returned pdf is the density of the samples: on each leaf of a coarse tree, the histogram
-// frequency / (N · leaf solid angle) matches pdf() within binomial 5σ bounds, and pdf() equals the
+// counts match N times the leaves' probabilities (χ², one test per mode), and pdf() equals the
 // exact probability of the leaf divided by its area.
 TEST(SHSampler, PdfIsTheHistogramDensity) {
     const int n = 5, depth = 4, cells = 1 << depth;
     const auto f = lobe(n, 0.7, kAxis, 0.05);
     for (auto mode : {SHSampler::Mode::Tables, SHSampler::Mode::OnTheFly}) {
         const SHSampler s(n, f.data(), mode, depth);
-        std::vector<int> hist(cells * cells, 0);
+        std::vector<double> hist(cells * cells, 0), expected(cells * cells);
         Rng rng(8, 8);
         const int N = 400000;
         for (int i = 0; i < N; ++i) {
@@ -141,9 +141,12 @@ TEST(SHSampler, PdfIsTheHistogramDensity) {
                 const double P = s.probability(-1 + iz * 2.0 / cells, -1 + (iz + 1) * 2.0 / cells,
                                                ip * TwoPi / cells, (ip + 1) * TwoPi / cells);
                 ASSERT_NEAR(pdf * area, P, 1e-12);
-                EXPECT_NEAR(hist[iz * cells + ip], N * P, 5 * std::sqrt(N * P * (1 - P)) + 1)
-                    << "leaf " << iz << "," << ip;
+                expected[iz * cells + ip] = N * P;
             }
+        Chi2Options opt;
+        opt.numTests = 2;
+        const Chi2Result r = chi2TestCounts(hist, expected, opt);
+        EXPECT_TRUE(r.passed) << r.report;
     }
 }
 

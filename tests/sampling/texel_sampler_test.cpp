@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "shvol/core/rng.h"
+#include "shvol/sampling/chi2.h"
 #include "shvol/sampling/distribution_2d.h"
 
 namespace shvol {
@@ -23,7 +24,7 @@ std::vector<float> rgbOf(size_t texels) {
     return rgb;
 }
 
-// Counts per texel within 5σ of N·w/Σw, never a texel of weight 0, the draw's pdf exactly pdf()
+// Counts per texel against N·w/Σw (χ²), never a texel of weight 0, the draw's pdf exactly pdf()
 // at its point, its point inside its texel, its RGB the texel's; and within each texel the point
 // is uniform (mean offset ½ on both axes).
 TEST(TexelSampler, DrawsEachTexelWithItsWeight) {
@@ -31,7 +32,7 @@ TEST(TexelSampler, DrawsEachTexelWithItsWeight) {
     const TexelSampler s(kW.data(), rgb.data(), 4, 3);
     EXPECT_DOUBLE_EQ(s.integral(), 1.0);
     Rng rng(9, 3);
-    std::vector<int> hist(kW.size(), 0);
+    std::vector<double> hist(kW.size(), 0), expected(kW.size());
     std::vector<Vec2> offsetSum(kW.size(), Vec2::Zero());
     const int n = 240000;
     for (int i = 0; i < n; ++i) {
@@ -49,13 +50,14 @@ TEST(TexelSampler, DrawsEachTexelWithItsWeight) {
         ++hist[t];
         offsetSum[t] += Vec2(d.uv.x() * 4 - d.x, d.uv.y() * 3 - d.y);
     }
+    for (size_t i = 0; i < kW.size(); ++i) expected[i] = n * kW[i] / 12.0;
+    const Chi2Result r = chi2TestCounts(hist, expected);
+    EXPECT_TRUE(r.passed) << r.report;
     for (size_t i = 0; i < kW.size(); ++i) {
-        const double prob = kW[i] / 12.0;
-        if (prob == 0) {
+        if (expected[i] == 0) {
             EXPECT_EQ(hist[i], 0) << i;
             continue;
         }
-        EXPECT_NEAR(hist[i], n * prob, 5 * std::sqrt(n * prob * (1 - prob))) << i;
         const Vec2 mean = offsetSum[i] / hist[i];
         const double sigma = std::sqrt(1.0 / 12 / hist[i]);
         EXPECT_NEAR(mean.x(), 0.5, 5 * sigma) << i;

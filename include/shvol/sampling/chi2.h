@@ -22,6 +22,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "shvol/core/math.h"
 #include "shvol/core/rng.h"
@@ -70,6 +71,15 @@ Chi2Result chi2TestSphereCells(
     const std::function<std::optional<Vec3>(Rng&)>& sample,
     const std::function<double(double z0, double z1, double phi0, double phi1)>& cellProbability,
     const Chi2Options& opt = {});
+
+/// The χ² of counts binned by the caller (1D and 2D samplers, free-flight distances): observed
+/// against expected counts per cell, with chi2TestSphere's pooling, statistic and Šidák
+/// threshold (opt.alpha, numTests and minExpected; the binning and sampling options are unused).
+/// A cell with observed > 0 and expected 0, or an expected count that is negative or not
+/// finite, fails at once. cellName(i) names cell i in the report ("cell i" without it).
+Chi2Result chi2TestCounts(const std::vector<double>& observed, const std::vector<double>& expected,
+                          const Chi2Options& opt = {},
+                          const std::function<std::string(size_t)>& cellName = {});
 
 /// Cells for a lobe too narrow for equal-area cells (HG g = 0.999999 is about 10⁻¹² wide in
 /// 1 − μ): a sample's distance d ∈ [0, 2] from the lobe's pole (1 − cos of the angle, from
