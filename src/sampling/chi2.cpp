@@ -194,24 +194,27 @@ Chi2Result chi2TestCounts(const std::vector<double>& observed, const std::vector
                           const std::function<std::string(size_t)>& cellName) {
     Chi2Result res;
     std::ostringstream rep;
+    rep.precision(12);  // (counts are doubles: whole counts print whole)
     auto name = [&](size_t i) { return cellName ? cellName(i) : "cell " + std::to_string(i); };
-    const size_t nCells = observed.size();
-    if (expected.size() != nCells) {
-        rep << "FAIL: " << nCells << " observed counts against " << expected.size()
-            << " expected ones\n";
+    auto fail = [&](const auto&... what) {
+        ((rep << "FAIL: ") << ... << what) << "\n";
         res.report = rep.str();
         return res;
-    }
-    // Cells with samples where the pdf is zero fail at once, as does an expectation that is not
-    // a count.
+    };
+    const size_t nCells = observed.size();
+    if (expected.size() != nCells)
+        return fail(nCells, " observed counts against ", expected.size(), " expected ones");
+    if (!(opt.alpha > 0 && opt.alpha < 1) || opt.numTests < 1 || !(opt.minExpected > 0))
+        return fail("alpha ", opt.alpha, ", numTests ", opt.numTests, ", minExpected ",
+                    opt.minExpected, ": want 0 < alpha < 1, numTests >= 1, minExpected > 0");
+    // Counts that are not counts fail at once, and so do samples where the pdf is zero.
     for (size_t i = 0; i < nCells; ++i) {
-        if ((observed[i] > 0 && !(expected[i] > 0)) || !(expected[i] >= 0) ||
-            !std::isfinite(expected[i])) {
-            rep << "FAIL: " << name(i) << " has " << observed[i] << " samples but expected count "
-                << expected[i] << "\n";
-            res.report = rep.str();
-            return res;
-        }
+        if (!(observed[i] >= 0) || !std::isfinite(observed[i]))
+            return fail(name(i), " has an observed count of ", observed[i]);
+        if (!(expected[i] >= 0) || !std::isfinite(expected[i]))
+            return fail(name(i), " has an expected count of ", expected[i]);
+        if (observed[i] > 0 && expected[i] == 0)
+            return fail(name(i), " has ", observed[i], " samples but expected count 0");
     }
     // Pool small cells (Mitsuba 3), accumulate χ².
     std::vector<size_t> order(nCells);
@@ -252,7 +255,7 @@ Chi2Result chi2TestCounts(const std::vector<double>& observed, const std::vector
         return res;
     }
     res.pValue = boost::math::gamma_q(0.5 * res.dof, 0.5 * chi2);
-    const double threshold = 1.0 - std::pow(1.0 - opt.alpha, 1.0 / opt.numTests);
+    const double threshold = sidakThreshold(opt.alpha, opt.numTests);
     res.passed = res.pValue > threshold;
 
     rep << "chi2 = " << chi2 << ", dof = " << res.dof << ", p = " << res.pValue

@@ -273,7 +273,8 @@ TEST(RadianceCache, DirectionsAreUniformForAnyCount) {
     for (int count : {5, 1000, 1024}) {
         const int trials = 200000 / count + 1;
         double zSum = 0;
-        int quadrant[4] = {0, 0, 0, 0}, total = 0;
+        double quadrant[4] = {0, 0, 0, 0};
+        int total = 0;
         for (int t = 0; t < trials; ++t)
             for (const Vec3& w : RadianceCache::directions(count, jitter(count, 100 + t))) {
                 EXPECT_GT(w.z(), 0);
@@ -282,8 +283,11 @@ TEST(RadianceCache, DirectionsAreUniformForAnyCount) {
                 ++total;
             }
         EXPECT_NEAR(zSum / total, 0.5, 4 * std::sqrt(1.0 / 12 / total)) << count;
-        for (int q : quadrant)
-            EXPECT_NEAR(double(q) / total, 0.25, 4 * std::sqrt(0.25 * 0.75 / total)) << count;
+        Chi2Options opt;
+        opt.numTests = 3;
+        const Chi2Result r =
+            chi2TestCounts({quadrant, quadrant + 4}, std::vector<double>(4, 0.25 * total), opt);
+        EXPECT_TRUE(r.passed) << count << ": " << r.report;
     }
 }
 

@@ -200,12 +200,36 @@ TEST(Chi2, CountsAgainstClosedForms) {
     const std::vector<double> seen = {125, 75, 100}, expected = {100, 100, 100};
     EXPECT_FALSE(chi2TestCounts(seen, expected).passed);
     EXPECT_TRUE(chi2TestCounts(seen, expected, ten).passed);
-    // Samples where none are expected, an expectation that is no count, too few cells.
+    // Samples where none are expected; counts that are no counts, where no sample fell too (a
+    // negative expectation would pass as 0, a NaN one poison the statistic, a NaN count sit
+    // unseen in a pool of nothing expected); options out of range; too few cells.
     EXPECT_FALSE(chi2TestCounts({1, 99, 100}, {0, 100, 100}).passed);
-    EXPECT_FALSE(chi2TestCounts({100, 100}, {-1, 201}).passed);
-    EXPECT_FALSE(chi2TestCounts({100, 100}, {NAN, 100}).passed);
+    for (const auto& [seen, expect] :
+         std::vector<std::pair<std::vector<double>, std::vector<double>>>{
+             {{0, 100, 100}, {-1, 100, 100}},
+             {{0, 100, 100}, {NAN, 100, 100}},
+             {{0, 100, 100}, {INFINITY, 100, 100}},
+             {{NAN, 100, 100}, {0, 100, 100}},
+             {{-1, 101, 100}, {0, 100, 100}}}) {
+        r = chi2TestCounts(seen, expect);
+        EXPECT_FALSE(r.passed) << r.report;
+        EXPECT_EQ(r.dof, 0) << r.report;  // (refused before any statistic)
+    }
+    Chi2Options bad;
+    for (int k = 0; k < 4; ++k) {
+        bad = Chi2Options{};
+        if (k == 0) bad.numTests = 0;
+        if (k == 1) bad.numTests = -1;  // (a negative threshold: anything would pass)
+        if (k == 2) bad.alpha = 1;
+        if (k == 3) bad.minExpected = 0;
+        EXPECT_FALSE(chi2TestCounts({100, 100}, {100, 100}, bad).passed) << k;
+    }
+    EXPECT_TRUE(chi2TestCounts({100, 100}, {100, 100}).passed);
     EXPECT_FALSE(chi2TestCounts({100}, {100}).passed);
     EXPECT_FALSE(chi2TestCounts({100, 100}, {100, 100, 0}).passed);
+    // Whole counts are reported whole.
+    r = chi2TestCounts({1234567, 2345678}, {1790122.5, 1790122.5});
+    EXPECT_NE(r.report.find("observed 1234567,"), std::string::npos) << r.report;
 }
 
 TEST(Chi2, IntegrateOverSphereOfPeakedLobe) {

@@ -94,21 +94,20 @@ TEST(HierarchicalWarp, PointSetsPreserveStratification) {
         ASSERT_EQ(one.phi, wh[i].phi);
         ASSERT_EQ(one.pdf, wh[i].pdf);
     }
-    auto chi2Stat = [&](const std::vector<WarpSample>& w) {
-        std::vector<int> count(cells * cells, 0);
+    std::vector<double> expected(cells * cells);
+    for (int a = 0; a < cells; ++a)
+        for (int b = 0; b < cells; ++b)
+            expected[a * cells + b] = N *
+                                      mass(-1 + 2.0 * a / cells, -1 + 2.0 * (a + 1) / cells,
+                                           TwoPi * b / cells, TwoPi * (b + 1) / cells) /
+                                      FourPi;
+    auto chi2Stat = [&](const std::vector<WarpSample>& w) {  // χ² per degree of freedom
+        std::vector<double> count(cells * cells, 0);
         for (const auto& s : w)
             ++count[std::min(cells - 1, int((s.z + 1) / 2 * cells)) * cells +
                     std::min(cells - 1, int(s.phi / TwoPi * cells))];
-        double x2 = 0;
-        for (int a = 0; a < cells; ++a)
-            for (int b = 0; b < cells; ++b) {
-                const double e = N *
-                                 mass(-1 + 2.0 * a / cells, -1 + 2.0 * (a + 1) / cells,
-                                      TwoPi * b / cells, TwoPi * (b + 1) / cells) /
-                                 FourPi;
-                x2 += sqr(count[a * cells + b] - e) / e;
-            }
-        return x2 / (cells * cells - 1);
+        const Chi2Result r = chi2TestCounts(count, expected);  // (12 cells expecting < 5 pooled)
+        return r.statistic / r.dof;
     };
     const double stratified = chi2Stat(wh), random = chi2Stat(wr);
     EXPECT_LT(stratified, 0.2) << "random: " << random;

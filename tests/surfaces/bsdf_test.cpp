@@ -117,7 +117,7 @@ McEstimate albedoMonteCarlo(const Bsdf& b, const Vec3& wo, int n, uint64_t seed)
 
 // Two-sided critical value of the standard normal for a family of numTests tests at α = 0.01.
 double sidakZ(int numTests) {
-    const double a = 1 - std::pow(1 - 0.01, 1.0 / numTests);
+    const double a = sidakThreshold(0.01, numTests);
     return std::sqrt(2.0) * boost::math::erfc_inv(a);
 }
 

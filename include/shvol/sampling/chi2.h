@@ -10,7 +10,9 @@
 /// Henyey–Greenstein with g = 0.99 are integrated accurately). Cells are sorted by Eᵢ; cells with
 /// Eᵢ < minExpected are merged into one pooled cell (the following cells are also merged while the
 /// pool is still below minExpected), and the pool is tested if its expected count reaches
-/// minExpected. A cell with observed > 0 and expected == 0 fails at once.
+/// minExpected. A cell with observed > 0 and expected == 0 fails at once, as does one whose
+/// expected count is negative or not finite (even −10⁻¹⁷ from a difference of CDFs: clamp such
+/// rounding where it is computed).
 ///   χ² = Σ (Oᵢ − Eᵢ)² / Eᵢ over the tested cells,   dof = (tested cells) − 1,
 ///   p = Q(dof/2, χ²/2)  (regularised upper incomplete gamma, boost::math::gamma_q).
 /// With the Šidák correction for numTests tests the test passes iff p > 1 − (1 − α)^(1/numTests).
@@ -72,11 +74,18 @@ Chi2Result chi2TestSphereCells(
     const std::function<double(double z0, double z1, double phi0, double phi1)>& cellProbability,
     const Chi2Options& opt = {});
 
+/// The Šidák threshold of one test of a family of numTests ≥ 1 at level alpha: a test passes when
+/// its p-value exceeds 1 − (1 − alpha)^(1/numTests).
+inline double sidakThreshold(double alpha, int numTests) {
+    return 1.0 - std::pow(1.0 - alpha, 1.0 / numTests);
+}
+
 /// The χ² of counts binned by the caller (1D and 2D samplers, free-flight distances): observed
 /// against expected counts per cell, with chi2TestSphere's pooling, statistic and Šidák
 /// threshold (opt.alpha, numTests and minExpected; the binning and sampling options are unused).
-/// A cell with observed > 0 and expected 0, or an expected count that is negative or not
-/// finite, fails at once. cellName(i) names cell i in the report ("cell i" without it).
+/// A cell with observed > 0 and expected 0, an observed or expected count that is negative or
+/// not finite, or options out of their range (alpha outside (0, 1), numTests < 1,
+/// minExpected ≤ 0) fail at once. cellName(i) names cell i in the report ("cell i" without it).
 Chi2Result chi2TestCounts(const std::vector<double>& observed, const std::vector<double>& expected,
                           const Chi2Options& opt = {},
                           const std::function<std::string(size_t)>& cellName = {});
