@@ -320,6 +320,25 @@ const std::vector<std::string>& keysOfEveryType(const std::string& path) {
            : element("surfaces") ? surface
                                  : none;
 }
+
+/// The type of the object at `path` (media[0].phase) when it names none: the defaults of the
+/// loader's `choice("type", …)` (scene_loader.cpp, phase_spec.cpp), or null where an object has
+/// no type. A --set of another type starts such an object afresh too (helper 181: a BSDF of
+/// reflectance 0.3 and no type, set to a mirror, kept 0.3 where the mirror's default is 1).
+Json defaultType(const std::string& path) {
+    static const std::pair<const char*, const char*> defaults[] = {
+        {"camera", "perspective"},      {"environment", "constant"}, {"media[]", "vdb"},
+        {"media[].phase", "isotropic"}, {"media[].shape", "box"},    {"surfaces[]", "mesh"},
+        {"surfaces[].bsdf", "lambert"}};
+    std::string generic;  // the path with its indices left out: media[].phase
+    for (size_t i = 0; i < path.size(); ++i) {
+        generic += path[i];
+        if (path[i] == '[') i = path.find(']', i) - 1;
+    }
+    for (const auto& [p, type] : defaults)
+        if (generic == p) return type;
+    return nullptr;
+}
 }  // namespace
 
 namespace {
@@ -529,12 +548,15 @@ bool applyOverride(Json& doc, const std::string& assignment, const std::string& 
     if (value.is_null())  // key=null deletes the key (its default applies again)
         return node->is_object() && node->erase(last) > 0;
     // A new type starts a fresh object: keys of the old type would be unknown to the new one
-    // (but for those every type reads).
-    if (last == "type" && node->is_object() && node->contains("type") && (*node)["type"] != value) {
-        Json kept = Json::object();
-        for (const std::string& key : keysOfEveryType(walked))
-            if (node->contains(key)) kept[key] = std::move((*node)[key]);
-        *node = std::move(kept);
+    // (but for those every type reads). The old type is the default where the object names none.
+    if (last == "type" && node->is_object()) {
+        const Json old = node->contains("type") ? (*node)["type"] : defaultType(walked);
+        if (!old.is_null() && old != value) {
+            Json kept = Json::object();
+            for (const std::string& key : keysOfEveryType(walked))
+                if (node->contains(key)) kept[key] = std::move((*node)[key]);
+            *node = std::move(kept);
+        }
     }
     // A file named on the command line is relative to the current directory, as a shell user
     // expects (file names inside the scene stay relative to the scene's folder).

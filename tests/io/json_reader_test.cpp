@@ -306,6 +306,49 @@ TEST(JsonReader, OverrideSemantics) {
               Json::parse(R"({"type": "mesh", "name": "glass", "bsdf": {"type": "null"},
                               "emission": 2, "emission_two_sided": true,
                               "transform": {"scale": 2}})"));
+    // An object that names no type has its default one (the loader's): another type starts it
+    // afresh as well, and the same one keeps its keys (helper 181: a BSDF of reflectance 0.3
+    // set to a mirror kept 0.3, and an image sky set on a constant's radiance blamed the
+    // radiance). The defaults agree with the loader's:
+    // SceneLoader.TypelessObjectsHaveTheTypeOverridesAssume.
+    Json typeless = Json::parse(R"({"camera": {"fov": 20, "resolution": [8, 8]},
+        "environment": {"radiance": 2},
+        "media": [{"density_scale": 3, "albedo": 0.5, "phase": {"g": 0.5},
+                   "shape": {"min": [0, 0, 0]}}],
+        "surfaces": [{"file": "a.obj", "name": "s", "bsdf": {"reflectance": 0.3}}]})");
+    const Json typelessBefore = typeless;
+    const std::pair<const char*, const char*> sameTypes[] = {
+        {"camera.type=perspective", "/camera"},
+        {"environment.type=constant", "/environment"},
+        {"media.0.type=vdb", "/media/0"},
+        {"media.0.phase.type=isotropic", "/media/0/phase"},
+        {"media.0.shape.type=box", "/media/0/shape"},
+        {"surfaces.0.type=mesh", "/surfaces/0"},
+        {"surfaces.0.bsdf.type=lambert", "/surfaces/0/bsdf"}};
+    for (const auto& [same, at] : sameTypes) {
+        Json t = typelessBefore;
+        applyOverride(t, same, "s.json");
+        const Json::json_pointer ptr(at);
+        Json expected = typelessBefore[ptr];
+        expected["type"] = std::string(same).substr(std::string(same).find('=') + 1);
+        EXPECT_EQ(t[ptr], expected) << same;
+    }
+    applyOverride(typeless, "camera.type=orthographic", "s.json");
+    EXPECT_EQ(typeless["camera"], Json::parse(R"({"type": "orthographic", "resolution": [8, 8]})"));
+    applyOverride(typeless, "environment.type=image", "s.json");
+    EXPECT_EQ(typeless["environment"], Json::parse(R"({"type": "image"})"));
+    applyOverride(typeless, "media.0.phase.type=hg", "s.json");
+    EXPECT_EQ(typeless["media"][0]["phase"], Json::parse(R"({"type": "hg"})"));
+    applyOverride(typeless, "media.0.shape.type=sphere", "s.json");
+    EXPECT_EQ(typeless["media"][0]["shape"], Json::parse(R"({"type": "sphere"})"));
+    applyOverride(typeless, "media.0.type=homogeneous", "s.json");
+    EXPECT_EQ(typeless["media"][0], Json::parse(R"({"type": "homogeneous", "albedo": 0.5,
+                                                   "phase": {"type": "hg"}})"));
+    applyOverride(typeless, "surfaces.0.bsdf.type=mirror", "s.json");
+    EXPECT_EQ(typeless["surfaces"][0]["bsdf"], Json::parse(R"({"type": "mirror"})"));
+    applyOverride(typeless, "surfaces.0.type=sphere", "s.json");
+    EXPECT_EQ(typeless["surfaces"][0], Json::parse(R"({"type": "sphere", "name": "s",
+                                                      "bsdf": {"type": "mirror"}})"));
     // type=null is the null BSDF's type, not a deletion (which left the default BSDF).
     Json surface =
         Json::parse(R"({"surfaces": [{"bsdf": {"type": "lambert", "reflectance": 1}}]})");

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -147,6 +148,35 @@ TEST(SceneLoader, SunlitCloudStrategiesAgree) {
         EXPECT_NEAR(m, baseMean, 5 * std::sqrt(v + baseVar)) << st.lightSampling << "/" << st.mis;
     }
     EXPECT_GT(baseMean, 0.0);
+}
+
+// An object that names no type has the loader's default type, which is the one --set takes it
+// to have (applyOverride: setting that type keeps the object's keys, another starts it afresh):
+// the two lists of defaults agree.
+TEST(SceneLoader, TypelessObjectsHaveTheTypeOverridesAssume) {
+    const std::string media = std::string(SHVOL_SOURCE_DIR) + "/media/";
+    const Json doc = Json::parse(R"({"camera": {"fov": 20}, "environment": {"radiance": 2},
+        "media": [{"file": ")" + media +
+                                 R"(cloud.vdb", "phase": {"sampling": "analytic"}},
+                  {"type": "homogeneous", "sigma_t": 1, "shape": {"min": [-1, -1, -1]}}],
+        "surfaces": [{"file": ")" +
+                                 media + R"(cornell/white.obj",
+                      "bsdf": {"reflectance": 0.3}}]})");
+    Json resolved;
+    sceneFromJson(doc, "scene.json", &resolved);
+    for (const char* at : {"/camera", "/environment", "/media/0", "/media/0/phase",
+                           "/media/1/shape", "/surfaces/0", "/surfaces/0/bsdf"}) {
+        const Json::json_pointer ptr(at);
+        ASSERT_TRUE(resolved[ptr].contains("type")) << at;
+        const std::string type = resolved[ptr]["type"];
+        std::string key = std::string(at).substr(1);
+        std::replace(key.begin(), key.end(), '/', '.');
+        Json set = doc;
+        applyOverride(set, key + ".type=\"" + type + "\"", "scene.json");
+        Json expected = doc[ptr];
+        expected["type"] = type;
+        EXPECT_EQ(set[ptr], expected) << at << " (the loader's default: " << type << ")";
+    }
 }
 
 // render.rr_threshold: a number in [1e-6, 1] or "auto" (the default: unset, decided from the
