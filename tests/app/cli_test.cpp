@@ -1265,20 +1265,23 @@ TEST_F(Cli, BadVdbFiles) {
 
     write("corrupt.vdb", "garbage, not a vdb");
     write("corrupt.json", scene(R"({"type": "vdb", "file": "corrupt.vdb"})"));
-    expectOneLineError("corrupt.json", path("corrupt.vdb") + ": not a readable OpenVDB file");
+    // (with the scene and its key too, as a mesh: helper 181)
+    expectOneLineError("corrupt.json", path("corrupt.json") + ": media[0].file: " +
+                                           path("corrupt.vdb") + ": not a readable OpenVDB file");
 
     VdbGridSpec s;
     s.resolution = 8;
     s.density = [](const Vec3& p) { return p.norm() < 0.3 ? 1.f : 0.f; };
     writeVdb(path("ok.vdb"), {s});
     write("grid.json", scene(R"({"type": "vdb", "file": "ok.vdb", "grid": "smoke"})"));
-    expectOneLineError("grid.json",
-                       path("ok.vdb") + ": grid 'smoke': no such grid; the file has: density");
+    expectOneLineError("grid.json", path("grid.json") + ": media[0].file: " + path("ok.vdb") +
+                                        ": grid 'smoke': no such grid; the file has: density");
 
     s.density = [](const Vec3& p) { return p.norm() < 0.3 ? -1.f : 0.f; };
     writeVdb(path("neg.vdb"), {s});
     write("neg.json", scene(R"({"type": "vdb", "file": "neg.vdb"})"));
-    expectOneLineError("neg.json", path("neg.vdb") + ": grid 'density': negative density");
+    expectOneLineError("neg.json", path("neg.json") + ": media[0].file: " + path("neg.vdb") +
+                                       ": grid 'density': negative density");
 
     // A grid of zeros renders, empty, and says so (it rendered nothing without a word; helper 64).
     s.density = [](const Vec3&) { return 0.f; };
@@ -1392,12 +1395,15 @@ TEST_F(Cli, BadExrFiles) {
                                            path("nosky.exr"));
     write("bad.exr", "not an exr");
     write("corrupt.json", sceneWithSky("bad.exr"));
-    expectOneLineError("corrupt.json", path("bad.exr") + ": not a readable OpenEXR file");
+    // (with the scene and its key too, as a mesh: helper 181)
+    expectOneLineError("corrupt.json", path("corrupt.json") + ": environment.file: " +
+                                           path("bad.exr") + ": not a readable OpenEXR file");
     Image img(4, 2);
     img.set(1, 1, Spectrum(1, NAN, 1));
     writeExr(path("nan.exr"), img);
     write("nan.json", sceneWithSky("nan.exr"));
-    expectOneLineError("nan.json", path("nan.exr") + ": pixel (1, 1): NaN value");
+    expectOneLineError("nan.json", path("nan.json") + ": environment.file: " + path("nan.exr") +
+                                       ": pixel (1, 1): NaN value");
 }
 
 TEST_F(Cli, BadOverridesAndOutputs) {
