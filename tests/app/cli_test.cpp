@@ -1269,6 +1269,12 @@ TEST_F(Cli, BadVdbFiles) {
     expectOneLineError("corrupt.json", path("corrupt.json") + ": media[0].file: " +
                                            path("corrupt.vdb") + ": not a readable OpenVDB file");
 
+    // A file of another kind is named as such (it said "no VDB header"; helper 181).
+    write("scene.json", scene(R"({"type": "vdb", "file": "corrupt.json"})"));
+    expectOneLineError("scene.json", path("scene.json") +
+                                         ": media[0].file: " + path("corrupt.json") +
+                                         ": the file is JSON text, not an OpenVDB grid");
+
     VdbGridSpec s;
     s.resolution = 8;
     s.density = [](const Vec3& p) { return p.norm() < 0.3 ? 1.f : 0.f; };
