@@ -10,8 +10,12 @@
 namespace shvol {
 namespace {
 
+/// n uniform pairs from `seed`, hashed first: PCG32 seeded with consecutive raw states on one
+/// stream gives correlated first numbers (DirectionsAreUniformForAnyCount, seeds 100 … 40 100:
+/// the split between two φ quadrants of one stratum was 4.6σ off, which χ² caught and per-quadrant
+/// bounds of 4σ did not). The renderer seeds its jitter through Rng::forSample.
 std::vector<Vec2> jitter(int n, uint64_t seed) {
-    Rng rng(seed, 0);
+    Rng rng(mix64(seed), 0);
     std::vector<Vec2> j(n);
     for (Vec2& u : j) u = rng.uniform2();
     return j;
