@@ -67,7 +67,7 @@ ZTest zTest(const Image& x, const Image& xStdErr, const Image& reference, const 
         ++t.tested;
         t.minP = std::min(t.minP, std::erfc(std::abs(e / s) / std::sqrt(2.0)));
     }
-    t.threshold = t.tested ? 1 - std::pow(1 - alpha, 1.0 / t.tested) : 0.0;
+    t.threshold = t.tested ? sidakThreshold(alpha, double(t.tested)) : 0.0;
     t.passed = t.minP >= t.threshold;
     return t;
 }

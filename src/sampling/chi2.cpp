@@ -258,6 +258,9 @@ Chi2Result chi2TestCounts(const std::vector<double>& observed, const std::vector
     const double threshold = sidakThreshold(opt.alpha, opt.numTests);
     res.passed = res.pValue > threshold;
 
+    // (Totals need not agree: the sphere test's lost samples fall in no cell.)
+    rep << "observed " << std::accumulate(observed.begin(), observed.end(), 0.0)
+        << " in all, expected " << std::accumulate(expected.begin(), expected.end(), 0.0) << "\n";
     rep << "chi2 = " << chi2 << ", dof = " << res.dof << ", p = " << res.pValue
         << ", threshold (Sidak, " << opt.numTests << " tests, alpha " << opt.alpha
         << ") = " << threshold << ", pooled " << pooledCells << " cells (expected " << poolExp

@@ -51,6 +51,12 @@ inline double exponentialVariate(double u) {
     return -std::log(1 - u);
 }
 
+/// The Šidák threshold of one test of a family of numTests ≥ 1 at level alpha: a test passes when
+/// its p-value exceeds 1 − (1 − alpha)^(1/numTests) (the χ² tests, batch's z-test).
+inline double sidakThreshold(double alpha, double numTests) {
+    return 1.0 - std::pow(1.0 - alpha, 1.0 / numTests);
+}
+
 /// u clamped into [0, 1) for a sampler: NaN and negative values to 0, values ≥ 1 to the largest
 /// double below 1 (so that ⌊u n⌋ < n and no NaN reaches an index).
 inline double clampToUnit(double u) {

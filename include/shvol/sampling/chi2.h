@@ -74,12 +74,6 @@ Chi2Result chi2TestSphereCells(
     const std::function<double(double z0, double z1, double phi0, double phi1)>& cellProbability,
     const Chi2Options& opt = {});
 
-/// The Šidák threshold of one test of a family of numTests ≥ 1 at level alpha: a test passes when
-/// its p-value exceeds 1 − (1 − alpha)^(1/numTests).
-inline double sidakThreshold(double alpha, int numTests) {
-    return 1.0 - std::pow(1.0 - alpha, 1.0 / numTests);
-}
-
 /// The χ² of counts binned by the caller (1D and 2D samplers, free-flight distances): observed
 /// against expected counts per cell, with chi2TestSphere's pooling, statistic and Šidák
 /// threshold (opt.alpha, numTests and minExpected; the binning and sampling options are unused).
