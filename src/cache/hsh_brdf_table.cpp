@@ -88,6 +88,27 @@ double tableAlbedoError(const Bsdf& shape, const Vec3& wo, double H0, const doub
 
 }  // namespace
 
+namespace {
+/// A specular lobe of weight 0 reflects nothing: such a BSDF's table is its diffuse part's.
+bool hasSpecularLobe(const Bsdf& b) {
+    return b.type != BsdfType::Lambert && b.specular.maxCoeff() > 0;
+}
+}  // namespace
+
+bool HshBrdfTable::sameLobes(const Bsdf& a, const Bsdf& b) {
+    if (!supports(a) || !supports(b) || hasSpecularLobe(a) != hasSpecularLobe(b)) return false;
+    if (!hasSpecularLobe(a)) return true;  // (the diffuse projection is every type's)
+    return a.type == b.type &&
+           (a.type == BsdfType::Phong ? a.exponent == b.exponent
+                                      : a.alphaX == b.alphaX && a.alphaY == b.alphaY);
+}
+
+HshBrdfTable::HshBrdfTable(const HshBrdfTable& sameLobe, const Bsdf& bsdf)
+    : HshBrdfTable(sameLobe) {
+    rhoD_ = bsdf.reflectance;
+    rhoS_ = specular_.empty() ? Spectrum::Zero() : bsdf.specular;
+}
+
 HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
     : n_(order), res_(resolution), diffuse_(order * order, 0.0) {
     if (!supports(bsdf))
@@ -96,7 +117,7 @@ HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
     rhoD_ = bsdf.reflectance;
     // A specular lobe of weight 0 reflects nothing: it is neither tabulated nor judged (a sharp
     // one would fail the albedo check and leave a Lambertian surface path traced).
-    const bool diffuseOnly = bsdf.type == BsdfType::Lambert || !(bsdf.specular.maxCoeff() > 0);
+    const bool diffuseOnly = !hasSpecularLobe(bsdf);
     rhoS_ = diffuseOnly ? Spectrum::Zero() : bsdf.specular;
     anisotropic_ = !diffuseOnly && bsdf.anisotropic();  // (a diffuse table needs no turning)
     // At least 64 × 128 nodes: tests/cache checks Phong 22 and Ward α = 0.2/0.4 against a rule

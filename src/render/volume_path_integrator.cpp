@@ -809,12 +809,21 @@ void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop)
     const RadianceCacheSettings& rc = scene_.settings.radianceCache;
     const SurfaceScene& surf = *scene_.surfaces;
     auto start = std::chrono::steady_clock::now();
+    // Every table built, the rejected ones too: a later surface of the same lobes takes its
+    // projections from it (HshBrdfTable::sameLobes), and is rejected as it was.
+    std::vector<std::pair<const Bsdf*, std::shared_ptr<const HshBrdfTable>>> built;
     for (const Surface& s : surf.surfaces()) {
         // (stopped: the rest get no table, and the fill below makes no record)
         const bool cached = HshBrdfTable::supports(s.bsdf) && !stop();
-        tables_.push_back(cached ? std::make_unique<const HshBrdfTable>(s.bsdf, rc.hshOrder)
-                                 : nullptr);
+        tables_.push_back(nullptr);
         if (!cached) continue;
+        const auto same = std::find_if(built.begin(), built.end(), [&](const auto& b) {
+            return HshBrdfTable::sameLobes(*b.first, s.bsdf);
+        });
+        tables_.back() = same == built.end()
+                             ? std::make_shared<const HshBrdfTable>(s.bsdf, rc.hshOrder)
+                             : std::make_shared<const HshBrdfTable>(*same->second, s.bsdf);
+        built.emplace_back(&s.bsdf, tables_.back());
         // A lobe the table does not hold is path traced: cached, it came out black or several
         // times too bright.
         if (const double e = tables_.back()->albedoError(); e > kMaxTableAlbedoError) {

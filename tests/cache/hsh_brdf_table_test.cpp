@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "shvol/core/error.h"
+#include "shvol/core/rng.h"
+#include "shvol/sampling/warp.h"
 #include "shvol/sh/hsh.h"
 
 namespace shvol {
@@ -187,6 +189,42 @@ TEST(HshBrdfTable, PeakErrorBoundsAPointLightsHighlight) {
     EXPECT_LT(t12.peakError(), 0.1);
     // Lambert's cos θ_i is in the span of the basis from order 2.
     EXPECT_LT(HshBrdfTable(Bsdf::lambert(Spectrum::Ones()), 2).peakError(), 1e-9);
+}
+
+// A table made from another of the same lobes (the radiance cache builds one per lobe, not per
+// surface) is the table built for the BSDF itself: the same coefficients, bit for bit, at
+// directions between the nodes too, and the same errors; lobes that differ are not the same.
+TEST(HshBrdfTable, TableOfTheSameLobesIsTheTableOfItsBsdf) {
+    const Spectrum a(0.2, 0.3, 0.4), b(0.7, 0.1, 0.05);
+    const std::pair<Bsdf, Bsdf> pairs[] = {
+        {Bsdf::lambert(a), Bsdf::lambert(b)},
+        {Bsdf::lambert(a), Bsdf::phong(b, Spectrum::Zero(), 22)},  // (diffuse alone, both)
+        {Bsdf::phong(a, b, 22), Bsdf::phong(b, a, 22)},
+        {Bsdf::ward(a, b, 0.2, 0.4), Bsdf::ward(Spectrum::Zero(), a, 0.2, 0.4)}};
+    Rng rng(4, 4);
+    for (const auto& [first, second] : pairs) {
+        ASSERT_TRUE(HshBrdfTable::sameLobes(first, second)) << first.name();
+        const HshBrdfTable own(second, 4, 9), from(HshBrdfTable(first, 4, 9), second);
+        EXPECT_EQ(from.projectionError(), own.projectionError()) << second.name();
+        EXPECT_EQ(from.peakError(), own.peakError()) << second.name();
+        EXPECT_EQ(from.albedoError(), own.albedoError()) << second.name();
+        const Frame base(Vec3(0, 0, 1)),
+            turned(Vec3(0, 0, 1), Vec3(0.6, 0.8, 0), Vec3(-0.8, 0.6, 0));
+        std::vector<double> c1(3 * 16), c2(3 * 16);
+        for (int k = 0; k < 20; ++k) {
+            const Vec3 wo = sampleUniformHemisphere(rng.uniform2());
+            own.coefficients(base, turned, wo, c1.data());
+            from.coefficients(base, turned, wo, c2.data());
+            ASSERT_EQ(c1, c2) << second.name() << " " << wo.transpose();
+        }
+    }
+    const Spectrum s(0.5, 0.5, 0.5);
+    EXPECT_FALSE(HshBrdfTable::sameLobes(Bsdf::phong(a, s, 22), Bsdf::phong(a, s, 23)));
+    EXPECT_FALSE(
+        HshBrdfTable::sameLobes(Bsdf::phong(a, s, 22), Bsdf::phong(a, Spectrum::Zero(), 22)));
+    EXPECT_FALSE(HshBrdfTable::sameLobes(Bsdf::ward(a, s, 0.2, 0.4), Bsdf::ward(a, s, 0.4, 0.2)));
+    EXPECT_FALSE(HshBrdfTable::sameLobes(Bsdf::ward(a, s, 0.2, 0.2), Bsdf::phong(a, s, 22)));
+    EXPECT_FALSE(HshBrdfTable::sameLobes(Bsdf::lambert(a), Bsdf::mirror(s)));
 }
 
 TEST(HshBrdfTable, RefusesDeltaBsdfs) {

@@ -32,6 +32,15 @@ class HshBrdfTable {
     /// \param bsdf lambert, phong or ward (others: shvol::Error). \param order n (n² coefficients).
     /// \param resolution R, outgoing directions per side of the parabolic grid.
     HshBrdfTable(const Bsdf& bsdf, int order, int resolution = 32);
+    /// Whether two supported BSDFs have the same lobes up to their reflectances (type, exponent,
+    /// roughness, and a specular part in both or neither), so that one's table serves the other's
+    /// with the reflectances changed: the projections do not depend on them.
+    static bool sameLobes(const Bsdf& a, const Bsdf& b);
+    /// The table of `bsdf` from that of another BSDF of the same lobes (sameLobes): its
+    /// coefficients and errors with bsdf's reflectances, equal to those of HshBrdfTable(bsdf, …)
+    /// (tested) without its res² projections (a scene of many glossy surfaces of one lobe built
+    /// one per surface).
+    HshBrdfTable(const HshBrdfTable& sameLobe, const Bsdf& bsdf);
     int order() const { return n_; }
     int size() const { return n_ * n_; }
     /// RGB coefficients c(ω_o) for a local ω_o with z > 0: out[k·n² + i] for channel k.

@@ -322,7 +322,7 @@ class VolumePathIntegrator {
     /// is valid there.
     bool cachedRadiance(const SurfaceHit& hit, const Vec3& wo, Spectrum* L, PathCounters& c) const;
     std::unique_ptr<RadianceCache> cache_;
-    std::vector<std::unique_ptr<const HshBrdfTable>> tables_;  ///< per surface; null: not cached
+    std::vector<std::shared_ptr<const HshBrdfTable>> tables_;  ///< per surface; null: not cached
     CacheBuild cacheBuild_;
     Vec3 cameraPosition_;
     Inside cameraInside_ = 0;  ///< the bounded media containing the camera position
