@@ -301,24 +301,37 @@ std::string keyPathProblem(const std::string& key, std::vector<std::string>* par
 }
 
 namespace {
+/// The path of a scene object with its indices left out: media[].phase for media[0].phase.
+std::string genericPath(const std::string& path) {
+    std::string generic;
+    for (size_t i = 0; i < path.size(); ++i) {
+        generic += path[i];
+        if (path[i] == '[') i = std::min(path.find(']', i), path.size()) - 1;
+    }
+    return generic;
+}
+
 /// The keys of the scene object at `path` that every type of it reads, which a new type keeps: a
-/// camera's position, target, up and resolution, a medium's albedo, phase and boundary, a
-/// surface's name, BSDF, emission and transform. Started afresh whole, they were lost without a
-/// word (helper 73: --set camera.type=orthographic rendered at 320 × 240). Other objects' keys
-/// (a phase function's, a BSDF's, a sky's, a shape's) are their type's.
+/// camera's position, target, up and resolution, a sky's lower_hemisphere_black and
+/// wavelet_coefficients, a medium's albedo, phase and boundary, a phase function's SH sampling
+/// keys, a surface's name, BSDF, emission and transform. Started afresh whole, they were lost
+/// without a word (helper 73: --set camera.type=orthographic rendered at 320 × 240; helper 183:
+/// a sky's black lower hemisphere, a phase function's SH sampling). A BSDF's and a shape's keys
+/// are their type's.
 const std::vector<std::string>& keysOfEveryType(const std::string& path) {
     static const std::vector<std::string> none,
         camera = {"position", "target", "up", "resolution"},
+        environment = {"lower_hemisphere_black", "wavelet_coefficients"},
         medium = {"albedo", "phase", "boundary"},
+        phase = {"sampling", "order", "tolerance", "window", "evaluate", "sh_depth"},
         surface = {"name", "bsdf", "emission", "emission_two_sided", "transform"};
-    const auto element = [&](const std::string& array) {
-        return path.rfind(array + "[", 0) == 0 && path.back() == ']' &&
-               path.find_first_of(".[", array.size() + 1) == std::string::npos;
-    };
-    return path == "camera"      ? camera
-           : element("media")    ? medium
-           : element("surfaces") ? surface
-                                 : none;
+    const std::string generic = genericPath(path);
+    return generic == "camera"          ? camera
+           : generic == "environment"   ? environment
+           : generic == "media[]"       ? medium
+           : generic == "media[].phase" ? phase
+           : generic == "surfaces[]"    ? surface
+                                        : none;
 }
 
 /// The type of the object at `path` (media[0].phase) when it names none: the defaults of the
@@ -330,11 +343,7 @@ Json defaultType(const std::string& path) {
         {"camera", "perspective"},      {"environment", "constant"}, {"media[]", "vdb"},
         {"media[].phase", "isotropic"}, {"media[].shape", "box"},    {"surfaces[]", "mesh"},
         {"surfaces[].bsdf", "lambert"}};
-    std::string generic;  // the path with its indices left out: media[].phase
-    for (size_t i = 0; i < path.size(); ++i) {
-        generic += path[i];
-        if (path[i] == '[') i = path.find(']', i) - 1;
-    }
+    const std::string generic = genericPath(path);
     for (const auto& [p, type] : defaults)
         if (generic == p) return type;
     return nullptr;

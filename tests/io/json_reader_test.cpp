@@ -279,8 +279,8 @@ TEST(JsonReader, OverrideSemantics) {
     EXPECT_FALSE(j["media"][0].contains("albedo"));
     applyOverride(j, "media.0.phase.type=hg", "s.json");  // same type: keys stay
     EXPECT_EQ(j["media"][0]["phase"]["g"], 0.5);
-    applyOverride(j, "media.0.phase.type=tabulated", "s.json");
-    EXPECT_EQ(j["media"][0]["phase"], Json::parse(R"({"type": "tabulated"})"));
+    applyOverride(j, "media.0.phase.type=tabulated", "s.json");  // (SH sampling is every type's)
+    EXPECT_EQ(j["media"][0]["phase"], Json::parse(R"({"type": "tabulated", "sampling": "sh"})"));
     applyOverride(j, "media.0.phase.file=tables/mie.csv", "s.json");
     const std::string expected =
         (std::filesystem::current_path() / "tables/mie.csv").lexically_normal().string();
@@ -312,8 +312,9 @@ TEST(JsonReader, OverrideSemantics) {
     // radiance). The defaults agree with the loader's:
     // SceneLoader.TypelessObjectsHaveTheTypeOverridesAssume.
     Json typeless = Json::parse(R"({"camera": {"fov": 20, "resolution": [8, 8]},
-        "environment": {"radiance": 2},
-        "media": [{"density_scale": 3, "albedo": 0.5, "phase": {"g": 0.5},
+        "environment": {"radiance": 2, "lower_hemisphere_black": true},
+        "media": [{"density_scale": 3, "albedo": 0.5,
+                   "phase": {"g": 0.5, "sampling": "sh", "order": 8},
                    "shape": {"min": [0, 0, 0]}}],
         "surfaces": [{"file": "a.obj", "name": "s", "bsdf": {"reflectance": 0.3}}]})");
     const Json typelessBefore = typeless;
@@ -336,14 +337,17 @@ TEST(JsonReader, OverrideSemantics) {
     applyOverride(typeless, "camera.type=orthographic", "s.json");
     EXPECT_EQ(typeless["camera"], Json::parse(R"({"type": "orthographic", "resolution": [8, 8]})"));
     applyOverride(typeless, "environment.type=image", "s.json");
-    EXPECT_EQ(typeless["environment"], Json::parse(R"({"type": "image"})"));
+    // (what every type of a sky or phase function reads stays: helper 183)
+    EXPECT_EQ(typeless["environment"],
+              Json::parse(R"({"type": "image", "lower_hemisphere_black": true})"));
     applyOverride(typeless, "media.0.phase.type=hg", "s.json");
-    EXPECT_EQ(typeless["media"][0]["phase"], Json::parse(R"({"type": "hg"})"));
+    EXPECT_EQ(typeless["media"][0]["phase"],
+              Json::parse(R"({"type": "hg", "sampling": "sh", "order": 8})"));
     applyOverride(typeless, "media.0.shape.type=sphere", "s.json");
     EXPECT_EQ(typeless["media"][0]["shape"], Json::parse(R"({"type": "sphere"})"));
     applyOverride(typeless, "media.0.type=homogeneous", "s.json");
     EXPECT_EQ(typeless["media"][0], Json::parse(R"({"type": "homogeneous", "albedo": 0.5,
-                                                   "phase": {"type": "hg"}})"));
+        "phase": {"type": "hg", "sampling": "sh", "order": 8}})"));
     applyOverride(typeless, "surfaces.0.bsdf.type=mirror", "s.json");
     EXPECT_EQ(typeless["surfaces"][0]["bsdf"], Json::parse(R"({"type": "mirror"})"));
     applyOverride(typeless, "surfaces.0.type=sphere", "s.json");
