@@ -105,8 +105,12 @@ bool HshBrdfTable::sameLobes(const Bsdf& a, const Bsdf& b) {
 
 HshBrdfTable::HshBrdfTable(const HshBrdfTable& sameLobe, const Bsdf& bsdf)
     : HshBrdfTable(sameLobe) {
+    if (!sameLobes(lobes_, bsdf))
+        throw Error(std::string("HSH BRDF table: the table of a ") + lobes_.name() +
+                    " BSDF of other lobes cannot serve a " + bsdf.name() + " BSDF");
+    lobes_ = bsdf;
     rhoD_ = bsdf.reflectance;
-    rhoS_ = specular_.empty() ? Spectrum::Zero() : bsdf.specular;
+    rhoS_ = specular_ ? bsdf.specular : Spectrum::Zero();
 }
 
 HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
@@ -114,6 +118,7 @@ HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
     if (!supports(bsdf))
         throw Error(std::string("HSH BRDF table: a ") + bsdf.name() +
                     " BSDF is not cached (lambert, phong and ward are)");
+    lobes_ = bsdf;
     rhoD_ = bsdf.reflectance;
     // A specular lobe of weight 0 reflects nothing: it is neither tabulated nor judged (a sharp
     // one would fail the albedo check and leave a Lambertian surface path traced).
@@ -135,7 +140,7 @@ HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
     Bsdf shape = bsdf;
     shape.reflectance = Spectrum::Zero();
     shape.specular = Spectrum::Ones();
-    specular_.assign(size_t(res_) * res_ * n_ * n_, 0.0);
+    auto specular = std::make_shared<std::vector<double>>(size_t(res_) * res_ * n_ * n_, 0.0);
     std::vector<double> err(size_t(res_) * res_), peakErr(err.size()), albedoErr(err.size());
     tbb::parallel_for(0, res_ * res_, [&](int k) {  // nodes are independent: any thread count
         const int x = k % res_, y = k / res_;
@@ -145,34 +150,36 @@ HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
         wo.normalize();
         const bool judged = wo.z() >= kAlbedoCheckCos;
         const ProjectionErrors e =
-            project(shape, wo, nodes, &specular_[size_t(k) * n_ * n_], judged);
+            project(shape, wo, nodes, &(*specular)[size_t(k) * n_ * n_], judged);
         err[k] = e.energy;
         if (judged) {
             peakErr[k] = e.peak;
             albedoErr[k] = tableAlbedoError(shape, wo, nodes.H(0, 0),  // (H_0 is constant)
-                                            &specular_[size_t(k) * n_ * n_]);
+                                            &(*specular)[size_t(k) * n_ * n_]);
         }
     });
     for (double e : err) projectionError_ += e / err.size();
     peakError_ = *std::max_element(peakErr.begin(), peakErr.end());
     albedoError_ = *std::max_element(albedoErr.begin(), albedoErr.end());
+    specular_ = std::move(specular);
 }
 
 void HshBrdfTable::coefficients(const Vec3& wo, double* out) const {
     const int nn = n_ * n_;
     for (int k = 0; k < 3; ++k)
         for (int i = 0; i < nn; ++i) out[k * nn + i] = rhoD_[k] * diffuse_[i];
-    if (specular_.empty()) return;
+    if (!specular_) return;
+    const std::vector<double>& specular = *specular_;
     const Vec2 uv = parabolicFromDirection(wo);
     const double fx = std::clamp((uv.x() + 1) * 0.5 * (res_ - 1), 0.0, res_ - 1.0);
     const double fy = std::clamp((uv.y() + 1) * 0.5 * (res_ - 1), 0.0, res_ - 1.0);
     const int x0 = std::min(int(fx), res_ - 2), y0 = std::min(int(fy), res_ - 2);
     const double tx = fx - x0, ty = fy - y0;
     const double w[4] = {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty};
-    const double* c[4] = {&specular_[(size_t(y0) * res_ + x0) * nn],
-                          &specular_[(size_t(y0) * res_ + x0 + 1) * nn],
-                          &specular_[(size_t(y0 + 1) * res_ + x0) * nn],
-                          &specular_[(size_t(y0 + 1) * res_ + x0 + 1) * nn]};
+    const double* c[4] = {&specular[(size_t(y0) * res_ + x0) * nn],
+                          &specular[(size_t(y0) * res_ + x0 + 1) * nn],
+                          &specular[(size_t(y0 + 1) * res_ + x0) * nn],
+                          &specular[(size_t(y0 + 1) * res_ + x0 + 1) * nn]};
     for (int i = 0; i < nn; ++i) {
         const double s = w[0] * c[0][i] + w[1] * c[1][i] + w[2] * c[2][i] + w[3] * c[3][i];
         for (int k = 0; k < 3; ++k) out[k * nn + i] += rhoS_[k] * s;
@@ -188,7 +195,7 @@ void HshBrdfTable::coefficients(const Frame& base, const Frame& own, const Vec3&
 }
 
 size_t HshBrdfTable::memoryBytes() const {
-    return (diffuse_.size() + specular_.size()) * sizeof(double);
+    return (diffuse_.size() + (specular_ ? specular_->size() : 0)) * sizeof(double);
 }
 
 }  // namespace shvol

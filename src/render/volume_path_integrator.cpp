@@ -809,8 +809,8 @@ void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop)
     const RadianceCacheSettings& rc = scene_.settings.radianceCache;
     const SurfaceScene& surf = *scene_.surfaces;
     auto start = std::chrono::steady_clock::now();
-    // Every table built, the rejected ones too: a later surface of the same lobes takes its
-    // projections from it (HshBrdfTable::sameLobes), and is rejected as it was.
+    // Every table computed, the rejected ones too: a later surface of the same lobes shares its
+    // projections (HshBrdfTable::sameLobes), and is rejected as it was.
     std::vector<std::pair<const Bsdf*, std::shared_ptr<const HshBrdfTable>>> built;
     for (const Surface& s : surf.surfaces()) {
         // (stopped: the rest get no table, and the fill below makes no record)
@@ -820,10 +820,10 @@ void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop)
         const auto same = std::find_if(built.begin(), built.end(), [&](const auto& b) {
             return HshBrdfTable::sameLobes(*b.first, s.bsdf);
         });
-        tables_.back() = same == built.end()
-                             ? std::make_shared<const HshBrdfTable>(s.bsdf, rc.hshOrder)
-                             : std::make_shared<const HshBrdfTable>(*same->second, s.bsdf);
-        built.emplace_back(&s.bsdf, tables_.back());
+        const bool shared = same != built.end();
+        tables_.back() = shared ? std::make_shared<const HshBrdfTable>(*same->second, s.bsdf)
+                                : std::make_shared<const HshBrdfTable>(s.bsdf, rc.hshOrder);
+        if (!shared) built.emplace_back(&s.bsdf, tables_.back());
         // A lobe the table does not hold is path traced: cached, it came out black or several
         // times too bright.
         if (const double e = tables_.back()->albedoError(); e > kMaxTableAlbedoError) {
@@ -831,7 +831,9 @@ void VolumePathIntegrator::buildRadianceCache(const std::function<bool()>& stop)
             tables_.back() = nullptr;
             continue;
         }
-        cacheBuild_.tableBytes += tables_.back()->memoryBytes();
+        // (shared projections counted once; a table's own part is its n² diffuse coefficients)
+        cacheBuild_.tableBytes += shared ? sizeof(double) * size_t(rc.hshOrder * rc.hshOrder)
+                                         : tables_.back()->memoryBytes();
         cacheBuild_.tableErrors.push_back(
             {s.name, tables_.back()->projectionError(), tables_.back()->peakError()});
     }

@@ -225,6 +225,10 @@ TEST(HshBrdfTable, TableOfTheSameLobesIsTheTableOfItsBsdf) {
     EXPECT_FALSE(HshBrdfTable::sameLobes(Bsdf::ward(a, s, 0.2, 0.4), Bsdf::ward(a, s, 0.4, 0.2)));
     EXPECT_FALSE(HshBrdfTable::sameLobes(Bsdf::ward(a, s, 0.2, 0.2), Bsdf::phong(a, s, 22)));
     EXPECT_FALSE(HshBrdfTable::sameLobes(Bsdf::lambert(a), Bsdf::mirror(s)));
+    // A table of other lobes is refused, not used (a diffuse table would drop a specular lobe).
+    EXPECT_THROW(HshBrdfTable(HshBrdfTable(Bsdf::lambert(a), 4, 9), Bsdf::phong(a, s, 22)), Error);
+    EXPECT_THROW(HshBrdfTable(HshBrdfTable(Bsdf::phong(a, s, 22), 4, 9), Bsdf::phong(a, s, 23)),
+                 Error);
 }
 
 TEST(HshBrdfTable, RefusesDeltaBsdfs) {

@@ -14,6 +14,7 @@
 /// holds the scalar coefficients of f_d (one vector: they do not depend on ω_o) and of f_s per
 /// node, and RGB coefficients are ρ_d c_d + ρ_s c_s. The integrals use a Gauss–Legendre × uniform
 /// hemisphere rule fine enough for the lobe (hemisphereQuadrature in sh/hsh.h).
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -36,10 +37,10 @@ class HshBrdfTable {
     /// roughness, and a specular part in both or neither), so that one's table serves the other's
     /// with the reflectances changed: the projections do not depend on them.
     static bool sameLobes(const Bsdf& a, const Bsdf& b);
-    /// The table of `bsdf` from that of another BSDF of the same lobes (sameLobes): its
-    /// coefficients and errors with bsdf's reflectances, equal to those of HshBrdfTable(bsdf, …)
-    /// (tested) without its res² projections (a scene of many glossy surfaces of one lobe built
-    /// one per surface).
+    /// The table of `bsdf` from that of another BSDF of the same lobes (sameLobes; others are an
+    /// Error): its coefficients and errors with bsdf's reflectances, equal to those of
+    /// HshBrdfTable(bsdf, …) (tested), sharing the other's specular projections rather than
+    /// computing res² of them again.
     HshBrdfTable(const HshBrdfTable& sameLobe, const Bsdf& bsdf);
     int order() const { return n_; }
     int size() const { return n_ * n_; }
@@ -81,6 +82,7 @@ class HshBrdfTable {
     /// directions are left out of the check.
     double albedoError() const { return albedoError_; }
     static constexpr double kAlbedoCheckCos = 0.2;
+    /// Bytes of the coefficients, the specular ones included however many tables share them.
     size_t memoryBytes() const;
 
   private:
@@ -88,7 +90,10 @@ class HshBrdfTable {
     Spectrum rhoD_, rhoS_;
     bool anisotropic_ = false;
     std::vector<double> diffuse_;  ///< n² coefficients of f_d cos θ_i
-    std::vector<double> specular_;  ///< res² × n² coefficients of f_s cos θ_i (empty for lambert)
+    /// res² × n² coefficients of f_s cos θ_i (null without a specular lobe), shared by the tables
+    /// of the same lobes
+    std::shared_ptr<const std::vector<double>> specular_;
+    Bsdf lobes_;  ///< the BSDF tabulated (its lobes are the table's; sameLobes)
     double projectionError_ = 0, peakError_ = 0, albedoError_ = 0;
 };
 
