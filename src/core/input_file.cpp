@@ -47,6 +47,11 @@ const char* fileKindOfFile(const std::string& path) {
     return fileKindOfStart(start);
 }
 
+std::string fileOfAnotherKind(const std::string& path, const std::string& wanted) {
+    const char* kind = fileKindOfFile(path);
+    return kind && kind != wanted ? std::string("the file is ") + kind + ", not " + wanted : "";
+}
+
 uintmax_t regularFileSize(const std::string& path) {
     const std::string problem = inputFileProblem(path);
     if (!problem.empty()) fail(path, "", problem);

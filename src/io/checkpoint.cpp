@@ -186,11 +186,11 @@ Film readCheckpoint(const std::string& path, const Json& identity) {
     if (size_t(f.gcount()) < sizeof kMagic || std::memcmp(magic, kMagic, sizeof kMagic) != 0) {
         // (an image or a stats file given as the checkpoint, or an empty file, named as such; a
         // JSON file's first brace may come after more than the magic's 8 bytes)
-        const char* kind = fileKindOfFile(path);
+        const std::string other = fileOfAnotherKind(path, "a shvol checkpoint");
         fail(path, "",
-             size == 0 ? std::string("empty, not a shvol checkpoint")
-             : kind    ? std::string("the file is ") + kind + ", not a shvol checkpoint"
-                       : std::string("not a shvol checkpoint"));
+             size == 0        ? std::string("empty, not a shvol checkpoint")
+             : !other.empty() ? other
+                              : std::string("not a shvol checkpoint"));
     }
     uint32_t n = 0;
     if (size < sizeof kMagic + 4) fail(path, "", "not a shvol checkpoint");

@@ -164,9 +164,8 @@ std::string openExrReason(const std::exception& e, const std::string& path) {
 /// file given to `diff` said "not a readable OpenEXR file (… File is not an image file.)";
 /// helper 139), else OpenEXR's reason.
 std::string notReadableExr(const std::exception& e, const std::string& path) {
-    const char* kind = fileKindOfFile(path);
-    if (kind && std::string(kind) != "an OpenEXR image")
-        return std::string("the file is ") + kind + ", not an OpenEXR image";
+    if (std::string other = fileOfAnotherKind(path, "an OpenEXR image"); !other.empty())
+        return other;
     return "not a readable OpenEXR file (" + openExrReason(e, path) + ")";
 }
 

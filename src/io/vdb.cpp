@@ -796,8 +796,8 @@ std::unique_ptr<Medium> loadVdbMedium(const VdbMediumDesc& desc) {
     } catch (const std::exception& e) {
         // A file of another kind named as such, as the EXR reader does (helper 181: a scene given
         // as a grid said "no VDB header").
-        if (const char* kind = fileKindOfFile(path); kind && std::string(kind) != "an OpenVDB grid")
-            fail(path, reading, std::string("the file is ") + kind + ", not an OpenVDB grid");
+        if (const std::string other = fileOfAnotherKind(path, "an OpenVDB grid"); !other.empty())
+            fail(path, reading, other);
         fail(path, reading, std::string("not a readable OpenVDB file (") + e.what() + ")");
     }
     if (!grid->transform().isLinear()) fail(path, where, "non-linear transforms are not supported");

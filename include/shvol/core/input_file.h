@@ -33,5 +33,9 @@ const char* fileKindByMagic(const std::string& start);
 const char* fileKindOfStart(const std::string& start);
 /// fileKindOfStart of the file at path's first 256 bytes (nullptr if it cannot be read).
 const char* fileKindOfFile(const std::string& path);
+/// "the file is K, not WANTED" where the file at path is of a known kind K (fileKindOfFile) other
+/// than `wanted` ("an OpenEXR image"), else "": the message of a reader that failed on a file of
+/// another kind (EXR, VDB and checkpoint readers).
+std::string fileOfAnotherKind(const std::string& path, const std::string& wanted);
 
 }  // namespace shvol
