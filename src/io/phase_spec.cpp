@@ -45,7 +45,8 @@ PhaseFunction readBasePhase(JsonReader& r, const std::string& baseDir) {
     } else {  // tabulated
         r.string("file");
         r.finish();  // report unknown keys before touching the file system
-        return readPhaseTableCsv(r.inputFile("file", baseDir));
+        const std::string file = r.inputFile("file", baseDir);
+        return r.readInput("file", [&] { return readPhaseTableCsv(file); });
     }
     r.finish();
     return phase;

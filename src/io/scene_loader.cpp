@@ -24,19 +24,6 @@ std::string sceneDir(const JsonReader& r) {
     return fs::path(r.file()).parent_path().string();
 }
 
-/// read(), the contents of the input file that r[key] names, with an error in the file named with
-/// the scene and the key as well as the file's own place (scene.json: media[0].file: cloud.vdb:
-/// grid 'smoke': no such grid): the file's place alone did not say which object of which scene
-/// named it (helpers 143, 181).
-template <typename Read>
-auto readInput(const JsonReader& r, const std::string& key, Read&& read) {
-    try {
-        return read();
-    } catch (const Error& e) {
-        r.error(key, e.what());
-    }
-}
-
 /// key, or its element i (key[i]) when r[key] is an array: where an error in component i is.
 std::string componentKey(JsonReader& r, const std::string& key, int i) {
     return r.has(key) && r.raw(key).is_array() ? key + "[" + std::to_string(i) + "]" : key;
@@ -186,7 +173,7 @@ Environment readEnvironment(JsonReader r, RenderSettings& settings, Contents con
     r.finish();
     if (contents == Contents::Check) return Environment::constant(Spectrum::Zero(), lowerBlack);
     // (named with the scene and the key too, as a mesh is: helper 181)
-    Environment sky = Environment::image(readInput(r, "file", [&] { return readExr(file); }), scale,
+    Environment sky = Environment::image(r.readInput("file", [&] { return readExr(file); }), scale,
                                          rotation, lowerBlack, mapping);
     // A sky whose own radiance no image can hold: every pixel that sees its brightest texel
     // would be written as inf (after the whole render, with a warning; helper 116). Only the
@@ -292,7 +279,7 @@ Surface readSurface(JsonReader r, size_t index, Contents contents) {
         if (contents == Contents::Load) {
             // (named with the scene and the surface too: the mesh file's own place alone did
             // not say which surface of which scene; helper 143)
-            s.mesh = readInput(r, "file", [&] { return readMesh(file, &toWorld, &s.places); });
+            s.mesh = r.readInput("file", [&] { return readMesh(file, &toWorld, &s.places); });
             widestAngleFirst(s.mesh);
         }
     } else if (type == "rectangle") {
@@ -424,7 +411,7 @@ std::unique_ptr<Medium> readMedium(JsonReader r, std::vector<Surface>& surfaces,
     refuseKeysOfType(r, "homogeneous", {"sigma_t", "estimator", "shape"});
     r.finish();
     if (contents == Contents::Check) return nullptr;
-    return readInput(r, "file", [&] { return loadVdbMedium(d); });
+    return r.readInput("file", [&] { return loadVdbMedium(d); });
 }
 
 /// Reads r[key], an array of objects, element by element with read(reader, index); each element's

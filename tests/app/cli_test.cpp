@@ -1412,6 +1412,15 @@ TEST_F(Cli, BadExrFiles) {
                                        ": pixel (1, 1): NaN value");
 }
 
+// A bad phase table names the scene and the key before the table and its line, as a mesh, a sky
+// and a grid do (it named the table alone; helper 183).
+TEST_F(Cli, BadPhaseTableNamesTheSceneAndItsKey) {
+    writeTabulatedScene();
+    write("t.csv", "angle_deg,value\n0,2\n180,abc\n");
+    expectOneLineError("s.json",
+                       path("s.json") + ": media[0].phase.file: " + path("t.csv") + ": line 3");
+}
+
 TEST_F(Cli, BadOverridesAndOutputs) {
     write("s.json", scene(Homogeneous));
     Result r = run("render " + path("s.json") + " -o " + path("out.exr") +

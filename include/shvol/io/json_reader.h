@@ -3,9 +3,11 @@
 /// are errors, and every message names the file and the JSON path (e.g. media[0].phase.g).
 #include <functional>
 #include <nlohmann/json.hpp>
+
 #include <optional>
 #include <set>
 #include <string>
+#include "shvol/core/error.h"
 
 #include "shvol/core/math.h"
 
@@ -172,6 +174,18 @@ class JsonReader {
     void finish() const;
 
     [[noreturn]] void error(const std::string& key, const std::string& msg) const;
+    /// read(), the contents of the input file that this object's `key` names, with an error in
+    /// the file named with the scene and the key as well as the file's own place (scene.json:
+    /// media[0].file: cloud.vdb: grid 'smoke': no such grid): the file's place alone did not say
+    /// which object of which scene named it (helpers 143, 181, 183).
+    template <typename Read>
+    auto readInput(const std::string& key, Read&& read) const {
+        try {
+            return read();
+        } catch (const Error& e) {
+            error(key, e.what());
+        }
+    }
     /// The error of a value x outside [lo, hi]: "<what> x out of range [lo, hi]", or "… (expected
     /// ≥ lo)" when hi ≥ kUnbounded ("… (expected at most 1e30)" for an x above it); whole
     /// numbers below 10^6 in full, others as the shortest decimal that reads back, with a plain
