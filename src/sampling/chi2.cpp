@@ -246,6 +246,9 @@ Chi2Result chi2TestCounts(const std::vector<double>& observed, const std::vector
         rep << "pool of " << pooledCells << " cells (expected " << poolExp << ", observed "
             << poolObs << ") too small to test\n";
     }
+    // (Totals need not agree: the sphere test's lost samples fall in no cell.)
+    rep << "observed " << std::accumulate(observed.begin(), observed.end(), 0.0)
+        << " in all, expected " << std::accumulate(expected.begin(), expected.end(), 0.0) << "\n";
     res.statistic = chi2;
     res.dof = tested - 1;
     if (res.dof < 1) {
@@ -258,9 +261,6 @@ Chi2Result chi2TestCounts(const std::vector<double>& observed, const std::vector
     const double threshold = sidakThreshold(opt.alpha, opt.numTests);
     res.passed = res.pValue > threshold;
 
-    // (Totals need not agree: the sphere test's lost samples fall in no cell.)
-    rep << "observed " << std::accumulate(observed.begin(), observed.end(), 0.0)
-        << " in all, expected " << std::accumulate(expected.begin(), expected.end(), 0.0) << "\n";
     rep << "chi2 = " << chi2 << ", dof = " << res.dof << ", p = " << res.pValue
         << ", threshold (Sidak, " << opt.numTests << " tests, alpha " << opt.alpha
         << ") = " << threshold << ", pooled " << pooledCells << " cells (expected " << poolExp
