@@ -105,11 +105,10 @@ nlohmann::json phaseJson(const PhaseFunction& p) {
     return j;
 }
 
-/// Whether an SH-sampled phase function's weight alone is warned of: exact evaluation with m₂
-/// above SHSampledPhase::kUnreliableSecondMoment.
+/// Whether an SH-sampled phase function's weight alone is warned of: m₂ above
+/// SHSampledPhase::kUnreliableSecondMoment (exact evaluation: the reconstruction's m₂ is 1).
 bool unreliablePerBounce(const SHSampledPhase& sh) {
-    return sh.evaluate() == SHSampledPhase::Evaluate::Exact &&
-           sh.weightSecondMoment() > SHSampledPhase::kUnreliableSecondMoment;
+    return sh.weightSecondMoment() > SHSampledPhase::kUnreliableSecondMoment;
 }
 
 /// The compounded second moment E[m₂^k] of the SH-sampled phase weights along the camera paths
@@ -124,8 +123,8 @@ std::string compoundedPhaseWarning(const Scene& scene, const PhaseWeightMoments&
     double largest = 1;
     for (size_t i = 0; i < scene.media.size(); ++i) {
         const auto* sh = std::get_if<SHSampledPhase>(&scene.media[i]->phase().variant());
-        if (!sh || sh->evaluate() != SHSampledPhase::Evaluate::Exact) continue;
-        if (unreliablePerBounce(*sh)) return "";  // (said per bounce already)
+        if (!sh || !(sh->weightSecondMoment() > 1)) continue;  // (a weight of 1 does not compound)
+        if (unreliablePerBounce(*sh)) return "";               // (said per bounce already)
         media += (media.empty() ? "media[" : ", media[") + std::to_string(i) + "].phase";
         largest = std::max(largest, sh->weightSecondMoment());
     }

@@ -109,8 +109,6 @@ HshBrdfTable::HshBrdfTable(const HshBrdfTable& sameLobe, const Bsdf& bsdf)
         throw Error(std::string("HSH BRDF table: the table of a ") + lobes_.name() +
                     " BSDF of other lobes cannot serve a " + bsdf.name() + " BSDF");
     lobes_ = bsdf;
-    rhoD_ = bsdf.reflectance;
-    rhoS_ = specular_ ? bsdf.specular : Spectrum::Zero();
 }
 
 HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
@@ -119,12 +117,9 @@ HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
         throw Error(std::string("HSH BRDF table: a ") + bsdf.name() +
                     " BSDF is not cached (lambert, phong and ward are)");
     lobes_ = bsdf;
-    rhoD_ = bsdf.reflectance;
     // A specular lobe of weight 0 reflects nothing: it is neither tabulated nor judged (a sharp
     // one would fail the albedo check and leave a Lambertian surface path traced).
     const bool diffuseOnly = !hasSpecularLobe(bsdf);
-    rhoS_ = diffuseOnly ? Spectrum::Zero() : bsdf.specular;
-    anisotropic_ = !diffuseOnly && bsdf.anisotropic();  // (a diffuse table needs no turning)
     // At least 64 × 128 nodes: tests/cache checks Phong 22 and Ward α = 0.2/0.4 against a rule
     // of 400 × 800 to 2e-4 (HshBrdfTable.ReflectsBandLimitedRadianceExactlyAtANode).
     const BasisAtNodes nodes(n_,
@@ -167,7 +162,7 @@ HshBrdfTable::HshBrdfTable(const Bsdf& bsdf, int order, int resolution)
 void HshBrdfTable::coefficients(const Vec3& wo, double* out) const {
     const int nn = n_ * n_;
     for (int k = 0; k < 3; ++k)
-        for (int i = 0; i < nn; ++i) out[k * nn + i] = rhoD_[k] * diffuse_[i];
+        for (int i = 0; i < nn; ++i) out[k * nn + i] = lobes_.reflectance[k] * diffuse_[i];
     if (!specular_) return;
     const std::vector<double>& specular = *specular_;
     const Vec2 uv = parabolicFromDirection(wo);
@@ -182,13 +177,14 @@ void HshBrdfTable::coefficients(const Vec3& wo, double* out) const {
                           &specular[(size_t(y0 + 1) * res_ + x0 + 1) * nn]};
     for (int i = 0; i < nn; ++i) {
         const double s = w[0] * c[0][i] + w[1] * c[1][i] + w[2] * c[2][i] + w[3] * c[3][i];
-        for (int k = 0; k < 3; ++k) out[k * nn + i] += rhoS_[k] * s;
+        for (int k = 0; k < 3; ++k) out[k * nn + i] += lobes_.specular[k] * s;
     }
 }
 
 void HshBrdfTable::coefficients(const Frame& base, const Frame& own, const Vec3& wo,
                                 double* out) const {
-    if (!anisotropic_) return coefficients(base.toLocal(wo), out);
+    // (a diffuse table needs no turning)
+    if (!specular_ || !lobes_.anisotropic()) return coefficients(base.toLocal(wo), out);
     coefficients(own.toLocal(wo), out);
     const double phi = std::atan2(own.s.dot(base.t), own.s.dot(base.s));
     for (int k = 0; k < 3; ++k) sh::hshRotateZ(n_, phi, out + k * n_ * n_);

@@ -91,10 +91,10 @@ VolumePathIntegrator::VolumePathIntegrator(const Scene& scene, std::function<boo
     for (const auto& m : scene.media) {
         mediumBounds_.push_back(m->bounds());
         // The weights' compounding is counted where a weight is not always 1 (README, "Phase
-        // functions", `evaluate`): the exact use of an SH-sampled phase function.
+        // functions", `evaluate`): the exact use of an SH-sampled phase function (m₂ is exactly 1
+        // for the reconstruction's).
         const auto* sh = std::get_if<SHSampledPhase>(&m->phase().variant());
-        const bool weighted =
-            sh && sh->evaluate() == SHSampledPhase::Evaluate::Exact && sh->weightSecondMoment() > 1;
+        const bool weighted = sh && sh->weightSecondMoment() > 1;
         phaseLnM2_.push_back(weighted ? std::log(sh->weightSecondMoment()) : 0.0);
         phaseWeights_ |= weighted;
     }

@@ -87,8 +87,6 @@ class HshBrdfTable {
 
   private:
     int n_, res_;
-    Spectrum rhoD_, rhoS_;
-    bool anisotropic_ = false;
     std::vector<double> diffuse_;  ///< n² coefficients of f_d cos θ_i
     /// res² × n² coefficients of f_s cos θ_i (null without a specular lobe), shared by the tables
     /// of the same lobes
