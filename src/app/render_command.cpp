@@ -355,10 +355,14 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
 }
 
 /// Why next-event estimation towards the environment is on or off (Effects::of), in words: the
-/// stats' next_event_estimation.why, and the unused light sampler's warning.
+/// stats' next_event_estimation.why, and the unused light sampler's warning. Where emission
+/// surrounds the scene, the reason is the same for the area lights.
 std::string neeReason(const Scene& scene, const Effects& effects) {
     const Environment& env = scene.environment;
     if (!effects.bounces) return "no path scatters or reflects";
+    if (effects.emissionSurrounds)
+        return "render.nee \"auto\" leaves it off where emitting surfaces of one radiance "
+               "surround the scene, where phase and BSDF sampling do better";
     if (env.black()) return "the environment is black";
     if (scene.settings.nee)
         return *scene.settings.nee ? "render.nee is true" : "render.nee is false";
@@ -378,7 +382,8 @@ std::string noNextEventReason(const Scene& scene, const Effects& effects) {
 /// The end of a warning that next-event estimation is off: why, and how to turn it on where a
 /// setting can, with the closing parenthesis.
 std::string neeOffWhy(const std::string& reason, const Scene& scene, const Effects& effects) {
-    return reason + (!scene.settings.nee && effects.bounces && !scene.environment.black()
+    return reason + (!scene.settings.nee && effects.bounces &&
+                             (!scene.environment.black() || effects.emissionSurrounds)
                          ? "; set render.nee to true to use it)"
                          : ")");
 }

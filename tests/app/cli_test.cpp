@@ -1181,6 +1181,33 @@ TEST_F(Cli, StatsSayWhyNextEventEstimationIsOnOrOff) {
     EXPECT_EQ(nee(" --set environment.radiance=0")["why"], "the environment is black");
 }
 
+// Inside an emitting sphere "auto" draws no light sample (emissionSurrounds), and says why: in
+// the stats, and in the warning of a weighting it leaves unused.
+TEST_F(Cli, StatsSayWhyEmissionAllRoundTurnsLightSamplesOff) {
+    write("s.json",
+          R"({"camera": {"position": [0, 0, 0], "target": [0, 1, 0], "resolution": [4, 4]},
+        "render": {"spp": 2, "max_depth": 50},
+        "surfaces": [{"type": "sphere", "radius": 1, "bsdf": {"type": "lambert", "reflectance": 0.5},
+                      "emission": 1, "emission_two_sided": true}]})");
+    const Result r =
+        run("render " + path("s.json") + " -o " + path("n.exr") + " --quiet --set render.mis=none");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string why =
+        "render.nee \"auto\" leaves it off where emitting surfaces of one radiance surround the "
+        "scene, where phase and BSDF sampling do better";
+    EXPECT_NE(r.err.find("render.mis: \"none\" is not used: no light sample is drawn, as "
+                         "next-event estimation is off (" +
+                         why + "; set render.nee to true to use it)"),
+              std::string::npos)
+        << r.err;
+    const auto stats = nlohmann::json::parse(std::ifstream(path("n.stats.json")));
+    EXPECT_EQ(
+        stats["next_event_estimation"],
+        nlohmann::json(
+            {{"setting", "auto"}, {"environment", false}, {"area_lights", false}, {"why", why}}));
+    EXPECT_EQ(stats["roulette_threshold"], 0.25);
+}
+
 // Product light sampling names itself in the stats with what it built and drew; a wrong
 // strategy name is one line naming the key.
 TEST_F(Cli, ProductLightSamplingStats) {

@@ -26,7 +26,7 @@ for c in "${cases[@]}"; do
     for theta in 1 0.5 0.25; do
       img="$OUT/$name.t$theta.s$seed.exr"
       "$SHVOL" render "$scene" -o "$img" --spp "$spp" --threads 1 --seed "$seed" --quiet \
-        --set "camera.resolution=$size" --set "render.rr_threshold=$theta"
+        --set "camera.resolution=$size" --set "render.rr_threshold=$theta" --set render.nee=true
       t=$(/usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['wall_time_s'])" \
           "${img%.exr}.stats.json")
       rmse=$("$SHVOL" diff "$img" "$ref" | awk '$1 == "rmse" {print $2}')

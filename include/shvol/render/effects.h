@@ -19,7 +19,12 @@ struct Effects {
     bool environmentBlack = false;    ///< the environment gives no light (none, or all zeros)
     bool surfaces = false;            ///< the scene has surfaces (Embree closest hits)
     bool emitters = false;            ///< some surface emits
-    bool areaLights = false;  ///< some surface emits and render.nee is not false: NEE to it, MIS
+    /// some surface emits and render.nee is true, or "auto" where emission does not surround
+    /// the scene: NEE to it, MIS
+    bool areaLights = false;
+    /// render.nee is "auto", the radiance cache off, and emitting surfaces of one radiance
+    /// surround the scene (emissionSurrounds): no light sample is drawn, as under a constant sky.
+    bool emissionSurrounds = false;
     /// Next-event estimation to any light (the sky or emitting surfaces): then MIS weights apply.
     bool anyNextEvent() const { return nextEvent || areaLights; }
     bool boundedMedia = false;  ///< some medium exists only inside a closed surface
@@ -39,8 +44,21 @@ struct Effects {
     double rouletteThreshold = 1;
 
     static Effects of(const Scene& scene);
+    /// The probe directions of emissionSurrounds: kSurroundProbes points of a Fibonacci lattice
+    /// on the unit sphere (equal-area bands in z, golden-angle steps in φ).
+    static constexpr int kSurroundProbes = 256;
     /// Names for the statistics, e.g. {"volume-transmittance", "single-scattering", ...}.
     std::vector<std::string> names() const;
 };
+
+/// Whether emitting surfaces of one radiance surround the scene, so that phase and BSDF samples
+/// meet light in every direction, as under a constant sky, where next-event estimation lost in
+/// every case measured: every surface that emits has the same emission, and every probe ray
+/// (Effects::kSurroundProbes directions from the camera's position and from the centre of each
+/// medium's bounds), continued through the surfaces that do not emit, meets one of them on its
+/// emitting side before it escapes. An estimate from finitely many rays: a gap they all miss is
+/// not seen, which costs efficiency, never correctness (the choice of light samples does not
+/// change the expectation).
+bool emissionSurrounds(const Scene& scene);
 
 }  // namespace shvol
