@@ -8,6 +8,7 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Interpolation.h>
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cerrno>
@@ -15,6 +16,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -391,8 +393,16 @@ void forEachValue(const openvdb::FloatTree& tree, bool voxels, F&& f) {
     using Upper = Root::ChildNodeType;
     using Lower = Upper::ChildNodeType;
     using Leaf = Lower::ChildNodeType;
+    // The box of dim³ voxels from origin, its far corner clamped to INT_MAX: a damaged file can put
+    // a node's origin anywhere, and origin + dim − 1 in int overflowed (CoordBBox::createCube; the
+    // VDB fuzzer under UBSan, 8 Dec). Such a box reaches beyond ±2^30, where loadVdbMedium refuses
+    // any density and ignores zeros.
     const auto cube = [](const openvdb::Coord& origin, int dim) {
-        return openvdb::CoordBBox::createCube(origin, dim);
+        const auto end = [dim](int c) {
+            return int(std::min<int64_t>(int64_t(c) + dim - 1, std::numeric_limits<int>::max()));
+        };
+        return openvdb::CoordBBox(
+            origin, openvdb::Coord(end(origin.x()), end(origin.y()), end(origin.z())));
     };
     for (auto t = tree.root().cbeginValueAll(); t; ++t) f(*t, cube(t.getCoord(), Upper::DIM));
     for (auto u = tree.root().cbeginChildOn(); u; ++u) {

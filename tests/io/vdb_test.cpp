@@ -7,6 +7,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <tuple>
 
 #include "shvol/core/error.h"
@@ -631,6 +632,27 @@ size_t treeStart(const std::string& bytes, const std::string& map, size_t mapByt
     return at == std::string::npos ? 0 : at + map.size() + mapBytes;
 }
 }  // namespace
+
+// A node whose origin a damaged file puts at the int limit: its box's far corner, origin + 4095,
+// overflowed an int (UBSan in the VDB fuzzer, 8 Dec), and the wrapped box passed the range check.
+// tests/fuzz/vdb/bad_root_tile_at_int_max.vdb is root_tile.vdb so changed, for the fuzzer's runs.
+TEST(Vdb, NodeAtTheIntLimitIsRefusedWithoutOverflow) {
+    std::string b = seedBytes("root_tile.vdb");
+    const size_t tile = treeStart(b, "UniformScaleMap", 5 * 24) + 16;  // x, y, z, value, active
+    put<int32_t>(b, tile + 4, std::numeric_limits<int32_t>::max());
+    EXPECT_EQ(b, seedBytes("bad_root_tile_at_int_max.vdb"));
+    const std::string m = loadMessage("far.vdb", b);
+    EXPECT_EQ(m, tmp("far.vdb") +
+                     ": grid 'density': density at voxel (0, 2147483647, 0), beyond the "
+                     "supported index range ±2^30")
+        << m;
+    // A tile of zeros there holds no density: the medium is empty.
+    put<float>(b, tile + 12, 0.0f);
+    VdbMediumDesc d;
+    d.file = tmp("far0.vdb");
+    std::ofstream(d.file, std::ios::binary) << b;
+    EXPECT_TRUE(loadVdbMedium(d)->bounds().empty());
+}
 
 // OpenVDB 10 believes the sizes and counts in a file. Each of these small files made loadVdbMedium
 // allocate gigabytes, loop for minutes, or (the negative chunk size) write file bytes past the
