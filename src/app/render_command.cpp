@@ -355,14 +355,10 @@ std::vector<std::string> surfaceWarnings(const Scene& scene) {
 }
 
 /// Why next-event estimation towards the environment is on or off (Effects::of), in words: the
-/// stats' next_event_estimation.why, and the unused light sampler's warning. Where emission
-/// surrounds the scene, the reason is the same for the area lights.
+/// stats' next_event_estimation.why, and the unused light sampler's warning.
 std::string neeReason(const Scene& scene, const Effects& effects) {
     const Environment& env = scene.environment;
     if (!effects.bounces) return "no path scatters or reflects";
-    if (effects.emissionSurrounds)
-        return "render.nee \"auto\" leaves it off where emitting surfaces of one radiance "
-               "surround the scene, where phase and BSDF sampling do better";
     if (env.black()) return "the environment is black";
     if (scene.settings.nee)
         return *scene.settings.nee ? "render.nee is true" : "render.nee is false";
@@ -374,18 +370,20 @@ std::string neeReason(const Scene& scene, const Effects& effects) {
 
 /// Why no next-event estimation is done at all, towards the environment or area lights (render.nee
 /// false names itself: neeReason, about the environment, said "the environment is black" of a
-/// Cornell box whose lamp render.nee false left unsampled).
+/// Cornell box whose lamp render.nee false left unsampled; and of a lamp all round, which "auto"
+/// leaves unsampled, Effects::emissionSurrounds).
 std::string noNextEventReason(const Scene& scene, const Effects& effects) {
-    return scene.settings.nee == false ? "render.nee is false" : neeReason(scene, effects);
+    if (scene.settings.nee == false) return "render.nee is false";
+    if (effects.emissionSurrounds)
+        return "render.nee \"auto\" leaves it off where emitting surfaces of one radiance "
+               "surround the scene, where phase and BSDF sampling do better";
+    return neeReason(scene, effects);
 }
 
-/// The end of a warning that next-event estimation is off: why, and how to turn it on where a
-/// setting can, with the closing parenthesis.
-std::string neeOffWhy(const std::string& reason, const Scene& scene, const Effects& effects) {
-    return reason + (!scene.settings.nee && effects.bounces &&
-                             (!scene.environment.black() || effects.emissionSurrounds)
-                         ? "; set render.nee to true to use it)"
-                         : ")");
+/// The end of a warning that next-event estimation is off: why, and, where render.nee true would
+/// turn on what the warning is about (`settable`), how, with the closing parenthesis.
+std::string neeOffWhy(const std::string& reason, bool settable) {
+    return reason + (settable ? "; set render.nee to true to use it)" : ")");
 }
 
 /// A light sampler other than the default asked for (render.light_sampling) where next-event
@@ -396,7 +394,8 @@ std::string unusedLightSamplingWarning(const Scene& scene, const Effects& effect
     if (s.lightSampling == LightSampling::Environment || effects.nextEvent) return "";
     return std::string("render.light_sampling: \"") + lightSamplingName(s.lightSampling) +
            "\" is not used: next-event estimation, which draws its samples, is off (" +
-           neeOffWhy(neeReason(scene, effects), scene, effects);
+           neeOffWhy(neeReason(scene, effects),
+                     !s.nee && effects.bounces && !scene.environment.black());
 }
 
 /// A weighting other than the default asked for (render.mis) where no light sample is drawn at
@@ -408,14 +407,14 @@ std::string unusedMisWarning(const Scene& scene, const Effects& effects) {
     // (Not neeReason, which is about the sky alone: a Cornell box under render.nee false was
     // said to lack light samples because its environment is black. A black sky with no emitter
     // comes first: render.nee true would not draw any either; helper 115.)
+    const bool black = scene.environment.black();
     const std::string why = !effects.bounces ? neeReason(scene, effects)
-                            : scene.environment.black() && !effects.emitters
+                            : black && !effects.emitters
                                 ? "the environment is black and no surface emits"
-                            : s.nee == false ? "render.nee is false"
-                                             : neeReason(scene, effects);
+                                : noNextEventReason(scene, effects);
     return std::string("render.mis: \"") + misHeuristicName(s.mis) +
            "\" is not used: no light sample is drawn, as next-event estimation is off (" +
-           neeOffWhy(why, scene, effects);
+           neeOffWhy(why, !s.nee && effects.bounces && (!black || effects.emitters));
 }
 
 /// render.nee false under an image sky whose peak (Environment::peak: the brightest texels that

@@ -8,7 +8,8 @@
 namespace shvol {
 
 bool emissionSurrounds(const Scene& scene) {
-    if (!scene.surfaces) return false;
+    // (An orthographic camera's rays start all over its film, not at one point.)
+    if (!scene.surfaces || scene.camera.type != Camera::Type::Perspective) return false;
     const std::vector<Surface>& surfaces = scene.surfaces->surfaces();
     const Surface* emitter = nullptr;
     for (const Surface& s : surfaces)
@@ -37,8 +38,11 @@ bool emissionSurrounds(const Scene& scene) {
                     return false;
                 const Surface& s = surfaces[size_t(hit.surface)];
                 if (s.emits()) {
-                    // Its light must reach the probe: a one-sided emitter seen from behind is dark.
-                    if ((s.Le(hit.ng, -ray.d) != emitter->emission).any()) return false;
+                    // Its light must reach the probe (a one-sided emitter seen from behind is
+                    // dark), and it must hide what lies beyond: light comes through a null or
+                    // glass emitter (a sky that varies, which NEE would sample).
+                    if ((s.Le(hit.ng, -ray.d) != emitter->emission).any() || s.bsdf.transmits())
+                        return false;
                     break;
                 }
                 ray = scene.surfaces->spawn(hit, ray.d);
@@ -63,10 +67,12 @@ Effects Effects::of(const Scene& scene) {
                                scene.settings.maxDepth >= 1 && HshBrdfTable::supports(s.bsdf);
         }
     // Emitting surfaces of one radiance all round: every direction meets their light, and
-    // render.nee "auto" draws no light sample, as under a constant sky (README, "Russian
-    // roulette": 11.5× as efficient in an emitting sphere of albedo-1 fog). Not with the radiance
-    // cache, whose records would then hold the direct light too, interpolated: its furnace box
-    // with a mirror came out 0.34% dark over 8 seeds (4.2 standard errors), where next-event
+    // render.nee "auto" draws no light sample towards them, as under a constant sky (README,
+    // "Russian roulette": 11.5× as efficient in an emitting sphere of albedo-1 fog). The sky is
+    // judged as before: a gap that all the probes miss must not hide a sun from next-event
+    // estimation (helper 185: a hole of 0.05 sr in an emitting box went unseen). Not with the
+    // radiance cache, whose records would then hold the direct light too, interpolated: its furnace
+    // box with a mirror came out 0.34% dark over 8 seeds (4.2 standard errors), where next-event
     // estimation leaves the records the smoother indirect light.
     e.emissionSurrounds =
         !scene.settings.nee && !e.radianceCache && shvol::emissionSurrounds(scene);
@@ -85,8 +91,7 @@ Effects Effects::of(const Scene& scene) {
     // image of equal pixels is a constant sky (helper 68: NEE 7× less efficient there), and one
     // of zeros (or a scale of 0) a black one.
     const bool bounces = e.scattering || (e.surfaces && scene.settings.maxDepth >= 1);
-    e.nextEvent = bounces && !env.black() &&
-                  scene.settings.nee.value_or(!env.uniform() && !e.emissionSurrounds);
+    e.nextEvent = bounces && !env.black() && scene.settings.nee.value_or(!env.uniform());
     e.environmentImage = !env.isConstant();
     e.environmentBlack = env.black();
     if (e.anyNextEvent()) e.mis = scene.settings.mis;
@@ -121,6 +126,7 @@ std::vector<std::string> Effects::names() const {
     if (surfaces) n.push_back("surfaces");
     if (boundedMedia) n.push_back("bounded-media");
     if (areaLights) n.push_back("nee-area-lights");
+    if (emissionSurrounds) n.push_back("emission-surrounds");
     if (radianceCache) n.push_back("radiance-cache");
     if (nextEvent) {
         switch (lightSampling) {

@@ -1181,30 +1181,37 @@ TEST_F(Cli, StatsSayWhyNextEventEstimationIsOnOrOff) {
     EXPECT_EQ(nee(" --set environment.radiance=0")["why"], "the environment is black");
 }
 
-// Inside an emitting sphere "auto" draws no light sample (emissionSurrounds), and says why: in
-// the stats, and in the warning of a weighting it leaves unused.
-TEST_F(Cli, StatsSayWhyEmissionAllRoundTurnsLightSamplesOff) {
+// Inside an emitting sphere "auto" draws no light sample towards it (emissionSurrounds): the
+// effects name the decision, and the warning of a weighting it leaves unused says why and how to
+// turn it on. The stats' why is the sky's (helper 185: the light sampler's warning said the
+// surround, and to set render.nee true, which would not use a sky sampler under a black sky).
+TEST_F(Cli, EmissionAllRoundTurnsLightSamplesOffAndSaysWhy) {
     write("s.json",
           R"({"camera": {"position": [0, 0, 0], "target": [0, 1, 0], "resolution": [4, 4]},
         "render": {"spp": 2, "max_depth": 50},
         "surfaces": [{"type": "sphere", "radius": 1, "bsdf": {"type": "lambert", "reflectance": 0.5},
                       "emission": 1, "emission_two_sided": true}]})");
-    const Result r =
-        run("render " + path("s.json") + " -o " + path("n.exr") + " --quiet --set render.mis=none");
+    const Result r = run("render " + path("s.json") + " -o " + path("n.exr") +
+                         " --quiet --set render.mis=none --set render.light_sampling=wavelet");
     ASSERT_EQ(r.code, 0) << r.err;
-    const std::string why =
-        "render.nee \"auto\" leaves it off where emitting surfaces of one radiance surround the "
-        "scene, where phase and BSDF sampling do better";
     EXPECT_NE(r.err.find("render.mis: \"none\" is not used: no light sample is drawn, as "
-                         "next-event estimation is off (" +
-                         why + "; set render.nee to true to use it)"),
+                         "next-event estimation is off (render.nee \"auto\" leaves it off where "
+                         "emitting surfaces of one radiance surround the scene, where phase and "
+                         "BSDF sampling do better; set render.nee to true to use it)"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("render.light_sampling: \"wavelet\" is not used: next-event estimation, "
+                         "which draws its samples, is off (the environment is black)"),
               std::string::npos)
         << r.err;
     const auto stats = nlohmann::json::parse(std::ifstream(path("n.stats.json")));
-    EXPECT_EQ(
-        stats["next_event_estimation"],
-        nlohmann::json(
-            {{"setting", "auto"}, {"environment", false}, {"area_lights", false}, {"why", why}}));
+    EXPECT_EQ(stats["next_event_estimation"],
+              nlohmann::json({{"setting", "auto"},
+                              {"environment", false},
+                              {"area_lights", false},
+                              {"why", "the environment is black"}}));
+    EXPECT_EQ(stats["effects"], nlohmann::json({"environment-black", "surfaces",
+                                                "emission-surrounds", "roulette-survival-weight"}));
     EXPECT_EQ(stats["roulette_threshold"], 0.25);
 }
 

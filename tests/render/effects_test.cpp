@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
 #include <optional>
 
@@ -131,15 +132,96 @@ TEST(Effects, NoLightSampleWhereEmissionSurroundsTheScene) {
     EXPECT_TRUE(withCache.radianceCache);
     EXPECT_FALSE(withCache.emissionSurrounds);
     EXPECT_TRUE(withCache.areaLights);
-    // Nor is an image sky sampled that the emitter hides.
+    // An image sky is judged as without the emitters: a gap the probes missed must not hide a
+    // sun from next-event estimation (helper 185).
     Scene sky = sceneIn(Vec3(0, 0, 0));
     Image varying(8, 4);
     for (int y = 0; y < 4; ++y)
         for (int x = 0; x < 8; ++x) varying.set(x, y, Spectrum::Constant(1 + x * y));
     sky.environment = Environment::image(varying, 1, 0, false);
-    const Effects hidden = Effects::of(sky);
-    EXPECT_TRUE(hidden.emissionSurrounds);
-    EXPECT_FALSE(hidden.nextEvent);
+    const Effects underSky = Effects::of(sky);
+    EXPECT_TRUE(underSky.emissionSurrounds);
+    EXPECT_FALSE(underSky.areaLights);
+    EXPECT_TRUE(underSky.nextEvent);
+    EXPECT_EQ(underSky.rouletteThreshold, 1);
+    const std::vector<std::string> names = automatic.names();
+    EXPECT_NE(std::find(names.begin(), names.end(), "emission-surrounds"), names.end());
+    EXPECT_EQ(std::find(names.begin(), names.end(), "nee-area-lights"), names.end());
+}
+
+TEST(EmissionSurrounds, NotThroughEmittersThatLetLightIn) {
+    // A null or glass emitter lets the sky (or what lies beyond) through: helper 185's null shell.
+    for (const Bsdf& clear : {Bsdf::null(), Bsdf::dielectric(1.5)}) {
+        Scene scene = sceneIn(Vec3(0, 0, 0));
+        std::vector<Surface> v = scene.surfaces->surfaces();
+        v[0].bsdf = clear;
+        scene.surfaces = std::make_unique<const SurfaceScene>(std::move(v));
+        EXPECT_FALSE(emissionSurrounds(scene));
+    }
+    // An orthographic camera's rays start all over its film, which may reach out of the sphere.
+    Scene ortho = sceneIn(Vec3(0, 0, 0));
+    ortho.camera.type = Camera::Type::Orthographic;
+    EXPECT_FALSE(emissionSurrounds(ortho));
+}
+
+TEST(EmissionSurrounds, SeesAHoleOfAboutOnePercentOfTheSphere) {
+    // The emitting box [−1, 1]³ with a hole of 0.4 × 0.4 in its top, seen from near its centre:
+    // about 0.17 sr, 1.3% of the sphere (helper 185: one of 0.22 × 0.22, 0.05 sr, went unseen).
+    Scene scene;
+    scene.camera.position = Vec3(0.05, -0.1, 0.02);
+    std::vector<Surface> v;
+    for (int face = 0; face < 6; ++face) {
+        const int axis = face / 2;
+        const double side = face % 2 ? 1 : -1;
+        const auto wall = [&](const Vec3& centre, double du, double dv) {
+            Eigen::Affine3d t = Eigen::Affine3d::Identity();
+            t.translate(centre);
+            if (axis == 0) t.rotate(Eigen::AngleAxisd(Pi / 2, Vec3::UnitY()));
+            if (axis == 1) t.rotate(Eigen::AngleAxisd(Pi / 2, Vec3::UnitX()));
+            t.scale(Vec3(du, dv, 1));
+            v.push_back(Surface::rectangle(t));
+            v.back().bsdf = Bsdf::lambert(Spectrum::Constant(0.5));
+            v.back().emission = Spectrum::Constant(1);
+            v.back().twoSidedEmission = true;
+        };
+        Vec3 c = Vec3::Zero();
+        c[axis] = side;
+        if (axis != 2 || side < 0) {
+            wall(c, 1, 1);
+            continue;
+        }
+        // The top in four strips around the hole |x|, |y| < 0.2 (a rectangle spans ±1 scaled).
+        wall(Vec3(-0.6, 0, 1), 0.4, 1), wall(Vec3(0.6, 0, 1), 0.4, 1);
+        wall(Vec3(0, -0.6, 1), 0.2, 0.4), wall(Vec3(0, 0.6, 1), 0.2, 0.4);
+    }
+    const auto surrounds = [&](std::vector<Surface> walls) {
+        scene.surfaces = std::make_unique<const SurfaceScene>(std::move(walls));
+        return emissionSurrounds(scene);
+    };
+    std::vector<Surface> closed = v;
+    Eigen::Affine3d lid = Eigen::Affine3d::Identity();
+    lid.translate(Vec3(0, 0, 1)).scale(Vec3(0.2, 0.2, 1));
+    closed.push_back(Surface::rectangle(lid));
+    closed.back().bsdf = v.back().bsdf;
+    closed.back().emission = v.back().emission;
+    closed.back().twoSidedEmission = true;
+    EXPECT_TRUE(surrounds(closed));
+    EXPECT_FALSE(surrounds(v));
+}
+
+TEST(EmissionSurrounds, GivesUpAfterSixtyFourCrossings) {
+    // Null sheets between the camera and the sphere's top: a probe upwards crosses each.
+    for (const int sheets : {60, 70}) {
+        std::vector<Surface> more;
+        for (int k = 0; k < sheets; ++k) {
+            Eigen::Affine3d t = Eigen::Affine3d::Identity();
+            t.translate(Vec3(0, 0, 0.1 + 0.02 * k)).scale(Vec3(0.3, 0.3, 1));
+            more.push_back(Surface::rectangle(t));
+            more.back().bsdf = Bsdf::null();
+        }
+        EXPECT_EQ(emissionSurrounds(sceneIn(Vec3(0, 0, 0), std::move(more))), sheets < 64)
+            << sheets;
+    }
 }
 
 }  // namespace

@@ -23,7 +23,8 @@ struct Effects {
     /// the scene: NEE to it, MIS
     bool areaLights = false;
     /// render.nee is "auto", the radiance cache off, and emitting surfaces of one radiance
-    /// surround the scene (emissionSurrounds): no light sample is drawn, as under a constant sky.
+    /// surround the scene (emissionSurrounds): no light sample is drawn towards them, as none is
+    /// towards a constant sky (the sky itself is judged as without them).
     bool emissionSurrounds = false;
     /// Next-event estimation to any light (the sky or emitting surfaces): then MIS weights apply.
     bool anyNextEvent() const { return nextEvent || areaLights; }
@@ -53,12 +54,14 @@ struct Effects {
 
 /// Whether emitting surfaces of one radiance surround the scene, so that phase and BSDF samples
 /// meet light in every direction, as under a constant sky, where next-event estimation lost in
-/// every case measured: every surface that emits has the same emission, and every probe ray
-/// (Effects::kSurroundProbes directions from the camera's position and from the centre of each
-/// medium's bounds), continued through the surfaces that do not emit, meets one of them on its
-/// emitting side before it escapes. An estimate from finitely many rays: a gap they all miss is
-/// not seen, which costs efficiency, never correctness (the choice of light samples does not
-/// change the expectation).
+/// every case measured: the camera is a perspective one, every surface that emits has the same
+/// emission, and every probe ray (Effects::kSurroundProbes directions from the camera's position
+/// and from the centre of each bounded medium's bounds), continued through the surfaces that do
+/// not emit, meets one of them on its emitting side before it escapes, one that transmits
+/// nothing (not null, not glass). An estimate from finitely many rays (neighbouring directions
+/// about 13° apart): a gap they all miss goes unseen, and so does a room of its own inside the
+/// emitters (the probes pass its walls); either costs efficiency, never correctness, as the
+/// choice of light samples does not change the expectation.
 bool emissionSurrounds(const Scene& scene);
 
 }  // namespace shvol
