@@ -56,11 +56,9 @@ constexpr double kErrorDofWarnsFrom = 1000;
 
 /// render.nee false under an image sky warns where a pixel's samples meet its peak fewer than
 /// kNeeOffPeakHitsPerPixel times, drawn evenly over the sky (neeOffPeakWarning), where the peak
-/// is a sun, under kNeeOffPeakSolidAngle of the sky seen, and holds at least kNeeOffPeakShare of
-/// its light. (Without the second, smooth skies warned at previews' samples per pixel: the
-/// circumsolar glow of make-sky's Preetham sky without a sun, 7.3% of the sky holding 26% of its
-/// light, below 55 spp.)
-constexpr double kNeeOffPeakHitsPerPixel = 4, kNeeOffPeakSolidAngle = 0.01, kNeeOffPeakShare = 0.05;
+/// is a sun (Environment::hasSun; without its solid-angle bound, smooth skies warned at previews'
+/// samples per pixel: the circumsolar glow of make-sky's Preetham sky without a sun, below 55 spp).
+constexpr double kNeeOffPeakHitsPerPixel = 4;
 /// A rendered SH fit looser than this (relative L2 error), or a BRDF table whose projection or
 /// peak error exceeds it, is worth a warning.
 constexpr double kLooseFit = 0.1;
@@ -362,7 +360,20 @@ std::string neeReason(const Scene& scene, const Effects& effects) {
     if (env.black()) return "the environment is black";
     if (scene.settings.nee)
         return *scene.settings.nee ? "render.nee is true" : "render.nee is false";
-    if (effects.nextEvent) return "render.nee \"auto\" turns it on under a sky image that varies";
+    // (m of Environment::secondMomentRatio against Effects::kNeeSkySecondMomentRatio.)
+    char m[200];
+    const bool sun = !env.isConstant() && env.hasSun(),
+               uneven = env.secondMomentRatio() >= Effects::kNeeSkySecondMomentRatio;
+    std::snprintf(m, sizeof m, "m = Ω ∫Y² dω / (∫Y dω)² = %.3g, %s %g", env.secondMomentRatio(),
+                  uneven ? "at least" : "under", Effects::kNeeSkySecondMomentRatio);
+    if (effects.nextEvent)
+        return std::string("render.nee \"auto\" turns it on under a sky image ") +
+               (sun ? "with a sun" : std::string("whose light is uneven (") + m + ")");
+    if (!env.isConstant() && !env.uniform())
+        return std::string(
+                   "render.nee \"auto\" leaves it off under a sky image whose light is "
+                   "even (") +
+               m + ") and that has no sun, where phase sampling does better";
     return std::string("render.nee \"auto\" leaves it off under a ") +
            (env.isConstant() ? "constant sky" : "sky image of equal pixels") +
            ", where phase sampling does better";
@@ -432,16 +443,14 @@ std::string neeOffPeakWarning(const Scene& scene, const Effects& effects) {
     const Environment::Peak peak = sky.peak();
     const double seen = sky.lowerHemisphereBlack() ? TwoPi : FourPi;
     const double hits = scene.settings.spp * peak.solidAngle / seen;
-    if (!(hits < kNeeOffPeakHitsPerPixel && peak.solidAngle < kNeeOffPeakSolidAngle * seen &&
-          peak.powerShare >= kNeeOffPeakShare))
-        return "";
+    if (!(hits < kNeeOffPeakHitsPerPixel && sky.hasSun())) return "";
     char msg[800];
     std::snprintf(msg, sizeof msg,
                   "render.nee: false under an image sky whose brightest %.3g sr (%.2g%% of the "
                   "sky seen) hold %.0f%% of its light: paths meet them only by phase or BSDF "
                   "sampling, about %.2g times in a pixel's %d samples, so most pixels come out "
                   "low and a few far too bright, with standard errors that do not show it; leave "
-                  "render.nee \"auto\" (on under an image sky)",
+                  "render.nee \"auto\" (on under an image sky with a sun)",
                   peak.solidAngle, 100 * peak.solidAngle / seen, 100 * peak.powerShare, hits,
                   scene.settings.spp);
     // (The samples that would meet it often enough, as an integer: "1.08e+03" read as fewer than
@@ -891,6 +900,9 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
         {"environment", effects.nextEvent},
         {"area_lights", effects.areaLights},
         {"why", neeReason(scene, effects)}};
+    if (!scene.environment.isConstant())
+        j["next_event_estimation"]["sky_second_moment_ratio"] =
+            scene.environment.secondMomentRatio();
     j["roulette_threshold"] = st.rouletteThreshold;
     j["sampler"] = sampleStreamName(scene.settings.sampler);
     if (const LightSamplingStats& ls = st.lightSampling; !ls.strategy.empty()) {

@@ -43,6 +43,7 @@ Environment Environment::image(Image img, double scale, double rotationDegrees,
     const int W = img.width, H = img.height;
     const int rows = lowerHemisphereBlack ? (H + 1) / 2 : H;  // (those with a part seen)
     e.texels_ = std::make_shared<LazyTexels>();
+    e.peak_ = std::make_shared<LazyPeak>();
     // Judged by the pixels seen (a sky lit only below the horizon is black, one uniform above it
     // uniform; review).
     const auto seen = img.rgb.begin(), seenEnd = img.rgb.begin() + size_t(3) * W * rows;
@@ -50,6 +51,18 @@ Environment Environment::image(Image img, double scale, double rotationDegrees,
         e.uniform_ = *v == seen[(v - seen) % 3];  // (every pixel the first)
     e.black_ = !(scale > 0) || std::all_of(seen, seenEnd, [](float v) { return v <= 0; });
     e.brightest_ = seen == seenEnd ? 0.0 : double(*std::max_element(seen, seenEnd));
+    double omegaSeen = 0, power = 0, moment = 0;  // ∫ dω, ∫ Y dω, ∫ Y² dω
+    for (int y = 0; y < rows; ++y) {
+        const double omega = TwoPi / W * (std::cos(Pi * y / H) - std::cos(Pi * (y + 1) / H)) *
+                             rowSeen(y, H, lowerHemisphereBlack);
+        double rowPower = 0, rowMoment = 0;
+        for (int x = 0; x < W; ++x) {
+            const double Y = luminance(img.at(x, y));
+            rowPower += Y, rowMoment += Y * Y;
+        }
+        omegaSeen += W * omega, power += rowPower * omega, moment += rowMoment * omega;
+    }
+    if (power > 0 && moment > 0) e.secondMomentRatio_ = omegaSeen * moment / (power * power);
     e.image_ = std::make_shared<const Image>(std::move(img));
     return e;
 }
@@ -133,7 +146,24 @@ double Environment::pdf(const Vec3& dir) const {
     return texels.pdf(uv) / (2 * Pi * Pi * sinTheta);
 }
 
+struct Environment::LazyPeak {
+    std::once_flag once;
+    Peak value;
+};
+
 Environment::Peak Environment::peak() const {
+    if (!peak_) return computePeak();
+    std::call_once(peak_->once, [&] { peak_->value = computePeak(); });
+    return peak_->value;
+}
+
+bool Environment::hasSun() const {
+    const Peak p = peak();
+    return p.solidAngle < kSunSolidAngle * (lowerBlack_ ? TwoPi : FourPi) &&
+           p.powerShare >= kSunShare;
+}
+
+Environment::Peak Environment::computePeak() const {
     if (black_) return {};
     const double seen = lowerBlack_ ? TwoPi : FourPi;
     if (!image_) return {seen / 2, 0.5};

@@ -51,6 +51,11 @@ bool emissionSurrounds(const Scene& scene) {
     return true;
 }
 
+bool neePaysUnder(const Environment& env) {
+    if (env.uniform() || env.black()) return false;
+    return env.secondMomentRatio() >= Effects::kNeeSkySecondMomentRatio || env.hasSun();
+}
+
 Effects Effects::of(const Scene& scene) {
     Effects e;
     e.volumes = !scene.media.empty();
@@ -91,7 +96,7 @@ Effects Effects::of(const Scene& scene) {
     // image of equal pixels is a constant sky (helper 68: NEE 7× less efficient there), and one
     // of zeros (or a scale of 0) a black one.
     const bool bounces = e.scattering || (e.surfaces && scene.settings.maxDepth >= 1);
-    e.nextEvent = bounces && !env.black() && scene.settings.nee.value_or(!env.uniform());
+    e.nextEvent = bounces && !env.black() && scene.settings.nee.value_or(neePaysUnder(env));
     e.environmentImage = !env.isConstant();
     e.environmentBlack = env.black();
     if (e.anyNextEvent()) e.mis = scene.settings.mis;
@@ -110,8 +115,7 @@ Effects Effects::of(const Scene& scene) {
     e.rouletteThreshold = scene.settings.rrThreshold.value_or(e.anyNextEvent() ? 1.0 : 0.25);
     e.bounces = bounces;
     e.recordsSeeSmallSources =
-        e.radianceCache &&
-        ((e.emitters && !e.areaLights) || (!e.nextEvent && !env.uniform() && !env.black()));
+        e.radianceCache && ((e.emitters && !e.areaLights) || (!e.nextEvent && neePaysUnder(env)));
     return e;
 }
 

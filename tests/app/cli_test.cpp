@@ -1751,8 +1751,8 @@ TEST_F(Cli, RenderWarnsOfNeeOffUnderASun) {
                          "of the sky seen) hold 21% of its light: paths meet them only by phase "
                          "or BSDF sampling, about 0.058 times in a pixel's 16 samples, so most "
                          "pixels come out low and a few far too bright, with standard errors that "
-                         "do not show it; leave render.nee \"auto\" (on under an image sky), or "
-                         "render 1097 samples per pixel or more\n");
+                         "do not show it; leave render.nee \"auto\" (on under an image sky with "
+                         "a sun), or render 1097 samples per pixel or more\n");
     EXPECT_NE(test::fileBytes(path("a.stats.json")).find("render.nee: false under an image sky"),
               std::string::npos);
     for (const std::string& quiet :
@@ -1762,6 +1762,55 @@ TEST_F(Cli, RenderWarnsOfNeeOffUnderASun) {
         EXPECT_EQ(r.code, 0) << r.err;
         EXPECT_EQ(r.err, "") << quiet;
     }
+}
+
+// Under an image sky "auto" samples the sky where its light is uneven or it has a sun
+// (neePaysUnder), and the stats say which, with m = Ω ∫Y² dω / (∫Y dω)², here against the sum
+// over the rows of the 64 × 32 skies of RenderWarnsOfNeeOffUnderASun.
+TEST_F(Cli, StatsSayWhyNextEventEstimationIsOnOrOffUnderAnImageSky) {
+    const auto m = [](const std::function<double(int)>& rowValue) {
+        double omega = 0, power = 0, moment = 0;
+        for (int y = 0; y < 32; ++y) {
+            const double o = TwoPi * (std::cos(Pi * y / 32) - std::cos(Pi * (y + 1) / 32)),
+                         v = rowValue(y);
+            omega += o, power += v * o, moment += v * v * o;
+        }
+        return omega * moment / (power * power);
+    };
+    Image sun(64, 32), smooth(64, 32);
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 64; ++x) {
+            sun.set(x, y, Spectrum::Constant(y == 1 ? 100.f : 1.f));
+            smooth.set(x, y, Spectrum::Constant(1.f + y));
+        }
+    writeExr(path("sun.exr"), sun);
+    writeExr(path("smooth.exr"), smooth);
+    write("s.json", R"({"camera": {"resolution": [2, 2], "position": [0, -3, 0]},
+        "environment": {"type": "image", "file": "sun.exr"},
+        "media": [{"type": "homogeneous", "sigma_t": 1, "albedo": 0.9,
+                   "shape": {"type": "sphere", "radius": 1}}]})");
+    const auto nee = [&](const std::string& sky) {
+        const Result r = run("render " + path("s.json") + " -o " + path("n.exr") +
+                             " --spp 1 --quiet --set environment.file=" + path(sky));
+        EXPECT_EQ(r.code, 0) << r.err;
+        return nlohmann::json::parse(std::ifstream(path("n.stats.json")))["next_event_estimation"];
+    };
+    const nlohmann::json withSun = nee("sun.exr"), even = nee("smooth.exr");
+    EXPECT_EQ(withSun["environment"], true);
+    EXPECT_EQ(withSun["why"], "render.nee \"auto\" turns it on under a sky image with a sun");
+    EXPECT_NEAR(withSun["sky_second_moment_ratio"].get<double>(),
+                m([](int y) { return y == 1 ? 100.0 : 1.0; }), 1e-9);
+    const double mEven = m([](int y) { return 1.0 + y; });
+    EXPECT_LT(mEven, 2.5);
+    EXPECT_NEAR(even["sky_second_moment_ratio"].get<double>(), mEven, 1e-9);
+    EXPECT_EQ(even["environment"], false);
+    char why[300];
+    std::snprintf(why, sizeof why,
+                  "render.nee \"auto\" leaves it off under a sky image whose light is even (m = "
+                  "Ω ∫Y² dω / (∫Y dω)² = %.3g, under 2.5) and that has no sun, where phase "
+                  "sampling does better",
+                  mEven);
+    EXPECT_EQ(even["why"], why);
 }
 
 // render.mis "none" with fewer samples per pixel than 4 times the phase lobe's peak over the

@@ -138,6 +138,7 @@ TEST(Effects, NoLightSampleWhereEmissionSurroundsTheScene) {
     Image varying(8, 4);
     for (int y = 0; y < 4; ++y)
         for (int x = 0; x < 8; ++x) varying.set(x, y, Spectrum::Constant(1 + x * y));
+    varying.set(2, 1, Spectrum::Constant(100));  // (uneven light, which "auto" samples)
     sky.environment = Environment::image(varying, 1, 0, false);
     const Effects underSky = Effects::of(sky);
     EXPECT_TRUE(underSky.emissionSurrounds);
@@ -222,6 +223,51 @@ TEST(EmissionSurrounds, GivesUpAfterSixtyFourCrossings) {
         EXPECT_EQ(emissionSurrounds(sceneIn(Vec3(0, 0, 0), std::move(more))), sheets < 64)
             << sheets;
     }
+}
+
+// Under render.nee "auto" an image sky is sampled where its light is uneven (m ≥ 2.5) or it has a
+// sun: a lit cap of a quarter of the sphere (m = 4) is, half the sphere lit (m = 2) is not, and an
+// even sky with a sun of one texel (m about 2) is.
+TEST(Effects, NextEventEstimationUnderImageSkiesWhereTheirLightIsUneven) {
+    // Six rows of θ: rows 0–1 are the cap θ < 60° (a quarter of the sphere), rows 0–2 the upper
+    // hemisphere.
+    const auto capSky = [](int rows) {
+        Image img(64, 6);
+        for (int y = 0; y < rows; ++y)
+            for (int x = 0; x < 64; ++x) img.set(x, y, Spectrum::Ones());
+        return img;
+    };
+    const auto nee = [](const Image& img) {
+        Scene scene;
+        scene.settings.maxDepth = 8;
+        MediumShape fog;
+        scene.media.push_back(std::make_unique<HomogeneousMedium>(
+            fog, 1.0, Spectrum::Ones(), PhaseFunction(HenyeyGreensteinPhase(0.0))));
+        scene.environment = Environment::image(img, 1, 0, false);
+        return Effects::of(scene).nextEvent;
+    };
+    EXPECT_NEAR(Environment::image(capSky(2), 1, 0, false).secondMomentRatio(), 4, 1e-12);
+    EXPECT_NEAR(Environment::image(capSky(3), 1, 0, false).secondMomentRatio(), 2, 1e-12);
+    EXPECT_TRUE(nee(capSky(2)));
+    EXPECT_FALSE(nee(capSky(3)));
+    // Half the sphere at 3 and half at 1: m = 2 (a² + b²)/(a + b)² = 1.25.
+    Image halves = capSky(3);
+    for (int y = 0; y < 6; ++y)
+        for (int x = 0; x < 64; ++x) halves.set(x, y, Spectrum::Constant(y < 3 ? 3 : 1));
+    EXPECT_NEAR(Environment::image(halves, 1, 0, false).secondMomentRatio(), 1.25, 1e-12);
+    EXPECT_FALSE(nee(halves));
+    // A sun: one texel of row 2 (θ from 60° to 90°: 0.39% of the sphere) at 18 over an even sky
+    // of 1 holds 5.9% of the light and more than half of ∫ Y² dω, and m is only about 2.
+    Image sun(64, 6);
+    for (int y = 0; y < 6; ++y)
+        for (int x = 0; x < 64; ++x) sun.set(x, y, Spectrum::Ones());
+    sun.set(10, 2, Spectrum::Constant(18));
+    const Environment withSun = Environment::image(sun, 1, 0, false);
+    EXPECT_TRUE(withSun.hasSun());
+    EXPECT_LT(withSun.secondMomentRatio(), Effects::kNeeSkySecondMomentRatio);
+    EXPECT_TRUE(nee(sun));
+    // With the lower hemisphere black, by the directions seen: the cap is half of them (m = 2).
+    EXPECT_NEAR(Environment::image(capSky(2), 1, 0, true).secondMomentRatio(), 2, 1e-12);
 }
 
 }  // namespace

@@ -706,6 +706,7 @@ TEST(SurfacePath, RecordsSeeSmallSourcesWhereNeeDoesNotTakeThem) {
     for (int y = 0; y < 4; ++y)
         for (int x = 0; x < 8; ++x)
             equal.set(x, y, Spectrum::Ones()), varying.set(x, y, Spectrum::Constant(1 + x * y));
+    varying.set(2, 1, Spectrum::Constant(100));  // (uneven light, which "auto" samples)
     const Environment flat = Environment::image(equal, 1, 0, false);
     const Environment sky = Environment::image(varying, 1, 0, false);
     EXPECT_TRUE(scene(true, false, black));
@@ -713,7 +714,7 @@ TEST(SurfacePath, RecordsSeeSmallSourcesWhereNeeDoesNotTakeThem) {
     EXPECT_FALSE(scene(false, false, constant));
     EXPECT_FALSE(scene(false, false, flat));
     EXPECT_TRUE(scene(false, false, sky));
-    EXPECT_FALSE(scene(false, std::nullopt, sky));  // ("auto": NEE under a sky that varies)
+    EXPECT_FALSE(scene(false, std::nullopt, sky));  // ("auto": NEE under uneven light)
     EXPECT_FALSE(scene(false, true, sky));
 }
 

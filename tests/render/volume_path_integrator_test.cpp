@@ -381,6 +381,7 @@ TEST(VolumePathIntegrator, SobolStreamKeepsTheExpectedValue) {
         Scene s =
             furnaceScene(1.5, Spectrum(0.9, 0.7, 0.5), PhaseFunction(HenyeyGreensteinPhase(0.6)));
         s.environment = Environment::image(img, 1.0, 10.0, false);
+        s.settings.nee = true;  // ("auto" leaves it off: even light, m < 2.5, no sun)
         s.settings.maxDepth = depth;
         const Estimate a = estimate(s, 1 << 15, 7, SampleStream::Sobol),
                        b = estimate(s, 1 << 15, 8, SampleStream::Independent);
@@ -453,7 +454,8 @@ TEST(VolumePathIntegrator, NextEventEstimationIsDecidedFromTheScene) {
     EXPECT_TRUE(Effects::of(s).nextEvent);
     s.settings.nee.reset();
     // An image of equal pixels is a constant sky (it kept NEE on, 7× less efficient: helper 68),
-    // coloured or not; one pixel apart it is an image.
+    // coloured or not; one pixel apart it is an image, but one whose light is even (m ≈ 1,
+    // neePaysUnder); a texel holding most of the light makes it uneven.
     Image img(8, 4);
     for (int y = 0; y < 4; ++y)
         for (int x = 0; x < 8; ++x) img.set(x, y, Spectrum(1, 0.5, 0.25));
@@ -461,6 +463,11 @@ TEST(VolumePathIntegrator, NextEventEstimationIsDecidedFromTheScene) {
     EXPECT_FALSE(Effects::of(s).nextEvent);
     img.set(7, 3, Spectrum(1, 0.5, 0.26));
     s.environment = Environment::image(img, 1.0, 0.0, false);
+    EXPECT_FALSE(s.environment.uniform());
+    EXPECT_FALSE(Effects::of(s).nextEvent);
+    Image hot = img;
+    hot.set(2, 1, Spectrum::Constant(100));
+    s.environment = Environment::image(hot, 1.0, 0.0, false);
     EXPECT_TRUE(Effects::of(s).nextEvent);
     // Black, a constant, an image of zeros or one scaled by 0: nothing to sample, even asked.
     s.settings.nee = true;

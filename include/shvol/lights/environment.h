@@ -74,6 +74,13 @@ class Environment {
     bool uniform() const { return uniform_; }
     /// No light at all: a constant of 0, an image of zeros, or a scale of 0.
     bool black() const { return black_; }
+    /// m = Ω ∫ Y² dω / (∫ Y dω)² over the directions seen (Ω: 4π, or 2π with
+    /// lowerHemisphereBlack; Y the luminance, texel by texel): 1 for a sky of equal radiance,
+    /// 1 + the squared coefficient of variation of Y over directions drawn evenly, which is the
+    /// relative variance of the sky's light as sampled without regard to it (by an isotropic phase
+    /// function). A sun of solid angle Ω_s holding a share f of the light gives about
+    /// f² Ω / Ω_s. 1 for a constant or black sky.
+    double secondMomentRatio() const { return secondMomentRatio_; }
     /// The largest channel value of the texels seen, before the scale (below the horizon left
     /// out with lowerHemisphereBlack); of a constant, its largest channel.
     double brightestSeen() const { return brightest_; }
@@ -86,7 +93,15 @@ class Environment {
     struct Peak {
         double solidAngle = 0, powerShare = 0;
     };
+    /// (Computed once per image, then kept; copies share it.)
     Peak peak() const;
+    /// A sun: a peak under kSunSolidAngle of the directions seen that holds at least kSunShare of
+    /// the sky's light. Directions drawn without regard to the sky meet it rarely, and miss most
+    /// of its light at a few samples per pixel. (Without the solid-angle bound the circumsolar glow
+    /// of make-sky's Preetham sky without a sun, 7.3% of the sky holding 26% of its light,
+    /// counted.)
+    bool hasSun() const;
+    static constexpr double kSunSolidAngle = 0.01, kSunShare = 0.05;
     bool lowerHemisphereBlack() const { return lowerBlack_; }
     /// Rotation about +z in radians.
     double rotation() const { return rotation_; }
@@ -107,11 +122,14 @@ class Environment {
 
     Spectrum L_ = Spectrum::Zero();
     bool lowerBlack_ = false, uniform_ = true, black_ = true;
-    double scale_ = 1, rotation_ = 0, brightest_ = 0;
+    double scale_ = 1, rotation_ = 0, brightest_ = 0, secondMomentRatio_ = 1;
     LatLongMapping mapping_ = LatLongMapping::Blender;
     std::shared_ptr<const Image> image_;  // null for a constant environment
     struct LazyTexels;
     std::shared_ptr<LazyTexels> texels_;  // null for a constant environment
+    struct LazyPeak;
+    std::shared_ptr<LazyPeak> peak_;  // null for a constant environment
+    Peak computePeak() const;
 };
 
 }  // namespace shvol

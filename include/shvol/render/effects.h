@@ -45,6 +45,15 @@ struct Effects {
     double rouletteThreshold = 1;
 
     static Effects of(const Scene& scene);
+    /// Under render.nee "auto", next-event estimation towards an image sky is drawn where its
+    /// light is uneven, secondMomentRatio() m ≥ kNeeSkySecondMomentRatio, or where it has a sun
+    /// (Environment::hasSun). Measured on the cloud of media/default.json (96×64, 16 spp, 4
+    /// seeds, 1 thread; dense and ×1/20, HG 0.8 and isotropic; efficiency of NEE over phase
+    /// sampling alone): make-sky's gradient sky (m = 1.36) 0.30–0.76×, its Preetham skies without
+    /// a sun (m = 1.71–2.18) 0.34–0.96×; a soft sun holding a quarter to half of the light
+    /// (m = 3.5–3.8) 0.60–2.36×, more concentrated ones (m ≥ 5.4) 0.83–7.2×, m = 48: 6.1–48×
+    /// (README, "Effects").
+    static constexpr double kNeeSkySecondMomentRatio = 2.5;
     /// The probe directions of emissionSurrounds: kSurroundProbes points of a Fibonacci lattice
     /// on the unit sphere (equal-area bands in z, golden-angle steps in φ).
     static constexpr int kSurroundProbes = 256;
@@ -63,5 +72,10 @@ struct Effects {
 /// emitters (the probes pass its walls); either costs efficiency, never correctness, as the
 /// choice of light samples does not change the expectation.
 bool emissionSurrounds(const Scene& scene);
+
+/// Whether render.nee "auto" draws light samples from the sky: not from a uniform or black one,
+/// and from an image only where its light is uneven or it has a sun
+/// (Effects::kNeeSkySecondMomentRatio).
+bool neePaysUnder(const Environment& env);
 
 }  // namespace shvol
