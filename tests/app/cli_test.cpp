@@ -54,9 +54,12 @@ std::string unreliableZTestWarning(const std::string& sweep, int runs, int fewes
 class Cli : public testing::Test {
   protected:
     void SetUp() override {
+        // (With the process id: two test runs on one machine, a CI clone's and a working tree's,
+        // shared the directory of each test, and one's batch found the other's lock in it.)
         dir_ = fs::path(testing::TempDir()) /
                ("shvol_cli_" +
-                std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
+                std::string(testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+                std::to_string(::getpid()));
         fs::remove_all(dir_);
         fs::create_directories(dir_);
         // matplotlib (shvol report) warns on stderr where it cannot write its cache under HOME,
@@ -65,6 +68,11 @@ class Cli : public testing::Test {
         // once made; helper 156), unless the caller gave one.
         if (const char* given = std::getenv("MPLCONFIGDIR"); !given || !*given)
             ::setenv("MPLCONFIGDIR", SHVOL_TEST_MPLCONFIG, 1);
+    }
+    // A passed test's files go (a failed one's stay, to be looked at).
+    void TearDown() override {
+        std::error_code ignored;
+        if (!HasFailure()) fs::remove_all(dir_, ignored);
     }
     std::string path(const std::string& name) const { return (dir_ / name).string(); }
     void write(const std::string& name, const std::string& text) const {
