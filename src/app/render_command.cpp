@@ -360,23 +360,35 @@ std::string neeReason(const Scene& scene, const Effects& effects) {
     if (env.black()) return "the environment is black";
     if (scene.settings.nee)
         return *scene.settings.nee ? "render.nee is true" : "render.nee is false";
-    // (m of Environment::secondMomentRatio against Effects::kNeeSkySecondMomentRatio.)
-    char m[200];
-    const bool sun = !env.isConstant() && env.hasSun(),
-               uneven = env.secondMomentRatio() >= Effects::kNeeSkySecondMomentRatio;
-    std::snprintf(m, sizeof m, "m = Ω ∫Y² dω / (∫Y dω)² = %.3g, %s %g", env.secondMomentRatio(),
-                  uneven ? "at least" : "under", Effects::kNeeSkySecondMomentRatio);
+    if (env.isConstant() || env.uniform())
+        return std::string("render.nee \"auto\" leaves it off under a ") +
+               (env.isConstant() ? "constant sky" : "sky image of equal pixels") +
+               ", where phase sampling does better";
+    // (neePaysUnder's two measures against their bounds, Effects::kNeeSkySecondMomentRatio and
+    // kNeeSkyBrightestShare; the second only where the first does not decide.)
+    const double m = env.secondMomentRatio();
+    char text[240];
+    if (m >= Effects::kNeeSkySecondMomentRatio) {
+        std::snprintf(text, sizeof text,
+                      "render.nee \"auto\" turns it on under a sky image whose light is uneven "
+                      "(m = 4π ∫Y² dω / (∫Y dω)² = %.3g, at least %g)",
+                      m, Effects::kNeeSkySecondMomentRatio);
+        return text;
+    }
+    const double brightest = env.peak().brightestShare;
     if (effects.nextEvent)
-        return std::string("render.nee \"auto\" turns it on under a sky image ") +
-               (sun ? "with a sun" : std::string("whose light is uneven (") + m + ")");
-    if (!env.isConstant() && !env.uniform())
-        return std::string(
-                   "render.nee \"auto\" leaves it off under a sky image whose light is "
-                   "even (") +
-               m + ") and that has no sun, where phase sampling does better";
-    return std::string("render.nee \"auto\" leaves it off under a ") +
-           (env.isConstant() ? "constant sky" : "sky image of equal pixels") +
-           ", where phase sampling does better";
+        std::snprintf(text, sizeof text,
+                      "render.nee \"auto\" turns it on under a sky image whose light is "
+                      "concentrated (its brightest 1%% hold %.2g%% of it, %g%% or more)",
+                      100 * brightest, 100 * Effects::kNeeSkyBrightestShare);
+    else
+        std::snprintf(text, sizeof text,
+                      "render.nee \"auto\" leaves it off under a sky image whose light is even "
+                      "(m = 4π ∫Y² dω / (∫Y dω)² = %.3g, under %g; its brightest 1%% hold %.2g%% "
+                      "of it, under %g%%), where phase sampling does better",
+                      m, Effects::kNeeSkySecondMomentRatio, 100 * brightest,
+                      100 * Effects::kNeeSkyBrightestShare);
+    return text;
 }
 
 /// Why no next-event estimation is done at all, towards the environment or area lights (render.nee
@@ -900,9 +912,11 @@ nlohmann::json statsJson(const Scene& scene, const Image& image, const RenderSta
         {"environment", effects.nextEvent},
         {"area_lights", effects.areaLights},
         {"why", neeReason(scene, effects)}};
-    if (!scene.environment.isConstant())
+    if (!scene.environment.isConstant()) {
         j["next_event_estimation"]["sky_second_moment_ratio"] =
             scene.environment.secondMomentRatio();
+        j["next_event_estimation"]["sky_brightest_share"] = scene.environment.peak().brightestShare;
+    }
     j["roulette_threshold"] = st.rouletteThreshold;
     j["sampler"] = sampleStreamName(scene.settings.sampler);
     if (const LightSamplingStats& ls = st.lightSampling; !ls.strategy.empty()) {

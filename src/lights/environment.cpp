@@ -51,7 +51,7 @@ Environment Environment::image(Image img, double scale, double rotationDegrees,
         e.uniform_ = *v == seen[(v - seen) % 3];  // (every pixel the first)
     e.black_ = !(scale > 0) || std::all_of(seen, seenEnd, [](float v) { return v <= 0; });
     e.brightest_ = seen == seenEnd ? 0.0 : double(*std::max_element(seen, seenEnd));
-    double omegaSeen = 0, power = 0, moment = 0;  // ∫ dω, ∫ Y dω, ∫ Y² dω
+    double power = 0, moment = 0;  // ∫ Y dω, ∫ Y² dω over the directions seen
     for (int y = 0; y < rows; ++y) {
         const double omega = TwoPi / W * (std::cos(Pi * y / H) - std::cos(Pi * (y + 1) / H)) *
                              rowSeen(y, H, lowerHemisphereBlack);
@@ -60,9 +60,10 @@ Environment Environment::image(Image img, double scale, double rotationDegrees,
             const double Y = luminance(img.at(x, y));
             rowPower += Y, rowMoment += Y * Y;
         }
-        omegaSeen += W * omega, power += rowPower * omega, moment += rowMoment * omega;
+        power += rowPower * omega, moment += rowMoment * omega;
     }
-    if (power > 0 && moment > 0) e.secondMomentRatio_ = omegaSeen * moment / (power * power);
+    // Over the whole sphere, also below a black horizon: phase sampling draws there too.
+    if (power > 0 && moment > 0) e.secondMomentRatio_ = FourPi * moment / (power * power);
     e.image_ = std::make_shared<const Image>(std::move(img));
     return e;
 }
@@ -166,7 +167,7 @@ bool Environment::hasSun() const {
 Environment::Peak Environment::computePeak() const {
     if (black_) return {};
     const double seen = lowerBlack_ ? TwoPi : FourPi;
-    if (!image_) return {seen / 2, 0.5};
+    if (!image_) return {seen / 2, 0.5, kSunSolidAngle};
     // Each texel's luminance Y and solid angle seen, (2π/W)·(cos θ0 − cos θ1) times the part of
     // its row above the horizon (as the sampling weights take it), binned by Y, 64 bins an octave
     // below the brightest (the last bin holds everything 64 octaves down): a sort of every texel
@@ -207,6 +208,15 @@ Environment::Peak Environment::computePeak() const {
         if ((need -= b.moment) <= 0) break;
     }
     p.powerShare = std::min(1.0, held / power);
+    // The brightest directions that make up kSunSolidAngle of the sky seen, and their light.
+    double omegaLeft = kSunSolidAngle * (lowerBlack_ ? TwoPi : FourPi), brightestPower = 0;
+    for (const Bin& b : bins) {
+        if (!(b.omega > 0)) continue;
+        const double part = std::min(1.0, omegaLeft / b.omega);
+        brightestPower += part * b.power;
+        if ((omegaLeft -= b.omega) <= 0) break;
+    }
+    p.brightestShare = std::min(1.0, brightestPower / power);
     return p;
 }
 

@@ -40,7 +40,7 @@ bool emissionSurrounds(const Scene& scene) {
                 if (s.emits()) {
                     // Its light must reach the probe (a one-sided emitter seen from behind is
                     // dark), and it must hide what lies beyond: light comes through a null or
-                    // glass emitter (a sky that varies, which NEE would sample).
+                    // glass emitter (a sun, which NEE would sample).
                     if ((s.Le(hit.ng, -ray.d) != emitter->emission).any() || s.bsdf.transmits())
                         return false;
                     break;
@@ -53,7 +53,8 @@ bool emissionSurrounds(const Scene& scene) {
 
 bool neePaysUnder(const Environment& env) {
     if (env.uniform() || env.black()) return false;
-    return env.secondMomentRatio() >= Effects::kNeeSkySecondMomentRatio || env.hasSun();
+    return env.secondMomentRatio() >= Effects::kNeeSkySecondMomentRatio ||
+           env.peak().brightestShare >= Effects::kNeeSkyBrightestShare;
 }
 
 Effects Effects::of(const Scene& scene) {
@@ -92,11 +93,14 @@ Effects Effects::of(const Scene& scene) {
     // event. Under a constant sky phase sampling already draws directions in proportion to the
     // integrand apart from transmittance (and the lower hemisphere), and NEE lost in every case
     // measured, dense or thin, over the sphere or the upper hemisphere (0.06–0.73× the
-    // efficiency), so it is on for skies that vary only (validation/sampling/README.md): an
-    // image of equal pixels is a constant sky (helper 68: NEE 7× less efficient there), and one
-    // of zeros (or a scale of 0) a black one.
+    // efficiency), so it is on for skies of uneven or concentrated light only (neePaysUnder;
+    // validation/sampling/README.md): an image of equal pixels is a constant sky (helper 68: NEE 7×
+    // less efficient there), and one of zeros (or a scale of 0) a black one.
     const bool bounces = e.scattering || (e.surfaces && scene.settings.maxDepth >= 1);
-    e.nextEvent = bounces && !env.black() && scene.settings.nee.value_or(neePaysUnder(env));
+    // (Not value_or: the argument would be evaluated, and the sky's peak found, also where
+    // render.nee says.)
+    e.nextEvent =
+        bounces && !env.black() && (scene.settings.nee ? *scene.settings.nee : neePaysUnder(env));
     e.environmentImage = !env.isConstant();
     e.environmentBlack = env.black();
     if (e.anyNextEvent()) e.mis = scene.settings.mis;

@@ -1783,7 +1783,7 @@ TEST_F(Cli, StatsSayWhyNextEventEstimationIsOnOrOffUnderAnImageSky) {
                          v = rowValue(y);
             omega += o, power += v * o, moment += v * v * o;
         }
-        return omega * moment / (power * power);
+        return omega * moment / (power * power);  // (omega: 4π)
     };
     Image sun(64, 32), smooth(64, 32);
     for (int y = 0; y < 32; ++y)
@@ -1805,19 +1805,34 @@ TEST_F(Cli, StatsSayWhyNextEventEstimationIsOnOrOffUnderAnImageSky) {
     };
     const nlohmann::json withSun = nee("sun.exr"), even = nee("smooth.exr");
     EXPECT_EQ(withSun["environment"], true);
-    EXPECT_EQ(withSun["why"], "render.nee \"auto\" turns it on under a sky image with a sun");
-    EXPECT_NEAR(withSun["sky_second_moment_ratio"].get<double>(),
-                m([](int y) { return y == 1 ? 100.0 : 1.0; }), 1e-9);
+    const double mSun = m([](int y) { return y == 1 ? 100.0 : 1.0; });
+    ASSERT_GE(mSun, 2.5);
+    char why[400];
+    std::snprintf(why, sizeof why,
+                  "render.nee \"auto\" turns it on under a sky image whose light is uneven (m = "
+                  "4π ∫Y² dω / (∫Y dω)² = %.3g, at least 2.5)",
+                  mSun);
+    EXPECT_EQ(withSun["why"], why);
+    EXPECT_NEAR(withSun["sky_second_moment_ratio"].get<double>(), mSun, 1e-9);
     const double mEven = m([](int y) { return 1.0 + y; });
     EXPECT_LT(mEven, 2.5);
     EXPECT_NEAR(even["sky_second_moment_ratio"].get<double>(), mEven, 1e-9);
     EXPECT_EQ(even["environment"], false);
-    char why[300];
+    // Its brightest 1% of the sphere: the last rows' texels, brightest first, the last in part.
+    double power = 0, held = 0, left = 0.01 * FourPi;
+    for (int y = 31; y >= 0; --y) {
+        const double o = TwoPi * (std::cos(Pi * y / 32) - std::cos(Pi * (y + 1) / 32));
+        power += (1.0 + y) * o;
+        held += (1.0 + y) * std::min(o, std::max(0.0, left)), left -= o;
+    }
+    const double share = held / power;
+    EXPECT_LT(share, 0.05);
+    EXPECT_NEAR(even["sky_brightest_share"].get<double>(), share, 1e-9);
     std::snprintf(why, sizeof why,
                   "render.nee \"auto\" leaves it off under a sky image whose light is even (m = "
-                  "Ω ∫Y² dω / (∫Y dω)² = %.3g, under 2.5) and that has no sun, where phase "
-                  "sampling does better",
-                  mEven);
+                  "4π ∫Y² dω / (∫Y dω)² = %.3g, under 2.5; its brightest 1%% hold %.2g%% of it, "
+                  "under 5%%), where phase sampling does better",
+                  mEven, 100 * share);
     EXPECT_EQ(even["why"], why);
 }
 

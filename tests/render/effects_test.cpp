@@ -225,9 +225,10 @@ TEST(EmissionSurrounds, GivesUpAfterSixtyFourCrossings) {
     }
 }
 
-// Under render.nee "auto" an image sky is sampled where its light is uneven (m ≥ 2.5) or it has a
-// sun: a lit cap of a quarter of the sphere (m = 4) is, half the sphere lit (m = 2) is not, and an
-// even sky with a sun of one texel (m about 2) is.
+// Under render.nee "auto" an image sky is sampled where its light is uneven (m ≥ 2.5) or
+// concentrated (its brightest 1% hold 5% of it or more): a lit cap of a quarter of the sphere
+// (m = 4) is, half the sphere lit (m = 2) is not, and an even sky with a sun of one texel (m about
+// 2) is.
 TEST(Effects, NextEventEstimationUnderImageSkiesWhereTheirLightIsUneven) {
     // Six rows of θ: rows 0–1 are the cap θ < 60° (a quarter of the sphere), rows 0–2 the upper
     // hemisphere.
@@ -257,7 +258,7 @@ TEST(Effects, NextEventEstimationUnderImageSkiesWhereTheirLightIsUneven) {
     EXPECT_NEAR(Environment::image(halves, 1, 0, false).secondMomentRatio(), 1.25, 1e-12);
     EXPECT_FALSE(nee(halves));
     // A sun: one texel of row 2 (θ from 60° to 90°: 0.39% of the sphere) at 18 over an even sky
-    // of 1 holds 5.9% of the light and more than half of ∫ Y² dω, and m is only about 2.
+    // of 1 holds 6.6% of the light and more than half of ∫ Y² dω, and m is only about 2.
     Image sun(64, 6);
     for (int y = 0; y < 6; ++y)
         for (int x = 0; x < 64; ++x) sun.set(x, y, Spectrum::Ones());
@@ -265,9 +266,26 @@ TEST(Effects, NextEventEstimationUnderImageSkiesWhereTheirLightIsUneven) {
     const Environment withSun = Environment::image(sun, 1, 0, false);
     EXPECT_TRUE(withSun.hasSun());
     EXPECT_LT(withSun.secondMomentRatio(), Effects::kNeeSkySecondMomentRatio);
+    EXPECT_GE(withSun.peak().brightestShare, Effects::kNeeSkyBrightestShare);
     EXPECT_TRUE(nee(sun));
-    // With the lower hemisphere black, by the directions seen: the cap is half of them (m = 2).
-    EXPECT_NEAR(Environment::image(capSky(2), 1, 0, true).secondMomentRatio(), 2, 1e-12);
+    // Ten texels of row 2 at 2.5 over the even sky (3.9% of the sphere, 9.2% of the light): m
+    // about 1.08, and the brightest 1% (2.56 texels' worth) hold 2.4%; at 8 (25% of the light) m
+    // is about 2.1, under 2.5, but they hold 6.3%: sampled (helper 186: a cluster of bright
+    // texels that is no sun left most pixels low without light samples).
+    Image cluster = sun, denser = sun;
+    cluster.set(10, 2, Spectrum::Ones()), denser.set(10, 2, Spectrum::Ones());
+    for (int x = 20; x < 30; ++x)
+        cluster.set(x, 2, Spectrum::Constant(2.5)), denser.set(x, 2, Spectrum::Constant(8));
+    const Environment spread = Environment::image(cluster, 1, 0, false),
+                      bright = Environment::image(denser, 1, 0, false);
+    EXPECT_LT(spread.peak().brightestShare, Effects::kNeeSkyBrightestShare);
+    EXPECT_FALSE(nee(cluster));
+    EXPECT_LT(bright.secondMomentRatio(), Effects::kNeeSkySecondMomentRatio);
+    EXPECT_GE(bright.peak().brightestShare, Effects::kNeeSkyBrightestShare);
+    EXPECT_TRUE(nee(denser));
+    // With the lower hemisphere black, over the whole sphere still, as phase sampling draws over
+    // it (helper 186): the cap is a quarter of it (m = 4), as without.
+    EXPECT_NEAR(Environment::image(capSky(2), 1, 0, true).secondMomentRatio(), 4, 1e-12);
 }
 
 }  // namespace

@@ -685,7 +685,7 @@ TEST(SurfacePath, SceneWithoutSurfacesRunsNoSurfaceCode) {
 }
 
 // The radiance cache's records take light straight from a source only where next-event estimation
-// does not: an emitter under render.nee false, a sky that varies without NEE. An image of equal
+// does not: an emitter under render.nee false, a sky of uneven light without NEE. An image of equal
 // pixels is no small source (helper 107: it was taken for one, as any image was).
 TEST(SurfacePath, RecordsSeeSmallSourcesWhereNeeDoesNotTakeThem) {
     const auto scene = [](bool emitter, std::optional<bool> nee, const Environment& env) {
@@ -713,6 +713,10 @@ TEST(SurfacePath, RecordsSeeSmallSourcesWhereNeeDoesNotTakeThem) {
     EXPECT_FALSE(scene(true, std::nullopt, black));
     EXPECT_FALSE(scene(false, false, constant));
     EXPECT_FALSE(scene(false, false, flat));
+    // (an even image, which "auto" leaves unsampled too, is no small source)
+    Image gentle = equal;
+    gentle.set(3, 2, Spectrum::Constant(1.5));
+    EXPECT_FALSE(scene(false, false, Environment::image(gentle, 1, 0, false)));
     EXPECT_TRUE(scene(false, false, sky));
     EXPECT_FALSE(scene(false, std::nullopt, sky));  // ("auto": NEE under uneven light)
     EXPECT_FALSE(scene(false, true, sky));

@@ -74,12 +74,13 @@ class Environment {
     bool uniform() const { return uniform_; }
     /// No light at all: a constant of 0, an image of zeros, or a scale of 0.
     bool black() const { return black_; }
-    /// m = Ω ∫ Y² dω / (∫ Y dω)² over the directions seen (Ω: 4π, or 2π with
-    /// lowerHemisphereBlack; Y the luminance, texel by texel): 1 for a sky of equal radiance,
-    /// 1 + the squared coefficient of variation of Y over directions drawn evenly, which is the
+    /// m = 4π ∫ Y² dω / (∫ Y dω)² over the sphere (Y the luminance, texel by texel, 0 below the
+    /// horizon with lowerHemisphereBlack): 1 for a sky of equal radiance, 1 + the squared
+    /// coefficient of variation of Y over directions drawn evenly over the sphere, which is the
     /// relative variance of the sky's light as sampled without regard to it (by an isotropic phase
-    /// function). A sun of solid angle Ω_s holding a share f of the light gives about
-    /// f² Ω / Ω_s. 1 for a constant or black sky.
+    /// function; helper 186: over the directions seen only, a sky of black lower-half pixels and
+    /// the same sky with lowerHemisphereBlack were judged apart). A sun of solid angle Ω_s holding
+    /// a share f of the light gives about 4π f² / Ω_s. 1 for a constant or black sky.
     double secondMomentRatio() const { return secondMomentRatio_; }
     /// The largest channel value of the texels seen, before the scale (below the horizon left
     /// out with lowerHemisphereBlack); of a constant, its largest channel.
@@ -92,6 +93,9 @@ class Environment {
     /// power. Zero for a black sky.
     struct Peak {
         double solidAngle = 0, powerShare = 0;
+        /// The share of the light in the brightest directions that make up kSunSolidAngle of the
+        /// directions seen (kSunSolidAngle for even light).
+        double brightestShare = 0;
     };
     /// (Computed once per image, then kept; copies share it.)
     Peak peak() const;

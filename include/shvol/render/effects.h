@@ -33,8 +33,8 @@ struct Effects {
     bool radianceCache = false;
     /// The radiance cache's records take light straight from sources that may be small, which
     /// next-event estimation does not take for them (VolumePathIntegrator::Li leaves out what it
-    /// takes): emitting surfaces without area-light sampling, or a sky that varies (not uniform,
-    /// not black) without NEE towards it.
+    /// takes): emitting surfaces without area-light sampling, or a sky of uneven or concentrated
+    /// light (neePaysUnder) without NEE towards it.
     bool recordsSeeSmallSources = false;
     LightSampling lightSampling = LightSampling::Environment;  ///< strategy when nextEvent
     MisHeuristic mis = MisHeuristic::Balance;                  ///< when nextEvent
@@ -46,14 +46,18 @@ struct Effects {
 
     static Effects of(const Scene& scene);
     /// Under render.nee "auto", next-event estimation towards an image sky is drawn where its
-    /// light is uneven, secondMomentRatio() m ≥ kNeeSkySecondMomentRatio, or where it has a sun
-    /// (Environment::hasSun). Measured on the cloud of media/default.json (96×64, 16 spp, 4
-    /// seeds, 1 thread; dense and ×1/20, HG 0.8 and isotropic; efficiency of NEE over phase
-    /// sampling alone): make-sky's gradient sky (m = 1.36) 0.30–0.76×, its Preetham skies without
-    /// a sun (m = 1.71–2.18) 0.34–0.96×; a soft sun holding a quarter to half of the light
+    /// light is uneven, secondMomentRatio() m ≥ kNeeSkySecondMomentRatio, or concentrated: its
+    /// brightest 1% of the directions seen (Environment::kSunSolidAngle) hold at least
+    /// kNeeSkyBrightestShare of its light (Peak::brightestShare; helper 186: ten texels holding
+    /// 7.1% of the light in 0.76% of the sky, m = 1.53, left pixels 3.5% low in the median at 16
+    /// spp without it). Measured on the cloud of media/default.json (96×64, 16 spp, 4 seeds, 1
+    /// thread; dense and ×1/20, HG 0.8 and isotropic; efficiency of NEE over phase sampling
+    /// alone): make-sky's gradient sky (m = 1.36, brightest 1% holding 2.7%) 0.30–0.76×, its
+    /// Preetham skies without a sun, sun high (m = 1.71–1.87, 4.1–4.7%) 0.34–0.96×, and low
+    /// (m = 2.18, 6.9%: sampled) 0.53–0.83×; a soft sun holding a quarter to half of the light
     /// (m = 3.5–3.8) 0.60–2.36×, more concentrated ones (m ≥ 5.4) 0.83–7.2×, m = 48: 6.1–48×
     /// (README, "Effects").
-    static constexpr double kNeeSkySecondMomentRatio = 2.5;
+    static constexpr double kNeeSkySecondMomentRatio = 2.5, kNeeSkyBrightestShare = 0.05;
     /// The probe directions of emissionSurrounds: kSurroundProbes points of a Fibonacci lattice
     /// on the unit sphere (equal-area bands in z, golden-angle steps in φ).
     static constexpr int kSurroundProbes = 256;
@@ -74,8 +78,8 @@ struct Effects {
 bool emissionSurrounds(const Scene& scene);
 
 /// Whether render.nee "auto" draws light samples from the sky: not from a uniform or black one,
-/// and from an image only where its light is uneven or it has a sun
-/// (Effects::kNeeSkySecondMomentRatio).
+/// and from an image only where its light is uneven or concentrated
+/// (Effects::kNeeSkySecondMomentRatio, Effects::kNeeSkyBrightestShare).
 bool neePaysUnder(const Environment& env);
 
 }  // namespace shvol
