@@ -69,6 +69,18 @@ class Cli : public testing::Test {
         if (const char* given = std::getenv("MPLCONFIGDIR"); !given || !*given)
             ::setenv("MPLCONFIGDIR", SHVOL_TEST_MPLCONFIG, 1);
     }
+    // sun.exr and smooth.exr, 64 × 32: an even sky of 1 whose row 1 is at 100 (a sun), and rows at
+    // 1 + y (RenderWarnsOfNeeOffUnderASun gives the sun's figures).
+    void writeSunAndSmoothSkies() const {
+        Image sun(64, 32), smooth(64, 32);
+        for (int y = 0; y < 32; ++y)
+            for (int x = 0; x < 64; ++x) {
+                sun.set(x, y, Spectrum::Constant(y == 1 ? 100.f : 1.f));
+                smooth.set(x, y, Spectrum::Constant(1.f + y));
+            }
+        writeExr(path("sun.exr"), sun);
+        writeExr(path("smooth.exr"), smooth);
+    }
     // A passed test's files go (a failed one's stay, to be looked at).
     void TearDown() override {
         std::error_code ignored;
@@ -1739,14 +1751,7 @@ TEST_F(Cli, RenderWarnsOfAStatedErrorOnFewDegreesOfFreedom) {
 // holds 4.5861 of the 21.524 of light, 21%, and is met 0.058 times at 16 spp and 7.3 times at
 // 2000; 4 times from ⌈4 · 4π/0.045861⌉ = 1097 spp.
 TEST_F(Cli, RenderWarnsOfNeeOffUnderASun) {
-    Image sky(64, 32), smooth(64, 32);
-    for (int y = 0; y < 32; ++y)
-        for (int x = 0; x < 64; ++x) {
-            sky.set(x, y, Spectrum::Constant(y == 1 ? 100.f : 1.f));
-            smooth.set(x, y, Spectrum::Constant(1.f + y));
-        }
-    writeExr(path("sun.exr"), sky);
-    writeExr(path("smooth.exr"), smooth);
+    writeSunAndSmoothSkies();
     write("s.json", R"({"camera": {"resolution": [2, 2], "position": [0, -3, 0]},
         "render": {"nee": false}, "environment": {"type": "image", "file": "sun.exr"},
         "media": [{"type": "homogeneous", "sigma_t": 1, "albedo": 0.9,
@@ -1785,14 +1790,7 @@ TEST_F(Cli, StatsSayWhyNextEventEstimationIsOnOrOffUnderAnImageSky) {
         }
         return omega * moment / (power * power);  // (omega: 4π)
     };
-    Image sun(64, 32), smooth(64, 32);
-    for (int y = 0; y < 32; ++y)
-        for (int x = 0; x < 64; ++x) {
-            sun.set(x, y, Spectrum::Constant(y == 1 ? 100.f : 1.f));
-            smooth.set(x, y, Spectrum::Constant(1.f + y));
-        }
-    writeExr(path("sun.exr"), sun);
-    writeExr(path("smooth.exr"), smooth);
+    writeSunAndSmoothSkies();
     write("s.json", R"({"camera": {"resolution": [2, 2], "position": [0, -3, 0]},
         "environment": {"type": "image", "file": "sun.exr"},
         "media": [{"type": "homogeneous", "sigma_t": 1, "albedo": 0.9,
