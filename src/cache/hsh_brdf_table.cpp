@@ -86,9 +86,6 @@ double tableAlbedoError(const Bsdf& shape, const Vec3& wo, double H0, const doub
     return sampled > 0 ? std::abs(table - sampled) / sampled : table > 0 ? 1.0 : 0.0;
 }
 
-}  // namespace
-
-namespace {
 /// A specular lobe of weight 0 reflects nothing: such a BSDF's table is its diffuse part's.
 bool hasSpecularLobe(const Bsdf& b) {
     return b.type != BsdfType::Lambert && b.specular.maxCoeff() > 0;

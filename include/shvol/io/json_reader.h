@@ -3,12 +3,11 @@
 /// are errors, and every message names the file and the JSON path (e.g. media[0].phase.g).
 #include <functional>
 #include <nlohmann/json.hpp>
-
 #include <optional>
 #include <set>
 #include <string>
-#include "shvol/core/error.h"
 
+#include "shvol/core/error.h"
 #include "shvol/core/math.h"
 
 namespace shvol {
